@@ -1,0 +1,7 @@
+"""Sub-commands of the bem package (being written)."""
+
+import argparse
+
+
+def register(subparsers: "argparse._SubParsersAction") -> None:
+    """Add this package's sub-commands to the asperity parser."""
