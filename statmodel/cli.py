@@ -1,7 +1,89 @@
-"""Sub-commands of the statmodel package (being written)."""
+"""Sub-commands of the statmodel package: ``asperity friction`` and ``asperity figures``.
+
+``asperity friction PARAMS.toml [--json] [--out FILE.h5]`` solves the shear curve of the parameter
+file (schema in :mod:`statmodel.config`), prints a short summary (or one JSON object with
+``--json``) and optionally writes HDF5. Exit status 0, 1 if the solve did not converge (results
+still printed/written), 2 for bad input (raised as ``ValueError``).
+
+``asperity figures --out DIR`` writes the paper's Figs. 1, 2, 4 and 5 as PNG plus their data in
+``DIR/statmodel_figures.h5`` (see :mod:`statmodel.figures`).
+"""
+
+from __future__ import annotations
 
 import argparse
+import dataclasses
+import sys
+from pathlib import Path
+
+from statmodel.config import read_friction_parameters
+from statmodel.results_io import curve_to_json, write_curve_hdf5
+from statmodel.shear import shear_curve
 
 
-def register(subparsers: "argparse._SubParsersAction") -> None:
-    """Add this package's sub-commands to the asperity parser."""
+def run_friction(args: argparse.Namespace) -> int:
+    """Handler of ``asperity friction``; returns the exit status."""
+    params = read_friction_parameters(args.params)
+    curve = shear_curve(
+        params.material,
+        params.roughness,
+        params.nominal_area,
+        params.normal_load,
+        params.tangential_displacement,
+        **params.accuracy,
+    )
+    if args.out is not None:
+        attrs = {
+            "parameters_file": str(args.params),
+            **{f"material.{k}": v for k, v in dataclasses.asdict(params.material).items()},
+            **{f"roughness.{k}": v for k, v in dataclasses.asdict(params.roughness).items()},
+            "nominal_area_m2": params.nominal_area,
+        }
+        write_curve_hdf5(curve, args.out, attrs)
+    if args.json:
+        print(curve_to_json(curve))
+    else:
+        print(
+            f"Tabor parameter          {curve.tabor_parameter:.6g}\n"
+            f"preload separation       {curve.separation_preload:.6g} m\n"
+            f"real area at preload     {curve.real_area[0]:.6g} m^2\n"
+            f"static friction (peak)   {curve.static_friction:.6g} N\n"
+            f"sliding friction         {curve.sliding_friction:.6g} N\n"
+            f"sliding displacement     {curve.sliding_displacement:.6g} m\n"
+            f"steps                    {curve.tangential_displacement.size}\n"
+            f"status                   {curve.message}"
+        )
+    if not curve.converged:
+        print(f"asperity friction: {curve.message}", file=sys.stderr)
+        return 1
+    return 0
+
+
+def run_figures(args: argparse.Namespace) -> int:
+    """Handler of ``asperity figures``; returns the exit status."""
+    from statmodel.figures import write_all_figures
+
+    paths = write_all_figures(Path(args.out))
+    for p in paths:
+        print(p)
+    return 0
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add ``friction`` and ``figures`` to the asperity parser."""
+    p = subparsers.add_parser(
+        "friction",
+        help="statistical adhesive-friction model: shear curve from a TOML parameter file",
+        description="Shear a rough adhesive contact at constant normal load up to full sliding "
+        "(Xu et al. 2022, Sections 2-4). SI units. Example: statmodel/examples/fig4.toml.",
+    )
+    p.add_argument("params", type=Path, help="parameter file (TOML: material/roughness/loading)")
+    p.add_argument("--json", action="store_true", help="print the result as one JSON object")
+    p.add_argument("--out", type=Path, default=None, help="write the result to this HDF5 file")
+    p.set_defaults(func=run_friction)
+    f = subparsers.add_parser(
+        "figures",
+        help="write the paper's Figs. 1, 2, 4, 5 (PNG) and their data (HDF5)",
+    )
+    f.add_argument("--out", type=Path, required=True, help="output directory")
+    f.set_defaults(func=run_figures)

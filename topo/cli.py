@@ -1,7 +1,305 @@
-"""Sub-commands of the topo package (being written)."""
+"""Sub-commands of the topo package: ``stats``, ``scan`` and ``synth``.
+
+A thin shell over :func:`topo.read_surface`, :func:`topo.level`,
+:func:`topo.summit_statistics`, :func:`topo.resolution_scan` and
+:func:`topo.synthetic.paper_like`; every value printed is in SI units (m, m^2, 1/m^2).
+"""
+
+from __future__ import annotations
 
 import argparse
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from topo.heightmap import HeightMap, require_height_map
+from topo.io import read_surface, write_hdf5
+from topo.levelling import level
+from topo.scan import plot_resolution_scan, resolution_scan, write_scan_hdf5
+from topo.summits import summit_statistics
+from topo.synthetic import paper_like
+
+#: Keys of ``asperity stats --json``, in order (a contract with other tools).
+STATS_KEYS = (
+    "nx",
+    "ny",
+    "dx",
+    "dy",
+    "rms_height",
+    "n_missing",
+    "n_summits",
+    "asperity_density",
+    "summit_radius",
+    "summit_height_rms",
+)
 
 
-def register(subparsers: "argparse._SubParsersAction") -> None:
-    """Add this package's sub-commands to the asperity parser."""
+def _json_number(value: object) -> object:
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    if isinstance(value, (int, np.integer)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        return float(value) if math.isfinite(value) else None
+    return value
+
+
+def _pixel_size(text: str | None) -> float | None:
+    if text is None:
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        raise ValueError(f"--pixel-size: expected a length in metres, got {text!r}") from None
+    if not (math.isfinite(value) and value > 0):
+        raise ValueError(f"--pixel-size: expected a finite value > 0 m, got {text!r}")
+    return value
+
+
+def _load_levelled(args: argparse.Namespace, what: str) -> HeightMap:
+    surface = read_surface(args.file, channel=args.channel, pixel_size=_pixel_size(args.pixel_size))
+    surface = require_height_map(surface, f"asperity {what}")
+    return level(surface, args.detrend)
+
+
+def surface_stats(surface: HeightMap, *, stride: int = 1, neighbours: int = 4) -> dict:
+    """The ``asperity stats`` record of an (already levelled) map, SI units.
+
+    All values refer to the analysed grid ``decimate(surface, stride)``: ``nx``, ``dx``
+    along the first array axis, ``rms_height = sqrt(<h^2>)`` over its valid pixels (the
+    heights as levelled: about the mean plane after ``plane``/``mean``).
+    """
+    stats = summit_statistics(surface, stride=stride, neighbours=neighbours)
+    grid = surface.heights[::stride, ::stride]
+    valid = grid[~np.isnan(grid)]
+    record = {
+        "nx": int(grid.shape[0]),
+        "ny": int(grid.shape[1]),
+        "dx": stats.dx,
+        "dy": stats.dy,
+        "rms_height": float(np.sqrt(np.mean(valid * valid))) if valid.size else math.nan,
+        "n_missing": int(grid.size - valid.size),
+        "n_summits": stats.n_summits,
+        "asperity_density": stats.asperity_density,
+        "summit_radius": stats.summit_radius,
+        "summit_height_rms": stats.summit_height_rms,
+    }
+    return {key: _json_number(record[key]) for key in STATS_KEYS}
+
+
+_UNITS = {
+    "dx": "m",
+    "dy": "m",
+    "rms_height": "m",
+    "asperity_density": "1/m^2",
+    "summit_radius": "m",
+    "summit_height_rms": "m",
+}
+
+
+def _stats(args: argparse.Namespace) -> int:
+    surface = _load_levelled(args, "stats")
+    record = surface_stats(surface, stride=args.stride, neighbours=args.neighbours)
+    if args.json:
+        print(json.dumps(record, allow_nan=False))
+    else:
+        print(
+            f"{args.file} (detrend {args.detrend}, stride {args.stride}, "
+            f"{args.neighbours} neighbours)"
+        )
+        for key in STATS_KEYS:
+            value = record[key]
+            text = (
+                "nan"
+                if value is None
+                else (f"{value:.6g}" if isinstance(value, float) else str(value))
+            )
+            print(f"  {key:18s} {text} {_UNITS.get(key, '')}".rstrip())
+    return 0
+
+
+def _scan(args: argparse.Namespace) -> int:
+    surface = _load_levelled(args, "scan")
+    scan = resolution_scan(surface, args.max_stride, neighbours=args.neighbours)
+    figure = args.figure
+    if args.out:
+        write_scan_hdf5(scan, args.out, source={"file": str(args.file), "detrend": args.detrend})
+        if figure is None:
+            figure = str(Path(args.out).with_suffix(".png"))
+    if figure:
+        plot_resolution_scan(scan, figure, title=str(args.file))
+    if args.json:
+        data = {
+            key: (_json_number(v) if not isinstance(v, list) else [_json_number(x) for x in v])
+            for key, v in scan.as_dict().items()
+        }
+        print(json.dumps(data, allow_nan=False))
+    else:
+        print(
+            f"{'stride':>6s} {'resolution (m)':>15s} {'N':>9s} {'eta (1/m^2)':>12s} "
+            f"{'R (m)':>11s} {'sigma_s (m)':>12s}"
+        )
+        for row in zip(
+            scan.stride,
+            scan.resolution,
+            scan.n_summits,
+            scan.asperity_density,
+            scan.summit_radius,
+            scan.summit_height_rms,
+            strict=True,
+        ):
+            print(
+                f"{row[0]:6d} {row[1]:15.4e} {row[2]:9d} {row[3]:12.4e} {row[4]:11.4e} "
+                f"{row[5]:12.4e}"
+            )
+        print(
+            f"R = {scan.radius_slope:.4g} * resolution + {scan.radius_intercept:.4g} m; "
+            f"eta = {scan.density_prefactor:.4g} * resolution^{scan.density_exponent:.4g} 1/m^2; "
+            f"sigma_s = {scan.height_rms_mean:.4g} m "
+            f"(spread {100 * scan.height_rms_relative_spread:.2f} %)"
+        )
+        for target in (args.out, figure):
+            if target:
+                print(f"wrote {target}")
+    return 0
+
+
+def _synth(args: argparse.Namespace) -> int:
+    out = Path(args.out)
+    if out.suffix.lower() not in (".h5", ".hdf5", ".npy", ".npz"):
+        raise ValueError(f"--out {out}: expected a .h5 (project HDF5), .npy or .npz file name")
+    surface = paper_like(
+        n=args.n,
+        pixel_size=args.pixel_size,
+        seed=args.seed,
+        hurst=args.hurst,
+        rms_height=args.rms_height,
+        rolloff_wavelength=args.rolloff,
+        short_cutoff=args.short_cutoff if args.short_cutoff > 0 else None,
+    )
+    if out.suffix.lower() in (".h5", ".hdf5"):
+        write_hdf5(surface, out)
+    elif out.suffix.lower() == ".npz":
+        np.savez(out, heights=surface.heights, dx=surface.dx, dy=surface.dy)
+    else:
+        np.save(out, np.asarray(surface.heights), allow_pickle=False)
+    print(
+        f"wrote {out}: {surface.nx} x {surface.ny} pixels of {surface.dx:g} m, "
+        f"rms height {args.rms_height:g} m, periodic"
+        + (
+            f" (read it back with --pixel-size {surface.dx:g})"
+            if out.suffix.lower() == ".npy"
+            else ""
+        )
+    )
+    return 0
+
+
+def _add_input_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "file", help="height map: x3p, sur, dat, datx, plu, opd, di, mi, gwy, txt, npy, npz, h5"
+    )
+    parser.add_argument(
+        "--detrend",
+        choices=("none", "mean", "plane"),
+        default="plane",
+        help="form removed before the analysis (default: plane)",
+    )
+    parser.add_argument(
+        "--pixel-size",
+        dest="pixel_size",
+        metavar="DX",
+        default=None,
+        help="pixel size in m, for files that carry none (npy, npz, text)",
+    )
+    parser.add_argument(
+        "--channel",
+        default=None,
+        help="channel of a multi-channel file (name or index; default: height)",
+    )
+    parser.add_argument(
+        "--neighbours",
+        type=int,
+        choices=(4, 8),
+        default=4,
+        help="summit rule: higher than 4 (paper) or 8 neighbours",
+    )
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {text!r}")
+    return value
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add ``stats``, ``scan`` and ``synth`` to the asperity parser."""
+    stats = subparsers.add_parser(
+        "stats",
+        help="asperity statistics of a height map (eta, R, sigma_s; Appendix A)",
+        description="Summit statistics of a height map (paper, Appendix A), SI units.",
+    )
+    _add_input_options(stats)
+    stats.add_argument(
+        "--stride",
+        type=_positive_int,
+        default=1,
+        help="keep one point in K along x and y first (default 1)",
+    )
+    stats.add_argument("--json", action="store_true", help="print one JSON object")
+    stats.set_defaults(func=_stats)
+
+    scan = subparsers.add_parser(
+        "scan",
+        help="statistics against resolution, strides 1..K (Fig 12a-c)",
+        description="Resolution scan with the paper's fits (R linear, eta power law).",
+    )
+    _add_input_options(scan)
+    scan.add_argument(
+        "--max-stride",
+        dest="max_stride",
+        type=_positive_int,
+        required=True,
+        help="largest stride K",
+    )
+    scan.add_argument(
+        "--out",
+        default=None,
+        help="write the scan to this HDF5 file (and the figure beside it as .png)",
+    )
+    scan.add_argument("--figure", default=None, help="write the figure (PNG, 150 dpi) here")
+    scan.add_argument("--json", action="store_true", help="print the scan as one JSON object")
+    scan.set_defaults(func=_scan)
+
+    synth = subparsers.add_parser(
+        "synth",
+        help="write a seeded synthetic (paper-like) self-affine surface",
+        description="Periodic self-affine surface; defaults are the paper-like preset.",
+    )
+    synth.add_argument("--out", required=True, help="output .h5 (project HDF5), .npy or .npz")
+    synth.add_argument("--n", type=_positive_int, default=5000, help="pixels per side (5000)")
+    synth.add_argument(
+        "--pixel-size", dest="pixel_size", type=float, default=2e-6, help="pixel size in m (2e-6)"
+    )
+    synth.add_argument("--seed", type=int, default=0, help="random seed (0)")
+    synth.add_argument("--hurst", type=float, default=0.8, help="Hurst exponent (0.8)")
+    synth.add_argument(
+        "--rms-height", dest="rms_height", type=float, default=50e-6, help="rms height in m (50e-6)"
+    )
+    synth.add_argument(
+        "--rolloff", type=float, default=600e-6, help="roll-off wavelength in m (600e-6)"
+    )
+    synth.add_argument(
+        "--short-cutoff",
+        dest="short_cutoff",
+        type=float,
+        default=20e-6,
+        help="shortest wavelength in m (20e-6; 0 for none)",
+    )
+    synth.set_defaults(func=_synth)

@@ -1,0 +1,393 @@
+"""Real-to-complex 2D FFT convolution with a fixed real Fourier multiplier.
+
+Two backends:
+
+* ``"pyfftw"``: FFTW through pyFFTW, threaded, planned once per (shape, threads) with
+  ``FFTW_MEASURE`` and the wisdom cached on disk under ``~/.cache/asperity`` (or
+  ``$XDG_CACHE_HOME/asperity``; override with ``$ASPERITY_CACHE_DIR``), so that a second process
+  does not re-plan.
+* ``"scipy"``: ``scipy.fft.rfft2``/``irfft2`` with ``workers`` threads, always available.
+
+``"auto"`` picks pyfftw when it is installed and, measured once per shape and thread count on this
+machine (the decision is cached in memory and on disk), faster than scipy.
+
+Pitfall handled here: the pyFFTW wheel threads through OpenMP, so ``OMP_NUM_THREADS=1`` silently
+turns ``threads=2`` into one thread; :func:`default_threads` and :class:`Convolution` warn about it.
+
+Awkward sizes (e.g. 5001 = 3 x 1667) transform more slowly than nearby smooth sizes;
+:func:`fast_size` gives the largest size <= n whose prime factors are 2, 3, 5 and 7 and
+:func:`crop_to_fast_size` crops a height map to it with a warning stating what was cut.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import pickle
+import threading
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+__all__ = [
+    "Convolution",
+    "available_backends",
+    "cache_dir",
+    "crop_to_fast_size",
+    "default_threads",
+    "fast_size",
+]
+
+_LOCK = threading.Lock()
+_WISDOM_LOADED = False
+_AUTO_CHOICE: dict[tuple[int, int, int], str] = {}
+
+
+def cache_dir() -> Path:
+    """Directory for the FFTW wisdom and the backend choices (created on demand)."""
+    root = os.environ.get("ASPERITY_CACHE_DIR")
+    if root:
+        path = Path(root)
+    else:
+        base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+        path = Path(base) / "asperity"
+    return path
+
+
+def default_threads() -> int:
+    """Number of CPU cores this process may use (``os.sched_getaffinity`` when available)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not on Linux
+        return max(1, os.cpu_count() or 1)
+
+
+def available_backends() -> list[str]:
+    """The FFT backends importable here, fastest-first by expectation."""
+    names = []
+    try:
+        import pyfftw  # noqa: F401
+
+        names.append("pyfftw")
+    except ImportError:
+        pass
+    names.append("scipy")
+    return names
+
+
+def _is_smooth(n: int, primes: tuple[int, ...] = (2, 3, 5, 7)) -> bool:
+    for p in primes:
+        while n % p == 0 and n > 1:
+            n //= p
+    return n == 1
+
+
+def fast_size(n: int) -> int:
+    """Largest size ``m <= n`` whose prime factors are all in {2, 3, 5, 7} (fast for FFTW/pocketfft).
+
+    Parameters
+    ----------
+    n : int
+        A grid size (pixels), >= 1.
+    """
+    if n < 1:
+        raise ValueError(f"fast_size: expected a size >= 1, got {n}")
+    m = n
+    while not _is_smooth(m):
+        m -= 1
+    return m
+
+
+def crop_to_fast_size(heights: np.ndarray, *, warn: bool = True) -> np.ndarray:
+    """Crop a 2D height map (m) to fast FFT sizes along both axes, keeping the leading corner.
+
+    The trailing rows/columns are cut; a ``UserWarning`` states how many along each axis. Note
+    that a periodic map cropped this way is no longer exactly periodic at the cut.
+
+    Parameters
+    ----------
+    heights : ndarray, shape (nx, ny)
+        Heights (m); axis 0 is x.
+    warn : bool
+        Emit the warning describing the cut (default True).
+
+    Returns
+    -------
+    ndarray
+        A view ``heights[:mx, :my]`` with ``mx = fast_size(nx)``, ``my = fast_size(ny)``.
+    """
+    heights = np.asarray(heights)
+    if heights.ndim != 2:
+        raise ValueError(f"crop_to_fast_size: expected a 2D height map, got shape {heights.shape}")
+    nx, ny = heights.shape
+    mx, my = fast_size(nx), fast_size(ny)
+    if warn and (mx, my) != (nx, ny):
+        warnings.warn(
+            f"cropped the height map from {nx} x {ny} to {mx} x {my} pixels for a fast FFT: "
+            f"removed the last {nx - mx} row(s) along x (axis 0) and the last {ny - my} "
+            f"column(s) along y (axis 1)",
+            UserWarning,
+            stacklevel=2,
+        )
+    return heights[:mx, :my]
+
+
+def _check_omp(threads: int) -> None:
+    omp = os.environ.get("OMP_NUM_THREADS")
+    if omp is None or threads <= 1:
+        return
+    try:
+        import pyfftw.pyfftw as _pp
+
+        kind = getattr(_pp, "_threading_type", None)
+    except ImportError:  # pragma: no cover
+        return
+    try:
+        omp_n = int(omp.split(",")[0])
+    except ValueError:
+        return
+    if kind == "OMP" and omp_n < threads:
+        warnings.warn(
+            f"pyFFTW threads through OpenMP here and OMP_NUM_THREADS={omp} caps FFTW at "
+            f"{omp_n} thread(s) although threads={threads} was requested; unset it or raise it",
+            RuntimeWarning,
+            stacklevel=3,
+        )
+
+
+def _wisdom_file() -> Path:
+    import pyfftw
+
+    return cache_dir() / f"fftw_wisdom_{pyfftw.__version__}.pickle"
+
+
+def _load_wisdom() -> None:
+    global _WISDOM_LOADED
+    if _WISDOM_LOADED:
+        return
+    _WISDOM_LOADED = True
+    try:
+        import pyfftw
+
+        with open(_wisdom_file(), "rb") as fh:
+            pyfftw.import_wisdom(pickle.load(fh))
+    except (OSError, ValueError, EOFError, pickle.UnpicklingError, ImportError):
+        pass
+
+
+def _save_wisdom() -> None:
+    try:
+        import pyfftw
+
+        path = _wisdom_file()
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_suffix(f".tmp{os.getpid()}")
+        with open(tmp, "wb") as fh:
+            pickle.dump(pyfftw.export_wisdom(), fh)
+        os.replace(tmp, path)
+    except OSError:  # a read-only home must not break a solve
+        pass
+
+
+def _choice_file() -> Path:
+    return cache_dir() / "fft_backend_choice.json"
+
+
+def _read_choices() -> dict:
+    try:
+        with open(_choice_file()) as fh:
+            return json.load(fh)
+    except (OSError, ValueError):
+        return {}
+
+
+def _write_choice(key: str, name: str) -> None:
+    data = _read_choices()
+    data[key] = name
+    try:
+        path = _choice_file()
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_suffix(f".tmp{os.getpid()}")
+        with open(tmp, "w") as fh:
+            json.dump(data, fh, indent=1)
+        os.replace(tmp, path)
+    except OSError:
+        pass
+
+
+class Convolution:
+    """Periodic convolution ``out = irfft2(multiplier * rfft2(x))`` on a fixed real grid shape.
+
+    Parameters
+    ----------
+    multiplier : ndarray, shape (nx, ny // 2 + 1), real
+        The Fourier multiplier in the DFT sense (for an influence kernel: compliance in m/Pa,
+        such that ``u = irfft2(multiplier * rfft2(p))``).
+    shape : tuple of int
+        The real grid shape ``(nx, ny)``.
+    backend : {"auto", "pyfftw", "scipy"}
+        FFT backend (see the module docstring).
+    threads : int, optional
+        Threads for the transforms; default: all cores available to this process.
+
+    Notes
+    -----
+    For speed, pass input arrays obtained from :meth:`empty` (aligned, C-contiguous): the
+    pyfftw backend then transforms them in place of its own buffers without copying.
+    """
+
+    def __init__(
+        self,
+        multiplier: np.ndarray,
+        shape: tuple[int, int],
+        *,
+        backend: str = "auto",
+        threads: int | None = None,
+    ) -> None:
+        nx, ny = (int(shape[0]), int(shape[1]))
+        self.shape = (nx, ny)
+        self.spectral_shape = (nx, ny // 2 + 1)
+        multiplier = np.asarray(multiplier, dtype=np.float64)
+        if multiplier.shape != self.spectral_shape:
+            raise ValueError(
+                f"Convolution: multiplier shape {multiplier.shape} does not match the half "
+                f"spectrum {self.spectral_shape} of the grid {self.shape}"
+            )
+        self.threads = int(threads) if threads else default_threads()
+        if backend not in ("auto", "pyfftw", "scipy"):
+            raise ValueError(f"fft_backend: expected 'auto', 'pyfftw' or 'scipy', got {backend!r}")
+        if backend == "pyfftw" and "pyfftw" not in available_backends():
+            raise ValueError("fft_backend='pyfftw' requested but pyFFTW is not installed")
+        self._fwd = None
+        if backend == "auto":
+            backend = self._choose_backend()
+        self.backend = backend
+        # fold the 1/N normalisation of the unnormalised inverse transform into the multiplier
+        self._mult = np.ascontiguousarray(multiplier / (nx * ny))
+        if backend == "pyfftw":
+            self._setup_pyfftw()
+        else:  # release plans made while measuring
+            self._fwd = self._inv = None
+
+    # -- backend selection -------------------------------------------------------------
+    def _choose_backend(self) -> str:
+        """Plan pyfftw (needed anyway if it wins), time both backends, keep the faster."""
+        if "pyfftw" not in available_backends():
+            return "scipy"
+        key3 = (self.shape[0], self.shape[1], self.threads)
+        skey = f"{self.shape[0]}x{self.shape[1]}@{self.threads}"
+        with _LOCK:
+            choice = _AUTO_CHOICE.get(key3) or _read_choices().get(skey)
+        if choice in ("pyfftw", "scipy"):
+            _AUTO_CHOICE[key3] = choice
+            return choice
+        self._mult = np.ones(self.spectral_shape)
+        x = np.random.default_rng(0).standard_normal(self.shape)
+        times = {}
+        for name in ("pyfftw", "scipy"):
+            self.backend = name
+            if name == "pyfftw":
+                self._setup_pyfftw()
+            buf = self.empty()
+            buf[...] = x
+            out = self.empty()
+            self(buf, out)  # warm up
+            reps = 2
+            t0 = time.perf_counter()
+            for _ in range(reps):
+                self(buf, out)
+            times[name] = (time.perf_counter() - t0) / reps
+        choice = min(times, key=times.get)
+        _AUTO_CHOICE[key3] = choice
+        _write_choice(skey, choice)
+        return choice
+
+    def _setup_pyfftw(self) -> None:
+        if getattr(self, "_fwd", None) is not None:
+            return
+        import pyfftw
+
+        _check_omp(self.threads)
+        with _LOCK:
+            _load_wisdom()
+            real_in = pyfftw.empty_aligned(self.shape, dtype="float64")
+            self._spec = pyfftw.empty_aligned(self.spectral_shape, dtype="complex128")
+            real_out = pyfftw.empty_aligned(self.shape, dtype="float64")
+            before = pyfftw.export_wisdom()
+            self._fwd = pyfftw.FFTW(
+                real_in,
+                self._spec,
+                axes=(0, 1),
+                direction="FFTW_FORWARD",
+                flags=("FFTW_MEASURE",),
+                threads=self.threads,
+            )
+            self._inv = pyfftw.FFTW(
+                self._spec,
+                real_out,
+                axes=(0, 1),
+                direction="FFTW_BACKWARD",
+                flags=("FFTW_MEASURE", "FFTW_DESTROY_INPUT"),
+                threads=self.threads,
+            )
+            if pyfftw.export_wisdom() != before:
+                _save_wisdom()
+        self._align = pyfftw.simd_alignment
+        self._scratch = None
+
+    # -- public --------------------------------------------------------------------------
+    def empty(self) -> np.ndarray:
+        """A new uninitialised float64 array of the grid shape, aligned for the backend."""
+        if self.backend == "pyfftw":
+            import pyfftw
+
+            return pyfftw.empty_aligned(self.shape, dtype="float64")
+        return np.empty(self.shape, dtype=np.float64)
+
+    def zeros(self) -> np.ndarray:
+        """Like :meth:`empty`, filled with zeros."""
+        a = self.empty()
+        a[...] = 0.0
+        return a
+
+    def _usable(self, a: np.ndarray) -> bool:
+        return (
+            a.dtype == np.float64
+            and a.shape == self.shape
+            and a.flags.c_contiguous
+            and a.ctypes.data % self._align == 0
+        )
+
+    def __call__(self, x: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+        """Return ``irfft2(multiplier * rfft2(x))`` (written into ``out`` when given)."""
+        if out is None:
+            out = self.empty()
+        if self.backend == "pyfftw":
+            if not self._usable(x):
+                if self._scratch is None:
+                    self._scratch = self.empty()
+                self._scratch[...] = x
+                x = self._scratch
+            self._fwd.update_arrays(x, self._spec)
+            self._fwd.execute()
+            np.multiply(self._spec, self._mult, out=self._spec)
+            if self._usable(out):
+                target = out
+            else:
+                if self._scratch is None:
+                    self._scratch = self.empty()
+                target = self._scratch
+            self._inv.update_arrays(self._spec, target)
+            self._inv.execute()
+            if target is not out:
+                out[...] = target
+            return out
+        import scipy.fft
+
+        spec = scipy.fft.rfft2(x, workers=self.threads)
+        spec *= self._mult
+        # norm="forward": the inverse is unnormalised, the 1/N sits in the multiplier
+        out[...] = scipy.fft.irfft2(spec, s=self.shape, norm="forward", workers=self.threads)
+        return out

@@ -1,0 +1,177 @@
+"""Where the sweeps run: in this process, in worker processes, or on a dask.distributed cluster.
+
+Every stage maps a picklable top-level function over independent items (loads, resolutions,
+BEM branches) through an :class:`Executor`-like object; this module makes one.
+
+* ``workers == 1``: :class:`SerialExecutor`, plain calls in this process.
+* ``workers > 1``: a :class:`concurrent.futures.ProcessPoolExecutor` with the ``spawn`` start
+  method. Its initializer sets ``OMP_NUM_THREADS``, ``OPENBLAS_NUM_THREADS``,
+  ``MKL_NUM_THREADS``, ``NUMBA_NUM_THREADS`` (and pyFFTW's OpenMP threads through
+  ``OMP_NUM_THREADS``) to ``threads_per_worker`` before numpy, numba or the FFT libraries are
+  imported in the worker, so N workers do not start N x cores threads and fight for the cores.
+* ``scheduler`` given: a dask.distributed :class:`Client` connected to that address (the
+  optional ``dask`` extra); its ``get_executor()`` offers the same ``submit``/``map`` interface,
+  and the same thread caps are applied on each worker with ``client.run``.
+
+This module imports only the standard library at the top, so that the worker initializer runs
+before any numerical library is loaded.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures
+import multiprocessing
+import os
+from collections.abc import Callable, Iterable, Iterator
+from typing import Any
+
+#: Environment variables that cap the threads of the numerical libraries.
+THREAD_ENV_VARS: tuple[str, ...] = (
+    "OMP_NUM_THREADS",
+    "OPENBLAS_NUM_THREADS",
+    "MKL_NUM_THREADS",
+    "NUMBA_NUM_THREADS",
+    "VECLIB_MAXIMUM_THREADS",
+    "NUMEXPR_NUM_THREADS",
+)
+
+
+def cap_threads(threads: int) -> dict[str, str]:
+    """Cap the numerical libraries of this process at ``threads`` threads.
+
+    Sets the environment variables (effective for libraries imported afterwards) and, when
+    numba is already imported, lowers its active thread count too.
+
+    Returns
+    -------
+    dict
+        The variables set.
+    """
+    threads = max(int(threads), 1)
+    values = {name: str(threads) for name in THREAD_ENV_VARS}
+    os.environ.update(values)
+    import sys
+
+    numba = sys.modules.get("numba")
+    if numba is not None:  # already imported: its pool exists, lower the active count
+        try:
+            numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+        except (ValueError, AttributeError):
+            pass
+    return values
+
+
+def worker_thread_settings() -> dict[str, str | None]:
+    """The thread-cap environment of the calling process (used by tests and the report)."""
+    return {name: os.environ.get(name) for name in THREAD_ENV_VARS}
+
+
+class SerialExecutor(concurrent.futures.Executor):
+    """An executor that runs each call immediately in this process."""
+
+    def submit(self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any
+               ) -> concurrent.futures.Future:
+        future: concurrent.futures.Future = concurrent.futures.Future()
+        try:
+            future.set_result(fn(*args, **kwargs))
+        except BaseException as exc:  # delivered through the future, like a pool would
+            future.set_exception(exc)
+        return future
+
+    def map(self, fn: Callable[..., Any], *iterables: Iterable, timeout: float | None = None,
+            chunksize: int = 1) -> Iterator:
+        return map(fn, *iterables)
+
+
+class DaskExecutor(concurrent.futures.Executor):
+    """The executor of a dask.distributed client, owning the client (closed on shutdown)."""
+
+    def __init__(self, client: Any):
+        self.client = client
+        self._executor = client.get_executor()
+
+    def submit(self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any
+               ) -> concurrent.futures.Future:
+        return self._executor.submit(fn, *args, **kwargs)
+
+    def map(self, fn: Callable[..., Any], *iterables: Iterable, timeout: float | None = None,
+            chunksize: int = 1) -> Iterator:
+        return self._executor.map(fn, *iterables, timeout=timeout)
+
+    def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
+        self._executor.shutdown(wait=wait)
+        self.client.close()
+
+
+def make_executor(workers: int = 1, *, scheduler: str | Any | None = None,
+                  threads_per_worker: int = 1) -> concurrent.futures.Executor:
+    """An executor for the sweeps.
+
+    Parameters
+    ----------
+    workers : int
+        Worker processes on this machine (1: run in this process). Ignored with ``scheduler``.
+    scheduler : str or distributed.Client, optional
+        Address of a dask.distributed scheduler (``tcp://host:8786``) or a client object.
+    threads_per_worker : int
+        Threads each worker's FFT / numba / BLAS may use.
+
+    Returns
+    -------
+    concurrent.futures.Executor
+        Use as a context manager (``with make_executor(2) as ex: ex.map(...)``).
+    """
+    if scheduler is not None:
+        try:
+            from distributed import Client
+        except ImportError as exc:  # pragma: no cover - depends on the installed extras
+            raise ValueError("--scheduler needs dask.distributed: "
+                             "pip install 'asperity[dask]'") from exc
+        client = scheduler if isinstance(scheduler, Client) else Client(scheduler)
+        client.run(cap_threads, threads_per_worker)
+        if isinstance(scheduler, Client):  # caller owns the client: do not close it
+            return _BorrowedDaskExecutor(client)
+        return DaskExecutor(client)
+    if workers < 1:
+        raise ValueError(f"workers must be >= 1, got {workers}")
+    if workers == 1:
+        return SerialExecutor()
+    return concurrent.futures.ProcessPoolExecutor(
+        max_workers=workers,
+        mp_context=multiprocessing.get_context("spawn"),
+        initializer=cap_threads,
+        initargs=(threads_per_worker,),
+    )
+
+
+class _BorrowedDaskExecutor(DaskExecutor):
+    def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
+        self._executor.shutdown(wait=wait)
+
+
+def run_map(fn: Callable[..., Any], jobs: list[tuple], executor: concurrent.futures.Executor |
+            None = None, *, desc: str = "", progress: bool = False) -> list:
+    """``[fn(*job) for job in jobs]``, through ``executor`` when given, with a progress bar.
+
+    Parameters
+    ----------
+    fn : callable
+        Picklable top-level function (it may run in another process).
+    jobs : list of tuple
+        Positional arguments of each call.
+    executor : Executor, optional
+        Runs the calls (in order of submission; results are returned in the order of ``jobs``).
+    desc : str
+        Label of the tqdm bar.
+    progress : bool
+        Show a tqdm bar (on stderr).
+    """
+    from tqdm import tqdm
+
+    if executor is None or isinstance(executor, SerialExecutor):
+        iterator = (fn(*job) for job in jobs)
+    else:
+        iterator = executor.map(fn, *zip(*jobs, strict=True)) if jobs else iter(())
+    bar = tqdm(iterator, total=len(jobs), desc=desc, disable=not progress, leave=False,
+               unit="run")
+    return list(bar)

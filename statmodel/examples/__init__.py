@@ -1,0 +1,1 @@
+"""Example parameter files of the statmodel package (package data: *.toml)."""

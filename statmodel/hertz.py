@@ -1,0 +1,39 @@
+"""Hertz contact of a sliding asperity with a uniform frictional shear strength (E:Hertz_theory).
+
+A junction in the sliding state carries the Hertzian normal load and the tangential load
+tau0 * pi a^2 of a uniform shear stress tau0 over its Hertzian contact area:
+
+    a = sqrt(R delta),   P = 4/3 E* sqrt(R) delta^(3/2),   T = pi a^2 tau0   (delta >= 0),
+
+and nothing for delta < 0. SI units: m, Pa, N. Also the w -> 0 limit of the JKR laws.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+
+def hertz_contact_radius(delta: ArrayLike, summit_radius: ArrayLike) -> np.ndarray | float:
+    """Hertz contact radius a = sqrt(R delta) (m) for indentation delta (m); 0 for delta < 0."""
+    d = np.maximum(np.asarray(delta, dtype=float), 0.0)
+    out = np.sqrt(np.asarray(summit_radius, dtype=float) * d)
+    return out[()] if out.ndim == 0 else out
+
+
+def hertz_normal_load(delta: ArrayLike, summit_radius: ArrayLike,
+                      e_star: ArrayLike) -> np.ndarray | float:
+    """Hertz normal load P = 4/3 E* sqrt(R) delta^(3/2) (N); 0 for delta < 0 (E:Hertz_theory)."""
+    d = np.maximum(np.asarray(delta, dtype=float), 0.0)
+    out = 4.0 / 3.0 * np.asarray(e_star, dtype=float) * np.sqrt(
+        np.asarray(summit_radius, dtype=float)
+    ) * d**1.5
+    return out[()] if out.ndim == 0 else out
+
+
+def hertz_sliding_tangential_load(delta: ArrayLike, summit_radius: ArrayLike,
+                                  shear_strength: ArrayLike) -> np.ndarray | float:
+    """Sliding tangential load T = pi a^2 tau0 = pi R delta tau0 (N); 0 for delta < 0."""
+    d = np.maximum(np.asarray(delta, dtype=float), 0.0)
+    out = np.pi * np.asarray(summit_radius, dtype=float) * d * np.asarray(shear_strength, float)
+    return out[()] if out.ndim == 0 else out

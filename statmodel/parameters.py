@@ -1,0 +1,167 @@
+"""Material and roughness inputs of the statistical model, and Tabor's parameter.
+
+All quantities are SI: Pa, J/m^2, m, 1/m^2. The dataclasses are frozen and validate their
+fields on construction; a bad value raises ``ValueError`` naming the field and what was expected.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, fields
+
+#: Below this Tabor parameter the JKR limit no longer applies (paper, Section 2).
+TABOR_JKR_LIMIT = 5.0
+
+
+class TaborWarning(UserWarning):
+    """The Tabor parameter is below 5: the JKR-based asperity laws are outside their validity."""
+
+
+def _check_finite(owner: str, name: str, value: float) -> float:
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{owner}.{name}: expected a real number, got {value!r}") from None
+    if not math.isfinite(value):
+        raise ValueError(f"{owner}.{name}: expected a finite number, got {value!r}")
+    return value
+
+
+def _check_positive(owner: str, name: str, value: float, unit: str) -> None:
+    if not value > 0.0:
+        raise ValueError(f"{owner}.{name}: expected a positive value in {unit}, got {value!r}")
+
+
+def _check_non_negative(owner: str, name: str, value: float, unit: str) -> None:
+    if not value >= 0.0:
+        raise ValueError(f"{owner}.{name}: expected a value >= 0 in {unit}, got {value!r}")
+
+
+@dataclass(frozen=True)
+class Material:
+    """Elastic, adhesive and frictional properties of the asperity-flat interface.
+
+    Parameters
+    ----------
+    e_star : float
+        Reduced (contact) modulus E* = E / (1 - nu^2), Pa, > 0.
+    work_of_adhesion : float
+        Work of adhesion w, J/m^2, >= 0 (w = 0 is the Hertz limit).
+    mode_mixity : float
+        Mode-mixity parameter lambda of the failure locus E:failure_locus, in [0, 1]
+        (0: pure JKR, the tangential work is fully dissipated; 1: Savkoor-Briggs).
+    shear_strength : float
+        Frictional shear strength tau0 of sliding junctions (E:Hertz_theory), Pa, >= 0.
+    equilibrium_distance : float
+        Equilibrium interatomic distance epsilon, m, > 0 (default 0.2 nm).
+    """
+
+    e_star: float
+    work_of_adhesion: float
+    mode_mixity: float
+    shear_strength: float
+    equilibrium_distance: float = 0.2e-9
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            object.__setattr__(
+                self, f.name, _check_finite("Material", f.name, getattr(self, f.name))
+            )
+        _check_positive("Material", "e_star", self.e_star, "Pa")
+        _check_non_negative("Material", "work_of_adhesion", self.work_of_adhesion, "J/m^2")
+        if not 0.0 <= self.mode_mixity <= 1.0:
+            raise ValueError(
+                f"Material.mode_mixity: expected lambda in [0, 1], got {self.mode_mixity!r}"
+            )
+        _check_non_negative("Material", "shear_strength", self.shear_strength, "Pa")
+        _check_positive("Material", "equilibrium_distance", self.equilibrium_distance, "m")
+
+
+@dataclass(frozen=True)
+class Roughness:
+    """Greenwood-Williamson / Fuller-Tabor summit statistics of the rough surface.
+
+    Parameters
+    ----------
+    asperity_density : float
+        Number of summits per unit nominal area eta, 1/m^2, > 0.
+    summit_radius : float
+        Common summit radius of curvature R, m, > 0.
+    summit_height_rms : float
+        Standard deviation sigma_s of the (Gaussian) summit heights, m, > 0.
+    """
+
+    asperity_density: float
+    summit_radius: float
+    summit_height_rms: float
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            object.__setattr__(
+                self, f.name, _check_finite("Roughness", f.name, getattr(self, f.name))
+            )
+        _check_positive("Roughness", "asperity_density", self.asperity_density, "1/m^2")
+        _check_positive("Roughness", "summit_radius", self.summit_radius, "m")
+        _check_positive("Roughness", "summit_height_rms", self.summit_height_rms, "m")
+
+
+def tabor_parameter(
+    summit_radius: float,
+    work_of_adhesion: float,
+    e_star: float,
+    equilibrium_distance: float = 0.2e-9,
+    *,
+    warn: bool = True,
+) -> float:
+    """Tabor's parameter mu = (R w^2 / (E*^2 epsilon^3))^(1/3) (paper, Section 2; dimensionless).
+
+    Parameters
+    ----------
+    summit_radius : float
+        Asperity radius R, m.
+    work_of_adhesion : float
+        Work of adhesion w, J/m^2.
+    e_star : float
+        Reduced modulus E*, Pa.
+    equilibrium_distance : float
+        Equilibrium distance epsilon, m.
+    warn : bool
+        Emit a :class:`TaborWarning` when 0 < mu < 5 (adhesive but outside the JKR limit).
+        With w = 0 there is no adhesion and the Hertz limit holds: no warning.
+
+    Returns
+    -------
+    float
+        mu (dimensionless).
+    """
+    for name, value in (
+        ("summit_radius", summit_radius),
+        ("e_star", e_star),
+        ("equilibrium_distance", equilibrium_distance),
+    ):
+        value = _check_finite("tabor_parameter", name, value)
+        _check_positive("tabor_parameter", name, value, "SI units")
+    w = _check_finite("tabor_parameter", "work_of_adhesion", work_of_adhesion)
+    _check_non_negative("tabor_parameter", "work_of_adhesion", w, "J/m^2")
+    mu = (summit_radius * w**2 / (e_star**2 * equilibrium_distance**3)) ** (1.0 / 3.0)
+    if warn and w > 0.0 and mu < TABOR_JKR_LIMIT:
+        warnings.warn(
+            f"Tabor parameter mu = {mu:.3g} < {TABOR_JKR_LIMIT:g}: the JKR-based asperity laws "
+            "(E:JKR_indent, E:PC_indent) are outside their range of validity",
+            TaborWarning,
+            stacklevel=2,
+        )
+    return mu
+
+
+def material_tabor_parameter(material: Material, roughness: Roughness, *,
+                             warn: bool = True) -> float:
+    """Tabor's parameter of a (material, roughness) pair; see :func:`tabor_parameter`."""
+    return tabor_parameter(
+        roughness.summit_radius,
+        material.work_of_adhesion,
+        material.e_star,
+        material.equilibrium_distance,
+        warn=warn,
+    )

@@ -1,0 +1,358 @@
+"""Tangential loading of the rough contact up to full sliding (Sections 3.2 and 4).
+
+At constant normal load F_z (load control) the separation d(delta_T) is solved at every tangential
+displacement so that E:NewFormulation_Fy returns the imposed load; F_x and A_r then follow from
+E:NewFormulation_Fx / E:NewFormulation_Ar with the composite limits E:delta_2 / E:delta_1:
+
+    delta_2 = max(d_min - d + delta_JKR^loading, delta_PC^min(delta_T)),
+    delta_1 = min(0, delta_2).
+
+Asperities with delta >= delta_2 stick (Papangelo-Ciavarella law), those with
+delta_1 <= delta < delta_2 slide (Hertz with shear strength tau0), the rest are out of contact.
+Counts are expected numbers eta A_n int phi over each population. At delta_T = 0 and d = d_min the
+formulation reduces to the preload (continuity, Section 3.2) and the same kernel evaluates both.
+
+Derived quantities: the static friction (peak F_x over the computed curve), the sliding friction
+(the all-sliding limit tau0 * A_r^Hertz(d_s), with d_s the separation at which the
+Greenwood-Williamson Hertz integral carries F_z, both in closed form: parabolic-cylinder function
+D_{-5/2} for the load, the normal partial moment for the area) and the sliding displacement (the
+delta_T at which the expected number of sticking asperities falls to one). SI units throughout.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+from scipy.optimize import brentq
+from scipy.special import gamma, ndtr, pbdv
+
+from statmodel import integrals as _k
+from statmodel.options import ModelSetup, QuadratureOptions, setup_model
+from statmodel.parameters import Material, Roughness
+from statmodel.preload import pull_off_point, solve_preload
+
+
+@dataclass(frozen=True)
+class ShearCurve:
+    """Response of the rough contact to a tangential displacement history (SI units).
+
+    Arrays (one entry per step): ``tangential_displacement`` delta_T (m), ``tangential_force``
+    F_x (N), ``normal_force`` F_z (N), ``real_area`` A_r (m^2), ``n_contact``, ``n_stick``,
+    ``n_slip`` (expected numbers of asperities), ``separation`` d (m), the stick/slip parts
+    ``tangential_force_stick``/``_slip`` (N), ``normal_force_stick``/``_slip`` (N),
+    ``real_area_stick``/``_slip`` (m^2), the integral limits ``delta_1``/``delta_2`` (m) and
+    ``nit`` (normal-load evaluations per step). Scalars: ``tabor_parameter``,
+    ``separation_preload`` d_min (m), ``static_friction`` (peak F_x, N), ``sliding_friction``
+    (all-sliding limit, N), ``sliding_separation`` (m), ``sliding_displacement`` (m; inf if never,
+    e.g. lambda = 0), ``normal_load`` (imposed, N; NaN in fixed grip), ``pull_off_force`` (N),
+    ``converged``, ``message``. Steps after a failed solve are NaN.
+    """
+
+    tangential_displacement: np.ndarray
+    tangential_force: np.ndarray
+    normal_force: np.ndarray
+    real_area: np.ndarray
+    n_contact: np.ndarray
+    n_stick: np.ndarray
+    n_slip: np.ndarray
+    separation: np.ndarray
+    tangential_force_stick: np.ndarray
+    tangential_force_slip: np.ndarray
+    normal_force_stick: np.ndarray
+    normal_force_slip: np.ndarray
+    real_area_stick: np.ndarray
+    real_area_slip: np.ndarray
+    delta_1: np.ndarray
+    delta_2: np.ndarray
+    nit: np.ndarray
+    tabor_parameter: float
+    separation_preload: float
+    static_friction: float
+    sliding_friction: float
+    sliding_separation: float
+    sliding_displacement: float
+    normal_load: float
+    pull_off_force: float
+    converged: bool
+    message: str
+
+
+def _check_displacements(tangential_displacement: ArrayLike) -> np.ndarray:
+    dts = np.ascontiguousarray(np.atleast_1d(np.asarray(tangential_displacement, dtype=float)))
+    if dts.ndim != 1 or dts.size == 0:
+        raise ValueError("tangential_displacement: expected a non-empty 1D array in m")
+    if not np.all(np.isfinite(dts)) or np.any(dts < 0.0):
+        raise ValueError("tangential_displacement: expected finite values >= 0 m")
+    if np.any(np.diff(dts) < 0.0):
+        raise ValueError(
+            "tangential_displacement: expected a non-decreasing history (monotonic loading, "
+            "the formulation E:delta_2 assumes it)"
+        )
+    return dts
+
+
+def _hertz_sliding_load(setup: ModelSetup, separation: float) -> float:
+    """Greenwood-Williamson Hertz load at separation d (m), closed form (N).
+
+    eta A_n 4/3 E* sqrt(R) sigma^(3/2) Gamma(5/2) / sqrt(2 pi) exp(-h^2/4) D_{-5/2}(h), h = d/sigma.
+    """
+    sigma = setup.roughness.summit_height_rms
+    h = separation / sigma
+    d_val, _ = pbdv(-2.5, h)
+    return float(
+        setup.n_asperities * 4.0 / 3.0 * setup.material.e_star
+        * math.sqrt(setup.roughness.summit_radius) * sigma**1.5 * gamma(2.5)
+        / math.sqrt(2.0 * math.pi) * math.exp(-0.25 * h * h) * d_val
+    )
+
+
+def _hertz_sliding_area(setup: ModelSetup, separation: float) -> float:
+    """Greenwood-Williamson Hertz area eta A_n pi R sigma (pdf(h) - h Q(h)) at d = h sigma (m^2)."""
+    sigma = setup.roughness.summit_height_rms
+    h = separation / sigma
+    pdf = math.exp(-0.5 * h * h) / math.sqrt(2.0 * math.pi)
+    return float(
+        setup.n_asperities * math.pi * setup.roughness.summit_radius * sigma
+        * (pdf - h * ndtr(-h))
+    )
+
+
+def sliding_limit(setup: ModelSetup, normal_load: float) -> tuple[float, float, float]:
+    """(sliding friction N, separation m, real area m^2) when every junction slides (closed form).
+
+    With all junctions sliding the model is Greenwood-Williamson with Hertz asperities; the
+    separation d_s solves F_GW(d_s) = F_z (Brent, xtol 1e-14 sigma_s) and the friction is
+    tau0 * A_GW(d_s). A non-positive load cannot be carried by sliding junctions: (0, inf, 0).
+    """
+    if normal_load <= 0.0:
+        return 0.0, math.inf, 0.0
+    sigma = setup.roughness.summit_height_rms
+    lo, hi = -1.0 * sigma, 1.0 * sigma
+    while _hertz_sliding_load(setup, lo) < normal_load:
+        lo -= 2.0 * (hi - lo)
+    while _hertz_sliding_load(setup, hi) > normal_load:
+        hi += 2.0 * (hi - lo)
+    d_s = brentq(lambda d: _hertz_sliding_load(setup, d) - normal_load, lo, hi,
+                 xtol=1e-14 * sigma, rtol=1e-15, maxiter=500)
+    area = _hertz_sliding_area(setup, d_s)
+    return setup.material.shear_strength * area, float(d_s), area
+
+
+def _assemble(setup: ModelSetup, dts: np.ndarray, results: np.ndarray, separations: np.ndarray,
+              nits: np.ndarray, **scalars: object) -> ShearCurve:
+    n = setup.n_asperities
+    fz_stick = n * results[:, _k.FZ_STICK]
+    fz_slip = n * results[:, _k.FZ_SLIP]
+    fx_stick = n * results[:, _k.FX_STICK]
+    fx_slip = n * results[:, _k.FX_SLIP]
+    ar_stick = n * results[:, _k.AR_STICK]
+    ar_slip = n * results[:, _k.AR_SLIP]
+    n_stick = n * results[:, _k.N_STICK]
+    n_slip = n * results[:, _k.N_SLIP]
+    fx = fx_stick + fx_slip
+    static = float(np.nanmax(fx)) if np.any(np.isfinite(fx)) else math.nan
+    return ShearCurve(
+        tangential_displacement=dts.copy(),
+        tangential_force=fx,
+        normal_force=fz_stick + fz_slip,
+        real_area=ar_stick + ar_slip,
+        n_contact=n_stick + n_slip,
+        n_stick=n_stick,
+        n_slip=n_slip,
+        separation=separations,
+        tangential_force_stick=fx_stick,
+        tangential_force_slip=fx_slip,
+        normal_force_stick=fz_stick,
+        normal_force_slip=fz_slip,
+        real_area_stick=ar_stick,
+        real_area_slip=ar_slip,
+        delta_1=results[:, _k.DELTA_1].copy(),
+        delta_2=results[:, _k.DELTA_2].copy(),
+        nit=nits,
+        tabor_parameter=setup.tabor_parameter,
+        static_friction=static,
+        **scalars,
+    )
+
+
+def _n_stick_load_control(setup: ModelSetup, prm: np.ndarray, delta_t: float, d_guess: float,
+                          target: float, ftol: float) -> tuple[float, float]:
+    out = np.empty(_k.N_RESULTS)
+    work = np.empty(6)
+    sigma = setup.roughness.summit_height_rms
+    d, _, ok = _k.solve_separation(d_guess, 1e-6 * sigma, delta_t, target, ftol, 1e-15 * sigma,
+                                   setup.options.max_iter, prm, setup.gl_x, setup.gl_w,
+                                   setup.panels, out, work)
+    if not ok:
+        return math.nan, d
+    return setup.n_asperities * out[_k.N_STICK], d
+
+
+def _sliding_displacement(setup: ModelSetup, prm: np.ndarray, dts: np.ndarray,
+                          n_stick: np.ndarray, separations: np.ndarray,
+                          target: float | None, ftol: float) -> float:
+    """delta_T (m) at which the expected number of sticking asperities falls to 1.
+
+    Bracketed on the computed curve (extended by doubling delta_T when needed), refined by Brent
+    (rtol 1e-10). inf when it never happens (lambda = 0), 0 when fewer than one sticks at the
+    first step, NaN when the separation solve fails before it.
+    """
+    mat = setup.material
+    if mat.mode_mixity == 0.0:
+        return math.inf  # pure JKR: no shear-induced instability, junctions never slide
+    if mat.work_of_adhesion == 0.0:
+        return 0.0  # no adhesion: every junction slides as soon as delta_T > 0
+    if n_stick[0] < 1.0:
+        return float(dts[0])
+
+    def count(dt: float, d_guess: float) -> tuple[float, float]:
+        if target is None:
+            out = np.empty(_k.N_RESULTS)
+            _k.asperity_integrals(separations[0], dt, prm, setup.gl_x, setup.gl_w, setup.panels,
+                                  out)
+            return setup.n_asperities * out[_k.N_STICK], separations[0]
+        return _n_stick_load_control(setup, prm, dt, d_guess, target, ftol)
+
+    below = np.flatnonzero(n_stick < 1.0)
+    if below.size:
+        i = int(below[0])
+        lo, hi, d_lo = float(dts[i - 1]), float(dts[i]), float(separations[i - 1])
+    else:
+        finite = np.flatnonzero(np.isfinite(separations))
+        if finite.size == 0:
+            return math.nan
+        j = int(finite[-1])
+        lo, d_lo = float(dts[j]), float(separations[j])
+        hi = max(2.0 * lo, setup.roughness.summit_height_rms * 1e-3)
+        for _ in range(80):
+            n_hi, d_hi = count(hi, d_lo)
+            if not math.isfinite(n_hi):
+                return math.nan
+            if n_hi < 1.0:
+                break
+            lo, d_lo, hi = hi, d_hi, 2.0 * hi
+        else:
+            return math.inf
+    state = {"d": d_lo}
+
+    def f(dt: float) -> float:
+        n_dt, d_dt = count(dt, state["d"])
+        if math.isfinite(d_dt):
+            state["d"] = d_dt
+        return n_dt - 1.0
+
+    try:
+        return float(brentq(f, lo, hi, rtol=1e-10, xtol=1e-300, maxiter=200))
+    except (ValueError, RuntimeError):
+        return math.nan
+
+
+def shear_curve(material: Material, roughness: Roughness, nominal_area: float,
+                normal_load: float, tangential_displacement: ArrayLike,
+                **accuracy_knobs: float) -> ShearCurve:
+    """Tangential loading at constant normal load, from the preload to full sliding.
+
+    Parameters
+    ----------
+    material, roughness : Material, Roughness
+        Interface and summit statistics (SI).
+    nominal_area : float
+        A_n, m^2 (eta A_n >= 1).
+    normal_load : float
+        Imposed F_z, N; must not be below the pull-off force.
+    tangential_displacement : array_like
+        Non-decreasing delta_T history, m (start with 0 to include the preload state).
+    **accuracy_knobs
+        ``nodes``, ``panels``, ``cutoff_sigma``, ``load_rtol``, ``max_iter``
+        (see :mod:`statmodel.options`).
+
+    Returns
+    -------
+    ShearCurve
+        ``converged`` is False (and later steps NaN) if a separation solve failed, e.g. when the
+        load can no longer be carried (pull-off under shear).
+    """
+    setup = setup_model(material, roughness, nominal_area,
+                        QuadratureOptions.from_knobs(**accuracy_knobs))
+    dts = _check_displacements(tangential_displacement)
+    pull = pull_off_point(setup)
+    pre = solve_preload(setup, normal_load, pull)
+    target = float(normal_load)
+    ftol = setup.options.load_rtol * max(abs(target), abs(pull[0]))
+    prm = setup.with_preload_separation(pre.separation)
+    m = dts.size
+    results = np.full((m, _k.N_RESULTS), np.nan)
+    separations = np.full(m, np.nan)
+    nits = np.zeros(m, dtype=np.int64)
+    sigma = roughness.summit_height_rms
+    n_ok = 0
+    if pre.converged:
+        n_ok = _k.shear_path(dts, target, pre.separation, ftol, 1e-15 * sigma,
+                             setup.options.max_iter, prm, setup.gl_x, setup.gl_w, setup.panels,
+                             results, separations, nits)
+    converged = bool(pre.converged and n_ok == m)
+    if not pre.converged:
+        message = pre.message
+    elif converged:
+        message = "converged"
+    else:
+        message = (
+            f"separation solve failed at step {n_ok} (delta_T = {dts[n_ok]:.6g} m): the normal "
+            f"load {target:.6g} N cannot be carried (pull-off under shear) or the solver did "
+            "not converge"
+        )
+    f_slide, d_slide, _ = sliding_limit(setup, target)
+    n_stick = setup.n_asperities * results[:, _k.N_STICK]
+    slide_dt = _sliding_displacement(setup, prm, dts, n_stick, separations, target, ftol)
+    return _assemble(
+        setup, dts, results, separations, nits,
+        separation_preload=pre.separation,
+        sliding_friction=f_slide,
+        sliding_separation=d_slide,
+        sliding_displacement=slide_dt,
+        normal_load=target,
+        pull_off_force=pull[0],
+        converged=converged,
+        message=message,
+    )
+
+
+def shear_curve_fixed_separation(material: Material, roughness: Roughness, nominal_area: float,
+                                 separation: float, tangential_displacement: ArrayLike,
+                                 **accuracy_knobs: float) -> ShearCurve:
+    """Tangential loading in fixed grip: the separation stays at ``separation`` (m) throughout.
+
+    The contact is pre-loaded to d_min = ``separation`` (lower limit delta_JKR^loading), then
+    sheared at constant d; F_z varies (E:NewFormulation_Fy). The sliding friction is the
+    all-sliding limit at that separation, tau0 * A_GW(d) (closed form); ``normal_load`` is NaN.
+    """
+    setup = setup_model(material, roughness, nominal_area,
+                        QuadratureOptions.from_knobs(**accuracy_knobs))
+    dts = _check_displacements(tangential_displacement)
+    try:
+        d = float(separation)
+    except (TypeError, ValueError):
+        raise ValueError(f"separation: expected a number in m, got {separation!r}") from None
+    if not math.isfinite(d):
+        raise ValueError(f"separation: expected a finite separation in m, got {separation!r}")
+    prm = setup.with_preload_separation(d)
+    results = np.empty((dts.size, _k.N_RESULTS))
+    _k.fixed_separation_path(dts, d, prm, setup.gl_x, setup.gl_w, setup.panels, results)
+    separations = np.full(dts.size, d)
+    area = _hertz_sliding_area(setup, d)
+    n_stick = setup.n_asperities * results[:, _k.N_STICK]
+    slide_dt = _sliding_displacement(setup, prm, dts, n_stick, separations, None, 0.0)
+    return _assemble(
+        setup, dts, results, separations, np.zeros(dts.size, dtype=np.int64),
+        separation_preload=d,
+        sliding_friction=material.shear_strength * area,
+        sliding_separation=d,
+        sliding_displacement=slide_dt,
+        normal_load=math.nan,
+        pull_off_force=math.nan,
+        converged=True,
+        message="fixed grip: no solve needed",
+    )

@@ -1,0 +1,123 @@
+"""The job against measurements: effective resolution and lambda recovered from data the
+model made; loads below pull-off refused before the BEM; CLI exit status; parallel runs."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import pipelines.job as job_module
+import statmodel
+from pipelines.cli import main
+from pipelines.config import config_from_dict, preset_text
+from pipelines.fitting import area_up_to_peak, interpolate_area
+from pipelines.friction_stage import model_shear_area
+from pipelines.job import run_job
+from pipelines.measured import ShearAreaCurve, write_shear_area
+from pipelines.resolution_stage import material_from_config, roughness_from_scan
+from pipelines.surface_stage import read_and_level, scan_resolutions
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # pragma: no cover
+    import tomli as tomllib
+
+
+def _data(**loading):
+    data = tomllib.loads(preset_text("default"))
+    data["surface"]["synthetic"].update(n=64, pixel_size=40e-6, seed=3)
+    data["surface"]["max_stride"] = 4
+    data["bem"]["max_stride"] = 2
+    data["loading"].update(normal_loads=[1.0, 2.0, 3.0], steps=41, **loading)
+    return data
+
+
+def test_effective_resolution_and_lambda_recovered_from_measurements(tmp_path):
+    """Measured A_r(F_z) made by the model at stride 3 and A_r(F_x) made with lambda = 0.1
+    (1 % noise): the job picks stride 3 and fits lambda within its uncertainty."""
+    data = _data()
+    cfg = config_from_dict(data, base_dir=tmp_path)
+    scan = scan_resolutions(read_and_level(cfg.surface), cfg.surface.max_stride)
+    truth = roughness_from_scan(scan, 2)  # stride 3
+    material = material_from_config(cfg.material)
+    a_n = cfg.loading.nominal_area
+    loads = np.array([0.8, 1.6, 2.4, 3.2])
+    area = statmodel.real_area_at_loads(material, truth, a_n, loads)
+    (tmp_path / "area.csv").write_text(
+        "normal_load,real_area\n" + "".join(f"{f!r},{a!r}\n" for f, a in zip(loads, area,
+                                                                            strict=True)))
+    rng = np.random.default_rng(0)
+    curves = []
+    for f in (1.0, 3.0):
+        fx, ar = area_up_to_peak(*model_shear_area(0.1, f, material=material, roughness=truth,
+                                                   nominal_area=a_n,
+                                                   max_tangential_displacement=None, steps=81,
+                                                   knobs={}))
+        picks = np.linspace(0, 0.95 * fx[-1], 25)
+        measured = interpolate_area(fx, ar, picks) * (1 + rng.normal(0, 0.01, picks.size))
+        curves.append(ShearAreaCurve(f, picks, measured))
+    write_shear_area(tmp_path / "shear.csv", curves)
+    data["measured"] = {"normal_area": "area.csv", "shear_area": "shear.csv"}
+    data["fit"] = {"mode_mixity_bounds": [1e-3, 1.0]}
+    result = run_job(config_from_dict(data, base_dir=tmp_path), tmp_path / "out")
+    res, lam = result.resolution, result.mode_mixity
+    assert res.basis == "measured"
+    assert res.effective_stride == 3
+    assert res.misfit_measured[2] < 1e-6  # the model reproduces its own data
+    assert lam.fitted and lam.fit.success
+    assert abs(lam.mode_mixity - 0.1) < 3 * lam.fit.mode_mixity_std
+    assert lam.fit.mode_mixity_std < 0.03
+    assert result.friction.mode_mixity == lam.mode_mixity
+
+
+def test_load_below_pull_off_refused_before_bem(tmp_path, monkeypatch):
+    cfg = config_from_dict(_data(normal_loads=[-1e3, 1.0]), base_dir=tmp_path)
+
+    def no_bem(*a, **k):
+        raise AssertionError("the BEM must not run")
+
+    monkeypatch.setattr(job_module, "bem_reference", no_bem)
+    with pytest.raises(ValueError, match=r"loading\.normal_loads: -1000 N .* pull-off"):
+        run_job(cfg, tmp_path / "out")
+
+
+def test_cli_exit_1_when_a_solver_did_not_converge(tmp_path, capsys):
+    data = _data()
+    data["bem"]["max_iter"] = 1  # the BEM cannot converge in one iteration
+    text = preset_text("default")
+    path = tmp_path / "job.toml"
+    path.write_text(text.replace("[bem]\n", "[bem]\nmax_iter = 1\n")
+                    .replace("n = 1000 ", "n = 64 ").replace("pixel_size = 10e-6 ",
+                                                             "pixel_size = 40e-6 ")
+                    .replace("max_stride = 26 ", "max_stride = 4 ")
+                    .replace("steps = 201", "steps = 21"))
+    status = main(["run", str(path), "--out", str(tmp_path / "out")])
+    out = capsys.readouterr().out
+    assert status == 1
+    assert "NOT CONVERGED" in out
+    assert (tmp_path / "out" / "report.md").exists()  # everything still written
+    assert "Not converged" in (tmp_path / "out" / "report.md").read_text()
+    # a second run resumes every stage and still reports the failure
+    assert main(["run", str(path), "--out", str(tmp_path / "out")]) == 1
+    assert "stored stages skipped" in capsys.readouterr().out
+
+
+def _compare(a, b):
+    np.testing.assert_allclose(a.bem.contact_fraction, b.bem.contact_fraction, rtol=1e-12)
+    np.testing.assert_allclose(a.resolution.real_area, b.resolution.real_area, rtol=1e-12)
+    for name in ("tangential_force", "real_area"):
+        np.testing.assert_allclose(a.friction.curves[name], b.friction.curves[name], rtol=1e-12)
+
+
+def test_parallel_runs_match_serial(tmp_path):
+    """Two worker processes, and a dask.distributed cluster, give the serial numbers."""
+    distributed = pytest.importorskip("distributed")
+    cfg = config_from_dict(_data(), base_dir=tmp_path)
+    serial = run_job(cfg, tmp_path / "serial")
+    pooled = run_job(cfg, tmp_path / "pool", workers=2)
+    _compare(serial, pooled)
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
+                                  dashboard_address=None) as cluster:
+        with distributed.Client(cluster) as client:
+            on_dask = run_job(cfg, tmp_path / "dask", scheduler=client)
+    _compare(serial, on_dask)

@@ -1,0 +1,156 @@
+"""The whole job end to end on a small surface: outputs, units, resume, CLI exit status."""
+
+from __future__ import annotations
+
+import h5py
+import numpy as np
+import pytest
+
+import pipelines.job as job_module
+from pipelines.config import config_from_dict, preset_text
+from pipelines.job import STAGES, run_job
+from pipelines.report import write_report
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # pragma: no cover
+    import tomli as tomllib
+
+
+def small_config(tmp_path, **measured):
+    """A 2.56 mm, 64 x 64 patch of the paper-like surface: the job in a few seconds."""
+    data = tomllib.loads(preset_text("default"))
+    data["surface"]["synthetic"].update(n=64, pixel_size=40e-6, seed=3)
+    data["surface"]["max_stride"] = 4
+    data["bem"]["max_stride"] = 2
+    data["loading"]["normal_loads"] = [1.0, 2.0, 3.0]
+    data["loading"]["steps"] = 41
+    if measured:
+        data["measured"] = measured
+    return config_from_dict(data, source="small", base_dir=tmp_path)
+
+
+@pytest.fixture(scope="module")
+def small_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("job")
+    cfg = small_config(out)
+    result = run_job(cfg, out)
+    write_report(result, out)
+    return cfg, out, result
+
+
+def test_all_stages_ran_and_converged(small_run):
+    _, out, result = small_run
+    assert [s.name for s in result.stages] == list(STAGES)
+    assert not any(s.cached for s in result.stages)
+    assert result.converged, result.problems()
+    for name in ("report.md", "fig12_resolution.png", "fig13_area_vs_force.png",
+                 "fig4_shear.png", "surface.png", "bem_grid.png", "fig12d_misfit.png"):
+        assert (out / name).stat().st_size > 0
+    report = (out / "report.md").read_text()
+    assert "effective resolution" in report and "![" in report
+
+
+def test_physics_of_the_outputs(small_run):
+    _, _, result = small_run
+    fr, bem, res = result.friction, result.bem, result.resolution
+    # real area grows with load, in the BEM and in the model at every resolution
+    assert np.all(np.diff(bem.contact_fraction) > 0)
+    finite = np.all(np.isfinite(res.real_area), axis=1)
+    assert np.all(np.diff(res.real_area[finite], axis=1) > 0)
+    # adhesion adds contact area at equal load
+    assert np.all(bem.contact_fraction_adhesive >= bem.contact_fraction)
+    # shear at constant normal load: F_z held, A_r shrinks, peak above sliding, static peak
+    np.testing.assert_allclose(fr.curves["normal_force"],
+                               np.broadcast_to(fr.normal_load[:, None], (3, 41)), rtol=1e-6)
+    assert np.all(fr.curves["real_area"][:, -1] < fr.curves["real_area"][:, 0])
+    assert np.all(fr.scalars["static_friction"] >= fr.scalars["sliding_friction"])
+    np.testing.assert_allclose(fr.scalars["static_friction"],
+                               np.nanmax(fr.curves["tangential_force"], axis=1), rtol=1e-6)
+    # stick and slip parts add up to the totals
+    for name in ("tangential_force", "normal_force", "real_area"):
+        np.testing.assert_allclose(fr.curves[name + "_stick"] + fr.curves[name + "_slip"],
+                                   fr.curves[name], rtol=1e-9, atol=1e-12)
+    # the effective resolution is the least misfit one
+    assert res.index == int(np.nanargmin(res.misfit_bem))
+
+
+def test_results_file_has_units_dims_and_provenance(small_run):
+    cfg, out, result = small_run
+    with h5py.File(out / "results.h5", "r") as f:
+        assert set(STAGES) <= set(f)
+        assert f.attrs["input_sha256"] == result.input_sha256
+        assert "[material]" in f.attrs["config_toml"]
+        assert f.attrs["asperity_version"]
+        n_datasets = 0
+
+        def check(name, obj):
+            nonlocal n_datasets
+            if isinstance(obj, h5py.Dataset):
+                n_datasets += 1
+                assert "units" in obj.attrs, name
+                for axis in range(obj.ndim):
+                    assert len(obj.dims[axis]) == 1 or obj.is_scale, (name, axis)
+
+        f.visititems(check)
+        assert n_datasets > 40
+        fr = f["friction"]
+        n_loads, steps = len(cfg.loading.normal_loads), cfg.loading.steps
+        assert fr["tangential_force"].shape == (n_loads, steps)
+        assert fr["tangential_force"].attrs["units"] == "N"
+        assert fr["real_area"].attrs["units"] == "m^2"
+        assert fr["tangential_displacement"].attrs["units"] == "m"
+        assert f["surface/heights"].shape == (64, 64)
+        assert f["surface/heights"].attrs["units"] == "m"
+        scan = f["resolution_scan"]
+        assert scan["summit_radius"].attrs["units"] == "m"
+        assert scan["asperity_density"].attrs["units"] == "1/m^2"
+        assert f["statistical_model/real_area"].shape == (len(scan["stride"]), n_loads)
+
+
+def test_resume_after_interruption_skips_finished_stages(tmp_path, monkeypatch):
+    cfg = small_config(tmp_path)
+    out = tmp_path / "out"
+    calls = {"surface": 0, "bem": 0}
+    real_read, real_bem = job_module.read_and_level, job_module.bem_reference
+
+    def counting_read(*a, **k):
+        calls["surface"] += 1
+        return real_read(*a, **k)
+
+    def counting_bem(*a, **k):
+        calls["bem"] += 1
+        return real_bem(*a, **k)
+
+    def crash(*a, **k):
+        raise KeyboardInterrupt("simulated interruption in stage 4")
+
+    monkeypatch.setattr(job_module, "read_and_level", counting_read)
+    monkeypatch.setattr(job_module, "bem_reference", counting_bem)
+    monkeypatch.setattr(job_module, "statistical_model_scan", crash)
+    with pytest.raises(KeyboardInterrupt):
+        run_job(cfg, out)
+    with h5py.File(out / "results.h5", "r") as f:  # readable, holding stages 1-3 only
+        assert set(f) == {"surface", "resolution_scan", "bem_reference"}
+    assert calls == {"surface": 1, "bem": 1}
+
+    monkeypatch.undo()
+    monkeypatch.setattr(job_module, "read_and_level", counting_read)
+    monkeypatch.setattr(job_module, "bem_reference", counting_bem)
+    result = run_job(cfg, out)
+    assert calls == {"surface": 1, "bem": 1}  # not recomputed
+    assert [s.cached for s in result.stages] == [True, True, True, False, False, False]
+
+    # a change of the loads recomputes the BEM and what follows, not the surface
+    changed = config_from_dict({**tomllib.loads(cfg.to_toml()),
+                                "loading": {**cfg.to_dict()["loading"],
+                                            "normal_loads": [1.5, 2.5],
+                                            "max_tangential_displacement": "auto"}},
+                               base_dir=tmp_path)
+    result = run_job(changed, out)
+    assert [s.cached for s in result.stages] == [True, True, False, False, False, False]
+    assert calls == {"surface": 1, "bem": 2}
+    # --force recomputes everything
+    result = run_job(changed, out, force=True)
+    assert not any(s.cached for s in result.stages)
+    assert calls == {"surface": 2, "bem": 3}

@@ -1,0 +1,62 @@
+"""Measured CSV curves: per-load and long files, errors naming file and column."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from pipelines.measured import (
+    ShearAreaCurve,
+    read_normal_area,
+    read_shear_area,
+    write_shear_area,
+)
+
+
+def test_normal_area_sorted_by_load(tmp_path):
+    path = tmp_path / "area.csv"
+    path.write_text("# Sahli-like\nnormal_load,real_area,comment\n2.0,3e-6,x\n1.0,2e-6,y\n")
+    curve = read_normal_area(path)
+    np.testing.assert_array_equal(curve.normal_load, [1.0, 2.0])
+    np.testing.assert_array_equal(curve.real_area, [2e-6, 3e-6])
+
+
+def test_long_file_round_trip(tmp_path):
+    curves = [ShearAreaCurve(1.0, np.array([0.0, 0.1, 0.2]), np.array([3e-6, 2.9e-6, 2.7e-6])),
+              ShearAreaCurve(2.0, np.array([0.0, 0.3]), np.array([5e-6, 4.5e-6]))]
+    path = tmp_path / "long.csv"
+    write_shear_area(path, curves)
+    back = read_shear_area(path)
+    assert [c.normal_load for c in back] == [1.0, 2.0]
+    for a, b in zip(curves, back, strict=True):
+        np.testing.assert_array_equal(a.tangential_force, b.tangential_force)
+        np.testing.assert_array_equal(a.real_area, b.real_area)
+
+
+def test_one_curve_file_takes_load_from_config(tmp_path):
+    path = tmp_path / "c.csv"
+    path.write_text("tangential_force,real_area\n0.2,1e-6\n0.0,2e-6\n")
+    (curve,) = read_shear_area(path, normal_load=1.5)
+    assert curve.normal_load == 1.5
+    np.testing.assert_array_equal(curve.tangential_force, [0.0, 0.2])
+    with pytest.raises(ValueError, match="no 'normal_load' column"):
+        read_shear_area(path)
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("tangential_force,area\n0,1\n1,2\n", "missing column 'real_area'"),
+        ("tangential_force,real_area\n0,abc\n1,2\n", "row 2, column 'real_area'"),
+        ("tangential_force,real_area\n0,nan\n1,2\n", "not finite"),
+        ("tangential_force,real_area\n0,1\n", "fewer than two"),
+        ("", "empty file"),
+        ("tangential_force,real_area\n0,-1\n1,2\n", "negative area"),
+    ],
+)
+def test_bad_files_named(tmp_path, text, message):
+    path = tmp_path / "bad.csv"
+    path.write_text(text)
+    with pytest.raises(ValueError, match=message) as info:
+        read_shear_area(path, normal_load=1.0)
+    assert "bad.csv" in str(info.value)

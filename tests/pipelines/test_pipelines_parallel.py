@@ -1,0 +1,58 @@
+"""Sweeps in worker processes and on dask.distributed, with thread caps per worker."""
+
+from __future__ import annotations
+
+import math
+import os
+
+import pytest
+
+from pipelines.parallel import (
+    SerialExecutor,
+    make_executor,
+    run_map,
+    worker_thread_settings,
+)
+
+
+def _worker_report(x: float) -> tuple[float, int, dict]:
+    """Runs in the worker: a result, the worker's pid, its thread caps."""
+    import numba  # imported after the initializer set the caps
+
+    settings = worker_thread_settings()
+    settings["numba_threads"] = numba.get_num_threads()
+    return math.sqrt(x), os.getpid(), settings
+
+
+def test_serial_executor_is_plain_calls():
+    with make_executor(1) as ex:
+        assert isinstance(ex, SerialExecutor)
+        out = run_map(_worker_report, [(4.0,), (9.0,)], ex)
+    assert [o[0] for o in out] == [2.0, 3.0]
+    assert {o[1] for o in out} == {os.getpid()}
+    with pytest.raises(ValueError, match="workers"):
+        make_executor(0)
+
+
+def test_process_workers_cap_threads():
+    with make_executor(2, threads_per_worker=1) as ex:
+        out = run_map(_worker_report, [(float(i),) for i in range(6)], ex)
+    assert [o[0] for o in out] == [math.sqrt(i) for i in range(6)]  # order kept
+    assert os.getpid() not in {o[1] for o in out}
+    for _, _, settings in out:
+        assert settings["OMP_NUM_THREADS"] == "1"
+        assert settings["OPENBLAS_NUM_THREADS"] == "1"
+        assert settings["NUMBA_NUM_THREADS"] == "1"
+        assert settings["numba_threads"] == 1
+
+
+def test_dask_local_cluster_runs_the_same_map():
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster:
+        with make_executor(scheduler=cluster.scheduler_address) as ex:
+            out = run_map(_worker_report, [(float(i),) for i in range(4)], ex)
+    assert [o[0] for o in out] == [math.sqrt(i) for i in range(4)]
+    assert os.getpid() not in {o[1] for o in out}
+    for _, _, settings in out:
+        assert settings["OMP_NUM_THREADS"] == "1"

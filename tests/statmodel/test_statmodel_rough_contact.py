@@ -1,0 +1,201 @@
+"""Statistical model: preload, shear at constant load, fixed grip, derived friction values."""
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+from statmodel import (
+    Material,
+    Roughness,
+    TaborWarning,
+    preload,
+    pull_off_force,
+    real_area_at_loads,
+    shear_curve,
+    shear_curve_fixed_separation,
+    tabor_parameter,
+)
+from statmodel.reference import ReferenceModel
+
+# Fig. 4 case (the issue's TOML)
+MAT = Material(e_star=2.133e6, work_of_adhesion=0.040, mode_mixity=0.2, shear_strength=0.13e6)
+ROUGH = Roughness(asperity_density=652.1e6, summit_radius=0.041e-3, summit_height_rms=0.032e-3)
+AREA, LOAD = 700e-6, 3.1
+DTS = np.linspace(0.0, 14e-6, 281)
+
+
+@pytest.fixture(scope="module")
+def curve():
+    return shear_curve(MAT, ROUGH, AREA, LOAD, DTS)
+
+
+@pytest.fixture(scope="module")
+def reference_path():
+    idx = np.array([0, 20, 60, 90, 100, 110, 130, 160, 200, 280])
+    d_pre, states = ReferenceModel(MAT, ROUGH, AREA).shear_states(LOAD, DTS[idx])
+    return idx, d_pre, states
+
+
+def test_preload_carries_the_load_and_matches_reference():
+    pre = preload(MAT, ROUGH, AREA, LOAD)
+    assert pre.converged
+    assert pre.normal_force == pytest.approx(LOAD, rel=1e-11)
+    ref = ReferenceModel(MAT, ROUGH, AREA)
+    d_ref = ref.preload_separation(LOAD)
+    assert pre.separation == pytest.approx(d_ref, rel=1e-12)
+    st = ref.state(d_ref, 0.0, None)
+    assert pre.real_area == pytest.approx(st.real_area, rel=1e-10)
+    assert pre.n_contact == pytest.approx(st.n_contact, rel=1e-12)
+    assert pre.tabor_parameter == pytest.approx(1217, rel=1e-3)
+
+
+def test_real_area_grows_with_load_and_matches_preload():
+    loads = np.array([0.5, 1.0, 3.1, 8.0])
+    areas = real_area_at_loads(MAT, ROUGH, AREA, loads)
+    assert np.all(np.diff(areas) > 0)
+    assert areas[2] == pytest.approx(preload(MAT, ROUGH, AREA, 3.1).real_area, rel=1e-14)
+
+
+def test_continuity_between_preload_and_shear(curve):
+    pre = preload(MAT, ROUGH, AREA, LOAD)
+    assert curve.tangential_displacement[0] == 0.0
+    assert curve.separation[0] == pre.separation
+    assert curve.real_area[0] == pytest.approx(pre.real_area, rel=1e-15)
+    assert curve.normal_force[0] == pytest.approx(pre.normal_force, rel=1e-15)
+    assert curve.n_contact[0] == pytest.approx(pre.n_contact, rel=1e-15)
+    assert curve.tangential_force[0] == 0.0
+    assert curve.n_slip[0] == 0.0 and curve.real_area_slip[0] == 0.0
+    # first shear steps stay close to the preload state (no jump)
+    assert abs(curve.real_area[1] / pre.real_area - 1) < 1e-4
+    assert abs(curve.separation[1] - pre.separation) < 1e-6 * ROUGH.summit_height_rms
+
+
+def test_load_conservation_at_every_step(curve):
+    assert curve.converged, curve.message
+    np.testing.assert_allclose(curve.normal_force, LOAD, rtol=1e-9)
+    # stick and slip parts add up, and both populations really share the load when sliding
+    np.testing.assert_allclose(curve.normal_force_stick + curve.normal_force_slip,
+                               curve.normal_force, rtol=1e-15)
+    mid = 110
+    assert curve.normal_force_stick[mid] > 0.1 * LOAD and curve.normal_force_slip[mid] > 0.1 * LOAD
+    np.testing.assert_allclose(curve.n_stick + curve.n_slip, curve.n_contact, rtol=1e-15)
+    # separation increases while junctions slip away (paper, Section 3.2)
+    assert curve.separation[100] > curve.separation[0]
+
+
+def test_against_the_converged_reference(curve, reference_path):
+    idx, d_pre, states = reference_path
+    assert curve.separation_preload == pytest.approx(d_pre, rel=1e-12)
+    for i, s in zip(idx, states):
+        assert curve.normal_force[i] == pytest.approx(s.normal_force, rel=1e-9)
+        assert curve.real_area[i] == pytest.approx(s.real_area, rel=1e-6)
+        assert curve.real_area_stick[i] == pytest.approx(s.real_area_stick, rel=1e-6, abs=1e-20)
+        assert curve.n_stick[i] == pytest.approx(s.n_stick, rel=1e-6, abs=1e-9)
+        if i:
+            assert curve.tangential_force[i] == pytest.approx(s.tangential_force, rel=1e-6)
+            assert curve.tangential_force_slip[i] == pytest.approx(s.tangential_force_slip,
+                                                                   rel=1e-6, abs=1e-15)
+
+
+def test_convergence_under_refinement(reference_path):
+    idx, _, states = reference_path
+    ref_fx = np.array([s.tangential_force for s in states])[1:]
+    errors = []
+    for nodes, panels in [(4, 1), (6, 2), (8, 2), (12, 3)]:
+        c = shear_curve(MAT, ROUGH, AREA, LOAD, DTS, nodes=nodes, panels=panels)
+        errors.append(np.max(np.abs(c.tangential_force[idx][1:] / ref_fx - 1)))
+    assert all(e2 < e1 for e1, e2 in zip(errors, errors[1:])), errors
+    assert errors[0] > 1e-4 and errors[-1] < 1e-8
+
+
+def test_sliding_friction_is_the_hertz_only_closed_form(curve):
+    # the all-sliding limit: F_x at large delta_T -> tau0 * A_GW(d_s)
+    assert curve.n_stick[-1] < 1e-30
+    assert curve.tangential_force[-1] == pytest.approx(curve.sliding_friction, rel=1e-9)
+    assert curve.real_area[-1] * MAT.shear_strength == pytest.approx(curve.sliding_friction,
+                                                                     rel=1e-9)
+    assert curve.separation[-1] == pytest.approx(curve.sliding_separation, rel=1e-9)
+    # static friction peak above the sliding friction (Fig. 4d)
+    assert curve.static_friction == np.max(curve.tangential_force)
+    assert curve.static_friction > 1.1 * curve.sliding_friction
+    # real area shrinks under shear (Fig. 4c)
+    assert curve.real_area[-1] < 0.9 * curve.real_area[0]
+
+
+def test_sliding_displacement_is_where_one_asperity_still_sticks(curve):
+    s = curve.sliding_displacement
+    assert 0.0 < s < DTS[-1]
+    c = shear_curve(MAT, ROUGH, AREA, LOAD, np.array([0.0, 0.5 * s, s]))
+    assert c.n_stick[-1] == pytest.approx(1.0, rel=1e-6)
+
+
+def test_pure_jkr_coupling_never_slides():
+    mat = Material(2.133e6, 0.040, 0.0, 0.13e6)
+    c = shear_curve(mat, ROUGH, AREA, LOAD, DTS[::20])
+    assert c.converged
+    assert np.all(c.n_slip == 0.0)
+    assert math.isinf(c.sliding_displacement)
+    # lambda = 0: the normal problem is unaffected by shear (separation constant)
+    np.testing.assert_allclose(c.separation, c.separation[0], rtol=1e-12)
+    np.testing.assert_allclose(c.real_area, c.real_area[0], rtol=1e-12)
+
+
+def test_hertz_limit_without_adhesion_slides_at_once():
+    mat = Material(2.133e6, 0.0, 0.2, 0.13e6)
+    c = shear_curve(mat, ROUGH, AREA, LOAD, np.array([0.0, 1e-9, 1e-6]))
+    assert c.converged
+    assert c.n_stick[1] == 0.0 and c.n_stick[2] == 0.0
+    np.testing.assert_allclose(c.tangential_force[1:], c.sliding_friction, rtol=1e-9)
+    np.testing.assert_allclose(c.real_area[1:], c.real_area[0], rtol=1e-9)
+
+
+def test_fixed_grip_shear_at_the_preload_separation():
+    pre = preload(MAT, ROUGH, AREA, LOAD)
+    c = shear_curve_fixed_separation(MAT, ROUGH, AREA, pre.separation, DTS)
+    assert c.normal_force[0] == pytest.approx(LOAD, rel=1e-11)
+    assert c.real_area[0] == pytest.approx(pre.real_area, rel=1e-14)
+    np.testing.assert_array_equal(c.separation, pre.separation)
+    # in fixed grip the normal load changes under shear (coupling through lambda)
+    assert abs(c.normal_force[100] / LOAD - 1) > 1e-3
+    assert c.tangential_force[-1] == pytest.approx(c.sliding_friction, rel=1e-9)
+
+
+def test_errors_name_the_problem():
+    with pytest.raises(ValueError, match="pull-off force"):
+        preload(MAT, ROUGH, AREA, -1e-3)
+    with pytest.raises(ValueError, match="nominal_area.*< 1 asperity"):
+        shear_curve(MAT, ROUGH, 1e-10, LOAD, DTS)
+    with pytest.raises(ValueError, match="Material.e_star"):
+        Material(-1.0, 0.04, 0.2, 1e5)
+    with pytest.raises(ValueError, match="Material.mode_mixity"):
+        Material(1e6, 0.04, 1.5, 1e5)
+    with pytest.raises(ValueError, match="Roughness.summit_radius"):
+        Roughness(1e6, float("nan"), 1e-5)
+    with pytest.raises(ValueError, match="tangential_displacement"):
+        shear_curve(MAT, ROUGH, AREA, LOAD, [0.0, 2e-6, 1e-6])
+    with pytest.raises(ValueError, match="unknown accuracy knob"):
+        shear_curve(MAT, ROUGH, AREA, LOAD, DTS, node=3)
+
+
+def test_pull_off_force_is_the_minimum_of_the_preload_curve():
+    # a smooth, strongly adhesive surface where adhesion matters: sigma_s comparable to the
+    # jump-off distance
+    rough = Roughness(asperity_density=1e9, summit_radius=1e-4, summit_height_rms=3e-8)
+    mat = Material(1e6, 0.05, 0.2, 1e5)
+    f_po = pull_off_force(mat, rough, 1e-4)
+    assert f_po < 0
+    # the load just above it is carried, just below it is refused with the force named
+    pre = preload(mat, rough, 1e-4, 0.999 * f_po)
+    assert pre.converged and pre.normal_force == pytest.approx(0.999 * f_po, rel=1e-9)
+    with pytest.raises(ValueError, match=f"{f_po:.6g} N"):
+        preload(mat, rough, 1e-4, 1.001 * f_po)
+
+
+def test_tabor_warning_below_five():
+    with pytest.warns(TaborWarning):
+        tabor_parameter(1e-9, 0.01, 1e11, 0.2e-9)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        tabor_parameter(1e-9, 0.0, 1e11, 0.2e-9)  # no adhesion: Hertz, no warning

@@ -1,0 +1,213 @@
+"""Native readers of measured topography, and :func:`read_surface`, the dispatcher.
+
+Every reader returns heights in m and pixel sizes in m, with missing pixels as NaN, and
+refuses truncated, corrupt or mislabelled files with a :class:`topo.errors.TopographyFileError`
+(a ``ValueError``) naming the file, the field and what was expected.
+"""
+
+from __future__ import annotations
+
+import zipfile
+from pathlib import Path
+
+import h5py
+
+from topo.errors import TopographyFileError
+from topo.heightmap import HeightMap, LineProfile
+from topo.io.datx import is_datx, read_datx
+from topo.io.dektak import looks_like_dektak, read_dektak
+from topo.io.gwy import read_gwy
+from topo.io.hdf5 import is_project_hdf5, read_project_hdf5, write_hdf5
+from topo.io.metropro import MAGICS as _METROPRO_MAGICS
+from topo.io.metropro import read_metropro
+from topo.io.nanoscope import read_nanoscope
+from topo.io.numpy_files import read_numpy
+from topo.io.opd import read_opd
+from topo.io.picoview import read_picoview
+from topo.io.plu import read_plu
+from topo.io.sur import read_sur
+from topo.io.text import read_text
+from topo.io.x3p import read_x3p
+
+__all__ = ["read_surface", "write_hdf5", "detect_format", "FORMATS_BY_EXTENSION"]
+
+#: File extensions and the format each one announces.
+FORMATS_BY_EXTENSION = {
+    ".x3p": "x3p",
+    ".sur": "sur",
+    ".dat": "metropro",
+    ".datx": "hdf5",
+    ".plu": "plu",
+    ".apx": "plu",
+    ".opd": "opd",
+    ".di": "nanoscope",
+    ".spm": "nanoscope",
+    ".mi": "picoview",
+    ".gwy": "gwy",
+    ".csv": "text",
+    ".txt": "text",
+    ".asc": "text",
+    ".xyz": "text",
+    ".npy": "npy",
+    ".npz": "npz",
+    ".h5": "hdf5",
+    ".hdf5": "hdf5",
+}
+
+_HDF5_MAGIC = b"\x89HDF\r\n\x1a\n"
+
+
+def _looks_like_text(head: bytes) -> bool:
+    if b"\x00" in head:
+        return False
+    try:
+        head.decode("utf-8")
+    except UnicodeDecodeError:
+        try:
+            head.decode("latin-1")
+        except UnicodeDecodeError:
+            return False
+    return True
+
+
+def detect_format(path: str | Path) -> str | None:
+    """Format named by the first bytes of the file (magic numbers), or None if unknown."""
+    with open(path, "rb") as handle:
+        head = handle.read(4096)
+    if head.startswith(b"DIGITAL SURF"):
+        return "sur"
+    if head[:4] in _METROPRO_MAGICS:
+        return "metropro"
+    if head.startswith(_HDF5_MAGIC):
+        return "hdf5"
+    if head.startswith(b"GWYP"):
+        return "gwy"
+    if head.startswith(b"\\*File list"):
+        return "nanoscope"
+    if head.startswith(b"fileType"):
+        return "picoview"
+    if head.startswith(b"\x93NUMPY"):
+        return "npy"
+    if head.startswith(b"\x01\x00Directory"):
+        return "opd"
+    if head.startswith(b"PK\x03\x04"):
+        try:
+            with zipfile.ZipFile(path) as archive:
+                names = archive.namelist()
+        except zipfile.BadZipFile:
+            return "zip"
+        if "main.xml" in names:
+            return "x3p"
+        if names and all(name.endswith(".npy") for name in names):
+            return "npz"
+        return "zip"
+    if head and _looks_like_text(head):
+        return "text"
+    return None
+
+
+def _read_hdf5(path: Path) -> HeightMap:
+    try:
+        handle = h5py.File(path, "r")
+    except OSError as exc:
+        raise TopographyFileError(
+            path, "HDF5 container", f"cannot be opened ({exc}); truncated?"
+        ) from None
+    with handle:
+        if is_project_hdf5(handle):
+            return read_project_hdf5(path, handle)
+        if is_datx(handle):
+            return read_datx(path, handle)
+    raise TopographyFileError(
+        path, "HDF5 layout", "is neither an asperity height map nor a Zygo DATX file"
+    )
+
+
+def read_surface(
+    path: str | Path,
+    *,
+    channel: str | int | None = None,
+    pixel_size: float | tuple[float, float] | None = None,
+) -> HeightMap | LineProfile:
+    """Read a measured surface; heights and pixel sizes in metres, missing pixels NaN.
+
+    The format comes from the file's magic bytes; the extension must agree with it (a
+    ``.sur`` that holds X3P data is refused as mislabelled). Formats without magic (Sensofar
+    ``.plu``) go by extension and are validated field by field.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file: .x3p, .sur, .dat (MetroPro), .datx, .plu, .opd, .di/.spm, .mi, .gwy,
+        .csv (Dektak profile), .txt/.asc/.xyz (matrix or x y z), .npy, .npz, .h5 (project).
+    channel : str or int, optional
+        Channel of a multi-channel file (Nanoscope, PicoView, Gwyddion): index or name.
+        Default: the height channel.
+    pixel_size : float or (float, float), optional
+        Pixel size in m for formats that do not carry one (.npy, .npz, text matrix).
+
+    Returns
+    -------
+    HeightMap or LineProfile
+
+    Raises
+    ------
+    TopographyFileError (ValueError)
+        Unknown, truncated, corrupt or mislabelled files.
+    FileNotFoundError
+        If ``path`` does not exist.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"{path}: no such file")
+    if path.stat().st_size == 0:
+        raise TopographyFileError(path, "file", "is empty (0 bytes)")
+    extension = path.suffix.lower()
+    announced = FORMATS_BY_EXTENSION.get(extension)
+    detected = detect_format(path)
+    if announced == "plu" and detected in (None, "text"):
+        detected = "plu"
+    if extension == ".dat" and detected == "text":
+        announced = "text"  # '.dat' is also a common name for plain text tables
+    if detected is None or detected == "zip":
+        raise TopographyFileError(
+            path,
+            "magic bytes",
+            "match no supported format (x3p, sur, dat, datx, plu, opd, di, "
+            "mi, gwy, csv/txt, npy/npz, h5)",
+        )
+    if announced is not None and announced != detected:
+        raise TopographyFileError(
+            path,
+            "extension",
+            f"{extension!r} announces {announced} but the content is {detected} (mislabelled file)",
+        )
+    if channel is not None and detected not in ("nanoscope", "picoview", "gwy"):
+        raise ValueError(
+            f"{path}: channel {channel!r} given, but a {detected} file has a single channel"
+        )
+    if detected == "x3p":
+        return read_x3p(path)
+    if detected == "sur":
+        return read_sur(path)
+    if detected == "metropro":
+        return read_metropro(path)
+    if detected == "hdf5":
+        return _read_hdf5(path)
+    if detected == "plu":
+        return read_plu(path)
+    if detected == "opd":
+        return read_opd(path)
+    if detected == "nanoscope":
+        return read_nanoscope(path, channel=channel)
+    if detected == "picoview":
+        return read_picoview(path, channel=channel)
+    if detected == "gwy":
+        return read_gwy(path, channel=channel)
+    if detected in ("npy", "npz"):
+        return read_numpy(path, pixel_size=pixel_size)
+    with open(path, "rb") as handle:
+        head = handle.read(8192)
+    if looks_like_dektak(head):
+        return read_dektak(path)
+    return read_text(path, pixel_size=pixel_size)

@@ -1,0 +1,106 @@
+"""Dektak-style stylus profilometer CSV (header blocks, then ``Scan Data``) -> LineProfile.
+
+Facts (from the sample files): a ``Scan Parameters`` block with ``Length,<value> <unit>`` and
+``Resolution,<value> <unit>/sample``, an ``Analytical Results`` block, then ``Scan Data``
+followed by a column header such as ``Lateral um,Raw Micrometer,`` and one
+``lateral,height,,`` line per sample. The lateral positions must be uniform; the last
+position must reach the declared ``Length`` (so a truncated file is refused).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from topo.errors import TopographyFileError
+from topo.heightmap import LineProfile
+from topo.io._common import make_provenance, read_all_bytes
+from topo.io.units import length_unit_in_metres
+
+_COLUMN_UNITS = {"micrometer": "um", "nanometer": "nm", "millimeter": "mm", "angstrom": "A"}
+
+
+def looks_like_dektak(head: bytes) -> bool:
+    """True if the first kilobytes look like a Dektak CSV export."""
+    return b"Scan Data" in head or (b"Scan Parameters" in head and b"Lateral" in head)
+
+
+def _column_unit(path: Path, label: str, field: str) -> float:
+    words = label.replace("(", " ").replace(")", " ").split()
+    for word in reversed(words):
+        factor = length_unit_in_metres(_COLUMN_UNITS.get(word.lower(), word))
+        if factor is not None:
+            return factor
+    raise TopographyFileError(path, field, f"is {label!r}; expected a length unit such as 'um'")
+
+
+def read_dektak(path: str | Path) -> LineProfile:
+    """Read a Dektak CSV line scan; heights and sampling distance in m.
+
+    Raises
+    ------
+    TopographyFileError
+        No ``Scan Data`` block, malformed or ragged data lines, non-uniform lateral
+        positions, or fewer samples than the declared scan ``Length``.
+    """
+    path = Path(path)
+    text = read_all_bytes(path).decode("latin-1")
+    lines = text.splitlines()
+    try:
+        start = next(i for i, line in enumerate(lines) if line.strip().startswith("Scan Data"))
+    except StopIteration:
+        raise TopographyFileError(path, "Scan Data", "block not found; not a Dektak CSV") from None
+    declared_length = None
+    for line in lines[:start]:
+        parts = line.split(",")
+        if parts[0].strip() == "Length" and len(parts) > 1:
+            value = parts[1].split()
+            factor = length_unit_in_metres(value[1]) if len(value) > 1 else None
+            if factor is not None:
+                declared_length = float(value[0]) * factor
+    header_line = next((i for i in range(start + 1, len(lines)) if lines[i].strip()), None)
+    if header_line is None:
+        raise TopographyFileError(path, "Scan Data", "has no column header and no data lines")
+    columns = lines[header_line].split(",")
+    if len(columns) < 2:
+        raise TopographyFileError(
+            path, "column header", f"is {lines[header_line]!r}; expected 'lateral,height' labels"
+        )
+    lateral_factor = _column_unit(path, columns[0], "lateral column header")
+    height_factor = _column_unit(path, columns[1], "height column header")
+    lateral, heights = [], []
+    for number, line in enumerate(lines[header_line + 1 :], start=header_line + 2):
+        if not line.strip():
+            continue
+        parts = line.split(",")
+        try:
+            lateral.append(float(parts[0]))
+            heights.append(float(parts[1]) if parts[1].strip() else np.nan)
+        except (ValueError, IndexError):
+            raise TopographyFileError(
+                path, f"data line {number}", f"is {line[:60]!r}; expected 'lateral,height'"
+            ) from None
+    x = np.asarray(lateral) * lateral_factor
+    z = np.asarray(heights) * height_factor
+    if x.size < 2:
+        raise TopographyFileError(path, "Scan Data", f"has {x.size} samples; expected at least 2")
+    steps = np.diff(x)
+    dx = (x[-1] - x[0]) / (x.size - 1)
+    if dx <= 0 or np.max(np.abs(steps - dx)) > 0.51 * dx:
+        raise TopographyFileError(path, "lateral column", "is not uniformly increasing")
+    if declared_length is not None and x[-1] - x[0] < declared_length - 2.5 * dx:
+        raise TopographyFileError(
+            path,
+            "Length",
+            f"declares {declared_length:.6g} m but the data stop at {x[-1] - x[0]:.6g} m "
+            "(truncated file)",
+        )
+    provenance = make_provenance(
+        path,
+        "dektak-csv",
+        instrument="stylus profilometer (Dektak CSV)",
+        channel=columns[1].strip(),
+        units={"lateral": columns[0].strip(), "height": columns[1].strip()},
+    )
+    return LineProfile(z, dx, provenance)

@@ -1,0 +1,94 @@
+"""Zygo MetroPro ``.dat`` reader (big-endian binary header, then intensity and phase data).
+
+Header facts (MetroPro Reference Guide, section 12): magic ``0x881B036F`` (header format 1),
+``...70`` (2) or ``...71`` (3); header size (uint32 at byte 6; 834 or 4096); intensity
+array origin/width/height/buckets and byte count at 48-63; connected-phase array
+origin/width/height and byte count at 64-75; ``intf_scale_factor`` (S), ``wavelength_in``
+(W, m), ``obliquity_factor`` (O) and ``lateral_res`` (pixel size, m) as float32 at
+164/168/176/184; ``phase_res`` at 218 (0: R = 4096, 1: 32768, 2: 131072); ``sign`` at 232.
+The phase array is big-endian int32, row by row (x fastest); values >= 2147483640 are
+invalid. Height (m) = phase * S * O * W / R, negated when ``sign`` is set.
+"""
+
+from __future__ import annotations
+
+import struct
+from pathlib import Path
+
+import numpy as np
+
+from topo.errors import TopographyFileError, check_size
+from topo.heightmap import HeightMap
+from topo.io._common import make_provenance, read_all_bytes, require_positive
+
+MAGICS = (b"\x88\x1b\x03\x6f", b"\x88\x1b\x03\x70", b"\x88\x1b\x03\x71")
+_PHASE_RESOLUTION = {0: 4096, 1: 32768, 2: 131072}
+_INVALID_PHASE = 2147483640
+
+
+def read_metropro(path: str | Path) -> HeightMap:
+    """Read a Zygo MetroPro ``.dat`` file: the connected phase map as heights (m).
+
+    Raises
+    ------
+    TopographyFileError
+        Wrong magic, inconsistent header size or array byte counts, unknown phase
+        resolution, non-positive lateral resolution, or a file shorter than its arrays.
+    """
+    path = Path(path)
+    data = read_all_bytes(path)
+    if data[:4] not in MAGICS:
+        raise TopographyFileError(
+            path, "magic", f"is {data[:4].hex()}; expected 881b036f, 881b0370 or 881b0371"
+        )
+    check_size(path, "header", 834, len(data))
+    header_format, header_size = struct.unpack_from(">HI", data, 4)
+    expected_header = 4096 if data[:4] == MAGICS[2] else 834
+    if header_size != expected_header:
+        raise TopographyFileError(
+            path, "header_size", f"is {header_size}; expected {expected_header} for this magic"
+        )
+    check_size(path, "header_size", header_size, len(data))
+    ac_w, ac_h, ac_buckets, _ac_range, ac_bytes = struct.unpack_from(">HHHhI", data, 52)
+    cn_w, cn_h, cn_bytes = struct.unpack_from(">HHI", data, 68)
+    scale, wavelength, obliquity = (
+        struct.unpack_from(">f", data, 164)[0],
+        struct.unpack_from(">f", data, 168)[0],
+        struct.unpack_from(">f", data, 176)[0],
+    )
+    lateral = struct.unpack_from(">f", data, 184)[0]
+    (phase_res,) = struct.unpack_from(">h", data, 218)
+    (sign,) = struct.unpack_from(">h", data, 232)
+    if ac_bytes != 2 * ac_w * ac_h * ac_buckets:
+        raise TopographyFileError(
+            path,
+            "ac_n_bytes",
+            f"is {ac_bytes}; expected 2*width*height*buckets = {2 * ac_w * ac_h * ac_buckets}",
+        )
+    if cn_w < 1 or cn_h < 1:
+        raise TopographyFileError(path, "cn_org_width/height", f"are {cn_w} x {cn_h}; no phase map")
+    if cn_bytes != 4 * cn_w * cn_h:
+        raise TopographyFileError(
+            path, "cn_n_bytes", f"is {cn_bytes}; expected 4*width*height = {4 * cn_w * cn_h}"
+        )
+    if phase_res not in _PHASE_RESOLUTION:
+        raise TopographyFileError(path, "phase_res", f"is {phase_res}; expected 0, 1 or 2")
+    require_positive(path, "lateral_res", lateral, " m")
+    require_positive(path, "wavelength_in", wavelength, " m")
+    start = header_size + ac_bytes
+    check_size(path, "cn_n_bytes (phase data)", start + cn_bytes, len(data))
+    raw = np.frombuffer(data, dtype=">i4", count=cn_w * cn_h, offset=start)
+    factor = scale * obliquity * wavelength / _PHASE_RESOLUTION[phase_res]
+    if sign:
+        factor = -factor
+    heights = raw.astype(np.float64) * factor
+    heights[raw >= _INVALID_PHASE] = np.nan
+    provenance = make_provenance(
+        path,
+        "metropro",
+        instrument="Zygo MetroPro",
+        header_format=int(header_format),
+        channel="connected phase",
+        units={"lateral": "m", "wavelength": "m", "phase_resolution": _PHASE_RESOLUTION[phase_res]},
+    )
+    return HeightMap(heights.reshape(cn_h, cn_w).T, lateral, lateral, False, provenance)

@@ -1,0 +1,36 @@
+"""Length units found in instrument files, and their value in metres."""
+
+from __future__ import annotations
+
+_METRES_PER_UNIT = {
+    "m": 1.0,
+    "cm": 1e-2,
+    "mm": 1e-3,
+    "um": 1e-6,
+    "µm": 1e-6,  # micro sign U+00B5
+    "μm": 1e-6,  # greek mu U+03BC
+    "~m": 1e-6,  # Nanoscope writes the micro sign as '~'
+    "micrometer": 1e-6,
+    "micrometre": 1e-6,
+    "micron": 1e-6,
+    "nm": 1e-9,
+    "pm": 1e-12,
+    "a": 1e-10,
+    "å": 1e-10,
+    "angstrom": 1e-10,
+}
+
+
+def length_unit_in_metres(unit: str) -> float | None:
+    """Metres per ``unit`` (e.g. ``"um"`` -> 1e-6), or None if ``unit`` is not a length.
+
+    Accepts the spellings seen in instrument files: ``µm``/``μm``/``um``/``~m``, latin-1
+    decoded micro signs (``\\xb5m``), ``Å``, case-insensitively for multi-letter names.
+    """
+    key = unit.strip().replace("\x00", "").strip()
+    if key in _METRES_PER_UNIT:
+        return _METRES_PER_UNIT[key]
+    lower = key.lower()
+    if lower in _METRES_PER_UNIT and lower not in ("mm", "m"):  # 'Mm' is not millimetre
+        return _METRES_PER_UNIT[lower]
+    return None
