@@ -8,8 +8,8 @@ Two backends:
   does not re-plan.
 * ``"scipy"``: ``scipy.fft.rfft2``/``irfft2`` with ``workers`` threads, always available.
 
-``"auto"`` picks pyfftw when it is installed and, measured once per shape and thread count on this
-machine (the decision is cached in memory and on disk), faster than scipy.
+``"auto"`` times pyfftw (requested threads and one thread) and scipy on the grid once per process
+and shape and keeps the fastest: pyfftw when installed and measured faster.
 
 Pitfall handled here: the pyFFTW wheel threads through OpenMP, so ``OMP_NUM_THREADS=1`` silently
 turns ``threads=2`` into one thread; :func:`default_threads` and :class:`Convolution` warn about it.
@@ -21,7 +21,6 @@ Awkward sizes (e.g. 5001 = 3 x 1667) transform more slowly than nearby smooth si
 
 from __future__ import annotations
 
-import json
 import os
 import pickle
 import threading
@@ -30,6 +29,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+from numba import njit
 
 __all__ = [
     "Convolution",
@@ -42,7 +42,33 @@ __all__ = [
 
 _LOCK = threading.Lock()
 _WISDOM_LOADED = False
-_AUTO_CHOICE: dict[tuple[int, int, int], str] = {}
+_AUTO_CHOICE: dict[tuple, tuple[str, int]] = {}
+
+
+def _timed(conv: Convolution, x: np.ndarray, out: np.ndarray) -> float:
+    t0 = time.perf_counter()
+    conv(x, out)
+    return time.perf_counter() - t0
+
+
+@njit(cache=True, fastmath=False)
+def _multiply_with_energy(spec, mult, ny):  # pragma: no cover - compiled
+    """spec *= mult in place; returns sum over the full spectrum of mult |spec|^2 (Parseval)."""
+    nx, nyh = spec.shape
+    e0 = 0.0
+    e1 = 0.0
+    last = nyh - 1 if ny % 2 == 0 else -1
+    for i in range(nx):
+        for j in range(nyh):
+            z = spec[i, j]
+            m = mult[i, j]
+            a = m * (z.real * z.real + z.imag * z.imag)
+            if j == 0 or j == last:
+                e0 += a
+            else:
+                e1 += a
+            spec[i, j] = z * m
+    return e0 + 2.0 * e1
 
 
 def cache_dir() -> Path:
@@ -85,7 +111,7 @@ def _is_smooth(n: int, primes: tuple[int, ...] = (2, 3, 5, 7)) -> bool:
 
 
 def fast_size(n: int) -> int:
-    """Largest size ``m <= n`` whose prime factors are all in {2, 3, 5, 7} (fast for FFTW/pocketfft).
+    """Largest size ``m <= n`` whose prime factors are all in {2, 3, 5, 7} (fast FFTs).
 
     Parameters
     ----------
@@ -191,32 +217,6 @@ def _save_wisdom() -> None:
         pass
 
 
-def _choice_file() -> Path:
-    return cache_dir() / "fft_backend_choice.json"
-
-
-def _read_choices() -> dict:
-    try:
-        with open(_choice_file()) as fh:
-            return json.load(fh)
-    except (OSError, ValueError):
-        return {}
-
-
-def _write_choice(key: str, name: str) -> None:
-    data = _read_choices()
-    data[key] = name
-    try:
-        path = _choice_file()
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_suffix(f".tmp{os.getpid()}")
-        with open(tmp, "w") as fh:
-            json.dump(data, fh, indent=1)
-        os.replace(tmp, path)
-    except OSError:
-        pass
-
-
 class Convolution:
     """Periodic convolution ``out = irfft2(multiplier * rfft2(x))`` on a fixed real grid shape.
 
@@ -262,7 +262,7 @@ class Convolution:
             raise ValueError("fft_backend='pyfftw' requested but pyFFTW is not installed")
         self._fwd = None
         if backend == "auto":
-            backend = self._choose_backend()
+            backend = self._choose_backend(threads_given=bool(threads))
         self.backend = backend
         # fold the 1/N normalisation of the unnormalised inverse transform into the multiplier
         self._mult = np.ascontiguousarray(multiplier / (nx * ny))
@@ -272,37 +272,43 @@ class Convolution:
             self._fwd = self._inv = None
 
     # -- backend selection -------------------------------------------------------------
-    def _choose_backend(self) -> str:
-        """Plan pyfftw (needed anyway if it wins), time both backends, keep the faster."""
-        if "pyfftw" not in available_backends():
-            return "scipy"
-        key3 = (self.shape[0], self.shape[1], self.threads)
-        skey = f"{self.shape[0]}x{self.shape[1]}@{self.threads}"
+    def _choose_backend(self, threads_given: bool) -> str:
+        """Time the candidate (backend, threads) pairs on this grid and keep the fastest.
+
+        Candidates: pyfftw with the requested threads, pyfftw with one thread (OpenMP threads
+        that wait on a busy core make 2 threads slower than 1 on a shared 2-core machine) unless
+        ``threads`` was given explicitly, and scipy with the requested workers. The choice is
+        remembered for this process (it depends on the machine's current load, so it is not
+        written to disk; the FFTW plans are, as wisdom).
+        """
+        key = (self.shape, self.threads, threads_given)
         with _LOCK:
-            choice = _AUTO_CHOICE.get(key3) or _read_choices().get(skey)
-        if choice in ("pyfftw", "scipy"):
-            _AUTO_CHOICE[key3] = choice
-            return choice
-        self._mult = np.ones(self.spectral_shape)
+            known = _AUTO_CHOICE.get(key)
+        if known is not None:
+            self.threads = known[1]
+            return known[0]
+        candidates = [("scipy", self.threads)]
+        if "pyfftw" in available_backends():
+            candidates.insert(0, ("pyfftw", self.threads))
+            if self.threads > 1 and not threads_given:
+                candidates.insert(1, ("pyfftw", 1))
         x = np.random.default_rng(0).standard_normal(self.shape)
-        times = {}
-        for name in ("pyfftw", "scipy"):
-            self.backend = name
-            if name == "pyfftw":
-                self._setup_pyfftw()
-            buf = self.empty()
+        ones = np.ones(self.spectral_shape)
+        best = None
+        for name, nthreads in candidates:
+            conv = Convolution(ones, self.shape, backend=name, threads=nthreads)
+            buf = conv.empty()
             buf[...] = x
-            out = self.empty()
-            self(buf, out)  # warm up
-            reps = 2
-            t0 = time.perf_counter()
-            for _ in range(reps):
-                self(buf, out)
-            times[name] = (time.perf_counter() - t0) / reps
-        choice = min(times, key=times.get)
-        _AUTO_CHOICE[key3] = choice
-        _write_choice(skey, choice)
-        return choice
+            out = conv.empty()
+            conv(buf, out)  # warm up
+            elapsed = min(_timed(conv, buf, out) for _ in range(3))
+            if best is None or elapsed < best[0]:
+                best = (elapsed, name, nthreads)
+        _, name, nthreads = best
+        with _LOCK:
+            _AUTO_CHOICE[key] = (name, nthreads)
+        self.threads = nthreads
+        return name
 
     def _setup_pyfftw(self) -> None:
         if getattr(self, "_fwd", None) is not None:
@@ -364,6 +370,19 @@ class Convolution:
         """Return ``irfft2(multiplier * rfft2(x))`` (written into ``out`` when given)."""
         if out is None:
             out = self.empty()
+        self._apply(x, out, False)
+        return out
+
+    def with_energy(self, x: np.ndarray, out: np.ndarray) -> float:
+        """Write ``y = irfft2(multiplier * rfft2(x))`` into ``out`` and return ``sum(x * y)``.
+
+        The sum is evaluated in Fourier space (Parseval) during the multiplication, so it costs
+        no extra pass over the real arrays.
+        """
+        return self._apply(x, out, True)
+
+    def _apply(self, x: np.ndarray, out: np.ndarray, energy: bool) -> float:
+        e = 0.0
         if self.backend == "pyfftw":
             if not self._usable(x):
                 if self._scratch is None:
@@ -372,7 +391,10 @@ class Convolution:
                 x = self._scratch
             self._fwd.update_arrays(x, self._spec)
             self._fwd.execute()
-            np.multiply(self._spec, self._mult, out=self._spec)
+            if energy:
+                e = _multiply_with_energy(self._spec, self._mult, self.shape[1])
+            else:
+                np.multiply(self._spec, self._mult, out=self._spec)
             if self._usable(out):
                 target = out
             else:
@@ -383,11 +405,14 @@ class Convolution:
             self._inv.execute()
             if target is not out:
                 out[...] = target
-            return out
+            return e
         import scipy.fft
 
         spec = scipy.fft.rfft2(x, workers=self.threads)
-        spec *= self._mult
+        if energy:
+            e = _multiply_with_energy(spec, self._mult, self.shape[1])
+        else:
+            spec *= self._mult
         # norm="forward": the inverse is unnormalised, the 1/N sits in the multiplier
         out[...] = scipy.fft.irfft2(spec, s=self.shape, norm="forward", workers=self.threads)
-        return out
+        return e

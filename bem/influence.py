@@ -56,7 +56,9 @@ def _check(nx: int, ny: int, dx: float, dy: float, e_star: float) -> None:
         raise ValueError(f"influence kernel: grid must be at least 1 x 1 pixels, got {nx} x {ny}")
     for name, val in (("dx", dx), ("dy", dy), ("e_star", e_star)):
         if not (np.isfinite(val) and val > 0):
-            raise ValueError(f"influence kernel: {name} must be a positive finite number, got {val}")
+            raise ValueError(
+                f"influence kernel: {name} must be a positive finite number, got {val}"
+            )
 
 
 def point_force_multiplier(nx: int, ny: int, dx: float, dy: float, e_star: float) -> np.ndarray:

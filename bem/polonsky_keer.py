@@ -2,24 +2,31 @@
 
 Unknown: the pressure p on every pixel and the contact set Omega_c (an explicit mask). One
 iteration is a short sequence of named, fused numba kernels around FFT convolutions
-``K * (.)`` (see :mod:`bem.influence`):
+``K * (.)`` (see :mod:`bem.influence`); the array ``w`` holds the gap u - h without the
+rigid-body term:
 
-1. ``_contact_gap_stats``: mean gap on Omega_c (load control: the rigid-body term d) and the
-   squared gap residual G = sum_c (g - g_mean)^2;
+1. ``_deflection_to_gap_stats`` (only after a full convolution u = K p): w = u - h, the mean
+   gap on Omega_c (load control: the rigid-body term d) and the squared gap residual
+   G = sum_c (g - g_mean)^2;
 2. ``_update_direction``: conjugate direction t = g_c + beta t on Omega_c (beta = G/G_old, reset
    to 0 after elements entered the contact set, as in Polonsky & Keer), penetration outside;
-3. ``r = K * t`` (one FFT convolution) and ``_dot``: step tau = sum g t / sum r t;
+3. ``r = K t`` (one FFT convolution) with ``sum t r`` fused into the Fourier-space
+   multiplication (Parseval): step tau = sum g t / sum r t;
 4. ``_update_pressure``: p -= tau t on Omega_c; elements whose pressure falls below the lower
    bound (0, or -Sigma with Pohrt-Popov adhesion) leave the contact set with p = 0; elements
-   outside with g < 0 enter with p = -tau g; the deflection is updated as u -= tau r and the
-   next iteration's gap statistics are accumulated in the same pass.
+   outside with g < 0 enter with p = -tau g; the gap is updated as w -= tau r and the next
+   iteration's gap statistics are accumulated in the same pass.
 
 When the contact set changed, load control restores the imposed force (multiplicative rescale
 without adhesion, as Polonsky & Keer; a uniform shift on Omega_c with adhesion, since the total
-force may be zero or tensile) and u = K * p is recomputed. When it did not change, u is exact up to
-round-off (t vanishes outside Omega_c, the force is conserved because t has zero mean on
-Omega_c), so that iteration costs one convolution instead of two; u is refreshed every
-``refresh`` iterations to bound round-off drift.
+force may be zero or tensile) and u = K p is recomputed. When it did not change, w is exact up to
+round-off (t vanishes outside Omega_c), so that iteration costs one convolution instead of two;
+u is recomputed every ``refresh`` iterations to bound round-off drift.
+
+With adhesion the contact set is frozen while the conjugate gradients solve the linear problem
+on it (until its gap residual fell 100-fold), then elements delaminate (p < -Sigma) or attach
+(g < 0) in one step: the Pohrt-Popov active-set iteration, which keeps the history dependence
+(elements enter at g = 0 but leave only at p < -Sigma).
 
 Convergence residual (the ``tol`` knob)
     ``residual = sqrt( (sum_{Omega_c} g^2 + sum_{outside} min(g, 0)^2) / N ) / h_rms``:
@@ -50,14 +57,17 @@ __all__ = ["solve_contact"]
 
 
 @njit(cache=True, fastmath=False)
-def _contact_gap_stats(u, h, c, shift):  # pragma: no cover - compiled
-    """n, sum(g - shift), sum((g - shift)^2) over the contact set, g = u - h."""
+def _deflection_to_gap_stats(w, h, c, shift):  # pragma: no cover - compiled
+    """w -= h in place (deflection -> gap without the rigid-body term); returns n, sum(g - shift)
+    and sum((g - shift)^2) over the contact set."""
     n = 0
     s1 = 0.0
     s2 = 0.0
-    for i in range(u.size):
+    for i in range(w.size):
+        g = w[i] - h[i]
+        w[i] = g
         if c[i]:
-            d = u[i] - h[i] - shift
+            d = g - shift
             n += 1
             s1 += d
             s2 += d * d
@@ -65,46 +75,37 @@ def _contact_gap_stats(u, h, c, shift):  # pragma: no cover - compiled
 
 
 @njit(cache=True, fastmath=False)
-def _update_direction(u, h, c, t, offset, beta):  # pragma: no cover - compiled
-    """t = g + beta t on the contact set (0 outside), g = u - h - offset.
+def _update_direction(w, c, t, offset, beta):  # pragma: no cover - compiled
+    """t = g + beta t on the contact set (0 outside), g = w - offset.
 
-    Returns sum_c g t, sum_t, the squared penetration outside the set and its pixel count.
+    Returns sum_c g t, the squared penetration outside the set and its pixel count.
     """
     sgt = 0.0
-    st = 0.0
     pen = 0.0
     npen = 0
-    for i in range(u.size):
-        g = u[i] - h[i] - offset
+    for i in range(w.size):
+        g = w[i] - offset
         if c[i]:
             ti = g + beta * t[i]
             t[i] = ti
             sgt += g * ti
-            st += ti
         else:
             if t[i] != 0.0:
                 t[i] = 0.0
             if g < 0.0:
                 pen += g * g
                 npen += 1
-    return sgt, st, pen, npen
+    return sgt, pen, npen
 
 
 @njit(cache=True, fastmath=False)
-def _dot(a, b):  # pragma: no cover - compiled
-    s = 0.0
-    for i in range(a.size):
-        s += a[i] * b[i]
-    return s
+def _update_pressure(p, t, w, r, c, tau, offset, lower, shift, allow_change):  # noqa: PLR0913
+    """Pressure step, contact-set update, incremental gap and next gap statistics.
 
-
-@njit(cache=True, fastmath=False)
-def _update_pressure(p, t, u, r, h, c, tau, offset, lower, shift, allow_change):  # noqa: PLR0913
-    """Pressure step, contact-set update, incremental deflection and next gap statistics.
-
-    ``lower`` >= 0: elements in contact leave where p < -lower; elements outside with g < 0
-    enter (both only when ``allow_change``). Returns (number left, number entered, sum p, n, s1,
-    s2) with the statistics of :func:`_contact_gap_stats` for the updated state.
+    p -= tau t and w -= tau r everywhere (t = 0 outside the set). When ``allow_change``:
+    elements in contact leave where p < -lower (p -> 0), elements outside with gap < 0 enter
+    with p = -tau g. Returns (number left, number entered, sum p, n, s1, s2), the last three
+    the contact-set gap statistics (as :func:`_deflection_to_gap_stats`) of the new state.
     """  # pragma: no cover - compiled
     left = 0
     entered = 0
@@ -112,8 +113,8 @@ def _update_pressure(p, t, u, r, h, c, tau, offset, lower, shift, allow_change):
     n = 0
     s1 = 0.0
     s2 = 0.0
-    for i in range(u.size):
-        ui = u[i]
+    for i in range(w.size):
+        wi = w[i]
         if c[i]:
             pi = p[i] - tau * t[i]
             if allow_change and pi < -lower:
@@ -122,16 +123,16 @@ def _update_pressure(p, t, u, r, h, c, tau, offset, lower, shift, allow_change):
                 left += 1
             p[i] = pi
         elif allow_change:
-            g = ui - h[i] - offset
+            g = wi - offset
             if g < 0.0:
                 p[i] = -tau * g
                 c[i] = 1
                 entered += 1
-        ui -= tau * r[i]
-        u[i] = ui
+        wi -= tau * r[i]
+        w[i] = wi
         psum += p[i]
         if c[i]:
-            d = ui - h[i] - shift
+            d = wi - shift
             n += 1
             s1 += d
             s2 += d * d
@@ -139,17 +140,18 @@ def _update_pressure(p, t, u, r, h, c, tau, offset, lower, shift, allow_change):
 
 
 @njit(cache=True, fastmath=False)
-def _scale_with_stats(p, u, h, c, alpha, shift):  # pragma: no cover - compiled
-    """p *= alpha, u *= alpha (u = K p is linear in p); returns the gap statistics after."""
+def _scale_with_stats(p, w, h, c, alpha, shift):  # pragma: no cover - compiled
+    """p *= alpha and the gap w = u - h follows (u = K p is linear in p); returns the
+    contact-set gap statistics after."""
     n = 0
     s1 = 0.0
     s2 = 0.0
-    for i in range(u.size):
+    for i in range(w.size):
         p[i] *= alpha
-        ui = u[i] * alpha
-        u[i] = ui
+        wi = alpha * (w[i] + h[i]) - h[i]
+        w[i] = wi
         if c[i]:
-            d = ui - h[i] - shift
+            d = wi - shift
             n += 1
             s1 += d
             s2 += d * d
@@ -157,15 +159,13 @@ def _scale_with_stats(p, u, h, c, alpha, shift):  # pragma: no cover - compiled
 
 
 @njit(cache=True, fastmath=False)
-def _shift_on_contact(p, c, delta, lower):  # pragma: no cover - compiled
-    """p += delta on the contact set, clipped at -lower; returns the new sum of p."""
+def _shift_on_contact(p, c, delta):  # pragma: no cover - compiled
+    """p += delta on the contact set (elements pushed below -Sigma delaminate at the next
+    change-allowed step); returns the new sum of p."""
     s = 0.0
     for i in range(p.size):
         if c[i]:
-            v = p[i] + delta
-            if v < -lower:
-                v = -lower
-            p[i] = v
+            p[i] += delta
         s += p[i]
     return s
 
@@ -321,7 +321,10 @@ def solve_contact(
     sigma = critical_tension(work_of_adhesion, e_star, dx, dy) if adhesive else 0.0
     load_control = separation is None
     if load_control:
-        force = float(normal_force) if normal_force is not None else float(mean_pressure) * nominal_area
+        if normal_force is not None:
+            force = float(normal_force)
+        else:
+            force = float(mean_pressure) * nominal_area
         if not math.isfinite(force):
             raise ValueError(f"solve_contact: the imposed load must be finite, got {force}")
         if not adhesive and force <= 0:
@@ -344,6 +347,7 @@ def solve_contact(
     h_mean = float(h0.mean())
     h_rms = float(np.sqrt(np.mean((h0 - h_mean) ** 2)))
     scale = h_rms if h_rms > 0 else math.sqrt(pixel_area)
+    h_abs = float(np.abs(h0).max())
     if periodic:
         h = np.ascontiguousarray(h0)
     else:
@@ -413,18 +417,18 @@ def solve_contact(
         else:
             n_c = int(np.count_nonzero(c))
             if n_c:
-                _shift_on_contact(p.ravel(), c.ravel(), (target_sum - psum) / n_c, sigma)
+                _shift_on_contact(p.ravel(), c.ravel(), (target_sum - psum) / n_c)
 
-    # --- flat views for the kernels ---
-    u = op.empty()
+    # --- flat views for the kernels; w holds the gap u - h without the rigid-body term ---
+    w = op.empty()
     t = op.zeros()
     r = op.empty()
-    pf, uf, tf, rf, hf, cf = (a.ravel() for a in (p, u, t, r, h, c))
-    op(p, out=u)
+    pf, wf, tf, rf, hf, cf = (a.ravel() for a in (p, w, t, r, h, c))
+    op(p, out=w)
 
     offset = 0.0 if load_control else -float(separation)
-    shift = offset if not load_control else float(np.mean(u[:nx, :ny] - h0))
-    stats = None
+    shift = offset if not load_control else float(np.mean(w[:nx, :ny] - h0))
+    stats = None  # None: w holds a fresh deflection K p (h not yet subtracted)
     g_old = 0.0
     reset = True
     history: list[float] = []
@@ -435,7 +439,6 @@ def solve_contact(
     steps = 0
     residual = math.inf
     since_refresh = 0
-    u_exact = True
     allow_change = True
     last_allowed = not adhesive
     frozen_its = 0
@@ -443,7 +446,7 @@ def solve_contact(
     inner_max = 100
     for it in range(max_iter):
         if stats is None:
-            stats = _contact_gap_stats(uf, hf, cf, shift)
+            stats = _deflection_to_gap_stats(wf, hf, cf, shift)
         n_c, s1, s2 = stats
         stats = None
         if n_c == 0:
@@ -461,12 +464,13 @@ def solve_contact(
         if load_control:
             mean_c = s1 / n_c
             offset = shift + mean_c
-            g_sq = max(s2 - s1 * mean_c, 0.0)
+            # below the round-off floor of the gaps the difference carries no information
+            g_sq = max(s2 - s1 * mean_c, n_c * (2.2e-16 * (h_abs + abs(offset))) ** 2)
             shift = offset
         else:
             g_sq = s2
         beta = 0.0 if reset or g_old <= 0 else g_sq / g_old
-        sgt, _, pen, npen = _update_direction(uf, hf, cf, tf, offset, beta)
+        sgt, pen, npen = _update_direction(wf, cf, tf, offset, beta)
         residual = math.sqrt((g_sq + pen) / n_pix) / scale
         history.append(residual)
         if adhesive:
@@ -492,14 +496,13 @@ def solve_contact(
                 "the attainable precision"
             )
             break
-        op(t, out=r)
-        rt = _dot(rf, tf)
+        rt = op.with_energy(t, r)  # r = K t and sum(t r), fused in Fourier space
         if not (rt > 0):
             message = f"breakdown: non-positive curvature {rt:.3g} along the search direction"
             break
         tau = sgt / rt
         left, entered, psum, n2, s1b, s2b = _update_pressure(
-            pf, tf, uf, rf, hf, cf, tau, offset, sigma, shift, allow_change
+            pf, tf, wf, rf, cf, tau, offset, sigma, shift, allow_change
         )
         last_allowed = allow_change
         frozen_its = 0 if allow_change else frozen_its + 1
@@ -518,14 +521,14 @@ def solve_contact(
                 else:
                     n_c2 = int(np.count_nonzero(cf))
                     if n_c2:
-                        _shift_on_contact(pf, cf, (target_sum - psum) / n_c2, sigma)
-            op(p, out=u)
+                        _shift_on_contact(pf, cf, (target_sum - psum) / n_c2)
+            op(p, out=w)
             since_refresh = 0
         else:
             if since_refresh >= refresh:
                 if load_control and not adhesive and psum > 0:
                     p *= force / pixel_area / psum
-                op(p, out=u)
+                op(p, out=w)
                 since_refresh = 0
             elif (
                 load_control and not adhesive and psum > 0
@@ -533,29 +536,36 @@ def solve_contact(
             ):
                 # after elements left without a restart, t is not zero-mean on the contact
                 # set: restore the force (PK's rescale); u scales with p
-                stats = _scale_with_stats(pf, uf, hf, cf, force / pixel_area / psum, shift)
+                stats = _scale_with_stats(pf, wf, hf, cf, force / pixel_area / psum, shift)
             else:
                 stats = (n2, s1b, s2b)
-        u_exact = since_refresh == 0
     else:
         message = (
             f"iteration cap reached: max_iter={max_iter} with residual {residual:.3g} "
             f"(tol {tol:.3g})"
         )
     nit = steps
-    if not u_exact:
-        op(p, out=u)
+    # exact final gap (the loop's w may carry incremental updates or be a raw deflection)
+    op(p, out=w)
+    w -= h
 
     # --- assemble the result on the original grid ---
     pressure = np.array(p[:nx, :ny])
     mask = c[:nx, :ny].astype(bool)
-    if load_control:
-        n_c, s1, _ = _contact_gap_stats(uf, hf, cf, 0.0)
-        if n_c:
-            offset = s1 / n_c
-    gap = u[:nx, :ny] - h0 - offset
+    if load_control and mask.any():
+        offset = float(w[:nx, :ny][mask].mean())
+    gap = w[:nx, :ny] - offset
     n_contact = int(np.count_nonzero(mask))
     total_force = float(pressure.sum()) * pixel_area
+    if load_control and converged and abs(total_force - force) > 1e-8 * max(abs(force), 1e-300):
+        converged = False
+        message = (
+            f"imposed force {force:.6g} N not reached (total {total_force:.6g} N): beyond the "
+            "pull-off force of the remaining contact"
+        )
+    if adhesive and converged and np.any(pressure < -sigma * (1 + 1e-12)):
+        converged = False
+        message = "elements in contact below -Sigma at the end of the iteration"
     return ContactResult(
         pressure=pressure,
         gap=np.array(gap),

@@ -102,7 +102,8 @@ class ContactResult:
 
     def __repr__(self) -> str:
         return (
-            f"ContactResult(shape={self.pressure.shape}, contact_fraction={self.contact_fraction:.6g}, "
+            f"ContactResult(shape={self.pressure.shape}, "
+            f"contact_fraction={self.contact_fraction:.6g}, "
             f"normal_force={self.normal_force:.6g} N, mean_gap={self.mean_gap:.6g} m, "
             f"nit={self.nit}, converged={self.converged}, message={self.message!r})"
         )

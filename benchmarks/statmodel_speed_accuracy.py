@@ -96,7 +96,7 @@ def main() -> None:
     times = [r[1] * 1e3 for r in rows]
     errs = [max(r[2], 1e-17) for r in rows]
     ax.loglog(times, errs, "o-")
-    for (knobs, *_), t, e in zip(rows, times, errs):
+    for (knobs, *_), t, e in zip(rows, times, errs, strict=False):
         ax.annotate(f"{knobs['nodes']}x{knobs['panels']}", (t, e), fontsize=7,
                     textcoords="offset points", xytext=(4, 4))
     ax.axhline(1e-6, color="gray", ls="--", lw=0.8, label="accuracy target 1e-6")

@@ -5,8 +5,10 @@ area under shear matches the measured shear-induced area reduction. Here the mod
 A_r(F_x) at each load is taken from delta_T = 0 up to the static friction peak (the stick
 part, where F_x grows with delta_T and A_r(F_x) is single-valued), and evaluated at the
 measured tangential forces by linear interpolation; measured points beyond the model's peak
-are compared with the area at the peak. The residuals, in units of the nominal area
-(r = (A_model - A_measured) / A_n), of all loads are minimised together over log10(lambda)
+are compared with the area at the peak. The residuals are relative to each curve's largest
+measured area, r = (A_model - A_measured) / max(A_measured) (so every load weighs the same and
+a measurement error proportional to the area gives residuals of equal variance); those of all
+loads are minimised together over log10(lambda)
 with :func:`scipy.optimize.least_squares`, started from the best point of a coarse log grid so
 that a local minimum is not mistaken for the answer.
 
@@ -44,7 +46,7 @@ class LambdaFit:
     mode_mixity_std : float
         One-standard-deviation uncertainty of lambda (Jacobian estimate).
     residual_rms : float
-        Root mean square of the residuals, as a fraction of the nominal area (A_r/A_n).
+        Root mean square of the relative residuals (fraction of each curve's largest area).
     n_points : int
         Number of measured points used.
     grid_mode_mixity, grid_residual_rms : ndarray
@@ -101,17 +103,17 @@ def interpolate_area(fx_model: np.ndarray, ar_model: np.ndarray,
 
 
 def _model_residuals(mode_mixity: float, curves: Sequence[ShearAreaCurve], model: ShearAreaModel,
-                     nominal_area: float, map_fn: MapFunction) -> np.ndarray:
+                     map_fn: MapFunction) -> np.ndarray:
     loads = [c.normal_load for c in curves]
     outputs = list(map_fn(model, [mode_mixity] * len(curves), loads))
     parts = []
     for curve, (fx, ar) in zip(curves, outputs, strict=True):
-        parts.append((interpolate_area(fx, ar, curve.tangential_force) - curve.real_area)
-                     / nominal_area)
+        scale = float(np.max(curve.real_area)) or 1.0
+        parts.append((interpolate_area(fx, ar, curve.tangential_force) - curve.real_area) / scale)
     return np.concatenate(parts)
 
 
-def fit_mode_mixity(curves: Sequence[ShearAreaCurve], model: ShearAreaModel, nominal_area: float,
+def fit_mode_mixity(curves: Sequence[ShearAreaCurve], model: ShearAreaModel,
                     *, bounds: tuple[float, float] = (1e-4, 1.0), grid_points: int = 9,
                     map_fn: MapFunction = map) -> LambdaFit:
     """Fit lambda jointly to measured A_r(F_x) curves (least squares, with uncertainty).
@@ -124,8 +126,6 @@ def fit_mode_mixity(curves: Sequence[ShearAreaCurve], model: ShearAreaModel, nom
         ``model(mode_mixity, normal_load) -> (F_x N, A_r m^2)`` along the shear path (the
         statistical model, E:NewFormulation_Fx and E:NewFormulation_Ar); must be picklable when
         ``map_fn`` is a process pool's map.
-    nominal_area : float
-        A_n, m^2 (residuals are fractions of it).
     bounds : (float, float)
         Search interval of lambda, 0 < low < high <= 1.
     grid_points : int
@@ -149,7 +149,7 @@ def fit_mode_mixity(curves: Sequence[ShearAreaCurve], model: ShearAreaModel, nom
 
     grid = np.logspace(math.log10(low), math.log10(high), grid_points)
     grid_rms = np.array([
-        float(np.sqrt(np.mean(_model_residuals(lam, curves, model, nominal_area, map_fn) ** 2)))
+        float(np.sqrt(np.mean(_model_residuals(lam, curves, model, map_fn) ** 2)))
         for lam in grid
     ])
     start = math.log10(grid[int(np.argmin(grid_rms))])
@@ -159,7 +159,7 @@ def fit_mode_mixity(curves: Sequence[ShearAreaCurve], model: ShearAreaModel, nom
     start = min(max(start, q_low + 1e-9), q_high - 1e-9)
 
     def residuals(q: np.ndarray) -> np.ndarray:
-        return _model_residuals(10.0 ** q[0], curves, model, nominal_area, map_fn)
+        return _model_residuals(10.0 ** q[0], curves, model, map_fn)
 
     result = least_squares(residuals, x0=[start], bounds=([q_low], [q_high]),
                            diff_step=[1e-3], x_scale=[0.1], xtol=1e-10, ftol=1e-12, gtol=1e-12)

@@ -76,6 +76,10 @@ QUADRATURE_LADDER: tuple[dict[str, Any], ...] = (
     {"nodes": 24, "panels": 8},
 )
 
+#: Fewest delta_T steps of the model curves the lambda fit interpolates (their discretisation
+#: must not bias the fit).
+MIN_FIT_STEPS = 201
+
 #: The automatic shear path ends at this multiple of the sliding displacement.
 SLIDING_MARGIN = 1.25
 
@@ -276,7 +280,7 @@ def calibrate_mode_mixity(material: statmodel.Material, roughness: statmodel.Rou
     bounds : (float, float)
         Search interval of lambda.
     max_tangential_displacement, steps, knobs
-        Shear path and quadrature of the model curves.
+        Shear path and quadrature of the model curves (at least :data:`MIN_FIT_STEPS` steps).
     executor : Executor, optional
         Evaluates the loads in parallel.
     """
@@ -285,8 +289,8 @@ def calibrate_mode_mixity(material: statmodel.Material, roughness: statmodel.Rou
     model = functools.partial(model_shear_area, material=material, roughness=roughness,
                               nominal_area=nominal_area,
                               max_tangential_displacement=max_tangential_displacement,
-                              steps=steps, knobs=dict(knobs or {}))
-    fit = fit_mode_mixity(list(curves), model, nominal_area, bounds=bounds,
+                              steps=max(steps, MIN_FIT_STEPS), knobs=dict(knobs or {}))
+    fit = fit_mode_mixity(list(curves), model, bounds=bounds,
                           map_fn=map if executor is None else executor.map)
     return ModeMixityChoice(fit.mode_mixity, True, fit, list(curves))
 
@@ -381,7 +385,8 @@ def lambda_record(choice: ModeMixityChoice, nominal_area: float) -> StageRecord:
     record.coords["lambda_grid"] = Variable(fit.grid_mode_mixity, "1", ("lambda_grid",),
                                             "lambda of the coarse scan")
     record.variables["grid_residual_rms"] = Variable(
-        fit.grid_residual_rms, "1", ("lambda_grid",), "rms of (A_model - A_measured) / A_n")
+        fit.grid_residual_rms, "1", ("lambda_grid",),
+        "rms of (A_model - A_measured) / max(A_measured)")
     loads = np.concatenate([np.full(len(c.real_area), c.normal_load) for c in choice.curves])
     record.coords["point"] = Variable(np.arange(len(loads)), "1", ("point",), "measured point")
     record.variables["measured_normal_load"] = Variable(loads, "N", ("point",), "normal load")

@@ -154,7 +154,7 @@ def plot_lambda_fit(result: Any, path: Path) -> Path:
     ax.axvspan(max(fit.mode_mixity - fit.mode_mixity_std, 1e-12),
                fit.mode_mixity + fit.mode_mixity_std, color="0.85")
     ax.set_xlabel("mode mixity lambda")
-    ax.set_ylabel("rms of (A_model - A_measured) / A_n")
+    ax.set_ylabel("rms of (A_model - A_measured) / max A_measured")
     ax.legend()
     return _save(fig, path)
 
@@ -261,7 +261,8 @@ def key_numbers(result: Any) -> list[tuple[str, str]]:
     if lam.fit is not None:
         rows.append(("mode mixity lambda (fitted)",
                      f"{lam.mode_mixity:.4g} +/- {lam.fit.mode_mixity_std:.2g} "
-                     f"(rms residual {lam.fit.residual_rms:.3g} A_n, {lam.fit.n_points} points)"))
+                     f"(rms relative residual {lam.fit.residual_rms:.3g}, "
+                     f"{lam.fit.n_points} points)"))
     else:
         rows.append(("mode mixity lambda (configured)", f"{lam.mode_mixity:.4g}"))
     rows += [

@@ -112,7 +112,7 @@ def figure_1(out: Path, h5: h5py.File) -> Path:
         axes.flat,
         [("delta_T (mm)", "P (mN)"), ("delta_T (mm)", "T (mN)"),
          ("delta_T (mm)", "A = pi a^2 (mm^2)"), ("T (mN)", "A (mm^2)")],
-        "abcd",
+        "abcd", strict=False,
     ):
         ax.set_xlabel(xl)
         ax.set_ylabel(yl)
@@ -185,7 +185,7 @@ def figure_2(out: Path, h5: h5py.File) -> Path:
         write_dataset(s, "tangential_load", t, "N")
     g.attrs["xi"] = xi
     for ax, yl, tag in zip([axes[0, 1], axes[1, 0], axes[1, 1]],
-                           ["A = pi a^2 (mm^2)", "P (mN)", "T (mN)"], "bcd"):
+                           ["A = pi a^2 (mm^2)", "P (mN)", "T (mN)"], "bcd", strict=False):
         ax.set_xlabel("delta_T (mm)")
         ax.set_ylabel(yl)
         ax.set_title(f"({tag})")
@@ -228,7 +228,7 @@ def figure_4(out: Path, h5: h5py.File) -> Path:
         (axes[1, 1], c.tangential_force, c.tangential_force_stick, c.tangential_force_slip, 1.0,
          "F_x (N)"),
     ]
-    for (ax, tot, st, sl, k, yl), tag in zip(panels, "abcd"):
+    for (ax, tot, st, sl, k, yl), tag in zip(panels, "abcd", strict=False):
         ax.plot(x, tot * k, "k-", label="total")
         ax.plot(x, st * k, "b:", label="stick")
         ax.plot(x, sl * k, "r--", label="slide")
@@ -264,7 +264,7 @@ def figure_5(out: Path, h5: h5py.File) -> Path:
         (axes[0, 1], "mode_mixity", FIG5_LAMBDA, "lambda = {:g}", 1.0),
         (axes[1, 0], "shear_strength", FIG5_TAU, "tau0 = {:g} MPa", 1e-6),
     ]
-    for (ax, key, values, fmt, k), tag in zip(studies, "abc"):
+    for (ax, key, values, fmt, k), tag in zip(studies, "abc", strict=False):
         sg = g.create_group(key)
         for j, v in enumerate(values):
             c = _full_curve(Material(**{**BASE, key: v}), LOAD)

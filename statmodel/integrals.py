@@ -198,8 +198,8 @@ def _bracket(d0, h, delta_t, target, ftol, prm, gl_x, gl_w, n_panels, out, resul
         d0 = d1
         f0 = f1
         h *= 2.0
-        if abs(d1) > d_limit:
-            break
+        if direction > 0.0 and d1 > d_limit:
+            break  # beyond the cut-off no asperity touches: the load cannot be reached
     result[5] = nev
 
 

@@ -17,6 +17,8 @@ import numpy as np
 from topo.heightmap import HeightMap, require_height_map
 from topo.io import read_surface, write_hdf5
 from topo.levelling import level
+from topo.psd import rms_height
+from topo.resampling import decimate
 from topo.scan import plot_resolution_scan, resolution_scan, write_scan_hdf5
 from topo.summits import summit_statistics
 from topo.synthetic import paper_like
@@ -72,15 +74,14 @@ def surface_stats(surface: HeightMap, *, stride: int = 1, neighbours: int = 4) -
     heights as levelled: about the mean plane after ``plane``/``mean``).
     """
     stats = summit_statistics(surface, stride=stride, neighbours=neighbours)
-    grid = surface.heights[::stride, ::stride]
-    valid = grid[~np.isnan(grid)]
+    grid = decimate(surface, stride)
     record = {
-        "nx": int(grid.shape[0]),
-        "ny": int(grid.shape[1]),
+        "nx": grid.nx,
+        "ny": grid.ny,
         "dx": stats.dx,
         "dy": stats.dy,
-        "rms_height": float(np.sqrt(np.mean(valid * valid))) if valid.size else math.nan,
-        "n_missing": int(grid.size - valid.size),
+        "rms_height": rms_height(grid, about_mean=False),
+        "n_missing": grid.n_missing,
         "n_summits": stats.n_summits,
         "asperity_density": stats.asperity_density,
         "summit_radius": stats.summit_radius,

@@ -19,61 +19,74 @@ _N_TERMS = {"mean": 1, "plane": 3, "quadratic": 6}
 
 
 @numba.njit(cache=True)
-def _basis(u: float, v: float, n_terms: int, out: np.ndarray) -> None:
-    out[0] = 1.0
-    if n_terms > 1:
-        out[1] = u
-        out[2] = v
-    if n_terms > 3:
-        out[3] = u * u
-        out[4] = u * v
-        out[5] = v * v
-
-
-@numba.njit(cache=True)
-def _normal_equations(heights: np.ndarray, n_terms: int) -> tuple[np.ndarray, np.ndarray, int]:
+def _row_sums(heights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per row i: S[i, b] = sum_j valid v_j^b (b = 0..4), T[i, b] = sum_j z_ij v_j^b (b = 0..2)."""
     nx, ny = heights.shape
-    matrix = np.zeros((n_terms, n_terms))
-    rhs = np.zeros(n_terms)
-    phi = np.zeros(n_terms)
-    sx = 2.0 / max(nx - 1, 1)
+    s = np.zeros((nx, 5))
+    t = np.zeros((nx, 3))
     sy = 2.0 / max(ny - 1, 1)
-    count = 0
     for i in range(nx):
-        u = i * sx - 1.0
+        s0 = s1 = s2 = s3 = s4 = 0.0
+        t0 = t1 = t2 = 0.0
         for j in range(ny):
             z = heights[i, j]
             if np.isnan(z):
                 continue
-            count += 1
-            _basis(u, j * sy - 1.0, n_terms, phi)
-            for a in range(n_terms):
-                rhs[a] += phi[a] * z
-                for b in range(a, n_terms):
-                    matrix[a, b] += phi[a] * phi[b]
-    for a in range(n_terms):
-        for b in range(a):
-            matrix[a, b] = matrix[b, a]
-    return matrix, rhs, count
+            v = j * sy - 1.0
+            v2 = v * v
+            s0 += 1.0
+            s1 += v
+            s2 += v2
+            s3 += v2 * v
+            s4 += v2 * v2
+            t0 += z
+            t1 += z * v
+            t2 += z * v2
+        s[i, 0], s[i, 1], s[i, 2], s[i, 3], s[i, 4] = s0, s1, s2, s3, s4
+        t[i, 0], t[i, 1], t[i, 2] = t0, t1, t2
+    return s, t
 
 
 @numba.njit(cache=True)
 def _subtract(heights: np.ndarray, coefficients: np.ndarray) -> np.ndarray:
     nx, ny = heights.shape
-    n_terms = coefficients.size
+    c = np.zeros(6)
+    c[: coefficients.size] = coefficients
     out = np.empty((nx, ny))
-    phi = np.zeros(n_terms)
     sx = 2.0 / max(nx - 1, 1)
     sy = 2.0 / max(ny - 1, 1)
     for i in range(nx):
         u = i * sx - 1.0
+        a0 = c[0] + c[1] * u + c[3] * u * u
+        a1 = c[2] + c[4] * u
+        a2 = c[5]
         for j in range(ny):
-            _basis(u, j * sy - 1.0, n_terms, phi)
-            form = 0.0
-            for a in range(n_terms):
-                form += coefficients[a] * phi[a]
-            out[i, j] = heights[i, j] - form
+            v = j * sy - 1.0
+            out[i, j] = heights[i, j] - (a0 + (a1 + a2 * v) * v)
     return out
+
+
+# exponents (p, q) of u^p v^q for the basis 1, u, v, u^2, u v, v^2
+_POWERS = ((0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2))
+
+
+def _normal_equations(heights: np.ndarray, n_terms: int) -> tuple[np.ndarray, np.ndarray, int]:
+    """Normal equations of the least-squares form fit over the valid pixels.
+
+    The basis is evaluated on pixel indices scaled to [-1, 1]; the sums are assembled from
+    per-row moments (one compiled pass over the map, no design matrix).
+    """
+    s, t = _row_sums(heights)
+    nx = heights.shape[0]
+    u = np.linspace(-1.0, 1.0, nx) if nx > 1 else np.array([-1.0])
+    powers = _POWERS[:n_terms]
+    matrix = np.empty((n_terms, n_terms))
+    rhs = np.empty(n_terms)
+    for a, (pa, qa) in enumerate(powers):
+        rhs[a] = np.dot(u**pa, t[:, qa])
+        for b, (pb, qb) in enumerate(powers):
+            matrix[a, b] = np.dot(u ** (pa + pb), s[:, qa + qb])
+    return matrix, rhs, int(s[:, 0].sum())
 
 
 def fit_form(surface: HeightMap, method: str = "plane") -> np.ndarray:

@@ -16,6 +16,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 import scipy.fft
 
@@ -85,11 +86,12 @@ def rolloff_wavelength(surface: HeightMap) -> float:
 
     Fits ``log C`` with a plateau for ``q < q_r`` joined to a power law for ``q >= q_r``
     (least squares over log-spaced bins), trying every bin centre as ``q_r``, and returns
-    ``2 pi / q_r`` for the best fit.
+    ``2 pi / q_r`` for the best fit. Bins more than 12 decades below the maximum (beyond a
+    hard short-wavelength cut-off) are ignored.
     """
     radial = radial_psd(surface)
     q, c = radial.q, radial.psd
-    good = c > 0
+    good = c > 1e-12 * c.max()  # drop bins beyond a hard cut-off (rounding noise only)
     q, c = q[good], c[good]
     if q.size < 6:
         raise ValueError("rolloff_wavelength: too few PSD bins for a fit")
@@ -112,42 +114,101 @@ def rolloff_wavelength(surface: HeightMap) -> float:
     return float(2 * math.pi / math.exp(best))
 
 
-def rms_height(surface: HeightMap) -> float:
-    """Rms height about the mean over the valid pixels (m)."""
+@numba.njit(cache=True)
+def _valid_moments(h):  # noqa: ANN001, ANN202
+    """Count, sum and sum of squares of the non-NaN values of a 2D array."""
+    count = 0
+    total = 0.0
+    squares = 0.0
+    nx, ny = h.shape
+    for i in range(nx):
+        for j in range(ny):
+            z = h[i, j]
+            if not np.isnan(z):
+                count += 1
+                total += z
+                squares += z * z
+    return count, total, squares
+
+
+def rms_height(surface: HeightMap, *, about_mean: bool = True) -> float:
+    """Rms height over the valid pixels (m): about the mean (Sq), or about zero.
+
+    ``about_mean=False`` gives ``sqrt(<h^2>)`` of the heights as they are (e.g. after a
+    levelling that already set the mean plane to zero). One compiled pass, no copies.
+    """
     surface = require_height_map(surface, "rms_height")
-    return float(np.nanstd(surface.heights))
+    count, total, squares = _valid_moments(surface.heights)
+    if count == 0:
+        return float("nan")
+    mean_square = squares / count
+    if about_mean:
+        mean_square = max(mean_square - (total / count) ** 2, 0.0)
+    return float(np.sqrt(mean_square))
 
 
-def _differences(surface: HeightMap) -> tuple[np.ndarray, np.ndarray]:
-    h = np.asarray(surface.heights)
-    if surface.periodic:
-        return (np.roll(h, -1, 0) - h) / surface.dx, (np.roll(h, -1, 1) - h) / surface.dy
-    return np.diff(h, axis=0)[:, :-1] / surface.dx, np.diff(h, axis=1)[:-1, :] / surface.dy
+@numba.njit(cache=True)
+def _mean_square_slope(h, dx, dy, periodic):  # noqa: ANN001, ANN202
+    nx, ny = h.shape
+    total = 0.0
+    count = 0
+    i_stop = nx if periodic else nx - 1
+    j_stop = ny if periodic else ny - 1
+    for i in range(i_stop):
+        ip = i + 1 if i < nx - 1 else 0
+        for j in range(j_stop):
+            jp = j + 1 if j < ny - 1 else 0
+            gx = (h[ip, j] - h[i, j]) / dx
+            gy = (h[i, jp] - h[i, j]) / dy
+            value = gx * gx + gy * gy
+            if not np.isnan(value):
+                total += value
+                count += 1
+    return total / count if count else np.nan
+
+
+@numba.njit(cache=True)
+def _mean_square_curvature(h, dx, dy, periodic):  # noqa: ANN001, ANN202
+    nx, ny = h.shape
+    total = 0.0
+    count = 0
+    i_start, i_stop = (0, nx) if periodic else (1, nx - 1)
+    j_start, j_stop = (0, ny) if periodic else (1, ny - 1)
+    for i in range(i_start, i_stop):
+        im = i - 1 if i > 0 else nx - 1
+        ip = i + 1 if i < nx - 1 else 0
+        for j in range(j_start, j_stop):
+            jm = j - 1 if j > 0 else ny - 1
+            jp = j + 1 if j < ny - 1 else 0
+            z = h[i, j]
+            hxx = (h[ip, j] - 2.0 * z + h[im, j]) / (dx * dx)
+            hyy = (h[i, jp] - 2.0 * z + h[i, jm]) / (dy * dy)
+            value = 0.25 * (hxx + hyy) ** 2
+            if not np.isnan(value):
+                total += value
+                count += 1
+    return total / count if count else np.nan
 
 
 def rms_slope(surface: HeightMap) -> float:
     """Rms slope ``sqrt(<h_x^2 + h_y^2>)`` from forward differences (dimensionless).
 
     Differences that touch a missing pixel are skipped; a periodic map wraps around.
+    One compiled pass, no temporary arrays.
     """
     surface = require_height_map(surface, "rms_slope")
-    gx, gy = _differences(surface)
-    return float(np.sqrt(np.nanmean(gx * gx + gy * gy)))
+    return float(
+        np.sqrt(_mean_square_slope(surface.heights, surface.dx, surface.dy, surface.periodic))
+    )
 
 
 def rms_curvature(surface: HeightMap) -> float:
     """Rms mean curvature ``sqrt(<((h_xx + h_yy)/2)^2>)`` from central differences (1/m).
 
     Interior pixels only unless periodic; pixels touching a missing pixel are skipped.
+    This is SurfaceTopography's ``rms_curvature_from_area`` definition. One compiled pass.
     """
     surface = require_height_map(surface, "rms_curvature")
-    h = np.asarray(surface.heights)
-    if surface.periodic:
-        hxx = (np.roll(h, -1, 0) - 2 * h + np.roll(h, 1, 0)) / surface.dx**2
-        hyy = (np.roll(h, -1, 1) - 2 * h + np.roll(h, 1, 1)) / surface.dy**2
-    else:
-        c = h[1:-1, 1:-1]
-        hxx = (h[2:, 1:-1] - 2 * c + h[:-2, 1:-1]) / surface.dx**2
-        hyy = (h[1:-1, 2:] - 2 * c + h[1:-1, :-2]) / surface.dy**2
-    mean_curvature = 0.5 * (hxx + hyy)
-    return float(np.sqrt(np.nanmean(mean_curvature**2)))
+    return float(
+        np.sqrt(_mean_square_curvature(surface.heights, surface.dx, surface.dy, surface.periodic))
+    )

@@ -39,36 +39,56 @@ def _is_summit(h, i, j, im, ip, jm, jp, eight):  # noqa: ANN001, ANN202
 
 
 @numba.njit(cache=True)
+def _row_moments(h, i, im, ip, j, jm, jp, inv_dx2, inv_dy2, eight, acc):  # noqa: ANN001, ANN202
+    """Add pixel (i, j) to ``acc`` = [count, mean, m2, radius_sum] if it is a summit."""
+    z = h[i, j]
+    left = h[i, jm]
+    right = h[i, jp]
+    if not (z > left and z > right):
+        return
+    up = h[im, j]
+    down = h[ip, j]
+    if not (z > up and z > down):
+        return
+    if eight:
+        if not (z > h[im, jm] and z > h[im, jp] and z > h[ip, jm] and z > h[ip, jp]):
+            return
+    z_xx = (down - 2.0 * z + up) * inv_dx2
+    z_yy = (right - 2.0 * z + left) * inv_dy2
+    acc[3] += 0.5 * (1.0 / abs(z_xx) + 1.0 / abs(z_yy))
+    acc[0] += 1.0
+    delta = z - acc[1]
+    acc[1] += delta / acc[0]
+    acc[2] += delta * (z - acc[1])
+
+
+@numba.njit(cache=True)
 def _summit_moments(h, dx, dy, periodic, eight):  # noqa: ANN001, ANN202
-    """Count, mean height, sum of squared deviations and sum of radii of the summits."""
+    """Count, mean height, sum of squared deviations and sum of radii of the summits.
+
+    One pass over the map; interior columns need no wrap-around test, the two edge
+    columns (periodic maps only) are handled separately. NaN compares False, so a NaN
+    pixel or a NaN neighbour never makes a summit.
+    """
     nx, ny = h.shape
-    count = 0
-    mean = 0.0
-    m2 = 0.0
-    radius_sum = 0.0
+    acc = np.zeros(4)
     if nx < 3 or ny < 3:
-        return count, mean, m2, radius_sum
+        return 0, 0.0, 0.0, 0.0
     inv_dx2 = 1.0 / (dx * dx)
     inv_dy2 = 1.0 / (dy * dy)
     i_start, i_stop = (0, nx) if periodic else (1, nx - 1)
-    j_start, j_stop = (0, ny) if periodic else (1, ny - 1)
     for i in range(i_start, i_stop):
         im = i - 1 if i > 0 else nx - 1
         ip = i + 1 if i < nx - 1 else 0
-        for j in range(j_start, j_stop):
-            jm = j - 1 if j > 0 else ny - 1
-            jp = j + 1 if j < ny - 1 else 0
-            if not _is_summit(h, i, j, im, ip, jm, jp, eight):
-                continue
+        if periodic:
+            _row_moments(h, i, im, ip, 0, ny - 1, 1, inv_dx2, inv_dy2, eight, acc)
+        for j in range(1, ny - 1):
             z = h[i, j]
-            z_xx = (h[ip, j] - 2.0 * z + h[im, j]) * inv_dx2
-            z_yy = (h[i, jp] - 2.0 * z + h[i, jm]) * inv_dy2
-            radius_sum += 0.5 * (1.0 / abs(z_xx) + 1.0 / abs(z_yy))
-            count += 1
-            delta = z - mean
-            mean += delta / count
-            m2 += delta * (z - mean)
-    return count, mean, m2, radius_sum
+            if z > h[i, j + 1] and z > h[i, j - 1]:
+                _row_moments(h, i, im, ip, j, j - 1, j + 1, inv_dx2, inv_dy2, eight, acc)
+        if periodic:
+            _row_moments(h, i, im, ip, ny - 1, ny - 2, 0, inv_dx2, inv_dy2, eight, acc)
+    return int(acc[0]), acc[1], acc[2], acc[3]
 
 
 @numba.njit(cache=True)

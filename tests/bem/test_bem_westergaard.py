@@ -36,7 +36,8 @@ def test_full_contact_pressure_is_exact(kernel, contact_ok):
 
 @pytest.mark.parametrize("ratio", [0.1, 0.3, 0.5, 0.8])
 def test_partial_contact_width_and_pressure(ratio, contact_ok):
-    """p_mean / p* = sin^2(pi a / lambda); p(x) = 2 p_mean cos(pi x/l) sqrt(s^2 - sin^2(pi x/l)) / s^2."""
+    """Westergaard: p_mean / p* = sin^2(pi a / l) = s^2 and
+    p(x) = 2 p_mean cos(pi x / l) sqrt(s^2 - sin^2(pi x / l)) / s^2."""
     n = 512
     h, dx, x = _wavy(n, ny=4)
     p_mean = ratio * P_STAR

@@ -28,7 +28,7 @@ def _data(**loading):
     data["surface"]["synthetic"].update(n=64, pixel_size=40e-6, seed=3)
     data["surface"]["max_stride"] = 4
     data["bem"]["max_stride"] = 2
-    data["loading"].update(normal_loads=[1.0, 2.0, 3.0], steps=41, **loading)
+    data["loading"].update({"normal_loads": [1.0, 2.0, 3.0], "steps": 41, **loading})
     return data
 
 
@@ -44,8 +44,8 @@ def test_effective_resolution_and_lambda_recovered_from_measurements(tmp_path):
     loads = np.array([0.8, 1.6, 2.4, 3.2])
     area = statmodel.real_area_at_loads(material, truth, a_n, loads)
     (tmp_path / "area.csv").write_text(
-        "normal_load,real_area\n" + "".join(f"{f!r},{a!r}\n" for f, a in zip(loads, area,
-                                                                            strict=True)))
+        "normal_load,real_area\n"
+        + "".join(f"{float(f)!r},{float(a)!r}\n" for f, a in zip(loads, area, strict=True)))
     rng = np.random.default_rng(0)
     curves = []
     for f in (1.0, 3.0):
@@ -116,6 +116,7 @@ def test_parallel_runs_match_serial(tmp_path):
     serial = run_job(cfg, tmp_path / "serial")
     pooled = run_job(cfg, tmp_path / "pool", workers=2)
     _compare(serial, pooled)
+    # two threads in one worker process: the BEM lock keeps concurrent solves correct
     with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
                                   dashboard_address=None) as cluster:
         with distributed.Client(cluster) as client:

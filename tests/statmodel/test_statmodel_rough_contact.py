@@ -88,7 +88,7 @@ def test_load_conservation_at_every_step(curve):
 def test_against_the_converged_reference(curve, reference_path):
     idx, d_pre, states = reference_path
     assert curve.separation_preload == pytest.approx(d_pre, rel=1e-12)
-    for i, s in zip(idx, states):
+    for i, s in zip(idx, states, strict=False):
         assert curve.normal_force[i] == pytest.approx(s.normal_force, rel=1e-9)
         assert curve.real_area[i] == pytest.approx(s.real_area, rel=1e-6)
         assert curve.real_area_stick[i] == pytest.approx(s.real_area_stick, rel=1e-6, abs=1e-20)
@@ -106,7 +106,7 @@ def test_convergence_under_refinement(reference_path):
     for nodes, panels in [(4, 1), (6, 2), (8, 2), (12, 3)]:
         c = shear_curve(MAT, ROUGH, AREA, LOAD, DTS, nodes=nodes, panels=panels)
         errors.append(np.max(np.abs(c.tangential_force[idx][1:] / ref_fx - 1)))
-    assert all(e2 < e1 for e1, e2 in zip(errors, errors[1:])), errors
+    assert all(e2 < e1 for e1, e2 in zip(errors, errors[1:], strict=False)), errors
     assert errors[0] > 1e-4 and errors[-1] < 1e-8
 
 
@@ -199,3 +199,49 @@ def test_tabor_warning_below_five():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         tabor_parameter(1e-9, 0.0, 1e11, 0.2e-9)  # no adhesion: Hertz, no warning
+
+
+@pytest.mark.parametrize(
+    "changes, load",
+    [
+        ({"work_of_adhesion": 0.015}, 3.1),
+        ({"work_of_adhesion": 0.060, "mode_mixity": 0.05}, 0.5),
+        ({"mode_mixity": 0.9, "shear_strength": 0.5e6}, 10.0),
+        ({"mode_mixity": 1.0}, 1.0),
+    ],
+)
+def test_default_accuracy_across_the_fig5_parameter_range(changes, load):
+    base = {"e_star": 2.133e6, "work_of_adhesion": 0.040, "mode_mixity": 0.2,
+            "shear_strength": 0.13e6}
+    mat = Material(**{**base, **changes})
+    dts = np.linspace(0.0, 20e-6, 9)
+    c = shear_curve(mat, ROUGH, AREA, load, dts)
+    assert c.converged
+    _, states = ReferenceModel(mat, ROUGH, AREA).shear_states(load, dts)
+    for i, s in enumerate(states):
+        assert c.normal_force[i] == pytest.approx(load, rel=1e-9)
+        assert c.real_area[i] == pytest.approx(s.real_area, rel=1e-6)
+        if i:
+            assert c.tangential_force[i] == pytest.approx(s.tangential_force, rel=1e-6)
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_default_accuracy_on_random_parameters(seed):
+    rng = np.random.default_rng(seed)
+    mat = Material(10 ** rng.uniform(5.5, 7), 10 ** rng.uniform(-2.5, -0.7), rng.uniform(0, 1),
+                   10 ** rng.uniform(4.5, 6.5))
+    rough = Roughness(10 ** rng.uniform(6, 9), 10 ** rng.uniform(-5.5, -3),
+                      10 ** rng.uniform(-6.5, -4.5))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", TaborWarning)
+        probe = shear_curve(mat, rough, 1e-4, 1.0, [0.0, 1e-9])
+        end = 1.5 * probe.sliding_displacement
+        dts = np.linspace(0.0, end if np.isfinite(end) else 1e-5, 7)
+        c = shear_curve(mat, rough, 1e-4, 1.0, dts)
+        _, states = ReferenceModel(mat, rough, 1e-4).shear_states(1.0, dts)
+    assert c.converged
+    for i, s in enumerate(states):
+        assert c.normal_force[i] == pytest.approx(1.0, rel=1e-9)
+        assert c.real_area[i] == pytest.approx(s.real_area, rel=1e-6)
+        if i:
+            assert c.tangential_force[i] == pytest.approx(s.tangential_force, rel=1e-6)

@@ -134,7 +134,7 @@ def test_pc_converges_to_jkr_as_lambda_vanishes():
     errs = [abs(pc_contact_radius(delta, dt, R, W, E, lam) / a_jkr - 1)
             for lam in (1e-2, 1e-3, 1e-4, 1e-5)]
     # first order in lambda: each decade of lambda gains a decade of accuracy
-    for e1, e2 in zip(errs, errs[1:]):
+    for e1, e2 in zip(errs, errs[1:], strict=False):
         assert e2 == pytest.approx(e1 / 10, rel=0.05)
 
 

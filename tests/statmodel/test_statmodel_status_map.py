@@ -4,8 +4,17 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
-from statmodel import OUT_OF_CONTACT, SLIDE, STICK, asperity_status, pc_min_indentation
+from statmodel import (
+    OUT_OF_CONTACT,
+    SLIDE,
+    STICK,
+    asperity_status,
+    pc_contact_radius,
+    pc_min_indentation,
+)
 from statmodel.status_map import (
     JUMP_OFF_DIMENSIONLESS,
     dimensionless_fold_radius,
@@ -71,3 +80,29 @@ def test_status_regions():
     assert asperity_status(3.0, 1e6, 0.0) == STICK
     grid = asperity_status(np.array([[-3.0], [-0.5], [3.0]]), np.array([0.0, 1e3]), lam)
     np.testing.assert_array_equal(grid, [[0, 0], [1, 0], [1, 2]])
+
+
+@settings(max_examples=300, deadline=None)
+@given(delta_tilde=st.floats(min_value=-3.0, max_value=8.0),
+       dt_tilde=st.floats(min_value=0.0, max_value=80.0),
+       lam=st.floats(min_value=0.0, max_value=1.0))
+def test_property_status_agrees_with_the_dimensional_pc_solver(delta_tilde, dt_tilde, lam):
+    delta, dt = from_dimensionless(delta_tilde, dt_tilde, R, W, E)
+    a = pc_contact_radius(delta, dt, R, W, E, lam)
+    code = asperity_status(delta_tilde, dt_tilde, lam)
+    boundary = dimensionless_unstable_boundary(dt_tilde, lam)
+    if abs(delta_tilde - boundary) > 1e-9 * (1 + abs(boundary)):  # off the boundary itself
+        assert (code == STICK) == bool(np.isfinite(a))
+    if code != STICK:
+        assert code == (SLIDE if delta_tilde >= 0 else OUT_OF_CONTACT)
+
+
+def test_scalar_and_array_inputs_broadcast():
+    d = np.linspace(0.0, 1e-5, 6).reshape(2, 3)
+    a = pc_contact_radius(d, np.array([0.0, 1e-5, 2e-5]), R, W, E, 0.2)
+    assert a.shape == (2, 3)
+    for i in range(2):
+        for j in range(3):
+            np.testing.assert_equal(pc_contact_radius(d[i, j], [0.0, 1e-5, 2e-5][j], R, W, E,
+                                                      0.2), a[i, j])
+    assert np.ndim(pc_contact_radius(1e-5, 1e-5, R, W, E, 0.2)) == 0

@@ -1,0 +1,100 @@
+"""The ``asperity bem`` command: JSON contract, sweeps, exit statuses."""
+
+import json
+
+import numpy as np
+import pytest
+
+from pipelines.cli import main
+
+KEYS = ["contact_fraction", "real_area", "normal_force", "mean_gap", "iterations", "converged",
+        "seconds"]
+
+
+@pytest.fixture
+def npy_surface(tmp_path, rough):
+    path = tmp_path / "rough.npy"
+    np.save(path, rough(64, seed=1) * 1e-6)  # m, rms slope 1 at 1 um pixels
+    return path
+
+
+def _run(capsys, argv):
+    status = main(argv)
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def test_single_load_json(capsys, npy_surface):
+    status, out, _ = _run(capsys, ["bem", str(npy_surface), "--e-star", "1e9", "--mean-pressure",
+                                   "4e7", "--pixel-size", "1e-6", "--detrend", "mean", "--json"])
+    assert status == 0
+    data = json.loads(out)
+    assert list(data) == KEYS
+    assert data["converged"] is True
+    nominal = 64 * 64 * 1e-12
+    assert data["normal_force"] == pytest.approx(4e7 * nominal, rel=1e-9)
+    assert data["real_area"] == pytest.approx(data["contact_fraction"] * nominal)
+    assert 0 < data["contact_fraction"] < 0.3
+    assert data["mean_gap"] > 0 and data["iterations"] > 0
+
+
+def test_sweep_json_lists_and_matches_api(capsys, npy_surface):
+    from bem import solve_contact
+
+    status, out, _ = _run(capsys, ["bem", str(npy_surface), "--e-star", "1e9", "--load",
+                                   "0.1,0.15,0.2", "--pixel-size", "1e-6", "--detrend", "none",
+                                   "--tol", "1e-10", "--json"])
+    assert status == 0
+    data = json.loads(out)
+    assert all(isinstance(data[k], list) and len(data[k]) == 3 for k in KEYS)
+    assert data["normal_force"] == pytest.approx([0.1, 0.15, 0.2], rel=1e-9)
+    assert data["contact_fraction"] == sorted(data["contact_fraction"])
+    h = np.load(npy_surface)
+    direct = solve_contact(h, 1e-6, 1e-6, 1e9, normal_force=0.15, tol=1e-10)
+    assert data["contact_fraction"][1] == pytest.approx(direct.contact_fraction, abs=2 / h.size)
+
+
+def test_non_convergence_exits_1(capsys, npy_surface):
+    status, out, err = _run(capsys, ["bem", str(npy_surface), "--e-star", "1e9", "--load", "0.1",
+                                     "--pixel-size", "1e-6", "--max-iter", "2", "--json"])
+    assert status == 1
+    assert json.loads(out)["converged"] is False
+    assert "did not converge" in err and "iteration cap" in err
+
+
+def test_table_output_and_adhesion(capsys, npy_surface):
+    status, out, _ = _run(capsys, ["bem", str(npy_surface), "--e-star", "1e9", "--load", "0.1",
+                                   "--work-of-adhesion", "0.05", "--pixel-size", "1e-6"])
+    assert status in (0, 1)
+    assert "contact_fraction" in out and "w = 0.05 J/m^2" in out
+
+
+@pytest.mark.parametrize(
+    "extra, message",
+    [
+        (["--load", "1", "--e-star", "0"], "--e-star"),
+        (["--load", "1,x", "--e-star", "1e9"], "--load"),
+        (["--load", "-1", "--e-star", "1e9"], "> 0 without adhesion"),
+        (["--load", "1", "--e-star", "1e9", "--tol", "-1"], "--tol"),
+    ],
+)
+def test_bad_input_exits_2(capsys, npy_surface, extra, message):
+    status, _, err = _run(capsys, ["bem", str(npy_surface), "--pixel-size", "1e-6", *extra])
+    assert status == 2
+    assert message in err
+
+
+def test_missing_file_exits_2(capsys, tmp_path):
+    status, _, err = _run(capsys, ["bem", str(tmp_path / "none.npy"), "--e-star", "1e9",
+                                   "--load", "1", "--pixel-size", "1e-6"])
+    assert status == 2 and "none.npy" in err
+
+
+def test_nan_pixels_are_refused(capsys, tmp_path):
+    h = np.zeros((16, 16))
+    h[3, 3] = np.nan
+    path = tmp_path / "holes.npy"
+    np.save(path, h)
+    status, _, err = _run(capsys, ["bem", str(path), "--e-star", "1e9", "--load", "1",
+                                   "--pixel-size", "1e-6", "--detrend", "none"])
+    assert status == 2 and "holes.npy" in err and "missing" in err

@@ -1,0 +1,232 @@
+"""Property tests of the influence kernels, the fused solver kernels and the FFT backends."""
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from bem import critical_tension, crop_to_fast_size, fast_size
+from bem import polonsky_keer as pk
+from bem.adhesion import pohrt_popov_chi
+from bem.fft_backend import Convolution, available_backends
+from bem.influence import (
+    influence_multiplier,
+    love_patch_deflection,
+    padded_love_multiplier,
+    point_force_multiplier,
+)
+
+sizes = st.floats(min_value=1e-7, max_value=1e-2, allow_nan=False)
+moduli = st.floats(min_value=1e3, max_value=1e12, allow_nan=False)
+
+
+@given(dx=sizes, ratio=st.floats(0.2, 5.0), e_star=moduli)
+@settings(max_examples=40, deadline=None)
+def test_love_patch_symmetry_and_far_field(dx, ratio, e_star):
+    dy = dx * ratio
+    pts = np.array([0.3, 1.7, 4.0]) * dx
+    u = love_patch_deflection(pts, pts[::-1], dx, dy, e_star)
+    assert np.allclose(u, love_patch_deflection(-pts, pts[::-1], dx, dy, e_star), rtol=1e-12)
+    assert np.allclose(u, love_patch_deflection(pts, -pts[::-1], dx, dy, e_star), rtol=1e-12)
+    # swapping the axes together with the patch sides
+    assert np.allclose(u, love_patch_deflection(pts[::-1], pts, dy, dx, e_star), rtol=1e-10)
+    assert np.all(u > 0)
+    # far field: a point force dx*dy at distance r: u = dx dy / (pi E* r)
+    r = 200.0 * max(dx, dy)
+    far = love_patch_deflection(np.array([r]), np.array([0.0]), dx, dy, e_star)[0]
+    assert far == pytest.approx(dx * dy / (np.pi * e_star * r), rel=1e-4)
+
+
+def test_love_patch_centre_of_square():
+    # Johnson (1985): centre of a uniformly loaded square of side dx: 1.1222 dx p / E*
+    assert love_patch_deflection(np.array(0.0), np.array(0.0), 1.0, 1.0, 1.0) == pytest.approx(
+        4 * 2 * 0.5 * math.asinh(1.0) / math.pi, rel=1e-14
+    )
+    assert 4 * math.asinh(1.0) / math.pi == pytest.approx(1.1222, abs=1e-4)
+
+
+@given(nx=st.integers(2, 40), ny=st.integers(2, 40), dx=sizes, e_star=moduli)
+@settings(max_examples=40, deadline=None)
+def test_point_multiplier_properties(nx, ny, dx, e_star):
+    k = point_force_multiplier(nx, ny, dx, 1.5 * dx, e_star)
+    assert k.shape == (nx, ny // 2 + 1)
+    assert k[0, 0] == 0.0
+    assert np.all(k.ravel()[1:] > 0)
+    # 2 / (E* q) for the first x wavevector
+    if nx > 2:
+        assert k[1, 0] == pytest.approx(2.0 / (e_star * 2 * np.pi / (nx * dx)), rel=1e-12)
+    # stiffer material, smaller compliance
+    assert np.allclose(point_force_multiplier(nx, ny, dx, 1.5 * dx, 2 * e_star), k / 2)
+
+
+@given(nx=st.integers(2, 12), ny=st.integers(2, 12))
+@settings(max_examples=20, deadline=None)
+def test_padded_kernel_is_free_space_convolution(nx, ny):
+    """Circular convolution on the doubled grid == direct sum of Love patch deflections."""
+    rng = np.random.default_rng(nx * 100 + ny)
+    p = rng.random((nx, ny))
+    dx, dy = 1.0, 0.7
+    k = padded_love_multiplier(nx, ny, dx, dy, 1.0)
+    big = np.zeros((2 * nx, 2 * ny))
+    big[:nx, :ny] = p
+    u = np.fft.irfft2(k * np.fft.rfft2(big), s=big.shape)[:nx, :ny]
+    i, j = np.meshgrid(np.arange(nx), np.arange(ny), indexing="ij")
+    direct = np.zeros((nx, ny))
+    for a in range(nx):
+        for b in range(ny):
+            direct += p[a, b] * love_patch_deflection((i - a) * dx, (j - b) * dy, dx, dy, 1.0)
+    np.testing.assert_allclose(u, direct, rtol=1e-10, atol=1e-12)
+
+
+def test_periodic_love_matches_real_space_differences():
+    """Deflection differences near a loaded pixel: periodic Love kernel vs Love's formula."""
+    n = 128
+    k, _ = influence_multiplier((n, n), 1.0, 1.0, 1.0, kernel="love")
+    p = np.zeros((n, n))
+    p[0, 0] = 1.0
+    u = np.fft.irfft2(k * np.fft.rfft2(p), s=(n, n))
+    exact = love_patch_deflection(np.array([0.0, 1.0, 3.0]), np.zeros(3), 1.0, 1.0, 1.0)
+    assert u[0, 0] - u[1, 0] == pytest.approx(exact[0] - exact[1], rel=1e-3)
+    assert u[0, 0] - u[3, 0] == pytest.approx(exact[0] - exact[2], rel=1e-3)
+
+
+@given(w=st.floats(1e-4, 10.0), e_star=moduli, dx=sizes, ratio=st.floats(0.25, 4.0))
+@settings(max_examples=50, deadline=None)
+def test_critical_tension_properties(w, e_star, dx, ratio):
+    dy = ratio * dx
+    assert pohrt_popov_chi(dx, dy) == pytest.approx(pohrt_popov_chi(dy, dx), rel=1e-12)
+    s = critical_tension(w, e_star, dx, dy)
+    assert s > 0
+    assert critical_tension(4 * w, e_star, dx, dy) == pytest.approx(2 * s, rel=1e-12)
+    # eq:PohrtPopov_G at p = Sigma releases exactly w
+    g = s**2 * pohrt_popov_chi(dx, dy) / (dx * dy * e_star)
+    assert g == pytest.approx(w, rel=1e-10)
+
+
+def test_critical_tension_square_value():
+    assert pohrt_popov_chi(1.0, 1.0) == pytest.approx(0.473201, abs=1e-6)
+    assert critical_tension(0.027, 1e6, 2e-6, 2e-6) == pytest.approx(
+        math.sqrt(0.027 * 1e6 / (0.473201 * 2e-6)), rel=1e-6
+    )
+    assert critical_tension(0.0, 1e6, 1e-6, 1e-6) == 0.0
+    with pytest.raises(ValueError, match="work_of_adhesion"):
+        critical_tension(-1.0, 1e6, 1e-6, 1e-6)
+
+
+arrays = st.integers(1, 300).flatmap(
+    lambda n: st.tuples(st.just(n), st.integers(0, 2**31 - 1))
+)
+
+
+def _state(n, seed):
+    rng = np.random.default_rng(seed)
+    u, h, t, r, p = (rng.standard_normal(n) for _ in range(5))
+    c = (rng.random(n) < 0.4).astype(np.int8)
+    p = np.where(c, np.abs(p), 0.0)
+    t = np.where(c, t, 0.0)
+    return u, h, c, t, r, p
+
+
+@given(arrays, st.floats(-2, 2))
+@settings(max_examples=60, deadline=None)
+def test_fused_kernels_match_numpy(arr, offset):
+    n, seed = arr
+    u, h, c, t, r, p = _state(n, seed)
+    m = c.astype(bool)
+    w = u.copy()
+    n_c, s1, s2 = pk._deflection_to_gap_stats(w, h, c, offset)
+    np.testing.assert_allclose(w, u - h, rtol=1e-15, atol=1e-15)
+    g = w - offset
+    assert n_c == m.sum()
+    assert s1 == pytest.approx(g[m].sum(), abs=1e-9)
+    assert s2 == pytest.approx((g[m] ** 2).sum(), abs=1e-9)
+    t2 = t.copy()
+    sgt, pen, npen = pk._update_direction(w, c, t2, offset, 0.7)
+    t_ref = np.where(m, g + 0.7 * t, 0.0)
+    np.testing.assert_allclose(t2, t_ref, rtol=1e-14, atol=1e-14)
+    assert sgt == pytest.approx((g[m] * t_ref[m]).sum(), abs=1e-9)
+    assert pen == pytest.approx((np.minimum(g[~m], 0) ** 2).sum(), abs=1e-9)
+    assert npen == int((g[~m] < 0).sum())
+    # pressure update with lower bound 0.1
+    p2, w2, c2 = p.copy(), w.copy(), c.copy()
+    tau = 0.3
+    left, entered, psum, n2, s1b, s2b = pk._update_pressure(
+        p2, t2, w2, r, c2, tau, offset, 0.1, offset, True
+    )
+    p_try = p - tau * t2
+    leave = m & (p_try < -0.1)
+    enter = ~m & (g < 0)
+    assert left == leave.sum() and entered == enter.sum()
+    p_ref = np.where(m & ~leave, p_try, 0.0) + np.where(enter, -tau * g, 0.0)
+    np.testing.assert_allclose(p2, p_ref, rtol=1e-14, atol=1e-14)
+    np.testing.assert_allclose(w2, w - tau * r, rtol=1e-14, atol=1e-14)
+    assert psum == pytest.approx(p_ref.sum(), abs=1e-9)
+    m2 = (m & ~leave) | enter
+    np.testing.assert_array_equal(c2.astype(bool), m2)
+    g2 = w2 - offset
+    assert n2 == m2.sum() and s1b == pytest.approx(g2[m2].sum(), abs=1e-9)
+    assert s2b == pytest.approx((g2[m2] ** 2).sum(), abs=1e-9)
+    # rescaling p rescales the deflection w + h
+    p3, w3 = p2.copy(), w2.copy()
+    pk._scale_with_stats(p3, w3, h, c2, 1.5, 0.0)
+    np.testing.assert_allclose(p3, 1.5 * p2, rtol=1e-15)
+    np.testing.assert_allclose(w3 + h, 1.5 * (w2 + h), rtol=1e-12, atol=1e-12)
+
+
+def test_convolution_energy_is_parseval():
+    rng = np.random.default_rng(3)
+    for shape in [(16, 16), (15, 22), (9, 7)]:
+        k = point_force_multiplier(*shape, 1.0, 1.0, 1.0)
+        x = rng.standard_normal(shape)
+        for backend in available_backends():
+            conv = Convolution(k, shape, backend=backend)
+            out = conv.empty()
+            e = conv.with_energy(x, out)
+            assert e == pytest.approx(float((x * out).sum()), rel=1e-12)
+
+
+@pytest.mark.parametrize("backend", available_backends())
+@pytest.mark.parametrize("shape", [(16, 16), (15, 22), (9, 7)])
+def test_convolution_backends_agree_with_numpy(backend, shape):
+    rng = np.random.default_rng(1)
+    mult = rng.random((shape[0], shape[1] // 2 + 1))
+    x = rng.standard_normal(shape)
+    conv = Convolution(mult, shape, backend=backend, threads=2)
+    ref = np.fft.irfft2(mult * np.fft.rfft2(x), s=shape)
+    out = conv(x)
+    np.testing.assert_allclose(out, ref, atol=1e-12)
+    # aligned buffers and unaligned views give the same answer
+    buf = conv.empty()
+    buf[...] = x
+    np.testing.assert_allclose(conv(buf, conv.empty()), ref, atol=1e-12)
+    np.testing.assert_array_equal(buf, x)  # input preserved
+
+
+def test_auto_backend_picks_an_available_one():
+    conv = Convolution(np.ones((32, 17)), (32, 32), backend="auto")
+    assert conv.backend in available_backends()
+    with pytest.raises(ValueError, match="fft_backend"):
+        Convolution(np.ones((32, 17)), (32, 32), backend="fftpack")
+
+
+def test_fast_size_and_crop_warning():
+    assert fast_size(5001) == 5000
+    assert fast_size(1024) == 1024
+    assert fast_size(1667) < 1667
+    for n in (97, 1000, 5001):
+        m = fast_size(n)
+        k = m
+        for f in (2, 3, 5, 7):
+            while k % f == 0:
+                k //= f
+        assert k == 1 and m <= n
+    h = np.zeros((5001, 13))
+    with pytest.warns(UserWarning, match=r"5001 x 13 to 5000 x 12.*last 1 row.*last 1 column"):
+        out = crop_to_fast_size(h)
+    assert out.shape == (5000, 12)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert crop_to_fast_size(np.zeros((64, 48))).shape == (64, 48)

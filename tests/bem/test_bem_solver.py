@@ -1,0 +1,149 @@
+"""Rough-surface solves: balance, complementarity, warm start, caps, stalls, bad input."""
+
+import numpy as np
+import pytest
+
+from bem import ContactResult, load_sweep, solve_contact
+
+N = 128
+
+
+def _h(rough):
+    return rough(N, seed=3)
+
+
+def test_load_control_balance_and_complementarity(rough, contact_ok):
+    h = _h(rough) * 1e-6  # m, pixel 1 um, rms slope 1
+    res = solve_contact(h, 1e-6, 1e-6, 1e9, mean_pressure=0.04e9, tol=1e-9)
+    assert isinstance(res, ContactResult)
+    assert res.converged and res.success and res.nit == res.iterations > 0
+    assert len(res.residual_history) == res.nit + 1
+    assert res.residual_history[-1] < 1e-9
+    contact_ok(res, h, force=0.04e9 * h.size * 1e-12)
+    assert res.mean_pressure == pytest.approx(0.04e9, rel=1e-9)
+    assert 0.02 < res.contact_fraction < 0.2
+    assert res.mean_gap > 0
+
+
+def test_displacement_control_reproduces_load_control(rough, contact_ok):
+    h = _h(rough)
+    ref = solve_contact(h, 1.0, 1.0, 1.0, mean_pressure=0.03, tol=1e-11)
+    res = solve_contact(h, 1.0, 1.0, 1.0, separation=ref.separation, tol=1e-11)
+    assert res.converged, res.message
+    contact_ok(res, h)
+    assert res.mean_pressure == pytest.approx(0.03, rel=1e-6)
+    np.testing.assert_array_equal(res.contact_mask, ref.contact_mask)
+    np.testing.assert_allclose(res.pressure, ref.pressure, atol=1e-7 * ref.pressure.max())
+
+
+def test_pixel_size_scaling(rough):
+    """Heights and pixel sizes in m, E* in Pa: a uniformly scaled problem has the same fraction."""
+    h = _h(rough)
+    a = solve_contact(h, 1.0, 1.0, 1.0, mean_pressure=0.05, tol=1e-10)
+    b = solve_contact(h * 2e-6, 2e-6, 2e-6, 3e9, mean_pressure=0.05 * 3e9, tol=1e-10)
+    assert b.contact_fraction == pytest.approx(a.contact_fraction, abs=1.0 / h.size)
+    assert b.mean_gap == pytest.approx(a.mean_gap * 2e-6, rel=1e-6)
+
+
+def test_warm_start_sweep_costs_fewer_iterations(rough, contact_ok):
+    h = _h(rough)
+    forces = np.array([0.039, 0.040, 0.041, 0.042]) * h.size
+    sweep = load_sweep(h, 1.0, 1.0, 1.0, forces, tol=1e-9, coarse_start=False)
+    cold = [solve_contact(h, 1.0, 1.0, 1.0, normal_force=f, tol=1e-9, coarse_start=False)
+            for f in forces]
+    for s, c, f in zip(sweep, cold, forces, strict=True):
+        assert s.converged and c.converged
+        contact_ok(s, h, force=f)
+        assert s.contact_fraction == pytest.approx(c.contact_fraction, abs=2.0 / h.size)
+        np.testing.assert_allclose(s.pressure, c.pressure, atol=1e-6 * c.pressure.max())
+    for s, c in zip(sweep[1:], cold[1:], strict=True):
+        # the warm start begins two orders of magnitude closer to the solution
+        assert s.residual_history[0] < 1e-2 * c.residual_history[0]
+        assert s.nit < c.nit
+    assert sum(s.nit for s in sweep[1:]) < 0.9 * sum(c.nit for c in cold[1:])
+
+
+def test_coarse_start_same_answer(rough):
+    h = rough(256, seed=5)
+    a = solve_contact(h, 1.0, 1.0, 1.0, mean_pressure=0.04, tol=1e-10, coarse_start=False)
+    b = solve_contact(h, 1.0, 1.0, 1.0, mean_pressure=0.04, tol=1e-10, coarse_start=True)
+    assert a.converged and b.converged
+    assert b.contact_fraction == pytest.approx(a.contact_fraction, abs=3.0 / h.size)
+    assert np.abs(a.pressure - b.pressure).max() < 1e-5 * a.pressure.max()
+
+
+def test_iteration_cap_reports_non_convergence(rough):
+    h = _h(rough)
+    res = solve_contact(h, 1.0, 1.0, 1.0, mean_pressure=0.04, tol=1e-9, max_iter=3)
+    assert not res.converged and not res.success
+    assert res.nit == 3
+    assert "iteration cap" in res.message
+    # the state is still a valid load-balanced pressure field
+    assert res.normal_force == pytest.approx(0.04 * h.size, rel=1e-9)
+
+
+def test_unreachable_tolerance_stalls_or_caps(rough):
+    h = rough(64, seed=1)
+    res = solve_contact(h, 1.0, 1.0, 1.0, mean_pressure=0.04, tol=1e-30, stall_window=30,
+                        max_iter=2000)
+    assert not res.converged
+    assert res.message.startswith(("stalled", "iteration cap"))
+
+
+def test_high_load_near_full_contact(rough, contact_ok):
+    """Up to nearly full contact: either a converged, valid answer or a reported stall."""
+    h = rough(64, seed=2)
+    fractions = []
+    for p in (0.3, 0.6, 1.0):
+        res = solve_contact(h, 1.0, 1.0, 1.0, mean_pressure=p, tol=1e-8, stall_window=100)
+        if res.converged:
+            contact_ok(res, h, force=p * h.size)
+        else:
+            assert res.message.startswith(("stalled", "iteration cap"))
+        fractions.append(res.contact_fraction)
+    assert fractions == sorted(fractions)
+    assert fractions[-1] > 0.9
+
+
+def test_full_contact_reached(rough, contact_ok):
+    h = rough(32, seed=4)
+    res = solve_contact(h, 1.0, 1.0, 1.0, mean_pressure=20.0, tol=1e-10)
+    assert res.converged, res.message
+    assert res.contact_fraction == 1.0
+    contact_ok(res, h, force=20.0 * h.size)
+
+
+def test_nonperiodic_domain_isolated_bump_matches_periodic_large_box(sphere):
+    """A bump far from the edges: zero-padded and periodic (large box) solutions agree."""
+    h, dx = sphere(64, 1.0, 1.0)
+    per = solve_contact(h, dx, dx, 1.0, normal_force=1e-5, kernel="love", tol=1e-10)
+    free = solve_contact(h, dx, dx, 1.0, normal_force=1e-5, periodic=False, tol=1e-10)
+    assert free.converged and per.converged
+    np.testing.assert_array_equal(free.contact_mask, per.contact_mask)
+    assert np.abs(free.pressure - per.pressure).max() < 0.02 * per.pressure.max()
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        (dict(mean_pressure=1.0, normal_force=1.0), "exactly one"),
+        (dict(), "exactly one"),
+        (dict(mean_pressure=-1.0), "must be > 0"),
+        (dict(mean_pressure=1.0, tol=0.0), "tol"),
+        (dict(mean_pressure=1.0, work_of_adhesion=-1.0), "work_of_adhesion"),
+    ],
+)
+def test_bad_input_is_refused(kwargs, match):
+    h = np.zeros((8, 8))
+    h[4, 4] = 1.0
+    with pytest.raises(ValueError, match=match):
+        solve_contact(h, 1.0, 1.0, 1.0, **kwargs)
+
+
+def test_nan_heights_are_refused():
+    h = np.zeros((8, 8))
+    h[1, 2] = np.nan
+    with pytest.raises(ValueError, match="1 missing"):
+        solve_contact(h, 1.0, 1.0, 1.0, mean_pressure=1.0)
+    with pytest.raises(ValueError, match="dx"):
+        solve_contact(np.zeros((8, 8)), -1.0, 1.0, 1.0, mean_pressure=1.0)

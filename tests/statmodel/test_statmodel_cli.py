@@ -1,0 +1,141 @@
+"""The ``asperity friction`` / ``asperity figures`` command-line contract."""
+
+import json
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+from pipelines.cli import main
+from statmodel import Material, Roughness, shear_curve
+
+EXAMPLE = Path(__file__).resolve().parents[2] / "statmodel" / "examples" / "fig4.toml"
+
+
+def run(capsys, *argv):
+    status = main(list(argv))
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def test_friction_json_contract(capsys):
+    status, out, _ = run(capsys, "friction", str(EXAMPLE), "--json")
+    assert status == 0
+    data = json.loads(out)
+    arrays = ["tangential_displacement", "tangential_force", "normal_force", "real_area",
+              "n_contact", "n_stick", "n_slip"]
+    scalars = ["tabor_parameter", "separation_preload", "static_friction", "sliding_friction"]
+    for key in arrays:
+        assert len(data[key]) == 281, key
+    for key in scalars:
+        assert isinstance(data[key], float), key
+    assert data["tangential_displacement"][0] == 0.0
+    assert data["tangential_displacement"][-1] == pytest.approx(14e-6)
+    np.testing.assert_allclose(data["normal_force"], 3.1, rtol=1e-9)
+    # the numbers are those of the Python API
+    c = shear_curve(Material(2.133e6, 0.040, 0.2, 0.13e6), Roughness(652.1e6, 0.041e-3, 0.032e-3),
+                    700e-6, 3.1, np.linspace(0, 14e-6, 281))
+    assert data["static_friction"] == c.static_friction
+    assert data["sliding_friction"] == c.sliding_friction
+    assert data["tabor_parameter"] == pytest.approx(1217, rel=1e-3)
+
+
+def test_friction_hdf5_has_units_everywhere(tmp_path, capsys):
+    out = tmp_path / "res.h5"
+    status, text, _ = run(capsys, "friction", str(EXAMPLE), "--out", str(out))
+    assert status == 0 and "static friction" in text
+    with h5py.File(out) as fh:
+        names = []
+        fh.visititems(lambda n, o: names.append(n) if isinstance(o, h5py.Dataset) else None)
+        assert {"tangential_force", "real_area", "n_stick", "sliding_friction"} <= set(names)
+        for n in names:
+            assert "units" in fh[n].attrs, n
+        assert fh["tangential_force"].attrs["units"] == "N"
+        assert fh["tangential_force"].shape == (281,)
+
+
+def _write(tmp_path, text):
+    p = tmp_path / "p.toml"
+    p.write_text(text)
+    return p
+
+
+@pytest.mark.parametrize(
+    "old, new, key",
+    [
+        ("E_star = 2.133e6", "E_star = -2.133e6", "E_star"),
+        ("steps = 281", "steps = 281\ncolour = 3", "colour"),
+        ("summit_radius = 0.041e-3    # R, m\n", "", "summit_radius"),
+        ("mode_mixity = 0.2", "mode_mixity = 1.2", "mode_mixity"),
+        ("steps = 281", "steps = 2.5", "steps"),
+        ("nominal_area = 700e-6", "nominal_area = 1e-12", "nominal_area"),
+        ("normal_load = 3.1", "normal_load = -1.0", "pull-off force"),
+        ("normal_load = 3.1", 'normal_load = "3.1"', "normal_load"),
+    ],
+)
+def test_friction_bad_input_exits_2_naming_the_key(tmp_path, capsys, old, new, key):
+    text = EXAMPLE.read_text()
+    assert old in text
+    p = _write(tmp_path, text.replace(old, new))
+    status, _, err = run(capsys, "friction", str(p), "--json")
+    assert status == 2
+    assert key in err and "error" in err
+
+
+def test_friction_unknown_table_and_missing_file(tmp_path, capsys):
+    p = _write(tmp_path, EXAMPLE.read_text() + "\n[extra]\nx = 1\n")
+    status, _, err = run(capsys, "friction", str(p))
+    assert status == 2 and "extra" in err
+    status, _, err = run(capsys, "friction", str(tmp_path / "missing.toml"))
+    assert status == 2 and "missing.toml" in err
+
+
+ADHESIVE_TOML = """
+[material]
+E_star = 1e6
+work_of_adhesion = 0.05
+mode_mixity = 0.2
+shear_strength = 1e5
+[roughness]
+asperity_density = 1e9
+summit_radius = 1e-4
+summit_height_rms = 3e-8
+[loading]
+normal_load = -1.0
+nominal_area = 1e-4
+max_tangential_displacement = 50e-6
+steps = 51
+"""
+
+
+def test_friction_pull_off_under_shear_exits_1_with_results(tmp_path, capsys):
+    # a smooth adhesive surface held in tension: shear peels the junctions until the tensile
+    # load can no longer be carried; the solve fails, exit status 1, partial results printed
+    p = _write(tmp_path, ADHESIVE_TOML)
+    status, out, err = run(capsys, "friction", str(p), "--json")
+    assert status == 1
+    assert "cannot be carried" in err
+    data = json.loads(out)
+    assert data["converged"] is False
+    fz = data["normal_force"]
+    assert fz[0] == pytest.approx(-1.0, rel=1e-9)
+    assert fz[-1] is None  # steps after the failure are NaN -> null
+    # the same file under compression converges
+    p = _write(tmp_path, ADHESIVE_TOML.replace("normal_load = -1.0", "normal_load = 1.0"))
+    status, out, _ = run(capsys, "friction", str(p), "--json")
+    assert status == 0 and json.loads(out)["converged"] is True
+
+
+def test_figures_command_writes_pngs_and_data(tmp_path, capsys):
+    status, out, _ = run(capsys, "figures", "--out", str(tmp_path))
+    assert status == 0
+    pngs = sorted(p.name for p in tmp_path.glob("*.png"))
+    assert pngs == ["fig1_pc_single_asperity.png", "fig2_status_map.png",
+                    "fig4_shear_curve.png", "fig5_parameter_study.png"]
+    with h5py.File(tmp_path / "statmodel_figures.h5") as fh:
+        assert {"fig1", "fig2", "fig4", "fig5"} <= set(fh)
+        names = []
+        fh.visititems(lambda n, o: names.append(n) if isinstance(o, h5py.Dataset) else None)
+        assert all("units" in fh[n].attrs for n in names)
+        np.testing.assert_allclose(fh["fig4/normal_force"][()], 3.1, rtol=1e-9)
