@@ -26,7 +26,7 @@ import numpy as np
 
 import bem
 import topo
-from pipelines.parallel import run_map
+from pipelines.parallel import run_map, worker_threads
 from pipelines.store import StageRecord, Variable
 
 #: The map is solved as one period of a periodic interface, as in the paper (Appendix B: the
@@ -67,7 +67,7 @@ def bem_sweep(heights: np.ndarray, dx: float, dy: float, e_star: float,
     with _BEM_LOCK:
         results = bem.load_sweep(heights, dx, dy, e_star, [float(map_loads[i]) for i in order],
                                  work_of_adhesion=work_of_adhesion, tol=tol, max_iter=max_iter,
-                                 periodic=periodic)
+                                 periodic=periodic, threads=worker_threads())
     n = len(map_loads)
     out = {
         "real_area": np.empty(n), "contact_fraction": np.empty(n), "normal_force": np.empty(n),
@@ -94,7 +94,7 @@ def _single_solve(heights: np.ndarray, dx: float, dy: float, e_star: float, load
     with _BEM_LOCK:
         r = bem.solve_contact(heights, dx, dy, e_star, normal_force=load,
                               work_of_adhesion=work_of_adhesion, tol=tol, max_iter=max_iter,
-                              periodic=periodic)
+                              periodic=periodic, threads=worker_threads())
     return float(r.contact_fraction), bool(r.converged), int(r.nit)
 
 

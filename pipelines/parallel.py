@@ -36,29 +36,55 @@ THREAD_ENV_VARS: tuple[str, ...] = (
 )
 
 
+#: Set by :func:`cap_threads`: the FFT threads a BEM solve in this worker may use.
+WORKER_THREADS_VAR = "ASPERITY_WORKER_THREADS"
+
+
 def cap_threads(threads: int) -> dict[str, str]:
     """Cap the numerical libraries of this process at ``threads`` threads.
 
-    Sets the environment variables (effective for libraries imported afterwards) and, when
-    numba is already imported, lowers its active thread count too.
+    Sets the environment variables (effective for libraries imported afterwards). When numba
+    is already imported (a spawned worker re-imports the parent's main module first), its
+    configuration is reloaded if its thread pool has not started yet, and its active thread
+    count is lowered; once numba's pool runs, ``NUMBA_NUM_THREADS`` is left at the pool's size
+    (numba refuses to compile after it changes).
 
     Returns
     -------
     dict
         The variables set.
     """
-    threads = max(int(threads), 1)
-    values = {name: str(threads) for name in THREAD_ENV_VARS}
-    os.environ.update(values)
     import sys
 
+    threads = max(int(threads), 1)
+    values = {name: str(threads) for name in THREAD_ENV_VARS}
+    values[WORKER_THREADS_VAR] = str(threads)
     numba = sys.modules.get("numba")
-    if numba is not None:  # already imported: its pool exists, lower the active count
+    launched = False
+    if numba is not None:
+        try:
+            from numba.np.ufunc import parallel as numba_parallel
+
+            launched = bool(numba_parallel._is_initialized)
+        except (ImportError, AttributeError):
+            launched = True
+    if launched:
+        values.pop("NUMBA_NUM_THREADS")
+    os.environ.update(values)
+    if numba is not None:
+        if not launched:
+            numba.config.reload_config()
         try:
             numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
         except (ValueError, AttributeError):
             pass
     return values
+
+
+def worker_threads() -> int | None:
+    """The per-worker thread cap set by :func:`cap_threads`, or None outside a capped worker."""
+    value = os.environ.get(WORKER_THREADS_VAR)
+    return int(value) if value else None
 
 
 def worker_thread_settings() -> dict[str, str | None]:
@@ -128,7 +154,12 @@ def make_executor(workers: int = 1, *, scheduler: str | Any | None = None,
             raise ValueError("--scheduler needs dask.distributed: "
                              "pip install 'asperity[dask]'") from exc
         client = scheduler if isinstance(scheduler, Client) else Client(scheduler)
-        client.run(cap_threads, threads_per_worker)
+        # Workers in other processes get the caps; in-process workers (a LocalCluster with
+        # processes=False) share this process, whose settings are left alone.
+        pids = client.run(os.getpid)
+        remote = [address for address, pid in pids.items() if pid != os.getpid()]
+        if remote:
+            client.run(cap_threads, threads_per_worker, workers=remote)
         if isinstance(scheduler, Client):  # caller owns the client: do not close it
             return _BorrowedDaskExecutor(client)
         return DaskExecutor(client)

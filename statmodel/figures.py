@@ -157,7 +157,7 @@ def figure_2(out: Path, h5: h5py.File) -> Path:
     ax.axhline(0.0, color="k", ls="--", lw=0.8)
     ax.axhline(JUMP_OFF_DIMENSIONLESS, color="k", ls=":", lw=0.8, label="JKR jump-off")
     ax.text(5, 4.5, "stick")
-    ax.text(45, 1.0, "slide")
+    ax.text(52.0, 0.25, "slide")
     ax.text(45, -2.0, "out of contact")
     ax.set_xlabel("delta_T~ (dimensionless)")
     ax.set_ylabel("delta~ (dimensionless)")
