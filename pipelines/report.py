@@ -322,6 +322,11 @@ def write_report(result: Any, out_dir: str | Path) -> Path:
         "",
         _md_table(header, rows),
         "",
+        "## Validity",
+        "",
+        "The statistical model is within its assumptions." if not result.resolution.validity
+        else "\n".join(f"- **Warning:** {note}" for note in result.resolution.validity),
+        "",
         "## Convergence",
         "",
         "All solvers converged." if not problems else
@@ -371,6 +376,8 @@ def summary_text(result: Any) -> str:
     lines += ["", f"  stages computed in {computed:.1f} s"
               + (f"; stored stages skipped: {', '.join(cached)}" if cached else "")
               + f"; total {result.total_seconds:.1f} s"]
+    for note in result.resolution.validity:
+        lines.append(f"  WARNING: {note}")
     problems = result.problems()
     if problems:
         lines.append("  NOT CONVERGED:")

@@ -11,6 +11,7 @@ the BEM on the map (adhesive when run). The effective resolution is the one of l
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass, field
@@ -24,6 +25,38 @@ from pipelines.config import MaterialConfig
 from pipelines.measured import NormalAreaCurve
 from pipelines.parallel import run_map
 from pipelines.store import StageRecord, Variable
+
+#: Above this A_r/A_n the asperities of the statistical model would overlap: independent
+#: asperities (the Greenwood-Williamson / Fuller-Tabor picture) are no longer a fair model.
+MAX_AREA_FRACTION = 0.1
+#: Below this Tabor parameter the JKR asperity laws do not apply (paper, Section 2).
+MIN_TABOR_PARAMETER = 5.0
+
+
+class ModelValidityWarning(UserWarning):
+    """The statistical model is used outside the range where its assumptions hold."""
+
+
+def validity_notes(real_area_fraction: np.ndarray, tabor_parameter: float) -> list[str]:
+    """Sentences saying where the model is outside its validity (empty when all is well).
+
+    Parameters
+    ----------
+    real_area_fraction : ndarray
+        Model A_r/A_n at the effective resolution, one per load.
+    tabor_parameter : float
+        mu at the effective resolution.
+    """
+    notes = []
+    top = float(np.nanmax(real_area_fraction)) if np.size(real_area_fraction) else math.nan
+    if top > MAX_AREA_FRACTION:
+        notes.append(f"the statistical model gives A_r/A_n up to {top:.3g} (> "
+                     f"{MAX_AREA_FRACTION:g}): its asperities overlap, so the independent-"
+                     "asperity model is outside its validity at these loads")
+    if tabor_parameter < MIN_TABOR_PARAMETER:
+        notes.append(f"Tabor parameter mu = {tabor_parameter:.3g} < {MIN_TABOR_PARAMETER:g}: "
+                     "the JKR asperity laws (E:JKR_indent, E:PC_indent) do not apply")
+    return notes
 
 
 def material_from_config(config: MaterialConfig,
@@ -145,6 +178,9 @@ class ResolutionChoice:
         Model A_r (m^2) at the measured loads, shape (n_stride, n_measured).
     messages : list of str
         Model refusals per stride.
+    validity : list of str
+        Where the model is outside its validity at the effective resolution
+        (:func:`validity_notes`); empty when it is not.
     """
 
     stride: np.ndarray
@@ -161,6 +197,7 @@ class ResolutionChoice:
     measured: NormalAreaCurve | None = None
     model_at_measured: np.ndarray | None = None
     messages: list[str] = field(default_factory=list)
+    validity: list[str] = field(default_factory=list)
 
     @property
     def effective_stride(self) -> int:
@@ -249,14 +286,20 @@ def statistical_model_scan(scan: Any, material: statmodel.Material, nominal_area
                          "resolution: " + "; ".join(messages[:3]))
     index = int(np.nanargmin(np.where(np.isfinite(curve), curve, np.nan)))
     best = roughness[index]
-    mu = statmodel.tabor_parameter(best.summit_radius, material.work_of_adhesion,
-                                   material.e_star, material.equilibrium_distance)
+    with warnings.catch_warnings():  # reported below, with the area check, as one warning
+        warnings.simplefilter("ignore")
+        mu = statmodel.tabor_parameter(best.summit_radius, material.work_of_adhesion,
+                                       material.e_star, material.equilibrium_distance)
+    validity = validity_notes(area[index] / nominal_area, float(mu))
+    for note in validity:
+        warnings.warn(note, ModelValidityWarning, stacklevel=2)
     return ResolutionChoice(
         stride=np.asarray(scan.stride), resolution=np.asarray(scan.resolution, dtype=float),
         normal_load=loads, real_area=area, misfit_bem=misfit_bem,
         misfit_measured=misfit_measured, basis=basis, index=index, roughness=best,
         tabor_parameter=float(mu), pull_off=pull_off_forces(material, scan, nominal_area),
-        measured=measured, model_at_measured=at_measured, messages=messages)
+        measured=measured, model_at_measured=at_measured, messages=messages,
+        validity=validity)
 
 
 def resolution_record(choice: ResolutionChoice, nominal_area: float) -> StageRecord:
@@ -285,6 +328,7 @@ def resolution_record(choice: ResolutionChoice, nominal_area: float) -> StageRec
             "summit_height_rms": r.summit_height_rms,
             "tabor_parameter": choice.tabor_parameter, "nominal_area": nominal_area,
             "messages": "\n".join(choice.messages),
+            "validity": "\n".join(choice.validity),
         },
     )
     if choice.measured is not None:
@@ -317,6 +361,8 @@ def resolution_from_record(record: StageRecord) -> ResolutionChoice:
                                       float(a["summit_height_rms"])),
         tabor_parameter=float(a["tabor_parameter"]), pull_off=v["pull_off"].data,
         measured=measured,
-        model_at_measured=v["model_real_area_at_measured"].data if measured else None,
+        model_at_measured=(v["model_real_area_at_measured"].data if measured is not None
+                           else None),
         messages=[m for m in str(a.get("messages", "")).split("\n") if m],
+        validity=[m for m in str(a.get("validity", "")).split("\n") if m],
     )

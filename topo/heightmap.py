@@ -49,7 +49,8 @@ class HeightMap:
     ----------
     heights : array_like, shape (nx, ny)
         Heights in m (converted to a read-only float64 array); NaN marks a missing pixel.
-        Axis 0 is x, axis 1 is y.
+        Axis 0 is x, axis 1 is y. A float64 array is not copied: the map holds a read-only
+        view of it (copy it with ``np.array`` first if you will change the original).
     dx, dy : float
         Pixel sizes in m along axis 0 and axis 1 (finite, > 0; they may differ).
     periodic : bool

@@ -115,7 +115,7 @@ def rolloff_wavelength(surface: HeightMap) -> float:
 
 
 @numba.njit(cache=True)
-def _valid_moments(h):  # noqa: ANN001, ANN202
+def _valid_moments(h):
     """Count, sum and sum of squares of the non-NaN values of a 2D array."""
     count = 0
     total = 0.0
@@ -148,7 +148,7 @@ def rms_height(surface: HeightMap, *, about_mean: bool = True) -> float:
 
 
 @numba.njit(cache=True)
-def _mean_square_slope(h, dx, dy, periodic):  # noqa: ANN001, ANN202
+def _mean_square_slope(h, dx, dy, periodic):
     nx, ny = h.shape
     total = 0.0
     count = 0
@@ -168,7 +168,7 @@ def _mean_square_slope(h, dx, dy, periodic):  # noqa: ANN001, ANN202
 
 
 @numba.njit(cache=True)
-def _mean_square_curvature(h, dx, dy, periodic):  # noqa: ANN001, ANN202
+def _mean_square_curvature(h, dx, dy, periodic):
     nx, ny = h.shape
     total = 0.0
     count = 0

@@ -198,6 +198,7 @@ def write_scan_hdf5(scan: ResolutionScan, path: str | Path, *, source: dict | No
 def plot_resolution_scan(scan: ResolutionScan, path: str | Path, *, title: str = "") -> Path:
     """Save Fig 12(a-c)-style panels (R, eta, sigma_s against resolution) as a 150 dpi PNG."""
     import matplotlib
+    import matplotlib.ticker
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -213,8 +214,8 @@ def plot_resolution_scan(scan: ResolutionScan, path: str | Path, *, title: str =
             "-",
             label=f"linear fit, slope {scan.radius_slope:.3g}",
         )
-    ax.set_xlabel("resolution (um)")
-    ax.set_ylabel("mean summit radius R (mm)")
+    ax.set_xlabel(r"resolution $\Delta$ ($\mu$m)")
+    ax.set_ylabel(r"mean summit radius $R$ (mm)")
     ax.set_title("(a)")
     ax.legend()
     ax = axes[1]
@@ -223,8 +224,9 @@ def plot_resolution_scan(scan: ResolutionScan, path: str | Path, *, title: str =
     if math.isfinite(scan.density_exponent):
         fit = scan.density_prefactor * scan.resolution**scan.density_exponent
         ax.loglog(res_um, fit * 1e-6, "-", label=f"power law, exponent {scan.density_exponent:.3g}")
-    ax.set_xlabel("resolution (um)")
-    ax.set_ylabel("asperity density eta (1/mm^2)")
+    ax.set_xlabel(r"resolution $\Delta$ ($\mu$m)")
+    ax.set_ylabel(r"asperity density $\eta$ (mm$^{-2}$)")
+    ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
     ax.set_title("(b)")
     ax.legend()
     ax = axes[2]
@@ -235,8 +237,8 @@ def plot_resolution_scan(scan: ResolutionScan, path: str | Path, *, title: str =
             color="C1",
             label=f"mean, spread {100 * scan.height_rms_relative_spread:.1f} %",
         )
-    ax.set_xlabel("resolution (um)")
-    ax.set_ylabel("rms summit height sigma_s (mm)")
+    ax.set_xlabel(r"resolution $\Delta$ ($\mu$m)")
+    ax.set_ylabel(r"rms summit height $\sigma_s$ (mm)")
     ax.set_title("(c)")
     ax.legend()
     if title:

@@ -28,7 +28,7 @@ from topo.resampling import decimate
 
 
 @numba.njit(cache=True, inline="always")
-def _is_summit(h, i, j, im, ip, jm, jp, eight):  # noqa: ANN001, ANN202
+def _is_summit(h, i, j, im, ip, jm, jp, eight):
     z = h[i, j]
     if not (z > h[im, j] and z > h[ip, j] and z > h[i, jm] and z > h[i, jp]):
         return False
@@ -39,7 +39,7 @@ def _is_summit(h, i, j, im, ip, jm, jp, eight):  # noqa: ANN001, ANN202
 
 
 @numba.njit(cache=True)
-def _row_moments(h, i, im, ip, j, jm, jp, inv_dx2, inv_dy2, eight, acc):  # noqa: ANN001, ANN202
+def _row_moments(h, i, im, ip, j, jm, jp, inv_dx2, inv_dy2, eight, acc):
     """Add pixel (i, j) to ``acc`` = [count, mean, m2, radius_sum] if it is a summit."""
     z = h[i, j]
     left = h[i, jm]
@@ -63,7 +63,7 @@ def _row_moments(h, i, im, ip, j, jm, jp, inv_dx2, inv_dy2, eight, acc):  # noqa
 
 
 @numba.njit(cache=True)
-def _summit_moments(h, dx, dy, periodic, eight):  # noqa: ANN001, ANN202
+def _summit_moments(h, dx, dy, periodic, eight):
     """Count, mean height, sum of squared deviations and sum of radii of the summits.
 
     One pass over the map; interior columns need no wrap-around test, the two edge
@@ -92,7 +92,7 @@ def _summit_moments(h, dx, dy, periodic, eight):  # noqa: ANN001, ANN202
 
 
 @numba.njit(cache=True)
-def _summit_mask(h, periodic, eight):  # noqa: ANN001, ANN202
+def _summit_mask(h, periodic, eight):
     nx, ny = h.shape
     mask = np.zeros((nx, ny), dtype=np.bool_)
     if nx < 3 or ny < 3:

@@ -153,7 +153,7 @@ def test_fused_kernels_match_numpy(arr, offset):
     # pressure update with lower bound 0.1
     p2, w2, c2 = p.copy(), w.copy(), c.copy()
     tau = 0.3
-    left, entered, psum, n2, s1b, s2b = pk._update_pressure(
+    left, entered, psum, psq, n2, s1b, s2b = pk._update_pressure(
         p2, t2, w2, r, c2, tau, offset, 0.1, offset, True
     )
     p_try = p - tau * t2
@@ -164,6 +164,8 @@ def test_fused_kernels_match_numpy(arr, offset):
     np.testing.assert_allclose(p2, p_ref, rtol=1e-14, atol=1e-14)
     np.testing.assert_allclose(w2, w - tau * r, rtol=1e-14, atol=1e-14)
     assert psum == pytest.approx(p_ref.sum(), abs=1e-9)
+    assert psq == pytest.approx((p_ref**2).sum(), abs=1e-9)
+    assert pk._dot(p_ref, r) == pytest.approx(float(p_ref @ r), abs=1e-9)
     m2 = (m & ~leave) | enter
     np.testing.assert_array_equal(c2.astype(bool), m2)
     g2 = w2 - offset

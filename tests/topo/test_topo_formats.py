@@ -112,16 +112,16 @@ def test_datx_round_trip_with_missing_pixels(tmp_path):
     heights[2, 3] = np.nan
     path = tmp_path / "map.datx"
     write_datx(path, heights, 3e-7, no_data=1.7e308)
-    with pytest.raises(TopographyFileError, match="Unit"):
-        topo.read_surface(path)  # 'MicroMeters' is not a unit spelling we accept
-    with h5py.File(path, "r+") as handle:
-        handle["Measurement/Surface"].attrs["Unit"] = np.array([b"um"])
-    surface = topo.read_surface(path)
+    surface = topo.read_surface(path)  # Unit "MicroMeters", as Zygo writes it
     np.testing.assert_allclose(surface.heights, heights, rtol=1e-12)
     assert surface.n_missing == 1
     assert surface.dx == pytest.approx(3e-7)
     with pytest.raises(TopographyFileError, match="cut_map.datx"):
         topo.read_surface(truncate(path))
+    with h5py.File(path, "r+") as handle:
+        handle["Measurement/Surface"].attrs["Unit"] = np.array([b"Volts"])
+    with pytest.raises(TopographyFileError, match="expected a length unit"):
+        topo.read_surface(path)
 
 
 # --- X3P: the amended revision with a valid-points mask, integer data ----------------------

@@ -85,3 +85,23 @@ def test_paper_like_keeps_physical_parameters_independent_of_n():
     assert topo.rolloff_wavelength(small) == pytest.approx(600e-6, rel=0.35)
     with pytest.raises(ValueError, match="hurst"):
         topo.synthetic.self_affine(16, 1e-6, rms_height=1e-6, rolloff_wavelength=1e-5, hurst=1.5)
+
+
+def test_rms_slope_and_curvature_skip_missing_pixels_on_open_maps():
+    rng = np.random.default_rng(3)
+    h = rng.normal(size=(30, 20)) * 1e-6
+    h[4, 5] = np.nan
+    dx, dy = 1e-6, 2e-6
+    surface = topo.HeightMap(h, dx, dy)
+    gx = np.diff(h, axis=0)[:, :-1] / dx
+    gy = np.diff(h, axis=1)[:-1, :] / dy
+    assert topo.rms_slope(surface) == pytest.approx(np.sqrt(np.nanmean(gx**2 + gy**2)), rel=1e-12)
+    c = h[1:-1, 1:-1]
+    hxx = (h[2:, 1:-1] - 2 * c + h[:-2, 1:-1]) / dx**2
+    hyy = (h[1:-1, 2:] - 2 * c + h[1:-1, :-2]) / dy**2
+    expected = np.sqrt(np.nanmean((0.5 * (hxx + hyy)) ** 2))
+    assert topo.rms_curvature(surface) == pytest.approx(expected, rel=1e-12)
+    assert topo.rms_height(surface) == pytest.approx(np.nanstd(h), rel=1e-12)
+    assert topo.rms_height(surface, about_mean=False) == pytest.approx(
+        np.sqrt(np.nanmean(h**2)), rel=1e-12
+    )

@@ -142,3 +142,8 @@ def test_unknown_and_empty_files_are_refused(tmp_path):
         topo.read_surface(junk)
     with pytest.raises(FileNotFoundError):
         topo.read_surface(tmp_path / "missing.x3p")
+
+
+def test_channel_for_a_single_channel_format_is_refused():
+    with pytest.raises(ValueError, match="single channel"):
+        topo.read_surface(DATA / "opd-1.opd", channel="Height")

@@ -141,6 +141,14 @@ def test_kernel_matches_numpy_reference_and_symmetries(h):
     )
     stats = topo.summit_statistics(surface)
     assert stats.n_summits == mask.sum()
+    if min(h.shape) >= 3:  # periodic: compare with np.roll in the four directions
+        with np.errstate(invalid="ignore"):
+            rolled = np.ones(h.shape, dtype=bool)
+            for shift, axis in ((1, 0), (-1, 0), (1, 1), (-1, 1)):
+                rolled &= h > np.roll(h, shift, axis)
+        periodic = topo.HeightMap(h, 1.0, 1.0, periodic=True)
+        np.testing.assert_array_equal(summit_mask(periodic), rolled)
+        assert topo.summit_statistics(periodic).n_summits == rolled.sum()
     for transformed in (h[::-1], h[:, ::-1], h.T):
         assert topo.summit_statistics(topo.HeightMap(transformed, 1.0, 1.0)).n_summits == mask.sum()
 
@@ -148,3 +156,25 @@ def test_kernel_matches_numpy_reference_and_symmetries(h):
 def test_line_profile_refused():
     with pytest.raises(ValueError, match="line profile"):
         topo.summit_statistics(topo.LineProfile(np.arange(10.0), 1e-6))
+
+
+@pytest.mark.parametrize("periodic", [False, True])
+@pytest.mark.parametrize("neighbours", [4, 8])
+def test_statistics_match_a_direct_numpy_evaluation(periodic, neighbours):
+    rng = np.random.default_rng(11)
+    h = rng.normal(size=(53, 41)) * 1e-6
+    h[rng.random(h.shape) < 0.02] = np.nan
+    dx, dy = 1.5e-6, 2.5e-6
+    surface = topo.HeightMap(h, dx, dy, periodic=periodic)
+    i, j = np.nonzero(summit_mask(surface, neighbours=neighbours))
+    nx, ny = h.shape
+    z = h[i, j]
+    zxx = (h[(i + 1) % nx, j] - 2 * z + h[(i - 1) % nx, j]) / dx**2
+    zyy = (h[i, (j + 1) % ny] - 2 * z + h[i, (j - 1) % ny]) / dy**2
+    stats = topo.summit_statistics(surface, neighbours=neighbours)
+    assert stats.n_summits == z.size > 50
+    assert stats.asperity_density == pytest.approx(z.size / (nx * dx * ny * dy), rel=1e-14)
+    assert stats.summit_height_rms == pytest.approx(np.std(z), rel=1e-10)
+    assert stats.summit_radius == pytest.approx(
+        np.mean(0.5 * (1 / np.abs(zxx) + 1 / np.abs(zyy))), rel=1e-12
+    )

@@ -18,6 +18,12 @@ _METRES_PER_UNIT = {
     "a": 1e-10,
     "å": 1e-10,
     "angstrom": 1e-10,
+    # long names (Zygo DATX writes e.g. 'MicroMeters'); matched case-insensitively,
+    # singular or plural, 'meter' or 'metre'
+    "meter": 1.0,
+    "millimeter": 1e-3,
+    "nanometer": 1e-9,
+    "picometer": 1e-12,
 }
 
 
@@ -25,7 +31,8 @@ def length_unit_in_metres(unit: str) -> float | None:
     """Metres per ``unit`` (e.g. ``"um"`` -> 1e-6), or None if ``unit`` is not a length.
 
     Accepts the spellings seen in instrument files: ``µm``/``μm``/``um``/``~m``, latin-1
-    decoded micro signs (``\\xb5m``), ``Å``, case-insensitively for multi-letter names.
+    decoded micro signs (``\\xb5m``), ``Å``, and long names such as ``MicroMeters`` or
+    ``nanometre`` (case-insensitive, singular or plural).
     """
     key = unit.strip().replace("\x00", "").strip()
     if key in _METRES_PER_UNIT:
@@ -33,4 +40,9 @@ def length_unit_in_metres(unit: str) -> float | None:
     lower = key.lower()
     if lower in _METRES_PER_UNIT and lower not in ("mm", "m"):  # 'Mm' is not millimetre
         return _METRES_PER_UNIT[lower]
+    long_name = lower.replace("metre", "meter")
+    if len(long_name) > 2 and long_name.endswith("s"):
+        long_name = long_name[:-1]
+    if long_name in _METRES_PER_UNIT and len(long_name) > 2:
+        return _METRES_PER_UNIT[long_name]
     return None

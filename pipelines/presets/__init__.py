@@ -1,0 +1,1 @@
+"""Shipped job configurations (TOML): ``default`` and ``paper``; see pipelines.config."""
