@@ -14,34 +14,47 @@ Typical use::
     curve.static_friction, curve.sliding_friction  # N
 """
 
-from statmodel.hertz import hertz_contact_radius, hertz_normal_load, hertz_sliding_tangential_load
-from statmodel.jkr import (
-    jkr_contact_radius,
-    jkr_jump_in_distance,
-    jkr_jump_off_distance,
-    jkr_normal_load,
-    jkr_pull_off_force_fixed_grip,
-    jkr_pull_off_force_load_control,
-)
-from statmodel.options import QuadratureOptions
-from statmodel.papangelo_ciavarella import (
-    pc_contact_radius,
-    pc_fold_radius,
-    pc_max_tangential_displacement,
-    pc_min_indentation,
-    pc_normal_load,
-    pc_tangential_load,
-)
-from statmodel.parameters import Material, Roughness, TaborWarning, tabor_parameter
-from statmodel.preload import PreloadResult, preload, pull_off_force, real_area_at_loads
-from statmodel.shear import ShearCurve, shear_curve, shear_curve_fixed_separation
-from statmodel.status_map import (
-    OUT_OF_CONTACT,
-    SLIDE,
-    STICK,
-    asperity_status,
-    dimensionless_unstable_boundary,
-)
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+# Public names and the module that defines each; imported on first use so that
+# `asperity --help` and light sub-commands do not load numba kernels they never call.
+_EXPORTS: dict[str, str] = {
+    "hertz_contact_radius": "statmodel.hertz",
+    "hertz_normal_load": "statmodel.hertz",
+    "hertz_sliding_tangential_load": "statmodel.hertz",
+    "jkr_contact_radius": "statmodel.jkr",
+    "jkr_jump_in_distance": "statmodel.jkr",
+    "jkr_jump_off_distance": "statmodel.jkr",
+    "jkr_normal_load": "statmodel.jkr",
+    "jkr_pull_off_force_fixed_grip": "statmodel.jkr",
+    "jkr_pull_off_force_load_control": "statmodel.jkr",
+    "QuadratureOptions": "statmodel.options",
+    "pc_contact_radius": "statmodel.papangelo_ciavarella",
+    "pc_fold_radius": "statmodel.papangelo_ciavarella",
+    "pc_max_tangential_displacement": "statmodel.papangelo_ciavarella",
+    "pc_min_indentation": "statmodel.papangelo_ciavarella",
+    "pc_normal_load": "statmodel.papangelo_ciavarella",
+    "pc_tangential_load": "statmodel.papangelo_ciavarella",
+    "Material": "statmodel.parameters",
+    "Roughness": "statmodel.parameters",
+    "TaborWarning": "statmodel.parameters",
+    "tabor_parameter": "statmodel.parameters",
+    "PreloadResult": "statmodel.preloading",
+    "preload": "statmodel.preloading",
+    "pull_off_force": "statmodel.preloading",
+    "real_area_at_loads": "statmodel.preloading",
+    "ShearCurve": "statmodel.shear",
+    "shear_curve": "statmodel.shear",
+    "shear_curve_fixed_separation": "statmodel.shear",
+    "OUT_OF_CONTACT": "statmodel.status_map",
+    "SLIDE": "statmodel.status_map",
+    "STICK": "statmodel.status_map",
+    "asperity_status": "statmodel.status_map",
+    "dimensionless_unstable_boundary": "statmodel.status_map",
+}
 
 __all__ = [
     "OUT_OF_CONTACT",
@@ -77,3 +90,17 @@ __all__ = [
     "shear_curve_fixed_separation",
     "tabor_parameter",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    module_name = _EXPORTS.get(name)
+    if module_name is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    module = importlib.import_module(module_name)
+    value = module if module_name == f"{__name__}.{name}" else getattr(module, name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -16,13 +16,13 @@ import dataclasses
 import sys
 from pathlib import Path
 
-from statmodel.config import read_friction_parameters
-from statmodel.results_io import curve_to_json, write_curve_hdf5
-from statmodel.shear import shear_curve
-
 
 def run_friction(args: argparse.Namespace) -> int:
     """Handler of ``asperity friction``; returns the exit status."""
+    from statmodel.config import read_friction_parameters
+    from statmodel.results_io import curve_to_json, write_curve_hdf5
+    from statmodel.shear import shear_curve
+
     params = read_friction_parameters(args.params)
     curve = shear_curve(
         params.material,

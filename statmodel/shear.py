@@ -32,7 +32,7 @@ from scipy.special import gamma, ndtr, pbdv
 from statmodel import integrals as _k
 from statmodel.options import ModelSetup, QuadratureOptions, setup_model
 from statmodel.parameters import Material, Roughness
-from statmodel.preload import pull_off_point, solve_preload
+from statmodel.preloading import pull_off_point, solve_preload
 
 
 @dataclass(frozen=True)

@@ -11,15 +11,37 @@ Public API (SI units: m, m^2, 1/m^2):
 * spectra and rms values in :mod:`topo.psd`; synthetic maps in :mod:`topo.synthetic`.
 """
 
-from topo import synthetic
-from topo.errors import TopographyFileError
-from topo.heightmap import HeightMap, LineProfile
-from topo.io import read_surface, write_hdf5
-from topo.levelling import level
-from topo.psd import radial_psd, rms_curvature, rms_height, rms_slope, rolloff_wavelength
-from topo.resampling import block_mean, decimate, fourier_resample
-from topo.scan import ResolutionScan, plot_resolution_scan, resolution_scan, write_scan_hdf5
-from topo.summits import SummitStatistics, summit_mask, summit_statistics
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+# Public names and the module that defines each; imported on first use so that
+# `asperity --help` and light sub-commands do not load numba kernels they never call.
+_EXPORTS: dict[str, str] = {
+    "synthetic": "topo.synthetic",
+    "TopographyFileError": "topo.errors",
+    "HeightMap": "topo.heightmap",
+    "LineProfile": "topo.heightmap",
+    "read_surface": "topo.io",
+    "write_hdf5": "topo.io",
+    "level": "topo.levelling",
+    "radial_psd": "topo.psd",
+    "rms_curvature": "topo.psd",
+    "rms_height": "topo.psd",
+    "rms_slope": "topo.psd",
+    "rolloff_wavelength": "topo.psd",
+    "block_mean": "topo.resampling",
+    "decimate": "topo.resampling",
+    "fourier_resample": "topo.resampling",
+    "ResolutionScan": "topo.scan",
+    "plot_resolution_scan": "topo.scan",
+    "resolution_scan": "topo.scan",
+    "write_scan_hdf5": "topo.scan",
+    "SummitStatistics": "topo.summits",
+    "summit_mask": "topo.summits",
+    "summit_statistics": "topo.summits",
+}
 
 __all__ = [
     "HeightMap",
@@ -45,3 +67,17 @@ __all__ = [
     "write_hdf5",
     "write_scan_hdf5",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    module_name = _EXPORTS.get(name)
+    if module_name is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    module = importlib.import_module(module_name)
+    value = module if module_name == f"{__name__}.{name}" else getattr(module, name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

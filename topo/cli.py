@@ -15,13 +15,6 @@ from pathlib import Path
 import numpy as np
 
 from topo.heightmap import HeightMap, require_height_map
-from topo.io import read_surface, write_hdf5
-from topo.levelling import level
-from topo.psd import rms_height
-from topo.resampling import decimate
-from topo.scan import plot_resolution_scan, resolution_scan, write_scan_hdf5
-from topo.summits import summit_statistics
-from topo.synthetic import paper_like
 
 #: Keys of ``asperity stats --json``, in order (a contract with other tools).
 STATS_KEYS = (
@@ -61,6 +54,9 @@ def _pixel_size(text: str | None) -> float | None:
 
 
 def _load_levelled(args: argparse.Namespace, what: str) -> HeightMap:
+    from topo.io import read_surface
+    from topo.levelling import level
+
     surface = read_surface(args.file, channel=args.channel, pixel_size=_pixel_size(args.pixel_size))
     surface = require_height_map(surface, f"asperity {what}")
     return level(surface, args.detrend)
@@ -73,6 +69,10 @@ def surface_stats(surface: HeightMap, *, stride: int = 1, neighbours: int = 4) -
     along the first array axis, ``rms_height = sqrt(<h^2>)`` over its valid pixels (the
     heights as levelled: about the mean plane after ``plane``/``mean``).
     """
+    from topo.psd import rms_height
+    from topo.resampling import decimate
+    from topo.summits import summit_statistics
+
     stats = summit_statistics(surface, stride=stride, neighbours=neighbours)
     grid = decimate(surface, stride)
     record = {
@@ -122,6 +122,8 @@ def _stats(args: argparse.Namespace) -> int:
 
 
 def _scan(args: argparse.Namespace) -> int:
+    from topo.scan import plot_resolution_scan, resolution_scan, write_scan_hdf5
+
     surface = _load_levelled(args, "scan")
     scan = resolution_scan(surface, args.max_stride, neighbours=args.neighbours)
     figure = args.figure
@@ -168,6 +170,9 @@ def _scan(args: argparse.Namespace) -> int:
 
 
 def _synth(args: argparse.Namespace) -> int:
+    from topo.io import write_hdf5
+    from topo.synthetic import paper_like
+
     out = Path(args.out)
     if out.suffix.lower() not in (".h5", ".hdf5", ".npy", ".npz"):
         raise ValueError(f"--out {out}: expected a .h5 (project HDF5), .npy or .npz file name")

@@ -13,7 +13,7 @@ from pipelines.config import config_from_dict, preset_text
 from pipelines.fitting import area_up_to_peak, interpolate_area
 from pipelines.friction_stage import model_shear_area
 from pipelines.job import run_job
-from pipelines.measured import ShearAreaCurve, write_shear_area
+from pipelines.measured import NormalAreaCurve, ShearAreaCurve, write_shear_area
 from pipelines.resolution_stage import material_from_config, roughness_from_scan
 from pipelines.surface_stage import read_and_level, scan_resolutions
 
@@ -136,8 +136,7 @@ def test_model_outside_validity_warns():
                            summit_radius=np.array([1.5e-5, 3e-5]),
                            summit_height_rms=np.array([6e-9, 5e-9]))
     material = statmodel.Material(2.133e6, 0.040, 0.03, 0.13e6, 0.2e-9)
-    measured = __import__("pipelines.measured", fromlist=["x"]).NormalAreaCurve(
-        np.array([1.0, 2.0]), np.array([1e-4, 2e-4]))
+    measured = NormalAreaCurve(np.array([1.0, 2.0]), np.array([1e-4, 2e-4]))
     with pytest.warns(ModelValidityWarning, match="outside its validity"):
         choice = statistical_model_scan(scan, material, 700e-6, [1.0, 2.0], measured=measured)
     assert choice.validity and "A_r/A_n up to" in choice.validity[0]

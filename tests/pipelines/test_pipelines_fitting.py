@@ -97,3 +97,15 @@ def test_recovers_lambda_from_statistical_model_curves():
     assert fit.success
     assert abs(fit.mode_mixity - true_lambda) < 3 * fit.mode_mixity_std
     assert fit.mode_mixity_std < 0.3 * true_lambda
+
+
+def test_fit_in_worker_processes_matches_serial():
+    from pipelines.parallel import make_executor
+
+    rng = np.random.default_rng(5)
+    curves = _noisy_curves(_toy_model, 0.05, [1.0, 2.0], 0.005, rng)
+    serial = fit_mode_mixity(curves, _toy_model)
+    with make_executor(2) as ex:
+        pooled = fit_mode_mixity(curves, _toy_model, map_fn=ex.map)
+    assert pooled.mode_mixity == serial.mode_mixity
+    assert pooled.mode_mixity_std == serial.mode_mixity_std
