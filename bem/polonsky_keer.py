@@ -60,22 +60,61 @@ __all__ = ["solve_contact"]
 # ----------------------------------------------------------------------------------------
 
 
+# Each kernel is one pass over the arrays, written as four interleaved lanes with separate
+# partial sums and without data-dependent branches in the common path: the loop-carried
+# floating-point sums then no longer serialise on the add latency and LLVM can pack the lanes
+# into SIMD registers, all without fastmath (the summation order is fixed, results are
+# deterministic). Measured at 1024^2: 5.1 ms -> 1.1 ms for the direction update.
+
+
+@njit(inline="always")
+def _gap_elem(w, h, c, i, shift):  # pragma: no cover - compiled
+    g = w[i] - h[i]
+    w[i] = g
+    ci = c[i]
+    d = (g - shift) * (1.0 if ci else 0.0)
+    return ci, d, d * d
+
+
 @njit(cache=True, fastmath=False)
 def _deflection_to_gap_stats(w, h, c, shift):  # pragma: no cover - compiled
     """w -= h in place (deflection -> gap without the rigid-body term); returns n, sum(g - shift)
     and sum((g - shift)^2) over the contact set."""
     n = 0
-    s1 = 0.0
-    s2 = 0.0
-    for i in range(w.size):
-        g = w[i] - h[i]
-        w[i] = g
-        if c[i]:
-            d = g - shift
-            n += 1
-            s1 += d
-            s2 += d * d
-    return n, s1, s2
+    a0 = a1 = a2 = a3 = 0.0
+    b0 = b1 = b2 = b3 = 0.0
+    size = w.size
+    m4 = size - size % 4
+    for i in range(0, m4, 4):
+        k0, x0, y0 = _gap_elem(w, h, c, i, shift)
+        k1, x1, y1 = _gap_elem(w, h, c, i + 1, shift)
+        k2, x2, y2 = _gap_elem(w, h, c, i + 2, shift)
+        k3, x3, y3 = _gap_elem(w, h, c, i + 3, shift)
+        n += k0 + k1 + k2 + k3
+        a0 += x0
+        a1 += x1
+        a2 += x2
+        a3 += x3
+        b0 += y0
+        b1 += y1
+        b2 += y2
+        b3 += y3
+    for i in range(m4, size):
+        k0, x0, y0 = _gap_elem(w, h, c, i, shift)
+        n += k0
+        a0 += x0
+        b0 += y0
+    return n, (a0 + a1) + (a2 + a3), (b0 + b1) + (b2 + b3)
+
+
+@njit(inline="always")
+def _direction_elem(w, c, t, i, offset, beta):  # pragma: no cover - compiled
+    g = w[i] - offset
+    m = 1.0 if c[i] else 0.0
+    ti = m * (g + beta * t[i])
+    t[i] = ti
+    q = min(g, 0.0) * (1.0 - m)
+    return g * ti, q * q, 1 if q < 0.0 else 0
 
 
 @njit(cache=True, fastmath=False)
@@ -84,22 +123,126 @@ def _update_direction(w, c, t, offset, beta):  # pragma: no cover - compiled
 
     Returns sum_c g t, the squared penetration outside the set and its pixel count.
     """
-    sgt = 0.0
-    pen = 0.0
+    a0 = a1 = a2 = a3 = 0.0
+    b0 = b1 = b2 = b3 = 0.0
     npen = 0
-    for i in range(w.size):
-        g = w[i] - offset
-        if c[i]:
-            ti = g + beta * t[i]
-            t[i] = ti
-            sgt += g * ti
-        else:
-            if t[i] != 0.0:
-                t[i] = 0.0
-            if g < 0.0:
-                pen += g * g
-                npen += 1
-    return sgt, pen, npen
+    size = w.size
+    m4 = size - size % 4
+    for i in range(0, m4, 4):
+        x0, y0, k0 = _direction_elem(w, c, t, i, offset, beta)
+        x1, y1, k1 = _direction_elem(w, c, t, i + 1, offset, beta)
+        x2, y2, k2 = _direction_elem(w, c, t, i + 2, offset, beta)
+        x3, y3, k3 = _direction_elem(w, c, t, i + 3, offset, beta)
+        a0 += x0
+        a1 += x1
+        a2 += x2
+        a3 += x3
+        b0 += y0
+        b1 += y1
+        b2 += y2
+        b3 += y3
+        npen += k0 + k1 + k2 + k3
+    for i in range(m4, size):
+        x0, y0, k0 = _direction_elem(w, c, t, i, offset, beta)
+        a0 += x0
+        b0 += y0
+        npen += k0
+    return (a0 + a1) + (a2 + a3), (b0 + b1) + (b2 + b3), npen
+
+
+@njit(inline="always")
+def _residual_elem(w, c, s, i, offset):  # pragma: no cover - compiled
+    g = w[i] - offset
+    m = 1.0 if c[i] else 0.0
+    s[i] = m * g
+    q = min(g, 0.0) * (1.0 - m)
+    return q * q, 1 if q < 0.0 else 0
+
+
+@njit(cache=True, fastmath=False)
+def _residual_field(w, c, s, offset):  # pragma: no cover - compiled
+    """s = g on the contact set, 0 outside (g = w - offset), the input of the preconditioner;
+    returns the squared penetration outside the set and its pixel count."""
+    b0 = b1 = b2 = b3 = 0.0
+    npen = 0
+    size = w.size
+    m4 = size - size % 4
+    for i in range(0, m4, 4):
+        y0, k0 = _residual_elem(w, c, s, i, offset)
+        y1, k1 = _residual_elem(w, c, s, i + 1, offset)
+        y2, k2 = _residual_elem(w, c, s, i + 2, offset)
+        y3, k3 = _residual_elem(w, c, s, i + 3, offset)
+        b0 += y0
+        b1 += y1
+        b2 += y2
+        b3 += y3
+        npen += k0 + k1 + k2 + k3
+    for i in range(m4, size):
+        y0, k0 = _residual_elem(w, c, s, i, offset)
+        b0 += y0
+        npen += k0
+    return (b0 + b1) + (b2 + b3), npen
+
+
+@njit(cache=True, fastmath=False)
+def _masked_sum(z, c):  # pragma: no cover - compiled
+    """Sum of z over the contact set."""
+    s0 = s1 = s2 = s3 = 0.0
+    size = z.size
+    m4 = size - size % 4
+    for i in range(0, m4, 4):
+        s0 += z[i] * (1.0 if c[i] else 0.0)
+        s1 += z[i + 1] * (1.0 if c[i + 1] else 0.0)
+        s2 += z[i + 2] * (1.0 if c[i + 2] else 0.0)
+        s3 += z[i + 3] * (1.0 if c[i + 3] else 0.0)
+    for i in range(m4, size):
+        s0 += z[i] * (1.0 if c[i] else 0.0)
+    return (s0 + s1) + (s2 + s3)
+
+
+@njit(inline="always")
+def _pc_direction_elem(w, c, t, z, i, offset, zbar, beta):  # pragma: no cover - compiled
+    m = 1.0 if c[i] else 0.0
+    ti = m * ((z[i] - zbar) + beta * t[i])
+    t[i] = ti
+    return (w[i] - offset) * ti
+
+
+@njit(cache=True, fastmath=False)
+def _update_direction_preconditioned(w, c, t, z, offset, zbar, beta):  # pragma: no cover
+    """t = (z - zbar) + beta t on the contact set, 0 outside, z the preconditioned gap;
+    returns sum_c g t with g = w - offset."""
+    a0 = a1 = a2 = a3 = 0.0
+    size = w.size
+    m4 = size - size % 4
+    for i in range(0, m4, 4):
+        a0 += _pc_direction_elem(w, c, t, z, i, offset, zbar, beta)
+        a1 += _pc_direction_elem(w, c, t, z, i + 1, offset, zbar, beta)
+        a2 += _pc_direction_elem(w, c, t, z, i + 2, offset, zbar, beta)
+        a3 += _pc_direction_elem(w, c, t, z, i + 3, offset, zbar, beta)
+    for i in range(m4, size):
+        a0 += _pc_direction_elem(w, c, t, z, i, offset, zbar, beta)
+    return (a0 + a1) + (a2 + a3)
+
+
+@njit(inline="always")
+def _pressure_elem(p, t, w, r, c, i, tau, offset, lower, shift, allow_change):  # noqa: PLR0913
+    ci = c[i]
+    wi = w[i]
+    pi = p[i] - tau * t[i]  # t = 0 and p = 0 outside the contact set
+    g = wi - offset
+    leave = allow_change and ci != 0 and pi < -lower
+    enter = allow_change and ci == 0 and g < 0.0
+    pi = 0.0 if leave else pi
+    pi = -tau * g if enter else pi
+    cn = 0 if leave else ci
+    cn = 1 if enter else cn
+    c[i] = cn
+    p[i] = pi
+    wi -= tau * r[i]
+    w[i] = wi
+    d = (wi - shift) * (1.0 if cn else 0.0)
+    return 1 if leave else 0, 1 if enter else 0, pi, cn, d
 
 
 @njit(cache=True, fastmath=False)
@@ -113,45 +256,86 @@ def _update_pressure(p, t, w, r, c, tau, offset, lower, shift, allow_change):  #
     """  # pragma: no cover - compiled
     left = 0
     entered = 0
-    psum = 0.0
-    psq = 0.0
     n = 0
-    s1 = 0.0
-    s2 = 0.0
-    for i in range(w.size):
-        wi = w[i]
-        if c[i]:
-            pi = p[i] - tau * t[i]
-            if allow_change and pi < -lower:
-                pi = 0.0
-                c[i] = 0
-                left += 1
-            p[i] = pi
-        elif allow_change:
-            g = wi - offset
-            if g < 0.0:
-                p[i] = -tau * g
-                c[i] = 1
-                entered += 1
-        wi -= tau * r[i]
-        w[i] = wi
-        pi = p[i]
-        psum += pi
-        psq += pi * pi
-        if c[i]:
-            d = wi - shift
-            n += 1
-            s1 += d
-            s2 += d * d
-    return left, entered, psum, psq, n, s1, s2
+    ps0 = ps1 = ps2 = ps3 = 0.0
+    pq0 = pq1 = pq2 = pq3 = 0.0
+    a0 = a1 = a2 = a3 = 0.0
+    b0 = b1 = b2 = b3 = 0.0
+    size = w.size
+    m4 = size - size % 4
+    for i in range(0, m4, 4):
+        l0, e0, p0, k0, d0 = _pressure_elem(p, t, w, r, c, i, tau, offset, lower, shift,
+                                            allow_change)
+        l1, e1, p1, k1, d1 = _pressure_elem(p, t, w, r, c, i + 1, tau, offset, lower, shift,
+                                            allow_change)
+        l2, e2, p2, k2, d2 = _pressure_elem(p, t, w, r, c, i + 2, tau, offset, lower, shift,
+                                            allow_change)
+        l3, e3, p3, k3, d3 = _pressure_elem(p, t, w, r, c, i + 3, tau, offset, lower, shift,
+                                            allow_change)
+        left += l0 + l1 + l2 + l3
+        entered += e0 + e1 + e2 + e3
+        n += k0 + k1 + k2 + k3
+        ps0 += p0
+        ps1 += p1
+        ps2 += p2
+        ps3 += p3
+        pq0 += p0 * p0
+        pq1 += p1 * p1
+        pq2 += p2 * p2
+        pq3 += p3 * p3
+        a0 += d0
+        a1 += d1
+        a2 += d2
+        a3 += d3
+        b0 += d0 * d0
+        b1 += d1 * d1
+        b2 += d2 * d2
+        b3 += d3 * d3
+    for i in range(m4, size):
+        l0, e0, p0, k0, d0 = _pressure_elem(p, t, w, r, c, i, tau, offset, lower, shift,
+                                            allow_change)
+        left += l0
+        entered += e0
+        n += k0
+        ps0 += p0
+        pq0 += p0 * p0
+        a0 += d0
+        b0 += d0 * d0
+    return (
+        left,
+        entered,
+        (ps0 + ps1) + (ps2 + ps3),
+        (pq0 + pq1) + (pq2 + pq3),
+        n,
+        (a0 + a1) + (a2 + a3),
+        (b0 + b1) + (b2 + b3),
+    )
 
 
 @njit(cache=True, fastmath=False)
 def _dot(a, b):  # pragma: no cover - compiled
-    s = 0.0
-    for i in range(a.size):
-        s += a[i] * b[i]
-    return s
+    s0 = s1 = s2 = s3 = 0.0
+    size = a.size
+    m4 = size - size % 4
+    for i in range(0, m4, 4):
+        s0 += a[i] * b[i]
+        s1 += a[i + 1] * b[i + 1]
+        s2 += a[i + 2] * b[i + 2]
+        s3 += a[i + 3] * b[i + 3]
+    for i in range(m4, size):
+        s0 += a[i] * b[i]
+    return (s0 + s1) + (s2 + s3)
+
+
+@njit(inline="always")
+def _scale_elem(p, w, h, c, i, alpha, shift):  # pragma: no cover - compiled
+    p[i] *= alpha
+    hi = h[i]
+    wi = alpha * (w[i] + hi) - hi
+    w[i] = wi
+    ci = c[i]
+    d = (wi - shift) * (1.0 if ci else 0.0)
+    return ci, d
 
 
 @njit(cache=True, fastmath=False)
@@ -159,18 +343,30 @@ def _scale_with_stats(p, w, h, c, alpha, shift):  # pragma: no cover - compiled
     """p *= alpha and the gap w = u - h follows (u = K p is linear in p); returns the
     contact-set gap statistics after."""
     n = 0
-    s1 = 0.0
-    s2 = 0.0
-    for i in range(w.size):
-        p[i] *= alpha
-        wi = alpha * (w[i] + h[i]) - h[i]
-        w[i] = wi
-        if c[i]:
-            d = wi - shift
-            n += 1
-            s1 += d
-            s2 += d * d
-    return n, s1, s2
+    a0 = a1 = a2 = a3 = 0.0
+    b0 = b1 = b2 = b3 = 0.0
+    size = w.size
+    m4 = size - size % 4
+    for i in range(0, m4, 4):
+        k0, d0 = _scale_elem(p, w, h, c, i, alpha, shift)
+        k1, d1 = _scale_elem(p, w, h, c, i + 1, alpha, shift)
+        k2, d2 = _scale_elem(p, w, h, c, i + 2, alpha, shift)
+        k3, d3 = _scale_elem(p, w, h, c, i + 3, alpha, shift)
+        n += k0 + k1 + k2 + k3
+        a0 += d0
+        a1 += d1
+        a2 += d2
+        a3 += d3
+        b0 += d0 * d0
+        b1 += d1 * d1
+        b2 += d2 * d2
+        b3 += d3 * d3
+    for i in range(m4, size):
+        k0, d0 = _scale_elem(p, w, h, c, i, alpha, shift)
+        n += k0
+        a0 += d0
+        b0 += d0 * d0
+    return n, (a0 + a1) + (a2 + a3), (b0 + b1) + (b2 + b3)
 
 
 @njit(cache=True, fastmath=False)
@@ -205,6 +401,24 @@ def _operator(shape, dx, dy, e_star, kernel, periodic, fft_backend, threads) -> 
     else:
         _OPERATORS.move_to_end(key)
     return op
+
+
+def _preconditioner(op: Convolution, dx, dy, e_star) -> Convolution:
+    """The stiffness E* |q| / 2 (Pa/m, the inverse of the point-force kernel) on the FFT grid
+    of ``op``, q = 0 set to its smallest non-zero value; same backend and threads as ``op``."""
+    key = ("precondition", op.shape, float(dx), float(dy), float(e_star), op.backend, op.threads)
+    pre = _OPERATORS.get(key)
+    if pre is None:
+        gx, gy = op.shape
+        qx = 2.0 * np.pi * np.fft.fftfreq(gx, d=dx)
+        qy = 2.0 * np.pi * np.fft.rfftfreq(gy, d=dy)
+        q = np.sqrt(qx[:, None] ** 2 + qy[None, :] ** 2)
+        q[0, 0] = min(2.0 * np.pi / (gx * dx), 2.0 * np.pi / (gy * dy))
+        pre = Convolution(0.5 * e_star * q, op.shape, backend=op.backend, threads=op.threads)
+        _OPERATORS[key] = pre
+        while len(_OPERATORS) > 2 * _MAX_OPERATORS:
+            _OPERATORS.popitem(last=False)
+    return pre
 
 
 # ----------------------------------------------------------------------------------------
@@ -265,7 +479,8 @@ def solve_contact(
     kernel: str = "point",
     fft_backend: str = "auto",
     threads: int | None = None,
-    coarse_start: bool | str = "auto",
+    coarse_start: bool = False,
+    precondition: bool = True,
     stall_window: int = 200,
     refresh: int = 50,
 ) -> ContactResult:
@@ -307,10 +522,17 @@ def solve_contact(
         FFT backend (:mod:`bem.fft_backend`).
     threads : int, optional
         FFT threads; default all available cores.
-    coarse_start : bool or "auto"
+    coarse_start : bool
         Start a cold load-controlled periodic non-adhesive solve from the solution on a grid
-        coarsened 2x (recursively), which cuts the fine-grid iterations. "auto": when both
-        sizes are even and the grid has >= 256^2 pixels.
+        coarsened 2x (2x2 block means, recursively down to 64 px). Off by default: on the
+        benchmark surfaces the fine grid then needs *more* iterations (1024^2, without
+        preconditioning: 454 instead of 280, 870 instead of 521 convolutions), because the
+        coarse contact set differs at the pixel scale.
+    precondition : bool
+        Precondition the conjugate gradients with the half-space stiffness E*|q|/2 applied to
+        the contact-set residual (Vollebregt 2014): one more convolution per iteration, 4x
+        fewer iterations on the 1024^2 benchmark surface (280 -> 69 iterations, 521 -> 202
+        convolutions; 512^2: 126 -> 45).
     stall_window : int
         Declare a stall (``converged=False``) when the residual has not decreased by 0.1 % in
         this many iterations.
@@ -356,6 +578,8 @@ def solve_contact(
         raise ValueError(f"solve_contact: max_iter must be >= 1, got {max_iter}")
 
     op = _operator((nx, ny), dx, dy, e_star, kernel, periodic, fft_backend, threads)
+    calls_at_start = op.calls
+    coarse_info: dict = {}
     gx, gy = op.shape
 
     # --- heights on the FFT grid (padding far below: never in contact) ---
@@ -399,7 +623,7 @@ def solve_contact(
         load_control
         and not adhesive
         and periodic
-        and (coarse_start is True or (coarse_start == "auto" and n_pix >= 256 * 256))
+        and coarse_start
         and nx % 2 == 0
         and ny % 2 == 0
         and nx >= 64
@@ -411,6 +635,12 @@ def solve_contact(
             tol=max(tol, 1e-6), kernel=kernel, fft_backend=fft_backend, threads=threads,
             coarse_start=coarse_start, max_iter=max_iter,
         )
+        coarse_info = {
+            "coarse_iterations": coarse.nit + coarse.extra.get("coarse_iterations", 0),
+            "coarse_convolutions": coarse.extra.get("convolutions", 0)
+            + coarse.extra.get("coarse_convolutions", 0),
+            "coarse_seconds": coarse.seconds,
+        }
         p[...] = np.repeat(np.repeat(coarse.pressure, 2, axis=0), 2, axis=1)
         c[...] = p > 0
     if not c.any():
@@ -442,6 +672,14 @@ def solve_contact(
     op(p, out=w)
     psq = _dot(pf, pf)
     stiffness = e_star / math.sqrt(pixel_area)  # Pa/m: stiffness of a pixel-sized wavelength
+    pre = None
+    if precondition:
+        pre = _preconditioner(op, dx, dy, e_star)
+        pre_calls_at_start = pre.calls
+        s_arr = op.empty()
+        z_arr = op.empty()
+        sf, zf = s_arr.ravel(), z_arr.ravel()
+    gz_old = 0.0
 
     offset = 0.0 if load_control else -float(separation)
     shift = offset if not load_control else float(np.mean(w[:nx, :ny] - h0))
@@ -486,8 +724,11 @@ def solve_contact(
             shift = offset
         else:
             g_sq = s2
-        beta = 0.0 if reset or g_old <= 0 else g_sq / g_old
-        sgt, pen, npen = _update_direction(wf, cf, tf, offset, beta)
+        if pre is None:
+            beta = 0.0 if reset or g_old <= 0 else g_sq / g_old
+            sgt, pen, npen = _update_direction(wf, cf, tf, offset, beta)
+        else:
+            pen, npen = _residual_field(wf, cf, sf, offset)
         # pressure-equivalent residual: gap violation x pixel stiffness E*/sqrt(dx dy),
         # relative to the rms pressure (an estimate of the relative rms pressure error)
         residual = (
@@ -517,9 +758,20 @@ def solve_contact(
                 "the attainable precision"
             )
             break
+        if pre is not None:
+            # preconditioned direction (Vollebregt 2014): z = P_c K^-1 P_c g, zero-mean on the
+            # contact set under load control; beta = (g.z) / (g.z)_old
+            gz = pre.with_energy(s_arr, z_arr)
+            zbar = _masked_sum(zf, cf) / n_c if load_control else 0.0
+            beta = 0.0 if reset or gz_old <= 0 else gz / gz_old
+            gz_old = gz
+            sgt = _update_direction_preconditioned(wf, cf, tf, zf, offset, zbar, beta)
         rt = op.with_energy(t, r)  # r = K t and sum(t r), fused in Fourier space
         if not (rt > 0):
-            message = f"breakdown: non-positive curvature {rt:.3g} along the search direction"
+            message = (
+                f"stalled: the search direction vanished (curvature {rt:.3g}) at residual "
+                f"{residual:.3g} > tol {tol:.3g}: below the attainable precision"
+            )
             break
         tau = sgt / rt
         left, entered, psum, psq, n2, s1b, s2b = _update_pressure(
@@ -611,4 +863,11 @@ def solve_contact(
         dy=dy,
         critical_tension=sigma,
         residual=residual,
+        extra={
+            "convolutions": op.calls - calls_at_start
+            + (pre.calls - pre_calls_at_start if pre is not None else 0),
+            "fft_backend": op.backend,
+            "fft_threads": op.threads,
+            **coarse_info,
+        },
     )

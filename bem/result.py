@@ -51,6 +51,10 @@ class ContactResult:
         Pohrt-Popov Sigma (Pa, eq:max_sigma); 0 without adhesion.
     residual : float
         The final residual.
+    extra : dict
+        Diagnostics: ``convolutions`` (FFT convolutions done on this grid), ``fft_backend``,
+        ``fft_threads``, and for a coarse-grid start ``coarse_iterations``,
+        ``coarse_convolutions``, ``coarse_seconds``.
     """
 
     pressure: np.ndarray

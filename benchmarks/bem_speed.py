@@ -16,9 +16,10 @@ Run (the machine is shared: serialise timings with the lock):
     flock /tmp/asperity-bench.lock python benchmarks/bem_speed.py --sizes 5001 --no-peers
     python benchmarks/bem_speed.py --hertz-plot benchmarks/bem_time_vs_accuracy.png --sizes
 
-Prints one table row per (size, code): N, iterations, seconds, peak memory, contact fraction,
-errors vs the reference, ratio of the peer's time to bem's, and for bem the time per iteration
-over the time of two FFT convolutions.
+Prints one table row per (size, code): N, iterations, seconds (wall and CPU), peak memory,
+contact fraction, errors vs the reference, ratio of the peer's time to bem's, and for bem the
+time per iteration over the time of two FFT convolutions (``t_it/2conv``) and the solve time over
+the time of all its convolutions (``t/t_fft``: 1 would mean the vector work is free).
 """
 
 from __future__ import annotations
@@ -67,11 +68,14 @@ x = op.empty(); x[...] = h; y = op.empty()
 conv = []
 for _ in range(5):
     t1 = time.perf_counter(); op(x, y); conv.append(time.perf_counter() - t1)
+c0 = time.process_time()
 res = solve_contact(h, 1.0, 1.0, 1.0, mean_pressure={p}, tol={tol}, max_iter=20000,
                     coarse_start={coarse})
+cpu = time.process_time() - c0
 if {save!r}:
     np.save({save!r}, res.pressure)
-print(json.dumps(dict(nit=res.nit, seconds=res.seconds, setup=setup, conv=min(conv),
+print(json.dumps(dict(nit=res.nit, seconds=res.seconds, setup=setup, conv=min(conv), cpu=cpu,
+    convolutions=res.extra["convolutions"],
     backend=op.backend, threads=op.threads, converged=res.converged, message=res.message,
     contact_fraction=res.contact_fraction,
     peak_mib=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)))
@@ -89,11 +93,13 @@ model.nu = 0.0
 solver = tm.PolonskyKeerRey(model, h, {tol})
 solver.max_iter = 20000
 t0 = time.perf_counter()
+c0 = time.process_time()
 solver.solve({p})
 seconds = time.perf_counter() - t0
+cpu = time.process_time() - c0
 p = np.array(model.traction).reshape(h.shape)
 np.save({save!r}, p)
-print(json.dumps(dict(nit=-1, seconds=seconds, contact_fraction=float((p > 0).mean()),
+print(json.dumps(dict(nit=-1, seconds=seconds, cpu=cpu, contact_fraction=float((p > 0).mean()),
     peak_mib=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)), flush=True)
 """
 
@@ -110,12 +116,14 @@ substrate = PeriodicFFTElasticHalfSpace((n, n), 1.0, physical_sizes=(float(n), f
 topography = Topography(h, physical_sizes=(float(n), float(n)), periodic=True)
 pentol = {tol} * float(np.sqrt(np.mean((h - h.mean()) ** 2)))
 t0 = time.perf_counter()
+c0 = time.process_time()
 res = constrained_conjugate_gradients(substrate, topography, external_force={p} * n * n,
                                       pentol=pentol, maxiter=20000)
 seconds = time.perf_counter() - t0
+cpu = time.process_time() - c0
 forces = np.asarray(res.jac).reshape(h.shape)
 np.save({save!r}, forces)
-print(json.dumps(dict(nit=int(res.nit), seconds=seconds,
+print(json.dumps(dict(nit=int(res.nit), seconds=seconds, cpu=cpu,
     contact_fraction=float((forces > 0).mean()), converged=bool(res.success),
     peak_mib=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)))
 """
@@ -155,7 +163,7 @@ def _errors(pressure: np.ndarray, reference: np.ndarray) -> tuple[float, float]:
     return d_cf, rel
 
 
-def run_sizes(sizes, peer_python, with_peers, timeout, coarse) -> list[dict]:
+def run_sizes(sizes, peer_python, with_peers, timeout, coarse, with_reference=True) -> list[dict]:
     sys.path.insert(0, str(HERE))
     from bem_surfaces import self_affine_periodic
 
@@ -176,12 +184,14 @@ def run_sizes(sizes, peer_python, with_peers, timeout, coarse) -> list[dict]:
         surface = tmp / f"surface_{n}.npy"
         np.save(surface, h)
         ref_path = tmp / f"ref_{n}.npy"
-        ref = _run_worker(
-            sys.executable,
-            BEM_WORKER.format(root=str(ROOT), surface=str(surface), p=MEAN_PRESSURE, tol=1e-12,
-                              save=str(ref_path), coarse=repr(coarse)),
-            timeout,
-        )
+        ref = None
+        if with_reference:
+            ref = _run_worker(
+                sys.executable,
+                BEM_WORKER.format(root=str(ROOT), surface=str(surface), p=MEAN_PRESSURE,
+                                  tol=1e-12, save=str(ref_path), coarse=repr(coarse)),
+                timeout,
+            )
         reference = np.load(ref_path) if ref else None
         mine_path = tmp / f"bem_{n}.npy"
         mine = _run_worker(
@@ -197,6 +207,7 @@ def run_sizes(sizes, peer_python, with_peers, timeout, coarse) -> list[dict]:
             mine["d_cf"], mine["p_err"] = _errors(np.load(mine_path), reference)
             mine["ref_converged"] = ref.get("converged")
         mine["per_iter_over_2conv"] = mine["seconds"] / max(mine["nit"], 1) / (2 * mine["conv"])
+        mine["over_fft"] = mine["seconds"] / (mine["convolutions"] * mine["conv"])
         rows.append(mine)
         for name, worker in peers.items():
             out = tmp / f"{name}_{n}.npy"
@@ -220,22 +231,26 @@ def run_sizes(sizes, peer_python, with_peers, timeout, coarse) -> list[dict]:
 
 def _print_rows(rows: list[dict]) -> None:
     print(
-        f"{'N':>6} {'code':>17} {'iters':>6} {'seconds':>9} {'peak MiB':>9} {'contact':>9} "
-        f"{'|dcf| vs ref':>12} {'p err':>9} {'peer/bem':>9} {'t_it/2conv':>10}"
+        f"{'N':>6} {'code':>17} {'iters':>6} {'seconds':>9} {'cpu s':>8} {'peak MiB':>9} "
+        f"{'contact':>9} "
+        f"{'|dcf| vs ref':>12} {'p err':>9} {'peer/bem':>9} {'t_it/2conv':>10} {'t/t_fft':>8}"
     )
     for r in rows:
         print(
             f"{r['n']:>6} {r['code']:>17} {r['nit']:>6} {r['seconds']:>9.2f} "
-            f"{r['peak_mib']:>9.0f} {r['contact_fraction']:>9.5f} "
+            f"{r.get('cpu', float('nan')):>8.2f} {r['peak_mib']:>9.0f} "
+            f"{r['contact_fraction']:>9.5f} "
             f"{r.get('d_cf', float('nan')):>12.2e} {r.get('p_err', float('nan')):>9.1e} "
             f"{r.get('ratio', float('nan')):>9.2f} "
-            f"{r.get('per_iter_over_2conv', float('nan')):>10.2f}"
+            f"{r.get('per_iter_over_2conv', float('nan')):>10.2f} "
+            f"{r.get('over_fft', float('nan')):>8.2f}"
         )
     for r in rows:
         if r["code"] == "bem":
             print(
                 f"# bem N={r['n']}: backend {r['backend']} x{r['threads']} threads, one FFT "
-                f"convolution {r['conv'] * 1e3:.2f} ms, setup {r['setup']:.2f} s, "
+                f"convolution {r['conv'] * 1e3:.2f} ms, {r['convolutions']} convolutions, "
+                f"setup {r['setup']:.2f} s, "
                 f"{r['message']}"
             )
     sys.stdout.flush()
@@ -298,7 +313,8 @@ def main(argv=None) -> int:
     parser.add_argument("--sizes", type=int, nargs="*", default=[512, 1024])
     parser.add_argument("--peer-python", default="/tmp/peers-bem/bin/python")
     parser.add_argument("--no-peers", action="store_true")
-    parser.add_argument("--no-coarse-start", action="store_true")
+    parser.add_argument("--coarse-start", action="store_true", help="bem coarse-grid start")
+    parser.add_argument("--no-reference", action="store_true", help="skip the tol 1e-12 solve")
     parser.add_argument("--timeout", type=float, default=1800.0, help="per worker (s)")
     parser.add_argument("--hertz-plot", type=Path, default=None, help="write the PNG here")
     parser.add_argument("--json", type=Path, default=None, help="also write the rows as JSON")
@@ -308,7 +324,7 @@ def main(argv=None) -> int:
     rows = []
     if args.sizes:
         rows = run_sizes(args.sizes, args.peer_python, not args.no_peers, args.timeout,
-                         "auto" if not args.no_coarse_start else False)
+                         args.coarse_start, not args.no_reference)
     if args.json:
         args.json.write_text(json.dumps(rows, indent=1))
     if args.hertz_plot:

@@ -59,8 +59,9 @@ def timed(fn, repeats: int) -> float:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--png", type=Path,
-                        default=Path(__file__).with_name("statmodel_speed_accuracy.png"))
+    parser.add_argument(
+        "--png", type=Path, default=Path(__file__).with_name("statmodel_speed_accuracy.png")
+    )
     parser.add_argument("--repeats", type=int, default=15)
     args = parser.parse_args()
 
@@ -82,23 +83,34 @@ def main() -> None:
         e_load = np.max(np.abs(c.normal_force / LOAD - 1))
         rows.append((knobs, t, max(e_fx, e_ar, e_fz), e_fx, e_ar, e_fz, e_load))
 
-    print(f"case: 281 steps, F_z = {LOAD} N, A_n = {AREA} m^2 (issue TOML); "
-          f"reference (scipy quad, epsrel 1e-13): {t_ref:.2f} s")
-    head = (f"{'nodes':>5} {'panels':>6} {'load_rtol':>9} {'time_ms':>8} {'max_rel_err':>11} "
-            f"{'err_Fx':>9} {'err_Ar':>9} {'err_Fz':>9} {'Fz-load':>9} {'speedup_vs_ref':>14}")
+    print(
+        f"case: 281 steps, F_z = {LOAD} N, A_n = {AREA} m^2 (issue TOML); "
+        f"reference (scipy quad, epsrel 1e-13): {t_ref:.2f} s"
+    )
+    head = (
+        f"{'nodes':>5} {'panels':>6} {'load_rtol':>9} {'time_ms':>8} {'max_rel_err':>11} "
+        f"{'err_Fx':>9} {'err_Ar':>9} {'err_Fz':>9} {'Fz-load':>9} {'speedup_vs_ref':>14}"
+    )
     print(head)
     for knobs, t, e, e_fx, e_ar, e_fz, e_load in rows:
-        print(f"{knobs['nodes']:>5} {knobs['panels']:>6} {knobs['load_rtol']:>9.0e} "
-              f"{t * 1e3:>8.2f} {e:>11.2e} {e_fx:>9.2e} {e_ar:>9.2e} {e_fz:>9.2e} "
-              f"{e_load:>9.2e} {t_ref / t:>14.0f}")
+        print(
+            f"{knobs['nodes']:>5} {knobs['panels']:>6} {knobs['load_rtol']:>9.0e} "
+            f"{t * 1e3:>8.2f} {e:>11.2e} {e_fx:>9.2e} {e_ar:>9.2e} {e_fz:>9.2e} "
+            f"{e_load:>9.2e} {t_ref / t:>14.0f}"
+        )
 
     fig, ax = plt.subplots(figsize=(6, 4.5))
     times = [r[1] * 1e3 for r in rows]
     errs = [max(r[2], 1e-17) for r in rows]
     ax.loglog(times, errs, "o-")
     for (knobs, *_), t, e in zip(rows, times, errs, strict=False):
-        ax.annotate(f"{knobs['nodes']}x{knobs['panels']}", (t, e), fontsize=7,
-                    textcoords="offset points", xytext=(4, 4))
+        ax.annotate(
+            f"{knobs['nodes']}x{knobs['panels']}",
+            (t, e),
+            fontsize=7,
+            textcoords="offset points",
+            xytext=(4, 4),
+        )
     ax.axhline(1e-6, color="gray", ls="--", lw=0.8, label="accuracy target 1e-6")
     ax.axvline(50, color="gray", ls=":", lw=0.8, label="speed target 50 ms")
     ax.set_xlabel("warm time of the 281-step shear curve (ms, one core)")

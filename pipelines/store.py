@@ -123,6 +123,7 @@ def write_record(group: h5py.Group, record: StageRecord) -> None:
             ds.attrs["long_name"] = var.long_name
         for axis, dim in enumerate(var.dims):
             ds.dims[axis].attach_scale(scales[dim])
+            ds.dims[axis].label = dim
     for key, value in record.attrs.items():
         group.attrs[key] = _attr_value(value)
 

@@ -46,6 +46,7 @@ _EXPORTS: dict[str, str] = {
     "preload": "statmodel.preloading",
     "pull_off_force": "statmodel.preloading",
     "real_area_at_loads": "statmodel.preloading",
+    "unloading_pull_off_force": "statmodel.preloading",
     "ShearCurve": "statmodel.shear",
     "shear_curve": "statmodel.shear",
     "shear_curve_fixed_separation": "statmodel.shear",
@@ -89,6 +90,7 @@ __all__ = [
     "shear_curve",
     "shear_curve_fixed_separation",
     "tabor_parameter",
+    "unloading_pull_off_force",
 ]
 
 

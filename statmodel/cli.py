@@ -3,7 +3,8 @@
 ``asperity friction PARAMS.toml [--json] [--out FILE.h5]`` solves the shear curve of the parameter
 file (schema in :mod:`statmodel.config`), prints a short summary (or one JSON object with
 ``--json``) and optionally writes HDF5. Exit status 0, 1 if the solve did not converge (results
-still printed/written), 2 for bad input (raised as ``ValueError``).
+still printed/written), 2 for bad input (raised as ``ValueError``). A Tabor parameter below 5
+prints ``asperity friction: warning: ...`` on stderr (the run goes on).
 
 ``asperity figures --out DIR`` writes the paper's Figs. 1, 2, 4 and 5 as PNG plus their data in
 ``DIR/statmodel_figures.h5`` (see :mod:`statmodel.figures`).
@@ -14,24 +15,39 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import sys
+import warnings
 from pathlib import Path
 
 
 def run_friction(args: argparse.Namespace) -> int:
     """Handler of ``asperity friction``; returns the exit status."""
     from statmodel.config import read_friction_parameters
+    from statmodel.parameters import TaborWarning
     from statmodel.results_io import curve_to_json, write_curve_hdf5
     from statmodel.shear import shear_curve
 
     params = read_friction_parameters(args.params)
-    curve = shear_curve(
-        params.material,
-        params.roughness,
-        params.nominal_area,
-        params.normal_load,
-        params.tangential_displacement,
-        **params.accuracy,
-    )
+    # A model outside its validity must say so on stderr whatever the user's warning filters
+    # (a TaborWarning is printed once as "asperity friction: warning: ..."; others pass through).
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        curve = shear_curve(
+            params.material,
+            params.roughness,
+            params.nominal_area,
+            params.normal_load,
+            params.tangential_displacement,
+            **params.accuracy,
+        )
+    seen: set[str] = set()
+    for w in caught:
+        if issubclass(w.category, TaborWarning):
+            text = str(w.message)
+            if text not in seen:
+                seen.add(text)
+                print(f"asperity friction: warning: {text}", file=sys.stderr)
+        else:
+            warnings.showwarning(w.message, w.category, w.filename, w.lineno)
     if args.out is not None:
         attrs = {
             "parameters_file": str(args.params),

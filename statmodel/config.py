@@ -16,7 +16,8 @@ Schema (every key required unless marked optional)::
     normal_load = 3.1              # N
     nominal_area = 700e-6          # m^2, > 0
     max_tangential_displacement = 14e-6  # m, > 0
-    steps = 281                    # integer >= 2; delta_T = linspace(0, max, steps)
+    steps = 281                    # integer >= 1; delta_T = linspace(0, max, steps)
+                                   # (steps = 1: the preload state delta_T = 0 only)
     [accuracy]                     # optional table: knobs of statmodel.options
     nodes = 16
     panels = 4
@@ -37,7 +38,7 @@ from typing import Any
 
 import numpy as np
 
-from statmodel.options import QuadratureOptions
+from statmodel.options import QuadratureOptions, check_nominal_area
 from statmodel.parameters import Material, Roughness
 
 if sys.version_info >= (3, 11):
@@ -70,8 +71,12 @@ _ACCURACY = {
     "cutoff_sigma": ("cutoff_sigma", "sigma_s", "positive", False),
     "load_rtol": ("load_rtol", "relative", "positive", False),
 }
-_TABLES = {"material": _MATERIAL, "roughness": _ROUGHNESS, "loading": _LOADING,
-           "accuracy": _ACCURACY}
+_TABLES = {
+    "material": _MATERIAL,
+    "roughness": _ROUGHNESS,
+    "loading": _LOADING,
+    "accuracy": _ACCURACY,
+}
 _REQUIRED_TABLES = ("material", "roughness", "loading")
 
 
@@ -89,7 +94,7 @@ class FrictionParameters:
 
     @property
     def tangential_displacement(self) -> np.ndarray:
-        """delta_T = linspace(0, max_tangential_displacement, steps), m."""
+        """delta_T = linspace(0, max_tangential_displacement, steps), m (first entry 0)."""
         return np.linspace(0.0, self.max_tangential_displacement, self.steps)
 
 
@@ -107,7 +112,7 @@ def _value(path: str, table: str, key: str, raw: Any, unit: str, check: str) -> 
     if check == "unit-interval" and not 0 <= value <= 1:
         raise ValueError(f"{where}: expected a value in [0, 1], got {raw!r}")
     if check in ("steps", "count"):
-        least = 2 if check == "steps" else 1
+        least = 1
         if not isinstance(raw, int) or raw < least:
             raise ValueError(f"{where}: expected an integer >= {least}, got {raw!r}")
         return int(raw)
@@ -152,6 +157,10 @@ def parse_friction_parameters(data: dict, path: str = "<parameters>") -> Frictio
     except ValueError as exc:
         raise ValueError(f"{path}: {exc}") from None
     load = values["loading"]
+    try:
+        check_nominal_area(roughness, load["nominal_area"])
+    except ValueError as exc:
+        raise ValueError(f"{path}: [loading] {exc}") from None
     return FrictionParameters(
         material=material,
         roughness=roughness,

@@ -50,8 +50,7 @@ DPI = 150
 R1, W1, E1, LAM1, TAU1 = 9.42e-3, 0.027, 2.133e6, 0.0023, 0.43e6
 FIG1_DELTAS = np.array([0.005, 0.01, 0.02, 0.04, 0.08]) * 1e-3
 # Figs. 4-5 (rough surface)
-BASE = {"e_star": 2.133e6, "work_of_adhesion": 0.040, "mode_mixity": 0.2,
-        "shear_strength": 0.13e6}
+BASE = {"e_star": 2.133e6, "work_of_adhesion": 0.040, "mode_mixity": 0.2, "shear_strength": 0.13e6}
 ROUGH = Roughness(asperity_density=652.1e6, summit_radius=0.041e-3, summit_height_rms=0.032e-3)
 AREA, LOAD = 700e-6, 3.1
 FIG5_W = [0.015, 0.025, 0.040, 0.060]
@@ -71,8 +70,7 @@ def figure_1(out: Path, h5: h5py.File) -> Path:
     """Fig. 1: P, T, A vs delta_T and A vs T for several delta (fixed grip, PC model)."""
     g = h5.create_group("fig1")
     g.attrs["parameters"] = (
-        f"w={W1} J/m^2, R={R1} m, E*={E1} Pa, lambda={LAM1}, "
-        f"mu={tabor_parameter(R1, W1, E1):.0f}"
+        f"w={W1} J/m^2, R={R1} m, E*={E1} Pa, lambda={LAM1}, mu={tabor_parameter(R1, W1, E1):.0f}"
     )
     fig, axes = plt.subplots(2, 2, figsize=(10, 8))
     for j, delta in enumerate(FIG1_DELTAS):
@@ -96,7 +94,8 @@ def figure_1(out: Path, h5: h5py.File) -> Path:
     dtb = pc_max_tangential_displacement(deltas, R1, W1, E1, LAM1)
     ab = pc_fold_radius(dtb, R1, W1, E1, LAM1)
     pb = 4 * E1 * ab**3 / (3 * R1) - np.sqrt(
-        np.maximum(8 * np.pi * E1 * ab**3 * W1 - 16 / 9 * LAM1 * E1**2 * ab**2 * dtb**2, 0))
+        np.maximum(8 * np.pi * E1 * ab**3 * W1 - 16 / 9 * LAM1 * E1**2 * ab**2 * dtb**2, 0)
+    )
     tb = 4 / 3 * E1 * ab * dtb
     axes[0, 0].plot(dtb * 1e3, pb * 1e3, "k-.", label="unstable boundary")
     axes[0, 1].plot(dtb * 1e3, tb * 1e3, "k-.", label="unstable boundary")
@@ -110,17 +109,24 @@ def figure_1(out: Path, h5: h5py.File) -> Path:
     write_dataset(b, "contact_area", np.pi * ab**2, "m^2")
     for ax, (xl, yl), tag in zip(
         axes.flat,
-        [("delta_T (mm)", "P (mN)"), ("delta_T (mm)", "T (mN)"),
-         ("delta_T (mm)", "A = pi a^2 (mm^2)"), ("T (mN)", "A (mm^2)")],
-        "abcd", strict=False,
+        [
+            ("delta_T (mm)", "P (mN)"),
+            ("delta_T (mm)", "T (mN)"),
+            ("delta_T (mm)", "A = pi a^2 (mm^2)"),
+            ("T (mN)", "A (mm^2)"),
+        ],
+        "abcd",
+        strict=False,
     ):
         ax.set_xlabel(xl)
         ax.set_ylabel(yl)
         ax.set_title(f"({tag})")
         ax.grid(alpha=0.3)
     axes[0, 0].legend(fontsize=7)
-    fig.suptitle("Fig. 1: PC model in fixed grip (w = 27 mJ/m^2, R = 9.42 mm, "
-                 "E* = 2.133 MPa, lambda = 0.0023)")
+    fig.suptitle(
+        "Fig. 1: PC model in fixed grip (w = 27 mJ/m^2, R = 9.42 mm, E* = 2.133 MPa, "
+        f"lambda = 0.0023, mu = {tabor_parameter(R1, W1, E1):.0f})"
+    )
     fig.tight_layout()
     path = out / "fig1_pc_single_asperity.png"
     fig.savefig(path, dpi=DPI)
@@ -147,22 +153,27 @@ def figure_2(out: Path, h5: h5py.File) -> Path:
     g.attrs["parameters"] = f"w={W1} J/m^2, R={R1} m, E*={E1} Pa, lambda={LAM1}, tau0={TAU1} Pa"
     fig, axes = plt.subplots(2, 2, figsize=(10, 8))
     ax = axes[0, 0]
-    dtt = np.linspace(0.0, 60.0, 400)
+    dtt = np.linspace(0.0, 100.0, 500)
     bound = dimensionless_unstable_boundary(dtt, LAM1)
-    dd, tt = np.meshgrid(np.linspace(-3.0, 6.0, 300), dtt, indexing="ij")
+    dd, tt = np.meshgrid(np.linspace(-3.0, 8.0, 400), dtt, indexing="ij")
     status = asperity_status(dd, tt, LAM1)
-    ax.contourf(tt, dd, status, levels=[-0.5, 0.5, 1.5, 2.5],
-                colors=["#dddddd", "#9ecae1", "#fdae6b"])
+    ax.contourf(
+        tt, dd, status, levels=[-0.5, 0.5, 1.5, 2.5], colors=["#dddddd", "#9ecae1", "#fdae6b"]
+    )
     ax.plot(dtt, bound, "k-", label="delta~_min^PC")
     ax.axhline(0.0, color="k", ls="--", lw=0.8)
     ax.axhline(JUMP_OFF_DIMENSIONLESS, color="k", ls=":", lw=0.8, label="JKR jump-off")
+    for tilde, color in ((-0.5, "tab:blue"), (3.0, "tab:red")):
+        ax.axhline(tilde, color=color, lw=1.2, label=f"path of (b-d), delta~ = {tilde:g}")
+    ax.set_xlim(dtt[0], dtt[-1])
+    ax.set_ylim(-3.0, 8.0)
     ax.text(5, 4.5, "stick")
-    ax.text(52.0, 0.25, "slide")
-    ax.text(45, -2.0, "out of contact")
+    ax.text(88.0, 1.0, "slide")
+    ax.text(70, -2.4, "out of contact")
     ax.set_xlabel("delta_T~ (dimensionless)")
     ax.set_ylabel("delta~ (dimensionless)")
     ax.set_title("(a) status map")
-    ax.legend(fontsize=7, loc="upper right")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(0.18, 1.0))
     write_dataset(g, "map_delta_t_tilde", dtt, "1")
     write_dataset(g, "map_delta_tilde", dd[:, 0], "1")
     write_dataset(g, "map_status", status, "1 (0 out, 1 stick, 2 slide)")
@@ -184,15 +195,21 @@ def figure_2(out: Path, h5: h5py.File) -> Path:
         write_dataset(s, "normal_load", p, "N")
         write_dataset(s, "tangential_load", t, "N")
     g.attrs["xi"] = xi
-    for ax, yl, tag in zip([axes[0, 1], axes[1, 0], axes[1, 1]],
-                           ["A = pi a^2 (mm^2)", "P (mN)", "T (mN)"], "bcd", strict=False):
+    for ax, yl, tag in zip(
+        [axes[0, 1], axes[1, 0], axes[1, 1]],
+        ["A = pi a^2 (mm^2)", "P (mN)", "T (mN)"],
+        "bcd",
+        strict=False,
+    ):
         ax.set_xlabel("delta_T (mm)")
         ax.set_ylabel(yl)
         ax.set_title(f"({tag})")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
-    fig.suptitle("Fig. 2: status map and single-asperity histories (lambda = 0.0023, "
-                 "tau0 = 0.43 MPa)")
+    fig.suptitle(
+        "Fig. 2: status map and single-asperity histories\n(w = 27 mJ/m^2, R = 9.42 mm, "
+        f"E* = 2.133 MPa, lambda = 0.0023, tau0 = 0.43 MPa, mu = {tabor_parameter(R1, W1, E1):.0f})"
+    )
     fig.tight_layout()
     path = out / "fig2_status_map.png"
     fig.savefig(path, dpi=DPI)
@@ -201,12 +218,22 @@ def figure_2(out: Path, h5: h5py.File) -> Path:
 
 
 def _write_curve(g: h5py.Group, c) -> None:
-    for name, unit in (("tangential_displacement", "m"), ("tangential_force", "N"),
-                       ("normal_force", "N"), ("real_area", "m^2"), ("n_contact", "1"),
-                       ("n_stick", "1"), ("n_slip", "1"), ("tangential_force_stick", "N"),
-                       ("tangential_force_slip", "N"), ("normal_force_stick", "N"),
-                       ("normal_force_slip", "N"), ("real_area_stick", "m^2"),
-                       ("real_area_slip", "m^2"), ("separation", "m")):
+    for name, unit in (
+        ("tangential_displacement", "m"),
+        ("tangential_force", "N"),
+        ("normal_force", "N"),
+        ("real_area", "m^2"),
+        ("n_contact", "1"),
+        ("n_stick", "1"),
+        ("n_slip", "1"),
+        ("tangential_force_stick", "N"),
+        ("tangential_force_slip", "N"),
+        ("normal_force_stick", "N"),
+        ("normal_force_slip", "N"),
+        ("real_area_stick", "m^2"),
+        ("real_area_slip", "m^2"),
+        ("separation", "m"),
+    ):
         write_dataset(g, name, getattr(c, name), unit)
     write_dataset(g, "static_friction", c.static_friction, "N")
     write_dataset(g, "sliding_friction", c.sliding_friction, "N")
@@ -225,8 +252,14 @@ def figure_4(out: Path, h5: h5py.File) -> Path:
         (axes[0, 0], c.normal_force, c.normal_force_stick, c.normal_force_slip, 1.0, "F_z (N)"),
         (axes[0, 1], c.n_contact, c.n_stick, c.n_slip, 1.0, "number of asperities"),
         (axes[1, 0], c.real_area, c.real_area_stick, c.real_area_slip, 1e6, "A_r (mm^2)"),
-        (axes[1, 1], c.tangential_force, c.tangential_force_stick, c.tangential_force_slip, 1.0,
-         "F_x (N)"),
+        (
+            axes[1, 1],
+            c.tangential_force,
+            c.tangential_force_stick,
+            c.tangential_force_slip,
+            1.0,
+            "F_x (N)",
+        ),
     ]
     for (ax, tot, st, sl, k, yl), tag in zip(panels, "abcd", strict=False):
         ax.plot(x, tot * k, "k-", label="total")
@@ -237,8 +270,10 @@ def figure_4(out: Path, h5: h5py.File) -> Path:
         ax.set_title(f"({tag})")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
-    fig.suptitle(f"Fig. 4: w = 40 mJ/m^2, lambda = 0.2, tau0 = 0.13 MPa, F_z = 3.1 N "
-                 f"(mu = {c.tabor_parameter:.0f})")
+    fig.suptitle(
+        f"Fig. 4: w = 40 mJ/m^2, lambda = 0.2, tau0 = 0.13 MPa, F_z = 3.1 N "
+        f"(mu = {c.tabor_parameter:.0f})"
+    )
     fig.tight_layout()
     path = out / "fig4_shear_curve.png"
     fig.savefig(path, dpi=DPI)
@@ -255,9 +290,11 @@ def _full_curve(material: Material, load: float):
 def figure_5(out: Path, h5: h5py.File) -> Path:
     """Fig. 5: A_r/A_n vs F_x for varying w, lambda, tau0; F_x/F_sliding vs delta_T for F_z."""
     g = h5.create_group("fig5")
-    g.attrs["parameters"] = (f"base {BASE}, {ROUGH}, A_n={AREA} m^2, F_z={LOAD} N; varied: "
-                             f"w={FIG5_W}, lambda={FIG5_LAMBDA}, tau0={FIG5_TAU}, "
-                             f"F_z={FIG5_LOAD}")
+    g.attrs["parameters"] = (
+        f"base {BASE}, {ROUGH}, A_n={AREA} m^2, F_z={LOAD} N; varied: "
+        f"w={FIG5_W}, lambda={FIG5_LAMBDA}, tau0={FIG5_TAU}, "
+        f"F_z={FIG5_LOAD}"
+    )
     fig, axes = plt.subplots(2, 2, figsize=(10, 8))
     studies = [
         (axes[0, 0], "work_of_adhesion", FIG5_W, "w = {:g} mJ/m^2", 1e3),
@@ -281,8 +318,11 @@ def figure_5(out: Path, h5: h5py.File) -> Path:
     ratios = []
     for j, f in enumerate(FIG5_LOAD):
         c = _full_curve(Material(**BASE), f)
-        ax.plot(c.tangential_displacement * 1e6, c.tangential_force / c.sliding_friction,
-                label=f"F_z = {f:g} N")
+        ax.plot(
+            c.tangential_displacement * 1e6,
+            c.tangential_force / c.sliding_friction,
+            label=f"F_z = {f:g} N",
+        )
         _write_curve(sg.create_group(f"case_{j}"), c)
         sg[f"case_{j}"].attrs["normal_load"] = f
         ratios.append(c.static_friction / c.sliding_friction - 1.0)
@@ -293,12 +333,16 @@ def figure_5(out: Path, h5: h5py.File) -> Path:
     ax.set_title("(d)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, loc="lower right")
-    inset = ax.inset_axes([0.55, 0.45, 0.4, 0.3])
+    inset = ax.inset_axes([0.56, 0.47, 0.39, 0.24])
     inset.plot(FIG5_LOAD, ratios, "ko-", ms=3)
     inset.set_xlabel("F_z (N)", fontsize=7)
     inset.set_ylabel("F_static/F_sliding - 1", fontsize=7)
     inset.tick_params(labelsize=6)
-    fig.suptitle("Fig. 5: effects of w, lambda, tau0 and F_z (other parameters as Fig. 4)")
+    mu_min = tabor_parameter(ROUGH.summit_radius, min(FIG5_W), BASE["e_star"])
+    fig.suptitle(
+        f"Fig. 5: effects of w, lambda, tau0 and F_z (other parameters as Fig. 4; "
+        f"min(mu) = {mu_min:.0f})"
+    )
     fig.tight_layout()
     path = out / "fig5_parameter_study.png"
     fig.savefig(path, dpi=DPI)

@@ -30,6 +30,7 @@ import numpy as np
 from numba import njit
 
 from statmodel.papangelo_ciavarella import (
+    coupling_term,
     pc_fold_indentation,
     pc_fold_radius_kernel,
     pc_radius_from_fold,
@@ -70,7 +71,7 @@ def asperity_integrals(d, delta_t, prm, gl_x, gl_w, n_panels, out):
     sigma = prm[P_SIGMA]
     cutoff = prm[P_CUTOFF]
     k2 = 2.0 * math.pi * w / E
-    c = 4.0 / 9.0 * lam * delta_t * delta_t
+    c = coupling_term(delta_t, lam)
     a_f = pc_fold_radius_kernel(delta_t, R, w, E, lam)
     delta_f = pc_fold_indentation(a_f, k2, c, R)
     if math.isnan(prm[P_D_PRELOAD]):
@@ -204,8 +205,7 @@ def _bracket(d0, h, delta_t, target, ftol, prm, gl_x, gl_w, n_panels, out, resul
 
 
 @njit(cache=True)
-def _brent(a, b, fa, fb, delta_t, target, ftol, xtol, max_iter, prm, gl_x, gl_w, n_panels,
-           out):
+def _brent(a, b, fa, fb, delta_t, target, ftol, xtol, max_iter, prm, gl_x, gl_w, n_panels, out):
     """Brent-Dekker root of F_z(d) - target in the bracket [a, b]; returns (d, nit, converged)."""
     eps = 2.220446049250313e-16
     c = a
@@ -262,8 +262,9 @@ def _brent(a, b, fa, fb, delta_t, target, ftol, xtol, max_iter, prm, gl_x, gl_w,
 
 
 @njit(cache=True)
-def solve_separation(d0, h, delta_t, target, ftol, xtol, max_iter, prm, gl_x, gl_w, n_panels,
-                     out, work):
+def solve_separation(
+    d0, h, delta_t, target, ftol, xtol, max_iter, prm, gl_x, gl_w, n_panels, out, work
+):
     """Separation d (m) carrying the normal load ``target`` (N) at delta_T, starting from d0.
 
     Returns (d, nit, converged); ``out`` holds the integrals at the returned d.
@@ -279,15 +280,42 @@ def solve_separation(d0, h, delta_t, target, ftol, xtol, max_iter, prm, gl_x, gl
     if work[3] == 0.0:
         asperity_integrals(work[2], delta_t, prm, gl_x, gl_w, n_panels, out)
         return work[2], nev, True
-    d, nit, ok = _brent(work[0], work[2], work[1], work[3], delta_t, target, ftol, xtol,
-                        max_iter, prm, gl_x, gl_w, n_panels, out)
+    d, nit, ok = _brent(
+        work[0],
+        work[2],
+        work[1],
+        work[3],
+        delta_t,
+        target,
+        ftol,
+        xtol,
+        max_iter,
+        prm,
+        gl_x,
+        gl_w,
+        n_panels,
+        out,
+    )
     asperity_integrals(d, delta_t, prm, gl_x, gl_w, n_panels, out)
     return d, nev + nit + 1, ok
 
 
 @njit(cache=True)
-def shear_path(delta_ts, target, d_start, ftol, xtol, max_iter, prm, gl_x, gl_w, n_panels,
-               results, separations, nits):
+def shear_path(
+    delta_ts,
+    target,
+    d_start,
+    ftol,
+    xtol,
+    max_iter,
+    prm,
+    gl_x,
+    gl_w,
+    n_panels,
+    results,
+    separations,
+    nits,
+):
     """Load-controlled shear path: for each delta_T solve d with F_z(d, delta_T) = target.
 
     Warm start: each step starts from the previous separation with a first bracketing step of
@@ -301,8 +329,9 @@ def shear_path(delta_ts, target, d_start, ftol, xtol, max_iter, prm, gl_x, gl_w,
     h_min = 1.0e-8 * prm[P_SIGMA]
     h = h_min
     for i in range(delta_ts.shape[0]):
-        d_new, nit, ok = solve_separation(d, h, delta_ts[i], target, ftol, xtol, max_iter, prm,
-                                          gl_x, gl_w, n_panels, out, work)
+        d_new, nit, ok = solve_separation(
+            d, h, delta_ts[i], target, ftol, xtol, max_iter, prm, gl_x, gl_w, n_panels, out, work
+        )
         nits[i] = nit
         if not ok:
             return i

@@ -16,10 +16,13 @@ ufuncs (scalars or broadcast arrays).
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 from numba import njit, vectorize
 from numpy.typing import ArrayLike
+
+from statmodel.parameters import TABOR_JKR_LIMIT, TaborWarning
 
 _SIG3 = ["float64(float64, float64, float64, float64)"]
 
@@ -30,18 +33,31 @@ def _jkr_k(work_of_adhesion: float, e_star: float) -> float:
 
 
 @njit(cache=True)
+def _valid_parameters(summit_radius: float, work_of_adhesion: float, e_star: float) -> bool:
+    """R > 0, w >= 0, E* > 0, all finite (False for NaN)."""
+    return (
+        0.0 < summit_radius < math.inf
+        and 0.0 <= work_of_adhesion < math.inf
+        and 0.0 < e_star < math.inf
+    )
+
+
+@njit(cache=True)
 def jkr_jump_off_kernel(summit_radius: float, work_of_adhesion: float, e_star: float) -> float:
     """delta_JKR^unloading = -3/4 k t_c (m), identical to -3/4 pi^(2/3) mu epsilon."""
+    if not _valid_parameters(summit_radius, work_of_adhesion, e_star):
+        return math.nan
     k = _jkr_k(work_of_adhesion, e_star)
     t_c = (k * summit_radius / 4.0) ** (1.0 / 3.0)
     return -0.75 * k * t_c
 
 
 @njit(cache=True)
-def jkr_radius_kernel(delta: float, summit_radius: float, work_of_adhesion: float,
-                      e_star: float) -> float:
+def jkr_radius_kernel(
+    delta: float, summit_radius: float, work_of_adhesion: float, e_star: float
+) -> float:
     """Stable-branch contact radius a (m) of E:JKR_indent; NaN below the jump-off indentation."""
-    if math.isnan(delta):
+    if math.isnan(delta) or not _valid_parameters(summit_radius, work_of_adhesion, e_star):
         return math.nan
     R = summit_radius
     k = _jkr_k(work_of_adhesion, e_star)
@@ -70,8 +86,9 @@ def jkr_radius_kernel(delta: float, summit_radius: float, work_of_adhesion: floa
 
 
 @njit(cache=True)
-def jkr_load_from_radius(a: float, summit_radius: float, work_of_adhesion: float,
-                         e_star: float) -> float:
+def jkr_load_from_radius(
+    a: float, summit_radius: float, work_of_adhesion: float, e_star: float
+) -> float:
     """E:JKR_load: P = 4 E* a^3 / (3 R) - sqrt(8 pi E* a^3 w) (N) for a contact radius a (m)."""
     if math.isnan(a):
         return math.nan
@@ -91,8 +108,9 @@ def _jkr_load_ufunc(delta, summit_radius, work_of_adhesion, e_star):
     return jkr_load_from_radius(a, summit_radius, work_of_adhesion, e_star)
 
 
-def jkr_contact_radius(delta: ArrayLike, summit_radius: ArrayLike, work_of_adhesion: ArrayLike,
-                       e_star: ArrayLike) -> np.ndarray | float:
+def jkr_contact_radius(
+    delta: ArrayLike, summit_radius: ArrayLike, work_of_adhesion: ArrayLike, e_star: ArrayLike
+) -> np.ndarray | float:
     """Contact radius a (m) on the stable fixed-grip JKR branch (E:JKR_indent).
 
     Parameters
@@ -109,13 +127,15 @@ def jkr_contact_radius(delta: ArrayLike, summit_radius: ArrayLike, work_of_adhes
     Returns
     -------
     float or ndarray
-        a, m (broadcast shape); NaN where delta < delta_JKR^unloading (no stable state).
+        a, m (broadcast shape); NaN where delta < delta_JKR^unloading (no stable state), where
+        delta is NaN, and for parameters outside R > 0, w >= 0, E* > 0.
     """
     return _jkr_radius_ufunc(delta, summit_radius, work_of_adhesion, e_star)
 
 
-def jkr_normal_load(delta: ArrayLike, summit_radius: ArrayLike, work_of_adhesion: ArrayLike,
-                    e_star: ArrayLike) -> np.ndarray | float:
+def jkr_normal_load(
+    delta: ArrayLike, summit_radius: ArrayLike, work_of_adhesion: ArrayLike, e_star: ArrayLike
+) -> np.ndarray | float:
     """Normal load P (N) on the stable fixed-grip JKR branch (E:JKR_load at a from E:JKR_indent).
 
     Parameters as :func:`jkr_contact_radius`. P is negative (tensile) at small indentations and
@@ -129,8 +149,9 @@ def _jkr_jump_off_ufunc(summit_radius, work_of_adhesion, e_star):
     return jkr_jump_off_kernel(summit_radius, work_of_adhesion, e_star)
 
 
-def jkr_jump_off_distance(summit_radius: ArrayLike, work_of_adhesion: ArrayLike,
-                          e_star: ArrayLike) -> np.ndarray | float:
+def jkr_jump_off_distance(
+    summit_radius: ArrayLike, work_of_adhesion: ArrayLike, e_star: ArrayLike
+) -> np.ndarray | float:
     """Jump-off-contact indentation delta_JKR^unloading (m, <= 0), E:JKR_delta_min_unloading.
 
     Equal to -3/4 pi^(2/3) mu epsilon = -3/4 pi^(2/3) (R w^2 / E*^2)^(1/3): the fold of the
@@ -150,35 +171,91 @@ def jkr_jump_off_distance(summit_radius: ArrayLike, work_of_adhesion: ArrayLike,
 
 @njit(cache=True)
 def jkr_jump_in_kernel(tabor: float, equilibrium_distance: float) -> float:
-    """Wu's jump-to-contact indentation (m), E:JKR_delta_min_loading; 0 when mu = 0."""
-    if tabor <= 0.0:
+    """Wu's jump-to-contact indentation (m), E:JKR_delta_min_loading; 0 when mu = 0.
+
+    NaN for a NaN or negative Tabor parameter or a non-positive equilibrium distance.
+    """
+    if not (tabor >= 0.0 and equilibrium_distance > 0.0):
+        return math.nan
+    if tabor == 0.0:
         return 0.0
     return -2.641 * tabor ** (3.0 / 7.0) * math.exp(-0.5 / math.sqrt(tabor)) * equilibrium_distance
+
+
+@vectorize(["float64(float64, float64)"], cache=True)
+def _jkr_jump_in_ufunc(tabor, equilibrium_distance):
+    return jkr_jump_in_kernel(tabor, equilibrium_distance)
 
 
 def jkr_jump_in_distance(tabor: ArrayLike, equilibrium_distance: ArrayLike) -> np.ndarray | float:
     """Jump-to-contact indentation delta_JKR^loading (m, <= 0), Wu's fit E:JKR_delta_min_loading.
 
     delta = -2.641 mu^(3/7) exp(-1 / (2 sqrt(mu))) epsilon, with mu Tabor's parameter and epsilon
-    the equilibrium distance (m). Returns 0 for mu = 0 (no adhesion: Fuller-Tabor/Hertz limit).
+    the equilibrium distance (m). Returns 0 for mu = 0 (no adhesion: Fuller-Tabor/Hertz limit) and
+    NaN for a NaN or negative mu or a non-positive epsilon. Warns (:class:`TaborWarning`) where
+    0 < mu < 5: the fit is used outside the JKR range the paper assumes (there it can even fall
+    below the jump-off distance, which happens for mu < ~1).
+
+    Parameters
+    ----------
+    tabor : float or array
+        Tabor's parameter mu (dimensionless).
+    equilibrium_distance : float or array
+        epsilon, m.
+
+    Returns
+    -------
+    float or ndarray
+        delta_JKR^loading, m (broadcast shape).
     """
     mu = np.asarray(tabor, dtype=float)
-    with np.errstate(divide="ignore"):
-        out = np.where(
-            mu > 0.0,
-            -2.641 * np.abs(mu) ** (3.0 / 7.0) * np.exp(-0.5 / np.sqrt(np.abs(mu))),
-            0.0,
-        ) * np.asarray(equilibrium_distance, dtype=float)
-    return out[()] if out.ndim == 0 else out
+    if np.any((mu > 0.0) & (mu < TABOR_JKR_LIMIT)):
+        warnings.warn(
+            f"Tabor parameter mu = {float(np.min(mu[mu > 0.0])):.3g} < {TABOR_JKR_LIMIT:g}: Wu's "
+            "jump-in fit (E:JKR_delta_min_loading) is used outside the JKR range",
+            TaborWarning,
+            stacklevel=2,
+        )
+    return _jkr_jump_in_ufunc(mu, equilibrium_distance)
 
 
-def jkr_pull_off_force_load_control(summit_radius: ArrayLike,
-                                    work_of_adhesion: ArrayLike) -> np.ndarray | float:
-    """JKR pull-off force under load control, -3/2 pi w R (N): the minimum of E:JKR_load over a."""
+def jkr_pull_off_force_load_control(
+    summit_radius: ArrayLike, work_of_adhesion: ArrayLike
+) -> np.ndarray | float:
+    """JKR pull-off force under load control, -3/2 pi w R (N): the minimum of E:JKR_load over a.
+
+    Parameters
+    ----------
+    summit_radius : float or array
+        R, m.
+    work_of_adhesion : float or array
+        w, J/m^2.
+
+    Returns
+    -------
+    float or ndarray
+        Force, N (negative: tensile).
+    """
     return -1.5 * np.pi * np.asarray(work_of_adhesion) * np.asarray(summit_radius) + 0.0
 
 
-def jkr_pull_off_force_fixed_grip(summit_radius: ArrayLike,
-                                  work_of_adhesion: ArrayLike) -> np.ndarray | float:
-    """JKR force at the fixed-grip jump-off point, -5/6 pi w R (N), a = (pi w R^2/(8E*))^(1/3)."""
+def jkr_pull_off_force_fixed_grip(
+    summit_radius: ArrayLike, work_of_adhesion: ArrayLike
+) -> np.ndarray | float:
+    """JKR force at the fixed-grip jump-off point, -5/6 pi w R (N), a = (pi w R^2/(8E*))^(1/3).
+
+    The load where the stable branch of E:JKR_indent ends (delta = delta_JKR^unloading).
+
+    Parameters
+    ----------
+    summit_radius : float or array
+        R, m.
+    work_of_adhesion : float or array
+        w, J/m^2.
+
+    Returns
+    -------
+    float or ndarray
+        Force, N (negative: tensile).
+    """
     return -5.0 / 6.0 * np.pi * np.asarray(work_of_adhesion) * np.asarray(summit_radius) + 0.0

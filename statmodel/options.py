@@ -5,7 +5,8 @@ Knobs (keyword arguments of :func:`statmodel.shear_curve` and friends):
 ``nodes`` (default 16)
     Gauss-Legendre nodes per panel.
 ``panels`` (default 4)
-    Equal panels (in the contact-radius variable) per population range (stick, slip).
+    Equal panels per population range: in u = sqrt(k^2 a - c) for the stick (PC) population,
+    in the contact radius a for the slip (Hertz) population (see :mod:`statmodel.integrals`).
 ``cutoff_sigma`` (default 10)
     Summit heights |z| > cutoff_sigma * sigma_s are ignored (phi(10) ~ 8e-23 relative to phi(0)).
 ``load_rtol`` (default 1e-12)
@@ -97,15 +98,19 @@ def check_nominal_area(roughness: Roughness, nominal_area: float) -> float:
     n = roughness.asperity_density * area
     if n < 1.0:
         raise ValueError(
-            f"nominal_area: {area:.6g} m^2 holds eta*A_n = {n:.3g} < 1 asperity "
+            f"nominal_area = {area:.6g} m^2 holds eta*A_n = {n:.3g} < 1 asperity "
             f"(asperity_density = {roughness.asperity_density:.6g} 1/m^2); "
             "the statistical model needs at least one"
         )
     return area
 
 
-def setup_model(material: Material, roughness: Roughness, nominal_area: float,
-                options: QuadratureOptions | None = None) -> ModelSetup:
+def setup_model(
+    material: Material,
+    roughness: Roughness,
+    nominal_area: float,
+    options: QuadratureOptions | None = None,
+) -> ModelSetup:
     """Validate the inputs and pack them for the compiled kernels (SI units)."""
     if not isinstance(material, Material):
         raise ValueError(f"material: expected a statmodel.Material, got {type(material).__name__}")

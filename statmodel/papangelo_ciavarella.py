@@ -13,9 +13,11 @@ itself convex to the right of its only positive root; both are solved by Newton'
 at a point to the right of the root (monotone convergence, clamped at the fold, so points on the
 unstable boundary are returned exactly). delta_T^max(delta) uses E:PC_a_min_1 and E:max_disp_PC.
 
-Edge cases: lambda = 0 gives c = 0, i.e. JKR exactly, and delta_T^max = inf; lambda = 1 is the
+Edge cases: lambda = 0 gives c = 0 (for any delta_T, infinite included), i.e. JKR exactly, and
+delta_T^max = inf; lambda = 1 is the
 Savkoor-Briggs model; w = 0 is Hertz for delta_T = 0 and has no stick state for delta_T > 0
-(delta_PC^min = +inf, delta_T^max = 0). SI units: m, Pa, J/m^2, N.
+(delta_PC^min = +inf, delta_T^max = 0). NaN inputs, or parameters outside R > 0, w >= 0, E* > 0,
+lambda in [0, 1], give NaN. SI units: m, Pa, J/m^2, N.
 """
 
 from __future__ import annotations
@@ -30,16 +32,47 @@ _SIG5 = ["float64(float64, float64, float64, float64, float64, float64)"]
 
 
 @njit(cache=True)
-def pc_fold_radius_kernel(delta_t: float, summit_radius: float, work_of_adhesion: float,
-                          e_star: float, mode_mixity: float) -> float:
-    """a'_min (m): positive root of E:Instable_boundary; +inf where no stick state exists."""
+def valid_pc_parameters(
+    summit_radius: float, work_of_adhesion: float, e_star: float, mode_mixity: float
+) -> bool:
+    """R > 0, w >= 0, E* > 0 finite and lambda in [0, 1] (False for NaN)."""
+    return (
+        0.0 < summit_radius < math.inf
+        and 0.0 <= work_of_adhesion < math.inf
+        and 0.0 < e_star < math.inf
+        and 0.0 <= mode_mixity <= 1.0
+    )
+
+
+@njit(cache=True)
+def coupling_term(delta_t: float, mode_mixity: float) -> float:
+    """c = 4/9 lambda delta_T^2 (m^2) of E:PC_indent; exactly 0 for lambda = 0, any delta_T.
+
+    delta_T^2 is capped at 1e300 m^2 (c then behaves as infinite: no stick state for lambda > 0)
+    so that lambda = 0 with an infinite delta_T never forms 0 * inf.
+    """
+    return 4.0 / 9.0 * mode_mixity * min(delta_t * delta_t, 1.0e300)
+
+
+@njit(cache=True)
+def pc_fold_radius_kernel(
+    delta_t: float, summit_radius: float, work_of_adhesion: float, e_star: float, mode_mixity: float
+) -> float:
+    """a'_min (m): positive root of E:Instable_boundary; +inf where no stick state exists.
+
+    NaN for a NaN delta_T or parameters outside R > 0, w >= 0, E* > 0, lambda in [0, 1].
+    """
+    if math.isnan(delta_t) or not valid_pc_parameters(
+        summit_radius, work_of_adhesion, e_star, mode_mixity
+    ):
+        return math.nan
     R = summit_radius
     k2 = 2.0 * math.pi * work_of_adhesion / e_star
-    c = 4.0 / 9.0 * mode_mixity * delta_t * delta_t
+    c = coupling_term(delta_t, mode_mixity)
     if k2 == 0.0:
         return 0.0 if c == 0.0 else math.inf
-    if math.isinf(c):
-        return math.inf
+    if c > 1.0e100 * k2:
+        return math.inf  # a'_min > c / k^2 > 1e100 m: no stick state at any finite indentation
     if c == 0.0:  # JKR fold, closed form: a = t_c^2, t_c = (k R / 4)^(1/3)
         t_c = (math.sqrt(k2) * R / 4.0) ** (1.0 / 3.0)
         return t_c * t_c
@@ -73,18 +106,22 @@ def pc_fold_indentation(a_f: float, k2: float, c: float, summit_radius: float) -
 
 
 @njit(cache=True)
-def pc_min_indentation_kernel(delta_t: float, summit_radius: float, work_of_adhesion: float,
-                              e_star: float, mode_mixity: float) -> float:
+def pc_min_indentation_kernel(
+    delta_t: float, summit_radius: float, work_of_adhesion: float, e_star: float, mode_mixity: float
+) -> float:
     """delta_PC^min (m): E:PC_indent at a'_min; +inf where no stick state exists."""
     a = pc_fold_radius_kernel(delta_t, summit_radius, work_of_adhesion, e_star, mode_mixity)
+    if math.isnan(a):
+        return math.nan
     k2 = 2.0 * math.pi * work_of_adhesion / e_star
-    c = 4.0 / 9.0 * mode_mixity * delta_t * delta_t
+    c = coupling_term(delta_t, mode_mixity)
     return pc_fold_indentation(a, k2, c, summit_radius)
 
 
 @njit(cache=True)
-def pc_radius_from_fold(delta: float, k2: float, c: float, summit_radius: float, a_f: float,
-                        delta_f: float) -> float:
+def pc_radius_from_fold(
+    delta: float, k2: float, c: float, summit_radius: float, a_f: float, delta_f: float
+) -> float:
     """Stable root a (m) of E:PC_indent given k^2 = 2 pi w/E*, c = 4/9 lambda delta_T^2, the fold.
 
     ``a_f``/``delta_f`` are a'_min and delta_PC^min for the same delta_T (precomputed by the caller
@@ -122,39 +159,56 @@ def pc_radius_from_fold(delta: float, k2: float, c: float, summit_radius: float,
 
 
 @njit(cache=True)
-def pc_radius_kernel(delta: float, delta_t: float, summit_radius: float, work_of_adhesion: float,
-                     e_star: float, mode_mixity: float) -> float:
+def pc_radius_kernel(
+    delta: float,
+    delta_t: float,
+    summit_radius: float,
+    work_of_adhesion: float,
+    e_star: float,
+    mode_mixity: float,
+) -> float:
     """Stable-branch contact radius a (m) of E:PC_indent; NaN where no stable root exists."""
     if math.isnan(delta) or math.isnan(delta_t):
         return math.nan
     R = summit_radius
     k2 = 2.0 * math.pi * work_of_adhesion / e_star
-    c = 4.0 / 9.0 * mode_mixity * delta_t * delta_t
+    c = coupling_term(delta_t, mode_mixity)
     a_f = pc_fold_radius_kernel(delta_t, R, work_of_adhesion, e_star, mode_mixity)
-    if math.isinf(a_f):
+    if math.isinf(a_f) or math.isnan(a_f):
         return math.nan
     delta_f = pc_fold_indentation(a_f, k2, c, R)
     return pc_radius_from_fold(delta, k2, c, R, a_f, delta_f)
 
 
 @njit(cache=True)
-def pc_load_from_radius(a: float, delta_t: float, summit_radius: float, work_of_adhesion: float,
-                        e_star: float, mode_mixity: float) -> float:
+def pc_load_from_radius(
+    a: float,
+    delta_t: float,
+    summit_radius: float,
+    work_of_adhesion: float,
+    e_star: float,
+    mode_mixity: float,
+) -> float:
     """E:PC_P: normal load P (N) at contact radius a (m) and tangential displacement delta_t (m)."""
     if math.isnan(a):
         return math.nan
-    s2 = 8.0 * math.pi * e_star * a**3 * work_of_adhesion - 16.0 / 9.0 * mode_mixity * (
-        e_star * a * delta_t
-    ) ** 2
+    s2 = 8.0 * math.pi * e_star * a**3 * work_of_adhesion - 4.0 * (e_star * a) ** 2 * coupling_term(
+        delta_t, mode_mixity
+    )
     return 4.0 * e_star * a**3 / (3.0 * summit_radius) - math.sqrt(max(s2, 0.0))
 
 
 @njit(cache=True)
-def pc_max_tangential_displacement_kernel(delta: float, summit_radius: float,
-                                          work_of_adhesion: float, e_star: float,
-                                          mode_mixity: float) -> float:
-    """delta_T^max (m) from E:PC_a_min_1 and E:max_disp_PC; NaN below the JKR jump-off."""
-    if math.isnan(delta):
+def pc_max_tangential_displacement_kernel(
+    delta: float, summit_radius: float, work_of_adhesion: float, e_star: float, mode_mixity: float
+) -> float:
+    """delta_T^max (m) from E:PC_a_min_1 and E:max_disp_PC; NaN below the JKR jump-off.
+
+    Rounded down to the last delta_T (within a few ulps) at which E:PC_indent has its stable root.
+    """
+    if math.isnan(delta) or not valid_pc_parameters(
+        summit_radius, work_of_adhesion, e_star, mode_mixity
+    ):
         return math.nan
     R = summit_radius
     k2 = 2.0 * math.pi * work_of_adhesion / e_star
@@ -180,7 +234,17 @@ def pc_max_tangential_displacement_kernel(delta: float, summit_radius: float,
     bracket = k2 * a - gap * gap
     if bracket <= 0.0:
         return 0.0
-    return math.sqrt(9.0 / (4.0 * mode_mixity) * bracket)
+    dt_max = math.sqrt(9.0 / (4.0 * mode_mixity) * bracket)
+    # The fold at fixed delta (E:PC_a_min_1) and at fixed delta_T (E:Instable_boundary) are two
+    # round-offs of the same curve: step delta_T^max down (a few ulps) until the stick state of
+    # E:PC_indent provably exists there, so that delta_T^max is a stick point, never one past.
+    step = 2.220446049250313e-16 * dt_max
+    for _ in range(100):
+        if pc_min_indentation_kernel(dt_max, R, work_of_adhesion, e_star, mode_mixity) <= delta:
+            break
+        dt_max -= step
+        step *= 2.0
+    return dt_max
 
 
 @vectorize(_SIG5, cache=True)
@@ -220,9 +284,14 @@ def _pc_dt_max_ufunc(delta, summit_radius, work_of_adhesion, e_star, mode_mixity
     )
 
 
-def pc_contact_radius(delta: ArrayLike, delta_t: ArrayLike, summit_radius: ArrayLike,
-                      work_of_adhesion: ArrayLike, e_star: ArrayLike,
-                      mode_mixity: ArrayLike) -> np.ndarray | float:
+def pc_contact_radius(
+    delta: ArrayLike,
+    delta_t: ArrayLike,
+    summit_radius: ArrayLike,
+    work_of_adhesion: ArrayLike,
+    e_star: ArrayLike,
+    mode_mixity: ArrayLike,
+) -> np.ndarray | float:
     """Stick-state contact radius a (m), stable root of E:PC_indent.
 
     Parameters
@@ -249,24 +318,39 @@ def pc_contact_radius(delta: ArrayLike, delta_t: ArrayLike, summit_radius: Array
     return _pc_radius_ufunc(delta, delta_t, summit_radius, work_of_adhesion, e_star, mode_mixity)
 
 
-def pc_normal_load(delta: ArrayLike, delta_t: ArrayLike, summit_radius: ArrayLike,
-                   work_of_adhesion: ArrayLike, e_star: ArrayLike,
-                   mode_mixity: ArrayLike) -> np.ndarray | float:
+def pc_normal_load(
+    delta: ArrayLike,
+    delta_t: ArrayLike,
+    summit_radius: ArrayLike,
+    work_of_adhesion: ArrayLike,
+    e_star: ArrayLike,
+    mode_mixity: ArrayLike,
+) -> np.ndarray | float:
     """Stick-state normal load P (N), E:PC_P at the stable root; parameters as pc_contact_radius."""
     return _pc_load_ufunc(delta, delta_t, summit_radius, work_of_adhesion, e_star, mode_mixity)
 
 
-def pc_tangential_load(delta: ArrayLike, delta_t: ArrayLike, summit_radius: ArrayLike,
-                       work_of_adhesion: ArrayLike, e_star: ArrayLike,
-                       mode_mixity: ArrayLike) -> np.ndarray | float:
+def pc_tangential_load(
+    delta: ArrayLike,
+    delta_t: ArrayLike,
+    summit_radius: ArrayLike,
+    work_of_adhesion: ArrayLike,
+    e_star: ArrayLike,
+    mode_mixity: ArrayLike,
+) -> np.ndarray | float:
     """Stick-state tangential load T = 4/3 E* a delta_T (N), E:PC_T; parameters as above."""
     return _pc_tangential_ufunc(
         delta, delta_t, summit_radius, work_of_adhesion, e_star, mode_mixity
     )
 
 
-def pc_fold_radius(delta_t: ArrayLike, summit_radius: ArrayLike, work_of_adhesion: ArrayLike,
-                   e_star: ArrayLike, mode_mixity: ArrayLike) -> np.ndarray | float:
+def pc_fold_radius(
+    delta_t: ArrayLike,
+    summit_radius: ArrayLike,
+    work_of_adhesion: ArrayLike,
+    e_star: ArrayLike,
+    mode_mixity: ArrayLike,
+) -> np.ndarray | float:
     """Contact radius a'_min (m) on the unstable boundary for a given delta_T (E:Instable_boundary).
 
     +inf where no stick state exists at all (w = 0 with lambda delta_T^2 > 0).
@@ -274,8 +358,13 @@ def pc_fold_radius(delta_t: ArrayLike, summit_radius: ArrayLike, work_of_adhesio
     return _pc_fold_radius_ufunc(delta_t, summit_radius, work_of_adhesion, e_star, mode_mixity)
 
 
-def pc_min_indentation(delta_t: ArrayLike, summit_radius: ArrayLike, work_of_adhesion: ArrayLike,
-                       e_star: ArrayLike, mode_mixity: ArrayLike) -> np.ndarray | float:
+def pc_min_indentation(
+    delta_t: ArrayLike,
+    summit_radius: ArrayLike,
+    work_of_adhesion: ArrayLike,
+    e_star: ArrayLike,
+    mode_mixity: ArrayLike,
+) -> np.ndarray | float:
     """Minimum indentation delta_PC^min(delta_T) (m) of the stick state (E:Instable_boundary).
 
     E:PC_indent evaluated at a'_min. Equals delta_JKR^unloading at delta_T = 0 or lambda = 0,
@@ -284,13 +373,18 @@ def pc_min_indentation(delta_t: ArrayLike, summit_radius: ArrayLike, work_of_adh
     return _pc_min_indentation_ufunc(delta_t, summit_radius, work_of_adhesion, e_star, mode_mixity)
 
 
-def pc_max_tangential_displacement(delta: ArrayLike, summit_radius: ArrayLike,
-                                   work_of_adhesion: ArrayLike, e_star: ArrayLike,
-                                   mode_mixity: ArrayLike) -> np.ndarray | float:
+def pc_max_tangential_displacement(
+    delta: ArrayLike,
+    summit_radius: ArrayLike,
+    work_of_adhesion: ArrayLike,
+    e_star: ArrayLike,
+    mode_mixity: ArrayLike,
+) -> np.ndarray | float:
     """Largest tangential displacement delta_T^max (m) of the stick state at fixed delta.
 
-    a_min from the cubic E:PC_a_min_1, then E:max_disp_PC. Returns +inf for lambda = 0 (pure
-    JKR: no shear-induced instability) and NaN for delta < delta_JKR^unloading (no stable
-    contact even without shear).
+    a_min from the cubic E:PC_a_min_1, then E:max_disp_PC, rounded down by a few ulps where
+    needed so that the stick state exists at delta_T^max itself (pc_contact_radius is finite
+    there). Returns +inf for lambda = 0 (pure JKR: no shear-induced instability) and NaN for
+    delta < delta_JKR^unloading (no stable contact even without shear).
     """
     return _pc_dt_max_ufunc(delta, summit_radius, work_of_adhesion, e_star, mode_mixity)

@@ -155,8 +155,9 @@ def tabor_parameter(
     return mu
 
 
-def material_tabor_parameter(material: Material, roughness: Roughness, *,
-                             warn: bool = True) -> float:
+def material_tabor_parameter(
+    material: Material, roughness: Roughness, *, warn: bool = True
+) -> float:
     """Tabor's parameter of a (material, roughness) pair; see :func:`tabor_parameter`."""
     return tabor_parameter(
         roughness.summit_radius,

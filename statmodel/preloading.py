@@ -6,10 +6,13 @@ A_r(d) = eta A_n int_{delta_JKR^loading}^inf pi a_JKR^2(delta) phi(d + delta)
          d delta (E:Ar_Greenwood)
 
 with Gaussian summit heights phi (standard deviation sigma_s) and Wu's jump-to-contact lower limit
-(E:JKR_delta_min_loading). The loading curve F_z(d) is tensile at large separations, reaches its
-minimum (the pull-off force under load control, :func:`pull_off_force`) and then grows without
-bound as d decreases; an imposed load is carried at the separation on the stable branch
-(dF_z/dd < 0), found by a bracketed Brent solve. SI units: m, N, m^2.
+(E:JKR_delta_min_loading): Greenwood's (2017) loading branch. The loading curve F_z(d) tends to 0
+at large separations, can dip tensile (its minimum is the loading pull-off force,
+:func:`pull_off_force`, the bound an imposed load is checked against) and grows without bound as d
+decreases; an imposed load is carried at the separation on the stable branch (dF_z/dd < 0), found
+by a bracketed Brent solve. Greenwood's unloading branch after a preload (lower limit
+max(d_min - d + delta_JKR^loading, delta_JKR^unloading)) gives :func:`unloading_pull_off_force`.
+SI units: m, N, m^2.
 """
 
 from __future__ import annotations
@@ -22,6 +25,7 @@ from numpy.typing import ArrayLike
 from scipy.optimize import minimize_scalar
 
 from statmodel import integrals as _k
+from statmodel.jkr import jkr_jump_off_kernel
 from statmodel.options import ModelSetup, QuadratureOptions, setup_model
 from statmodel.parameters import Material, Roughness
 
@@ -43,7 +47,8 @@ class PreloadResult:
     tabor_parameter : float
         mu (dimensionless).
     pull_off_force : float
-        Most tensile load the preload branch can carry, N (negative).
+        Loading-branch pull-off force, N (<= 0): the most tensile load the preload stage can
+        carry (see :func:`pull_off_force`).
     converged : bool
         Whether the separation solve met its tolerance.
     message : str
@@ -66,8 +71,9 @@ class PreloadResult:
 def preload_state(setup: ModelSetup, separation: float) -> np.ndarray:
     """Per-asperity integrals (layout of :mod:`statmodel.integrals`) of the preload at d (m)."""
     out = np.empty(_k.N_RESULTS)
-    _k.asperity_integrals(float(separation), 0.0, setup.prm, setup.gl_x, setup.gl_w,
-                          setup.panels, out)
+    _k.asperity_integrals(
+        float(separation), 0.0, setup.prm, setup.gl_x, setup.gl_w, setup.panels, out
+    )
     return out
 
 
@@ -77,20 +83,88 @@ def preload_normal_force(setup: ModelSetup, separation: float) -> float:
     return setup.n_asperities * (out[_k.FZ_STICK] + out[_k.FZ_SLIP])
 
 
-def pull_off_point(setup: ModelSetup) -> tuple[float, float]:
-    """(F_min, d_at_min): minimum of the preload curve F_z(d) (N) and where it occurs (m).
+def _unloading_prm(setup: ModelSetup, preload_separation: float | None) -> np.ndarray:
+    """Kernel parameters of the loading branch (None) or the unloading branch after d_min (m)."""
+    return (
+        setup.prm
+        if preload_separation is None
+        else setup.with_preload_separation(preload_separation)
+    )
 
-    A grid scan over d in [-6, cutoff] sigma_s locates the minimum, then a bounded Brent
-    minimisation refines it (xatol = 1e-12 sigma_s).
+
+def _normal_force(setup: ModelSetup, prm: np.ndarray, separation: float) -> float:
+    out = np.empty(_k.N_RESULTS)
+    _k.asperity_integrals(float(separation), 0.0, prm, setup.gl_x, setup.gl_w, setup.panels, out)
+    return setup.n_asperities * (out[_k.FZ_STICK] + out[_k.FZ_SLIP])
+
+
+def zero_load_indentation(setup: ModelSetup) -> float:
+    """Indentation delta_0 (m) where the JKR load E:JKR_load vanishes, a0^3 = 9 pi w R^2 / (2 E*).
+
+    Asperities with delta > delta_0 push, those below pull: the loading curve can only be tensile
+    where part of the contacting population lies below delta_0.
+    """
+    R, w, E = setup.roughness.summit_radius, setup.material.work_of_adhesion, setup.material.e_star
+    a0 = (4.5 * math.pi * w * R * R / E) ** (1.0 / 3.0)
+    return a0 * a0 / R - math.sqrt(2.0 * math.pi * w * a0 / E)
+
+
+def pull_off_point(
+    setup: ModelSetup, preload_separation: float | None = None
+) -> tuple[float, float]:
+    """(F_min, d_at_min): most tensile load (N) of a normal-load branch and where it occurs (m).
+
+    ``preload_separation`` None: the loading branch E:Fy_Greenwood (lower limit
+    delta_JKR^loading). A separation d_min (m): Greenwood's unloading branch after a preload to
+    d_min (lower limit max(d_min - d + delta_JKR^loading, delta_JKR^unloading), i.e. E:delta_2 at
+    delta_T = 0), searched over d >= d_min.
+
+    The search window holds every separation where the asperity integrals are resolved: from
+    d = -delta_0 - 6 sigma_s (below it every contact pushes) up to d = -delta_low + (cutoff - m)
+    sigma_s, with delta_low the branch's lower limit and m = min(2, cutoff/4) a margin that keeps
+    the truncation of the summit heights at cutoff sigma_s below exp(-(cutoff^2 - (cutoff - m)^2)
+    / 2) of the integrand. A grid scan (321 points plus 161 around -delta_low) then a bounded
+    Brent minimisation (xatol 1e-12 sigma_s) locate the minimum. When the minimum sits at the
+    upper end of the window the branch is still compressive where it stops being resolved (rough
+    surfaces, e.g. the paper's Fig. 4 where it would lie near d = 67 sigma_s): the pull-off force
+    is then zero to the model's resolution and ``(-0.0, d_end)`` is returned.
     """
     sigma = setup.roughness.summit_height_rms
-    grid = np.linspace(-6.0, setup.options.cutoff_sigma, 321) * sigma
-    values = np.array([preload_normal_force(setup, d) for d in grid])
+    cutoff = setup.options.cutoff_sigma
+    margin = min(2.0, 0.25 * cutoff)
+    prm = _unloading_prm(setup, preload_separation)
+    delta_load = setup.jump_in_distance
+    if preload_separation is None:
+        delta_low = delta_load
+    else:
+        delta_low = min(
+            delta_load,
+            float(
+                jkr_jump_off_kernel(
+                    setup.roughness.summit_radius,
+                    setup.material.work_of_adhesion,
+                    setup.material.e_star,
+                )
+            ),
+        )
+    d_hi = -delta_low + (cutoff - margin) * sigma
+    d_lo = -zero_load_indentation(setup) - 6.0 * sigma
+    if preload_separation is not None:
+        d_lo = max(d_lo, preload_separation)
+    if not d_hi > d_lo:  # unloading from beyond the window: nothing left in contact
+        return -0.0, float(d_lo)
+    fine = -delta_low + np.linspace(-8.0, 8.0, 161) * sigma
+    grid = np.unique(
+        np.concatenate([np.linspace(d_lo, d_hi, 321), fine[(fine > d_lo) & (fine < d_hi)]])
+    )
+    values = np.array([_normal_force(setup, prm, d) for d in grid])
     i = int(np.argmin(values))
+    if i == grid.size - 1 or values[i] >= 0.0:
+        return -0.0, float(grid[-1])
     lo = grid[max(i - 1, 0)]
-    hi = grid[min(i + 1, grid.size - 1)]
+    hi = grid[i + 1]
     res = minimize_scalar(
-        lambda d: preload_normal_force(setup, d),
+        lambda d: _normal_force(setup, prm, d),
         bounds=(lo, hi),
         method="bounded",
         options={"xatol": 1e-12 * sigma, "maxiter": 500},
@@ -100,13 +174,23 @@ def pull_off_point(setup: ModelSetup) -> tuple[float, float]:
     return float(values[i]), float(grid[i])
 
 
-def pull_off_force(material: Material, roughness: Roughness, nominal_area: float,
-                   **accuracy_knobs: float) -> float:
-    """Pull-off force of the rough contact under load control, N (negative).
+def pull_off_force(
+    material: Material, roughness: Roughness, nominal_area: float, **accuracy_knobs: float
+) -> float:
+    """Pull-off force of the loading branch (the preload stage), N (negative or -0.0).
 
-    The minimum over the separation of the preload curve F_z(d) (E:Fy_Greenwood): the most tensile
-    normal load at which the pre-loaded contact is stable; a smaller (more tensile) imposed load
-    separates the surfaces.
+    The minimum over the separation d of the loading curve F_z(d) of E:Fy_Greenwood (Greenwood
+    2017's loading branch, lower limit Wu's jump-in distance E:JKR_delta_min_loading): the most
+    tensile normal load at which the preload stage of this model has an equilibrium. It is the
+    bound ``preload`` and ``shear_curve`` check an imposed load against: a more tensile load has
+    no preload separation and raises ``ValueError`` naming this force in N.
+
+    It is not the force measured when pulling a pre-pressed contact apart: that one belongs to
+    the unloading branch after a preload, depends on the preload and is more tensile (asperities
+    hold on down to delta_JKR^unloading); see :func:`unloading_pull_off_force`. For rough surfaces
+    (large Fuller-Tabor adhesion parameter, e.g. the paper's Fig. 4) both vanish: the loading
+    curve stays compressive wherever the model resolves it and -0.0 is returned (see
+    :func:`pull_off_point`).
 
     Parameters
     ----------
@@ -116,14 +200,64 @@ def pull_off_force(material: Material, roughness: Roughness, nominal_area: float
         A_n, m^2 (must hold eta A_n >= 1 asperity).
     **accuracy_knobs
         See :mod:`statmodel.options`.
+
+    Returns
+    -------
+    float
+        F_pull-off, N (<= 0).
     """
-    setup = setup_model(material, roughness, nominal_area,
-                        QuadratureOptions.from_knobs(**accuracy_knobs))
+    setup = setup_model(
+        material, roughness, nominal_area, QuadratureOptions.from_knobs(**accuracy_knobs)
+    )
     return pull_off_point(setup)[0]
 
 
-def solve_preload(setup: ModelSetup, normal_load: float,
-                  pull_off: tuple[float, float] | None = None) -> PreloadResult:
+def unloading_pull_off_force(
+    material: Material,
+    roughness: Roughness,
+    nominal_area: float,
+    preload_load: float,
+    **accuracy_knobs: float,
+) -> float:
+    """Pull-off force after a preload, N: the minimum of Greenwood's unloading branch.
+
+    The contact is first loaded to ``preload_load`` (separation d_min on the loading branch,
+    E:Fy_Greenwood), then unloaded at delta_T = 0: an asperity touching at the preload stays in
+    contact down to delta_JKR^unloading, so the lower limit is max(d_min - d + delta_JKR^loading,
+    delta_JKR^unloading) (E:delta_2 at delta_T = 0). The returned force is the most tensile load
+    of that branch over d >= d_min (load control), i.e. what a pull-off test after this preload
+    measures. It is at most :func:`pull_off_force` (equal or more tensile); in the smooth limit
+    sigma_s -> 0 it tends to eta A_n times the JKR load-control pull-off -3/2 pi w R.
+
+    Parameters
+    ----------
+    material, roughness : Material, Roughness
+        Interface and summit statistics (SI).
+    nominal_area : float
+        A_n, m^2.
+    preload_load : float
+        Normal load of the preload, N (not below :func:`pull_off_force`).
+    **accuracy_knobs
+        See :mod:`statmodel.options`.
+
+    Returns
+    -------
+    float
+        F_pull-off after the preload, N (<= 0; -0.0 when zero to the model's resolution).
+    """
+    setup = setup_model(
+        material, roughness, nominal_area, QuadratureOptions.from_knobs(**accuracy_knobs)
+    )
+    pull = pull_off_point(setup)
+    pre = solve_preload(setup, preload_load, pull)
+    if not pre.converged:
+        raise ValueError(f"preload_load: {pre.message}")
+    return pull_off_point(setup, pre.separation)[0]
+
+
+def solve_preload(
+    setup: ModelSetup, normal_load: float, pull_off: tuple[float, float] | None = None
+) -> PreloadResult:
     """Preload separation for ``normal_load`` (N) with the kernels of ``setup``.
 
     ``pull_off`` is :func:`pull_off_point` of the same setup when already known.
@@ -137,16 +271,28 @@ def solve_preload(setup: ModelSetup, normal_load: float,
     f_min, d_min_force = pull_off_point(setup) if pull_off is None else pull_off
     if target < f_min:
         raise ValueError(
-            f"normal_load = {target:.6g} N is below the pull-off force {f_min:.6g} N of this "
-            "contact (the most tensile load the pre-loaded interface can carry)"
+            f"normal_load = {target:.6g} N is below the pull-off force {f_min:.6g} N of the "
+            "loading branch (E:Fy_Greenwood, the most tensile load at which the preload stage "
+            "has an equilibrium; see statmodel.pull_off_force)"
         )
     sigma = setup.roughness.summit_height_rms
     ftol = setup.options.load_rtol * max(abs(target), abs(f_min))
     out = np.empty(_k.N_RESULTS)
     work = np.empty(6)
     d, nit, ok = _k.solve_separation(
-        d_min_force, 0.05 * sigma, 0.0, target, ftol, 1e-15 * sigma, setup.options.max_iter,
-        setup.prm, setup.gl_x, setup.gl_w, setup.panels, out, work,
+        d_min_force,
+        0.05 * sigma,
+        0.0,
+        target,
+        ftol,
+        1e-15 * sigma,
+        setup.options.max_iter,
+        setup.prm,
+        setup.gl_x,
+        setup.gl_w,
+        setup.panels,
+        out,
+        work,
     )
     n = setup.n_asperities
     message = "converged" if ok else "preload separation solve did not converge"
@@ -163,8 +309,13 @@ def solve_preload(setup: ModelSetup, normal_load: float,
     )
 
 
-def preload(material: Material, roughness: Roughness, nominal_area: float, normal_load: float,
-            **accuracy_knobs: float) -> PreloadResult:
+def preload(
+    material: Material,
+    roughness: Roughness,
+    nominal_area: float,
+    normal_load: float,
+    **accuracy_knobs: float,
+) -> PreloadResult:
     """Separation, real area and contact count under a purely normal load (E:Fy_Greenwood).
 
     Parameters
@@ -174,7 +325,8 @@ def preload(material: Material, roughness: Roughness, nominal_area: float, norma
     nominal_area : float
         A_n, m^2 (eta A_n >= 1 required).
     normal_load : float
-        Imposed F_z, N (compressive positive); must not be below :func:`pull_off_force`.
+        Imposed F_z, N (compressive positive); must not be below :func:`pull_off_force` (the
+        loading-branch pull-off force; the preload is on the loading branch).
     **accuracy_knobs
         See :mod:`statmodel.options`.
 
@@ -187,16 +339,23 @@ def preload(material: Material, roughness: Roughness, nominal_area: float, norma
     ValueError
         Bad inputs, or a normal load below the pull-off force (the message gives it in N).
     """
-    setup = setup_model(material, roughness, nominal_area,
-                        QuadratureOptions.from_knobs(**accuracy_knobs))
+    setup = setup_model(
+        material, roughness, nominal_area, QuadratureOptions.from_knobs(**accuracy_knobs)
+    )
     return solve_preload(setup, normal_load)
 
 
-def real_area_at_loads(material: Material, roughness: Roughness, nominal_area: float,
-                       normal_loads: ArrayLike, **accuracy_knobs: float) -> np.ndarray:
+def real_area_at_loads(
+    material: Material,
+    roughness: Roughness,
+    nominal_area: float,
+    normal_loads: ArrayLike,
+    **accuracy_knobs: float,
+) -> np.ndarray:
     """Real contact area A_r (m^2) at delta_T = 0 for each normal load (N), E:Ar_Greenwood."""
-    setup = setup_model(material, roughness, nominal_area,
-                        QuadratureOptions.from_knobs(**accuracy_knobs))
+    setup = setup_model(
+        material, roughness, nominal_area, QuadratureOptions.from_knobs(**accuracy_knobs)
+    )
     loads = np.atleast_1d(np.asarray(normal_loads, dtype=float))
     pull = pull_off_point(setup)
     return np.array([solve_preload(setup, f, pull).real_area for f in loads.ravel()]).reshape(

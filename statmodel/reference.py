@@ -26,7 +26,6 @@ from scipy.integrate import IntegrationWarning, quad
 from scipy.optimize import brentq
 from scipy.special import ndtr
 
-from statmodel.jkr import jkr_jump_in_distance
 from statmodel.parameters import Material, Roughness, material_tabor_parameter
 
 EPSREL = 1e-13
@@ -80,7 +79,11 @@ class ReferenceModel:
         self.r = roughness
         self.n_asp = roughness.asperity_density * nominal_area
         self.tabor = material_tabor_parameter(material, roughness, warn=False)
-        self.delta_load = float(jkr_jump_in_distance(self.tabor, material.equilibrium_distance))
+        # Wu's fit E:JKR_delta_min_loading, written out here (no shared code with the fast path)
+        mu, eps = self.tabor, material.equilibrium_distance
+        self.delta_load = (
+            -2.641 * mu ** (3.0 / 7.0) * math.exp(-0.5 / math.sqrt(mu)) * eps if mu > 0 else 0.0
+        )
         self.k2 = 2.0 * math.pi * material.work_of_adhesion / material.e_star
 
     # --- single asperity -------------------------------------------------------------------
@@ -93,8 +96,7 @@ class ReferenceModel:
         q = (k2 * R / 4.0) ** 2
         lo = c / k2
         hi = lo + 2.0 * (q / k2) ** (1.0 / 3.0)
-        a = brentq(lambda x: k2 * x**3 - c * x**2 - q, lo, hi, xtol=1e-300, rtol=_RTOL,
-                   maxiter=500)
+        a = brentq(lambda x: k2 * x**3 - c * x**2 - q, lo, hi, xtol=1e-300, rtol=_RTOL, maxiter=500)
         return a, a * a / R - math.sqrt(max(k2 * a - c, 0.0))
 
     def radius(self, delta: float, delta_t: float, fold: tuple[float, float]) -> float:
@@ -150,9 +152,12 @@ class ReferenceModel:
 
             def load(s: float) -> float:
                 a = a_of(s)
-                p = 4.0 * E * a**3 / (3.0 * R) - math.sqrt(max(
-                    8.0 * math.pi * E * a**3 * w - 16.0 / 9.0 * lam * E**2 * a**2 * delta_t**2,
-                    0.0))
+                p = 4.0 * E * a**3 / (3.0 * R) - math.sqrt(
+                    max(
+                        8.0 * math.pi * E * a**3 * w - 16.0 / 9.0 * lam * E**2 * a**2 * delta_t**2,
+                        0.0,
+                    )
+                )
                 return p * phi(d + d_f + s * s) * 2.0 * s
 
             def tang(s: float) -> float:
@@ -168,10 +173,9 @@ class ReferenceModel:
             if d1 > d0:
                 s0, s1 = math.sqrt(d0), math.sqrt(d1)
                 fz_sl = integrate(
-                    lambda s: 4.0 / 3.0 * E * math.sqrt(R) * s**3 * phi(d + s * s) * 2.0 * s,
-                    s0, s1)
-                ar_sl = integrate(lambda s: math.pi * R * s * s * phi(d + s * s) * 2.0 * s,
-                                  s0, s1)
+                    lambda s: 4.0 / 3.0 * E * math.sqrt(R) * s**3 * phi(d + s * s) * 2.0 * s, s0, s1
+                )
+                ar_sl = integrate(lambda s: math.pi * R * s * s * phi(d + s * s) * 2.0 * s, s0, s1)
                 fx_sl = tau0 * ar_sl
         n_stick = 0.0 if math.isinf(delta_2) else float(ndtr(-(d + delta_2) / sigma))
         n_all = float(ndtr(-(d + delta_1) / sigma))
@@ -214,8 +218,9 @@ class ReferenceModel:
                 step *= 2.0
         raise ValueError(f"reference: no preload separation for {normal_load} N")
 
-    def separation(self, normal_load: float, delta_t: float, d_preload: float,
-                   d_guess: float) -> float:
+    def separation(
+        self, normal_load: float, delta_t: float, d_preload: float, d_guess: float
+    ) -> float:
         """d (m) with F_z(d, delta_T) = normal_load (N) after a preload at d_preload (brentq)."""
         sigma = self.r.summit_height_rms
 
@@ -237,8 +242,9 @@ class ReferenceModel:
             step *= 2.0
         raise ValueError(f"reference: no separation for {normal_load} N at delta_T = {delta_t}")
 
-    def shear_states(self, normal_load: float,
-                     tangential_displacement: np.ndarray) -> tuple[float, list[ReferenceState]]:
+    def shear_states(
+        self, normal_load: float, tangential_displacement: np.ndarray
+    ) -> tuple[float, list[ReferenceState]]:
         """(d_min, states) of the load-controlled shear path at the given delta_T values (m)."""
         d_pre = self.preload_separation(normal_load)
         states = []

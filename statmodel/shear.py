@@ -25,6 +25,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.polynomial.hermite_e import hermegauss
 from numpy.typing import ArrayLike
 from scipy.optimize import brentq
 from scipy.special import gamma, ndtr, pbdv
@@ -47,8 +48,8 @@ class ShearCurve:
     ``nit`` (normal-load evaluations per step). Scalars: ``tabor_parameter``,
     ``separation_preload`` d_min (m), ``static_friction`` (peak F_x, N), ``sliding_friction``
     (all-sliding limit, N), ``sliding_separation`` (m), ``sliding_displacement`` (m; inf if never,
-    e.g. lambda = 0), ``normal_load`` (imposed, N; NaN in fixed grip), ``pull_off_force`` (N),
-    ``converged``, ``message``. Steps after a failed solve are NaN.
+    e.g. lambda = 0), ``normal_load`` (imposed, N; NaN in fixed grip), ``pull_off_force``
+    (loading branch, N), ``converged``, ``message``. Steps after a failed solve are NaN.
     """
 
     tangential_displacement: np.ndarray
@@ -94,18 +95,35 @@ def _check_displacements(tangential_displacement: ArrayLike) -> np.ndarray:
     return dts
 
 
+def _gw_load_moment(h: float) -> float:
+    """E[(Z - h)_+^(3/2)] for a standard normal Z (dimensionless), h = d / sigma_s.
+
+    Closed form Gamma(5/2) / sqrt(2 pi) exp(-h^2/4) D_{-5/2}(h) (parabolic-cylinder function) for
+    h >= -8; below, where exp(-h^2/4) underflows against an overflowing D_{-5/2}, (Z - h)^(3/2) is
+    smooth over the Gaussian's support and 80-node Gauss-Hermite quadrature is exact to
+    round-off.
+    """
+    if h >= -8.0:
+        d_val, _ = pbdv(-2.5, h)
+        return float(gamma(2.5) / math.sqrt(2.0 * math.pi) * math.exp(-0.25 * h * h) * d_val)
+    x, w = hermegauss(80)
+    return float(np.sum(w * np.maximum(x - h, 0.0) ** 1.5) / math.sqrt(2.0 * math.pi))
+
+
 def _hertz_sliding_load(setup: ModelSetup, separation: float) -> float:
     """Greenwood-Williamson Hertz load at separation d (m), closed form (N).
 
-    eta A_n 4/3 E* sqrt(R) sigma^(3/2) Gamma(5/2) / sqrt(2 pi) exp(-h^2/4) D_{-5/2}(h), h = d/sigma.
+    eta A_n 4/3 E* sqrt(R) sigma^(3/2) E[(Z - h)_+^(3/2)], h = d/sigma (see _gw_load_moment).
     """
     sigma = setup.roughness.summit_height_rms
-    h = separation / sigma
-    d_val, _ = pbdv(-2.5, h)
-    return float(
-        setup.n_asperities * 4.0 / 3.0 * setup.material.e_star
-        * math.sqrt(setup.roughness.summit_radius) * sigma**1.5 * gamma(2.5)
-        / math.sqrt(2.0 * math.pi) * math.exp(-0.25 * h * h) * d_val
+    return (
+        setup.n_asperities
+        * 4.0
+        / 3.0
+        * setup.material.e_star
+        * math.sqrt(setup.roughness.summit_radius)
+        * sigma**1.5
+        * _gw_load_moment(separation / sigma)
     )
 
 
@@ -115,8 +133,7 @@ def _hertz_sliding_area(setup: ModelSetup, separation: float) -> float:
     h = separation / sigma
     pdf = math.exp(-0.5 * h * h) / math.sqrt(2.0 * math.pi)
     return float(
-        setup.n_asperities * math.pi * setup.roughness.summit_radius * sigma
-        * (pdf - h * ndtr(-h))
+        setup.n_asperities * math.pi * setup.roughness.summit_radius * sigma * (pdf - h * ndtr(-h))
     )
 
 
@@ -135,14 +152,26 @@ def sliding_limit(setup: ModelSetup, normal_load: float) -> tuple[float, float, 
         lo -= 2.0 * (hi - lo)
     while _hertz_sliding_load(setup, hi) > normal_load:
         hi += 2.0 * (hi - lo)
-    d_s = brentq(lambda d: _hertz_sliding_load(setup, d) - normal_load, lo, hi,
-                 xtol=1e-14 * sigma, rtol=1e-15, maxiter=500)
+    d_s = brentq(
+        lambda d: _hertz_sliding_load(setup, d) - normal_load,
+        lo,
+        hi,
+        xtol=1e-14 * sigma,
+        rtol=1e-15,
+        maxiter=500,
+    )
     area = _hertz_sliding_area(setup, d_s)
     return setup.material.shear_strength * area, float(d_s), area
 
 
-def _assemble(setup: ModelSetup, dts: np.ndarray, results: np.ndarray, separations: np.ndarray,
-              nits: np.ndarray, **scalars: object) -> ShearCurve:
+def _assemble(
+    setup: ModelSetup,
+    dts: np.ndarray,
+    results: np.ndarray,
+    separations: np.ndarray,
+    nits: np.ndarray,
+    **scalars: object,
+) -> ShearCurve:
     n = setup.n_asperities
     fz_stick = n * results[:, _k.FZ_STICK]
     fz_slip = n * results[:, _k.FZ_SLIP]
@@ -178,22 +207,41 @@ def _assemble(setup: ModelSetup, dts: np.ndarray, results: np.ndarray, separatio
     )
 
 
-def _n_stick_load_control(setup: ModelSetup, prm: np.ndarray, delta_t: float, d_guess: float,
-                          target: float, ftol: float) -> tuple[float, float]:
+def _n_stick_load_control(
+    setup: ModelSetup, prm: np.ndarray, delta_t: float, d_guess: float, target: float, ftol: float
+) -> tuple[float, float]:
     out = np.empty(_k.N_RESULTS)
     work = np.empty(6)
     sigma = setup.roughness.summit_height_rms
-    d, _, ok = _k.solve_separation(d_guess, 1e-6 * sigma, delta_t, target, ftol, 1e-15 * sigma,
-                                   setup.options.max_iter, prm, setup.gl_x, setup.gl_w,
-                                   setup.panels, out, work)
+    d, _, ok = _k.solve_separation(
+        d_guess,
+        1e-6 * sigma,
+        delta_t,
+        target,
+        ftol,
+        1e-15 * sigma,
+        setup.options.max_iter,
+        prm,
+        setup.gl_x,
+        setup.gl_w,
+        setup.panels,
+        out,
+        work,
+    )
     if not ok:
         return math.nan, d
     return setup.n_asperities * out[_k.N_STICK], d
 
 
-def _sliding_displacement(setup: ModelSetup, prm: np.ndarray, dts: np.ndarray,
-                          n_stick: np.ndarray, separations: np.ndarray,
-                          target: float | None, ftol: float) -> float:
+def _sliding_displacement(
+    setup: ModelSetup,
+    prm: np.ndarray,
+    dts: np.ndarray,
+    n_stick: np.ndarray,
+    separations: np.ndarray,
+    target: float | None,
+    ftol: float,
+) -> float:
     """delta_T (m) at which the expected number of sticking asperities falls to 1.
 
     Bracketed on the computed curve (extended by doubling delta_T when needed), refined by Brent
@@ -211,8 +259,9 @@ def _sliding_displacement(setup: ModelSetup, prm: np.ndarray, dts: np.ndarray,
     def count(dt: float, d_guess: float) -> tuple[float, float]:
         if target is None:
             out = np.empty(_k.N_RESULTS)
-            _k.asperity_integrals(separations[0], dt, prm, setup.gl_x, setup.gl_w, setup.panels,
-                                  out)
+            _k.asperity_integrals(
+                separations[0], dt, prm, setup.gl_x, setup.gl_w, setup.panels, out
+            )
             return setup.n_asperities * out[_k.N_STICK], separations[0]
         return _n_stick_load_control(setup, prm, dt, d_guess, target, ftol)
 
@@ -250,9 +299,14 @@ def _sliding_displacement(setup: ModelSetup, prm: np.ndarray, dts: np.ndarray,
         return math.nan
 
 
-def shear_curve(material: Material, roughness: Roughness, nominal_area: float,
-                normal_load: float, tangential_displacement: ArrayLike,
-                **accuracy_knobs: float) -> ShearCurve:
+def shear_curve(
+    material: Material,
+    roughness: Roughness,
+    nominal_area: float,
+    normal_load: float,
+    tangential_displacement: ArrayLike,
+    **accuracy_knobs: float,
+) -> ShearCurve:
     """Tangential loading at constant normal load, from the preload to full sliding.
 
     Parameters
@@ -262,7 +316,8 @@ def shear_curve(material: Material, roughness: Roughness, nominal_area: float,
     nominal_area : float
         A_n, m^2 (eta A_n >= 1).
     normal_load : float
-        Imposed F_z, N; must not be below the pull-off force.
+        Imposed F_z, N (compressive positive); must not be below the loading-branch pull-off
+        force :func:`statmodel.pull_off_force` (else ``ValueError`` naming it in N).
     tangential_displacement : array_like
         Non-decreasing delta_T history, m (start with 0 to include the preload state).
     **accuracy_knobs
@@ -275,8 +330,9 @@ def shear_curve(material: Material, roughness: Roughness, nominal_area: float,
         ``converged`` is False (and later steps NaN) if a separation solve failed, e.g. when the
         load can no longer be carried (pull-off under shear).
     """
-    setup = setup_model(material, roughness, nominal_area,
-                        QuadratureOptions.from_knobs(**accuracy_knobs))
+    setup = setup_model(
+        material, roughness, nominal_area, QuadratureOptions.from_knobs(**accuracy_knobs)
+    )
     dts = _check_displacements(tangential_displacement)
     pull = pull_off_point(setup)
     pre = solve_preload(setup, normal_load, pull)
@@ -290,9 +346,21 @@ def shear_curve(material: Material, roughness: Roughness, nominal_area: float,
     sigma = roughness.summit_height_rms
     n_ok = 0
     if pre.converged:
-        n_ok = _k.shear_path(dts, target, pre.separation, ftol, 1e-15 * sigma,
-                             setup.options.max_iter, prm, setup.gl_x, setup.gl_w, setup.panels,
-                             results, separations, nits)
+        n_ok = _k.shear_path(
+            dts,
+            target,
+            pre.separation,
+            ftol,
+            1e-15 * sigma,
+            setup.options.max_iter,
+            prm,
+            setup.gl_x,
+            setup.gl_w,
+            setup.panels,
+            results,
+            separations,
+            nits,
+        )
     converged = bool(pre.converged and n_ok == m)
     if not pre.converged:
         message = pre.message
@@ -308,7 +376,11 @@ def shear_curve(material: Material, roughness: Roughness, nominal_area: float,
     n_stick = setup.n_asperities * results[:, _k.N_STICK]
     slide_dt = _sliding_displacement(setup, prm, dts, n_stick, separations, target, ftol)
     return _assemble(
-        setup, dts, results, separations, nits,
+        setup,
+        dts,
+        results,
+        separations,
+        nits,
         separation_preload=pre.separation,
         sliding_friction=f_slide,
         sliding_separation=d_slide,
@@ -320,17 +392,23 @@ def shear_curve(material: Material, roughness: Roughness, nominal_area: float,
     )
 
 
-def shear_curve_fixed_separation(material: Material, roughness: Roughness, nominal_area: float,
-                                 separation: float, tangential_displacement: ArrayLike,
-                                 **accuracy_knobs: float) -> ShearCurve:
+def shear_curve_fixed_separation(
+    material: Material,
+    roughness: Roughness,
+    nominal_area: float,
+    separation: float,
+    tangential_displacement: ArrayLike,
+    **accuracy_knobs: float,
+) -> ShearCurve:
     """Tangential loading in fixed grip: the separation stays at ``separation`` (m) throughout.
 
     The contact is pre-loaded to d_min = ``separation`` (lower limit delta_JKR^loading), then
     sheared at constant d; F_z varies (E:NewFormulation_Fy). The sliding friction is the
     all-sliding limit at that separation, tau0 * A_GW(d) (closed form); ``normal_load`` is NaN.
     """
-    setup = setup_model(material, roughness, nominal_area,
-                        QuadratureOptions.from_knobs(**accuracy_knobs))
+    setup = setup_model(
+        material, roughness, nominal_area, QuadratureOptions.from_knobs(**accuracy_knobs)
+    )
     dts = _check_displacements(tangential_displacement)
     try:
         d = float(separation)
@@ -346,7 +424,11 @@ def shear_curve_fixed_separation(material: Material, roughness: Roughness, nomin
     n_stick = setup.n_asperities * results[:, _k.N_STICK]
     slide_dt = _sliding_displacement(setup, prm, dts, n_stick, separations, None, 0.0)
     return _assemble(
-        setup, dts, results, separations, np.zeros(dts.size, dtype=np.int64),
+        setup,
+        dts,
+        results,
+        separations,
+        np.zeros(dts.size, dtype=np.int64),
         separation_preload=d,
         sliding_friction=material.shear_strength * area,
         sliding_separation=d,

@@ -35,7 +35,12 @@ JUMP_OFF_DIMENSIONLESS = -0.75 * math.pi ** (2.0 / 3.0)
 
 @njit(cache=True)
 def _fold_radius_dimensionless(delta_t_tilde: float, mode_mixity: float) -> float:
-    b = mode_mixity * delta_t_tilde * delta_t_tilde / (2.0 * math.pi)
+    if math.isnan(delta_t_tilde) or not 0.0 <= mode_mixity <= 1.0:
+        return math.nan
+    # delta_T~^2 capped at 1e300 so that lambda = 0 with an infinite delta_T~ never forms 0 * inf
+    b = mode_mixity * min(delta_t_tilde * delta_t_tilde, 1.0e300) / (2.0 * math.pi)
+    if b > 1.0e100:
+        return math.inf  # a~ > b > 1e100: no stick state at any finite indentation
     q = math.pi / 8.0
     a = b + q ** (1.0 / 3.0)
     for _ in range(200):
@@ -54,8 +59,10 @@ def _fold_radius_dimensionless(delta_t_tilde: float, mode_mixity: float) -> floa
 @njit(cache=True)
 def _min_indentation_dimensionless(delta_t_tilde: float, mode_mixity: float) -> float:
     a = _fold_radius_dimensionless(delta_t_tilde, mode_mixity)
-    inner = 2.0 * math.pi * a - mode_mixity * delta_t_tilde * delta_t_tilde
-    return a * a - math.sqrt(max(inner, 0.0))
+    if math.isnan(a) or math.isinf(a):
+        return a
+    coupling = mode_mixity * min(delta_t_tilde * delta_t_tilde, 1.0e300)
+    return a * a - math.sqrt(max(2.0 * math.pi * a - coupling, 0.0))
 
 
 @vectorize(["float64(float64, float64)"], cache=True)
@@ -83,9 +90,13 @@ def scale_factor(summit_radius: float, work_of_adhesion: float, e_star: float) -
     return (e_star * summit_radius / work_of_adhesion) ** (1.0 / 3.0)
 
 
-def to_dimensionless(delta: ArrayLike, delta_t: ArrayLike, summit_radius: float,
-                     work_of_adhesion: float,
-                     e_star: float) -> tuple[np.ndarray | float, np.ndarray | float]:
+def to_dimensionless(
+    delta: ArrayLike,
+    delta_t: ArrayLike,
+    summit_radius: float,
+    work_of_adhesion: float,
+    e_star: float,
+) -> tuple[np.ndarray | float, np.ndarray | float]:
     """(delta~, delta_T~) from (delta, delta_T) in m; see the module docstring for the scaling."""
     xi = scale_factor(summit_radius, work_of_adhesion, e_star)
     return (
@@ -94,9 +105,13 @@ def to_dimensionless(delta: ArrayLike, delta_t: ArrayLike, summit_radius: float,
     )
 
 
-def from_dimensionless(delta_tilde: ArrayLike, delta_t_tilde: ArrayLike, summit_radius: float,
-                       work_of_adhesion: float,
-                       e_star: float) -> tuple[np.ndarray | float, np.ndarray | float]:
+def from_dimensionless(
+    delta_tilde: ArrayLike,
+    delta_t_tilde: ArrayLike,
+    summit_radius: float,
+    work_of_adhesion: float,
+    e_star: float,
+) -> tuple[np.ndarray | float, np.ndarray | float]:
     """(delta, delta_T) in m from the dimensionless (delta~, delta_T~)."""
     xi = scale_factor(summit_radius, work_of_adhesion, e_star)
     return (
@@ -105,20 +120,23 @@ def from_dimensionless(delta_tilde: ArrayLike, delta_t_tilde: ArrayLike, summit_
     )
 
 
-def dimensionless_fold_radius(delta_t_tilde: ArrayLike,
-                              mode_mixity: ArrayLike) -> np.ndarray | float:
+def dimensionless_fold_radius(
+    delta_t_tilde: ArrayLike, mode_mixity: ArrayLike
+) -> np.ndarray | float:
     """a~_min: the positive root of a~^3 - lambda/(2 pi) delta_T~^2 a~^2 - pi/8 = 0."""
     return _fold_radius_ufunc(delta_t_tilde, mode_mixity)
 
 
-def dimensionless_unstable_boundary(delta_t_tilde: ArrayLike,
-                                    mode_mixity: ArrayLike) -> np.ndarray | float:
+def dimensionless_unstable_boundary(
+    delta_t_tilde: ArrayLike, mode_mixity: ArrayLike
+) -> np.ndarray | float:
     """delta~_min^PC(delta_T~), the stick/non-stick boundary of Fig. 2a (dimensionless)."""
     return _min_indentation_ufunc(delta_t_tilde, mode_mixity)
 
 
-def asperity_status(delta_tilde: ArrayLike, delta_t_tilde: ArrayLike,
-                    mode_mixity: ArrayLike) -> np.ndarray | int:
+def asperity_status(
+    delta_tilde: ArrayLike, delta_t_tilde: ArrayLike, mode_mixity: ArrayLike
+) -> np.ndarray | int:
     """Status code of one asperity at (delta~, delta_T~): OUT_OF_CONTACT, STICK or SLIDE.
 
     Parameters
@@ -131,6 +149,22 @@ def asperity_status(delta_tilde: ArrayLike, delta_t_tilde: ArrayLike,
     Returns
     -------
     int or ndarray of int64
-        0 (out of contact), 1 (stick), 2 (slide), broadcast shape.
+        0 (out of contact), 1 (stick), 2 (slide), broadcast shape. Points exactly on the
+        unstable boundary are STICK (the fold state exists); with lambda = 0 every point above
+        the JKR jump-off sticks, whatever delta_T~ (infinite included).
+
+    Raises
+    ------
+    ValueError
+        NaN in an input, or lambda outside [0, 1].
     """
+    args = {"delta_tilde": delta_tilde, "delta_t_tilde": delta_t_tilde, "mode_mixity": mode_mixity}
+    for name, value in args.items():
+        if np.any(np.isnan(np.asarray(value, dtype=float))):
+            raise ValueError(
+                f"asperity_status: {name} contains NaN (no status for an undefined state)"
+            )
+    lam = np.asarray(mode_mixity, dtype=float)
+    if np.any((lam < 0.0) | (lam > 1.0)):
+        raise ValueError(f"asperity_status: mode_mixity must lie in [0, 1], got {mode_mixity!r}")
     return _status_ufunc(delta_tilde, delta_t_tilde, mode_mixity)

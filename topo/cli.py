@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -41,16 +42,25 @@ def _json_number(value: object) -> object:
     return value
 
 
-def _pixel_size(text: str | None) -> float | None:
+def _pixel_size(text: str | None) -> float | tuple[float, float] | None:
+    """``--pixel-size DX`` or ``DX,DY`` (m) as a float or a pair; refuse anything else."""
     if text is None:
         return None
-    try:
-        value = float(text)
-    except ValueError:
-        raise ValueError(f"--pixel-size: expected a length in metres, got {text!r}") from None
-    if not (math.isfinite(value) and value > 0):
-        raise ValueError(f"--pixel-size: expected a finite value > 0 m, got {text!r}")
-    return value
+    parts = text.split(",")
+    if len(parts) > 2:
+        raise ValueError(f"--pixel-size: expected DX or DX,DY in metres, got {text!r}")
+    values = []
+    for part in parts:
+        try:
+            value = float(part)
+        except ValueError:
+            raise ValueError(
+                f"--pixel-size: expected DX or DX,DY in metres, got {text!r}"
+            ) from None
+        if not (math.isfinite(value) and value > 0):
+            raise ValueError(f"--pixel-size: expected finite lengths > 0 m, got {text!r}")
+        values.append(value)
+    return values[0] if len(values) == 1 else (values[0], values[1])
 
 
 def _load_levelled(args: argparse.Namespace, what: str) -> HeightMap:
@@ -65,9 +75,24 @@ def _load_levelled(args: argparse.Namespace, what: str) -> HeightMap:
 def surface_stats(surface: HeightMap, *, stride: int = 1, neighbours: int = 4) -> dict:
     """The ``asperity stats`` record of an (already levelled) map, SI units.
 
-    All values refer to the analysed grid ``decimate(surface, stride)``: ``nx``, ``dx``
-    along the first array axis, ``rms_height = sqrt(<h^2>)`` over its valid pixels (the
-    heights as levelled: about the mean plane after ``plane``/``mean``).
+    Parameters
+    ----------
+    surface : HeightMap
+        The levelled map (heights in m).
+    stride : int
+        Decimation before the analysis (the paper's resampling).
+    neighbours : {4, 8}
+        Summit rule (4: Appendix A).
+
+    Returns
+    -------
+    dict
+        The keys of :data:`STATS_KEYS`: ``nx``, ``ny``, ``dx``, ``dy`` (m, ``nx``/``dx``
+        along the first array axis), ``rms_height`` (m, ``sqrt(<h^2>)`` of the levelled
+        heights: about the mean plane after ``plane``/``mean``), ``n_missing``,
+        ``n_summits``, ``asperity_density`` (1/m^2), ``summit_radius`` (m),
+        ``summit_height_rms`` (m), all of the analysed grid ``decimate(surface, stride)``;
+        NaN becomes None (JSON null).
     """
     from topo.psd import rms_height
     from topo.resampling import decimate
@@ -176,15 +201,16 @@ def _synth(args: argparse.Namespace) -> int:
     out = Path(args.out)
     if out.suffix.lower() not in (".h5", ".hdf5", ".npy", ".npz"):
         raise ValueError(f"--out {out}: expected a .h5 (project HDF5), .npy or .npz file name")
-    surface = paper_like(
-        n=args.n,
-        pixel_size=args.pixel_size,
-        seed=args.seed,
-        hurst=args.hurst,
-        rms_height=args.rms_height,
-        rolloff_wavelength=args.rolloff,
-        short_cutoff=args.short_cutoff if args.short_cutoff > 0 else None,
-    )
+    recipe = {
+        "hurst": args.hurst,
+        "rms_height": args.rms_height,
+        "rolloff_wavelength": args.rolloff,
+        "short_cutoff": args.short_cutoff,
+    }
+    recipe = {key: value for key, value in recipe.items() if value is not None}
+    if recipe.get("short_cutoff") == 0:
+        recipe["short_cutoff"] = None
+    surface = paper_like(n=args.n, pixel_size=args.pixel_size, seed=args.seed, **recipe)
     if out.suffix.lower() in (".h5", ".hdf5"):
         write_hdf5(surface, out)
     elif out.suffix.lower() == ".npz":
@@ -193,7 +219,7 @@ def _synth(args: argparse.Namespace) -> int:
         np.save(out, np.asarray(surface.heights), allow_pickle=False)
     print(
         f"wrote {out}: {surface.nx} x {surface.ny} pixels of {surface.dx:g} m, "
-        f"rms height {args.rms_height:g} m, periodic"
+        f"rms height {surface.provenance['rms_height']:g} m, periodic"
         + (
             f" (read it back with --pixel-size {surface.dx:g})"
             if out.suffix.lower() == ".npy"
@@ -218,7 +244,7 @@ def _add_input_options(parser: argparse.ArgumentParser) -> None:
         dest="pixel_size",
         metavar="DX",
         default=None,
-        help="pixel size in m, for files that carry none (npy, npz, text)",
+        help="pixel size in m (DX, or DX,DY), for files that carry none (npy, npz, text)",
     )
     parser.add_argument(
         "--channel",
@@ -244,6 +270,14 @@ def _positive_int(text: str) -> int:
     return value
 
 
+def _accept_negative_numbers(parser: argparse.ArgumentParser) -> None:
+    """Let ``--pixel-size -1e-6`` reach our validation instead of argparse's "expected one
+    argument": argparse only takes ``-1`` or ``-0.5`` as numbers, not ``-1e-6``."""
+    parser._negative_number_matcher = re.compile(  # noqa: SLF001 (no public hook)
+        r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|nan)$", re.IGNORECASE
+    )
+
+
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add ``stats``, ``scan`` and ``synth`` to the asperity parser."""
     stats = subparsers.add_parser(
@@ -259,6 +293,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="keep one point in K along x and y first (default 1)",
     )
     stats.add_argument("--json", action="store_true", help="print one JSON object")
+    _accept_negative_numbers(stats)
     stats.set_defaults(func=_stats)
 
     scan = subparsers.add_parser(
@@ -281,6 +316,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     scan.add_argument("--figure", default=None, help="write the figure (PNG, 150 dpi) here")
     scan.add_argument("--json", action="store_true", help="print the scan as one JSON object")
+    _accept_negative_numbers(scan)
     scan.set_defaults(func=_scan)
 
     synth = subparsers.add_parser(
@@ -294,18 +330,22 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--pixel-size", dest="pixel_size", type=float, default=2e-6, help="pixel size in m (2e-6)"
     )
     synth.add_argument("--seed", type=int, default=0, help="random seed (0)")
-    synth.add_argument("--hurst", type=float, default=0.8, help="Hurst exponent (0.8)")
+    # defaults None: topo.synthetic.PAPER_LIKE (not imported here, to keep --help fast)
     synth.add_argument(
-        "--rms-height", dest="rms_height", type=float, default=50e-6, help="rms height in m (50e-6)"
+        "--hurst", type=float, default=None, help="spectral (Hurst) exponent H (paper-like: 1.36)"
     )
     synth.add_argument(
-        "--rolloff", type=float, default=600e-6, help="roll-off wavelength in m (600e-6)"
+        "--rms-height", dest="rms_height", type=float, default=None, help="rms height in m (50e-6)"
+    )
+    synth.add_argument(
+        "--rolloff", type=float, default=None, help="roll-off wavelength in m (600e-6)"
     )
     synth.add_argument(
         "--short-cutoff",
         dest="short_cutoff",
         type=float,
-        default=20e-6,
-        help="shortest wavelength in m (20e-6; 0 for none)",
+        default=None,
+        help="shortest wavelength in m (4e-6; 0 for none)",
     )
+    _accept_negative_numbers(synth)
     synth.set_defaults(func=_synth)

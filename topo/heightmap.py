@@ -160,6 +160,18 @@ class LineProfile:
 def require_height_map(surface: object, what: str) -> HeightMap:
     """Return ``surface`` if it is a :class:`HeightMap`; refuse a line profile clearly.
 
+    Parameters
+    ----------
+    surface : object
+        What the caller passed.
+    what : str
+        The analysis, named in the message.
+
+    Returns
+    -------
+    HeightMap
+        ``surface`` itself.
+
     Raises
     ------
     ValueError

@@ -92,8 +92,18 @@ def _normal_equations(heights: np.ndarray, n_terms: int) -> tuple[np.ndarray, np
 def fit_form(surface: HeightMap, method: str = "plane") -> np.ndarray:
     """Least-squares coefficients of the form ``method`` over the valid pixels.
 
-    The basis is ``1, u, v, u^2, u v, v^2`` with ``u = 2 i/(nx-1) - 1`` and
-    ``v = 2 j/(ny-1) - 1`` (pixel indices scaled to [-1, 1]); coefficients are in m.
+    Parameters
+    ----------
+    surface : HeightMap
+        Heights in m (NaN pixels ignored).
+    method : {"mean", "plane", "quadratic"}
+        The form: 1, 3 or 6 terms of the basis below.
+
+    Returns
+    -------
+    ndarray
+        Coefficients in m of the basis ``1, u, v, u^2, u v, v^2`` (first 1, 3 or 6), with
+        ``u = 2 i/(nx-1) - 1`` and ``v = 2 j/(ny-1) - 1`` (pixel indices scaled to [-1, 1]).
     """
     if method not in _N_TERMS:
         raise ValueError(f"levelling method {method!r}: expected one of {METHODS[1:]}")
@@ -101,8 +111,10 @@ def fit_form(surface: HeightMap, method: str = "plane") -> np.ndarray:
     n_terms = _N_TERMS[method]
     matrix, rhs, count = _normal_equations(surface.heights, n_terms)
     if count < n_terms:
+        source = surface.provenance.get("file", "the map")
         raise ValueError(
-            f"level({method!r}): {count} valid pixels, need at least {n_terms} for the fit"
+            f"level({method!r}): {source} has {count} valid (non-NaN) pixels; the fit needs "
+            f"at least {n_terms}"
         )
     try:
         return np.linalg.solve(matrix, rhs)

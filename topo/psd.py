@@ -34,9 +34,20 @@ def _filled(surface: HeightMap) -> np.ndarray:
 
 
 def psd_2d(surface: HeightMap) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Full 2D PSD ``C(qx, qy)`` (m^4) on the FFT grid, with ``qx``, ``qy`` (1/m, rad/m).
+    """Full 2D PSD ``C(qx, qy)`` (m^4) on the FFT grid (normalisation in the module doc).
 
-    The mean height is removed first. Missing pixels are refused.
+    Parameters
+    ----------
+    surface : HeightMap
+        Heights in m, no missing pixel (refused: the FFT needs a complete map). The mean
+        height is removed first.
+
+    Returns
+    -------
+    qx, qy : ndarray
+        Wavevectors (rad/m) along axis 0 and axis 1, in FFT order.
+    psd : ndarray, shape (nx, ny)
+        ``C(qx, qy)`` in m^4.
     """
     surface = require_height_map(surface, "psd_2d")
     heights = _filled(surface)
@@ -59,9 +70,19 @@ class RadialPSD:
 def radial_psd(surface: HeightMap, *, n_bins: int | None = None) -> RadialPSD:
     """Radially averaged PSD (m^4) against ``|q|`` (rad/m); empty bins are dropped.
 
-    Bins are centred on ``k * dq`` (width ``dq = 2 pi / max(lx, ly)``) up to the largest
-    ``|q|`` (or ``n_bins`` equal bins ``[k, k+1) * q_N / n_bins`` up to the Nyquist
-    wavevector ``q_N`` of the coarser axis). The ``q = 0`` bin is dropped.
+    Parameters
+    ----------
+    surface : HeightMap
+        Heights in m, no missing pixel.
+    n_bins : int, optional
+        Default: bins centred on ``k * dq`` (width ``dq = 2 pi / max(lx, ly)``) up to the
+        largest ``|q|``; otherwise ``n_bins`` equal bins ``[k, k+1) * q_N / n_bins`` up to
+        the Nyquist wavevector ``q_N`` of the coarser axis. The ``q = 0`` bin is dropped.
+
+    Returns
+    -------
+    RadialPSD
+        ``q`` (rad/m, mean ``|q|`` of each bin), ``psd`` (m^4), ``count`` (modes per bin).
     """
     surface = require_height_map(surface, "radial_psd")
     qx, qy, psd = psd_2d(surface)
@@ -82,12 +103,22 @@ def radial_psd(surface: HeightMap, *, n_bins: int | None = None) -> RadialPSD:
 
 
 def rolloff_wavelength(surface: HeightMap) -> float:
-    """Roll-off wavelength (m) estimated from the radial PSD.
+    """Roll-off wavelength (m) estimated from the radial PSD (paper, Section 5: ~600 um).
 
     Fits ``log C`` with a plateau for ``q < q_r`` joined to a power law for ``q >= q_r``
     (least squares over log-spaced bins), trying every bin centre as ``q_r``, and returns
     ``2 pi / q_r`` for the best fit. Bins more than 12 decades below the maximum (beyond a
     hard short-wavelength cut-off) are ignored.
+
+    Parameters
+    ----------
+    surface : HeightMap
+        Heights in m, no missing pixel.
+
+    Returns
+    -------
+    float
+        The roll-off wavelength ``2 pi / q_r`` in m.
     """
     radial = radial_psd(surface)
     q, c = radial.q, radial.psd
@@ -134,8 +165,20 @@ def _valid_moments(h):
 def rms_height(surface: HeightMap, *, about_mean: bool = True) -> float:
     """Rms height over the valid pixels (m): about the mean (Sq), or about zero.
 
-    ``about_mean=False`` gives ``sqrt(<h^2>)`` of the heights as they are (e.g. after a
-    levelling that already set the mean plane to zero). One compiled pass, no copies.
+    One compiled pass, no copies.
+
+    Parameters
+    ----------
+    surface : HeightMap
+        Heights in m; NaN pixels are skipped.
+    about_mean : bool
+        True: ``sqrt(<(h - <h>)^2>)``; False: ``sqrt(<h^2>)`` of the heights as they are
+        (e.g. after a levelling that already set the mean plane to zero).
+
+    Returns
+    -------
+    float
+        Rms height in m (NaN if no pixel is valid).
     """
     surface = require_height_map(surface, "rms_height")
     count, total, squares = _valid_moments(surface.heights)
@@ -195,6 +238,16 @@ def rms_slope(surface: HeightMap) -> float:
 
     Differences that touch a missing pixel are skipped; a periodic map wraps around.
     One compiled pass, no temporary arrays.
+
+    Parameters
+    ----------
+    surface : HeightMap
+        Heights in m, pixel sizes dx, dy in m.
+
+    Returns
+    -------
+    float
+        The rms gradient (m/m).
     """
     surface = require_height_map(surface, "rms_slope")
     return float(
@@ -206,7 +259,18 @@ def rms_curvature(surface: HeightMap) -> float:
     """Rms mean curvature ``sqrt(<((h_xx + h_yy)/2)^2>)`` from central differences (1/m).
 
     Interior pixels only unless periodic; pixels touching a missing pixel are skipped.
-    This is SurfaceTopography's ``rms_curvature_from_area`` definition. One compiled pass.
+    This is SurfaceTopography's ``rms_curvature_from_area`` definition (not the paper's
+    summit radius R of Appendix A, see :func:`topo.summit_statistics`). One compiled pass.
+
+    Parameters
+    ----------
+    surface : HeightMap
+        Heights in m, pixel sizes dx, dy in m.
+
+    Returns
+    -------
+    float
+        The rms mean curvature in 1/m.
     """
     surface = require_height_map(surface, "rms_curvature")
     return float(

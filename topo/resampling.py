@@ -59,8 +59,19 @@ def decimate(surface: HeightMap, stride: int) -> HeightMap:
 def block_mean(surface: HeightMap, factor: int) -> HeightMap:
     """Average non-overlapping ``factor x factor`` blocks (NaN-aware; anti-aliased option).
 
-    Trailing rows/columns that do not fill a whole block are dropped; a block with no valid
-    pixel is NaN. Pixel sizes become ``factor*dx`` and ``factor*dy`` (m).
+    Parameters
+    ----------
+    surface : HeightMap
+        Heights in m.
+    factor : int
+        Block size k >= 1 (pixels per side).
+
+    Returns
+    -------
+    HeightMap
+        ``nx//k x ny//k`` block means (m), pixel sizes ``k*dx`` and ``k*dy`` (m). Trailing
+        rows/columns that do not fill a whole block are dropped; a block with no valid
+        pixel is NaN. Periodic only if the input is and k divides ``nx`` and ``ny``.
     """
     surface = require_height_map(surface, "block_mean")
     k = _check_stride(factor)
@@ -82,9 +93,21 @@ def fourier_resample(surface: HeightMap, factor: int) -> HeightMap:
     """Resample onto ``nx//factor x ny//factor`` points by truncating the Fourier spectrum.
 
     Exact for band-limited periodic maps (every wavelength longer than two new pixels is
-    kept, everything shorter is removed). The map must have no missing pixels; for a
-    non-periodic map the implied periodic continuation adds edge ringing.
-    Pixel sizes become ``lx/(nx//factor)`` and ``ly/(ny//factor)`` (m).
+    kept, everything shorter is removed). For a non-periodic map the implied periodic
+    continuation adds edge ringing.
+
+    Parameters
+    ----------
+    surface : HeightMap
+        Heights in m, no missing pixel.
+    factor : int
+        Reduction k >= 1 of the number of points per axis.
+
+    Returns
+    -------
+    HeightMap
+        Heights in m on ``nx//k x ny//k`` points; pixel sizes ``lx/(nx//k)`` and
+        ``ly/(ny//k)`` (m).
     """
     surface = require_height_map(surface, "fourier_resample")
     k = _check_stride(factor)

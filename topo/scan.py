@@ -126,6 +126,15 @@ def resolution_scan(
     Returns
     -------
     ResolutionScan
+        Per stride: resolution (m), N, eta (1/m^2), R (m), sigma_s (m); the fits
+        ``R = radius_slope * resolution + radius_intercept`` (Fig 12a),
+        ``eta = density_prefactor * resolution**density_exponent`` (Fig 12b) and the mean
+        and relative spread of sigma_s (Fig 12c).
+
+    Raises
+    ------
+    ValueError
+        A LineProfile, or ``max_stride`` that leaves fewer than 3 points per axis.
     """
     surface = require_height_map(surface, "resolution_scan")
     if isinstance(max_stride, bool) or int(max_stride) != max_stride or max_stride < 1:
@@ -171,7 +180,22 @@ def resolution_scan(
 
 
 def write_scan_hdf5(scan: ResolutionScan, path: str | Path, *, source: dict | None = None) -> Path:
-    """Write the scan (arrays as datasets in SI units, fits as root attributes) to HDF5."""
+    """Write the scan to HDF5: arrays as datasets (``units`` attribute), fits as attributes.
+
+    Parameters
+    ----------
+    scan : ResolutionScan
+        The scan (SI units).
+    path : str or Path
+        Output file (overwritten).
+    source : dict, optional
+        Where the map came from (stored as JSON in the ``source`` attribute).
+
+    Returns
+    -------
+    Path
+        The file written.
+    """
     import h5py
 
     path = Path(path)
@@ -196,7 +220,22 @@ def write_scan_hdf5(scan: ResolutionScan, path: str | Path, *, source: dict | No
 
 
 def plot_resolution_scan(scan: ResolutionScan, path: str | Path, *, title: str = "") -> Path:
-    """Save Fig 12(a-c)-style panels (R, eta, sigma_s against resolution) as a 150 dpi PNG."""
+    """Save the paper's Fig 12(a-c) panels (R, eta, sigma_s against resolution), 150 dpi.
+
+    Parameters
+    ----------
+    scan : ResolutionScan
+        The scan; plotted in um (resolution), mm (R, sigma_s) and mm^-2 (eta).
+    path : str or Path
+        Output PNG file.
+    title : str
+        Figure title (e.g. the file name).
+
+    Returns
+    -------
+    Path
+        The file written.
+    """
     import matplotlib
     import matplotlib.ticker
 

@@ -109,6 +109,32 @@ def _summit_mask(h, periodic, eight):
     return mask
 
 
+def _check_analysable(surface: HeightMap, grid: HeightMap, stride: int) -> None:
+    """Refuse a grid on which no pixel can have a neighbour on each side."""
+    source = surface.provenance.get("file", "the map")
+    if grid.nx < 3 or grid.ny < 3:
+        grid_text = (
+            f"has {grid.nx} x {grid.ny} pixels"
+            if grid is surface
+            else f"({surface.nx} x {surface.ny} pixels) decimated by stride {stride} "
+            f"leaves {grid.nx} x {grid.ny} pixels"
+        )
+        raise ValueError(
+            f"summit_statistics: {source} {grid_text}; a summit needs a neighbour on each "
+            "side, so at least 3 x 3 pixels are required"
+        )
+
+
+def _check_not_all_missing(surface: HeightMap, grid: HeightMap, stride: int) -> None:
+    """Refuse a grid without valid pixels (called only when no summit was found)."""
+    source = surface.provenance.get("file", "the map")
+    if grid.n_missing == grid.nx * grid.ny:
+        raise ValueError(
+            f"summit_statistics: every pixel of {source} (stride {stride}) is missing (NaN); "
+            "there is nothing to analyse"
+        )
+
+
 def _check_neighbours(neighbours: int) -> bool:
     if neighbours not in (4, 8):
         raise ValueError(f"neighbours: expected 4 (the paper's rule) or 8, got {neighbours!r}")
@@ -176,15 +202,30 @@ def summit_statistics(
     -------
     SummitStatistics
         ``eta`` in 1/m^2, ``R`` and ``sigma_s`` in m (NaN when there is no summit).
+
+    Raises
+    ------
+    ValueError
+        A LineProfile; an analysed grid smaller than 3 x 3 pixels (e.g. a stride larger
+        than a third of the map) or without any valid pixel; ``neighbours`` not 4 or 8.
+
+    Notes
+    -----
+    Appendix A of the paper: N summits by the 4-nearest-neighbour rule over the sampling
+    area ``A_n`` give ``eta = N/A_n`` (652.1 mm^-2 for the paper's map at 2 um),
+    ``sigma_s = sqrt(<z^2>)`` about the mean summit height (0.032 mm) and
+    ``R = 1/2 <|z_xx|^-1 + |z_yy|^-1>`` by central differences (0.041 mm).
     """
     surface = require_height_map(surface, "summit_statistics")
     eight = _check_neighbours(neighbours)
     grid = decimate(surface, stride)
+    _check_analysable(surface, grid, stride)
     count, mean, m2, radius_sum = _summit_moments(
         grid.heights, grid.dx, grid.dy, grid.periodic, eight
     )
     area = grid.nominal_area
     if count == 0:
+        _check_not_all_missing(surface, grid, stride)
         radius = rms = mean_height = float("nan")
     else:
         radius = radius_sum / count
@@ -205,6 +246,20 @@ def summit_statistics(
 
 
 def summit_mask(surface: HeightMap, *, neighbours: int = 4) -> np.ndarray:
-    """Boolean ``(nx, ny)`` array, True at the summits (same rule as :func:`summit_statistics`)."""
+    """Where the summits are (the rule of :func:`summit_statistics`, paper's Appendix A).
+
+    Parameters
+    ----------
+    surface : HeightMap
+        Heights in m.
+    neighbours : {4, 8}
+        Strictly higher than the 4 (paper) or 8 nearest neighbours.
+
+    Returns
+    -------
+    ndarray of bool, shape (nx, ny)
+        True at the summits; edge pixels of a non-periodic map and pixels next to a
+        missing pixel are False.
+    """
     surface = require_height_map(surface, "summit_mask")
     return _summit_mask(surface.heights, surface.periodic, _check_neighbours(neighbours))

@@ -3,12 +3,15 @@
 The isotropic power spectral density (normalisation as in :mod:`topo.psd`) is
 
     C(q) = C0                                   for q0 <= q < q_r   (plateau)
-    C(q) = C0 (q / q_r)^(-2(1 + H))             for q_r <= q <= q_s (self-affine)
+    C(q) = C0 (q / q_r)^(-2(1 + H))             for q_r <= q <= q_s (power law)
     C(q) = 0                                    for q > q_s or q = 0
 
-with ``q_r = 2 pi / rolloff_wavelength``, ``q_s = 2 pi / short_cutoff`` and Hurst exponent
-H. Fourier amplitudes are ``sqrt(C)`` times complex Gaussian noise from
-``numpy.random.default_rng(seed)``; the map is scaled to the requested rms height exactly.
+with ``q_r = 2 pi / rolloff_wavelength``, ``q_s = 2 pi / short_cutoff`` and exponent H:
+the Hurst exponent of a self-affine surface for 0 < H <= 1; 1 < H <= 2 gives a spectrum
+steeper than q^-4 (a surface smooth at small scales), which :func:`paper_like` uses to
+come close to the paper's measured statistics (Appendix A, Fig 12). Fourier amplitudes
+are ``sqrt(C)`` times complex Gaussian noise from ``numpy.random.default_rng(seed)``; the
+map is scaled to the requested rms height exactly.
 The roll-off, cut-off and rms height are physical (m), so they do not change with the
 number of pixels.
 """
@@ -23,6 +26,19 @@ import scipy.fft
 from topo.heightmap import HeightMap
 
 _ROWS_PER_BLOCK = 256
+
+#: Largest accepted ``hurst``: 0 < H <= 1 is self-affine; 1 < H <= 2 gives a smooth
+#: surface whose spectrum is steeper than q^-4 (used by :func:`paper_like`).
+MAX_HURST = 2.0
+
+
+#: The ``paper_like`` recipe (SI units); see :func:`paper_like` for how it compares.
+PAPER_LIKE = {
+    "hurst": 1.36,
+    "rms_height": 50e-6,
+    "rolloff_wavelength": 600e-6,
+    "short_cutoff": 4e-6,
+}
 
 
 def self_affine(
@@ -50,7 +66,10 @@ def self_affine(
         Wavelength (m) below which the spectrum follows the power law; longer wavelengths
         form the plateau.
     hurst : float
-        Hurst exponent H, 0 < H <= 1 (PSD ~ q^(-2(1+H))).
+        Spectral exponent H of ``C(q) ~ q^(-2(1+H))`` between roll-off and cut-off,
+        0 < H <= 2. For 0 < H <= 1 it is the Hurst exponent of a self-affine surface; for
+        1 < H <= 2 the spectrum falls faster than q^-4 and the surface is smooth (once
+        differentiable) at small scales, no longer self-affine in the strict sense.
     short_cutoff : float, optional
         Shortest wavelength kept (m); default: none (up to the Nyquist wavelength 2 dx).
     seed : int
@@ -74,8 +93,8 @@ def self_affine(
     ):
         if not (math.isfinite(value) and value > 0):
             raise ValueError(f"self_affine: {name} must be a finite value > 0 m, got {value!r}")
-    if not 0 < hurst <= 1:
-        raise ValueError(f"self_affine: hurst must be in (0, 1], got {hurst!r}")
+    if not 0 < hurst <= MAX_HURST:
+        raise ValueError(f"self_affine: hurst must be in (0, {MAX_HURST:g}], got {hurst!r}")
     if short_cutoff is not None and not short_cutoff > 0:
         raise ValueError(f"self_affine: short_cutoff must be > 0 m, got {short_cutoff!r}")
     q_r = 2 * math.pi / rolloff_wavelength
@@ -117,24 +136,65 @@ def paper_like(
     n: int = 5000,
     pixel_size: float = 2e-6,
     seed: int = 0,
-    hurst: float = 0.8,
-    rms_height: float = 50e-6,
-    rolloff_wavelength: float = 600e-6,
-    short_cutoff: float | None = 20e-6,
+    hurst: float = PAPER_LIKE["hurst"],
+    rms_height: float = PAPER_LIKE["rms_height"],
+    rolloff_wavelength: float = PAPER_LIKE["rolloff_wavelength"],
+    short_cutoff: float | None = PAPER_LIKE["short_cutoff"],
 ) -> HeightMap:
-    """A surface like the one of the paper (Section 5, Appendix A): 10 mm square at 2 um.
+    """A surface like the measured one of the paper (Section 5, Appendix A, Fig 12).
 
-    Defaults: 5000 x 5000 pixels of 2 um (10 mm x 10 mm), roll-off wavelength 600 um, rms
-    height 50 um (the paper: rms/sqrt(2) ~ 36 um), Hurst exponent 0.8 and a short cut-off
-    of 20 um, chosen so that at 2 um resolution the 4-neighbour asperity density is close
-    to the paper's 652 mm^-2 (about 630 mm^-2 for seed 0). Roll-off, rms and
-    cut-off are in metres and do not depend on ``n``: a smaller ``n`` (or larger
-    ``pixel_size``) gives a smaller (or coarser) patch of the same kind of surface.
+    The recipe is :func:`self_affine` with a plateau below the roll-off wavelength 600 um
+    (Section 5), rms height 50 um (Section 5: rms/sqrt(2) ~ 36 um), a power law of
+    exponent ``H = 1.36`` (``C ~ q^-4.72``) down to a short cut-off of 4 um, seeded by
+    ``numpy.random.default_rng(seed)``. Defaults: 5000 x 5000 pixels of 2 um (10 mm x 10 mm).
+
+    ``H`` and the cut-off were tuned (seeds 0 and 1, 5 mm and 10 mm patches) so that the
+    Appendix A statistics at 2 um match the paper's asperity density and the resolution
+    scan of Fig 12(b) its exponent. What it gives, against the paper (n = 5000, strides
+    1..130 for the fits):
+
+    =======================  ======================  ===========================
+    quantity                 paper                   ``paper_like()`` (seed 0/1)
+    =======================  ======================  ===========================
+    eta at 2 um              652.1 mm^-2             672 / 668 mm^-2
+    R at 2 um                0.041 mm                0.0164 / 0.0170 mm
+    sigma_s at 2 um          0.032 mm                0.050 / 0.051 mm
+    eta ~ resolution^x       x = -1.12               x = -1.15 / -1.17
+    dR/d(resolution)         about 4.4               2.6 / 2.6
+    eta, R at 260 um         2.25 mm^-2, 1.18 mm     2.36 mm^-2, 0.75 mm (seed 0)
+    sigma_s at 260 um        0.042 mm                0.033 mm (seed 0)
+    =======================  ======================  ===========================
+
+    A Gaussian random surface with this rms and roll-off cannot match eta, R and sigma_s
+    together: its slopes (rms gradient about 0.7) force summits spaced like the paper's
+    to have radii of about 20 um at most, and its summits are as spread as its heights
+    (sigma_s near the rms). A self-affine spectrum (H <= 1) is worse: matching eta there gives
+    R of 9-12 um and an eta exponent of -1.4 to -1.5. See ``docs/topo.md``.
+
+    Roll-off, rms and cut-off are in metres and do not depend on ``n``: a smaller ``n``
+    (or a larger ``pixel_size``) gives a smaller (or coarser) patch of the same surface.
+
+    Parameters
+    ----------
+    n : int
+        Pixels per side.
+    pixel_size : float
+        dx = dy (m).
+    seed : int
+        Seed of the random phases and amplitudes.
+    hurst : float
+        Spectral exponent H (see :func:`self_affine`).
+    rms_height : float
+        Rms height (m).
+    rolloff_wavelength : float
+        Roll-off wavelength (m).
+    short_cutoff : float or None
+        Shortest wavelength (m); None keeps everything up to the Nyquist wavelength.
 
     Returns
     -------
     HeightMap
-        Periodic, heights in m.
+        Periodic, heights in m, zero mean.
     """
     surface = self_affine(
         n,

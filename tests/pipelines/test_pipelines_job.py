@@ -71,6 +71,13 @@ def test_physics_of_the_outputs(small_run):
     for name in ("tangential_force", "normal_force", "real_area"):
         np.testing.assert_allclose(fr.curves[name + "_stick"] + fr.curves[name + "_slip"],
                                    fr.curves[name], rtol=1e-9, atol=1e-12)
+    # at full sliding every junction carries tau0 times its area (E:Hertz_theory): the curve
+    # ends on the constant-shear-strength line of Fig 13, at the sliding friction
+    tau0 = result.config.material.shear_strength
+    np.testing.assert_allclose(fr.curves["tangential_force"][:, -1],
+                               tau0 * fr.curves["real_area"][:, -1], rtol=1e-5)
+    np.testing.assert_allclose(fr.scalars["sliding_friction"],
+                               fr.curves["tangential_force"][:, -1], rtol=1e-5)
     # the effective resolution is the least misfit one
     assert res.index == int(np.nanargmin(res.misfit_bem))
 

@@ -1,6 +1,7 @@
 """The ``asperity friction`` / ``asperity figures`` command-line contract."""
 
 import json
+import warnings
 from pathlib import Path
 
 import h5py
@@ -23,8 +24,15 @@ def test_friction_json_contract(capsys):
     status, out, _ = run(capsys, "friction", str(EXAMPLE), "--json")
     assert status == 0
     data = json.loads(out)
-    arrays = ["tangential_displacement", "tangential_force", "normal_force", "real_area",
-              "n_contact", "n_stick", "n_slip"]
+    arrays = [
+        "tangential_displacement",
+        "tangential_force",
+        "normal_force",
+        "real_area",
+        "n_contact",
+        "n_stick",
+        "n_slip",
+    ]
     scalars = ["tabor_parameter", "separation_preload", "static_friction", "sliding_friction"]
     for key in arrays:
         assert len(data[key]) == 281, key
@@ -34,8 +42,13 @@ def test_friction_json_contract(capsys):
     assert data["tangential_displacement"][-1] == pytest.approx(14e-6)
     np.testing.assert_allclose(data["normal_force"], 3.1, rtol=1e-9)
     # the numbers are those of the Python API
-    c = shear_curve(Material(2.133e6, 0.040, 0.2, 0.13e6), Roughness(652.1e6, 0.041e-3, 0.032e-3),
-                    700e-6, 3.1, np.linspace(0, 14e-6, 281))
+    c = shear_curve(
+        Material(2.133e6, 0.040, 0.2, 0.13e6),
+        Roughness(652.1e6, 0.041e-3, 0.032e-3),
+        700e-6,
+        3.1,
+        np.linspace(0, 14e-6, 281),
+    )
     assert data["static_friction"] == c.static_friction
     assert data["sliding_friction"] == c.sliding_friction
     assert data["tabor_parameter"] == pytest.approx(1217, rel=1e-3)
@@ -69,7 +82,24 @@ def _write(tmp_path, text):
         ("summit_radius = 0.041e-3    # R, m\n", "", "summit_radius"),
         ("mode_mixity = 0.2", "mode_mixity = 1.2", "mode_mixity"),
         ("steps = 281", "steps = 2.5", "steps"),
-        ("nominal_area = 700e-6", "nominal_area = 1e-12", "nominal_area"),
+        ("nominal_area = 700e-6", "nominal_area = 1e-12", "[loading] nominal_area"),
+        ("steps = 281", "steps = 0", "[loading] steps"),
+        ("steps = 281", "steps = true", "[loading] steps"),
+        ("E_star = 2.133e6", 'E_star = "2.133e6"', "[material] E_star"),
+        ("E_star = 2.133e6", "E_star = [2.133e6]", "[material] E_star"),
+        ("work_of_adhesion = 0.040", "work_of_adhesion = -0.040", "[material] work_of_adhesion"),
+        ("shear_strength = 0.13e6", "shear_strength = -1.0", "[material] shear_strength"),
+        ("equilibrium_distance = 0.2e-9", "equilibrium_distance = 0.0", "equilibrium_distance"),
+        ("asperity_density = 652.1e6", "asperity_density = 0", "[roughness] asperity_density"),
+        ("summit_radius = 0.041e-3", "summit_radius = -0.041e-3", "[roughness] summit_radius"),
+        ("summit_height_rms = 0.032e-3", "summit_height_rms = nan", "summit_height_rms"),
+        (
+            "max_tangential_displacement = 14e-6",
+            "max_tangential_displacement = -1e-6",
+            "[loading] max_tangential_displacement",
+        ),
+        ("normal_load = 3.1           # N\n", "", "[loading] missing key 'normal_load'"),
+        ("[loading]", "[load]", "'load'"),
         ("normal_load = 3.1", "normal_load = -1.0", "pull-off force"),
         ("normal_load = 3.1", 'normal_load = "3.1"', "normal_load"),
     ],
@@ -131,11 +161,40 @@ def test_figures_command_writes_pngs_and_data(tmp_path, capsys):
     status, out, _ = run(capsys, "figures", "--out", str(tmp_path))
     assert status == 0
     pngs = sorted(p.name for p in tmp_path.glob("*.png"))
-    assert pngs == ["fig1_pc_single_asperity.png", "fig2_status_map.png",
-                    "fig4_shear_curve.png", "fig5_parameter_study.png"]
+    assert pngs == [
+        "fig1_pc_single_asperity.png",
+        "fig2_status_map.png",
+        "fig4_shear_curve.png",
+        "fig5_parameter_study.png",
+    ]
     with h5py.File(tmp_path / "statmodel_figures.h5") as fh:
         assert {"fig1", "fig2", "fig4", "fig5"} <= set(fh)
         names = []
         fh.visititems(lambda n, o: names.append(n) if isinstance(o, h5py.Dataset) else None)
         assert all("units" in fh[n].attrs for n in names)
         np.testing.assert_allclose(fh["fig4/normal_force"][()], 3.1, rtol=1e-9)
+
+
+def test_friction_single_step_is_the_preload_state(tmp_path, capsys):
+    p = _write(tmp_path, EXAMPLE.read_text().replace("steps = 281", "steps = 1"))
+    status, out, _ = run(capsys, "friction", str(p), "--json")
+    assert status == 0
+    data = json.loads(out)
+    assert data["tangential_displacement"] == [0.0]
+    assert data["tangential_force"] == [0.0]
+    assert len(data["real_area"]) == len(data["n_stick"]) == 1
+    assert data["normal_force"][0] == pytest.approx(3.1, rel=1e-9)
+
+
+def test_friction_warns_on_stderr_when_tabor_is_below_5(tmp_path, capsys):
+    # E* 1e4 times stiffer: mu = 1217 / 1e4^(2/3) = 2.6 < 5; the warning reaches stderr even
+    # when the user's warning filters would silence it
+    p = _write(tmp_path, EXAMPLE.read_text().replace("E_star = 2.133e6", "E_star = 2.133e10"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        status, out, err = run(capsys, "friction", str(p), "--json")
+    assert status == 0
+    assert "asperity friction: warning: Tabor parameter mu = 2.62 < 5" in err
+    assert json.loads(out)["tabor_parameter"] == pytest.approx(2.62, rel=1e-2)
+    status, _, err = run(capsys, "friction", str(EXAMPLE), "--json")
+    assert status == 0 and "warning" not in err

@@ -76,8 +76,9 @@ def test_load_conservation_at_every_step(curve):
     assert curve.converged, curve.message
     np.testing.assert_allclose(curve.normal_force, LOAD, rtol=1e-9)
     # stick and slip parts add up, and both populations really share the load when sliding
-    np.testing.assert_allclose(curve.normal_force_stick + curve.normal_force_slip,
-                               curve.normal_force, rtol=1e-15)
+    np.testing.assert_allclose(
+        curve.normal_force_stick + curve.normal_force_slip, curve.normal_force, rtol=1e-15
+    )
     mid = 110
     assert curve.normal_force_stick[mid] > 0.1 * LOAD and curve.normal_force_slip[mid] > 0.1 * LOAD
     np.testing.assert_allclose(curve.n_stick + curve.n_slip, curve.n_contact, rtol=1e-15)
@@ -95,8 +96,9 @@ def test_against_the_converged_reference(curve, reference_path):
         assert curve.n_stick[i] == pytest.approx(s.n_stick, rel=1e-6, abs=1e-9)
         if i:
             assert curve.tangential_force[i] == pytest.approx(s.tangential_force, rel=1e-6)
-            assert curve.tangential_force_slip[i] == pytest.approx(s.tangential_force_slip,
-                                                                   rel=1e-6, abs=1e-15)
+            assert curve.tangential_force_slip[i] == pytest.approx(
+                s.tangential_force_slip, rel=1e-6, abs=1e-15
+            )
 
 
 def test_convergence_under_refinement(reference_path):
@@ -114,8 +116,9 @@ def test_sliding_friction_is_the_hertz_only_closed_form(curve):
     # the all-sliding limit: F_x at large delta_T -> tau0 * A_GW(d_s)
     assert curve.n_stick[-1] < 1e-30
     assert curve.tangential_force[-1] == pytest.approx(curve.sliding_friction, rel=1e-9)
-    assert curve.real_area[-1] * MAT.shear_strength == pytest.approx(curve.sliding_friction,
-                                                                     rel=1e-9)
+    assert curve.real_area[-1] * MAT.shear_strength == pytest.approx(
+        curve.sliding_friction, rel=1e-9
+    )
     assert curve.separation[-1] == pytest.approx(curve.sliding_separation, rel=1e-9)
     # static friction peak above the sliding friction (Fig. 4d)
     assert curve.static_friction == np.max(curve.tangential_force)
@@ -211,8 +214,12 @@ def test_tabor_warning_below_five():
     ],
 )
 def test_default_accuracy_across_the_fig5_parameter_range(changes, load):
-    base = {"e_star": 2.133e6, "work_of_adhesion": 0.040, "mode_mixity": 0.2,
-            "shear_strength": 0.13e6}
+    base = {
+        "e_star": 2.133e6,
+        "work_of_adhesion": 0.040,
+        "mode_mixity": 0.2,
+        "shear_strength": 0.13e6,
+    }
     mat = Material(**{**base, **changes})
     dts = np.linspace(0.0, 20e-6, 9)
     c = shear_curve(mat, ROUGH, AREA, load, dts)
@@ -228,10 +235,15 @@ def test_default_accuracy_across_the_fig5_parameter_range(changes, load):
 @pytest.mark.parametrize("seed", range(8))
 def test_default_accuracy_on_random_parameters(seed):
     rng = np.random.default_rng(seed)
-    mat = Material(10 ** rng.uniform(5.5, 7), 10 ** rng.uniform(-2.5, -0.7), rng.uniform(0, 1),
-                   10 ** rng.uniform(4.5, 6.5))
-    rough = Roughness(10 ** rng.uniform(6, 9), 10 ** rng.uniform(-5.5, -3),
-                      10 ** rng.uniform(-6.5, -4.5))
+    mat = Material(
+        10 ** rng.uniform(5.5, 7),
+        10 ** rng.uniform(-2.5, -0.7),
+        rng.uniform(0, 1),
+        10 ** rng.uniform(4.5, 6.5),
+    )
+    rough = Roughness(
+        10 ** rng.uniform(6, 9), 10 ** rng.uniform(-5.5, -3), 10 ** rng.uniform(-6.5, -4.5)
+    )
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", TaborWarning)
         probe = shear_curve(mat, rough, 1e-4, 1.0, [0.0, 1e-9])

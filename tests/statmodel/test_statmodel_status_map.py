@@ -30,7 +30,8 @@ def test_boundary_starts_at_the_dimensionless_jkr_jump_off():
     assert JUMP_OFF_DIMENSIONLESS == pytest.approx(-0.75 * math.pi ** (2 / 3))
     for lam in (0.0, 0.0023, 0.5, 1.0):
         assert dimensionless_unstable_boundary(0.0, lam) == pytest.approx(
-            -0.75 * math.pi ** (2 / 3), rel=1e-14)
+            -0.75 * math.pi ** (2 / 3), rel=1e-14
+        )
 
 
 @pytest.mark.parametrize("lam", [0.0023, 0.2, 1.0])
@@ -39,8 +40,9 @@ def test_boundary_matches_its_parametric_closed_form(lam):
     a = np.linspace((math.pi / 8) ** (1 / 3), 5.0, 60)
     dt = np.sqrt((2 * np.pi * a - np.pi**2 / (4 * a**2)).clip(0) / lam)
     np.testing.assert_allclose(dimensionless_fold_radius(dt, lam), a, rtol=1e-12)
-    np.testing.assert_allclose(dimensionless_unstable_boundary(dt, lam), a**2 - np.pi / (2 * a),
-                               rtol=1e-11, atol=1e-12)
+    np.testing.assert_allclose(
+        dimensionless_unstable_boundary(dt, lam), a**2 - np.pi / (2 * a), rtol=1e-11, atol=1e-12
+    )
 
 
 @pytest.mark.parametrize("lam", [0.0023, 0.2, 1.0])
@@ -58,8 +60,9 @@ def test_dimensionless_boundary_equals_the_dimensional_law():
     dts = np.linspace(0.0, 2e-3, 30)
     d_min = pc_min_indentation(dts, R, W, E, lam)
     d_t, dt_t = to_dimensionless(d_min, dts, R, W, E)
-    np.testing.assert_allclose(dimensionless_unstable_boundary(dt_t, lam), d_t, rtol=1e-11,
-                               atol=1e-12)
+    np.testing.assert_allclose(
+        dimensionless_unstable_boundary(dt_t, lam), d_t, rtol=1e-11, atol=1e-12
+    )
     back = from_dimensionless(d_t, dt_t, R, W, E)
     np.testing.assert_allclose(back[0], d_min, rtol=1e-14)
     np.testing.assert_allclose(back[1], dts, rtol=1e-14, atol=1e-30)
@@ -83,9 +86,11 @@ def test_status_regions():
 
 
 @settings(max_examples=300, deadline=None)
-@given(delta_tilde=st.floats(min_value=-3.0, max_value=8.0),
-       dt_tilde=st.floats(min_value=0.0, max_value=80.0),
-       lam=st.floats(min_value=0.0, max_value=1.0))
+@given(
+    delta_tilde=st.floats(min_value=-3.0, max_value=8.0),
+    dt_tilde=st.floats(min_value=0.0, max_value=80.0),
+    lam=st.floats(min_value=0.0, max_value=1.0),
+)
 def test_property_status_agrees_with_the_dimensional_pc_solver(delta_tilde, dt_tilde, lam):
     delta, dt = from_dimensionless(delta_tilde, dt_tilde, R, W, E)
     a = pc_contact_radius(delta, dt, R, W, E, lam)
@@ -103,6 +108,7 @@ def test_scalar_and_array_inputs_broadcast():
     assert a.shape == (2, 3)
     for i in range(2):
         for j in range(3):
-            np.testing.assert_equal(pc_contact_radius(d[i, j], [0.0, 1e-5, 2e-5][j], R, W, E,
-                                                      0.2), a[i, j])
+            np.testing.assert_equal(
+                pc_contact_radius(d[i, j], [0.0, 1e-5, 2e-5][j], R, W, E, 0.2), a[i, j]
+            )
     assert np.ndim(pc_contact_radius(1e-5, 1e-5, R, W, E, 0.2)) == 0

@@ -136,6 +136,8 @@ def write_x3p(
     dy: float,
     z_increment: float = 1.0,
     declared_nx: int | None = None,
+    revision: str = "ISO5436 - 2000",
+    inline: bool = False,
 ) -> None:
     nx, ny = raw.shape
     declared_nx = nx if declared_nx is None else declared_nx
@@ -146,21 +148,35 @@ def write_x3p(
     if valid is not None:
         files["bindata/valid.bin"] = np.packbits(valid.T.ravel(), bitorder="little").tobytes()
         valid_link = "<ValidPointsLink>bindata/valid.bin</ValidPointsLink>"
+    data = f"""<DataLink><PointDataLink>bindata/data.bin</PointDataLink>
+<MD5ChecksumPointData>{hashlib.md5(point_bytes).hexdigest().upper()}</MD5ChecksumPointData>
+{valid_link}</DataLink>"""
+    if inline:  # XML encoding: one Datum per point, x fastest, empty = invalid
+        files = {}
+        data = (
+            "<DataList>"
+            + "".join(
+                "<Datum/>" if np.isnan(value) else f"<Datum>{float(value)!r}</Datum>"
+                for value in raw.T.ravel()
+            )
+            + "</DataList>"
+        )
     xml = f"""<?xml version="1.0" encoding="UTF-8"?>
 <p:ISO5436_2 xmlns:p="http://www.opengps.eu/2008/ISO5436_2">
-<Record1><Revision>ISO5436 - 2000</Revision><FeatureType>SUR</FeatureType><Axes>
+<Record1><Revision>{revision}</Revision><FeatureType>SUR</FeatureType><Axes>
 <CX><AxisType>I</AxisType><DataType>D</DataType><Increment>{dx!r}</Increment></CX>
 <CY><AxisType>I</AxisType><DataType>D</DataType><Increment>{dy!r}</Increment></CY>
 <CZ><AxisType>A</AxisType><DataType>{dtype_code}</DataType><Increment>{z_increment!r}</Increment>
 <Offset>0.0</Offset></CZ></Axes></Record1>
 <Record3><MatrixDimension><SizeX>{declared_nx}</SizeX><SizeY>{ny}</SizeY><SizeZ>1</SizeZ></MatrixDimension>
-<DataLink><PointDataLink>bindata/data.bin</PointDataLink>
-<MD5ChecksumPointData>{hashlib.md5(point_bytes).hexdigest().upper()}</MD5ChecksumPointData>
-{valid_link}</DataLink></Record3></p:ISO5436_2>"""
+{data}</Record3></p:ISO5436_2>"""
     with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as archive:
         archive.writestr("main.xml", xml)
         for name, data in files.items():
             archive.writestr(name, data)
+
+
+AMENDED = "ISO25178-72:2017/DAM1"  # the Revision text of ISO 25178-72:2017/Amd 1:2020
 
 
 def test_x3p_amended_revision_with_mask_and_integer_data(tmp_path):
@@ -168,14 +184,30 @@ def test_x3p_amended_revision_with_mask_and_integer_data(tmp_path):
     valid = np.ones((7, 5), dtype=bool)
     valid[1, 4] = False
     path = tmp_path / "map.x3p"
-    write_x3p(path, raw, "I", valid, 1e-6, 3e-6, z_increment=1e-9)
+    write_x3p(path, raw, "I", valid, 1e-6, 3e-6, z_increment=1e-9, revision=AMENDED)
     surface = topo.read_surface(path)
+    assert surface.provenance["revision"] == AMENDED
     expected = raw * 1e-9
     expected[1, 4] = np.nan
     np.testing.assert_allclose(surface.heights, expected)
     assert (surface.dx, surface.dy) == pytest.approx((1e-6, 3e-6))
     with pytest.raises(TopographyFileError, match="cut_map.x3p"):
         topo.read_surface(truncate(path, 0.8))
+
+
+@pytest.mark.parametrize("revision", ["ISO5436 - 2000", AMENDED])
+def test_x3p_inline_xml_point_data(tmp_path, revision):
+    heights = HEIGHTS.copy()
+    heights[4, 2] = np.nan
+    path = tmp_path / "inline.x3p"
+    write_x3p(path, heights, "D", None, 2e-6, 3e-6, revision=revision, inline=True)
+    surface = topo.read_surface(path)
+    np.testing.assert_array_equal(surface.heights, heights)
+    assert (surface.dx, surface.dy) == (2e-6, 3e-6) and surface.provenance["revision"] == revision
+    short = tmp_path / "short.x3p"
+    write_x3p(short, heights[:6], "D", None, 2e-6, 3e-6, declared_nx=7, inline=True)
+    with pytest.raises(TopographyFileError, match=r"short\.x3p: Record3/DataList: has 30 Datum"):
+        topo.read_surface(short)
 
 
 def test_x3p_nan_points_and_wrong_size(tmp_path):

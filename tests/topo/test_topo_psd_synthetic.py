@@ -84,7 +84,29 @@ def test_paper_like_keeps_physical_parameters_independent_of_n():
     assert small.provenance["rolloff_wavelength"] == 600e-6
     assert topo.rolloff_wavelength(small) == pytest.approx(600e-6, rel=0.35)
     with pytest.raises(ValueError, match="hurst"):
-        topo.synthetic.self_affine(16, 1e-6, rms_height=1e-6, rolloff_wavelength=1e-5, hurst=1.5)
+        topo.synthetic.self_affine(16, 1e-6, rms_height=1e-6, rolloff_wavelength=1e-5, hurst=2.5)
+    # the same physical surface on a finer grid: same roll-off and rms, cut-off 4 um kept
+    fine = topo.synthetic.paper_like(n=256, pixel_size=1e-6, seed=0)
+    assert fine.provenance["short_cutoff"] == 4e-6 and fine.lx == pytest.approx(256e-6)
+
+
+def test_paper_like_reproduces_the_papers_density_and_its_scan_exponent():
+    """Appendix A at 2 um and Fig 12(b) on a 5 mm patch of the preset (seed 0).
+
+    Paper: eta = 652.1 mm^-2, R = 0.041 mm, eta ~ resolution^-1.12, R linear. The preset
+    matches eta and the exponent; R is within a factor 2.6 (the best a Gaussian surface of
+    rms 50 um and roll-off 600 um allows, see topo.synthetic.paper_like).
+    """
+    surface = topo.synthetic.paper_like(n=2500, seed=0)
+    stats = topo.summit_statistics(surface)
+    assert stats.asperity_density == pytest.approx(652.1e6, rel=0.1)
+    assert 14e-6 < stats.summit_radius < 41e-6
+    assert stats.summit_height_rms == pytest.approx(50e-6, rel=0.1)
+    scan = topo.resolution_scan(surface, 130)
+    assert scan.density_exponent == pytest.approx(-1.12, abs=0.15)
+    fitted = scan.radius_slope * scan.resolution + scan.radius_intercept
+    assert np.max(np.abs(fitted - scan.summit_radius)) < 0.25 * scan.summit_radius.max()
+    assert scan.radius_slope > 2 and scan.height_rms_relative_spread < 0.2
 
 
 def test_rms_slope_and_curvature_skip_missing_pixels_on_open_maps():

@@ -139,6 +139,10 @@ def test_kernel_matches_numpy_reference_and_symmetries(h):
     np.testing.assert_array_equal(
         mask, reference_summits(h) if min(h.shape) >= 3 else np.zeros_like(mask)
     )
+    if min(h.shape) < 3 or np.isnan(h).all():
+        with pytest.raises(ValueError, match="3 x 3 pixels|every pixel"):
+            topo.summit_statistics(surface)
+        return
     stats = topo.summit_statistics(surface)
     assert stats.n_summits == mask.sum()
     if min(h.shape) >= 3:  # periodic: compare with np.roll in the four directions

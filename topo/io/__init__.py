@@ -71,7 +71,20 @@ def _looks_like_text(head: bytes) -> bool:
 
 
 def detect_format(path: str | Path) -> str | None:
-    """Format named by the first bytes of the file (magic numbers), or None if unknown."""
+    """The format named by the first bytes of a file (magic numbers).
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+
+    Returns
+    -------
+    str or None
+        ``"x3p"``, ``"sur"``, ``"metropro"``, ``"hdf5"``, ``"gwy"``, ``"nanoscope"``,
+        ``"picoview"``, ``"npy"``, ``"npz"``, ``"opd"``, ``"text"``, ``"zip"`` (another
+        archive), or None if unknown.
+    """
     with open(path, "rb") as handle:
         head = handle.read(4096)
     if head.startswith(b"DIGITAL SURF"):
@@ -144,7 +157,8 @@ def read_surface(
         Channel of a multi-channel file (Nanoscope, PicoView, Gwyddion): index or name.
         Default: the height channel.
     pixel_size : float or (float, float), optional
-        Pixel size in m for formats that do not carry one (.npy, .npz, text matrix).
+        Pixel size ``dx`` or ``(dx, dy)`` in m (finite, > 0) for formats that do not carry
+        one (.npy, .npz, text matrix); refused for files with their own calibration.
 
     Returns
     -------
@@ -153,7 +167,11 @@ def read_surface(
     Raises
     ------
     TopographyFileError (ValueError)
-        Unknown, truncated, corrupt or mislabelled files.
+        Unknown, truncated, corrupt or mislabelled files (the message names the file, the
+        field and what was expected).
+    ValueError
+        A missing, invalid or superfluous ``pixel_size``; a ``channel`` that does not exist
+        (the message lists the channels) or given for a single-channel format.
     FileNotFoundError
         If ``path`` does not exist.
     """
@@ -186,6 +204,11 @@ def read_surface(
         raise ValueError(
             f"{path}: channel {channel!r} given, but a {detected} file has a single channel"
         )
+    if pixel_size is not None and detected not in ("text", "npy", "npz"):
+        raise ValueError(
+            f"{path}: pixel_size {pixel_size!r} given, but the {detected} format carries its "
+            "own calibrated pixel size; leave pixel_size (--pixel-size) out"
+        )
     if detected == "x3p":
         return read_x3p(path)
     if detected == "sur":
@@ -209,5 +232,10 @@ def read_surface(
     with open(path, "rb") as handle:
         head = handle.read(8192)
     if looks_like_dektak(head):
+        if pixel_size is not None:
+            raise ValueError(
+                f"{path}: pixel_size {pixel_size!r} given, but a Dektak CSV file carries its "
+                "own lateral positions; leave pixel_size (--pixel-size) out"
+            )
         return read_dektak(path)
     return read_text(path, pixel_size=pixel_size)

@@ -5,6 +5,8 @@ from __future__ import annotations
 import struct
 from pathlib import Path
 
+import numpy as np
+
 from topo.errors import TopographyFileError, check_size
 
 
@@ -38,3 +40,46 @@ def require_positive(path: str | Path, field: str, value: float, unit: str = "")
     """Refuse a size or count that is not a finite number > 0."""
     if not (value > 0 and value < float("inf")):
         raise TopographyFileError(path, field, f"is {value!r}{unit}; expected a finite value > 0")
+
+
+def caller_pixel_size(
+    path: str | Path, pixel_size: float | tuple[float, float] | None
+) -> tuple[float, float] | None:
+    """Validate a pixel size given by the caller for a file that carries none.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file being read (named in the message).
+    pixel_size : float or (float, float) or None
+        ``dx`` (square pixels) or ``(dx, dy)``, in m.
+
+    Returns
+    -------
+    (float, float) or None
+        ``(dx, dy)`` in m, or None when ``pixel_size`` is None.
+
+    Raises
+    ------
+    ValueError
+        Not one or two finite lengths > 0 m.
+    """
+    if pixel_size is None:
+        return None
+    values = (pixel_size, pixel_size) if np.ndim(pixel_size) == 0 else tuple(pixel_size)  # type: ignore[arg-type]
+    if len(values) != 2:
+        raise ValueError(
+            f"{path}: pixel_size: is {pixel_size!r}; expected dx or (dx, dy), in metres"
+        )
+    sizes = []
+    for name, value in zip(("dx", "dy"), values, strict=True):
+        try:
+            size = float(value)
+        except (TypeError, ValueError):
+            size = float("nan")
+        if not (size > 0 and size < float("inf")):
+            raise ValueError(
+                f"{path}: pixel_size {name}: is {value!r}; expected a finite length > 0 m"
+            )
+        sizes.append(size)
+    return sizes[0], sizes[1]

@@ -76,6 +76,18 @@ def _converter_step(path: Path, attrs: h5py.AttributeManager, name: str) -> floa
 def read_datx(path: str | Path, handle: h5py.File) -> HeightMap:
     """Read the surface of an open Zygo DATX file; heights and pixel sizes in m.
 
+    Parameters
+    ----------
+    path : str or Path
+        The ``.datx`` file (for messages and provenance).
+    handle : h5py.File
+        The file, open for reading.
+
+    Returns
+    -------
+    HeightMap
+        Heights in m (``No Data`` and non-finite values NaN), pixel sizes in m.
+
     Raises
     ------
     TopographyFileError

@@ -3,8 +3,9 @@
 Facts (from the sample files): a ``Scan Parameters`` block with ``Length,<value> <unit>`` and
 ``Resolution,<value> <unit>/sample``, an ``Analytical Results`` block, then ``Scan Data``
 followed by a column header such as ``Lateral um,Raw Micrometer,`` and one
-``lateral,height,,`` line per sample. The lateral positions must be uniform; the last
-position must reach the declared ``Length`` (so a truncated file is refused).
+``lateral,height,,`` line per sample. The lateral positions must be uniform (each within
+half a step of ``x0 + i dx``, since they are printed rounded); the last position must reach
+the declared ``Length`` (so a truncated file is refused).
 """
 
 from __future__ import annotations
@@ -37,6 +38,16 @@ def _column_unit(path: Path, label: str, field: str) -> float:
 
 def read_dektak(path: str | Path) -> LineProfile:
     """Read a Dektak CSV line scan; heights and sampling distance in m.
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV file (units from its column headers, e.g. ``Lateral um``).
+
+    Returns
+    -------
+    LineProfile
+        Heights in m (empty height fields are NaN), ``dx`` in m (least-squares step).
 
     Raises
     ------
@@ -85,10 +96,21 @@ def read_dektak(path: str | Path) -> LineProfile:
     z = np.asarray(heights) * height_factor
     if x.size < 2:
         raise TopographyFileError(path, "Scan Data", f"has {x.size} samples; expected at least 2")
-    steps = np.diff(x)
-    dx = (x[-1] - x[0]) / (x.size - 1)
-    if dx <= 0 or np.max(np.abs(steps - dx)) > 0.51 * dx:
-        raise TopographyFileError(path, "lateral column", "is not uniformly increasing")
+    # The positions are printed rounded (e.g. to 0.1 um for 0.156 um steps): dx and x0 are
+    # the least-squares line through them, and every sample must lie within half a step
+    # of that uniform grid, with increasing positions.
+    index = np.arange(x.size)
+    dx, x0 = np.polyfit(index, x, 1)
+    offset = np.abs(x - (x0 + dx * index))
+    if dx <= 0 or np.any(np.diff(x) <= 0) or offset.max() > 0.51 * dx:
+        worst = int(np.argmax(offset))
+        raise TopographyFileError(
+            path,
+            "lateral column",
+            f"is not a uniform, increasing grid: sample {worst + 1} is at {x[worst]:.6g} m, "
+            f"{offset[worst] / abs(dx):.2f} steps from the best uniform grid (step "
+            f"{dx:.6g} m); expected every sample within half a step of it",
+        )
     if declared_length is not None and x[-1] - x[0] < declared_length - 2.5 * dx:
         raise TopographyFileError(
             path,

@@ -138,11 +138,26 @@ def _fields(container: dict) -> list[tuple[int, str, dict]]:
 def read_gwy(path: str | Path, *, channel: str | int | None = None) -> HeightMap:
     """Read one channel of a ``.gwy`` file (default: first channel with a length z unit), in m.
 
+    Parameters
+    ----------
+    path : str or Path
+        The ``.gwy`` file.
+    channel : str or int, optional
+        Channel title (case-insensitive) or its number N in ``/N/data``.
+
+    Returns
+    -------
+    HeightMap
+        Heights in m, pixel sizes ``xreal/xres``, ``yreal/yres`` in m; provenance lists
+        the channels.
+
     Raises
     ------
     TopographyFileError
         Wrong magic, sizes or counts beyond the bytes present, a data array whose length is
         not ``xres*yres``, non-length units.
+    ValueError
+        A ``channel`` that is not in the file (the message lists the channels).
     """
     path = Path(path)
     container = _container(path, read_all_bytes(path))

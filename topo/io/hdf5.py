@@ -21,7 +21,20 @@ FORMAT_VERSION = 1
 
 
 def write_hdf5(surface: HeightMap, path: str | Path) -> Path:
-    """Write ``surface`` to the project's HDF5 format; returns the path written."""
+    """Write ``surface`` to the project's HDF5 format (layout in the module docstring).
+
+    Parameters
+    ----------
+    surface : HeightMap
+        Heights and pixel sizes in m.
+    path : str or Path
+        Output file (overwritten).
+
+    Returns
+    -------
+    Path
+        The file written; :func:`topo.read_surface` reads it back exactly.
+    """
     surface = require_height_map(surface, "write_hdf5")
     path = Path(path)
     with h5py.File(path, "w") as handle:

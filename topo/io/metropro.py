@@ -29,6 +29,17 @@ _INVALID_PHASE = 2147483640
 def read_metropro(path: str | Path) -> HeightMap:
     """Read a Zygo MetroPro ``.dat`` file: the connected phase map as heights (m).
 
+    Parameters
+    ----------
+    path : str or Path
+        The MetroPro .dat file.
+
+    Returns
+    -------
+    HeightMap
+        Heights in m (NaN = invalid phase), pixel sizes in m,
+        provenance (instrument, units seen).
+
     Raises
     ------
     TopographyFileError

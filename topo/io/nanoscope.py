@@ -194,10 +194,17 @@ def read_nanoscope(path: str | Path, *, channel: str | int | None = None) -> Hei
         Index, label (e.g. ``"Height Sensor"``) or key (e.g. ``"ZSensor"``). Default: the
         channel labelled ``Height``, else ``Height Sensor``, else the first length channel.
 
+    Returns
+    -------
+    HeightMap
+        Heights in m, pixel sizes from ``Scan Size`` in m; provenance lists the channels.
+
     Raises
     ------
     TopographyFileError
         Header problems, data blocks beyond the end of the file, non-length channels.
+    ValueError
+        A ``channel`` that is not in the file (the message lists the channels).
     """
     path = Path(path)
     data = read_all_bytes(path)

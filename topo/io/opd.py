@@ -30,6 +30,17 @@ _DTYPES = {1: np.dtype("i1"), 2: np.dtype("<i2"), 4: np.dtype("<f4")}
 def read_opd(path: str | Path) -> HeightMap:
     """Read a Wyko ``.opd`` file (heights and pixel sizes in m, undefined points NaN).
 
+    Parameters
+    ----------
+    path : str or Path
+        The .opd file.
+
+    Returns
+    -------
+    HeightMap
+        Heights in m (NaN = undefined point), pixel sizes in m,
+        provenance (instrument, units seen).
+
     Raises
     ------
     TopographyFileError

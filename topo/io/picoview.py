@@ -56,11 +56,19 @@ def read_picoview(path: str | Path, *, channel: str | int | None = None) -> Heig
         a label shared by several buffers picks the first. Default: first buffer whose unit
         is a length.
 
+    Returns
+    -------
+    HeightMap
+        Heights in m, pixel sizes ``xLength/xPixels``, ``yLength/yPixels`` in m;
+        provenance lists the channels.
+
     Raises
     ------
     TopographyFileError
         Not an image file, text data, missing sizes, or data shorter than
         ``buffers * xPixels * yPixels * itemsize``.
+    ValueError
+        A ``channel`` that is not in the file (the message lists the channels).
     """
     path = Path(path)
     data = read_all_bytes(path)

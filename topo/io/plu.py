@@ -30,6 +30,17 @@ _TOPOGRAPHY = 3
 def read_plu(path: str | Path) -> HeightMap:
     """Read the first layer of a Sensofar ``.plu`` topography (heights, pixel sizes in m).
 
+    Parameters
+    ----------
+    path : str or Path
+        The .plu file.
+
+    Returns
+    -------
+    HeightMap
+        Heights in m (NaN = undefined point), pixel sizes in m,
+        provenance (instrument, units seen).
+
     Raises
     ------
     TopographyFileError

@@ -44,6 +44,17 @@ def _unit(path: Path, field: str, raw: bytes) -> float:
 def read_sur(path: str | Path) -> HeightMap | LineProfile:
     """Read the first object of a Digital Surf ``.sur`` file (heights, pixel sizes in m).
 
+    Parameters
+    ----------
+    path : str or Path
+        The .sur file.
+
+    Returns
+    -------
+    HeightMap or LineProfile
+        Heights in m (NaN = non-measured point), pixel sizes in m,
+        provenance (instrument, units seen).
+
     Raises
     ------
     TopographyFileError

@@ -5,8 +5,11 @@ or ``%`` are comments; separators may be spaces, tabs, commas or semicolons.
 
 * Matrix: read as written, ``heights[i, j]`` is row ``i``, column ``j`` of the file, so the
   row index is axis 0 (x). The pixel size must come from the caller (``pixel_size``).
-* ``x y z`` columns: the grid is rebuilt from the distinct x and y values; every grid
-  node must appear exactly once; ``dx``, ``dy`` are the (uniform) coordinate steps.
+* ``x y z`` columns (three columns whose first two repeat like grid coordinates): the grid
+  is rebuilt from the distinct x and y values, whose steps must be uniform (within 1e-4 of
+  the step: a non-uniform grid is refused, never interpolated); ``dx``, ``dy`` are those
+  steps. A node may appear at most once; nodes absent from the file (instruments often
+  skip invalid points) become missing pixels (NaN), counted in ``provenance["missing_nodes"]``.
 """
 
 from __future__ import annotations
@@ -17,7 +20,10 @@ import numpy as np
 
 from topo.errors import TopographyFileError
 from topo.heightmap import HeightMap, LineProfile
-from topo.io._common import make_provenance, read_all_bytes
+from topo.io._common import caller_pixel_size, make_provenance, read_all_bytes
+
+#: Largest relative deviation of an x or y step from the mean step of an x-y-z grid.
+_STEP_TOLERANCE = 1e-4
 
 
 def _rows(path: Path) -> list[list[float]]:
@@ -40,23 +46,68 @@ def _rows(path: Path) -> list[list[float]]:
 
 
 def _pixel_sizes(path: Path, pixel_size: float | tuple[float, float] | None) -> tuple[float, float]:
-    if pixel_size is None:
+    sizes = caller_pixel_size(path, pixel_size)
+    if sizes is None:
         raise ValueError(
             f"{path}: a plain height matrix carries no pixel size; give pixel_size= "
             "(or --pixel-size DX on the command line), in metres"
         )
-    if np.ndim(pixel_size) == 0:
-        return float(pixel_size), float(pixel_size)  # type: ignore[arg-type]
-    dx, dy = pixel_size  # type: ignore[misc]
-    return float(dx), float(dy)
+    return sizes
 
 
-def _is_xyz(rows: list[list[float]]) -> bool:
-    if any(len(row) != 3 for row in rows) or len(rows) < 4:
+def _looks_like_xyz(rows: list[list[float]]) -> bool:
+    """Three columns whose first two repeat like grid coordinates (not a 3-column matrix)."""
+    if len(rows) < 4 or any(len(row) != 3 for row in rows):
         return False
     array = np.asarray(rows)
     n_x, n_y = np.unique(array[:, 0]).size, np.unique(array[:, 1]).size
-    return n_x * n_y == len(rows) and n_x > 1 and n_y > 1
+    return 1 < n_x < len(rows) and 1 < n_y < len(rows) and n_x * n_y <= 2 * len(rows)
+
+
+def _grid_step(path: Path, values: np.ndarray, name: str) -> float:
+    """The uniform step (m) of the sorted distinct coordinates ``values``, or refuse."""
+    steps = np.diff(values)
+    step = float(steps.mean())
+    if np.ptp(steps) > _STEP_TOLERANCE * step:
+        worst = int(np.argmax(np.abs(steps - step)))
+        raise TopographyFileError(
+            path,
+            f"{name} column",
+            f"is not a uniform grid: steps range from {steps.min():.6g} to {steps.max():.6g} "
+            f"(e.g. {values[worst]:.6g} -> {values[worst + 1]:.6g}); expected one constant "
+            f"step (within {_STEP_TOLERANCE:g} of it); resample the data onto a regular grid",
+        )
+    return step
+
+
+def _read_xyz(path: Path, rows: list[list[float]]) -> HeightMap:
+    array = np.asarray(rows)
+    xs, ix = np.unique(array[:, 0], return_inverse=True)
+    ys, iy = np.unique(array[:, 1], return_inverse=True)
+    dx = _grid_step(path, xs, "x")
+    dy = _grid_step(path, ys, "y")
+    node = ix * ys.size + iy
+    counts = np.bincount(node, minlength=xs.size * ys.size)
+    if counts.max() > 1:
+        first = int(np.flatnonzero(counts > 1)[0])
+        raise TopographyFileError(
+            path,
+            "x y columns",
+            f"give the node ({xs[first // ys.size]:.6g}, {ys[first % ys.size]:.6g}) "
+            f"{counts[first]} times; expected every grid node at most once "
+            "(if this is a 3-column height matrix, save it as .npy instead)",
+        )
+    heights = np.full((xs.size, ys.size), np.nan)
+    heights[ix, iy] = array[:, 2]
+    missing = int(xs.size * ys.size - len(rows))
+    provenance = make_provenance(
+        path,
+        "xyz-text",
+        channel="z",
+        units={"all": "m (assumed)"},
+        missing_nodes=missing or None,
+    )
+    return HeightMap(heights, dx, dy, False, provenance)
 
 
 def read_text(
@@ -66,28 +117,35 @@ def read_text(
 
     A single column (or single row) of numbers is returned as a :class:`LineProfile`.
 
+    Parameters
+    ----------
+    path : str or Path
+        The text file (heights and coordinates in m).
+    pixel_size : float or (float, float), optional
+        ``dx`` or ``(dx, dy)`` in m for a matrix; refused for x-y-z columns.
+
+    Returns
+    -------
+    HeightMap or LineProfile
+
     Raises
     ------
     TopographyFileError
-        Non-numeric lines, ragged rows (e.g. a truncated file), an incomplete or irregular
-        x-y grid.
+        Non-numeric lines, ragged rows (e.g. a truncated file), a non-uniform x-y grid or
+        a node given twice.
     ValueError
-        A matrix without ``pixel_size``.
+        A matrix without ``pixel_size``, an invalid ``pixel_size``, or ``pixel_size``
+        given for x-y-z columns.
     """
     path = Path(path)
     rows = _rows(path)
-    if _is_xyz(rows):
-        array = np.asarray(rows)
-        xs, ix = np.unique(array[:, 0], return_inverse=True)
-        ys, iy = np.unique(array[:, 1], return_inverse=True)
-        steps = [np.diff(xs), np.diff(ys)]
-        for name, step in zip(("x", "y"), steps, strict=True):
-            if np.ptp(step) > 1e-6 * abs(step.mean()):
-                raise TopographyFileError(path, f"{name} column", "is not a uniform grid")
-        heights = np.full((xs.size, ys.size), np.nan)
-        heights[ix, iy] = array[:, 2]
-        provenance = make_provenance(path, "xyz-text", channel="z", units={"all": "m (assumed)"})
-        return HeightMap(heights, steps[0].mean(), steps[1].mean(), False, provenance)
+    if _looks_like_xyz(rows):
+        if pixel_size is not None:
+            raise ValueError(
+                f"{path}: pixel_size given, but x y z columns carry their own coordinates "
+                "(the pixel sizes are their steps); leave pixel_size out"
+            )
+        return _read_xyz(path, rows)
     widths = {len(row) for row in rows}
     if len(widths) != 1:
         lengths = [len(row) for row in rows]

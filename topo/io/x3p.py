@@ -1,7 +1,9 @@
 """ISO 25178-72 / ISO 5436-2 X3P reader (zip archive: ``main.xml`` + binary point data).
 
-Both the original ``ISO5436 - 2000`` revision and the amended revision (ISO 25178-72:2017,
-which adds an optional ``ValidPointsLink`` bit mask) are read. Lateral axes must be
+Both revisions are read: ISO 25178-72:2017 (``Revision`` ``ISO5436 - 2000``) and its
+amendment Amd 1:2020 (``ISO25178-72:2017/DAM1``); the point data may be a binary member
+(``DataLink``, with the optional ``ValidPointsLink`` bit mask) or inline XML
+(``DataList`` of ``Datum`` elements, an empty one being an invalid point). Lateral axes must be
 incremental (``AxisType`` ``I``); x and y increments may differ (non-square pixels).
 Invalid points are NaN (float data) or flagged in the valid-points mask (1 bit per point,
 least significant bit first); both become NaN. Point data is stored x fastest, so the raw
@@ -47,6 +49,48 @@ def _number(path: Path, parent: ElementTree.Element, tag: str, where: str, kind:
         ) from None
 
 
+def _check_compression(path: Path, info: zipfile.ZipInfo) -> None:
+    """Refuse a member whose declared size no deflate stream could give (about 1032:1 max)."""
+    if (
+        info.compress_type != zipfile.ZIP_STORED
+        and info.file_size > 1100 * info.compress_size + 4096
+    ):
+        raise TopographyFileError(
+            path,
+            f"zip member {info.filename}",
+            f"claims {info.file_size} bytes from {info.compress_size} compressed bytes; "
+            "corrupt archive",
+        )
+
+
+def _data_list_values(path: Path, data_list: ElementTree.Element, count: int) -> np.ndarray:
+    """Heights stored in the XML itself (``Record3/DataList/Datum``), x fastest.
+
+    With incremental x and y axes every ``Datum`` holds the z value alone (a
+    ``x;y;z`` triple is also accepted: its last field is z); an empty ``Datum`` is an
+    invalid point (NaN).
+    """
+    datums = data_list.findall("Datum")
+    if len(datums) != count:
+        raise TopographyFileError(
+            path,
+            "Record3/DataList",
+            f"has {len(datums)} Datum elements; expected SizeX*SizeY = {count}",
+        )
+    values = np.full(count, np.nan)
+    for index, datum in enumerate(datums):
+        text = (datum.text or "").strip()
+        if not text:
+            continue
+        try:
+            values[index] = float(text.split(";")[-1])
+        except ValueError:
+            raise TopographyFileError(
+                path, f"Record3/DataList/Datum {index}", f"is {text[:40]!r}; expected a number"
+            ) from None
+    return values
+
+
 def read_x3p(path: str | Path) -> HeightMap | LineProfile:
     """Read an X3P file; heights and pixel sizes in m, invalid points NaN.
 
@@ -75,6 +119,7 @@ def read_x3p(path: str | Path) -> HeightMap | LineProfile:
         ) from None
     with archive:
         try:
+            _check_compression(path, archive.getinfo("main.xml"))
             xml_bytes = archive.read("main.xml")
         except KeyError:
             raise TopographyFileError(path, "main.xml", "is missing from the archive") from None
@@ -133,31 +178,38 @@ def read_x3p(path: str | Path) -> HeightMap | LineProfile:
                 f"is {nx} x {ny} x {nz}; expected SizeX, SizeY >= 1 and SizeZ == 1",
             )
         link = record3.find("DataLink")
-        member = _text(path, link, "PointDataLink", "Record3/DataLink")
-        expected = nx * ny * dtype.itemsize
-        try:
-            info = archive.getinfo(member)
-        except KeyError:
-            raise TopographyFileError(
-                path, "Record3/DataLink/PointDataLink", f"names {member!r}, not in the archive"
-            ) from None
-        if info.file_size != expected:
-            raise TopographyFileError(
-                path,
-                f"point data {member}",
-                f"has {info.file_size} bytes; expected {expected} "
-                f"({nx} x {ny} points of type {data_type})",
-            )
-        try:
-            raw = archive.read(member)
-        except (zipfile.BadZipFile, OSError, EOFError) as exc:
-            raise TopographyFileError(path, f"point data {member}", f"is corrupt ({exc})") from None
-        md5 = link.findtext("MD5ChecksumPointData") if link is not None else None
-        if md5 and hashlib.md5(raw).hexdigest().lower() != md5.strip().lower():
-            raise TopographyFileError(
-                path, "Record3/DataLink/MD5ChecksumPointData", "does not match the point data"
-            )
-        values = np.frombuffer(raw, dtype=dtype).astype(np.float64)
+        data_list = record3.find("DataList")
+        if link is None and data_list is not None:
+            values = _data_list_values(path, data_list, nx * ny)
+        else:
+            member = _text(path, link, "PointDataLink", "Record3/DataLink")
+            expected = nx * ny * dtype.itemsize
+            try:
+                info = archive.getinfo(member)
+            except KeyError:
+                raise TopographyFileError(
+                    path, "Record3/DataLink/PointDataLink", f"names {member!r}, not in the archive"
+                ) from None
+            _check_compression(path, info)
+            if info.file_size != expected:
+                raise TopographyFileError(
+                    path,
+                    f"point data {member}",
+                    f"has {info.file_size} bytes; expected {expected} "
+                    f"({nx} x {ny} points of type {data_type})",
+                )
+            try:
+                raw = archive.read(member)
+            except (zipfile.BadZipFile, OSError, EOFError) as exc:
+                raise TopographyFileError(
+                    path, f"point data {member}", f"is corrupt ({exc})"
+                ) from None
+            md5 = link.findtext("MD5ChecksumPointData") if link is not None else None
+            if md5 and hashlib.md5(raw).hexdigest().lower() != md5.strip().lower():
+                raise TopographyFileError(
+                    path, "Record3/DataLink/MD5ChecksumPointData", "does not match the point data"
+                )
+            values = np.frombuffer(raw, dtype=dtype).astype(np.float64)
         if data_type in "IL":
             values = values * z_increment + z_offset
         valid_member = link.findtext("ValidPointsLink") if link is not None else None
