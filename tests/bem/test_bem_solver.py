@@ -36,11 +36,13 @@ def test_displacement_control_reproduces_load_control(rough, contact_ok):
     np.testing.assert_allclose(res.pressure, ref.pressure, atol=1e-7 * ref.pressure.max())
 
 
-def test_pixel_size_scaling(rough):
+def test_pixel_size_scaling(rough, contact_ok):
     """Heights and pixel sizes in m, E* in Pa: a uniformly scaled problem has the same fraction."""
     h = _h(rough)
     a = solve_contact(h, 1.0, 1.0, 1.0, mean_pressure=0.05, tol=1e-10)
     b = solve_contact(h * 2e-6, 2e-6, 2e-6, 3e9, mean_pressure=0.05 * 3e9, tol=1e-10)
+    contact_ok(a, h, force=0.05 * h.size)
+    contact_ok(b, h * 2e-6, force=0.05 * 3e9 * h.size * 4e-12)
     assert b.contact_fraction == pytest.approx(a.contact_fraction, abs=1.0 / h.size)
     assert b.mean_gap == pytest.approx(a.mean_gap * 2e-6, rel=1e-6)
 
@@ -63,11 +65,15 @@ def test_warm_start_sweep_costs_fewer_iterations(rough, contact_ok):
     assert sum(s.nit for s in sweep[1:]) < 0.9 * sum(c.nit for c in cold[1:])
 
 
-def test_coarse_start_same_answer(rough):
+@pytest.mark.parametrize("precondition", [True, False])
+def test_coarse_start_and_preconditioner_same_answer(rough, contact_ok, precondition):
     h = rough(256, seed=5)
     a = solve_contact(h, 1.0, 1.0, 1.0, mean_pressure=0.04, tol=1e-10, coarse_start=False)
-    b = solve_contact(h, 1.0, 1.0, 1.0, mean_pressure=0.04, tol=1e-10, coarse_start=True)
+    b = solve_contact(h, 1.0, 1.0, 1.0, mean_pressure=0.04, tol=1e-10, coarse_start=True,
+                      precondition=precondition)
     assert a.converged and b.converged
+    contact_ok(a, h, force=0.04 * h.size)
+    contact_ok(b, h, force=0.04 * h.size)
     assert b.contact_fraction == pytest.approx(a.contact_fraction, abs=3.0 / h.size)
     assert np.abs(a.pressure - b.pressure).max() < 1e-5 * a.pressure.max()
 
@@ -78,6 +84,7 @@ def test_iteration_cap_reports_non_convergence(rough):
     assert not res.converged and not res.success
     assert res.nit == 3
     assert "iteration cap" in res.message
+    assert res.residual_history[-1] > 1e-9
     # the state is still a valid load-balanced pressure field
     assert res.normal_force == pytest.approx(0.04 * h.size, rel=1e-9)
 
@@ -113,12 +120,14 @@ def test_full_contact_reached(rough, contact_ok):
     contact_ok(res, h, force=20.0 * h.size)
 
 
-def test_nonperiodic_domain_isolated_bump_matches_periodic_large_box(sphere):
+def test_nonperiodic_domain_isolated_bump_matches_periodic_large_box(sphere, contact_ok):
     """A bump far from the edges: zero-padded and periodic (large box) solutions agree."""
     h, dx = sphere(64, 1.0, 1.0)
     per = solve_contact(h, dx, dx, 1.0, normal_force=1e-5, kernel="love", tol=1e-10)
     free = solve_contact(h, dx, dx, 1.0, normal_force=1e-5, periodic=False, tol=1e-10)
     assert free.converged and per.converged
+    contact_ok(per, h, force=1e-5)
+    contact_ok(free, h, force=1e-5)
     np.testing.assert_array_equal(free.contact_mask, per.contact_mask)
     assert np.abs(free.pressure - per.pressure).max() < 0.02 * per.pressure.max()
 

@@ -235,3 +235,30 @@ def test_smooth_limit_sliding_friction_is_the_single_hertz_contact():
     assert c.sliding_friction == pytest.approx(expected, rel=1e-11)
     assert c.tangential_force[-1] == pytest.approx(expected, rel=1e-10)
     assert c.sliding_separation == pytest.approx(d_s, rel=1e-11)
+
+
+def test_composite_limits_are_the_printed_delta_2_and_delta_1():
+    from statmodel import pc_min_indentation
+
+    c = shear_curve(MAT, ROUGH, AREA, LOAD, np.linspace(0.0, 14e-6, 29))
+    mu = tabor_parameter(ROUGH.summit_radius, MAT.work_of_adhesion, MAT.e_star)
+    d_load = jkr_jump_in_distance(mu, MAT.equilibrium_distance)
+    d_pc = pc_min_indentation(
+        c.tangential_displacement,
+        ROUGH.summit_radius,
+        MAT.work_of_adhesion,
+        MAT.e_star,
+        MAT.mode_mixity,
+    )
+    delta_2 = np.maximum(c.separation_preload - c.separation + d_load, d_pc)  # E:delta_2
+    np.testing.assert_allclose(c.delta_2, delta_2, rtol=1e-12)
+    np.testing.assert_array_equal(c.delta_1, np.minimum(0.0, c.delta_2))  # E:delta_1
+    # both branches of the max are active along the path: history first, then the PC fold
+    assert c.delta_2[0] == pytest.approx(d_load, rel=1e-14)
+    assert c.delta_2[-1] == pytest.approx(d_pc[-1], rel=1e-14) and d_pc[-1] > 0
+    # the counts are the Gaussian probabilities of the populations
+    n = ROUGH.asperity_density * AREA
+    z2 = (c.separation + c.delta_2) / (math.sqrt(2) * ROUGH.summit_height_rms)
+    np.testing.assert_allclose(
+        c.n_stick, n * 0.5 * np.array([math.erfc(z) for z in z2]), rtol=1e-12, atol=1e-300
+    )
