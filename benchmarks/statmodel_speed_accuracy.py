@@ -111,7 +111,7 @@ def main() -> None:
             (t, e),
             fontsize=7,
             textcoords="offset points",
-            xytext=(4, 4),
+            xytext=(4, -12) if knobs == DEFAULT else (4, 4),
         )
     ax.axhline(1e-6, color="gray", ls="--", lw=0.8, label="accuracy target 1e-6")
     ax.axvline(50, color="gray", ls=":", lw=0.8, label="speed target 50 ms")

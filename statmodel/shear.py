@@ -309,6 +309,10 @@ def shear_curve(
 ) -> ShearCurve:
     """Tangential loading at constant normal load, from the preload to full sliding.
 
+    Preload on Greenwood's loading branch (E:Fy_Greenwood) to d_min, then for every delta_T the
+    separation d with F_z(d, delta_T) = ``normal_load`` (E:NewFormulation_Fy), and F_x, A_r from
+    E:NewFormulation_Fx / E:NewFormulation_Ar with the limits E:delta_2 / E:delta_1.
+
     Parameters
     ----------
     material, roughness : Material, Roughness

@@ -167,6 +167,7 @@ def test_cli_hostile_inputs_exit_2_with_a_clear_message(capsys, tmp_path):
         (("stats", zeros), "match no supported format"),
         (("stats", wrong), "mislabelled"),
         (("stats", nan_map, "--pixel-size", "1e-6", "--detrend", "none"), "every pixel"),
+        (("stats", nan_map, "--pixel-size", "1e-6"), "has 0 valid (non-NaN) pixels"),
         (("stats", tiny, "--pixel-size", "1e-6"), "3 x 3 pixels"),
         (("stats", noisy, "--pixel-size", "1e-6", "--stride", "50"), "3 x 3 pixels"),
         (("scan", noisy, "--pixel-size", "1e-6", "--max-stride", "50"), "max_stride 50"),
@@ -200,3 +201,54 @@ def test_dektak_profile_with_stretched_lateral_positions_is_refused(tmp_path):
         topo.read_surface(path)
     profile = topo.read_surface(DATA / "dektak-1.csv")  # printed to 0.1 um: accepted
     assert profile.dx == pytest.approx(1500e-6 / 9600, rel=1e-6)
+
+
+@pytest.mark.parametrize(
+    ("name", "listed"),
+    [
+        ("mi-1.mi", "'Topography', 'Deflection', 'Friction', 'Friction'"),
+        ("di-3.di", "available channels: 0: "),
+    ],
+)
+def test_unknown_channel_lists_the_channels(name, listed):
+    with pytest.raises(ValueError, match="not found") as info:
+        topo.read_surface(DATA / name, channel="Curvature")
+    assert listed in str(info.value) and name in str(info.value)
+    with pytest.raises(ValueError, match="not found"):
+        topo.read_surface(DATA / name, channel=17)
+    by_index = topo.read_surface(DATA / "mi-1.mi", channel=0)
+    assert by_index.provenance["channel"] == "Topography"
+
+
+def write_project_hdf5(path, **attrs):
+    import h5py
+
+    heights = attrs.pop("heights", np.zeros((4, 4)))
+    shape = attrs.pop("shape", None)
+    with h5py.File(path, "w") as handle:
+        if shape is None:
+            handle["heights"] = heights
+        else:  # declared but never written: HDF5 would hand back fill values
+            handle.create_dataset("heights", shape=shape, dtype="f8", chunks=(100, 100))
+        values = {"format": "asperity-heightmap", "version": 1, "units": "m", "periodic": False}
+        values.update({"dx": 1e-6, "dy": 1e-6}, **attrs)
+        for key, value in values.items():
+            if value is not None:
+                handle.attrs[key] = value
+
+
+@pytest.mark.parametrize(
+    ("attrs", "message"),
+    [
+        ({"dx": None}, r"attribute 'dx': is missing"),
+        ({"dy": 0.0}, r"attribute 'dy': is 0.0 m; expected a finite value > 0"),
+        ({"heights": np.array([[b"a", b"b"], [b"c", b"d"]])}, r"/heights: has dtype \|S1"),
+        ({"shape": (100_000, 100_000)}, r"/heights: has shape \(100000, 100000\)"),
+    ],
+)
+def test_project_hdf5_with_bad_attributes_or_a_hollow_dataset_is_refused(tmp_path, attrs, message):
+    path = tmp_path / "bad.h5"
+    write_project_hdf5(path, **attrs)
+    with pytest.raises(TopographyFileError, match=message) as info:
+        topo.read_surface(path)
+    assert "bad.h5" in str(info.value)

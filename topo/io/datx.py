@@ -18,6 +18,7 @@ import numpy as np
 from topo.errors import TopographyFileError
 from topo.heightmap import HeightMap
 from topo.io._common import make_provenance
+from topo.io.hdf5 import check_dataset_storage
 from topo.io.units import length_unit_in_metres
 
 
@@ -30,7 +31,17 @@ def _text(value: object) -> str:
 
 
 def is_datx(handle: h5py.File) -> bool:
-    """True if an open HDF5 file looks like a Zygo DATX file."""
+    """Whether an open HDF5 file looks like a Zygo DATX file (has a ``/MetaData`` table).
+
+    Parameters
+    ----------
+    handle : h5py.File
+        The open file.
+
+    Returns
+    -------
+    bool
+    """
     return "MetaData" in handle
 
 
@@ -107,6 +118,11 @@ def read_datx(path: str | Path, handle: h5py.File) -> HeightMap:
         )
     dx = _converter_step(path, attrs, "X Converter")
     dy = _converter_step(path, attrs, "Y Converter")
+    if dataset.dtype.kind not in "fiu":
+        raise TopographyFileError(
+            path, surface_path, f"has dtype {dataset.dtype}; expected real numbers"
+        )
+    check_dataset_storage(path, dataset, surface_path)
     try:
         raw = np.asarray(dataset[()], dtype=np.float64)
     except OSError as exc:

@@ -23,7 +23,18 @@ _COLUMN_UNITS = {"micrometer": "um", "nanometer": "nm", "millimeter": "mm", "ang
 
 
 def looks_like_dektak(head: bytes) -> bool:
-    """True if the first kilobytes look like a Dektak CSV export."""
+    """Whether the first kilobytes of a text file look like a Dektak CSV export.
+
+    Parameters
+    ----------
+    head : bytes
+        The first bytes of the file.
+
+    Returns
+    -------
+    bool
+        True if they hold a ``Scan Data`` block (or ``Scan Parameters`` and ``Lateral``).
+    """
     return b"Scan Data" in head or (b"Scan Parameters" in head and b"Lateral" in head)
 
 

@@ -101,7 +101,18 @@ def _unit(field: object) -> str:
 
 
 def list_channels(path: str | Path) -> list[dict]:
-    """Describe the data channels of a ``.gwy`` file (index, title, z unit)."""
+    """Describe the data channels of a ``.gwy`` file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The ``.gwy`` file.
+
+    Returns
+    -------
+    list of dict
+        One dict per ``/N/data`` field: ``index`` (N), ``title``, ``unit`` (z unit).
+    """
     path = Path(path)
     container = _container(path, read_all_bytes(path))
     return [

@@ -15,6 +15,7 @@ import numpy as np
 
 from topo.errors import TopographyFileError
 from topo.heightmap import HeightMap, require_height_map
+from topo.io._common import require_positive
 
 FORMAT_NAME = "asperity-heightmap"
 FORMAT_VERSION = 1
@@ -55,23 +56,102 @@ def write_hdf5(surface: HeightMap, path: str | Path) -> Path:
     return path
 
 
+def check_dataset_storage(path: str | Path, dataset: h5py.Dataset, field: str) -> None:
+    """Refuse a dataset whose shape promises more data than the file stores.
+
+    HDF5 fills unwritten chunks with a fill value, so a corrupt or hostile shape could
+    make a reader allocate terabytes from a small file. gzip (deflate) compresses by
+    about 1032:1 at most, so more than 1100 bytes of data per stored byte is refused.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file (for the message).
+    dataset : h5py.Dataset
+        The dataset about to be read.
+    field : str
+        Its name, for the message.
+
+    Raises
+    ------
+    TopographyFileError
+        If ``size * itemsize > 1100 * stored bytes + 4096``.
+    """
+    needed = int(dataset.size) * dataset.dtype.itemsize
+    stored = int(dataset.id.get_storage_size())
+    if needed > 1100 * stored + 4096:
+        raise TopographyFileError(
+            path,
+            field,
+            f"has shape {dataset.shape} ({needed} bytes) but stores only {stored} bytes "
+            "(truncated or corrupt file)",
+        )
+
+
 def is_project_hdf5(handle: h5py.File) -> bool:
-    """True if an open HDF5 file is in the project's height-map format."""
+    """Whether an open HDF5 file is in the project's height-map format.
+
+    Parameters
+    ----------
+    handle : h5py.File
+        The open file.
+
+    Returns
+    -------
+    bool
+        True if its ``format`` attribute is ``"asperity-heightmap"``.
+    """
     return handle.attrs.get("format") == FORMAT_NAME
 
 
 def read_project_hdf5(path: str | Path, handle: h5py.File) -> HeightMap:
-    """Read the project's HDF5 height map from an open file handle."""
+    """Read the project's HDF5 height map from an open file handle.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file (for messages and provenance).
+    handle : h5py.File
+        The file, open for reading.
+
+    Returns
+    -------
+    HeightMap
+        Heights, ``dx``, ``dy`` in m, the stored ``periodic`` flag and provenance.
+
+    Raises
+    ------
+    TopographyFileError
+        Another version, a missing or non-2D ``/heights``, units other than m, or data
+        that cannot be read (truncated file).
+    """
     version = int(handle.attrs.get("version", -1))
     if version != FORMAT_VERSION:
         raise TopographyFileError(path, "version", f"is {version}; expected {FORMAT_VERSION}")
-    if "heights" not in handle or handle["heights"].ndim != 2:
-        raise TopographyFileError(path, "/heights", "is missing or not 2D")
+    dataset = handle.get("heights")
+    if not isinstance(dataset, h5py.Dataset) or dataset.ndim != 2:
+        raise TopographyFileError(path, "/heights", "is missing or not a 2D dataset")
+    if dataset.dtype.kind not in "fiu":
+        raise TopographyFileError(
+            path, "/heights", f"has dtype {dataset.dtype}; expected real numbers (m)"
+        )
     units = handle.attrs.get("units")
     if units != "m":
         raise TopographyFileError(path, "units", f"is {units!r}; expected 'm'")
+    spacing = {}
+    for name in ("dx", "dy"):
+        try:
+            spacing[name] = float(np.asarray(handle.attrs[name]).ravel()[0])
+        except (KeyError, IndexError, TypeError, ValueError):
+            raise TopographyFileError(
+                path,
+                f"attribute {name!r}",
+                "is missing or not a number; expected a pixel size in m",
+            ) from None
+        require_positive(path, f"attribute {name!r}", spacing[name], " m")
+    check_dataset_storage(path, dataset, "/heights")
     try:
-        heights = handle["heights"][()]
+        heights = dataset[()]
     except OSError as exc:
         raise TopographyFileError(path, "/heights", f"cannot be read ({exc})") from None
     try:
@@ -81,9 +161,5 @@ def read_project_hdf5(path: str | Path, handle: h5py.File) -> HeightMap:
     provenance = {**provenance, "file": str(path), "stored_format": FORMAT_NAME}
     provenance.setdefault("format", FORMAT_NAME)
     return HeightMap(
-        heights,
-        float(handle.attrs["dx"]),
-        float(handle.attrs["dy"]),
-        bool(handle.attrs["periodic"]),
-        provenance,
+        heights, spacing["dx"], spacing["dy"], bool(handle.attrs.get("periodic", False)), provenance
     )

@@ -63,7 +63,19 @@ def _int_field(path: Path, section: dict[str, str], key: str, channel: int) -> i
 
 
 def list_channels(path: str | Path) -> list[dict]:
-    """Describe every image channel of a Nanoscope file (label, key, size, height unit)."""
+    """Describe every image channel of a Nanoscope file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The Nanoscope file.
+
+    Returns
+    -------
+    list of dict
+        Per channel: ``index``, ``key``, ``label``, ``nx``, ``ny``, ``dx``, ``dy`` (m),
+        ``height_unit``, ``height_factor`` (m per raw count, None for a non-length channel).
+    """
     path = Path(path)
     data = read_all_bytes(path)
     return _channels(path, data)
@@ -159,7 +171,28 @@ def _channels(path: Path, data: bytes) -> list[dict]:
 
 
 def choose_channel(path: Path, channels: list[dict], channel: str | int | None) -> dict:
-    """Pick a channel by index or name (label or key, case-insensitive); default: height."""
+    """Pick a channel by index or name (label or key, case-insensitive); default: height.
+
+    Parameters
+    ----------
+    path : Path
+        The file (for messages).
+    channels : list of dict
+        As returned by :func:`list_channels`.
+    channel : str or int or None
+        Index, label or key; None picks ``Height``, else ``Height Sensor``/``ZSensor``,
+        else the first length channel.
+
+    Returns
+    -------
+    dict
+        The chosen channel.
+
+    Raises
+    ------
+    ValueError
+        An unknown channel (the message lists the channels).
+    """
     if channel is None:
         heights = [c for c in channels if c["height_factor"] is not None]
         for wanted in ("height", "zsensor", "height sensor"):

@@ -33,6 +33,16 @@ def length_unit_in_metres(unit: str) -> float | None:
     Accepts the spellings seen in instrument files: ``µm``/``μm``/``um``/``~m``, latin-1
     decoded micro signs (``\\xb5m``), ``Å``, and long names such as ``MicroMeters`` or
     ``nanometre`` (case-insensitive, singular or plural).
+
+    Parameters
+    ----------
+    unit : str
+        The unit as written in the file.
+
+    Returns
+    -------
+    float or None
+        Metres per unit, or None for a non-length unit (e.g. ``"V"``, ``"deg"``).
     """
     key = unit.strip().replace("\x00", "").strip()
     if key in _METRES_PER_UNIT:
