@@ -263,6 +263,7 @@ class Convolution:
             raise ValueError("fft_backend='pyfftw' requested but pyFFTW is not installed")
         self._fwd = None
         self.calls = 0  # convolutions done (a machine-independent cost measure)
+        self.seconds = 0.0  # wall time spent in them (s)
         if backend == "auto":
             backend = self._choose_backend(threads_given=bool(threads))
         self.backend = backend
@@ -366,6 +367,16 @@ class Convolution:
         a[...] = 0.0
         return a
 
+    def diagonal(self) -> float:
+        """The real-space kernel at zero offset, ``irfft2(multiplier)[0, 0]`` (for an
+        influence kernel: the deflection of a pixel under its own unit pressure, m/Pa)."""
+        mult = self._mult  # already divided by the number of grid points
+        ny = self.shape[1]
+        total = 2.0 * float(mult.sum()) - float(mult[:, 0].sum())
+        if ny % 2 == 0:
+            total -= float(mult[:, -1].sum())
+        return total
+
     def _usable(self, a: np.ndarray) -> bool:
         return (
             a.dtype == np.float64
@@ -390,7 +401,13 @@ class Convolution:
         return self._apply(x, out, True)
 
     def _apply(self, x: np.ndarray, out: np.ndarray, energy: bool) -> float:
+        t0 = time.perf_counter()
+        e = self._transform(x, out, energy)
         self.calls += 1
+        self.seconds += time.perf_counter() - t0
+        return e
+
+    def _transform(self, x: np.ndarray, out: np.ndarray, energy: bool) -> float:
         e = 0.0
         if self.backend == "pyfftw":
             if not self._usable(x):

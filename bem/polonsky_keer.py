@@ -226,7 +226,7 @@ def _update_direction_preconditioned(w, c, t, z, offset, zbar, beta):  # pragma:
 
 
 @njit(inline="always")
-def _pressure_elem(p, t, w, r, c, i, tau, offset, lower, shift, allow_change):  # noqa: PLR0913
+def _pressure_elem(p, t, w, r, c, i, tau, offset, lower, shift, allow_change, gain):  # noqa
     ci = c[i]
     wi = w[i]
     pi = p[i] - tau * t[i]  # t = 0 and p = 0 outside the contact set
@@ -234,7 +234,7 @@ def _pressure_elem(p, t, w, r, c, i, tau, offset, lower, shift, allow_change):  
     leave = allow_change and ci != 0 and pi < -lower
     enter = allow_change and ci == 0 and g < 0.0
     pi = 0.0 if leave else pi
-    pi = -tau * g if enter else pi
+    pi = -gain * g if enter else pi
     cn = 0 if leave else ci
     cn = 1 if enter else cn
     c[i] = cn
@@ -246,13 +246,15 @@ def _pressure_elem(p, t, w, r, c, i, tau, offset, lower, shift, allow_change):  
 
 
 @njit(cache=True, fastmath=False)
-def _update_pressure(p, t, w, r, c, tau, offset, lower, shift, allow_change):  # noqa: PLR0913
+def _update_pressure(p, t, w, r, c, tau, offset, lower, shift, allow_change, gain):  # noqa
     """Pressure step, contact-set update, incremental gap and next gap statistics.
 
     p -= tau t and w -= tau r everywhere (t = 0 outside the set). When ``allow_change``:
-    elements in contact leave where p < -lower (p -> 0), elements outside with gap < 0 enter
-    with p = -tau g. Returns (number left, number entered, sum p, sum p^2, n, s1, s2), the last
-    three the contact-set gap statistics (as :func:`_deflection_to_gap_stats`) of the new state.
+    elements in contact leave where p < -lower (p -> 0), elements outside with gap g < 0 enter
+    with p = -gain g (``gain`` in Pa/m: tau for plain Polonsky-Keer, the pixel self-stiffness
+    with preconditioning). Returns (number left, number entered, sum p, sum p^2, n, s1, s2),
+    the last three the contact-set gap statistics (as :func:`_deflection_to_gap_stats`) of the
+    new state.
     """  # pragma: no cover - compiled
     left = 0
     entered = 0
@@ -265,13 +267,13 @@ def _update_pressure(p, t, w, r, c, tau, offset, lower, shift, allow_change):  #
     m4 = size - size % 4
     for i in range(0, m4, 4):
         l0, e0, p0, k0, d0 = _pressure_elem(p, t, w, r, c, i, tau, offset, lower, shift,
-                                            allow_change)
+                                            allow_change, gain)
         l1, e1, p1, k1, d1 = _pressure_elem(p, t, w, r, c, i + 1, tau, offset, lower, shift,
-                                            allow_change)
+                                            allow_change, gain)
         l2, e2, p2, k2, d2 = _pressure_elem(p, t, w, r, c, i + 2, tau, offset, lower, shift,
-                                            allow_change)
+                                            allow_change, gain)
         l3, e3, p3, k3, d3 = _pressure_elem(p, t, w, r, c, i + 3, tau, offset, lower, shift,
-                                            allow_change)
+                                            allow_change, gain)
         left += l0 + l1 + l2 + l3
         entered += e0 + e1 + e2 + e3
         n += k0 + k1 + k2 + k3
@@ -293,7 +295,7 @@ def _update_pressure(p, t, w, r, c, tau, offset, lower, shift, allow_change):  #
         b3 += d3 * d3
     for i in range(m4, size):
         l0, e0, p0, k0, d0 = _pressure_elem(p, t, w, r, c, i, tau, offset, lower, shift,
-                                            allow_change)
+                                            allow_change, gain)
         left += l0
         entered += e0
         n += k0
@@ -579,6 +581,7 @@ def solve_contact(
 
     op = _operator((nx, ny), dx, dy, e_star, kernel, periodic, fft_backend, threads)
     calls_at_start = op.calls
+    fft_seconds_at_start = op.seconds
     coarse_info: dict = {}
     gx, gy = op.shape
 
@@ -676,10 +679,13 @@ def solve_contact(
     if precondition:
         pre = _preconditioner(op, dx, dy, e_star)
         pre_calls_at_start = pre.calls
+        pre_seconds_at_start = pre.seconds
         s_arr = op.empty()
         z_arr = op.empty()
         sf, zf = s_arr.ravel(), z_arr.ravel()
+    pre_op = pre
     gz_old = 0.0
+    dropped_at = None
 
     offset = 0.0 if load_control else -float(separation)
     shift = offset if not load_control else float(np.mean(w[:nx, :ny] - h0))
@@ -751,6 +757,15 @@ def solve_contact(
         if residual < best * (1 - 1e-3):
             best = residual
             best_it = it
+        elif pre is not None and (it - best_it >= stall_window // 2 or residual > 1e3 * best):
+            # the preconditioned iteration stopped making progress (seen once, on a rough
+            # 5001^2 map from a cold start): go on with plain Polonsky-Keer from this state
+            pre = None
+            dropped_at = it
+            best = residual
+            best_it = it
+            reset = True
+            sgt, pen, npen = _update_direction(wf, cf, tf, offset, 0.0)
         elif it - best_it >= stall_window:
             message = (
                 f"stalled: the residual ({residual:.3g}, best {best:.3g}) has not decreased for "
@@ -774,8 +789,13 @@ def solve_contact(
             )
             break
         tau = sgt / rt
+        # entering elements: Polonsky-Keer's p = -tau g (tau in Pa/m); preconditioned, tau is
+        # dimensionless and the pixel stiffness E*/sqrt(dx dy) gives it its units (a gain of
+        # the pixel's full self-stiffness 1/K(0, 0) made 1001^2 stall: too much pressure on
+        # elements that enter in clusters at the contact edge)
+        gain = tau if pre is None else tau * stiffness
         left, entered, psum, psq, n2, s1b, s2b = _update_pressure(
-            pf, tf, wf, rf, cf, tau, offset, sigma, shift, allow_change
+            pf, tf, wf, rf, cf, tau, offset, sigma, shift, allow_change, gain
         )
         last_allowed = allow_change
         frozen_its = 0 if allow_change else frozen_its + 1
@@ -865,7 +885,10 @@ def solve_contact(
         residual=residual,
         extra={
             "convolutions": op.calls - calls_at_start
-            + (pre.calls - pre_calls_at_start if pre is not None else 0),
+            + (pre_op.calls - pre_calls_at_start if pre_op is not None else 0),
+            "fft_seconds": op.seconds - fft_seconds_at_start
+            + (pre_op.seconds - pre_seconds_at_start if pre_op is not None else 0.0),
+            "preconditioner_dropped_at": dropped_at,
             "fft_backend": op.backend,
             "fft_threads": op.threads,
             **coarse_info,

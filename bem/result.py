@@ -52,8 +52,10 @@ class ContactResult:
     residual : float
         The final residual.
     extra : dict
-        Diagnostics: ``convolutions`` (FFT convolutions done on this grid), ``fft_backend``,
-        ``fft_threads``, and for a coarse-grid start ``coarse_iterations``,
+        Diagnostics: ``convolutions`` (FFT convolutions done on this grid), ``fft_seconds``
+        (wall time in them, s), ``fft_backend``, ``fft_threads``,
+        ``preconditioner_dropped_at`` (iteration where a stalled preconditioned iteration fell
+        back to plain Polonsky-Keer, or None), and for a coarse-grid start ``coarse_iterations``,
         ``coarse_convolutions``, ``coarse_seconds``.
     """
 

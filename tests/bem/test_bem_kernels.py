@@ -154,13 +154,13 @@ def test_fused_kernels_match_numpy(arr, offset):
     p2, w2, c2 = p.copy(), w.copy(), c.copy()
     tau = 0.3
     left, entered, psum, psq, n2, s1b, s2b = pk._update_pressure(
-        p2, t2, w2, r, c2, tau, offset, 0.1, offset, True
+        p2, t2, w2, r, c2, tau, offset, 0.1, offset, True, 2.0 * tau
     )
     p_try = p - tau * t2
     leave = m & (p_try < -0.1)
     enter = ~m & (g < 0)
     assert left == leave.sum() and entered == enter.sum()
-    p_ref = np.where(m & ~leave, p_try, 0.0) + np.where(enter, -tau * g, 0.0)
+    p_ref = np.where(m & ~leave, p_try, 0.0) + np.where(enter, -2.0 * tau * g, 0.0)
     np.testing.assert_allclose(p2, p_ref, rtol=1e-14, atol=1e-14)
     np.testing.assert_allclose(w2, w - tau * r, rtol=1e-14, atol=1e-14)
     assert psum == pytest.approx(p_ref.sum(), abs=1e-9)
