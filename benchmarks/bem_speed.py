@@ -75,8 +75,10 @@ res = solve_contact(h, 1.0, 1.0, 1.0, mean_pressure={p}, tol={tol}, max_iter=200
 cpu = time.process_time() - c0
 if {save!r}:
     np.save({save!r}, res.pressure)
+    np.save({save!r}.replace(".npy", "_history.npy"), res.residual_history)
 print(json.dumps(dict(nit=res.nit, seconds=res.seconds, setup=setup, conv=min(conv), cpu=cpu,
     convolutions=res.extra["convolutions"], fft_seconds=res.extra["fft_seconds"],
+    dropped=res.extra["preconditioner_dropped_at"],
     backend=op.backend, threads=op.threads, converged=res.converged, message=res.message,
     contact_fraction=res.contact_fraction,
     peak_mib=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)))
