@@ -14,14 +14,19 @@ rigid-body term:
    multiplication (Parseval): step tau = sum g t / sum r t;
 4. ``_update_pressure``: p -= tau t on Omega_c; elements whose pressure falls below the lower
    bound (0, or -Sigma with Pohrt-Popov adhesion) leave the contact set with p = 0; elements
-   outside with g < 0 enter with p = -tau g; the gap is updated as w -= tau r and the next
-   iteration's gap statistics are accumulated in the same pass.
+   outside with g < 0 enter with p = -tau g (plain) or p = 0 (preconditioned); the gap is
+   updated as w -= tau r and the next iteration's gap statistics are accumulated in the same
+   pass.
 
-When the contact set changed, load control restores the imposed force (multiplicative rescale
-without adhesion, as Polonsky & Keer; a uniform shift on Omega_c with adhesion, since the total
-force may be zero or tensile) and u = K p is recomputed. When it did not change, w is exact up to
-round-off (t vanishes outside Omega_c), so that iteration costs one convolution instead of two;
-u is recomputed every ``refresh`` iterations to bound round-off drift.
+Preconditioned (default): step 2 becomes ``_residual_field`` (s = g on Omega_c), a convolution
+z = K^-1 s with the stiffness E*|q|/2 (sum s z fused), ``_masked_sum`` (mean of z on Omega_c)
+and ``_update_direction_preconditioned`` (t = z - z_mean + beta t).
+
+When elements left the contact set (or entered it with a pressure), load control restores the
+imposed force (multiplicative rescale without adhesion, as Polonsky & Keer; a uniform shift on
+Omega_c with adhesion, since the total force may be zero or tensile) and u = K p is recomputed.
+Otherwise w is exact up to round-off (t vanishes outside Omega_c), so that iteration saves a
+convolution; u is recomputed every ``refresh`` iterations to bound round-off drift.
 
 With adhesion the contact set is frozen while the conjugate gradients solve the linear problem
 on it (until its gap residual fell 100-fold), then elements delaminate (p < -Sigma) or attach
@@ -789,11 +794,11 @@ def solve_contact(
             )
             break
         tau = sgt / rt
-        # entering elements: Polonsky-Keer's p = -tau g (tau in Pa/m); preconditioned, tau is
-        # dimensionless and the pixel stiffness E*/sqrt(dx dy) gives it its units (a gain of
-        # the pixel's full self-stiffness 1/K(0, 0) made 1001^2 stall: too much pressure on
-        # elements that enter in clusters at the contact edge)
-        gain = tau if pre is None else tau * stiffness
+        # entering elements: Polonsky-Keer's p = -tau g (tau in Pa/m). Preconditioned they
+        # enter with p = 0 and get their pressure from the next conjugate-gradient step: any
+        # entering pressure (-tau g E*/sqrt(dx dy), or the pixel self-stiffness 1/K(0, 0))
+        # made a rough 5000^2 map diverge into a cycle of contact sets after 20 iterations
+        gain = tau if pre is None else 0.0
         left, entered, psum, psq, n2, s1b, s2b = _update_pressure(
             pf, tf, wf, rf, cf, tau, offset, sigma, shift, allow_change, gain
         )
@@ -803,9 +808,11 @@ def solve_contact(
         steps += 1
         since_refresh += 1
         # Polonsky & Keer: conjugacy restarts only when elements enter the contact set
-        # (with adhesion also when they delaminate: the problem is no longer a convex QP)
-        reset = entered > 0 or (adhesive and left > 0)
-        if left or entered:
+        # (with adhesion also when they delaminate: the problem is no longer a convex QP;
+        # preconditioned also when they leave: keeping beta then made a rough 5000^2 map
+        # diverge into a 4-cycle of contact sets after 20 iterations)
+        reset = entered > 0 or ((adhesive or pre is not None) and left > 0)
+        if left or (entered and gain != 0.0):
             if load_control:
                 target_sum = force / pixel_area
                 if not adhesive:
