@@ -762,7 +762,11 @@ def solve_contact(
         if residual < best * (1 - 1e-3):
             best = residual
             best_it = it
-        elif pre is not None and (it - best_it >= stall_window // 2 or residual > 1e3 * best):
+        elif (
+            pre is not None
+            and not adhesive  # there the residual jumps at every delamination step
+            and (it - best_it >= stall_window // 2 or residual > 1e3 * best)
+        ):
             # the preconditioned iteration stopped making progress (seen once, on a rough
             # 5001^2 map from a cold start): go on with plain Polonsky-Keer from this state
             pre = None
@@ -798,7 +802,12 @@ def solve_contact(
         # enter with p = 0 and get their pressure from the next conjugate-gradient step: any
         # entering pressure (-tau g E*/sqrt(dx dy), or the pixel self-stiffness 1/K(0, 0))
         # made a rough 5000^2 map diverge into a cycle of contact sets after 20 iterations
-        gain = tau if pre is None else 0.0
+        # (with adhesion, where the set changes only in the Pohrt-Popov steps, the entering
+        # pressure -tau g E*/sqrt(dx dy) is kept: zero made a near-jump-off state stall)
+        if pre is None:
+            gain = tau
+        else:
+            gain = tau * stiffness if adhesive else 0.0
         left, entered, psum, psq, n2, s1b, s2b = _update_pressure(
             pf, tf, wf, rf, cf, tau, offset, sigma, shift, allow_change, gain
         )

@@ -15,15 +15,20 @@ the number CI sees.
 from __future__ import annotations
 
 import argparse
+import os
 import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
 
-from pipelines.config import config_from_dict, preset_text
-from pipelines.job import STAGES, run_job
-from pipelines.report import write_report
+# As `asperity run` does: OpenMP threads must not spin on a shared 2-core machine (set before
+# the FFT library loads the OpenMP runtime).
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+
+from pipelines.config import config_from_dict, preset_text  # noqa: E402
+from pipelines.job import STAGES, run_job  # noqa: E402
+from pipelines.report import write_report  # noqa: E402
 
 try:
     import tomllib
