@@ -5,11 +5,23 @@ Pohrt-Popov mesh-dependent adhesion criterion (paper Appendix B, eqs. E:BEM_eq1.
 eq:PohrtPopov_G, eq:max_sigma). Works on plain arrays of heights (m) with pixel sizes (m).
 """
 
-from bem.adhesion import approach_retract, critical_tension, pull_off_force
-from bem.fft_backend import crop_to_fast_size, fast_size
-from bem.polonsky_keer import solve_contact
-from bem.result import ContactResult
-from bem.sweep import load_sweep
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+# Public names and the module that defines each; imported on first use so that
+# `asperity --help` and light sub-commands do not load numba kernels they never call.
+_EXPORTS: dict[str, str] = {
+    "approach_retract": "bem.adhesion",
+    "critical_tension": "bem.adhesion",
+    "pull_off_force": "bem.adhesion",
+    "crop_to_fast_size": "bem.fft_backend",
+    "fast_size": "bem.fft_backend",
+    "solve_contact": "bem.polonsky_keer",
+    "ContactResult": "bem.result",
+    "load_sweep": "bem.sweep",
+}
 
 __all__ = [
     "ContactResult",
@@ -21,3 +33,17 @@ __all__ = [
     "pull_off_force",
     "solve_contact",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    module_name = _EXPORTS.get(name)
+    if module_name is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    module = importlib.import_module(module_name)
+    value = module if module_name == f"{__name__}.{name}" else getattr(module, name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))
