@@ -114,7 +114,9 @@ def handler(args: argparse.Namespace) -> int:
         ) from None
     if not (math.isfinite(w) and w >= 0):
         raise ValueError(f"--work-of-adhesion: expected a finite value >= 0, got {w}")
-    pixel_size = _positive("--pixel-size", args.pixel_size) if args.pixel_size else None
+    pixel_size = _positive("--pixel-size", args.pixel_size) if args.pixel_size is not None else None
+    if args.max_iter is not None and args.max_iter < 1:
+        raise ValueError(f"--max-iter: expected an integer >= 1, got {args.max_iter}")
     if args.load is not None:
         loads = _load_list("--load", args.load)
         kind = "normal_force"

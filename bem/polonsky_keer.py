@@ -47,6 +47,7 @@ Convergence residual (the ``tol`` knob)
 from __future__ import annotations
 
 import math
+import threading
 import time
 from collections import OrderedDict
 
@@ -392,21 +393,33 @@ def _shift_on_contact(p, c, delta):  # pragma: no cover - compiled
 # operators (cached: planning FFTW and building a kernel cost more than a small solve)
 # ----------------------------------------------------------------------------------------
 
-_OPERATORS: OrderedDict = OrderedDict()
+# A Convolution owns work buffers (its spectrum and scratch arrays), so it must never be used by
+# two solves at once: the cache is per thread. Solves in different threads of one process then
+# run concurrently and correctly (each thread plans its own operators; FFTW planning itself is
+# serialised inside fft_backend).
+_THREAD_STATE = threading.local()
 _MAX_OPERATORS = 4
+
+
+def _operator_cache() -> OrderedDict:
+    cache = getattr(_THREAD_STATE, "operators", None)
+    if cache is None:
+        cache = _THREAD_STATE.operators = OrderedDict()
+    return cache
 
 
 def _operator(shape, dx, dy, e_star, kernel, periodic, fft_backend, threads) -> Convolution:
     key = (shape, float(dx), float(dy), float(e_star), kernel, bool(periodic), fft_backend, threads)
-    op = _OPERATORS.get(key)
+    cache = _operator_cache()
+    op = cache.get(key)
     if op is None:
         mult, grid = influence_multiplier(shape, dx, dy, e_star, kernel=kernel, periodic=periodic)
         op = Convolution(mult, grid, backend=fft_backend, threads=threads)
-        _OPERATORS[key] = op
-        while len(_OPERATORS) > _MAX_OPERATORS:
-            _OPERATORS.popitem(last=False)
+        cache[key] = op
+        while len(cache) > _MAX_OPERATORS:
+            cache.popitem(last=False)
     else:
-        _OPERATORS.move_to_end(key)
+        cache.move_to_end(key)
     return op
 
 
@@ -414,7 +427,8 @@ def _preconditioner(op: Convolution, dx, dy, e_star) -> Convolution:
     """The stiffness E* |q| / 2 (Pa/m, the inverse of the point-force kernel) on the FFT grid
     of ``op``, q = 0 set to its smallest non-zero value; same backend and threads as ``op``."""
     key = ("precondition", op.shape, float(dx), float(dy), float(e_star), op.backend, op.threads)
-    pre = _OPERATORS.get(key)
+    cache = _operator_cache()
+    pre = cache.get(key)
     if pre is None:
         gx, gy = op.shape
         qx = 2.0 * np.pi * np.fft.fftfreq(gx, d=dx)
@@ -422,9 +436,9 @@ def _preconditioner(op: Convolution, dx, dy, e_star) -> Convolution:
         q = np.sqrt(qx[:, None] ** 2 + qy[None, :] ** 2)
         q[0, 0] = min(2.0 * np.pi / (gx * dx), 2.0 * np.pi / (gy * dy))
         pre = Convolution(0.5 * e_star * q, op.shape, backend=op.backend, threads=op.threads)
-        _OPERATORS[key] = pre
-        while len(_OPERATORS) > 2 * _MAX_OPERATORS:
-            _OPERATORS.popitem(last=False)
+        cache[key] = pre
+        while len(cache) > 2 * _MAX_OPERATORS:
+            cache.popitem(last=False)
     return pre
 
 
@@ -433,8 +447,24 @@ def _preconditioner(op: Convolution, dx, dy, e_star) -> Convolution:
 # ----------------------------------------------------------------------------------------
 
 
+def _real_scalar(name: str, val) -> float:
+    """``val`` as a float, or a ValueError naming the argument (bools, strings, arrays with
+    more than one element and complex numbers are refused)."""
+    if isinstance(val, (bool, np.bool_, str, bytes)) or np.ndim(val) != 0 or np.iscomplexobj(val):
+        raise ValueError(f"solve_contact: {name} must be a real number, got {val!r}")
+    try:
+        return float(val)
+    except (TypeError, ValueError):
+        raise ValueError(f"solve_contact: {name} must be a real number, got {val!r}") from None
+
+
 def _check_inputs(heights, dx, dy, e_star, loads, work_of_adhesion, tol):
-    h = np.asarray(heights, dtype=np.float64)
+    if np.iscomplexobj(heights):
+        raise ValueError("solve_contact: heights must be real (m), got a complex array")
+    try:
+        h = np.asarray(heights, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError("solve_contact: heights must be a 2D array of numbers (m)") from None
     if h.ndim != 2:
         raise ValueError(f"solve_contact: heights must be a 2D array (m), got shape {h.shape}")
     if h.shape[0] < 2 or h.shape[1] < 2:
@@ -446,8 +476,8 @@ def _check_inputs(heights, dx, dy, e_star, loads, work_of_adhesion, tol):
             "fill or crop them before a contact solve"
         )
     for name, val in (("dx", dx), ("dy", dy), ("e_star", e_star)):
-        if not (isinstance(val, (int, float, np.floating, np.integer)) and math.isfinite(val)
-                and val > 0):
+        v = _real_scalar(name, val)
+        if not (math.isfinite(v) and v > 0):
             raise ValueError(f"solve_contact: {name} must be a positive finite number, got {val!r}")
     given = [k for k, v in loads.items() if v is not None]
     if len(given) != 1:
@@ -455,13 +485,18 @@ def _check_inputs(heights, dx, dy, e_star, loads, work_of_adhesion, tol):
             "solve_contact: give exactly one of normal_force (N), mean_pressure (Pa) or "
             f"separation (m); got {given or 'none'}"
         )
-    if not (math.isfinite(work_of_adhesion) and work_of_adhesion >= 0):
+    load = _real_scalar(given[0], loads[given[0]])
+    if not math.isfinite(load):
+        raise ValueError(f"solve_contact: {given[0]} must be finite, got {load}")
+    w = _real_scalar("work_of_adhesion", work_of_adhesion)
+    if not (math.isfinite(w) and w >= 0):
         raise ValueError(
             f"solve_contact: work_of_adhesion must be >= 0 (J/m^2), got {work_of_adhesion}"
         )
-    if not (tol > 0):
-        raise ValueError(f"solve_contact: tol must be > 0, got {tol}")
-    return h
+    t = _real_scalar("tol", tol)
+    if not (math.isfinite(t) and t > 0):
+        raise ValueError(f"solve_contact: tol must be a finite number > 0, got {tol}")
+    return h, given[0], load, w, t
 
 
 # ----------------------------------------------------------------------------------------
@@ -553,7 +588,9 @@ def solve_contact(
     """
     t_start = time.perf_counter()
     loads = {"normal_force": normal_force, "mean_pressure": mean_pressure, "separation": separation}
-    h0 = _check_inputs(heights, dx, dy, e_star, loads, work_of_adhesion, tol)
+    h0, load_name, load_value, work_of_adhesion, tol = _check_inputs(
+        heights, dx, dy, e_star, loads, work_of_adhesion, tol
+    )
     nx, ny = h0.shape
     dx = float(dx)
     dy = float(dy)
@@ -563,12 +600,9 @@ def solve_contact(
     nominal_area = n_pix * pixel_area
     adhesive = work_of_adhesion > 0
     sigma = critical_tension(work_of_adhesion, e_star, dx, dy) if adhesive else 0.0
-    load_control = separation is None
+    load_control = load_name != "separation"
     if load_control:
-        if normal_force is not None:
-            force = float(normal_force)
-        else:
-            force = float(mean_pressure) * nominal_area
+        force = load_value if load_name == "normal_force" else load_value * nominal_area
         if not math.isfinite(force):
             raise ValueError(f"solve_contact: the imposed load must be finite, got {force}")
         if not adhesive and force <= 0:
@@ -577,12 +611,26 @@ def solve_contact(
             )
     else:
         force = float("nan")
-        if not math.isfinite(separation):
-            raise ValueError(f"solve_contact: separation must be finite (m), got {separation}")
+        separation = load_value
+        if periodic and separation <= float(h0.mean()):
+            # periodic kernels have K(q = 0) = 0: the mean deflection is zero, so the mean gap
+            # is d - mean(h) whatever the pressure; d <= mean(h) has no finite solution
+            raise ValueError(
+                f"solve_contact: separation {separation:.6g} m must exceed the mean height "
+                f"{float(h0.mean()):.6g} m on a periodic domain (the mean deflection is zero: "
+                "the flat cannot be pushed below the mean plane; d -> mean(h) is full contact "
+                "at infinite force)"
+            )
+    for name, val, lowest in (("max_iter", max_iter, 1), ("stall_window", stall_window, 1),
+                              ("refresh", refresh, 1)):
+        if val is None and name == "max_iter":
+            continue
+        if isinstance(val, (bool, np.bool_)) or not isinstance(val, (int, np.integer)):
+            raise ValueError(f"solve_contact: {name} must be an integer, got {val!r}")
+        if val < lowest:
+            raise ValueError(f"solve_contact: {name} must be >= {lowest}, got {val}")
     if max_iter is None:
         max_iter = max(1000, 2 * max(nx, ny))
-    if max_iter < 1:
-        raise ValueError(f"solve_contact: max_iter must be >= 1, got {max_iter}")
 
     op = _operator((nx, ny), dx, dy, e_star, kernel, periodic, fft_backend, threads)
     calls_at_start = op.calls
@@ -620,6 +668,10 @@ def solve_contact(
                 f"solve_contact: initial pressure shape {initial_pressure.shape} does not match "
                 f"heights {(nx, ny)}"
             )
+        if not np.all(np.isfinite(initial_pressure)):
+            raise ValueError(
+                "solve_contact: initial pressure contains non-finite values (NaN or inf)"
+            )
         p[:nx, :ny] = initial_pressure
         if initial_mask is not None:
             c[:nx, :ny] = initial_mask
@@ -627,6 +679,10 @@ def solve_contact(
             c[:nx, :ny] = initial_pressure != 0
         np.maximum(p, np.where(c, -sigma, 0.0), out=p)
         p[c == 0] = 0.0
+        if load_control and not adhesive and not p.sum() > 0:
+            # nothing compressive to rescale to the imposed force: start cold instead
+            p[...] = 0.0
+            c[...] = 0
     elif (
         load_control
         and not adhesive
@@ -705,6 +761,7 @@ def solve_contact(
     steps = 0
     residual = math.inf
     since_refresh = 0
+    capped = False
     allow_change = True
     last_allowed = not adhesive
     frozen_its = 0
@@ -854,10 +911,7 @@ def solve_contact(
             else:
                 stats = (n2, s1b, s2b)
     else:
-        message = (
-            f"iteration cap reached: max_iter={max_iter} with residual {residual:.3g} "
-            f"(tol {tol:.3g})"
-        )
+        capped = True
     nit = steps
     # exact final gap (the loop's w may carry incremental updates or be a raw deflection)
     op(p, out=w)
@@ -868,6 +922,19 @@ def solve_contact(
     mask = c[:nx, :ny].astype(bool)
     if load_control and mask.any():
         offset = float(w[:nx, :ny][mask].mean())
+    if capped:
+        # the loop's last residual belongs to the state before the last step: evaluate the
+        # returned state, so that residual_history has nit + 1 entries in every outcome
+        g_all = w - offset
+        in_c = c.astype(bool)
+        viol = float(np.sum(g_all[in_c] ** 2) + np.sum(np.minimum(g_all[~in_c], 0.0) ** 2))
+        p_sq = _dot(pf, pf)
+        residual = math.sqrt(viol / p_sq) * stiffness if p_sq > 0 else math.inf
+        history.append(residual)
+        message = (
+            f"iteration cap reached: max_iter={max_iter} with residual {residual:.3g} "
+            f"(tol {tol:.3g})"
+        )
     gap = w[:nx, :ny] - offset
     n_contact = int(np.count_nonzero(mask))
     total_force = float(pressure.sum()) * pixel_area
@@ -877,9 +944,13 @@ def solve_contact(
             f"imposed force {force:.6g} N not reached (total {total_force:.6g} N): beyond the "
             "pull-off force of the remaining contact"
         )
-    if adhesive and converged and np.any(pressure < -sigma * (1 + 1e-12)):
+    if adhesive and np.any(pressure < -sigma * (1 + 1e-12)):
         converged = False
-        message = "elements in contact below -Sigma at the end of the iteration"
+        message = (
+            f"elements in contact below -Sigma = {-sigma:.6g} Pa at the end of the iteration "
+            f"(imposed force not carried by this contact; a tensile load needs a warm start "
+            f"from a state on the unloading branch, initial=...): {message}"
+        )
     return ContactResult(
         pressure=pressure,
         gap=np.array(gap),

@@ -16,7 +16,6 @@ is resolved).
 
 from __future__ import annotations
 
-import threading
 import time
 from collections.abc import Sequence
 from concurrent.futures import Executor
@@ -33,11 +32,6 @@ from pipelines.store import StageRecord, Variable
 #: measured 10 x 10 mm^2 map is a seventh of the nominal area, so the domain is taken periodic).
 PERIODIC = True
 
-#: One BEM solve at a time per process. Two solves run concurrently from threads of one process
-#: (a dask worker with several threads) were seen to return wrong contact areas (numba's
-#: parallel kernels are not thread-safe under its default threading layer), so the sweeps use
-#: processes for parallelism and this lock for safety.
-_BEM_LOCK = threading.Lock()
 
 
 def solver_grid(surface: topo.HeightMap, stride: int) -> tuple[np.ndarray, float, float]:
@@ -64,10 +58,9 @@ def bem_sweep(heights: np.ndarray, dx: float, dy: float, e_star: float,
     work_of_adhesion J/m^2). The contact mask of the last (largest) load is returned too.
     """
     order = np.argsort(map_loads)
-    with _BEM_LOCK:
-        results = bem.load_sweep(heights, dx, dy, e_star, [float(map_loads[i]) for i in order],
-                                 work_of_adhesion=work_of_adhesion, tol=tol, max_iter=max_iter,
-                                 periodic=periodic, threads=worker_threads())
+    results = bem.load_sweep(heights, dx, dy, e_star, [float(map_loads[i]) for i in order],
+                             work_of_adhesion=work_of_adhesion, tol=tol, max_iter=max_iter,
+                             periodic=periodic, threads=worker_threads())
     n = len(map_loads)
     out = {
         "real_area": np.empty(n), "contact_fraction": np.empty(n), "normal_force": np.empty(n),
@@ -91,10 +84,9 @@ def bem_sweep(heights: np.ndarray, dx: float, dy: float, e_star: float,
 def _single_solve(heights: np.ndarray, dx: float, dy: float, e_star: float, load: float,
                   work_of_adhesion: float, tol: float, max_iter: int | None,
                   periodic: bool) -> tuple[float, bool, int]:
-    with _BEM_LOCK:
-        r = bem.solve_contact(heights, dx, dy, e_star, normal_force=load,
-                              work_of_adhesion=work_of_adhesion, tol=tol, max_iter=max_iter,
-                              periodic=periodic, threads=worker_threads())
+    r = bem.solve_contact(heights, dx, dy, e_star, normal_force=load,
+                          work_of_adhesion=work_of_adhesion, tol=tol, max_iter=max_iter,
+                          periodic=periodic, threads=worker_threads())
     return float(r.contact_fraction), bool(r.converged), int(r.nit)
 
 

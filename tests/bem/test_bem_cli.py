@@ -38,7 +38,7 @@ def test_single_load_json(capsys, npy_surface):
     assert data["mean_gap"] > 0 and data["iterations"] > 0
 
 
-def test_sweep_json_lists_and_matches_api(capsys, npy_surface):
+def test_sweep_json_lists_and_matches_api(capsys, npy_surface, contact_ok):
     from bem import solve_contact
 
     status, out, _ = _run(capsys, ["bem", str(npy_surface), "--e-star", "1e9", "--load",
@@ -51,6 +51,8 @@ def test_sweep_json_lists_and_matches_api(capsys, npy_surface):
     assert data["contact_fraction"] == sorted(data["contact_fraction"])
     h = np.load(npy_surface)
     direct = solve_contact(h, 1e-6, 1e-6, 1e9, normal_force=0.15, tol=1e-10)
+    assert direct.converged, direct.message
+    contact_ok(direct, h, force=0.15)
     assert data["contact_fraction"][1] == pytest.approx(direct.contact_fraction, abs=2 / h.size)
 
 

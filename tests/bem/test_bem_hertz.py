@@ -71,7 +71,8 @@ def test_hertz_displacement_control_matches_load_control(sphere, contact_ok):
     h, dx = sphere(64, 4 * A_HERTZ, R)
     by_load = solve_contact(h, dx, dx, E, normal_force=F, periodic=False, tol=1e-10)
     by_disp = solve_contact(h, dx, dx, E, separation=by_load.separation, periodic=False, tol=1e-10)
-    assert by_disp.converged
+    assert by_load.converged and by_disp.converged
+    contact_ok(by_load, h, force=F)
     contact_ok(by_disp, h)
     assert by_disp.normal_force == pytest.approx(F, rel=1e-6)
     np.testing.assert_array_equal(by_disp.contact_mask, by_load.contact_mask)

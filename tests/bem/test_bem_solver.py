@@ -29,7 +29,8 @@ def test_displacement_control_reproduces_load_control(rough, contact_ok):
     h = _h(rough)
     ref = solve_contact(h, 1.0, 1.0, 1.0, mean_pressure=0.03, tol=1e-11)
     res = solve_contact(h, 1.0, 1.0, 1.0, separation=ref.separation, tol=1e-11)
-    assert res.converged, res.message
+    assert ref.converged and res.converged, res.message
+    contact_ok(ref, h, force=0.03 * h.size)
     contact_ok(res, h)
     assert res.mean_pressure == pytest.approx(0.03, rel=1e-6)
     np.testing.assert_array_equal(res.contact_mask, ref.contact_mask)
