@@ -103,16 +103,28 @@ def approach_retract(
     previous = options.pop("initial", None)
     for d in separations_in:
         res = solve_contact(
-            heights, dx, dy, e_star, separation=float(d), work_of_adhesion=work_of_adhesion,
-            initial=previous, **options,
+            heights,
+            dx,
+            dy,
+            e_star,
+            separation=float(d),
+            work_of_adhesion=work_of_adhesion,
+            initial=previous,
+            **options,
         )
         loading.append(res)
         previous = res
     unloading: list[ContactResult] = []
     for d in separations_out:
         res = solve_contact(
-            heights, dx, dy, e_star, separation=float(d), work_of_adhesion=work_of_adhesion,
-            initial=previous, **options,
+            heights,
+            dx,
+            dy,
+            e_star,
+            separation=float(d),
+            work_of_adhesion=work_of_adhesion,
+            initial=previous,
+            **options,
         )
         unloading.append(res)
         previous = res

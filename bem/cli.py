@@ -77,17 +77,21 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--work-of-adhesion", default="0", help="w (J/m^2); 0 = no adhesion")
     p.add_argument("--pixel-size", help="pixel size (m) for formats without one (.npy, text)")
     p.add_argument(
-        "--detrend", choices=("none", "mean", "plane"), default="plane",
+        "--detrend",
+        choices=("none", "mean", "plane"),
+        default="plane",
         help="form removed before the solve (default plane; mean only for periodic maps)",
     )
     p.add_argument("--tol", default="1e-8", help="residual tolerance (see docs/bem.md)")
     p.add_argument("--max-iter", type=int, default=None, help="iteration cap per solve")
     p.add_argument(
-        "--free-boundary", action="store_true",
+        "--free-boundary",
+        action="store_true",
         help="finite specimen (zero-padded, non-periodic) instead of the periodic domain",
     )
     p.add_argument(
-        "--crop-to-fast-size", action="store_true",
+        "--crop-to-fast-size",
+        action="store_true",
         help="crop the map to FFT-friendly sizes (warns what was cut)",
     )
     p.add_argument("--json", action="store_true", help="print the results as JSON")

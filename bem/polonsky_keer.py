@@ -39,9 +39,10 @@ Convergence residual (the ``tol`` knob)
     E:BEM_eq2 (g = 0 in contact) and E:BEM_eq3 (no penetration outside), converted to a pressure
     with the stiffness E*/sqrt(dx dy) of a pixel-sized wavelength (where the slowest-converging
     error sits) and divided by the rms pressure: an estimate of the relative rms pressure error.
-    Measured on the benchmark surface, tol = 1e-8 gives pressures within ~1e-8 (relative L2)
-    of a tol = 1e-12 solution. The pressure bound (p >= 0, or p >= -Sigma) holds exactly at every
-    iterate; the force balance E:BEM_eq4 to round-off in load control.
+    Measured on the benchmark surface (512^2 .. 2048^2), tol = 1e-8 gives pressures within
+    1.2e-9 .. 1.7e-9 (relative L2) of a tol = 1e-12 solution. The pressure bound (p >= 0,
+    or p >= -Sigma) holds exactly at every iterate; the force balance E:BEM_eq4 to round-off
+    in load control.
 """
 
 from __future__ import annotations
@@ -272,14 +273,18 @@ def _update_pressure(p, t, w, r, c, tau, offset, lower, shift, allow_change, gai
     size = w.size
     m4 = size - size % 4
     for i in range(0, m4, 4):
-        l0, e0, p0, k0, d0 = _pressure_elem(p, t, w, r, c, i, tau, offset, lower, shift,
-                                            allow_change, gain)
-        l1, e1, p1, k1, d1 = _pressure_elem(p, t, w, r, c, i + 1, tau, offset, lower, shift,
-                                            allow_change, gain)
-        l2, e2, p2, k2, d2 = _pressure_elem(p, t, w, r, c, i + 2, tau, offset, lower, shift,
-                                            allow_change, gain)
-        l3, e3, p3, k3, d3 = _pressure_elem(p, t, w, r, c, i + 3, tau, offset, lower, shift,
-                                            allow_change, gain)
+        l0, e0, p0, k0, d0 = _pressure_elem(
+            p, t, w, r, c, i, tau, offset, lower, shift, allow_change, gain
+        )
+        l1, e1, p1, k1, d1 = _pressure_elem(
+            p, t, w, r, c, i + 1, tau, offset, lower, shift, allow_change, gain
+        )
+        l2, e2, p2, k2, d2 = _pressure_elem(
+            p, t, w, r, c, i + 2, tau, offset, lower, shift, allow_change, gain
+        )
+        l3, e3, p3, k3, d3 = _pressure_elem(
+            p, t, w, r, c, i + 3, tau, offset, lower, shift, allow_change, gain
+        )
         left += l0 + l1 + l2 + l3
         entered += e0 + e1 + e2 + e3
         n += k0 + k1 + k2 + k3
@@ -300,8 +305,9 @@ def _update_pressure(p, t, w, r, c, tau, offset, lower, shift, allow_change, gai
         b2 += d2 * d2
         b3 += d3 * d3
     for i in range(m4, size):
-        l0, e0, p0, k0, d0 = _pressure_elem(p, t, w, r, c, i, tau, offset, lower, shift,
-                                            allow_change, gain)
+        l0, e0, p0, k0, d0 = _pressure_elem(
+            p, t, w, r, c, i, tau, offset, lower, shift, allow_change, gain
+        )
         left += l0
         entered += e0
         n += k0
@@ -542,11 +548,16 @@ def solve_contact(
         Imposed mean pressure F_z / nominal area (Pa); load control.
     separation : float, optional
         Imposed rigid-body distance d of eq. E:BEM_eq1 (m); displacement control. For a
-        periodic domain the deflection has zero mean; for a non-periodic one d is the approach
-        relative to the far field (d < 0 indents a surface whose top is at h = 0).
+        periodic domain the deflection has zero mean, so the mean gap is d - mean(h) and d must
+        exceed the mean height (ValueError otherwise: no finite solution); for a non-periodic
+        one d is the approach relative to the far field (d < 0 indents a surface whose top is
+        at h = 0).
     work_of_adhesion : float
         w (J/m^2). When > 0, elements in contact carry tension down to the Pohrt-Popov critical
-        tension Sigma (:func:`bem.critical_tension`, eq:max_sigma) and delaminate below it.
+        tension Sigma (:func:`bem.critical_tension`, eq:max_sigma) and delaminate below it;
+        the imposed force may then be <= 0, but a tensile force needs ``initial`` = a state on
+        the unloading branch (from scratch there is no adhesive contact to pull on: reported
+        as not converged, "contact lost" or "below -Sigma").
     tol : float
         Convergence threshold on the residual: the rms violation of g = 0 in contact and g >= 0
         outside times the pixel stiffness E*/sqrt(dx dy), relative to the rms pressure, i.e. an
@@ -584,7 +595,19 @@ def solve_contact(
     Returns
     -------
     ContactResult
-        Pressure (Pa), gap (m), contact mask, areas (m^2), force (N), status.
+        Pressure (Pa), gap (m), contact mask, areas (m^2), force (N), status. Non-convergence
+        (iteration cap, stall, lost contact) is reported in ``converged``/``message``, never
+        raised.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument: heights not a real 2D array of at least 2 x 2 finite values (NaN
+        = missing pixels are refused: fill or crop them first); dx, dy, e_star not positive
+        finite numbers; not exactly one load, or a non-finite one; a force <= 0 without
+        adhesion; a periodic separation <= mean(h); tol not finite > 0; work_of_adhesion not
+        finite >= 0; max_iter, stall_window, refresh not integers >= 1; an ``initial``
+        pressure of the wrong shape or with non-finite values.
     """
     t_start = time.perf_counter()
     loads = {"normal_force": normal_force, "mean_pressure": mean_pressure, "separation": separation}
@@ -621,8 +644,11 @@ def solve_contact(
                 "the flat cannot be pushed below the mean plane; d -> mean(h) is full contact "
                 "at infinite force)"
             )
-    for name, val, lowest in (("max_iter", max_iter, 1), ("stall_window", stall_window, 1),
-                              ("refresh", refresh, 1)):
+    for name, val, lowest in (
+        ("max_iter", max_iter, 1),
+        ("stall_window", stall_window, 1),
+        ("refresh", refresh, 1),
+    ):
         if val is None and name == "max_iter":
             continue
         if isinstance(val, (bool, np.bool_)) or not isinstance(val, (int, np.integer)):
@@ -695,9 +721,17 @@ def solve_contact(
     ):
         coarse_h = h0.reshape(nx // 2, 2, ny // 2, 2).mean(axis=(1, 3))
         coarse = solve_contact(
-            coarse_h, 2 * dx, 2 * dy, e_star, mean_pressure=force / nominal_area,
-            tol=max(tol, 1e-6), kernel=kernel, fft_backend=fft_backend, threads=threads,
-            coarse_start=coarse_start, max_iter=max_iter,
+            coarse_h,
+            2 * dx,
+            2 * dy,
+            e_star,
+            mean_pressure=force / nominal_area,
+            tol=max(tol, 1e-6),
+            kernel=kernel,
+            fft_backend=fft_backend,
+            threads=threads,
+            coarse_start=coarse_start,
+            max_iter=max_iter,
         )
         coarse_info = {
             "coarse_iterations": coarse.nit + coarse.extra.get("coarse_iterations", 0),
@@ -779,10 +813,21 @@ def solve_contact(
                 if adhesive or not load_control
                 else "no contact"
             )
+            residual = math.inf
             if not load_control:
-                converged = True
-                message = "no element in contact at this separation"
-                residual = 0.0
+                # p = 0 everywhere, so u = 0 and g = d - h: a solution iff nothing penetrates
+                top = float(h0.max())
+                if top <= separation:
+                    converged = True
+                    message = "no element in contact at this separation"
+                    residual = 0.0
+                else:
+                    message = (
+                        f"stalled: every element left the contact set but the flat at "
+                        f"separation {separation:.6g} m penetrates the highest point "
+                        f"({top:.6g} m)"
+                    )
+            history.append(residual)
             break
         if load_control:
             mean_c = s1 / n_c
@@ -799,9 +844,7 @@ def solve_contact(
             pen, npen = _residual_field(wf, cf, sf, offset)
         # pressure-equivalent residual: gap violation x pixel stiffness E*/sqrt(dx dy),
         # relative to the rms pressure (an estimate of the relative rms pressure error)
-        residual = (
-            math.sqrt((g_sq + pen) / psq) * stiffness if psq > 0 else math.inf
-        )
+        residual = math.sqrt((g_sq + pen) / psq) * stiffness if psq > 0 else math.inf
         history.append(residual)
         if adhesive:
             # Pohrt-Popov active set: solve on the frozen contact set until its gap residual
@@ -848,13 +891,20 @@ def solve_contact(
             gz_old = gz
             sgt = _update_direction_preconditioned(wf, cf, tf, zf, offset, zbar, beta)
         rt = op.with_energy(t, r)  # r = K t and sum(t r), fused in Fourier space
-        if not (rt > 0):
+        if rt > 0:
+            tau = sgt / rt
+        elif allow_change and (npen > 0 or (adhesive and bool(np.any((pf < -sigma) & (cf != 0))))):
+            # the linear problem on the current contact set is solved exactly (t = 0), but
+            # the set itself is wrong: penetrating elements must enter, or (adhesion) elements
+            # below -Sigma delaminate. Take the set-change step alone (tau = 0) instead of
+            # stopping before it (seen on a single-element adhesive contact under tension)
+            tau = 0.0
+        else:
             message = (
                 f"stalled: the search direction vanished (curvature {rt:.3g}) at residual "
                 f"{residual:.3g} > tol {tol:.3g}: below the attainable precision"
             )
             break
-        tau = sgt / rt
         # entering elements: Polonsky-Keer's p = -tau g (tau in Pa/m). Preconditioned they
         # enter with p = 0 and get their pressure from the next conjugate-gradient step: any
         # entering pressure (-tau g E*/sqrt(dx dy), or the pixel self-stiffness 1/K(0, 0))
@@ -900,7 +950,9 @@ def solve_contact(
                 op(p, out=w)
                 since_refresh = 0
             elif (
-                load_control and not adhesive and psum > 0
+                load_control
+                and not adhesive
+                and psum > 0
                 and abs(force / pixel_area / psum - 1.0) > 1e-14
             ):
                 # after elements left without a restart, t is not zero-mean on the contact
@@ -971,9 +1023,11 @@ def solve_contact(
         critical_tension=sigma,
         residual=residual,
         extra={
-            "convolutions": op.calls - calls_at_start
+            "convolutions": op.calls
+            - calls_at_start
             + (pre_op.calls - pre_calls_at_start if pre_op is not None else 0),
-            "fft_seconds": op.seconds - fft_seconds_at_start
+            "fft_seconds": op.seconds
+            - fft_seconds_at_start
             + (pre_op.seconds - pre_seconds_at_start if pre_op is not None else 0.0),
             "preconditioner_dropped_at": dropped_at,
             "fft_backend": op.backend,

@@ -17,7 +17,8 @@ class ContactResult:
     ----------
     pressure : ndarray (nx, ny)
         Contact pressure p (Pa), compressive positive; tension (p < 0) only with adhesion,
-        never below ``-critical_tension``.
+        never below ``-critical_tension`` in a converged result (a result that ends with an
+        element below it is reported non-converged, see ``message``).
     gap : ndarray (nx, ny)
         Interfacial gap g = u_z - h + d (m), eq. E:BEM_eq1; ~0 in contact, >= 0 outside.
     contact_mask : ndarray of bool (nx, ny)
@@ -38,11 +39,22 @@ class ContactResult:
     nit : int
         Conjugate-gradient iterations done (``iterations`` is the same number).
     residual_history : ndarray
-        The convergence residual at each iteration (see :func:`bem.solve_contact`, ``tol``).
+        ``nit + 1`` values of the convergence residual (dimensionless, see
+        :func:`bem.solve_contact`, ``tol``): that of the starting state, then one after each
+        iteration; the last equals ``residual``. It decreases overall but not monotonically:
+        it jumps up when elements enter or leave the contact set (the conjugacy restarts),
+        with adhesion at every Pohrt-Popov delamination step, and the preconditioned
+        iteration minimises an energy norm, not this residual. A warm start shows as a small
+        first value.
     converged : bool
-        True when the residual fell below ``tol`` (``success`` is the same flag).
+        True only when the residual fell below ``tol`` with the contact set settled and the
+        imposed force reached (``success`` is the same flag); False for an iteration cap, a
+        stall, a lost contact or a force that cannot be carried.
     message : str
-        Why the iteration stopped.
+        Why the iteration stopped: starts with "converged", "iteration cap reached",
+        "stalled", "contact lost", "no element in contact" (displacement control beyond the
+        highest point: converged, zero force), "imposed force" or "elements in contact below
+        -Sigma".
     seconds : float
         Wall-clock time of the solve (s).
     dx, dy : float
@@ -50,7 +62,7 @@ class ContactResult:
     critical_tension : float
         Pohrt-Popov Sigma (Pa, eq:max_sigma); 0 without adhesion.
     residual : float
-        The final residual.
+        The residual of the returned state (``residual_history[-1]``).
     extra : dict
         Diagnostics: ``convolutions`` (FFT convolutions done on this grid), ``fft_seconds``
         (wall time in them, s), ``fft_backend``, ``fft_threads``,

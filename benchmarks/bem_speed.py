@@ -166,8 +166,9 @@ def _errors(pressure: np.ndarray, reference: np.ndarray) -> tuple[float, float]:
     return d_cf, rel
 
 
-def run_sizes(sizes, peer_python, with_peers, timeout, coarse, with_reference=True,
-              crop_fast=False) -> list[dict]:
+def run_sizes(
+    sizes, peer_python, with_peers, timeout, coarse, with_reference=True, crop_fast=False
+) -> list[dict]:
     sys.path.insert(0, str(HERE))
     from bem_surfaces import self_affine_periodic
 
@@ -197,16 +198,28 @@ def run_sizes(sizes, peer_python, with_peers, timeout, coarse, with_reference=Tr
         if with_reference:
             ref = _run_worker(
                 sys.executable,
-                BEM_WORKER.format(root=str(ROOT), surface=str(surface), p=MEAN_PRESSURE,
-                                  tol=1e-12, save=str(ref_path), coarse=repr(coarse)),
+                BEM_WORKER.format(
+                    root=str(ROOT),
+                    surface=str(surface),
+                    p=MEAN_PRESSURE,
+                    tol=1e-12,
+                    save=str(ref_path),
+                    coarse=repr(coarse),
+                ),
                 timeout,
             )
         reference = np.load(ref_path) if ref else None
         mine_path = tmp / f"bem_{n}.npy"
         mine = _run_worker(
             sys.executable,
-            BEM_WORKER.format(root=str(ROOT), surface=str(surface), p=MEAN_PRESSURE, tol=TOL,
-                              save=str(mine_path), coarse=repr(coarse)),
+            BEM_WORKER.format(
+                root=str(ROOT),
+                surface=str(surface),
+                p=MEAN_PRESSURE,
+                tol=TOL,
+                save=str(mine_path),
+                coarse=repr(coarse),
+            ),
             timeout,
         )
         if mine is None:
@@ -302,10 +315,15 @@ def hertz_accuracy_plot(path: Path) -> None:
     for n, sec, err, nit in rows_n:
         print(f"{1e-10:>8.0e} {n:>5} {sec:>9.4f} {err:>9.2e} {nit:>6}")
     fig, ax = plt.subplots(figsize=(5.5, 4))
-    ax.loglog([r[1] for r in rows_tol], [r[2] for r in rows_tol], "o-",
-              label="tolerance 1e-2 .. 1e-10 (N = 128)")
-    ax.loglog([r[1] for r in rows_n], [r[2] for r in rows_n], "s-",
-              label="grid N = 16 .. 512 (tol 1e-10)")
+    ax.loglog(
+        [r[1] for r in rows_tol],
+        [r[2] for r in rows_tol],
+        "o-",
+        label="tolerance 1e-2 .. 1e-10 (N = 128)",
+    )
+    ax.loglog(
+        [r[1] for r in rows_n], [r[2] for r in rows_n], "s-", label="grid N = 16 .. 512 (tol 1e-10)"
+    )
     for n, sec, err, _ in rows_n:
         ax.annotate(str(n), (sec, err), textcoords="offset points", xytext=(4, 4), fontsize=7)
     ax.set_xlabel("solve time (s)")
@@ -324,18 +342,30 @@ def main(argv=None) -> int:
     parser.add_argument("--no-peers", action="store_true")
     parser.add_argument("--coarse-start", action="store_true", help="bem coarse-grid start")
     parser.add_argument("--no-reference", action="store_true", help="skip the tol 1e-12 solve")
-    parser.add_argument("--crop-fast", action="store_true",
-                        help="crop each surface to a fast FFT size (5001 -> 5000)")
+    parser.add_argument(
+        "--crop-fast",
+        action="store_true",
+        help="crop each surface to a fast FFT size (5001 -> 5000)",
+    )
     parser.add_argument("--timeout", type=float, default=1800.0, help="per worker (s)")
     parser.add_argument("--hertz-plot", type=Path, default=None, help="write the PNG here")
     parser.add_argument("--json", type=Path, default=None, help="also write the rows as JSON")
     args = parser.parse_args(argv)
-    print(f"# bem speed benchmark, {time.strftime('%Y-%m-%d %H:%M:%S')}, load average "
-          f"{os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
+    print(
+        f"# bem speed benchmark, {time.strftime('%Y-%m-%d %H:%M:%S')}, load average "
+        f"{os.getloadavg()[0]:.2f} on {os.cpu_count()} cores"
+    )
     rows = []
     if args.sizes:
-        rows = run_sizes(args.sizes, args.peer_python, not args.no_peers, args.timeout,
-                         args.coarse_start, not args.no_reference, args.crop_fast)
+        rows = run_sizes(
+            args.sizes,
+            args.peer_python,
+            not args.no_peers,
+            args.timeout,
+            args.coarse_start,
+            not args.no_reference,
+            args.crop_fast,
+        )
     if args.json:
         args.json.write_text(json.dumps(rows, indent=1))
     if args.hertz_plot:

@@ -58,9 +58,12 @@ def time_job(n: int, workers: int) -> dict:
         t_report = time.perf_counter() - t0
     median = len(result.bem.normal_load) // 2
     return {
-        "n": n, "pixel": cfg.surface.synthetic.pixel_size, "workers": workers,
+        "n": n,
+        "pixel": cfg.surface.synthetic.pixel_size,
+        "workers": workers,
         "stages": {s.name: s.seconds for s in result.stages},
-        "job": t_job, "report": t_report,
+        "job": t_job,
+        "report": t_report,
         "fraction": float(result.bem.reference_fraction()[median]),
         "stride": result.bem.grid.stride,
         "converged": result.converged,
@@ -70,8 +73,11 @@ def time_job(n: int, workers: int) -> dict:
 def time_cli() -> float:
     with tempfile.TemporaryDirectory() as tmp:
         t0 = time.perf_counter()
-        subprocess.run([sys.executable, "-m", "pipelines", "run", "--out", str(Path(tmp) / "o")],
-                       check=True, capture_output=True)
+        subprocess.run(
+            [sys.executable, "-m", "pipelines", "run", "--out", str(Path(tmp) / "o")],
+            check=True,
+            capture_output=True,
+        )
         return time.perf_counter() - t0
 
 
@@ -85,10 +91,19 @@ def main() -> None:
     for n in sizes:
         for workers in (1, 2):
             rows.append(time_job(n, workers))
-    short = {"surface": "read", "resolution_scan": "scan", "bem_reference": "BEM",
-             "statistical_model": "model", "mode_mixity": "lambda", "friction": "friction"}
-    header = (["n", "pixel_um", "workers"] + [f"{short[s]}_s" for s in STAGES]
-              + ["job_s", "report_s", "speedup", "bem_stride", "Ar/An_bem_adh", "ok"])
+    short = {
+        "surface": "read",
+        "resolution_scan": "scan",
+        "bem_reference": "BEM",
+        "statistical_model": "model",
+        "mode_mixity": "lambda",
+        "friction": "friction",
+    }
+    header = (
+        ["n", "pixel_um", "workers"]
+        + [f"{short[s]}_s" for s in STAGES]
+        + ["job_s", "report_s", "speedup", "bem_stride", "Ar/An_bem_adh", "ok"]
+    )
     print(" ".join(f"{h:>13}" for h in header))
     serial = {}
     for r in rows:
@@ -96,16 +111,24 @@ def main() -> None:
             serial[r["n"]] = r["job"]
         cells = [r["n"], f"{r['pixel'] * 1e6:.3g}", r["workers"]]
         cells += [f"{r['stages'][s]:.2f}" for s in STAGES]
-        cells += [f"{r['job']:.2f}", f"{r['report']:.2f}",
-                  f"{serial[r['n']] / r['job']:.2f}", r["stride"], f"{r['fraction']:.4g}",
-                  r["converged"]]
+        cells += [
+            f"{r['job']:.2f}",
+            f"{r['report']:.2f}",
+            f"{serial[r['n']] / r['job']:.2f}",
+            r["stride"],
+            f"{r['fraction']:.4g}",
+            r["converged"],
+        ]
         print(" ".join(f"{c!s:>13}" for c in cells))
     finest = rows[-1]["fraction"]
-    print("\nBEM A_r/A_n at the median load relative to the finest map: "
-          + ", ".join(f"n={r['n']}: {r['fraction'] / finest:.3f}" for r in rows[::2]))
+    print(
+        "\nBEM A_r/A_n at the median load relative to the finest map: "
+        + ", ".join(f"n={r['n']}: {r['fraction'] / finest:.3f}" for r in rows[::2])
+    )
     if not args.quick:
-        print(f"\nasperity run (default preset, fresh process, figures included): "
-              f"{time_cli():.1f} s")
+        print(
+            f"\nasperity run (default preset, fresh process, figures included): {time_cli():.1f} s"
+        )
 
 
 if __name__ == "__main__":

@@ -33,7 +33,6 @@ from pipelines.store import StageRecord, Variable
 PERIODIC = True
 
 
-
 def solver_grid(surface: topo.HeightMap, stride: int) -> tuple[np.ndarray, float, float]:
     """The BEM grid of a stride: decimated heights (m), cropped to fast FFT sizes, and dx, dy.
 
@@ -49,23 +48,45 @@ def solver_grid(surface: topo.HeightMap, stride: int) -> tuple[np.ndarray, float
     return heights, grid.dx, grid.dy
 
 
-def bem_sweep(heights: np.ndarray, dx: float, dy: float, e_star: float,
-              map_loads: Sequence[float], work_of_adhesion: float, tol: float,
-              max_iter: int | None, periodic: bool) -> dict:
+def bem_sweep(
+    heights: np.ndarray,
+    dx: float,
+    dy: float,
+    e_star: float,
+    map_loads: Sequence[float],
+    work_of_adhesion: float,
+    tol: float,
+    max_iter: int | None,
+    periodic: bool,
+) -> dict:
     """One warm-started BEM sweep; returns per-load summaries (picklable, no fields).
 
     Parameters are those of :func:`bem.load_sweep` (heights m, dx/dy m, e_star Pa, loads N,
     work_of_adhesion J/m^2). The contact mask of the last (largest) load is returned too.
     """
     order = np.argsort(map_loads)
-    results = bem.load_sweep(heights, dx, dy, e_star, [float(map_loads[i]) for i in order],
-                             work_of_adhesion=work_of_adhesion, tol=tol, max_iter=max_iter,
-                             periodic=periodic, threads=worker_threads())
+    results = bem.load_sweep(
+        heights,
+        dx,
+        dy,
+        e_star,
+        [float(map_loads[i]) for i in order],
+        work_of_adhesion=work_of_adhesion,
+        tol=tol,
+        max_iter=max_iter,
+        periodic=periodic,
+        threads=worker_threads(),
+    )
     n = len(map_loads)
     out = {
-        "real_area": np.empty(n), "contact_fraction": np.empty(n), "normal_force": np.empty(n),
-        "mean_gap": np.empty(n), "iterations": np.empty(n, dtype=np.int64),
-        "converged": np.empty(n, dtype=bool), "seconds": np.empty(n), "messages": [""] * n,
+        "real_area": np.empty(n),
+        "contact_fraction": np.empty(n),
+        "normal_force": np.empty(n),
+        "mean_gap": np.empty(n),
+        "iterations": np.empty(n, dtype=np.int64),
+        "converged": np.empty(n, dtype=bool),
+        "seconds": np.empty(n),
+        "messages": [""] * n,
     }
     for rank, i in enumerate(order):
         r = results[rank]
@@ -81,12 +102,29 @@ def bem_sweep(heights: np.ndarray, dx: float, dy: float, e_star: float,
     return out
 
 
-def _single_solve(heights: np.ndarray, dx: float, dy: float, e_star: float, load: float,
-                  work_of_adhesion: float, tol: float, max_iter: int | None,
-                  periodic: bool) -> tuple[float, bool, int]:
-    r = bem.solve_contact(heights, dx, dy, e_star, normal_force=load,
-                          work_of_adhesion=work_of_adhesion, tol=tol, max_iter=max_iter,
-                          periodic=periodic, threads=worker_threads())
+def _single_solve(
+    heights: np.ndarray,
+    dx: float,
+    dy: float,
+    e_star: float,
+    load: float,
+    work_of_adhesion: float,
+    tol: float,
+    max_iter: int | None,
+    periodic: bool,
+) -> tuple[float, bool, int]:
+    r = bem.solve_contact(
+        heights,
+        dx,
+        dy,
+        e_star,
+        normal_force=load,
+        work_of_adhesion=work_of_adhesion,
+        tol=tol,
+        max_iter=max_iter,
+        periodic=periodic,
+        threads=worker_threads(),
+    )
     return float(r.contact_fraction), bool(r.converged), int(r.nit)
 
 
@@ -122,10 +160,20 @@ class GridChoice:
     reason: str
 
 
-def choose_bem_grid(surface: topo.HeightMap, e_star: float, work_of_adhesion: float,
-                    check_pressure: float, *, max_stride: int, area_tolerance: float, tol: float,
-                    max_iter: int | None = None, adhesive: bool = True,
-                    executor: Executor | None = None, progress: bool = False) -> GridChoice:
+def choose_bem_grid(
+    surface: topo.HeightMap,
+    e_star: float,
+    work_of_adhesion: float,
+    check_pressure: float,
+    *,
+    max_stride: int,
+    area_tolerance: float,
+    tol: float,
+    max_iter: int | None = None,
+    adhesive: bool = True,
+    executor: Executor | None = None,
+    progress: bool = False,
+) -> GridChoice:
     """Pick the coarsest map decimation whose contact area is converged to ``area_tolerance``.
 
     Parameters
@@ -177,16 +225,21 @@ def choose_bem_grid(surface: topo.HeightMap, e_star: float, work_of_adhesion: fl
         reason = "the map is too small to decimate; the full map is used"
     elif converged:
         i = strides.index(chosen)
-        reason = (f"stride {chosen} (pixel {chosen * surface.dx * 1e6:.3g} um): A_r/A_map changes "
-                  f"by {change[i]:.2%} when refined to stride {strides[i + 1]}, within the "
-                  f"requested {area_tolerance:.2%}")
+        reason = (
+            f"stride {chosen} (pixel {chosen * surface.dx * 1e6:.3g} um): A_r/A_map changes "
+            f"by {change[i]:.2%} when refined to stride {strides[i + 1]}, within the "
+            f"requested {area_tolerance:.2%}"
+        )
     else:
         finest = np.nanmin(change) if np.isfinite(change).any() else np.nan
-        reason = (f"no decimation converged to {area_tolerance:.2%} (smallest change on "
-                  f"refinement {finest:.2%}): the full map (stride 1) is used; the real area of "
-                  "this surface is not converged under refinement")
-    return GridChoice(chosen, np.asarray(strides), fraction, change, float(check_pressure),
-                      converged, reason)
+        reason = (
+            f"no decimation converged to {area_tolerance:.2%} (smallest change on "
+            f"refinement {finest:.2%}): the full map (stride 1) is used; the real area of "
+            "this surface is not converged under refinement"
+        )
+    return GridChoice(
+        chosen, np.asarray(strides), fraction, change, float(check_pressure), converged, reason
+    )
 
 
 @dataclass
@@ -240,11 +293,21 @@ class BemReference:
         return self.contact_fraction
 
 
-def bem_reference(surface: topo.HeightMap, e_star: float, work_of_adhesion: float,
-                  normal_loads: Sequence[float], nominal_area: float, *, tol: float = 1e-6,
-                  max_iter: int | None = None, area_tolerance: float = 0.05, max_stride: int = 4,
-                  adhesive: bool = True, executor: Executor | None = None,
-                  progress: bool = False) -> BemReference:
+def bem_reference(
+    surface: topo.HeightMap,
+    e_star: float,
+    work_of_adhesion: float,
+    normal_loads: Sequence[float],
+    nominal_area: float,
+    *,
+    tol: float = 1e-6,
+    max_iter: int | None = None,
+    area_tolerance: float = 0.05,
+    max_stride: int = 4,
+    adhesive: bool = True,
+    executor: Executor | None = None,
+    progress: bool = False,
+) -> BemReference:
     """Stage 3: BEM real contact area against normal load on the map.
 
     Parameters
@@ -270,20 +333,30 @@ def bem_reference(surface: topo.HeightMap, e_star: float, work_of_adhesion: floa
     """
     start = time.perf_counter()
     loads = np.asarray(normal_loads, dtype=float)
-    grid = choose_bem_grid(surface, e_star, work_of_adhesion,
-                           float(np.median(loads)) / nominal_area,
-                           max_stride=max_stride, area_tolerance=area_tolerance, tol=tol,
-                           max_iter=max_iter, adhesive=adhesive, executor=executor,
-                           progress=progress)
+    grid = choose_bem_grid(
+        surface,
+        e_star,
+        work_of_adhesion,
+        float(np.median(loads)) / nominal_area,
+        max_stride=max_stride,
+        area_tolerance=area_tolerance,
+        tol=tol,
+        max_iter=max_iter,
+        adhesive=adhesive,
+        executor=executor,
+        progress=progress,
+    )
     h, dx, dy = solver_grid(surface, grid.stride)
     map_loads = loads * (h.size * dx * dy) / nominal_area
     ws = [0.0, work_of_adhesion] if adhesive and work_of_adhesion > 0 else [0.0]
     args = [(h, dx, dy, e_star, map_loads, w, tol, max_iter, PERIODIC) for w in ws]
     sweeps = run_map(bem_sweep, args, executor, desc="BEM sweeps", progress=progress)
-    messages = [f"{'adhesive' if w > 0 else 'non-adhesive'} F_z={loads[i]:.4g} N: {m}"
-                for w, sw in zip(ws, sweeps, strict=True)
-                for i, (m, ok) in enumerate(zip(sw["messages"], sw["converged"], strict=True))
-                if not ok]
+    messages = [
+        f"{'adhesive' if w > 0 else 'non-adhesive'} F_z={loads[i]:.4g} N: {m}"
+        for w, sw in zip(ws, sweeps, strict=True)
+        for i, (m, ok) in enumerate(zip(sw["messages"], sw["converged"], strict=True))
+        if not ok
+    ]
     return BemReference(
         normal_load=loads,
         map_normal_load=map_loads,
@@ -306,42 +379,62 @@ def bem_record(ref: BemReference) -> StageRecord:
     mask = ref.contact_mask
     record = StageRecord(
         coords={
-            "normal_load": Variable(ref.normal_load, "N", ("normal_load",),
-                                    "normal load on the nominal area"),
-            "mode": Variable(np.arange(len(modes)), "1", ("mode",),
-                             "0 non-adhesive, 1 adhesive (Pohrt-Popov)"),
-            "check_stride": Variable(ref.grid.strides, "1", ("check_stride",),
-                                     "strides of the grid refinement check"),
+            "normal_load": Variable(
+                ref.normal_load, "N", ("normal_load",), "normal load on the nominal area"
+            ),
+            "mode": Variable(
+                np.arange(len(modes)), "1", ("mode",), "0 non-adhesive, 1 adhesive (Pohrt-Popov)"
+            ),
+            "check_stride": Variable(
+                ref.grid.strides, "1", ("check_stride",), "strides of the grid refinement check"
+            ),
             "mask_x": Variable(np.arange(mask.shape[0]) * ref.dx, "m", ("mask_x",), "x"),
             "mask_y": Variable(np.arange(mask.shape[1]) * ref.dy, "m", ("mask_y",), "y"),
         },
         variables={
-            "map_normal_load": Variable(ref.map_normal_load, "N", ("normal_load",),
-                                        "load on the map, F_z A_map / A_n"),
-            "contact_fraction": Variable(ref.contact_fraction, "1", ("normal_load",),
-                                         "non-adhesive A_r / A_n"),
-            "iterations": Variable(ref.iterations, "1", ("mode", "normal_load"),
-                                   "solver iterations"),
-            "converged": Variable(ref.converged, "1", ("mode", "normal_load"),
-                                  "solver converged (1) or not (0)"),
+            "map_normal_load": Variable(
+                ref.map_normal_load, "N", ("normal_load",), "load on the map, F_z A_map / A_n"
+            ),
+            "contact_fraction": Variable(
+                ref.contact_fraction, "1", ("normal_load",), "non-adhesive A_r / A_n"
+            ),
+            "iterations": Variable(
+                ref.iterations, "1", ("mode", "normal_load"), "solver iterations"
+            ),
+            "converged": Variable(
+                ref.converged, "1", ("mode", "normal_load"), "solver converged (1) or not (0)"
+            ),
             "check_contact_fraction": Variable(
-                ref.grid.contact_fraction, "1", ("check_stride", "mode"),
-                "A_r / A_map at the check pressure"),
-            "check_relative_change": Variable(ref.grid.relative_change, "1", ("check_stride",),
-                                              "relative change to the next finer stride"),
-            "contact_mask": Variable(mask, "1", ("mask_x", "mask_y"),
-                                     "contact at the largest load"),
+                ref.grid.contact_fraction,
+                "1",
+                ("check_stride", "mode"),
+                "A_r / A_map at the check pressure",
+            ),
+            "check_relative_change": Variable(
+                ref.grid.relative_change,
+                "1",
+                ("check_stride",),
+                "relative change to the next finer stride",
+            ),
+            "contact_mask": Variable(
+                mask, "1", ("mask_x", "mask_y"), "contact at the largest load"
+            ),
         },
         attrs={
-            "stride": ref.grid.stride, "dx": ref.dx, "dy": ref.dy,
-            "check_pressure": ref.grid.check_pressure, "grid_converged": ref.grid.converged,
-            "grid_reason": ref.grid.reason, "messages": "\n".join(ref.messages),
+            "stride": ref.grid.stride,
+            "dx": ref.dx,
+            "dy": ref.dy,
+            "check_pressure": ref.grid.check_pressure,
+            "grid_converged": ref.grid.converged,
+            "grid_reason": ref.grid.reason,
+            "messages": "\n".join(ref.messages),
             "all_converged": ref.all_converged,
         },
     )
     if ref.contact_fraction_adhesive is not None:
         record.variables["contact_fraction_adhesive"] = Variable(
-            ref.contact_fraction_adhesive, "1", ("normal_load",), "adhesive A_r / A_n")
+            ref.contact_fraction_adhesive, "1", ("normal_load",), "adhesive A_r / A_n"
+        )
     return record
 
 
@@ -349,9 +442,15 @@ def bem_from_record(record: StageRecord) -> BemReference:
     """Rebuild the stage-3 result from its stored record."""
     v, a = record.variables, record.attrs
     messages = [m for m in str(a.get("messages", "")).split("\n") if m]
-    grid = GridChoice(int(a["stride"]), record.coords["check_stride"].data,
-                      v["check_contact_fraction"].data, v["check_relative_change"].data,
-                      float(a["check_pressure"]), bool(a["grid_converged"]), str(a["grid_reason"]))
+    grid = GridChoice(
+        int(a["stride"]),
+        record.coords["check_stride"].data,
+        v["check_contact_fraction"].data,
+        v["check_relative_change"].data,
+        float(a["check_pressure"]),
+        bool(a["grid_converged"]),
+        str(a["grid_reason"]),
+    )
     adhesive = v.get("contact_fraction_adhesive")
     return BemReference(
         normal_load=record.coords["normal_load"].data,
@@ -360,7 +459,9 @@ def bem_from_record(record: StageRecord) -> BemReference:
         contact_fraction_adhesive=None if adhesive is None else adhesive.data,
         iterations=v["iterations"].data,
         converged=v["converged"].data.astype(bool),
-        grid=grid, dx=float(a["dx"]), dy=float(a["dy"]),
+        grid=grid,
+        dx=float(a["dx"]),
+        dy=float(a["dy"]),
         contact_mask=v["contact_mask"].data.astype(bool),
         messages=messages,
     )

@@ -253,7 +253,8 @@ class JobConfig:
             for item in data["measured"]["shear_area"]
         ]
         if len(data["measured"]["shear_area"]) == 1 and isinstance(
-                data["measured"]["shear_area"][0], str):
+            data["measured"]["shear_area"][0], str
+        ):
             data["measured"]["shear_area"] = data["measured"]["shear_area"][0]
         elif not data["measured"]["shear_area"]:
             del data["measured"]["shear_area"]
@@ -277,8 +278,11 @@ def _toml_value(value: Any) -> str:
     if isinstance(value, list):
         return "[" + ", ".join(_toml_value(v) for v in value) + "]"
     if isinstance(value, dict):
-        return "{" + ", ".join(f"{k} = {_toml_value(v)}" for k, v in value.items()
-                               if v is not None) + "}"
+        return (
+            "{"
+            + ", ".join(f"{k} = {_toml_value(v)}" for k, v in value.items() if v is not None)
+            + "}"
+        )
     raise TypeError(f"cannot write {value!r} as TOML")
 
 
@@ -372,8 +376,15 @@ class _Section:
         self.used.add(key)
         return self.data.get(key, default)
 
-    def number(self, key: str, default: float | None, *, positive: bool = False,
-               nonnegative: bool = False, allow_none: bool = False) -> float | None:
+    def number(
+        self,
+        key: str,
+        default: float | None,
+        *,
+        positive: bool = False,
+        nonnegative: bool = False,
+        allow_none: bool = False,
+    ) -> float | None:
         value = self.get(key, default)
         if value is None and allow_none:
             return None
@@ -388,8 +399,9 @@ class _Section:
             raise self.fail(key, "a non-negative number", value)
         return value
 
-    def integer(self, key: str, default: int | None, *, minimum: int = 1,
-                allow_none: bool = False) -> int | None:
+    def integer(
+        self, key: str, default: int | None, *, minimum: int = 1, allow_none: bool = False
+    ) -> int | None:
         value = self.get(key, default)
         if value is None and allow_none:
             return None
@@ -431,8 +443,9 @@ def _existing_file(section: _Section, key: str, value: Any, base_dir: Path) -> P
     return path
 
 
-def config_from_dict(data: Mapping[str, Any], *, source: str = "<dict>",
-                     base_dir: str | Path = ".") -> JobConfig:
+def config_from_dict(
+    data: Mapping[str, Any], *, source: str = "<dict>", base_dir: str | Path = "."
+) -> JobConfig:
     """Validate plain TOML data into a :class:`JobConfig` (defaults fill missing keys).
 
     Parameters
@@ -452,20 +465,22 @@ def config_from_dict(data: Mapping[str, Any], *, source: str = "<dict>",
         tables[name] = _Section(top.get(name, {}), name, source)
     unknown = sorted(set(data) - top.used)
     if unknown:
-        raise ConfigError(f"{source}: unknown table or key {unknown[0]!r}"
-                          f" (known: {', '.join(sorted(top.used))})")
+        raise ConfigError(
+            f"{source}: unknown table or key {unknown[0]!r} (known: {', '.join(sorted(top.used))})"
+        )
 
     surface = _surface(tables["surface"], base_dir)
     m = tables["material"]
     material = MaterialConfig(
         E_star=m.number("E_star", MaterialConfig.E_star, positive=True),
-        work_of_adhesion=m.number("work_of_adhesion", MaterialConfig.work_of_adhesion,
-                                  nonnegative=True),
+        work_of_adhesion=m.number(
+            "work_of_adhesion", MaterialConfig.work_of_adhesion, nonnegative=True
+        ),
         mode_mixity=m.number("mode_mixity", MaterialConfig.mode_mixity, nonnegative=True),
-        shear_strength=m.number("shear_strength", MaterialConfig.shear_strength,
-                                nonnegative=True),
-        equilibrium_distance=m.number("equilibrium_distance",
-                                      MaterialConfig.equilibrium_distance, positive=True),
+        shear_strength=m.number("shear_strength", MaterialConfig.shear_strength, nonnegative=True),
+        equilibrium_distance=m.number(
+            "equilibrium_distance", MaterialConfig.equilibrium_distance, positive=True
+        ),
     )
     if material.mode_mixity > 1:
         raise m.fail("mode_mixity", "a number in [0, 1]", material.mode_mixity)
@@ -473,9 +488,11 @@ def config_from_dict(data: Mapping[str, Any], *, source: str = "<dict>",
 
     ld = tables["loading"]
     loads_raw = ld.get("normal_loads", list(LoadingConfig.normal_loads))
-    if (not isinstance(loads_raw, list) or not loads_raw
-            or not all(isinstance(v, (int, float)) and not isinstance(v, bool)
-                       for v in loads_raw)):
+    if (
+        not isinstance(loads_raw, list)
+        or not loads_raw
+        or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in loads_raw)
+    ):
         raise ld.fail("normal_loads", "a non-empty list of numbers (N)", loads_raw)
     loads = tuple(float(v) for v in loads_raw)
     if not all(math.isfinite(v) for v in loads):
@@ -513,9 +530,12 @@ def config_from_dict(data: Mapping[str, Any], *, source: str = "<dict>",
 
     f = tables["fit"]
     bounds = f.get("mode_mixity_bounds", list(FitConfig.mode_mixity_bounds))
-    if (not isinstance(bounds, list) or len(bounds) != 2
-            or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in bounds)
-            or not 0 < bounds[0] < bounds[1] <= 1):
+    if (
+        not isinstance(bounds, list)
+        or len(bounds) != 2
+        or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in bounds)
+        or not 0 < bounds[0] < bounds[1] <= 1
+    ):
         raise f.fail("mode_mixity_bounds", "[low, high] with 0 < low < high <= 1", bounds)
     fit = FitConfig(mode_mixity_bounds=(float(bounds[0]), float(bounds[1])))
     f.finish()
@@ -524,20 +544,31 @@ def config_from_dict(data: Mapping[str, Any], *, source: str = "<dict>",
     run = RunConfig(workers=r.integer("workers", RunConfig.workers))
     r.finish()
 
-    return JobConfig(surface=surface, material=material, loading=loading, bem=bem,
-                     statmodel=statmodel_cfg, measured=measured, fit=fit, run=run,
-                     source=source)
+    return JobConfig(
+        surface=surface,
+        material=material,
+        loading=loading,
+        bem=bem,
+        statmodel=statmodel_cfg,
+        measured=measured,
+        fit=fit,
+        run=run,
+        source=source,
+    )
 
 
 def _surface(s: _Section, base_dir: Path) -> SurfaceConfig:
     file_value = s.get("file", None)
     synthetic_value = s.get("synthetic", None)
     if file_value is not None and synthetic_value is not None:
-        raise ConfigError(f"{s.source}: [surface] gives both surface.file and "
-                          "[surface.synthetic]; expected exactly one")
+        raise ConfigError(
+            f"{s.source}: [surface] gives both surface.file and "
+            "[surface.synthetic]; expected exactly one"
+        )
     if file_value is None and synthetic_value is None:
-        raise ConfigError(f"{s.source}: [surface] needs surface.file or a "
-                          "[surface.synthetic] recipe")
+        raise ConfigError(
+            f"{s.source}: [surface] needs surface.file or a [surface.synthetic] recipe"
+        )
     file = None if file_value is None else _existing_file(s, "file", file_value, base_dir)
     synthetic = None
     if synthetic_value is not None:
@@ -577,12 +608,15 @@ def _measured(s: _Section, base_dir: Path) -> MeasuredConfig:
         for i, item in enumerate(shear):
             key = f"shear_area[{i}]"
             if not isinstance(item, Mapping) or set(item) != {"normal_load", "file"}:
-                raise s.fail(key, "a table {normal_load = N, file = \"curve.csv\"}", item)
+                raise s.fail(key, 'a table {normal_load = N, file = "curve.csv"}', item)
             load = item["normal_load"]
             if isinstance(load, bool) or not isinstance(load, (int, float)):
                 raise s.fail(key + ".normal_load", "a number (N)", load)
-            curves.append(ShearCurveFile(_existing_file(s, key + ".file", item["file"], base_dir),
-                                         float(load)))
+            curves.append(
+                ShearCurveFile(
+                    _existing_file(s, key + ".file", item["file"], base_dir), float(load)
+                )
+            )
     else:
         raise s.fail("shear_area", "a file name or a list of {normal_load, file} tables", shear)
     s.finish()

@@ -70,8 +70,9 @@ class LambdaFit:
     nfev: int
 
 
-def area_up_to_peak(tangential_force: np.ndarray,
-                    real_area: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def area_up_to_peak(
+    tangential_force: np.ndarray, real_area: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """The stick branch of a model A_r(F_x) curve: from the start up to the static peak.
 
     Parameters
@@ -95,15 +96,17 @@ def area_up_to_peak(tangential_force: np.ndarray,
     return fx[keep], ar[keep]
 
 
-def interpolate_area(fx_model: np.ndarray, ar_model: np.ndarray,
-                     fx_measured: np.ndarray) -> np.ndarray:
+def interpolate_area(
+    fx_model: np.ndarray, ar_model: np.ndarray, fx_measured: np.ndarray
+) -> np.ndarray:
     """Model A_r (m^2) at measured tangential forces (N), held at the end values outside."""
     fx, ar = area_up_to_peak(fx_model, ar_model)
     return np.interp(fx_measured, fx, ar)
 
 
-def _model_residuals(mode_mixity: float, curves: Sequence[ShearAreaCurve], model: ShearAreaModel,
-                     map_fn: MapFunction) -> np.ndarray:
+def _model_residuals(
+    mode_mixity: float, curves: Sequence[ShearAreaCurve], model: ShearAreaModel, map_fn: MapFunction
+) -> np.ndarray:
     loads = [c.normal_load for c in curves]
     outputs = list(map_fn(model, [mode_mixity] * len(curves), loads))
     parts = []
@@ -113,9 +116,14 @@ def _model_residuals(mode_mixity: float, curves: Sequence[ShearAreaCurve], model
     return np.concatenate(parts)
 
 
-def fit_mode_mixity(curves: Sequence[ShearAreaCurve], model: ShearAreaModel,
-                    *, bounds: tuple[float, float] = (1e-4, 1.0), grid_points: int = 9,
-                    map_fn: MapFunction = map) -> LambdaFit:
+def fit_mode_mixity(
+    curves: Sequence[ShearAreaCurve],
+    model: ShearAreaModel,
+    *,
+    bounds: tuple[float, float] = (1e-4, 1.0),
+    grid_points: int = 9,
+    map_fn: MapFunction = map,
+) -> LambdaFit:
     """Fit lambda jointly to measured A_r(F_x) curves (least squares, with uncertainty).
 
     Parameters
@@ -148,10 +156,9 @@ def fit_mode_mixity(curves: Sequence[ShearAreaCurve], model: ShearAreaModel,
         raise ValueError("fit_mode_mixity: need at least two measured points")
 
     grid = np.logspace(math.log10(low), math.log10(high), grid_points)
-    grid_rms = np.array([
-        float(np.sqrt(np.mean(_model_residuals(lam, curves, model, map_fn) ** 2)))
-        for lam in grid
-    ])
+    grid_rms = np.array(
+        [float(np.sqrt(np.mean(_model_residuals(lam, curves, model, map_fn) ** 2))) for lam in grid]
+    )
     start = math.log10(grid[int(np.argmin(grid_rms))])
     step = (math.log10(high) - math.log10(low)) / max(grid_points - 1, 1)
     q_low = max(math.log10(low), start - step)
@@ -161,10 +168,18 @@ def fit_mode_mixity(curves: Sequence[ShearAreaCurve], model: ShearAreaModel,
     def residuals(q: np.ndarray) -> np.ndarray:
         return _model_residuals(10.0 ** q[0], curves, model, map_fn)
 
-    result = least_squares(residuals, x0=[start], bounds=([q_low], [q_high]),
-                           diff_step=[1e-3], x_scale=[0.1], xtol=1e-10, ftol=1e-12, gtol=1e-12)
+    result = least_squares(
+        residuals,
+        x0=[start],
+        bounds=([q_low], [q_high]),
+        diff_step=[1e-3],
+        x_scale=[0.1],
+        xtol=1e-10,
+        ftol=1e-12,
+        gtol=1e-12,
+    )
     q_best = float(result.x[0])
-    lam = 10.0 ** q_best
+    lam = 10.0**q_best
     r = result.fun
     dof = max(n_points - 1, 1)
     s2 = float(np.sum(r**2)) / dof

@@ -84,8 +84,9 @@ MIN_FIT_STEPS = 201
 SLIDING_MARGIN = 1.25
 
 
-def initial_displacement_guess(material: statmodel.Material,
-                               roughness: statmodel.Roughness) -> float:
+def initial_displacement_guess(
+    material: statmodel.Material, roughness: statmodel.Roughness
+) -> float:
     """A first guess of the shear path length, m.
 
     Four times tau0 a0 / E*, with a0 = (9 pi w R^2 / (2 E*))^(1/3) the JKR contact radius at
@@ -98,10 +99,16 @@ def initial_displacement_guess(material: statmodel.Material,
     return max(4 * tau * a0 / e, 1e-7)
 
 
-def shear_curve_auto(material: statmodel.Material, roughness: statmodel.Roughness,
-                     nominal_area: float, normal_load: float, *,
-                     max_tangential_displacement: float | None = None, steps: int = 201,
-                     knobs: Mapping[str, Any] | None = None) -> Any:
+def shear_curve_auto(
+    material: statmodel.Material,
+    roughness: statmodel.Roughness,
+    nominal_area: float,
+    normal_load: float,
+    *,
+    max_tangential_displacement: float | None = None,
+    steps: int = 201,
+    knobs: Mapping[str, Any] | None = None,
+) -> Any:
     """:func:`statmodel.shear_curve` on a given or automatically found shear path.
 
     Parameters
@@ -127,8 +134,7 @@ def shear_curve_auto(material: statmodel.Material, roughness: statmodel.Roughnes
 
     def run(max_dt: float) -> Any:
         path = np.linspace(0.0, max_dt, steps)
-        return statmodel.shear_curve(material, roughness, nominal_area, normal_load, path,
-                                     **knobs)
+        return statmodel.shear_curve(material, roughness, nominal_area, normal_load, path, **knobs)
 
     if max_tangential_displacement is not None:
         return run(float(max_tangential_displacement))
@@ -142,8 +148,9 @@ def shear_curve_auto(material: statmodel.Material, roughness: statmodel.Roughnes
 
 def curve_summary(curve: Any) -> dict[str, Any]:
     """Arrays and scalars of a shear curve as a picklable dict (SI)."""
-    out: dict[str, Any] = {name: np.asarray(getattr(curve, name), dtype=float)
-                           for name in CURVE_FIELDS}
+    out: dict[str, Any] = {
+        name: np.asarray(getattr(curve, name), dtype=float) for name in CURVE_FIELDS
+    }
     for name in CURVE_SCALARS:
         out[name] = float(getattr(curve, name))
     out["converged"] = bool(curve.converged)
@@ -151,23 +158,49 @@ def curve_summary(curve: Any) -> dict[str, Any]:
     return out
 
 
-def _curve_job(material: statmodel.Material, roughness: statmodel.Roughness,
-               nominal_area: float, normal_load: float, max_dt: float | None, steps: int,
-               knobs: Mapping[str, Any]) -> dict[str, Any]:
-    return curve_summary(shear_curve_auto(material, roughness, nominal_area, normal_load,
-                                          max_tangential_displacement=max_dt, steps=steps,
-                                          knobs=knobs))
+def _curve_job(
+    material: statmodel.Material,
+    roughness: statmodel.Roughness,
+    nominal_area: float,
+    normal_load: float,
+    max_dt: float | None,
+    steps: int,
+    knobs: Mapping[str, Any],
+) -> dict[str, Any]:
+    return curve_summary(
+        shear_curve_auto(
+            material,
+            roughness,
+            nominal_area,
+            normal_load,
+            max_tangential_displacement=max_dt,
+            steps=steps,
+            knobs=knobs,
+        )
+    )
 
 
-def model_shear_area(mode_mixity: float, normal_load: float, *, material: statmodel.Material,
-                     roughness: statmodel.Roughness, nominal_area: float,
-                     max_tangential_displacement: float | None, steps: int,
-                     knobs: Mapping[str, Any]) -> tuple[np.ndarray, np.ndarray]:
+def model_shear_area(
+    mode_mixity: float,
+    normal_load: float,
+    *,
+    material: statmodel.Material,
+    roughness: statmodel.Roughness,
+    nominal_area: float,
+    max_tangential_displacement: float | None,
+    steps: int,
+    knobs: Mapping[str, Any],
+) -> tuple[np.ndarray, np.ndarray]:
     """Model A_r(F_x) along the shear path for one lambda and load: (F_x N, A_r m^2)."""
-    curve = shear_curve_auto(dataclasses.replace(material, mode_mixity=float(mode_mixity)),
-                             roughness, nominal_area, normal_load,
-                             max_tangential_displacement=max_tangential_displacement,
-                             steps=steps, knobs=knobs)
+    curve = shear_curve_auto(
+        dataclasses.replace(material, mode_mixity=float(mode_mixity)),
+        roughness,
+        nominal_area,
+        normal_load,
+        max_tangential_displacement=max_tangential_displacement,
+        steps=steps,
+        knobs=knobs,
+    )
     return np.asarray(curve.tangential_force, float), np.asarray(curve.real_area, float)
 
 
@@ -196,11 +229,17 @@ class QuadratureChoice:
     reason: str
 
 
-def choose_quadrature(material: statmodel.Material, roughness: statmodel.Roughness,
-                      nominal_area: float, normal_load: float, *, tolerance: float,
-                      max_tangential_displacement: float | None, steps: int,
-                      ladder: Sequence[Mapping[str, Any]] = QUADRATURE_LADDER
-                      ) -> QuadratureChoice:
+def choose_quadrature(
+    material: statmodel.Material,
+    roughness: statmodel.Roughness,
+    nominal_area: float,
+    normal_load: float,
+    *,
+    tolerance: float,
+    max_tangential_displacement: float | None,
+    steps: int,
+    ladder: Sequence[Mapping[str, Any]] = QUADRATURE_LADDER,
+) -> QuadratureChoice:
     """The coarsest quadrature setting whose curve agrees with the next finer one.
 
     Parameters
@@ -216,14 +255,26 @@ def choose_quadrature(material: statmodel.Material, roughness: statmodel.Roughne
     """
     ladder = [dict(k) for k in ladder]
     if len(ladder) == 1:
-        return QuadratureChoice(ladder[0], ladder, np.array([np.nan]), np.array([np.nan]),
-                                "statmodel's default quadrature (no coarser setting offered)")
+        return QuadratureChoice(
+            ladder[0],
+            ladder,
+            np.array([np.nan]),
+            np.array([np.nan]),
+            "statmodel's default quadrature (no coarser setting offered)",
+        )
     curves, seconds = [], []
     max_dt = max_tangential_displacement
     for knobs in ladder[::-1]:  # finest first: it fixes the shear path for the others
         t0 = time.perf_counter()
-        curve = shear_curve_auto(material, roughness, nominal_area, normal_load,
-                                 max_tangential_displacement=max_dt, steps=steps, knobs=knobs)
+        curve = shear_curve_auto(
+            material,
+            roughness,
+            nominal_area,
+            normal_load,
+            max_tangential_displacement=max_dt,
+            steps=steps,
+            knobs=knobs,
+        )
         seconds.append(time.perf_counter() - t0)
         if max_dt is None:
             max_dt = float(np.asarray(curve.tangential_displacement)[-1])
@@ -240,13 +291,22 @@ def choose_quadrature(material: statmodel.Material, roughness: statmodel.Roughne
         change[i] = worst
     for i in range(len(ladder) - 1):
         if change[i] <= tolerance:
-            return QuadratureChoice(ladder[i], ladder, change, seconds,
-                                    f"setting {ladder[i] or 'default'}: F_x and A_r change by "
-                                    f"{change[i]:.2g} (relative) on refinement, within "
-                                    f"{tolerance:.2g}; {seconds[i]:.3g} s per curve")
-    return QuadratureChoice(ladder[-1], ladder, change, seconds,
-                            f"no coarser setting met {tolerance:.2g}: the finest "
-                            f"({ladder[-1] or 'default'}) is used")
+            return QuadratureChoice(
+                ladder[i],
+                ladder,
+                change,
+                seconds,
+                f"setting {ladder[i] or 'default'}: F_x and A_r change by "
+                f"{change[i]:.2g} (relative) on refinement, within "
+                f"{tolerance:.2g}; {seconds[i]:.3g} s per curve",
+            )
+    return QuadratureChoice(
+        ladder[-1],
+        ladder,
+        change,
+        seconds,
+        f"no coarser setting met {tolerance:.2g}: the finest ({ladder[-1] or 'default'}) is used",
+    )
 
 
 @dataclass
@@ -259,12 +319,18 @@ class ModeMixityChoice:
     curves: list[ShearAreaCurve] = field(default_factory=list)
 
 
-def calibrate_mode_mixity(material: statmodel.Material, roughness: statmodel.Roughness,
-                          nominal_area: float, curves: Sequence[ShearAreaCurve], *,
-                          bounds: tuple[float, float] = (1e-4, 1.0),
-                          max_tangential_displacement: float | None = None, steps: int = 201,
-                          knobs: Mapping[str, Any] | None = None,
-                          executor: Executor | None = None) -> ModeMixityChoice:
+def calibrate_mode_mixity(
+    material: statmodel.Material,
+    roughness: statmodel.Roughness,
+    nominal_area: float,
+    curves: Sequence[ShearAreaCurve],
+    *,
+    bounds: tuple[float, float] = (1e-4, 1.0),
+    max_tangential_displacement: float | None = None,
+    steps: int = 201,
+    knobs: Mapping[str, Any] | None = None,
+    executor: Executor | None = None,
+) -> ModeMixityChoice:
     """Stage 5: fit lambda to measured A_r(F_x) curves, or keep ``material.mode_mixity``.
 
     Parameters
@@ -286,12 +352,18 @@ def calibrate_mode_mixity(material: statmodel.Material, roughness: statmodel.Rou
     """
     if not curves:
         return ModeMixityChoice(material.mode_mixity, False)
-    model = functools.partial(model_shear_area, material=material, roughness=roughness,
-                              nominal_area=nominal_area,
-                              max_tangential_displacement=max_tangential_displacement,
-                              steps=max(steps, MIN_FIT_STEPS), knobs=dict(knobs or {}))
-    fit = fit_mode_mixity(list(curves), model, bounds=bounds,
-                          map_fn=map if executor is None else executor.map)
+    model = functools.partial(
+        model_shear_area,
+        material=material,
+        roughness=roughness,
+        nominal_area=nominal_area,
+        max_tangential_displacement=max_tangential_displacement,
+        steps=max(steps, MIN_FIT_STEPS),
+        knobs=dict(knobs or {}),
+    )
+    fit = fit_mode_mixity(
+        list(curves), model, bounds=bounds, map_fn=map if executor is None else executor.map
+    )
     return ModeMixityChoice(fit.mode_mixity, True, fit, list(curves))
 
 
@@ -333,12 +405,18 @@ class FrictionPrediction:
         return bool(np.all(self.converged))
 
 
-def friction_prediction(material: statmodel.Material, roughness: statmodel.Roughness,
-                        nominal_area: float, normal_loads: Sequence[float], *,
-                        max_tangential_displacement: float | None = None, steps: int = 201,
-                        quadrature_tolerance: float = 1e-4,
-                        executor: Executor | None = None,
-                        progress: bool = False) -> FrictionPrediction:
+def friction_prediction(
+    material: statmodel.Material,
+    roughness: statmodel.Roughness,
+    nominal_area: float,
+    normal_loads: Sequence[float],
+    *,
+    max_tangential_displacement: float | None = None,
+    steps: int = 201,
+    quadrature_tolerance: float = 1e-4,
+    executor: Executor | None = None,
+    progress: bool = False,
+) -> FrictionPrediction:
     """Stage 6: F_x(delta_T), A_r(F_x) with stick/slip parts, static and sliding friction.
 
     Parameters
@@ -361,19 +439,41 @@ def friction_prediction(material: statmodel.Material, roughness: statmodel.Rough
         Runs the loads in parallel.
     """
     loads = np.asarray(normal_loads, dtype=float)
-    quad = choose_quadrature(material, roughness, nominal_area, float(loads.max()),
-                             tolerance=quadrature_tolerance,
-                             max_tangential_displacement=max_tangential_displacement, steps=steps)
-    jobs = [(material, roughness, nominal_area, float(f), max_tangential_displacement, steps,
-             quad.knobs) for f in loads]
+    quad = choose_quadrature(
+        material,
+        roughness,
+        nominal_area,
+        float(loads.max()),
+        tolerance=quadrature_tolerance,
+        max_tangential_displacement=max_tangential_displacement,
+        steps=steps,
+    )
+    jobs = [
+        (
+            material,
+            roughness,
+            nominal_area,
+            float(f),
+            max_tangential_displacement,
+            steps,
+            quad.knobs,
+        )
+        for f in loads
+    ]
     results = run_map(_curve_job, jobs, executor, desc="shear curves", progress=progress)
     curves = {name: np.array([r[name] for r in results]) for name in CURVE_FIELDS}
     scalars = {name: np.array([r[name] for r in results]) for name in CURVE_SCALARS}
     return FrictionPrediction(
-        normal_load=loads, curves=curves, scalars=scalars,
+        normal_load=loads,
+        curves=curves,
+        scalars=scalars,
         converged=np.array([r["converged"] for r in results]),
-        messages=[r["message"] for r in results], mode_mixity=material.mode_mixity,
-        shear_strength=material.shear_strength, nominal_area=nominal_area, quadrature=quad)
+        messages=[r["message"] for r in results],
+        mode_mixity=material.mode_mixity,
+        shear_strength=material.shear_strength,
+        nominal_area=nominal_area,
+        quadrature=quad,
+    )
 
 
 def lambda_record(choice: ModeMixityChoice, nominal_area: float) -> StageRecord:
@@ -382,23 +482,39 @@ def lambda_record(choice: ModeMixityChoice, nominal_area: float) -> StageRecord:
     if choice.fit is None:
         return record
     fit = choice.fit
-    record.coords["lambda_grid"] = Variable(fit.grid_mode_mixity, "1", ("lambda_grid",),
-                                            "lambda of the coarse scan")
+    record.coords["lambda_grid"] = Variable(
+        fit.grid_mode_mixity, "1", ("lambda_grid",), "lambda of the coarse scan"
+    )
     record.variables["grid_residual_rms"] = Variable(
-        fit.grid_residual_rms, "1", ("lambda_grid",),
-        "rms of (A_model - A_measured) / max(A_measured)")
+        fit.grid_residual_rms,
+        "1",
+        ("lambda_grid",),
+        "rms of (A_model - A_measured) / max(A_measured)",
+    )
     loads = np.concatenate([np.full(len(c.real_area), c.normal_load) for c in choice.curves])
     record.coords["point"] = Variable(np.arange(len(loads)), "1", ("point",), "measured point")
     record.variables["measured_normal_load"] = Variable(loads, "N", ("point",), "normal load")
     record.variables["measured_tangential_force"] = Variable(
-        np.concatenate([c.tangential_force for c in choice.curves]), "N", ("point",),
-        "measured tangential force")
+        np.concatenate([c.tangential_force for c in choice.curves]),
+        "N",
+        ("point",),
+        "measured tangential force",
+    )
     record.variables["measured_real_area"] = Variable(
-        np.concatenate([c.real_area for c in choice.curves]), "m^2", ("point",),
-        "measured real contact area")
-    record.attrs.update(mode_mixity_std=fit.mode_mixity_std, residual_rms=fit.residual_rms,
-                        n_points=fit.n_points, success=fit.success, message=fit.message,
-                        nfev=fit.nfev, nominal_area=nominal_area)
+        np.concatenate([c.real_area for c in choice.curves]),
+        "m^2",
+        ("point",),
+        "measured real contact area",
+    )
+    record.attrs.update(
+        mode_mixity_std=fit.mode_mixity_std,
+        residual_rms=fit.residual_rms,
+        n_points=fit.n_points,
+        success=fit.success,
+        message=fit.message,
+        nfev=fit.nfev,
+        nominal_area=nominal_area,
+    )
     return record
 
 
@@ -408,61 +524,101 @@ def lambda_from_record(record: StageRecord) -> ModeMixityChoice:
     if not a.get("fitted"):
         return ModeMixityChoice(float(a["mode_mixity"]), False)
     loads = v["measured_normal_load"].data
-    curves = [ShearAreaCurve(float(f), v["measured_tangential_force"].data[loads == f],
-                             v["measured_real_area"].data[loads == f], "stored")
-              for f in np.unique(loads)]
-    fit = LambdaFit(float(a["mode_mixity"]), float(a["mode_mixity_std"]),
-                    float(a["residual_rms"]), int(a["n_points"]),
-                    record.coords["lambda_grid"].data, v["grid_residual_rms"].data,
-                    bool(a["success"]), str(a["message"]), int(a["nfev"]))
+    curves = [
+        ShearAreaCurve(
+            float(f),
+            v["measured_tangential_force"].data[loads == f],
+            v["measured_real_area"].data[loads == f],
+            "stored",
+        )
+        for f in np.unique(loads)
+    ]
+    fit = LambdaFit(
+        float(a["mode_mixity"]),
+        float(a["mode_mixity_std"]),
+        float(a["residual_rms"]),
+        int(a["n_points"]),
+        record.coords["lambda_grid"].data,
+        v["grid_residual_rms"].data,
+        bool(a["success"]),
+        str(a["message"]),
+        int(a["nfev"]),
+    )
     return ModeMixityChoice(fit.mode_mixity, True, fit, curves)
 
 
 def friction_record(pred: FrictionPrediction) -> StageRecord:
     """Stage-6 record: curves over (normal_load, step), scalars over normal_load."""
     steps = pred.curves["tangential_force"].shape[1]
-    record = StageRecord(coords={
-        "normal_load": Variable(pred.normal_load, "N", ("normal_load",), "normal load"),
-        "step": Variable(np.arange(steps), "1", ("step",), "shear step (0: delta_T = 0)"),
-        "quadrature_setting": Variable(np.arange(len(pred.quadrature.ladder)), "1",
-                                       ("quadrature_setting",), "quadrature ladder index"),
-    })
+    record = StageRecord(
+        coords={
+            "normal_load": Variable(pred.normal_load, "N", ("normal_load",), "normal load"),
+            "step": Variable(np.arange(steps), "1", ("step",), "shear step (0: delta_T = 0)"),
+            "quadrature_setting": Variable(
+                np.arange(len(pred.quadrature.ladder)),
+                "1",
+                ("quadrature_setting",),
+                "quadrature ladder index",
+            ),
+        }
+    )
     for name, units in CURVE_FIELDS.items():
-        record.variables[name] = Variable(pred.curves[name], units, ("normal_load", "step"),
-                                          name.replace("_", " "))
+        record.variables[name] = Variable(
+            pred.curves[name], units, ("normal_load", "step"), name.replace("_", " ")
+        )
     for name, units in CURVE_SCALARS.items():
-        record.variables[name] = Variable(pred.scalars[name], units, ("normal_load",),
-                                          name.replace("_", " "))
-    record.variables["converged"] = Variable(pred.converged, "1", ("normal_load",),
-                                             "shear curve converged")
+        record.variables[name] = Variable(
+            pred.scalars[name], units, ("normal_load",), name.replace("_", " ")
+        )
+    record.variables["converged"] = Variable(
+        pred.converged, "1", ("normal_load",), "shear curve converged"
+    )
     record.variables["constant_shear_strength_force"] = Variable(
-        pred.shear_strength * pred.curves["real_area"], "N", ("normal_load", "step"),
-        "tau0 A_r: the constant-shear-strength model of Fig 13")
+        pred.shear_strength * pred.curves["real_area"],
+        "N",
+        ("normal_load", "step"),
+        "tau0 A_r: the constant-shear-strength model of Fig 13",
+    )
     record.variables["quadrature_relative_change"] = Variable(
-        pred.quadrature.relative_change, "1", ("quadrature_setting",),
-        "change of F_x, A_r to the next finer setting")
-    record.variables["quadrature_seconds"] = Variable(pred.quadrature.seconds, "s",
-                                                      ("quadrature_setting",), "time per curve")
-    record.attrs.update(mode_mixity=pred.mode_mixity, shear_strength=pred.shear_strength,
-                        nominal_area=pred.nominal_area, messages="\n".join(pred.messages),
-                        quadrature_knobs=json.dumps(pred.quadrature.knobs),
-                        quadrature_ladder=json.dumps(pred.quadrature.ladder),
-                        quadrature_reason=pred.quadrature.reason,
-                        all_converged=pred.all_converged)
+        pred.quadrature.relative_change,
+        "1",
+        ("quadrature_setting",),
+        "change of F_x, A_r to the next finer setting",
+    )
+    record.variables["quadrature_seconds"] = Variable(
+        pred.quadrature.seconds, "s", ("quadrature_setting",), "time per curve"
+    )
+    record.attrs.update(
+        mode_mixity=pred.mode_mixity,
+        shear_strength=pred.shear_strength,
+        nominal_area=pred.nominal_area,
+        messages="\n".join(pred.messages),
+        quadrature_knobs=json.dumps(pred.quadrature.knobs),
+        quadrature_ladder=json.dumps(pred.quadrature.ladder),
+        quadrature_reason=pred.quadrature.reason,
+        all_converged=pred.all_converged,
+    )
     return record
 
 
 def friction_from_record(record: StageRecord) -> FrictionPrediction:
     """Rebuild the stage-6 result from its stored record."""
     v, a = record.variables, record.attrs
-    quad = QuadratureChoice(json.loads(a["quadrature_knobs"]), json.loads(a["quadrature_ladder"]),
-                            v["quadrature_relative_change"].data, v["quadrature_seconds"].data,
-                            str(a["quadrature_reason"]))
+    quad = QuadratureChoice(
+        json.loads(a["quadrature_knobs"]),
+        json.loads(a["quadrature_ladder"]),
+        v["quadrature_relative_change"].data,
+        v["quadrature_seconds"].data,
+        str(a["quadrature_reason"]),
+    )
     return FrictionPrediction(
         normal_load=record.coords["normal_load"].data,
         curves={name: v[name].data for name in CURVE_FIELDS},
         scalars={name: v[name].data for name in CURVE_SCALARS},
         converged=v["converged"].data.astype(bool),
         messages=str(a.get("messages", "")).split("\n"),
-        mode_mixity=float(a["mode_mixity"]), shear_strength=float(a["shear_strength"]),
-        nominal_area=float(a["nominal_area"]), quadrature=quad)
+        mode_mixity=float(a["mode_mixity"]),
+        shear_strength=float(a["shear_strength"]),
+        nominal_area=float(a["nominal_area"]),
+        quadrature=quad,
+    )

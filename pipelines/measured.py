@@ -61,8 +61,9 @@ class ShearAreaCurve:
     source: str = ""
 
 
-def read_columns(path: str | Path, columns: Sequence[str],
-                 optional: Iterable[str] = ()) -> dict[str, np.ndarray]:
+def read_columns(
+    path: str | Path, columns: Sequence[str], optional: Iterable[str] = ()
+) -> dict[str, np.ndarray]:
     """Read named numeric columns of a CSV file with a header row.
 
     Parameters
@@ -86,13 +87,16 @@ def read_columns(path: str | Path, columns: Sequence[str],
     try:
         header = [name.strip() for name in next(reader)]
     except StopIteration:
-        raise ValueError(f"{path}: empty file; expected a header row with "
-                         f"{', '.join(columns)}") from None
+        raise ValueError(
+            f"{path}: empty file; expected a header row with {', '.join(columns)}"
+        ) from None
     wanted = list(columns) + [c for c in optional if c in header]
     for name in columns:
         if name not in header:
-            raise ValueError(f"{path}: missing column {name!r} (header: {', '.join(header)}); "
-                             f"expected columns {', '.join(columns)} in SI units")
+            raise ValueError(
+                f"{path}: missing column {name!r} (header: {', '.join(header)}); "
+                f"expected columns {', '.join(columns)} in SI units"
+            )
     index = {name: header.index(name) for name in wanted}
     values: dict[str, list[float]] = {name: [] for name in wanted}
     for row_number, row in enumerate(reader, start=2):
@@ -100,9 +104,10 @@ def read_columns(path: str | Path, columns: Sequence[str],
             try:
                 value = float(row[i])
             except (IndexError, ValueError):
-                raise ValueError(f"{path}: row {row_number}, column {name!r}: expected a "
-                                 f"number, got {row[i] if i < len(row) else 'nothing'!r}"
-                                 ) from None
+                raise ValueError(
+                    f"{path}: row {row_number}, column {name!r}: expected a "
+                    f"number, got {row[i] if i < len(row) else 'nothing'!r}"
+                ) from None
             if not np.isfinite(value):
                 raise ValueError(f"{path}: row {row_number}, column {name!r}: not finite")
             values[name].append(value)
@@ -145,8 +150,10 @@ def read_shear_area(path: str | Path, normal_load: float | None = None) -> list[
     elif normal_load is not None:
         loads = np.full(cols["real_area"].shape, float(normal_load))
     else:
-        raise ValueError(f"{path}: no 'normal_load' column and no normal_load given in the "
-                         "configuration (measured.shear_area)")
+        raise ValueError(
+            f"{path}: no 'normal_load' column and no normal_load given in the "
+            "configuration (measured.shear_area)"
+        )
     curves = []
     for load in np.unique(loads):
         pick = loads == load

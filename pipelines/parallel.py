@@ -96,8 +96,9 @@ def worker_thread_settings() -> dict[str, str | None]:
 class SerialExecutor(concurrent.futures.Executor):
     """An executor that runs each call immediately in this process."""
 
-    def submit(self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any
-               ) -> concurrent.futures.Future:
+    def submit(
+        self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any
+    ) -> concurrent.futures.Future:
         future: concurrent.futures.Future = concurrent.futures.Future()
         try:
             future.set_result(fn(*args, **kwargs))
@@ -105,8 +106,13 @@ class SerialExecutor(concurrent.futures.Executor):
             future.set_exception(exc)
         return future
 
-    def map(self, fn: Callable[..., Any], *iterables: Iterable, timeout: float | None = None,
-            chunksize: int = 1) -> Iterator:
+    def map(
+        self,
+        fn: Callable[..., Any],
+        *iterables: Iterable,
+        timeout: float | None = None,
+        chunksize: int = 1,
+    ) -> Iterator:
         return map(fn, *iterables)
 
 
@@ -117,12 +123,18 @@ class DaskExecutor(concurrent.futures.Executor):
         self.client = client
         self._executor = client.get_executor()
 
-    def submit(self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any
-               ) -> concurrent.futures.Future:
+    def submit(
+        self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any
+    ) -> concurrent.futures.Future:
         return self._executor.submit(fn, *args, **kwargs)
 
-    def map(self, fn: Callable[..., Any], *iterables: Iterable, timeout: float | None = None,
-            chunksize: int = 1) -> Iterator:
+    def map(
+        self,
+        fn: Callable[..., Any],
+        *iterables: Iterable,
+        timeout: float | None = None,
+        chunksize: int = 1,
+    ) -> Iterator:
         return self._executor.map(fn, *iterables, timeout=timeout)
 
     def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
@@ -130,8 +142,9 @@ class DaskExecutor(concurrent.futures.Executor):
         self.client.close()
 
 
-def make_executor(workers: int = 1, *, scheduler: str | Any | None = None,
-                  threads_per_worker: int = 1) -> concurrent.futures.Executor:
+def make_executor(
+    workers: int = 1, *, scheduler: str | Any | None = None, threads_per_worker: int = 1
+) -> concurrent.futures.Executor:
     """An executor for the sweeps.
 
     Parameters
@@ -152,8 +165,9 @@ def make_executor(workers: int = 1, *, scheduler: str | Any | None = None,
         try:
             from distributed import Client
         except ImportError as exc:  # pragma: no cover - depends on the installed extras
-            raise ValueError("--scheduler needs dask.distributed: "
-                             "pip install 'asperity[dask]'") from exc
+            raise ValueError(
+                "--scheduler needs dask.distributed: pip install 'asperity[dask]'"
+            ) from exc
         client = scheduler if isinstance(scheduler, Client) else Client(scheduler)
         # Workers in other processes get the caps; in-process workers (a LocalCluster with
         # processes=False) share this process, whose settings are left alone.
@@ -181,8 +195,14 @@ class _BorrowedDaskExecutor(DaskExecutor):
         self._executor.shutdown(wait=wait)
 
 
-def run_map(fn: Callable[..., Any], jobs: list[tuple], executor: concurrent.futures.Executor |
-            None = None, *, desc: str = "", progress: bool = False) -> list:
+def run_map(
+    fn: Callable[..., Any],
+    jobs: list[tuple],
+    executor: concurrent.futures.Executor | None = None,
+    *,
+    desc: str = "",
+    progress: bool = False,
+) -> list:
     """``[fn(*job) for job in jobs]``, through ``executor`` when given, with a progress bar.
 
     Parameters
@@ -204,6 +224,5 @@ def run_map(fn: Callable[..., Any], jobs: list[tuple], executor: concurrent.futu
         iterator = (fn(*job) for job in jobs)
     else:
         iterator = executor.map(fn, *zip(*jobs, strict=True)) if jobs else iter(())
-    bar = tqdm(iterator, total=len(jobs), desc=desc, disable=not progress, leave=False,
-               unit="run")
+    bar = tqdm(iterator, total=len(jobs), desc=desc, disable=not progress, leave=False, unit="run")
     return list(bar)

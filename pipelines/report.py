@@ -44,8 +44,12 @@ def plot_surface(result: Any, path: Path) -> Path:
     s = result.surface
     fig, ax = plt.subplots(figsize=(5.2, 4.4))
     step = max(1, max(s.nx, s.ny) // 800)
-    image = ax.imshow(s.heights[::step, ::step].T * 1e6, origin="lower", cmap="viridis",
-                      extent=(0, s.lx * 1e3, 0, s.ly * 1e3))
+    image = ax.imshow(
+        s.heights[::step, ::step].T * 1e6,
+        origin="lower",
+        cmap="viridis",
+        extent=(0, s.lx * 1e3, 0, s.ly * 1e3),
+    )
     fig.colorbar(image, ax=ax, label="height (um)")
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
@@ -112,8 +116,12 @@ def plot_misfit(result: Any, path: Path) -> Path:
     ax.plot(um, res.misfit_bem, "o-", label="against BEM")
     if res.misfit_measured is not None:
         ax.plot(um, res.misfit_measured, "s-", label="against measured A_r(F_z)")
-    ax.axvline(res.effective_resolution * 1e6, color="k", ls="--",
-               label=f"effective {res.effective_resolution * 1e6:.3g} um")
+    ax.axvline(
+        res.effective_resolution * 1e6,
+        color="k",
+        ls="--",
+        label=f"effective {res.effective_resolution * 1e6:.3g} um",
+    )
     ax.set_xlabel("resolution (um)")
     ax.set_ylabel("rms of ln(A_model / A_reference)")
     ax.set_yscale("log")
@@ -136,8 +144,12 @@ def plot_bem_grid(result: Any, path: Path) -> Path:
     ax1.set_title("grid refinement check")
     ax1.legend()
     mask = bem.contact_mask
-    ax2.imshow(mask.T, origin="lower", cmap="gray_r",
-               extent=(0, mask.shape[0] * bem.dx * 1e3, 0, mask.shape[1] * bem.dy * 1e3))
+    ax2.imshow(
+        mask.T,
+        origin="lower",
+        cmap="gray_r",
+        extent=(0, mask.shape[0] * bem.dx * 1e3, 0, mask.shape[1] * bem.dy * 1e3),
+    )
     ax2.set_xlabel("x (mm)")
     ax2.set_ylabel("y (mm)")
     ax2.set_title(f"contact at F_z = {bem.normal_load.max():.3g} N")
@@ -149,10 +161,17 @@ def plot_lambda_fit(result: Any, path: Path) -> Path:
     fit = result.mode_mixity.fit
     fig, ax = plt.subplots(figsize=(6, 4))
     ax.loglog(fit.grid_mode_mixity, fit.grid_residual_rms, "o-", label="coarse scan")
-    ax.axvline(fit.mode_mixity, color="k", ls="--",
-               label=f"fit {fit.mode_mixity:.3g} +/- {fit.mode_mixity_std:.2g}")
-    ax.axvspan(max(fit.mode_mixity - fit.mode_mixity_std, 1e-12),
-               fit.mode_mixity + fit.mode_mixity_std, color="0.85")
+    ax.axvline(
+        fit.mode_mixity,
+        color="k",
+        ls="--",
+        label=f"fit {fit.mode_mixity:.3g} +/- {fit.mode_mixity_std:.2g}",
+    )
+    ax.axvspan(
+        max(fit.mode_mixity - fit.mode_mixity_std, 1e-12),
+        fit.mode_mixity + fit.mode_mixity_std,
+        color="0.85",
+    )
     ax.set_xlabel("mode mixity lambda")
     ax.set_ylabel("rms of (A_model - A_measured) / max A_measured")
     ax.legend()
@@ -204,8 +223,13 @@ def plot_area_vs_force(result: Any, path: Path) -> Path:
         ax.plot([], [], "k-", lw=1, label="measured")
     fmax = np.nanmax(fr.curves["tangential_force"])
     line = np.linspace(0, fmax, 50)
-    ax.plot(line, line / max(fr.shear_strength, 1e-300) / a_n, "k:", lw=1,
-            label="F_x = tau0 A_r (constant shear strength)")
+    ax.plot(
+        line,
+        line / max(fr.shear_strength, 1e-300) / a_n,
+        "k:",
+        lw=1,
+        label="F_x = tau0 A_r (constant shear strength)",
+    )
     top = np.nanmax(fr.curves["real_area"]) / a_n
     ax.set_ylim(0, 1.15 * top)
     ax.set_xlabel("tangential load F_x (N)")
@@ -248,10 +272,16 @@ def key_numbers(result: Any) -> list[tuple[str, str]]:
     res, fr, bem, lam = result.resolution, result.friction, result.bem, result.mode_mixity
     r = res.roughness
     rows = [
-        ("surface", f"{result.surface.nx} x {result.surface.ny} px, "
-                    f"{result.surface.dx * 1e6:.4g} um pixels"),
-        ("effective resolution", f"{res.effective_resolution * 1e6:.4g} um "
-                                 f"(stride {res.effective_stride}, chosen against {res.basis})"),
+        (
+            "surface",
+            f"{result.surface.nx} x {result.surface.ny} px, "
+            f"{result.surface.dx * 1e6:.4g} um pixels",
+        ),
+        (
+            "effective resolution",
+            f"{res.effective_resolution * 1e6:.4g} um "
+            f"(stride {res.effective_stride}, chosen against {res.basis})",
+        ),
         ("summit radius R", f"{r.summit_radius * 1e3:.4g} mm"),
         ("asperity density eta", f"{r.asperity_density * 1e-6:.4g} 1/mm^2"),
         ("rms summit height sigma_s", f"{r.summit_height_rms * 1e3:.4g} mm"),
@@ -259,10 +289,14 @@ def key_numbers(result: Any) -> list[tuple[str, str]]:
         ("misfit at effective resolution", f"{res.misfit[res.index]:.3g} (rms ln ratio)"),
     ]
     if lam.fit is not None:
-        rows.append(("mode mixity lambda (fitted)",
-                     f"{lam.mode_mixity:.4g} +/- {lam.fit.mode_mixity_std:.2g} "
-                     f"(rms relative residual {lam.fit.residual_rms:.3g}, "
-                     f"{lam.fit.n_points} points)"))
+        rows.append(
+            (
+                "mode mixity lambda (fitted)",
+                f"{lam.mode_mixity:.4g} +/- {lam.fit.mode_mixity_std:.2g} "
+                f"(rms relative residual {lam.fit.residual_rms:.3g}, "
+                f"{lam.fit.n_points} points)",
+            )
+        )
     else:
         rows.append(("mode mixity lambda (configured)", f"{lam.mode_mixity:.4g}"))
     rows += [
@@ -278,19 +312,29 @@ def load_table(result: Any) -> tuple[list[str], list[list[str]]]:
     """Header and rows of the per-load table."""
     fr, bem, res = result.friction, result.bem, result.resolution
     a_n = fr.nominal_area
-    header = ["F_z (N)", "A_r/A_n BEM", "A_r/A_n BEM adh.", "A_r/A_n model",
-              "static F_x (N)", "sliding F_x (N)", "delta_T slide (um)"]
+    header = [
+        "F_z (N)",
+        "A_r/A_n BEM",
+        "A_r/A_n BEM adh.",
+        "A_r/A_n model",
+        "static F_x (N)",
+        "sliding F_x (N)",
+        "delta_T slide (um)",
+    ]
     rows = []
     adh = bem.contact_fraction_adhesive
     for i, f in enumerate(fr.normal_load):
-        rows.append([
-            f"{f:.4g}", f"{bem.contact_fraction[i]:.4g}",
-            "-" if adh is None else f"{adh[i]:.4g}",
-            f"{res.real_area[res.index, i] / a_n:.4g}",
-            f"{fr.scalars['static_friction'][i]:.4g}",
-            f"{fr.scalars['sliding_friction'][i]:.4g}",
-            f"{fr.scalars['sliding_displacement'][i] * 1e6:.4g}",
-        ])
+        rows.append(
+            [
+                f"{f:.4g}",
+                f"{bem.contact_fraction[i]:.4g}",
+                "-" if adh is None else f"{adh[i]:.4g}",
+                f"{res.real_area[res.index, i] / a_n:.4g}",
+                f"{fr.scalars['static_friction'][i]:.4g}",
+                f"{fr.scalars['sliding_friction'][i]:.4g}",
+                f"{fr.scalars['sliding_displacement'][i] * 1e6:.4g}",
+            ]
+        )
     return header, rows
 
 
@@ -305,8 +349,10 @@ def write_report(result: Any, out_dir: str | Path) -> Path:
     out_dir = Path(out_dir)
     figures = write_figures(result, out_dir)
     header, rows = load_table(result)
-    stage_rows = [[s.name, "stored (skipped)" if s.cached else "computed", f"{s.seconds:.2f}"]
-                  for s in result.stages]
+    stage_rows = [
+        [s.name, "stored (skipped)" if s.cached else "computed", f"{s.seconds:.2f}"]
+        for s in result.stages
+    ]
     problems = result.problems()
     text = [
         "# asperity run report",
@@ -324,13 +370,15 @@ def write_report(result: Any, out_dir: str | Path) -> Path:
         "",
         "## Validity",
         "",
-        "The statistical model is within its assumptions." if not result.resolution.validity
+        "The statistical model is within its assumptions."
+        if not result.resolution.validity
         else "\n".join(f"- **Warning:** {note}" for note in result.resolution.validity),
         "",
         "## Convergence",
         "",
-        "All solvers converged." if not problems else
-        "**Not converged:**\n\n" + "\n".join(f"- {p}" for p in problems),
+        "All solvers converged."
+        if not problems
+        else "**Not converged:**\n\n" + "\n".join(f"- {p}" for p in problems),
         "",
         "## Stages",
         "",
@@ -342,13 +390,13 @@ def write_report(result: Any, out_dir: str | Path) -> Path:
     captions = {
         "surface": "Stage 1: levelled surface.",
         "resolution": "Fig 12: summit statistics against resolution (a-c) and A_r/A_n against "
-                      "F_z (d).",
+        "F_z (d).",
         "misfit": "Stage 4: misfit of the statistical model against resolution.",
         "bem_grid": "Stage 3: BEM grid refinement check and contact at the largest load.",
         "lambda_fit": "Stage 5: lambda fit.",
         "shear": "Fig 4: shear response at the heaviest load, with stick and slip parts.",
         "area_vs_force": "Fig 13: A_r/A_n against F_x (dashed: model; dotted: constant shear "
-                         "strength).",
+        "strength).",
         "friction_vs_load": "Static and sliding friction against normal load.",
     }
     for name, path in figures.items():
@@ -373,9 +421,12 @@ def summary_text(result: Any) -> str:
         lines.append("  " + "  ".join(c.rjust(w) for c, w in zip(row, widths, strict=True)))
     computed = sum(s.seconds for s in result.stages if not s.cached)
     cached = [s.name for s in result.stages if s.cached]
-    lines += ["", f"  stages computed in {computed:.1f} s"
-              + (f"; stored stages skipped: {', '.join(cached)}" if cached else "")
-              + f"; total {result.total_seconds:.1f} s"]
+    lines += [
+        "",
+        f"  stages computed in {computed:.1f} s"
+        + (f"; stored stages skipped: {', '.join(cached)}" if cached else "")
+        + f"; total {result.total_seconds:.1f} s",
+    ]
     for note in result.resolution.validity:
         lines.append(f"  WARNING: {note}")
     problems = result.problems()

@@ -50,17 +50,22 @@ def validity_notes(real_area_fraction: np.ndarray, tabor_parameter: float) -> li
     notes = []
     top = float(np.nanmax(real_area_fraction)) if np.size(real_area_fraction) else math.nan
     if top > MAX_AREA_FRACTION:
-        notes.append(f"the statistical model gives A_r/A_n up to {top:.3g} (> "
-                     f"{MAX_AREA_FRACTION:g}): its asperities overlap, so the independent-"
-                     "asperity model is outside its validity at these loads")
+        notes.append(
+            f"the statistical model gives A_r/A_n up to {top:.3g} (> "
+            f"{MAX_AREA_FRACTION:g}): its asperities overlap, so the independent-"
+            "asperity model is outside its validity at these loads"
+        )
     if tabor_parameter < MIN_TABOR_PARAMETER:
-        notes.append(f"Tabor parameter mu = {tabor_parameter:.3g} < {MIN_TABOR_PARAMETER:g}: "
-                     "the JKR asperity laws (E:JKR_indent, E:PC_indent) do not apply")
+        notes.append(
+            f"Tabor parameter mu = {tabor_parameter:.3g} < {MIN_TABOR_PARAMETER:g}: "
+            "the JKR asperity laws (E:JKR_indent, E:PC_indent) do not apply"
+        )
     return notes
 
 
-def material_from_config(config: MaterialConfig,
-                         mode_mixity: float | None = None) -> statmodel.Material:
+def material_from_config(
+    config: MaterialConfig, mode_mixity: float | None = None
+) -> statmodel.Material:
     """The :class:`statmodel.Material` of the configuration (SI), optionally with another lambda."""
     return statmodel.Material(
         e_star=config.E_star,
@@ -81,8 +86,11 @@ def roughness_from_scan(scan: Any, index: int) -> statmodel.Roughness:
 
 
 def _usable(scan: Any, index: int) -> bool:
-    values = (scan.asperity_density[index], scan.summit_radius[index],
-              scan.summit_height_rms[index])
+    values = (
+        scan.asperity_density[index],
+        scan.summit_radius[index],
+        scan.summit_height_rms[index],
+    )
     return all(np.isfinite(v) and v > 0 for v in values)
 
 
@@ -92,15 +100,17 @@ def pull_off_forces(material: statmodel.Material, scan: Any, nominal_area: float
     for i in range(len(scan.stride)):
         if _usable(scan, i):
             try:
-                out[i] = statmodel.pull_off_force(material, roughness_from_scan(scan, i),
-                                                  nominal_area)
+                out[i] = statmodel.pull_off_force(
+                    material, roughness_from_scan(scan, i), nominal_area
+                )
             except ValueError:
                 pass
     return out
 
 
-def check_loads_above_pull_off(material: statmodel.Material, scan: Any, nominal_area: float,
-                               normal_loads: Sequence[float]) -> np.ndarray:
+def check_loads_above_pull_off(
+    material: statmodel.Material, scan: Any, nominal_area: float, normal_loads: Sequence[float]
+) -> np.ndarray:
     """Raise ValueError naming ``loading.normal_loads`` if a load is below a pull-off force.
 
     Returns
@@ -116,17 +126,28 @@ def check_loads_above_pull_off(material: statmodel.Material, scan: Any, nominal_
         raise ValueError(
             f"loading.normal_loads: {low[0]:g} N is at or below the statistical model's pull-off "
             f"force {worst:.4g} N (at resolution {scan.resolution[i] * 1e6:.4g} um); every load "
-            "must exceed the pull-off force")
+            "must exceed the pull-off force"
+        )
     return pull_off
 
 
-def areas_at_loads(material: statmodel.Material, roughness: statmodel.Roughness,
-                   nominal_area: float, normal_loads: Sequence[float]) -> tuple[np.ndarray, str]:
+def areas_at_loads(
+    material: statmodel.Material,
+    roughness: statmodel.Roughness,
+    nominal_area: float,
+    normal_loads: Sequence[float],
+) -> tuple[np.ndarray, str]:
     """A_r (m^2) at the loads, or NaNs and the error message when the model refuses them."""
     try:
-        return (np.asarray(statmodel.real_area_at_loads(material, roughness, nominal_area,
-                                                        np.asarray(normal_loads, dtype=float)),
-                           dtype=float), "")
+        return (
+            np.asarray(
+                statmodel.real_area_at_loads(
+                    material, roughness, nominal_area, np.asarray(normal_loads, dtype=float)
+                ),
+                dtype=float,
+            ),
+            "",
+        )
     except (ValueError, ArithmeticError) as exc:
         return np.full(len(normal_loads), np.nan), str(exc)
 
@@ -215,11 +236,17 @@ class ResolutionChoice:
         return self.misfit_measured if self.basis == "measured" else self.misfit_bem
 
 
-def statistical_model_scan(scan: Any, material: statmodel.Material, nominal_area: float,
-                           normal_loads: Sequence[float], *, bem: BemReference | None = None,
-                           measured: NormalAreaCurve | None = None,
-                           executor: Executor | None = None,
-                           progress: bool = False) -> ResolutionChoice:
+def statistical_model_scan(
+    scan: Any,
+    material: statmodel.Material,
+    nominal_area: float,
+    normal_loads: Sequence[float],
+    *,
+    bem: BemReference | None = None,
+    measured: NormalAreaCurve | None = None,
+    executor: Executor | None = None,
+    progress: bool = False,
+) -> ResolutionChoice:
     """Stage 4: A_r(F_z) of the statistical model at every resolution; pick the best one.
 
     Parameters
@@ -253,8 +280,7 @@ def statistical_model_scan(scan: Any, material: statmodel.Material, nominal_area
     roughness = {i: roughness_from_scan(scan, i) for i in usable}
     load_sets = [loads] if measured is None else [loads, measured.normal_load]
     jobs = [(material, roughness[i], nominal_area, ls) for i in usable for ls in load_sets]
-    results = run_map(areas_at_loads, jobs, executor, desc="statistical model",
-                      progress=progress)
+    results = run_map(areas_at_loads, jobs, executor, desc="statistical model", progress=progress)
     area = np.full((n, len(loads)), np.nan)
     at_measured = None if measured is None else np.full((n, len(measured.normal_load)), np.nan)
     messages = []
@@ -282,24 +308,40 @@ def statistical_model_scan(scan: Any, material: statmodel.Material, nominal_area
     basis = "measured" if measured is not None else "bem"
     curve = misfit_measured if measured is not None else misfit_bem
     if not np.isfinite(curve).any():
-        raise ValueError("statistical_model_scan: the model gave no finite misfit at any "
-                         "resolution: " + "; ".join(messages[:3]))
+        raise ValueError(
+            "statistical_model_scan: the model gave no finite misfit at any "
+            "resolution: " + "; ".join(messages[:3])
+        )
     index = int(np.nanargmin(np.where(np.isfinite(curve), curve, np.nan)))
     best = roughness[index]
     with warnings.catch_warnings():  # reported below, with the area check, as one warning
         warnings.simplefilter("ignore")
-        mu = statmodel.tabor_parameter(best.summit_radius, material.work_of_adhesion,
-                                       material.e_star, material.equilibrium_distance)
+        mu = statmodel.tabor_parameter(
+            best.summit_radius,
+            material.work_of_adhesion,
+            material.e_star,
+            material.equilibrium_distance,
+        )
     validity = validity_notes(area[index] / nominal_area, float(mu))
     for note in validity:
         warnings.warn(note, ModelValidityWarning, stacklevel=2)
     return ResolutionChoice(
-        stride=np.asarray(scan.stride), resolution=np.asarray(scan.resolution, dtype=float),
-        normal_load=loads, real_area=area, misfit_bem=misfit_bem,
-        misfit_measured=misfit_measured, basis=basis, index=index, roughness=best,
-        tabor_parameter=float(mu), pull_off=pull_off_forces(material, scan, nominal_area),
-        measured=measured, model_at_measured=at_measured, messages=messages,
-        validity=validity)
+        stride=np.asarray(scan.stride),
+        resolution=np.asarray(scan.resolution, dtype=float),
+        normal_load=loads,
+        real_area=area,
+        misfit_bem=misfit_bem,
+        misfit_measured=misfit_measured,
+        basis=basis,
+        index=index,
+        roughness=best,
+        tabor_parameter=float(mu),
+        pull_off=pull_off_forces(material, scan, nominal_area),
+        measured=measured,
+        model_at_measured=at_measured,
+        messages=messages,
+        validity=validity,
+    )
 
 
 def resolution_record(choice: ResolutionChoice, nominal_area: float) -> StageRecord:
@@ -312,35 +354,50 @@ def resolution_record(choice: ResolutionChoice, nominal_area: float) -> StageRec
         },
         variables={
             "resolution": Variable(choice.resolution, "m", ("stride",), "pixel size"),
-            "real_area": Variable(choice.real_area, "m^2", ("stride", "normal_load"),
-                                  "statistical-model real contact area"),
-            "real_area_fraction": Variable(choice.real_area / nominal_area, "1",
-                                           ("stride", "normal_load"), "A_r / A_n"),
-            "misfit_bem": Variable(choice.misfit_bem, "1", ("stride",),
-                                   "rms ln(A_model / A_bem) over loads"),
+            "real_area": Variable(
+                choice.real_area,
+                "m^2",
+                ("stride", "normal_load"),
+                "statistical-model real contact area",
+            ),
+            "real_area_fraction": Variable(
+                choice.real_area / nominal_area, "1", ("stride", "normal_load"), "A_r / A_n"
+            ),
+            "misfit_bem": Variable(
+                choice.misfit_bem, "1", ("stride",), "rms ln(A_model / A_bem) over loads"
+            ),
             "pull_off": Variable(choice.pull_off, "N", ("stride",), "pull-off force"),
         },
         attrs={
-            "basis": choice.basis, "effective_index": choice.index,
+            "basis": choice.basis,
+            "effective_index": choice.index,
             "effective_stride": choice.effective_stride,
             "effective_resolution": choice.effective_resolution,
-            "asperity_density": r.asperity_density, "summit_radius": r.summit_radius,
+            "asperity_density": r.asperity_density,
+            "summit_radius": r.summit_radius,
             "summit_height_rms": r.summit_height_rms,
-            "tabor_parameter": choice.tabor_parameter, "nominal_area": nominal_area,
+            "tabor_parameter": choice.tabor_parameter,
+            "nominal_area": nominal_area,
             "messages": "\n".join(choice.messages),
             "validity": "\n".join(choice.validity),
         },
     )
     if choice.measured is not None:
         record.coords["measured_normal_load"] = Variable(
-            choice.measured.normal_load, "N", ("measured_normal_load",), "measured normal load")
+            choice.measured.normal_load, "N", ("measured_normal_load",), "measured normal load"
+        )
         record.variables["measured_real_area"] = Variable(
-            choice.measured.real_area, "m^2", ("measured_normal_load",), "measured A_r")
+            choice.measured.real_area, "m^2", ("measured_normal_load",), "measured A_r"
+        )
         record.variables["model_real_area_at_measured"] = Variable(
-            choice.model_at_measured, "m^2", ("stride", "measured_normal_load"),
-            "model A_r at the measured loads")
+            choice.model_at_measured,
+            "m^2",
+            ("stride", "measured_normal_load"),
+            "model A_r at the measured loads",
+        )
         record.variables["misfit_measured"] = Variable(
-            choice.misfit_measured, "1", ("stride",), "rms ln(A_model / A_measured) over loads")
+            choice.misfit_measured, "1", ("stride",), "rms ln(A_model / A_measured) over loads"
+        )
     return record
 
 
@@ -349,20 +406,25 @@ def resolution_from_record(record: StageRecord) -> ResolutionChoice:
     v, a = record.variables, record.attrs
     measured = None
     if "measured_real_area" in v:
-        measured = NormalAreaCurve(record.coords["measured_normal_load"].data,
-                                   v["measured_real_area"].data, "stored")
+        measured = NormalAreaCurve(
+            record.coords["measured_normal_load"].data, v["measured_real_area"].data, "stored"
+        )
     return ResolutionChoice(
-        stride=record.coords["stride"].data, resolution=v["resolution"].data,
-        normal_load=record.coords["normal_load"].data, real_area=v["real_area"].data,
+        stride=record.coords["stride"].data,
+        resolution=v["resolution"].data,
+        normal_load=record.coords["normal_load"].data,
+        real_area=v["real_area"].data,
         misfit_bem=v["misfit_bem"].data,
         misfit_measured=v["misfit_measured"].data if measured is not None else None,
-        basis=str(a["basis"]), index=int(a["effective_index"]),
-        roughness=statmodel.Roughness(float(a["asperity_density"]), float(a["summit_radius"]),
-                                      float(a["summit_height_rms"])),
-        tabor_parameter=float(a["tabor_parameter"]), pull_off=v["pull_off"].data,
+        basis=str(a["basis"]),
+        index=int(a["effective_index"]),
+        roughness=statmodel.Roughness(
+            float(a["asperity_density"]), float(a["summit_radius"]), float(a["summit_height_rms"])
+        ),
+        tabor_parameter=float(a["tabor_parameter"]),
+        pull_off=v["pull_off"].data,
         measured=measured,
-        model_at_measured=(v["model_real_area_at_measured"].data if measured is not None
-                           else None),
+        model_at_measured=(v["model_real_area_at_measured"].data if measured is not None else None),
         messages=[m for m in str(a.get("messages", "")).split("\n") if m],
         validity=[m for m in str(a.get("validity", "")).split("\n") if m],
     )

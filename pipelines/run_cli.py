@@ -23,22 +23,45 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser(
         "run",
         help="the main job: surface -> resolution -> BEM -> statistical model -> lambda -> "
-             "friction",
+        "friction",
         description="Run (or resume) the six stages and write results.h5, PNG figures and "
-                    "report.md in --out. SI units throughout.",
+        "report.md in --out. SI units throughout.",
     )
-    parser.add_argument("config", nargs="?", default=None, metavar="CONFIG.toml",
-                        help="job configuration (default: the embedded 'default' preset)")
-    parser.add_argument("--out", default="asperity-out", metavar="DIR",
-                        help="output directory (default: asperity-out)")
-    parser.add_argument("--preset", choices=PRESETS, default=None,
-                        help="run a shipped preset instead of CONFIG.toml")
-    parser.add_argument("--force", action="store_true",
-                        help="recompute every stage even when results.h5 holds it")
-    parser.add_argument("--workers", type=int, default=None, metavar="N",
-                        help="worker processes for the sweeps (default: run.workers, 1)")
-    parser.add_argument("--scheduler", default=None, metavar="ADDRESS",
-                        help="dask.distributed scheduler address (needs the 'dask' extra)")
+    parser.add_argument(
+        "config",
+        nargs="?",
+        default=None,
+        metavar="CONFIG.toml",
+        help="job configuration (default: the embedded 'default' preset)",
+    )
+    parser.add_argument(
+        "--out",
+        default="asperity-out",
+        metavar="DIR",
+        help="output directory (default: asperity-out)",
+    )
+    parser.add_argument(
+        "--preset",
+        choices=PRESETS,
+        default=None,
+        help="run a shipped preset instead of CONFIG.toml",
+    )
+    parser.add_argument(
+        "--force", action="store_true", help="recompute every stage even when results.h5 holds it"
+    )
+    parser.add_argument(
+        "--workers",
+        type=int,
+        default=None,
+        metavar="N",
+        help="worker processes for the sweeps (default: run.workers, 1)",
+    )
+    parser.add_argument(
+        "--scheduler",
+        default=None,
+        metavar="ADDRESS",
+        help="dask.distributed scheduler address (needs the 'dask' extra)",
+    )
     parser.set_defaults(func=handle_run)
 
 
@@ -48,8 +71,11 @@ def handle_run(args: argparse.Namespace) -> int:
         raise ValueError("give either CONFIG.toml or --preset, not both")
     if args.workers is not None and args.workers < 1:
         raise ValueError(f"--workers: expected an integer >= 1, got {args.workers}")
-    config = (load_config(args.config) if args.config is not None
-              else load_preset(args.preset or "default"))
+    config = (
+        load_config(args.config)
+        if args.config is not None
+        else load_preset(args.preset or "default")
+    )
     # OpenMP threads that spin-wait (the default) halve the BEM's speed on a busy 2-core machine
     # (measured: 23 s -> 11 s for the default job's BEM stage); it must be set before pyFFTW
     # loads the OpenMP runtime, i.e. before the solvers run.
@@ -59,9 +85,15 @@ def handle_run(args: argparse.Namespace) -> int:
     from pipelines.report import summary_text, write_report
 
     progress = progress_enabled()
-    result = run_job(config, args.out, force=args.force, workers=args.workers,
-                     scheduler=args.scheduler, progress=progress,
-                     log=lambda line: print(line, file=sys.stderr))
+    result = run_job(
+        config,
+        args.out,
+        force=args.force,
+        workers=args.workers,
+        scheduler=args.scheduler,
+        progress=progress,
+        log=lambda line: print(line, file=sys.stderr),
+    )
     write_report(result, args.out)
     print(summary_text(result))
     return 0 if result.converged else 1

@@ -114,8 +114,10 @@ def write_record(group: h5py.Group, record: StageRecord) -> None:
             if dim not in scales:
                 raise ValueError(f"variable {name!r}: dimension {dim!r} has no coordinate")
             if data.shape[axis] != scales[dim].shape[0]:
-                raise ValueError(f"variable {name!r}: axis {axis} has {data.shape[axis]} "
-                                 f"entries, coordinate {dim!r} has {scales[dim].shape[0]}")
+                raise ValueError(
+                    f"variable {name!r}: axis {axis} has {data.shape[axis]} "
+                    f"entries, coordinate {dim!r} has {scales[dim].shape[0]}"
+                )
         compress = {"compression": "gzip", "compression_opts": 4} if data.size > 4096 else {}
         ds = group.create_dataset(name, data=data, **compress)
         ds.attrs["units"] = var.units
@@ -176,8 +178,12 @@ class ResultStore:
             # Not produced by this store (writes are atomic): keep it aside, start afresh.
             aside = self.path.with_suffix(self.path.suffix + ".unreadable")
             os.replace(self.path, aside)
-            warnings.warn(f"{self.path}: unreadable HDF5 file ({exc}); moved to {aside} and "
-                          "starting a new result file", RuntimeWarning, stacklevel=3)
+            warnings.warn(
+                f"{self.path}: unreadable HDF5 file ({exc}); moved to {aside} and "
+                "starting a new result file",
+                RuntimeWarning,
+                stacklevel=3,
+            )
             return None
 
     def stage_key(self, stage: str) -> str | None:
@@ -220,9 +226,16 @@ class ResultStore:
         with f:
             return {k: (v.decode() if isinstance(v, bytes) else v) for k, v in f.attrs.items()}
 
-    def write(self, stage: str | None, record: StageRecord | None, *, key: str = "",
-              seconds: float = float("nan"), root_attrs: Mapping[str, Any] | None = None,
-              drop: Sequence[str] = ()) -> None:
+    def write(
+        self,
+        stage: str | None,
+        record: StageRecord | None,
+        *,
+        key: str = "",
+        seconds: float = float("nan"),
+        root_attrs: Mapping[str, Any] | None = None,
+        drop: Sequence[str] = (),
+    ) -> None:
         """Atomically (re)write one stage group and/or the file attributes.
 
         Parameters

@@ -43,11 +43,14 @@ def input_sha256(config: SurfaceConfig) -> str:
 def load_surface(config: SurfaceConfig) -> topo.HeightMap:
     """The raw surface of the configuration (file or synthetic recipe), heights in m."""
     if config.file is not None:
-        surface = topo.read_surface(config.file, channel=config.channel,
-                                    pixel_size=config.pixel_size)
+        surface = topo.read_surface(
+            config.file, channel=config.channel, pixel_size=config.pixel_size
+        )
         if not isinstance(surface, topo.HeightMap):
-            raise ValueError(f"{config.file}: surface.file is a 1D line profile; the job needs "
-                             "a 2D height map (summit statistics and the BEM are 2D)")
+            raise ValueError(
+                f"{config.file}: surface.file is a 1D line profile; the job needs "
+                "a 2D height map (summit statistics and the BEM are 2D)"
+            )
         return surface
     recipe = config.synthetic
     generator = getattr(topo.synthetic, recipe.recipe)
@@ -80,8 +83,12 @@ def surface_record(surface: topo.HeightMap) -> StageRecord:
         },
         variables={"heights": Variable(surface.heights, "m", ("x", "y"), "levelled height")},
         attrs={
-            "dx": surface.dx, "dy": surface.dy, "periodic": surface.periodic,
-            "nx": surface.nx, "ny": surface.ny, "n_missing": surface.n_missing,
+            "dx": surface.dx,
+            "dy": surface.dy,
+            "periodic": surface.periodic,
+            "nx": surface.nx,
+            "ny": surface.ny,
+            "n_missing": surface.n_missing,
             "rms_height": float(np.sqrt(np.mean((valid - valid.mean()) ** 2))),
             "provenance": json.dumps(surface.provenance, default=str),
         },
@@ -95,8 +102,13 @@ def surface_from_record(record: StageRecord) -> topo.HeightMap:
         provenance = json.loads(a.get("provenance", "{}"))
     except json.JSONDecodeError:
         provenance = {}
-    return topo.HeightMap(record.variables["heights"].data, dx=float(a["dx"]), dy=float(a["dy"]),
-                          periodic=bool(a["periodic"]), provenance=provenance)
+    return topo.HeightMap(
+        record.variables["heights"].data,
+        dx=float(a["dx"]),
+        dy=float(a["dy"]),
+        periodic=bool(a["periodic"]),
+        provenance=provenance,
+    )
 
 
 def usable_max_stride(surface: topo.HeightMap, max_stride: int) -> int:
@@ -130,15 +142,19 @@ SCAN_FITS = ("radius_slope", "radius_intercept", "density_exponent", "density_pr
 
 def scan_record(scan: Any) -> StageRecord:
     """Stage-2 record: the scan arrays over ``stride`` and the fits as attributes."""
-    record = StageRecord(coords={"stride": Variable(np.asarray(scan.stride), "1", ("stride",),
-                                                    "decimation stride")})
+    record = StageRecord(
+        coords={"stride": Variable(np.asarray(scan.stride), "1", ("stride",), "decimation stride")}
+    )
     for name, (units, long_name) in SCAN_FIELDS.items():
-        record.variables[name] = Variable(np.asarray(getattr(scan, name)), units, ("stride",),
-                                          long_name)
+        record.variables[name] = Variable(
+            np.asarray(getattr(scan, name)), units, ("stride",), long_name
+        )
     for name in SCAN_FITS:
         record.attrs[name] = float(getattr(scan, name))
-    record.attrs["fit_units"] = ("R = radius_intercept (m) + radius_slope (m/m) * resolution; "
-                                 "eta = density_prefactor * resolution**density_exponent (SI)")
+    record.attrs["fit_units"] = (
+        "R = radius_intercept (m) + radius_slope (m/m) * resolution; "
+        "eta = density_prefactor * resolution**density_exponent (SI)"
+    )
     return record
 
 

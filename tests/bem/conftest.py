@@ -27,8 +27,9 @@ def random_surface(n: int, seed: int = 0, hurst: float = 0.8, cutoff: float = 8.
     return (h - h.mean()) / np.sqrt(np.mean(gx**2 + gy**2))
 
 
-def check_contact_conditions(res, heights=None, *, rel_gap: float = 1e-5,
-                             rel_force: float = 1e-9, force=None) -> None:
+def check_contact_conditions(
+    res, heights=None, *, rel_gap: float = 1e-5, rel_force: float = 1e-9, force=None
+) -> None:
     """Assert force balance and complementarity on a ContactResult.
 
     p >= 0 (or >= -Sigma with adhesion) everywhere, p = 0 outside the contact set, |g| small in

@@ -7,8 +7,15 @@ import pytest
 
 from pipelines.cli import main
 
-KEYS = ["contact_fraction", "real_area", "normal_force", "mean_gap", "iterations", "converged",
-        "seconds"]
+KEYS = [
+    "contact_fraction",
+    "real_area",
+    "normal_force",
+    "mean_gap",
+    "iterations",
+    "converged",
+    "seconds",
+]
 
 
 @pytest.fixture
@@ -25,8 +32,22 @@ def _run(capsys, argv):
 
 
 def test_single_load_json(capsys, npy_surface):
-    status, out, _ = _run(capsys, ["bem", str(npy_surface), "--e-star", "1e9", "--mean-pressure",
-                                   "4e7", "--pixel-size", "1e-6", "--detrend", "mean", "--json"])
+    status, out, _ = _run(
+        capsys,
+        [
+            "bem",
+            str(npy_surface),
+            "--e-star",
+            "1e9",
+            "--mean-pressure",
+            "4e7",
+            "--pixel-size",
+            "1e-6",
+            "--detrend",
+            "mean",
+            "--json",
+        ],
+    )
     assert status == 0
     data = json.loads(out)
     assert list(data) == KEYS
@@ -41,9 +62,24 @@ def test_single_load_json(capsys, npy_surface):
 def test_sweep_json_lists_and_matches_api(capsys, npy_surface, contact_ok):
     from bem import solve_contact
 
-    status, out, _ = _run(capsys, ["bem", str(npy_surface), "--e-star", "1e9", "--load",
-                                   "0.1,0.15,0.2", "--pixel-size", "1e-6", "--detrend", "none",
-                                   "--tol", "1e-10", "--json"])
+    status, out, _ = _run(
+        capsys,
+        [
+            "bem",
+            str(npy_surface),
+            "--e-star",
+            "1e9",
+            "--load",
+            "0.1,0.15,0.2",
+            "--pixel-size",
+            "1e-6",
+            "--detrend",
+            "none",
+            "--tol",
+            "1e-10",
+            "--json",
+        ],
+    )
     assert status == 0
     data = json.loads(out)
     assert all(isinstance(data[k], list) and len(data[k]) == 3 for k in KEYS)
@@ -57,16 +93,43 @@ def test_sweep_json_lists_and_matches_api(capsys, npy_surface, contact_ok):
 
 
 def test_non_convergence_exits_1(capsys, npy_surface):
-    status, out, err = _run(capsys, ["bem", str(npy_surface), "--e-star", "1e9", "--load", "0.1",
-                                     "--pixel-size", "1e-6", "--max-iter", "2", "--json"])
+    status, out, err = _run(
+        capsys,
+        [
+            "bem",
+            str(npy_surface),
+            "--e-star",
+            "1e9",
+            "--load",
+            "0.1",
+            "--pixel-size",
+            "1e-6",
+            "--max-iter",
+            "2",
+            "--json",
+        ],
+    )
     assert status == 1
     assert json.loads(out)["converged"] is False
     assert "did not converge" in err and "iteration cap" in err
 
 
 def test_table_output_and_adhesion(capsys, npy_surface):
-    status, out, _ = _run(capsys, ["bem", str(npy_surface), "--e-star", "1e9", "--load", "0.1",
-                                   "--work-of-adhesion", "0.05", "--pixel-size", "1e-6"])
+    status, out, _ = _run(
+        capsys,
+        [
+            "bem",
+            str(npy_surface),
+            "--e-star",
+            "1e9",
+            "--load",
+            "0.1",
+            "--work-of-adhesion",
+            "0.05",
+            "--pixel-size",
+            "1e-6",
+        ],
+    )
     assert status in (0, 1)
     assert "contact_fraction" in out and "w = 0.05 J/m^2" in out
 
@@ -87,8 +150,19 @@ def test_bad_input_exits_2(capsys, npy_surface, extra, message):
 
 
 def test_missing_file_exits_2(capsys, tmp_path):
-    status, _, err = _run(capsys, ["bem", str(tmp_path / "none.npy"), "--e-star", "1e9",
-                                   "--load", "1", "--pixel-size", "1e-6"])
+    status, _, err = _run(
+        capsys,
+        [
+            "bem",
+            str(tmp_path / "none.npy"),
+            "--e-star",
+            "1e9",
+            "--load",
+            "1",
+            "--pixel-size",
+            "1e-6",
+        ],
+    )
     assert status == 2 and "none.npy" in err
 
 
@@ -97,6 +171,19 @@ def test_nan_pixels_are_refused(capsys, tmp_path):
     h[3, 3] = np.nan
     path = tmp_path / "holes.npy"
     np.save(path, h)
-    status, _, err = _run(capsys, ["bem", str(path), "--e-star", "1e9", "--load", "1",
-                                   "--pixel-size", "1e-6", "--detrend", "none"])
+    status, _, err = _run(
+        capsys,
+        [
+            "bem",
+            str(path),
+            "--e-star",
+            "1e9",
+            "--load",
+            "1",
+            "--pixel-size",
+            "1e-6",
+            "--detrend",
+            "none",
+        ],
+    )
     assert status == 2 and "holes.npy" in err and "missing" in err

@@ -48,7 +48,7 @@ def test_hertz_periodic_kernels(kernel, sphere, contact_ok):
         assert res.converged, res.message
         contact_ok(res, h, force=F)
         out[n] = _errors(res, dx, n)
-    assert abs(out[256][1]) < 0.003  # peak pressure within 0.3 % at 16 px per radius
+    assert abs(out[256][1]) < 0.0008  # peak pressure within 0.08 % at 16 px per radius
     assert abs(out[256][0]) < 0.01
     assert abs(out[256][1]) < abs(out[64][1])  # refinement reduces the peak-pressure error
 
@@ -62,9 +62,10 @@ def test_point_kernel_underestimates_peak_more_than_love_on_coarse_mesh(sphere, 
     contact_ok(p_point, h, force=F)
     contact_ok(p_love, h, force=F)
     np.testing.assert_array_equal(p_point.contact_mask, p_love.contact_mask)
-    assert p_point.pressure.max() / P0_HERTZ - 1 == pytest.approx(-0.0166, abs=0.004)
+    # measured -1.77 % and -1.43 %
+    assert p_point.pressure.max() / P0_HERTZ - 1 == pytest.approx(-0.0177, abs=0.001)
     assert p_point.pressure.max() < p_love.pressure.max()
-    assert p_love.pressure.max() / P0_HERTZ - 1 == pytest.approx(-0.013, abs=0.004)
+    assert p_love.pressure.max() / P0_HERTZ - 1 == pytest.approx(-0.0143, abs=0.001)
 
 
 def test_hertz_displacement_control_matches_load_control(sphere, contact_ok):

@@ -230,3 +230,23 @@ def test_cli_sweep_with_a_non_converged_step_exits_1(capsys, tmp_path, rough):
     assert status == 1
     assert data["converged"] == [False, False]
     assert "did not converge" in err
+
+
+def test_no_contact_outcomes_have_consistent_status(sphere, contact_ok):
+    """Displacement control beyond the highest point: converged, zero force, one residual;
+    an adhesive load beyond pull-off: 'contact lost', not converged."""
+    h, dx = sphere(32, 1.0, 1.0)
+    res = solve_contact(h, dx, dx, 1.0, separation=1e-3, periodic=False)
+    assert res.converged and res.message.startswith("no element in contact")
+    assert res.normal_force == 0.0 and res.contact_fraction == 0.0 and res.mean_gap > 0
+    assert res.nit == 0 and list(res.residual_history) == [0.0] and res.residual == 0.0
+    contact_ok(res, h)
+    start = solve_contact(h, dx, dx, 1.0, normal_force=1e-4, periodic=False, work_of_adhesion=1e-4)
+    contact_ok(start, h, force=1e-4, rel_force=1e-6)
+    lost = solve_contact(
+        h, dx, dx, 1.0, normal_force=-1.0, periodic=False, work_of_adhesion=1e-4, initial=start
+    )
+    assert not lost.converged and not lost.success
+    assert lost.message.startswith("contact lost")
+    assert len(lost.residual_history) == lost.nit + 1
+    assert lost.residual == lost.residual_history[-1] == math.inf

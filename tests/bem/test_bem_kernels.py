@@ -116,9 +116,7 @@ def test_critical_tension_square_value():
         critical_tension(-1.0, 1e6, 1e-6, 1e-6)
 
 
-arrays = st.integers(1, 300).flatmap(
-    lambda n: st.tuples(st.just(n), st.integers(0, 2**31 - 1))
-)
+arrays = st.integers(1, 300).flatmap(lambda n: st.tuples(st.just(n), st.integers(0, 2**31 - 1)))
 
 
 def _state(n, seed):

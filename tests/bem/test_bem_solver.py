@@ -52,8 +52,10 @@ def test_warm_start_sweep_costs_fewer_iterations(rough, contact_ok):
     h = _h(rough)
     forces = np.array([0.039, 0.040, 0.041, 0.042]) * h.size
     sweep = load_sweep(h, 1.0, 1.0, 1.0, forces, tol=1e-9, coarse_start=False)
-    cold = [solve_contact(h, 1.0, 1.0, 1.0, normal_force=f, tol=1e-9, coarse_start=False)
-            for f in forces]
+    cold = [
+        solve_contact(h, 1.0, 1.0, 1.0, normal_force=f, tol=1e-9, coarse_start=False)
+        for f in forces
+    ]
     for s, c, f in zip(sweep, cold, forces, strict=True):
         assert s.converged and c.converged
         contact_ok(s, h, force=f)
@@ -70,8 +72,16 @@ def test_warm_start_sweep_costs_fewer_iterations(rough, contact_ok):
 def test_coarse_start_and_preconditioner_same_answer(rough, contact_ok, precondition):
     h = rough(256, seed=5)
     a = solve_contact(h, 1.0, 1.0, 1.0, mean_pressure=0.04, tol=1e-10, coarse_start=False)
-    b = solve_contact(h, 1.0, 1.0, 1.0, mean_pressure=0.04, tol=1e-10, coarse_start=True,
-                      precondition=precondition)
+    b = solve_contact(
+        h,
+        1.0,
+        1.0,
+        1.0,
+        mean_pressure=0.04,
+        tol=1e-10,
+        coarse_start=True,
+        precondition=precondition,
+    )
     assert a.converged and b.converged
     contact_ok(a, h, force=0.04 * h.size)
     contact_ok(b, h, force=0.04 * h.size)
@@ -92,8 +102,9 @@ def test_iteration_cap_reports_non_convergence(rough):
 
 def test_unreachable_tolerance_stalls_or_caps(rough):
     h = rough(64, seed=1)
-    res = solve_contact(h, 1.0, 1.0, 1.0, mean_pressure=0.04, tol=1e-30, stall_window=30,
-                        max_iter=2000)
+    res = solve_contact(
+        h, 1.0, 1.0, 1.0, mean_pressure=0.04, tol=1e-30, stall_window=30, max_iter=2000
+    )
     assert not res.converged
     assert res.message.startswith(("stalled", "iteration cap"))
 

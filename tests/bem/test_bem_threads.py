@@ -35,7 +35,7 @@ def test_concurrent_solves_in_threads_match_serial_solves() -> None:
         results: list[float | None] = [None] * len(loads)
         barrier = threading.Barrier(len(loads))
 
-        def solve(i: int) -> None:
+        def solve(i: int, barrier=barrier, results=results) -> None:
             barrier.wait()
             res = bem.solve_contact(h, dx, dx, 1e6, normal_force=loads[i], tol=1e-8)
             assert res.converged

@@ -45,14 +45,23 @@ def test_effective_resolution_and_lambda_recovered_from_measurements(tmp_path):
     area = statmodel.real_area_at_loads(material, truth, a_n, loads)
     (tmp_path / "area.csv").write_text(
         "normal_load,real_area\n"
-        + "".join(f"{float(f)!r},{float(a)!r}\n" for f, a in zip(loads, area, strict=True)))
+        + "".join(f"{float(f)!r},{float(a)!r}\n" for f, a in zip(loads, area, strict=True))
+    )
     rng = np.random.default_rng(0)
     curves = []
     for f in (1.0, 3.0):
-        fx, ar = area_up_to_peak(*model_shear_area(0.1, f, material=material, roughness=truth,
-                                                   nominal_area=a_n,
-                                                   max_tangential_displacement=None, steps=81,
-                                                   knobs={}))
+        fx, ar = area_up_to_peak(
+            *model_shear_area(
+                0.1,
+                f,
+                material=material,
+                roughness=truth,
+                nominal_area=a_n,
+                max_tangential_displacement=None,
+                steps=81,
+                knobs={},
+            )
+        )
         picks = np.linspace(0, 0.95 * fx[-1], 25)
         measured = interpolate_area(fx, ar, picks) * (1 + rng.normal(0, 0.01, picks.size))
         curves.append(ShearAreaCurve(f, picks, measured))
@@ -86,11 +95,13 @@ def test_cli_exit_1_when_a_solver_did_not_converge(tmp_path, capsys):
     data["bem"]["max_iter"] = 1  # the BEM cannot converge in one iteration
     text = preset_text("default")
     path = tmp_path / "job.toml"
-    path.write_text(text.replace("[bem]\n", "[bem]\nmax_iter = 1\n")
-                    .replace("n = 1000 ", "n = 64 ").replace("pixel_size = 10e-6 ",
-                                                             "pixel_size = 40e-6 ")
-                    .replace("max_stride = 26 ", "max_stride = 4 ")
-                    .replace("steps = 201", "steps = 21"))
+    path.write_text(
+        text.replace("[bem]\n", "[bem]\nmax_iter = 1\n")
+        .replace("n = 1000 ", "n = 64 ")
+        .replace("pixel_size = 10e-6 ", "pixel_size = 40e-6 ")
+        .replace("max_stride = 26 ", "max_stride = 4 ")
+        .replace("steps = 201", "steps = 21")
+    )
     status = main(["run", str(path), "--out", str(tmp_path / "out")])
     out = capsys.readouterr().out
     assert status == 1
@@ -117,8 +128,9 @@ def test_parallel_runs_match_serial(tmp_path):
     pooled = run_job(cfg, tmp_path / "pool", workers=2)
     _compare(serial, pooled)
     # two threads in one worker process: the BEM lock keeps concurrent solves correct
-    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
-                                  dashboard_address=None) as cluster:
+    with distributed.LocalCluster(
+        n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None
+    ) as cluster:
         with distributed.Client(cluster) as client:
             on_dask = run_job(cfg, tmp_path / "dask", scheduler=client)
     _compare(serial, on_dask)
@@ -131,10 +143,13 @@ def test_model_outside_validity_warns():
 
     from pipelines.resolution_stage import ModelValidityWarning, statistical_model_scan
 
-    scan = SimpleNamespace(stride=np.array([1, 2]), resolution=np.array([2e-7, 4e-7]),
-                           asperity_density=np.array([2e12, 6e11]),
-                           summit_radius=np.array([1.5e-5, 3e-5]),
-                           summit_height_rms=np.array([6e-9, 5e-9]))
+    scan = SimpleNamespace(
+        stride=np.array([1, 2]),
+        resolution=np.array([2e-7, 4e-7]),
+        asperity_density=np.array([2e12, 6e11]),
+        summit_radius=np.array([1.5e-5, 3e-5]),
+        summit_height_rms=np.array([6e-9, 5e-9]),
+    )
     material = statmodel.Material(2.133e6, 0.040, 0.03, 0.13e6, 0.2e-9)
     measured = NormalAreaCurve(np.array([1.0, 2.0]), np.array([1e-4, 2e-4]))
     with pytest.warns(ModelValidityWarning, match="outside its validity"):

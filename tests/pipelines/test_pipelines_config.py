@@ -64,8 +64,10 @@ def _base() -> dict:
         (lambda d: d["material"].update(work_of_adhesion="a lot"), "material.work_of_adhesion"),
         (lambda d: d["loading"].update(normal_loads=[]), "loading.normal_loads"),
         (lambda d: d["loading"].update(steps=1), "loading.steps"),
-        (lambda d: d["loading"].update(max_tangential_displacement=-1e-6),
-         "loading.max_tangential_displacement"),
+        (
+            lambda d: d["loading"].update(max_tangential_displacement=-1e-6),
+            "loading.max_tangential_displacement",
+        ),
         (lambda d: d["bem"].update(tol=0.0), "bem.tol"),
         (lambda d: d["surface"].update(detrend="cubic"), "surface.detrend"),
         (lambda d: d["surface"]["synthetic"].update(recipe="moon"), "surface.synthetic.recipe"),
@@ -97,7 +99,8 @@ def test_relative_files_resolve_against_config_dir(tmp_path):
     (tmp_path / "sub" / "shear.csv").write_text("tangential_force,real_area\n0,1e-6\n1,0.9e-6\n")
     text = preset_text("default") + (
         '\n[measured]\nnormal_area = "area.csv"\n'
-        'shear_area = [{normal_load = 1.0, file = "shear.csv"}]\n')
+        'shear_area = [{normal_load = 1.0, file = "shear.csv"}]\n'
+    )
     path = tmp_path / "sub" / "job.toml"
     path.write_text(text)
     cfg = load_config(path)
@@ -119,9 +122,11 @@ def test_invalid_toml_and_missing_config(tmp_path):
 
 def test_validation_imports_no_numerical_library():
     """Validation is pure Python: a bad config fails before numpy/h5py/solvers load."""
-    code = ("import sys; from pipelines.config import load_preset; load_preset('default'); "
-            "print(sorted(m for m in ('numpy', 'h5py', 'scipy', 'numba', 'bem', 'statmodel', "
-            "'topo') if m in sys.modules))")
+    code = (
+        "import sys; from pipelines.config import load_preset; load_preset('default'); "
+        "print(sorted(m for m in ('numpy', 'h5py', 'scipy', 'numba', 'bem', 'statmodel', "
+        "'topo') if m in sys.modules))"
+    )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "[]"
 
@@ -129,8 +134,11 @@ def test_validation_imports_no_numerical_library():
 def test_cli_bad_config_exits_2_naming_the_key(tmp_path):
     bad = tmp_path / "job.toml"
     bad.write_text(preset_text("default").replace("E_star = 2.133e6", "E_star = -2.133e6"))
-    out = subprocess.run([sys.executable, "-m", "pipelines", "run", str(bad), "--out",
-                          str(tmp_path / "out")], capture_output=True, text=True)
+    out = subprocess.run(
+        [sys.executable, "-m", "pipelines", "run", str(bad), "--out", str(tmp_path / "out")],
+        capture_output=True,
+        text=True,
+    )
     assert out.returncode == 2
     assert "material.E_star" in out.stderr
     assert not (tmp_path / "out").exists()

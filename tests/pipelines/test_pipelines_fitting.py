@@ -17,9 +17,9 @@ def _toy_model(mode_mixity: float, normal_load: float) -> tuple[np.ndarray, np.n
     """A smooth stand-in with the shape of Fig 5b: area falls faster for larger lambda,
     the tangential force peaks then drops to a sliding plateau."""
     s = np.linspace(0.0, 1.0, 301)
-    a0 = 2e-6 * normal_load ** 0.9
-    area = a0 * (1.0 - 0.6 * np.sqrt(mode_mixity) * s ** 2)
-    force = 0.3 * normal_load * (1.5 * s - 0.75 * s ** 2) * (1 + (s > 0.8) * (0.8 - s))
+    a0 = 2e-6 * normal_load**0.9
+    area = a0 * (1.0 - 0.6 * np.sqrt(mode_mixity) * s**2)
+    force = 0.3 * normal_load * (1.5 * s - 0.75 * s**2) * (1 + (s > 0.8) * (0.8 - s))
     return force, area
 
 
@@ -82,9 +82,15 @@ def test_recovers_lambda_from_statistical_model_curves():
 
     material = statmodel.Material(2.133e6, 0.040, 0.03, 0.13e6, 0.2e-9)
     roughness = statmodel.Roughness(2.25e6, 1.180e-3, 0.0419e-3)
-    model = functools.partial(model_shear_area, material=material, roughness=roughness,
-                              nominal_area=A_N, max_tangential_displacement=None, steps=121,
-                              knobs={})
+    model = functools.partial(
+        model_shear_area,
+        material=material,
+        roughness=roughness,
+        nominal_area=A_N,
+        max_tangential_displacement=None,
+        steps=121,
+        knobs={},
+    )
     true_lambda = 0.05
     rng = np.random.default_rng(7)
     curves = []

@@ -44,8 +44,15 @@ def test_all_stages_ran_and_converged(small_run):
     assert [s.name for s in result.stages] == list(STAGES)
     assert not any(s.cached for s in result.stages)
     assert result.converged, result.problems()
-    for name in ("report.md", "fig12_resolution.png", "fig13_area_vs_force.png",
-                 "fig4_shear.png", "surface.png", "bem_grid.png", "fig12d_misfit.png"):
+    for name in (
+        "report.md",
+        "fig12_resolution.png",
+        "fig13_area_vs_force.png",
+        "fig4_shear.png",
+        "surface.png",
+        "bem_grid.png",
+        "fig12d_misfit.png",
+    ):
         assert (out / name).stat().st_size > 0
     report = (out / "report.md").read_text()
     assert "effective resolution" in report and "![" in report
@@ -61,23 +68,31 @@ def test_physics_of_the_outputs(small_run):
     # adhesion adds contact area at equal load
     assert np.all(bem.contact_fraction_adhesive >= bem.contact_fraction)
     # shear at constant normal load: F_z held, A_r shrinks, peak above sliding, static peak
-    np.testing.assert_allclose(fr.curves["normal_force"],
-                               np.broadcast_to(fr.normal_load[:, None], (3, 41)), rtol=1e-6)
+    np.testing.assert_allclose(
+        fr.curves["normal_force"], np.broadcast_to(fr.normal_load[:, None], (3, 41)), rtol=1e-6
+    )
     assert np.all(fr.curves["real_area"][:, -1] < fr.curves["real_area"][:, 0])
     assert np.all(fr.scalars["static_friction"] >= fr.scalars["sliding_friction"])
-    np.testing.assert_allclose(fr.scalars["static_friction"],
-                               np.nanmax(fr.curves["tangential_force"], axis=1), rtol=1e-6)
+    np.testing.assert_allclose(
+        fr.scalars["static_friction"], np.nanmax(fr.curves["tangential_force"], axis=1), rtol=1e-6
+    )
     # stick and slip parts add up to the totals
     for name in ("tangential_force", "normal_force", "real_area"):
-        np.testing.assert_allclose(fr.curves[name + "_stick"] + fr.curves[name + "_slip"],
-                                   fr.curves[name], rtol=1e-9, atol=1e-12)
+        np.testing.assert_allclose(
+            fr.curves[name + "_stick"] + fr.curves[name + "_slip"],
+            fr.curves[name],
+            rtol=1e-9,
+            atol=1e-12,
+        )
     # at full sliding every junction carries tau0 times its area (E:Hertz_theory): the curve
     # ends on the constant-shear-strength line of Fig 13, at the sliding friction
     tau0 = result.config.material.shear_strength
-    np.testing.assert_allclose(fr.curves["tangential_force"][:, -1],
-                               tau0 * fr.curves["real_area"][:, -1], rtol=1e-5)
-    np.testing.assert_allclose(fr.scalars["sliding_friction"],
-                               fr.curves["tangential_force"][:, -1], rtol=1e-5)
+    np.testing.assert_allclose(
+        fr.curves["tangential_force"][:, -1], tau0 * fr.curves["real_area"][:, -1], rtol=1e-5
+    )
+    np.testing.assert_allclose(
+        fr.scalars["sliding_friction"], fr.curves["tangential_force"][:, -1], rtol=1e-5
+    )
     # the effective resolution is the least misfit one
     assert res.index == int(np.nanargmin(res.misfit_bem))
 
@@ -149,11 +164,17 @@ def test_resume_after_interruption_skips_finished_stages(tmp_path, monkeypatch):
     assert [s.cached for s in result.stages] == [True, True, True, False, False, False]
 
     # a change of the loads recomputes the BEM and what follows, not the surface
-    changed = config_from_dict({**tomllib.loads(cfg.to_toml()),
-                                "loading": {**cfg.to_dict()["loading"],
-                                            "normal_loads": [1.5, 2.5],
-                                            "max_tangential_displacement": "auto"}},
-                               base_dir=tmp_path)
+    changed = config_from_dict(
+        {
+            **tomllib.loads(cfg.to_toml()),
+            "loading": {
+                **cfg.to_dict()["loading"],
+                "normal_loads": [1.5, 2.5],
+                "max_tangential_displacement": "auto",
+            },
+        },
+        base_dir=tmp_path,
+    )
     result = run_job(changed, out)
     assert [s.cached for s in result.stages] == [True, True, False, False, False, False]
     assert calls == {"surface": 1, "bem": 2}
@@ -173,8 +194,11 @@ def test_real_afm_file_through_the_job(tmp_path):
     from pipelines.surface_stage import file_sha256
 
     path = Path(__file__).resolve().parents[1] / "data" / "mi-1.mi"
-    data = {"surface": {"file": str(path), "max_stride": 4}, "bem": {"max_stride": 2},
-            "loading": {"steps": 21, "normal_loads": [1.0, 3.0]}}
+    data = {
+        "surface": {"file": str(path), "max_stride": 4},
+        "bem": {"max_stride": 2},
+        "loading": {"steps": 21, "normal_loads": [1.0, 3.0]},
+    }
     cfg = config_from_dict(data, base_dir=tmp_path)
     with pytest.warns(ModelValidityWarning):
         result = run_job(cfg, tmp_path / "out")

@@ -22,8 +22,10 @@ def test_normal_area_sorted_by_load(tmp_path):
 
 
 def test_long_file_round_trip(tmp_path):
-    curves = [ShearAreaCurve(1.0, np.array([0.0, 0.1, 0.2]), np.array([3e-6, 2.9e-6, 2.7e-6])),
-              ShearAreaCurve(2.0, np.array([0.0, 0.3]), np.array([5e-6, 4.5e-6]))]
+    curves = [
+        ShearAreaCurve(1.0, np.array([0.0, 0.1, 0.2]), np.array([3e-6, 2.9e-6, 2.7e-6])),
+        ShearAreaCurve(2.0, np.array([0.0, 0.3]), np.array([5e-6, 4.5e-6])),
+    ]
     path = tmp_path / "long.csv"
     write_shear_area(path, curves)
     back = read_shear_area(path)

@@ -48,8 +48,9 @@ def test_process_workers_cap_threads():
 
 def test_dask_local_cluster_runs_the_same_map():
     distributed = pytest.importorskip("distributed")
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster:
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster:
         with make_executor(scheduler=cluster.scheduler_address) as ex:
             out = run_map(_worker_report, [(float(i),) for i in range(4)], ex)
     assert [o[0] for o in out] == [math.sqrt(i) for i in range(4)]

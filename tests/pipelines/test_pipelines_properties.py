@@ -21,15 +21,16 @@ except ModuleNotFoundError:  # pragma: no cover
 keys = st.from_regex(r"[a-z][a-z0-9_]{0,8}", fullmatch=True)
 scalars = st.one_of(
     st.booleans(),
-    st.integers(-10**12, 10**12),
+    st.integers(-(10**12), 10**12),
     st.floats(allow_nan=False, allow_infinity=False),
     st.text(st.characters(blacklist_categories=("Cs",)), max_size=12),
 )
-values = st.one_of(scalars, st.lists(st.floats(allow_nan=False, allow_infinity=False),
-                                     max_size=4))
-tables = st.recursive(st.dictionaries(keys, values, max_size=4),
-                      lambda inner: st.dictionaries(keys, st.one_of(values, inner), max_size=3),
-                      max_leaves=12)
+values = st.one_of(scalars, st.lists(st.floats(allow_nan=False, allow_infinity=False), max_size=4))
+tables = st.recursive(
+    st.dictionaries(keys, values, max_size=4),
+    lambda inner: st.dictionaries(keys, st.one_of(values, inner), max_size=3),
+    max_leaves=12,
+)
 
 
 @given(tables)
@@ -38,13 +39,19 @@ def test_dump_toml_round_trips(data):
 
 
 @settings(max_examples=25, deadline=None)
-@given(hnp.arrays(dtype=st.sampled_from([np.float64, np.int64, np.int8]),
-                  shape=hnp.array_shapes(min_dims=1, max_dims=3, max_side=5)))
+@given(
+    hnp.arrays(
+        dtype=st.sampled_from([np.float64, np.int64, np.int8]),
+        shape=hnp.array_shapes(min_dims=1, max_dims=3, max_side=5),
+    )
+)
 def test_store_round_trips_any_array(array):
     dims = tuple(f"d{i}" for i in range(array.ndim))
     record = StageRecord(
-        coords={d: Variable(np.arange(n, dtype=float), "m", (d,)) for d, n in
-                zip(dims, array.shape, strict=True)},
+        coords={
+            d: Variable(np.arange(n, dtype=float), "m", (d,))
+            for d, n in zip(dims, array.shape, strict=True)
+        },
         variables={"values": Variable(array, "Pa", dims)},
     )
     with tempfile.TemporaryDirectory() as tmp:

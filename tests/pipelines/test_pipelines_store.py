@@ -12,11 +12,17 @@ from pipelines.store import ResultStore, StageRecord, Variable
 
 def _record(n: int = 4) -> StageRecord:
     return StageRecord(
-        coords={"normal_load": Variable(np.linspace(0.5, 3.0, n), "N", ("normal_load",)),
-                "step": Variable(np.arange(3), "1", ("step",))},
+        coords={
+            "normal_load": Variable(np.linspace(0.5, 3.0, n), "N", ("normal_load",)),
+            "step": Variable(np.arange(3), "1", ("step",)),
+        },
         variables={
-            "real_area": Variable(np.arange(3.0 * n).reshape(n, 3), "m^2",
-                                  ("normal_load", "step"), "real contact area"),
+            "real_area": Variable(
+                np.arange(3.0 * n).reshape(n, 3),
+                "m^2",
+                ("normal_load", "step"),
+                "real contact area",
+            ),
             "converged": Variable(np.ones(n, dtype=bool), "1", ("normal_load",)),
         },
         attrs={"effective_resolution": 2.6e-4, "basis": "bem", "nothing": None, "flag": True},
@@ -27,8 +33,7 @@ def test_round_trip_with_units_and_dimensions(tmp_path):
     store = ResultStore(tmp_path / "results.h5")
     store.write("stage", _record(), key="k1", seconds=1.5, root_attrs={"asperity_version": "x"})
     back = store.read_stage("stage")
-    np.testing.assert_array_equal(back.variables["real_area"].data,
-                                  np.arange(12.0).reshape(4, 3))
+    np.testing.assert_array_equal(back.variables["real_area"].data, np.arange(12.0).reshape(4, 3))
     assert back.variables["real_area"].dims == ("normal_load", "step")
     assert back.variables["real_area"].units == "m^2"
     assert back.variables["converged"].data.dtype == np.int8
@@ -37,8 +42,10 @@ def test_round_trip_with_units_and_dimensions(tmp_path):
     assert store.root_attrs()["asperity_version"] == "x"
     with h5py.File(store.path, "r") as f:
         ds = f["stage/real_area"]
-        assert [dim.label or h5py.h5ds.get_scale_name(dim[0].id).decode() for dim in ds.dims] \
-            == ["normal_load", "step"]
+        assert [dim.label or h5py.h5ds.get_scale_name(dim[0].id).decode() for dim in ds.dims] == [
+            "normal_load",
+            "step",
+        ]
         assert f["stage/normal_load"].is_scale
         assert f["stage/normal_load"].attrs["units"] == "N"
 
