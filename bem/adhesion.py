@@ -20,9 +20,24 @@ __all__ = ["approach_retract", "critical_tension", "pohrt_popov_chi", "pull_off_
 
 
 def pohrt_popov_chi(dx: float, dy: float) -> float:
-    """The geometric factor chi (m^3) of eq:PohrtPopov_G for a dx x dy element (m).
+    """The geometric factor chi (m^3) of eq:PohrtPopov_G for a dx x dy element.
 
-    For a square element chi = 0.47320 dx^3.
+    ``chi = (dx^3 + dy^3 - dx^2 D - dy^2 D) / (3 pi)
+    + dx dy / (2 pi) [dx ln((D + dy) / (D - dy)) + dy ln((D + dx) / (D - dx))]``,
+    ``D = sqrt(dx^2 + dy^2)``: half the integral over the element of its own Love deflection
+    under unit pressure with E* = 1, i.e. ``G dx dy = p^2 chi / E*`` is the elastic energy
+    released by unloading it (checked so in ``tests/bem/test_bem_hostile_input.py``).
+
+    Parameters
+    ----------
+    dx, dy : float
+        Element sizes (m), positive and finite.
+
+    Returns
+    -------
+    float
+        chi (m^3), symmetric in dx <-> dy; for a square element
+        ``chi = ((2 - 2 sqrt 2) / (3 pi) + 2 asinh(1) / pi) dx^3 = 0.473201 dx^3``.
     """
     if not (dx > 0 and dy > 0 and math.isfinite(dx) and math.isfinite(dy)):
         raise ValueError(f"pohrt_popov_chi: dx and dy must be positive (m), got {dx}, {dy}")
@@ -135,7 +150,20 @@ def pull_off_force(unloading: Sequence[ContactResult]) -> float:
     """Pull-off force (N, negative): the most tensile total force on an unloading branch.
 
     Under displacement control the minimum of F(d) along the stable unloading path is the
-    force at which a load-controlled contact would jump off (for JKR: -3/2 pi w R).
+    force at which a load-controlled contact would jump off (for JKR: -3/2 pi w R; with the
+    Pohrt-Popov criterion +11 % at 10 elements per critical contact radius, +4.6 % at 20,
+    +3.7 % at 40, tests/bem/test_bem_jkr.py). The branch is sampled: the step in separation
+    limits the accuracy.
+
+    Parameters
+    ----------
+    unloading : sequence of ContactResult
+        The retraction branch, e.g. the second list of :func:`approach_retract`.
+
+    Returns
+    -------
+    float
+        min F_z (N) over the branch.
     """
     if len(unloading) == 0:
         raise ValueError("pull_off_force: the unloading branch is empty")

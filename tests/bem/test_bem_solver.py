@@ -168,3 +168,15 @@ def test_nan_heights_are_refused():
         solve_contact(h, 1.0, 1.0, 1.0, mean_pressure=1.0)
     with pytest.raises(ValueError, match="dx"):
         solve_contact(np.zeros((8, 8)), -1.0, 1.0, 1.0, mean_pressure=1.0)
+
+
+def test_adhesion_enlarges_contact_at_equal_load(rough, contact_ok):
+    """Same rough surface and force: the adhesive contact (tension down to -Sigma) is larger."""
+    h = rough(64, seed=1) * 1e-6
+    plain = solve_contact(h, 1e-6, 1e-6, 1e9, normal_force=0.1)
+    sticky = solve_contact(h, 1e-6, 1e-6, 1e9, normal_force=0.1, work_of_adhesion=0.05)
+    assert plain.converged and sticky.converged, sticky.message
+    contact_ok(plain, h, force=0.1)
+    contact_ok(sticky, h, force=0.1)
+    assert sticky.critical_tension > 0 and sticky.pressure.min() < 0
+    assert sticky.contact_fraction > plain.contact_fraction
