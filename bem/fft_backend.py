@@ -22,7 +22,6 @@ Awkward sizes (e.g. 5001 = 3 x 1667) transform more slowly than nearby smooth si
 from __future__ import annotations
 
 import os
-import pickle
 import threading
 import time
 import warnings
@@ -187,10 +186,14 @@ def _check_omp(threads: int) -> None:
 def _wisdom_file() -> Path:
     import pyfftw
 
-    return cache_dir() / f"fftw_wisdom_{pyfftw.__version__}.pickle"
+    return cache_dir() / f"fftw_wisdom_{pyfftw.__version__}.npz"
 
 
 def _load_wisdom() -> None:
+    """Import the FFTW wisdom cached on disk, if any (never unpickled: raw bytes in an .npz).
+
+    A missing, unreadable or foreign file is ignored: wisdom only saves planning time.
+    """
     global _WISDOM_LOADED
     if _WISDOM_LOADED:
         return
@@ -198,9 +201,10 @@ def _load_wisdom() -> None:
     try:
         import pyfftw
 
-        with open(_wisdom_file(), "rb") as fh:
-            pyfftw.import_wisdom(pickle.load(fh))
-    except (OSError, ValueError, EOFError, pickle.UnpicklingError, ImportError):
+        with np.load(_wisdom_file(), allow_pickle=False) as stored:
+            wisdom = tuple(stored[f"w{i}"].tobytes() for i in range(len(stored.files)))
+        pyfftw.import_wisdom(wisdom)
+    except (OSError, ValueError, KeyError, TypeError, ImportError):
         pass
 
 
@@ -211,8 +215,11 @@ def _save_wisdom() -> None:
         path = _wisdom_file()
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = path.with_suffix(f".tmp{os.getpid()}")
+        arrays = {
+            f"w{i}": np.frombuffer(w, dtype=np.uint8) for i, w in enumerate(pyfftw.export_wisdom())
+        }
         with open(tmp, "wb") as fh:
-            pickle.dump(pyfftw.export_wisdom(), fh)
+            np.savez(fh, **arrays)
         os.replace(tmp, path)
     except OSError:  # a read-only home must not break a solve
         pass
