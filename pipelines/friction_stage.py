@@ -39,32 +39,13 @@ from pipelines.fitting import LambdaFit, fit_mode_mixity
 from pipelines.measured import ShearAreaCurve
 from pipelines.parallel import run_map
 from pipelines.store import StageRecord, Variable
+from statmodel.results_io import ARRAY_UNITS, SCALAR_UNITS
 
-#: Per-step arrays of :class:`statmodel.ShearCurve` kept by stage 6, with their units.
-CURVE_FIELDS: dict[str, str] = {
-    "tangential_displacement": "m",
-    "tangential_force": "N",
-    "normal_force": "N",
-    "real_area": "m^2",
-    "n_contact": "1",
-    "n_stick": "1",
-    "n_slip": "1",
-    "separation": "m",
-    "tangential_force_stick": "N",
-    "tangential_force_slip": "N",
-    "normal_force_stick": "N",
-    "normal_force_slip": "N",
-    "real_area_stick": "m^2",
-    "real_area_slip": "m^2",
-}
-#: Per-load scalars of :class:`statmodel.ShearCurve`, with their units.
-CURVE_SCALARS: dict[str, str] = {
-    "static_friction": "N",
-    "sliding_friction": "N",
-    "sliding_displacement": "m",
-    "separation_preload": "m",
-    "tabor_parameter": "1",
-}
+#: Per-step arrays and per-load scalars of :class:`statmodel.ShearCurve` kept by stage 6, with
+#: their units: the tables the ``asperity friction`` output uses, less ``normal_load``, which is
+#: the stage's dimension coordinate.
+CURVE_FIELDS: dict[str, str] = dict(ARRAY_UNITS)
+CURVE_SCALARS: dict[str, str] = {k: v for k, v in SCALAR_UNITS.items() if k != "normal_load"}
 
 #: Quadrature settings of :func:`statmodel.shear_curve` (its ``nodes`` Gauss-Legendre nodes per
 #: panel and ``panels`` per population range), coarse to fine; the fourth is the model's default.
