@@ -114,35 +114,28 @@ def approach_retract(
 
     if separations_out is None:
         separations_out = list(separations_in)[::-1]
-    loading: list[ContactResult] = []
     previous = options.pop("initial", None)
-    for d in separations_in:
-        res = solve_contact(
-            heights,
-            dx,
-            dy,
-            e_star,
-            separation=float(d),
-            work_of_adhesion=work_of_adhesion,
-            initial=previous,
-            **options,
-        )
-        loading.append(res)
-        previous = res
-    unloading: list[ContactResult] = []
-    for d in separations_out:
-        res = solve_contact(
-            heights,
-            dx,
-            dy,
-            e_star,
-            separation=float(d),
-            work_of_adhesion=work_of_adhesion,
-            initial=previous,
-            **options,
-        )
-        unloading.append(res)
-        previous = res
+
+    def follow(separations: Sequence[float]) -> list[ContactResult]:
+        """Solve each separation in turn, each warm-started from the previous solution."""
+        nonlocal previous
+        branch: list[ContactResult] = []
+        for d in separations:
+            previous = solve_contact(
+                heights,
+                dx,
+                dy,
+                e_star,
+                separation=float(d),
+                work_of_adhesion=work_of_adhesion,
+                initial=previous,
+                **options,
+            )
+            branch.append(previous)
+        return branch
+
+    loading = follow(separations_in)
+    unloading = follow(separations_out)
     return loading, unloading
 
 
