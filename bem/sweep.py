@@ -1,4 +1,18 @@
-"""Warm-started load sweeps: each solve starts from the previous pressure field."""
+"""Warm-started load sweeps: each solve starts from a prediction built from the previous ones.
+
+Without adhesion, from the third load on, the start is the secant predictor in the load: the
+pressure extrapolated linearly from the two previous solutions, p = p_k + r (p_k - p_{k-1}),
+r = (F - F_k) / (F_k - F_{k-1}), clipped at 0 (its positive part is the predicted contact set;
+:func:`bem.solve_contact` rescales it to the imposed force exactly). Otherwise (the second load,
+a reversed or very uneven step, a previous solve that did not converge, adhesion, where the
+contact set depends on the path) the start is the previous solution.
+
+Measured (benchmarks/bem_sweep.py, 256^2 periodic self-affine surface, 4-5 % contact, tol 1e-8):
+the secant start lowers the initial residual 20x at 2.5 % load steps (6x at 20 %), which saves
+about 3 of the 16-17 iterations of a warm-started solve. The preconditioned conjugate gradients
+then converge at a fixed rate (about 2.2 iterations per decade of the residual), so a warm start
+can only save the decades it begins closer to the solution; see docs/bem.md for the table.
+"""
 
 from __future__ import annotations
 
@@ -20,7 +34,7 @@ def load_sweep(
     normal_forces: Sequence[float],
     **options,
 ) -> list[ContactResult]:
-    """Solve at several imposed total forces (N), each warm-started from the previous solution.
+    """Solve at several imposed total forces (N), each warm-started from the previous ones.
 
     Parameters
     ----------
@@ -41,6 +55,12 @@ def load_sweep(
     -------
     list of ContactResult
         One per force, in the given order.
+
+    Notes
+    -----
+    Each solve starts from the secant prediction of the two previous solutions (see the
+    module docstring; not with adhesion) or from the previous solution. The start changes only
+    the number of iterations: every result meets the same ``tol`` as a cold solve.
     """
     for key in ("normal_force", "mean_pressure", "separation"):
         if key in options:
@@ -49,9 +69,43 @@ def load_sweep(
     if not forces:
         raise ValueError("load_sweep: normal_forces is empty")
     previous = options.pop("initial", None)
+    # the secant start only without adhesion (solve_contact validates the value itself)
+    secant = isinstance(options.get("work_of_adhesion", 0.0), (int, float)) and not (
+        options.get("work_of_adhesion", 0.0) > 0
+    )
     results: list[ContactResult] = []
     for f in forces:
-        res = solve_contact(heights, dx, dy, e_star, normal_force=f, initial=previous, **options)
+        start = previous
+        if secant and len(results) >= 2:
+            start = _secant_prediction(results[-2], results[-1], f)
+        res = solve_contact(heights, dx, dy, e_star, normal_force=f, initial=start, **options)
         results.append(res)
         previous = res
     return results
+
+
+# widest step ratio r = (F - F_k) / (F_k - F_{k-1}) extrapolated; beyond it (or for r <= 0,
+# a reversed step) the previous solution is the start
+_MAX_STEP_RATIO = 2.0
+
+
+def _secant_prediction(
+    older: ContactResult, last: ContactResult, force: float
+) -> ContactResult | np.ndarray:
+    """Pressure (Pa) at ``force`` (N) extrapolated linearly in the load from two solutions,
+    clipped at 0; ``last`` itself when the extrapolation is not trusted."""
+    if not (older.converged and last.converged):
+        return last
+    df = last.normal_force - older.normal_force
+    if df == 0.0:
+        return last
+    ratio = (force - last.normal_force) / df
+    if not (0.0 < ratio <= _MAX_STEP_RATIO):
+        return last
+    predicted = np.subtract(last.pressure, older.pressure)  # in place below: one array
+    predicted *= ratio
+    predicted += last.pressure
+    np.maximum(predicted, 0.0, out=predicted)
+    if not predicted.sum() > 0:
+        return last
+    return predicted
