@@ -66,6 +66,14 @@ def _pc_state(delta: float, dts: np.ndarray) -> tuple[np.ndarray, np.ndarray, np
     return a, p, t
 
 
+def _save(fig: plt.Figure, path: Path) -> Path:
+    """Lay out, write at DPI (PNG) and close a figure; returns its path."""
+    fig.tight_layout()
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+    return path
+
+
 def figure_1(out: Path, h5: h5py.File) -> Path:
     """Fig. 1: P, T, A vs delta_T and A vs T for several delta (fixed grip, PC model)."""
     g = h5.create_group("fig1")
@@ -127,11 +135,7 @@ def figure_1(out: Path, h5: h5py.File) -> Path:
         "Fig. 1: PC model in fixed grip (w = 27 mJ/m^2, R = 9.42 mm, E* = 2.133 MPa, "
         f"lambda = 0.0023, mu = {tabor_parameter(R1, W1, E1):.0f})"
     )
-    fig.tight_layout()
-    path = out / "fig1_pc_single_asperity.png"
-    fig.savefig(path, dpi=DPI)
-    plt.close(fig)
-    return path
+    return _save(fig, out / "fig1_pc_single_asperity.png")
 
 
 def _asperity_history(delta: float, dts: np.ndarray):
@@ -210,11 +214,7 @@ def figure_2(out: Path, h5: h5py.File) -> Path:
         "Fig. 2: status map and single-asperity histories\n(w = 27 mJ/m^2, R = 9.42 mm, "
         f"E* = 2.133 MPa, lambda = 0.0023, tau0 = 0.43 MPa, mu = {tabor_parameter(R1, W1, E1):.0f})"
     )
-    fig.tight_layout()
-    path = out / "fig2_status_map.png"
-    fig.savefig(path, dpi=DPI)
-    plt.close(fig)
-    return path
+    return _save(fig, out / "fig2_status_map.png")
 
 
 def _write_curve(g: h5py.Group, c) -> None:
@@ -274,11 +274,7 @@ def figure_4(out: Path, h5: h5py.File) -> Path:
         f"Fig. 4: w = 40 mJ/m^2, lambda = 0.2, tau0 = 0.13 MPa, F_z = 3.1 N "
         f"(mu = {c.tabor_parameter:.0f})"
     )
-    fig.tight_layout()
-    path = out / "fig4_shear_curve.png"
-    fig.savefig(path, dpi=DPI)
-    plt.close(fig)
-    return path
+    return _save(fig, out / "fig4_shear_curve.png")
 
 
 def _full_curve(material: Material, load: float):
@@ -343,11 +339,7 @@ def figure_5(out: Path, h5: h5py.File) -> Path:
         f"Fig. 5: effects of w, lambda, tau0 and F_z (other parameters as Fig. 4; "
         f"min(mu) = {mu_min:.0f})"
     )
-    fig.tight_layout()
-    path = out / "fig5_parameter_study.png"
-    fig.savefig(path, dpi=DPI)
-    plt.close(fig)
-    return path
+    return _save(fig, out / "fig5_parameter_study.png")
 
 
 def write_all_figures(out: Path) -> list[Path]:
