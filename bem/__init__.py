@@ -13,14 +13,14 @@ from typing import Any
 # Public names and the module that defines each; imported on first use so that
 # `asperity --help` and light sub-commands do not load numba kernels they never call.
 _EXPORTS: dict[str, str] = {
-    "approach_retract": "bem.adhesion",
-    "critical_tension": "bem.adhesion",
-    "pull_off_force": "bem.adhesion",
-    "crop_to_fast_size": "bem.fft_backend",
-    "fast_size": "bem.fft_backend",
-    "solve_contact": "bem.polonsky_keer",
-    "ContactResult": "bem.result",
-    "load_sweep": "bem.sweep",
+    "approach_retract": "asperity.bem.adhesion",
+    "critical_tension": "asperity.bem.adhesion",
+    "pull_off_force": "asperity.bem.adhesion",
+    "crop_to_fast_size": "asperity.bem.fft_backend",
+    "fast_size": "asperity.bem.fft_backend",
+    "solve_contact": "asperity.bem.polonsky_keer",
+    "ContactResult": "asperity.bem.result",
+    "load_sweep": "asperity.bem.sweep",
 }
 
 __all__ = [

@@ -14,7 +14,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from bem.result import ContactResult
+from asperity.bem.result import ContactResult
 
 __all__ = ["approach_retract", "critical_tension", "pohrt_popov_chi", "pull_off_force"]
 
@@ -110,7 +110,7 @@ def approach_retract(
         One result per separation on each branch; the branches differ (hysteresis) because
         elements enter contact at g = 0 but leave only where p < -Sigma.
     """
-    from bem.polonsky_keer import solve_contact
+    from asperity.bem.polonsky_keer import solve_contact
 
     if separations_out is None:
         separations_out = list(separations_in)[::-1]

@@ -105,8 +105,8 @@ def handler(args: argparse.Namespace) -> int:
     os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
     import numpy as np
 
-    import topo
-    from bem import crop_to_fast_size, load_sweep, solve_contact
+    from asperity import topo
+    from asperity.bem import crop_to_fast_size, load_sweep, solve_contact
 
     e_star = _positive("--e-star", args.e_star)
     tol = _positive("--tol", args.tol)

@@ -55,10 +55,10 @@ from collections import OrderedDict
 import numpy as np
 from numba import njit
 
-from bem.adhesion import critical_tension
-from bem.fft_backend import Convolution
-from bem.influence import influence_multiplier
-from bem.result import ContactResult
+from asperity.bem.adhesion import critical_tension
+from asperity.bem.fft_backend import Convolution
+from asperity.bem.influence import influence_multiplier
+from asperity.bem.result import ContactResult
 
 __all__ = ["solve_contact"]
 

@@ -20,8 +20,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from bem.polonsky_keer import solve_contact
-from bem.result import ContactResult
+from asperity.bem.polonsky_keer import solve_contact
+from asperity.bem.result import ContactResult
 
 __all__ = ["load_sweep"]
 

@@ -58,8 +58,8 @@ BEM_WORKER = r"""
 import json, os, resource, sys, time
 sys.path.insert(0, {root!r})
 import numpy as np
-from bem import solve_contact
-from bem.polonsky_keer import _operator
+from asperity.bem import solve_contact
+from asperity.bem.polonsky_keer import _operator
 h = np.load({surface!r})
 n = h.shape[0]
 t0 = time.perf_counter()
@@ -187,7 +187,7 @@ def run_sizes(
     for n in sizes:
         h = self_affine_periodic(n, hurst=0.8, short_cutoff_px=8.0, rms_slope=1.0, seed=0)
         if crop_fast:
-            from bem import crop_to_fast_size
+            from asperity.bem import crop_to_fast_size
 
             h = np.ascontiguousarray(crop_to_fast_size(h))  # warns what was cut
             print(f"# N={n}: cropped to {h.shape[0]} x {h.shape[1]} (fast FFT size)")
@@ -285,7 +285,7 @@ def hertz_accuracy_plot(path: Path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from bem import solve_contact
+    from asperity.bem import solve_contact
 
     R, E, F = 1.0, 1.0, 1e-4
     a = (3 * F * R / (4 * E)) ** (1 / 3)

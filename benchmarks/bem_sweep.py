@@ -27,7 +27,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from bem_surfaces import self_affine_periodic  # noqa: E402
 
-from bem import load_sweep, solve_contact  # noqa: E402
+from asperity.bem import load_sweep, solve_contact  # noqa: E402
 
 TOL = 1e-8
 N_LOADS = 10

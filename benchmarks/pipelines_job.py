@@ -26,9 +26,9 @@ from pathlib import Path
 # the FFT library loads the OpenMP runtime).
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
-from pipelines.config import config_from_dict, preset_text  # noqa: E402
-from pipelines.job import STAGES, run_job  # noqa: E402
-from pipelines.report import write_report  # noqa: E402
+from asperity.pipelines.config import config_from_dict, preset_text  # noqa: E402
+from asperity.pipelines.job import STAGES, run_job  # noqa: E402
+from asperity.pipelines.report import write_report  # noqa: E402
 
 try:
     import tomllib
@@ -74,7 +74,7 @@ def time_cli() -> float:
     with tempfile.TemporaryDirectory() as tmp:
         t0 = time.perf_counter()
         subprocess.run(
-            [sys.executable, "-m", "pipelines", "run", "--out", str(Path(tmp) / "o")],
+            [sys.executable, "-m", "asperity", "run", "--out", str(Path(tmp) / "o")],
             check=True,
             capture_output=True,
         )

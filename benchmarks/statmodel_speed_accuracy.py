@@ -29,8 +29,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.ticker import FixedLocator, FormatStrFormatter, NullFormatter  # noqa: E402
 
-from statmodel import Material, Roughness, shear_curve  # noqa: E402
-from statmodel.reference import ReferenceModel  # noqa: E402
+from asperity.statmodel import Material, Roughness, shear_curve  # noqa: E402
+from asperity.statmodel.reference import ReferenceModel  # noqa: E402
 
 MAT = Material(e_star=2.133e6, work_of_adhesion=0.040, mode_mixity=0.2, shear_strength=0.13e6)
 ROUGH = Roughness(asperity_density=652.1e6, summit_radius=0.041e-3, summit_height_rms=0.032e-3)

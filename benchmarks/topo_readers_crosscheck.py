@@ -21,9 +21,9 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-import topo  # noqa: E402
-from topo.heightmap import LineProfile  # noqa: E402
-from topo.io.units import length_unit_in_metres  # noqa: E402
+from asperity import topo  # noqa: E402
+from asperity.topo.heightmap import LineProfile  # noqa: E402
+from asperity.topo.io.units import length_unit_in_metres  # noqa: E402
 
 try:
     from SurfaceTopography import read_topography

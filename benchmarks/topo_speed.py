@@ -31,8 +31,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-import topo  # noqa: E402
-from topo.summits import summit_mask  # noqa: E402
+from asperity import topo  # noqa: E402
+from asperity.topo.summits import summit_mask  # noqa: E402
 
 try:
     from SurfaceTopography import Topography

@@ -1,7 +1,7 @@
-"""``python -m pipelines`` is the same as the ``asperity`` command."""
+"""``python -m asperity.pipelines`` is the same as the ``asperity`` command."""
 
 import sys
 
-from pipelines.cli import main
+from asperity.pipelines.cli import main
 
 sys.exit(main())

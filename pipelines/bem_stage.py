@@ -23,10 +23,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-import bem
-import topo
-from pipelines.parallel import run_map, worker_threads
-from pipelines.store import StageRecord, Variable
+from asperity import bem, topo
+from asperity.pipelines.parallel import run_map, worker_threads
+from asperity.pipelines.store import StageRecord, Variable
 
 #: The map is solved as one period of a periodic interface, as in the paper (Appendix B: the
 #: measured 10 x 10 mm^2 map is a seventh of the nominal area, so the domain is taken periodic).

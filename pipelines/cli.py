@@ -15,14 +15,14 @@ import importlib
 import sys
 from collections.abc import Sequence
 
-from pipelines import __version__
+from asperity.pipelines import __version__
 
 #: Modules that provide ``register(subparsers)``; each adds its sub-commands.
 COMMAND_MODULES: tuple[str, ...] = (
-    "topo.cli",  # stats, scan, synth
-    "bem.cli",  # bem
-    "statmodel.cli",  # friction, figures
-    "pipelines.run_cli",  # run
+    "asperity.topo.cli",  # stats, scan, synth
+    "asperity.bem.cli",  # bem
+    "asperity.statmodel.cli",  # friction, figures
+    "asperity.pipelines.run_cli",  # run
 )
 
 

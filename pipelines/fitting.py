@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
-from pipelines.measured import ShearAreaCurve
+from asperity.pipelines.measured import ShearAreaCurve
 
 #: ``model(mode_mixity, normal_load) -> (tangential_force N, real_area m^2)`` along delta_T.
 ShearAreaModel = Callable[[float, float], tuple[np.ndarray, np.ndarray]]

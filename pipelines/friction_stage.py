@@ -34,12 +34,12 @@ from typing import Any
 
 import numpy as np
 
-import statmodel
-from pipelines.fitting import LambdaFit, fit_mode_mixity
-from pipelines.measured import ShearAreaCurve
-from pipelines.parallel import run_map
-from pipelines.store import StageRecord, Variable
-from statmodel.results_io import ARRAY_UNITS, SCALAR_UNITS
+from asperity import statmodel
+from asperity.pipelines.fitting import LambdaFit, fit_mode_mixity
+from asperity.pipelines.measured import ShearAreaCurve
+from asperity.pipelines.parallel import run_map
+from asperity.pipelines.store import StageRecord, Variable
+from asperity.statmodel.results_io import ARRAY_UNITS, SCALAR_UNITS
 
 #: Per-step arrays and per-load scalars of :class:`statmodel.ShearCurve` kept by stage 6, with
 #: their units: the tables the ``asperity friction`` output uses, less ``normal_load``, which is

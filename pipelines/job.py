@@ -7,7 +7,7 @@ recomputes the BEM and everything after it, but not the surface or its resolutio
 
 Python use::
 
-    from pipelines import job, config
+    from asperity.pipelines import job, config
     result = job.run_job(config.load_preset("default"), "out")
     result.friction.scalars["static_friction"]      # N, one per load
 """
@@ -23,10 +23,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from pipelines import __version__
-from pipelines.bem_stage import BemReference, bem_from_record, bem_record, bem_reference
-from pipelines.config import JobConfig
-from pipelines.friction_stage import (
+from asperity.pipelines import __version__
+from asperity.pipelines.bem_stage import BemReference, bem_from_record, bem_record, bem_reference
+from asperity.pipelines.config import JobConfig
+from asperity.pipelines.friction_stage import (
     FrictionPrediction,
     ModeMixityChoice,
     calibrate_mode_mixity,
@@ -36,9 +36,9 @@ from pipelines.friction_stage import (
     lambda_from_record,
     lambda_record,
 )
-from pipelines.measured import ShearAreaCurve, read_normal_area, read_shear_area
-from pipelines.parallel import make_executor
-from pipelines.resolution_stage import (
+from asperity.pipelines.measured import ShearAreaCurve, read_normal_area, read_shear_area
+from asperity.pipelines.parallel import make_executor
+from asperity.pipelines.resolution_stage import (
     ResolutionChoice,
     check_loads_above_pull_off,
     material_from_config,
@@ -46,8 +46,8 @@ from pipelines.resolution_stage import (
     resolution_record,
     statistical_model_scan,
 )
-from pipelines.store import ResultStore, StageRecord
-from pipelines.surface_stage import (
+from asperity.pipelines.store import ResultStore, StageRecord
+from asperity.pipelines.surface_stage import (
     StoredScan,
     file_sha256,
     input_sha256,

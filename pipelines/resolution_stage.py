@@ -19,12 +19,12 @@ from typing import Any
 
 import numpy as np
 
-import statmodel
-from pipelines.bem_stage import BemReference
-from pipelines.config import MaterialConfig
-from pipelines.measured import NormalAreaCurve
-from pipelines.parallel import run_map
-from pipelines.store import StageRecord, Variable
+from asperity import statmodel
+from asperity.pipelines.bem_stage import BemReference
+from asperity.pipelines.config import MaterialConfig
+from asperity.pipelines.measured import NormalAreaCurve
+from asperity.pipelines.parallel import run_map
+from asperity.pipelines.store import StageRecord, Variable
 
 #: Above this A_r/A_n the asperities of the statistical model would overlap: independent
 #: asperities (the Greenwood-Williamson / Fuller-Tabor picture) are no longer a fair model.

@@ -15,7 +15,7 @@ import argparse
 import os
 import sys
 
-from pipelines.config import PRESETS, load_config, load_preset
+from asperity.pipelines.config import PRESETS, load_config, load_preset
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -81,8 +81,8 @@ def handle_run(args: argparse.Namespace) -> int:
     # loads the OpenMP runtime, i.e. before the solvers run.
     os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
     # Heavy imports only after the configuration passed validation.
-    from pipelines.job import progress_enabled, run_job
-    from pipelines.report import summary_text, write_report
+    from asperity.pipelines.job import progress_enabled, run_job
+    from asperity.pipelines.report import summary_text, write_report
 
     progress = progress_enabled()
     result = run_job(

@@ -15,9 +15,9 @@ from typing import Any
 
 import numpy as np
 
-import topo
-from pipelines.config import SurfaceConfig
-from pipelines.store import StageRecord, Variable
+from asperity import topo
+from asperity.pipelines.config import SurfaceConfig
+from asperity.pipelines.store import StageRecord, Variable
 
 #: Fewest pixels per side kept by the coarsest resolution of the scan.
 MIN_SCAN_PIXELS = 16

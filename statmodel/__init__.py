@@ -7,7 +7,7 @@ and the tangential loading up to full sliding (E:NewFormulation_Fy/Fx/Ar). SI un
 
 Typical use::
 
-    from statmodel import Material, Roughness, shear_curve
+    from asperity.statmodel import Material, Roughness, shear_curve
     mat = Material(e_star=2.133e6, work_of_adhesion=0.040, mode_mixity=0.2, shear_strength=0.13e6)
     rough = Roughness(asperity_density=652.1e6, summit_radius=0.041e-3, summit_height_rms=0.032e-3)
     curve = shear_curve(mat, rough, 700e-6, 3.1, numpy.linspace(0.0, 14e-6, 281))
@@ -22,39 +22,39 @@ from typing import Any
 # Public names and the module that defines each; imported on first use so that
 # `asperity --help` and light sub-commands do not load numba kernels they never call.
 _EXPORTS: dict[str, str] = {
-    "hertz_contact_radius": "statmodel.hertz",
-    "hertz_normal_load": "statmodel.hertz",
-    "hertz_sliding_tangential_load": "statmodel.hertz",
-    "jkr_contact_radius": "statmodel.jkr",
-    "jkr_jump_in_distance": "statmodel.jkr",
-    "jkr_jump_off_distance": "statmodel.jkr",
-    "jkr_normal_load": "statmodel.jkr",
-    "jkr_pull_off_force_fixed_grip": "statmodel.jkr",
-    "jkr_pull_off_force_load_control": "statmodel.jkr",
-    "QuadratureOptions": "statmodel.options",
-    "pc_contact_radius": "statmodel.papangelo_ciavarella",
-    "pc_fold_radius": "statmodel.papangelo_ciavarella",
-    "pc_max_tangential_displacement": "statmodel.papangelo_ciavarella",
-    "pc_min_indentation": "statmodel.papangelo_ciavarella",
-    "pc_normal_load": "statmodel.papangelo_ciavarella",
-    "pc_tangential_load": "statmodel.papangelo_ciavarella",
-    "Material": "statmodel.parameters",
-    "Roughness": "statmodel.parameters",
-    "TaborWarning": "statmodel.parameters",
-    "tabor_parameter": "statmodel.parameters",
-    "PreloadResult": "statmodel.preloading",
-    "preload": "statmodel.preloading",
-    "pull_off_force": "statmodel.preloading",
-    "real_area_at_loads": "statmodel.preloading",
-    "unloading_pull_off_force": "statmodel.preloading",
-    "ShearCurve": "statmodel.shear",
-    "shear_curve": "statmodel.shear",
-    "shear_curve_fixed_separation": "statmodel.shear",
-    "OUT_OF_CONTACT": "statmodel.status_map",
-    "SLIDE": "statmodel.status_map",
-    "STICK": "statmodel.status_map",
-    "asperity_status": "statmodel.status_map",
-    "dimensionless_unstable_boundary": "statmodel.status_map",
+    "hertz_contact_radius": "asperity.statmodel.hertz",
+    "hertz_normal_load": "asperity.statmodel.hertz",
+    "hertz_sliding_tangential_load": "asperity.statmodel.hertz",
+    "jkr_contact_radius": "asperity.statmodel.jkr",
+    "jkr_jump_in_distance": "asperity.statmodel.jkr",
+    "jkr_jump_off_distance": "asperity.statmodel.jkr",
+    "jkr_normal_load": "asperity.statmodel.jkr",
+    "jkr_pull_off_force_fixed_grip": "asperity.statmodel.jkr",
+    "jkr_pull_off_force_load_control": "asperity.statmodel.jkr",
+    "QuadratureOptions": "asperity.statmodel.options",
+    "pc_contact_radius": "asperity.statmodel.papangelo_ciavarella",
+    "pc_fold_radius": "asperity.statmodel.papangelo_ciavarella",
+    "pc_max_tangential_displacement": "asperity.statmodel.papangelo_ciavarella",
+    "pc_min_indentation": "asperity.statmodel.papangelo_ciavarella",
+    "pc_normal_load": "asperity.statmodel.papangelo_ciavarella",
+    "pc_tangential_load": "asperity.statmodel.papangelo_ciavarella",
+    "Material": "asperity.statmodel.parameters",
+    "Roughness": "asperity.statmodel.parameters",
+    "TaborWarning": "asperity.statmodel.parameters",
+    "tabor_parameter": "asperity.statmodel.parameters",
+    "PreloadResult": "asperity.statmodel.preloading",
+    "preload": "asperity.statmodel.preloading",
+    "pull_off_force": "asperity.statmodel.preloading",
+    "real_area_at_loads": "asperity.statmodel.preloading",
+    "unloading_pull_off_force": "asperity.statmodel.preloading",
+    "ShearCurve": "asperity.statmodel.shear",
+    "shear_curve": "asperity.statmodel.shear",
+    "shear_curve_fixed_separation": "asperity.statmodel.shear",
+    "OUT_OF_CONTACT": "asperity.statmodel.status_map",
+    "SLIDE": "asperity.statmodel.status_map",
+    "STICK": "asperity.statmodel.status_map",
+    "asperity_status": "asperity.statmodel.status_map",
+    "dimensionless_unstable_boundary": "asperity.statmodel.status_map",
 }
 
 __all__ = [

@@ -21,10 +21,10 @@ from pathlib import Path
 
 def run_friction(args: argparse.Namespace) -> int:
     """Handler of ``asperity friction``; returns the exit status."""
-    from statmodel.config import read_friction_parameters
-    from statmodel.parameters import TaborWarning
-    from statmodel.results_io import curve_to_json, write_curve_hdf5
-    from statmodel.shear import shear_curve
+    from asperity.statmodel.config import read_friction_parameters
+    from asperity.statmodel.parameters import TaborWarning
+    from asperity.statmodel.results_io import curve_to_json, write_curve_hdf5
+    from asperity.statmodel.shear import shear_curve
 
     params = read_friction_parameters(args.params)
     # A model outside its validity must say so on stderr whatever the user's warning filters
@@ -77,7 +77,7 @@ def run_friction(args: argparse.Namespace) -> int:
 
 def run_figures(args: argparse.Namespace) -> int:
     """Handler of ``asperity figures``; returns the exit status."""
-    from statmodel.figures import write_all_figures
+    from asperity.statmodel.figures import write_all_figures
 
     paths = write_all_figures(Path(args.out))
     for p in paths:

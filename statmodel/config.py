@@ -38,8 +38,8 @@ from typing import Any
 
 import numpy as np
 
-from statmodel.options import QuadratureOptions, check_nominal_area
-from statmodel.parameters import Material, Roughness
+from asperity.statmodel.options import QuadratureOptions, check_nominal_area
+from asperity.statmodel.parameters import Material, Roughness
 
 if sys.version_info >= (3, 11):
     import tomllib

@@ -23,21 +23,21 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from statmodel.hertz import (  # noqa: E402
+from asperity.statmodel.hertz import (  # noqa: E402
     hertz_contact_radius,
     hertz_normal_load,
     hertz_sliding_tangential_load,
 )
-from statmodel.papangelo_ciavarella import (  # noqa: E402
+from asperity.statmodel.papangelo_ciavarella import (  # noqa: E402
     pc_contact_radius,
     pc_fold_radius,
     pc_max_tangential_displacement,
     pc_normal_load,
 )
-from statmodel.parameters import Material, Roughness, tabor_parameter  # noqa: E402
-from statmodel.results_io import write_dataset  # noqa: E402
-from statmodel.shear import shear_curve  # noqa: E402
-from statmodel.status_map import (  # noqa: E402
+from asperity.statmodel.parameters import Material, Roughness, tabor_parameter  # noqa: E402
+from asperity.statmodel.results_io import write_dataset  # noqa: E402
+from asperity.statmodel.shear import shear_curve  # noqa: E402
+from asperity.statmodel.status_map import (  # noqa: E402
     JUMP_OFF_DIMENSIONLESS,
     asperity_status,
     dimensionless_unstable_boundary,
@@ -348,6 +348,6 @@ def write_all_figures(out: Path) -> list[Path]:
     out.mkdir(parents=True, exist_ok=True)
     h5_path = out / "statmodel_figures.h5"
     with h5py.File(h5_path, "w") as h5:
-        h5.attrs["source"] = "statmodel.figures (Xu et al. 2022, Figs. 1, 2, 4, 5)"
+        h5.attrs["source"] = "asperity.statmodel.figures (Xu et al. 2022, Figs. 1, 2, 4, 5)"
         paths = [figure_1(out, h5), figure_2(out, h5), figure_4(out, h5), figure_5(out, h5)]
     return [*paths, h5_path]

@@ -29,7 +29,7 @@ import math
 import numpy as np
 from numba import njit
 
-from statmodel.papangelo_ciavarella import (
+from asperity.statmodel.papangelo_ciavarella import (
     coupling_term,
     pc_fold_indentation,
     pc_fold_radius_kernel,

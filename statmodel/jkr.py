@@ -22,7 +22,7 @@ import numpy as np
 from numba import njit, vectorize
 from numpy.typing import ArrayLike
 
-from statmodel.parameters import TABOR_JKR_LIMIT, TaborWarning
+from asperity.statmodel.parameters import TABOR_JKR_LIMIT, TaborWarning
 
 _SIG3 = ["float64(float64, float64, float64, float64)"]
 

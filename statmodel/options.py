@@ -25,9 +25,9 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from statmodel import integrals as _k
-from statmodel.jkr import jkr_jump_in_kernel
-from statmodel.parameters import Material, Roughness, material_tabor_parameter
+from asperity.statmodel import integrals as _k
+from asperity.statmodel.jkr import jkr_jump_in_kernel
+from asperity.statmodel.parameters import Material, Roughness, material_tabor_parameter
 
 
 @dataclass(frozen=True)

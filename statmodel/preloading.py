@@ -24,10 +24,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.optimize import minimize_scalar
 
-from statmodel import integrals as _k
-from statmodel.jkr import jkr_jump_off_kernel
-from statmodel.options import ModelSetup, QuadratureOptions, setup_model
-from statmodel.parameters import Material, Roughness
+from asperity.statmodel import integrals as _k
+from asperity.statmodel.jkr import jkr_jump_off_kernel
+from asperity.statmodel.options import ModelSetup, QuadratureOptions, setup_model
+from asperity.statmodel.parameters import Material, Roughness
 
 
 @dataclass(frozen=True)

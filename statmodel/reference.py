@@ -26,7 +26,7 @@ from scipy.integrate import IntegrationWarning, quad
 from scipy.optimize import brentq
 from scipy.special import ndtr
 
-from statmodel.parameters import Material, Roughness, material_tabor_parameter
+from asperity.statmodel.parameters import Material, Roughness, material_tabor_parameter
 
 EPSREL = 1e-13
 LIMIT = 500

@@ -12,7 +12,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from statmodel.shear import ShearCurve
+from asperity.statmodel.shear import ShearCurve
 
 #: ShearCurve array fields and their units.
 ARRAY_UNITS = {

@@ -30,10 +30,10 @@ from numpy.typing import ArrayLike
 from scipy.optimize import brentq
 from scipy.special import gamma, ndtr, pbdv
 
-from statmodel import integrals as _k
-from statmodel.options import ModelSetup, QuadratureOptions, setup_model
-from statmodel.parameters import Material, Roughness
-from statmodel.preloading import pull_off_point, solve_preload
+from asperity.statmodel import integrals as _k
+from asperity.statmodel.options import ModelSetup, QuadratureOptions, setup_model
+from asperity.statmodel.parameters import Material, Roughness
+from asperity.statmodel.preloading import pull_off_point, solve_preload
 
 
 @dataclass(frozen=True)

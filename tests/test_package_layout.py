@@ -6,12 +6,18 @@ import importlib
 import pkgutil
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
-from pipelines.cli import build_parser, main
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python 3.10
+    import tomli as tomllib
 
-PACKAGES = ("topo", "bem", "statmodel", "pipelines")
+from asperity.pipelines.cli import build_parser, main
+
+PACKAGES = ("asperity.topo", "asperity.bem", "asperity.statmodel", "asperity.pipelines")
 COMMANDS = ("stats", "scan", "synth", "bem", "friction", "figures", "run")
 
 
@@ -58,7 +64,7 @@ def test_no_command_prints_help_and_fails(capsys: pytest.CaptureFixture[str]) ->
 def test_help_does_not_load_numerical_kernels() -> None:
     """``asperity --help`` stays fast: building the parser imports no numba, scipy or h5py."""
     code = (
-        "import sys; from pipelines.cli import build_parser; build_parser(); "
+        "import sys; from asperity.pipelines.cli import build_parser; build_parser(); "
         "print(','.join(m for m in ('numba', 'scipy', 'h5py', 'matplotlib') if m in sys.modules))"
     )
     out = subprocess.run(
@@ -69,7 +75,74 @@ def test_help_does_not_load_numerical_kernels() -> None:
 
 def test_python_dash_m_is_the_same_command() -> None:
     done = subprocess.run(
-        [sys.executable, "-m", "pipelines", "--version"], capture_output=True, text=True
+        [sys.executable, "-m", "asperity", "--version"], capture_output=True, text=True
     )
     assert done.returncode == 0
     assert done.stdout.startswith("asperity ")
+
+
+REPO = Path(__file__).resolve().parents[1]
+
+
+def _declared_packages() -> dict[str, str]:
+    """The packages pyproject.toml ships, each with the folder it comes from."""
+    config = tomllib.loads((REPO / "pyproject.toml").read_text())["tool"]["setuptools"]
+    folders = config["package-dir"]
+    declared = {}
+    for package in config["packages"]:
+        parent = max((p for p in folders if package == p or package.startswith(p + ".")), key=len)
+        tail = package[len(parent) :].lstrip(".").replace(".", "/")
+        declared[package] = str(Path(folders[parent]) / tail) if tail else folders[parent]
+    return declared
+
+
+def test_every_package_folder_is_shipped_under_the_asperity_namespace() -> None:
+    """A new sub-package folder that pyproject.toml forgets would be missing from a wheel."""
+    on_disk = {
+        str(init.parent.relative_to(REPO))
+        for top in ("asperity", "topo", "bem", "statmodel", "pipelines")
+        for init in (REPO / top).rglob("__init__.py")
+    }
+    assert set(_declared_packages().values()) == on_disk
+
+
+def test_import_asperity_is_lazy_and_versioned() -> None:
+    code = (
+        "import sys, asperity; loaded = [m for m in ('asperity.bem', 'numba', 'scipy') "
+        "if m in sys.modules]; print(asperity.__version__, loaded, asperity.bem.__name__)"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], check=True, capture_output=True, text=True
+    ).stdout.split()
+    assert out[1:] == ["[]", "asperity.bem"]
+    assert out[0][0].isdigit()
+
+
+@pytest.mark.slow
+def test_a_wheel_installs_only_the_asperity_namespace(tmp_path: Path) -> None:
+    """After ``pip install .`` in a fresh venv, outside the tree: ``asperity.bem`` only.
+
+    The names ``bem``, ``topo`` and ``pipelines`` belong to unrelated projects on PyPI; a wheel
+    that installed them as top-level packages would be silently replaced by (or replace) those.
+    """
+    venv = tmp_path / "venv"
+    subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", str(venv)], check=True)
+    python = venv / "bin" / "python"
+    subprocess.run(
+        [str(python), "-m", "pip", "install", "-q", "--no-deps", str(REPO)],
+        check=True,
+        cwd=tmp_path,
+    )
+    code = (
+        "import importlib.util as u, sys; sys.path = [p for p in sys.path if p not in ('', '.')]; "
+        "import asperity.bem, asperity.topo.io, asperity.pipelines.presets; "
+        "print([n for n in ('topo', 'bem', 'statmodel', 'pipelines') if u.find_spec(n)]); "
+        "print(asperity.bem.__file__)"
+    )
+    done = subprocess.run(
+        [str(python), "-I", "-c", code], capture_output=True, text=True, cwd=tmp_path
+    )
+    assert done.returncode == 0, done.stderr
+    found, location = done.stdout.splitlines()
+    assert found == "[]"
+    assert Path(location).is_relative_to(venv)  # the wheel's copy, not the source tree

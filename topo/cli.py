@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from topo.heightmap import HeightMap, require_height_map
+from asperity.topo.heightmap import HeightMap, require_height_map
 
 #: Keys of ``asperity stats --json``, in order (a contract with other tools).
 STATS_KEYS = (
@@ -64,8 +64,8 @@ def _pixel_size(text: str | None) -> float | tuple[float, float] | None:
 
 
 def _load_levelled(args: argparse.Namespace, what: str) -> HeightMap:
-    from topo.io import read_surface
-    from topo.levelling import level
+    from asperity.topo.io import read_surface
+    from asperity.topo.levelling import level
 
     surface = read_surface(args.file, channel=args.channel, pixel_size=_pixel_size(args.pixel_size))
     surface = require_height_map(surface, f"asperity {what}")
@@ -94,9 +94,9 @@ def surface_stats(surface: HeightMap, *, stride: int = 1, neighbours: int = 4) -
         ``summit_height_rms`` (m), all of the analysed grid ``decimate(surface, stride)``;
         NaN becomes None (JSON null).
     """
-    from topo.psd import rms_height
-    from topo.resampling import decimate
-    from topo.summits import summit_statistics
+    from asperity.topo.psd import rms_height
+    from asperity.topo.resampling import decimate
+    from asperity.topo.summits import summit_statistics
 
     stats = summit_statistics(surface, stride=stride, neighbours=neighbours)
     grid = decimate(surface, stride)
@@ -147,7 +147,7 @@ def _stats(args: argparse.Namespace) -> int:
 
 
 def _scan(args: argparse.Namespace) -> int:
-    from topo.scan import plot_resolution_scan, resolution_scan, write_scan_hdf5
+    from asperity.topo.scan import plot_resolution_scan, resolution_scan, write_scan_hdf5
 
     surface = _load_levelled(args, "scan")
     scan = resolution_scan(surface, args.max_stride, neighbours=args.neighbours)
@@ -195,8 +195,8 @@ def _scan(args: argparse.Namespace) -> int:
 
 
 def _synth(args: argparse.Namespace) -> int:
-    from topo.io import write_hdf5
-    from topo.synthetic import paper_like
+    from asperity.topo.io import write_hdf5
+    from asperity.topo.synthetic import paper_like
 
     out = Path(args.out)
     if out.suffix.lower() not in (".h5", ".hdf5", ".npy", ".npz"):

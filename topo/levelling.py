@@ -12,7 +12,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from topo.heightmap import HeightMap, require_height_map
+from asperity.topo.heightmap import HeightMap, require_height_map
 
 METHODS = ("none", "mean", "plane", "quadratic")
 _N_TERMS = {"mean": 1, "plane": 3, "quadratic": 6}

@@ -20,7 +20,7 @@ import numba
 import numpy as np
 import scipy.fft
 
-from topo.heightmap import HeightMap, require_height_map
+from asperity.topo.heightmap import HeightMap, require_height_map
 
 
 def _filled(surface: HeightMap) -> np.ndarray:

@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.fft
 
-from topo.heightmap import HeightMap, require_height_map
+from asperity.topo.heightmap import HeightMap, require_height_map
 
 
 def _check_stride(stride: int) -> int:

@@ -21,8 +21,8 @@ from pathlib import Path
 
 import numpy as np
 
-from topo.heightmap import HeightMap, require_height_map
-from topo.summits import summit_statistics
+from asperity.topo.heightmap import HeightMap, require_height_map
+from asperity.topo.summits import summit_statistics
 
 ARRAY_FIELDS = (
     "stride",

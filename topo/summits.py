@@ -23,8 +23,8 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from topo.heightmap import HeightMap, require_height_map
-from topo.resampling import decimate
+from asperity.topo.heightmap import HeightMap, require_height_map
+from asperity.topo.resampling import decimate
 
 
 @numba.njit(cache=True, inline="always")

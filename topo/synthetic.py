@@ -23,7 +23,7 @@ import math
 import numpy as np
 import scipy.fft
 
-from topo.heightmap import HeightMap
+from asperity.topo.heightmap import HeightMap
 
 _ROWS_PER_BLOCK = 256
 
@@ -120,7 +120,7 @@ def self_affine(
     heights *= rms_height / rms
     provenance = {
         "format": "synthetic",
-        "generator": "topo.synthetic.self_affine",
+        "generator": "asperity.topo.synthetic.self_affine",
         "seed": int(seed),
         "hurst": float(hurst),
         "rms_height": float(rms_height),
@@ -205,5 +205,5 @@ def paper_like(
         short_cutoff=short_cutoff,
         seed=seed,
     )
-    provenance = dict(surface.provenance, generator="topo.synthetic.paper_like")
+    provenance = dict(surface.provenance, generator="asperity.topo.synthetic.paper_like")
     return surface.with_heights(surface.heights, provenance=provenance)

@@ -5,7 +5,7 @@ import json
 import numpy as np
 import pytest
 
-from pipelines.cli import main
+from asperity.pipelines.cli import main
 
 KEYS = [
     "contact_fraction",
@@ -60,7 +60,7 @@ def test_single_load_json(capsys, npy_surface):
 
 
 def test_sweep_json_lists_and_matches_api(capsys, npy_surface, contact_ok):
-    from bem import solve_contact
+    from asperity.bem import solve_contact
 
     status, out, _ = _run(
         capsys,

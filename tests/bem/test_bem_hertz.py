@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from bem import solve_contact
+from asperity.bem import solve_contact
 
 R, E, F = 1.0, 1.0, 1e-4
 A_HERTZ = (3 * F * R / (4 * E)) ** (1 / 3)

@@ -7,10 +7,10 @@ import math
 import numpy as np
 import pytest
 
-from bem import critical_tension, load_sweep, solve_contact
-from bem.adhesion import pohrt_popov_chi
-from bem.influence import love_patch_deflection
-from pipelines.cli import main
+from asperity.bem import critical_tension, load_sweep, solve_contact
+from asperity.bem.adhesion import pohrt_popov_chi
+from asperity.bem.influence import love_patch_deflection
+from asperity.pipelines.cli import main
 
 
 def _bump(n=8):

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from bem import approach_retract, critical_tension, pull_off_force, solve_contact
+from asperity.bem import approach_retract, critical_tension, pull_off_force, solve_contact
 
 R, E = 1.0, 1.0
 A_C = 0.05  # contact radius at (load-controlled) pull-off (m)

@@ -8,11 +8,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from bem import critical_tension, crop_to_fast_size, fast_size
-from bem import polonsky_keer as pk
-from bem.adhesion import pohrt_popov_chi
-from bem.fft_backend import Convolution, available_backends
-from bem.influence import (
+from asperity.bem import critical_tension, crop_to_fast_size, fast_size
+from asperity.bem import polonsky_keer as pk
+from asperity.bem.adhesion import pohrt_popov_chi
+from asperity.bem.fft_backend import Convolution, available_backends
+from asperity.bem.influence import (
     influence_multiplier,
     love_patch_deflection,
     padded_love_multiplier,

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from bem import ContactResult, load_sweep, solve_contact
+from asperity.bem import ContactResult, load_sweep, solve_contact
 
 N = 128
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from bem import load_sweep, solve_contact
+from asperity.bem import load_sweep, solve_contact
 
 TOL = 1e-8
 

@@ -10,7 +10,7 @@ import threading
 
 import numpy as np
 
-import bem
+from asperity import bem
 
 
 def _rough_surface(n: int, seed: int) -> np.ndarray:

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from bem import solve_contact
+from asperity.bem import solve_contact
 
 E, WAVELENGTH, AMPLITUDE = 2.0e9, 1.0e-4, 1.0e-6  # Pa, m, m
 P_STAR = np.pi * E * AMPLITUDE / WAVELENGTH  # full-contact mean pressure (Johnson 1985)

@@ -6,16 +6,16 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import pipelines.job as job_module
-import statmodel
-from pipelines.cli import main
-from pipelines.config import config_from_dict, preset_text
-from pipelines.fitting import area_up_to_peak, interpolate_area
-from pipelines.friction_stage import model_shear_area
-from pipelines.job import run_job
-from pipelines.measured import NormalAreaCurve, ShearAreaCurve, write_shear_area
-from pipelines.resolution_stage import material_from_config, roughness_from_scan
-from pipelines.surface_stage import read_and_level, scan_resolutions
+import asperity.pipelines.job as job_module
+from asperity import statmodel
+from asperity.pipelines.cli import main
+from asperity.pipelines.config import config_from_dict, preset_text
+from asperity.pipelines.fitting import area_up_to_peak, interpolate_area
+from asperity.pipelines.friction_stage import model_shear_area
+from asperity.pipelines.job import run_job
+from asperity.pipelines.measured import NormalAreaCurve, ShearAreaCurve, write_shear_area
+from asperity.pipelines.resolution_stage import material_from_config, roughness_from_scan
+from asperity.pipelines.surface_stage import read_and_level, scan_resolutions
 
 try:
     import tomllib
@@ -141,7 +141,7 @@ def test_model_outside_validity_warns():
     the independent-asperity model: the stage warns and the result says why."""
     from types import SimpleNamespace
 
-    from pipelines.resolution_stage import ModelValidityWarning, statistical_model_scan
+    from asperity.pipelines.resolution_stage import ModelValidityWarning, statistical_model_scan
 
     scan = SimpleNamespace(
         stride=np.array([1, 2]),

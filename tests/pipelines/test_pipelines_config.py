@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from pipelines.config import (
+from asperity.pipelines.config import (
     ConfigError,
     config_from_dict,
     load_config,
@@ -135,7 +135,7 @@ def test_cli_bad_config_exits_2_naming_the_key(tmp_path):
     bad = tmp_path / "job.toml"
     bad.write_text(preset_text("default").replace("E_star = 2.133e6", "E_star = -2.133e6"))
     out = subprocess.run(
-        [sys.executable, "-m", "pipelines", "run", str(bad), "--out", str(tmp_path / "out")],
+        [sys.executable, "-m", "asperity", "run", str(bad), "--out", str(tmp_path / "out")],
         capture_output=True,
         text=True,
     )

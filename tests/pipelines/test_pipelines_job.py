@@ -6,10 +6,10 @@ import h5py
 import numpy as np
 import pytest
 
-import pipelines.job as job_module
-from pipelines.config import config_from_dict, preset_text
-from pipelines.job import STAGES, run_job
-from pipelines.report import write_report
+import asperity.pipelines.job as job_module
+from asperity.pipelines.config import config_from_dict, preset_text
+from asperity.pipelines.job import STAGES, run_job
+from asperity.pipelines.report import write_report
 
 try:
     import tomllib
@@ -190,8 +190,8 @@ def test_real_afm_file_through_the_job(tmp_path):
     asperity model outside its validity, which the job reports instead of hiding."""
     from pathlib import Path
 
-    from pipelines.resolution_stage import ModelValidityWarning
-    from pipelines.surface_stage import file_sha256
+    from asperity.pipelines.resolution_stage import ModelValidityWarning
+    from asperity.pipelines.surface_stage import file_sha256
 
     path = Path(__file__).resolve().parents[1] / "data" / "mi-1.mi"
     data = {

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pipelines.measured import (
+from asperity.pipelines.measured import (
     ShearAreaCurve,
     read_normal_area,
     read_shear_area,

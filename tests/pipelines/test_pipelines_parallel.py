@@ -7,7 +7,7 @@ import os
 
 import pytest
 
-from pipelines.parallel import (
+from asperity.pipelines.parallel import (
     SerialExecutor,
     make_executor,
     run_map,

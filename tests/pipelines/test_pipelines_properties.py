@@ -10,8 +10,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
-from pipelines.config import dump_toml
-from pipelines.store import ResultStore, StageRecord, Variable
+from asperity.pipelines.config import dump_toml
+from asperity.pipelines.store import ResultStore, StageRecord, Variable
 
 try:
     import tomllib

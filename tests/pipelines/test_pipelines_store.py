@@ -6,8 +6,8 @@ import h5py
 import numpy as np
 import pytest
 
-import pipelines.store as store_module
-from pipelines.store import ResultStore, StageRecord, Variable
+import asperity.pipelines.store as store_module
+from asperity.pipelines.store import ResultStore, StageRecord, Variable
 
 
 def _record(n: int = 4) -> StageRecord:

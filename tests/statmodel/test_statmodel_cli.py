@@ -8,8 +8,8 @@ import h5py
 import numpy as np
 import pytest
 
-from pipelines.cli import main
-from statmodel import Material, Roughness, shear_curve
+from asperity.pipelines.cli import main
+from asperity.statmodel import Material, Roughness, shear_curve
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "statmodel" / "examples" / "fig4.toml"
 

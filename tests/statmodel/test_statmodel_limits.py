@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from statmodel import (
+from asperity.statmodel import (
     Material,
     Roughness,
     TaborWarning,
@@ -238,7 +238,7 @@ def test_smooth_limit_sliding_friction_is_the_single_hertz_contact():
 
 
 def test_composite_limits_are_the_printed_delta_2_and_delta_1():
-    from statmodel import pc_min_indentation
+    from asperity.statmodel import pc_min_indentation
 
     c = shear_curve(MAT, ROUGH, AREA, LOAD, np.linspace(0.0, 14e-6, 29))
     mu = tabor_parameter(ROUGH.summit_radius, MAT.work_of_adhesion, MAT.e_star)

@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from statmodel import (
+from asperity.statmodel import (
     OUT_OF_CONTACT,
     SLIDE,
     STICK,

@@ -6,7 +6,7 @@ import warnings
 import numpy as np
 import pytest
 
-from statmodel import (
+from asperity.statmodel import (
     Material,
     Roughness,
     TaborWarning,
@@ -17,7 +17,7 @@ from statmodel import (
     shear_curve_fixed_separation,
     tabor_parameter,
 )
-from statmodel.reference import ReferenceModel
+from asperity.statmodel.reference import ReferenceModel
 
 # Fig. 4 case (the TOML)
 MAT = Material(e_star=2.133e6, work_of_adhesion=0.040, mode_mixity=0.2, shear_strength=0.13e6)

@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.optimize import minimize_scalar
 
-from statmodel import (
+from asperity.statmodel import (
     hertz_contact_radius,
     hertz_normal_load,
     jkr_contact_radius,
@@ -25,7 +25,7 @@ from statmodel import (
     pc_tangential_load,
     tabor_parameter,
 )
-from statmodel.jkr import jkr_load_from_radius
+from asperity.statmodel.jkr import jkr_load_from_radius
 
 # Fig. 1/2 parameters (Mergel et al. as extracted by Papangelo & Ciavarella)
 R, W, E, LAM = 9.42e-3, 0.027, 2.133e6, 0.0023

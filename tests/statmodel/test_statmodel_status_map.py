@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from statmodel import (
+from asperity.statmodel import (
     OUT_OF_CONTACT,
     SLIDE,
     STICK,
@@ -15,7 +15,7 @@ from statmodel import (
     pc_contact_radius,
     pc_min_indentation,
 )
-from statmodel.status_map import (
+from asperity.statmodel.status_map import (
     JUMP_OFF_DIMENSIONLESS,
     dimensionless_fold_radius,
     dimensionless_unstable_boundary,

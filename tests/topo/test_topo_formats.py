@@ -16,8 +16,8 @@ import h5py
 import numpy as np
 import pytest
 
-import topo
-from topo.errors import TopographyFileError
+from asperity import topo
+from asperity.topo.errors import TopographyFileError
 
 RNG = np.random.default_rng(1)
 HEIGHTS = RNG.normal(scale=1e-6, size=(7, 5))  # (nx, ny), m

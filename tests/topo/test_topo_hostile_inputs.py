@@ -11,9 +11,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import topo
-from pipelines.cli import main
-from topo.errors import TopographyFileError
+from asperity import topo
+from asperity.pipelines.cli import main
+from asperity.topo.errors import TopographyFileError
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 

@@ -7,8 +7,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-import topo
-from topo.levelling import fit_form
+from asperity import topo
+from asperity.topo.levelling import fit_form
 
 RNG = np.random.default_rng(7)
 

@@ -9,8 +9,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-import topo
-from topo.psd import psd_2d, radial_psd
+from asperity import topo
+from asperity.topo.psd import psd_2d, radial_psd
 
 
 @settings(max_examples=25, deadline=None)

@@ -15,8 +15,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import topo
-from topo.errors import TopographyFileError
+from asperity import topo
+from asperity.topo.errors import TopographyFileError
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 

@@ -9,9 +9,9 @@ import h5py
 import numpy as np
 import pytest
 
-import topo
-from pipelines.cli import main
-from topo.cli import STATS_KEYS
+from asperity import topo
+from asperity.pipelines.cli import main
+from asperity.topo.cli import STATS_KEYS
 
 DATA = __import__("pathlib").Path(__file__).resolve().parents[1] / "data"
 
@@ -41,7 +41,7 @@ def test_scan_rows_are_summit_statistics_and_fits_follow_the_paper(surface):
 
 def test_scan_fits_recover_exact_trends():
     # spikes on a lattice: decimation by k keeps the spikes whose indices divide by k
-    from topo.scan import resolution_scan
+    from asperity.topo.scan import resolution_scan
 
     heights = np.zeros((240, 240))
     spikes = np.random.default_rng(0).uniform(1e-6, 2e-6, size=(20, 20))

@@ -15,8 +15,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-import topo
-from topo.summits import summit_mask
+from asperity import topo
+from asperity.topo.summits import summit_mask
 
 UNIT = 2.0**-20  # m
 

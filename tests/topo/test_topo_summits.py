@@ -10,8 +10,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-import topo
-from topo.summits import summit_mask
+from asperity import topo
+from asperity.topo.summits import summit_mask
 
 
 def egg_crate(n_cells_x, n_cells_y, px_per_cell_x, px_per_cell_y, dx, dy, amplitude, periodic=True):

@@ -12,22 +12,22 @@ from pathlib import Path
 
 import h5py
 
-from topo.errors import TopographyFileError
-from topo.heightmap import HeightMap, LineProfile
-from topo.io.datx import is_datx, read_datx
-from topo.io.dektak import looks_like_dektak, read_dektak
-from topo.io.gwy import read_gwy
-from topo.io.hdf5 import is_project_hdf5, read_project_hdf5, write_hdf5
-from topo.io.metropro import MAGICS as _METROPRO_MAGICS
-from topo.io.metropro import read_metropro
-from topo.io.nanoscope import read_nanoscope
-from topo.io.numpy_files import read_numpy
-from topo.io.opd import read_opd
-from topo.io.picoview import read_picoview
-from topo.io.plu import read_plu
-from topo.io.sur import read_sur
-from topo.io.text import read_text
-from topo.io.x3p import read_x3p
+from asperity.topo.errors import TopographyFileError
+from asperity.topo.heightmap import HeightMap, LineProfile
+from asperity.topo.io.datx import is_datx, read_datx
+from asperity.topo.io.dektak import looks_like_dektak, read_dektak
+from asperity.topo.io.gwy import read_gwy
+from asperity.topo.io.hdf5 import is_project_hdf5, read_project_hdf5, write_hdf5
+from asperity.topo.io.metropro import MAGICS as _METROPRO_MAGICS
+from asperity.topo.io.metropro import read_metropro
+from asperity.topo.io.nanoscope import read_nanoscope
+from asperity.topo.io.numpy_files import read_numpy
+from asperity.topo.io.opd import read_opd
+from asperity.topo.io.picoview import read_picoview
+from asperity.topo.io.plu import read_plu
+from asperity.topo.io.sur import read_sur
+from asperity.topo.io.text import read_text
+from asperity.topo.io.x3p import read_x3p
 
 __all__ = ["read_surface", "write_hdf5", "detect_format", "FORMATS_BY_EXTENSION"]
 

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from topo.errors import TopographyFileError, check_size
+from asperity.topo.errors import TopographyFileError, check_size
 
 
 def read_all_bytes(path: str | Path) -> bytes:

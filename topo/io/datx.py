@@ -15,11 +15,11 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from topo.errors import TopographyFileError
-from topo.heightmap import HeightMap
-from topo.io._common import make_provenance
-from topo.io.hdf5 import check_dataset_storage
-from topo.io.units import length_unit_in_metres
+from asperity.topo.errors import TopographyFileError
+from asperity.topo.heightmap import HeightMap
+from asperity.topo.io._common import make_provenance
+from asperity.topo.io.hdf5 import check_dataset_storage
+from asperity.topo.io.units import length_unit_in_metres
 
 
 def _text(value: object) -> str:

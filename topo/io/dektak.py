@@ -14,10 +14,10 @@ from pathlib import Path
 
 import numpy as np
 
-from topo.errors import TopographyFileError
-from topo.heightmap import LineProfile
-from topo.io._common import make_provenance, read_all_bytes
-from topo.io.units import length_unit_in_metres
+from asperity.topo.errors import TopographyFileError
+from asperity.topo.heightmap import LineProfile
+from asperity.topo.io._common import make_provenance, read_all_bytes
+from asperity.topo.io.units import length_unit_in_metres
 
 _COLUMN_UNITS = {"micrometer": "um", "nanometer": "nm", "millimeter": "mm", "angstrom": "A"}
 

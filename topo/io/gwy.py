@@ -19,10 +19,10 @@ from pathlib import Path
 
 import numpy as np
 
-from topo.errors import TopographyFileError
-from topo.heightmap import HeightMap
-from topo.io._common import make_provenance, read_all_bytes
-from topo.io.units import length_unit_in_metres
+from asperity.topo.errors import TopographyFileError
+from asperity.topo.heightmap import HeightMap
+from asperity.topo.io._common import make_provenance, read_all_bytes
+from asperity.topo.io.units import length_unit_in_metres
 
 MAGIC = b"GWYP"
 _SCALAR = {"b": "<?", "c": "<c", "i": "<i", "q": "<q", "d": "<d"}

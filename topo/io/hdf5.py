@@ -13,9 +13,9 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from topo.errors import TopographyFileError
-from topo.heightmap import HeightMap, require_height_map
-from topo.io._common import require_positive
+from asperity.topo.errors import TopographyFileError
+from asperity.topo.heightmap import HeightMap, require_height_map
+from asperity.topo.io._common import require_positive
 
 FORMAT_NAME = "asperity-heightmap"
 FORMAT_VERSION = 1

@@ -17,9 +17,9 @@ from pathlib import Path
 
 import numpy as np
 
-from topo.errors import TopographyFileError, check_size
-from topo.heightmap import HeightMap
-from topo.io._common import make_provenance, read_all_bytes, require_positive
+from asperity.topo.errors import TopographyFileError, check_size
+from asperity.topo.heightmap import HeightMap
+from asperity.topo.io._common import make_provenance, read_all_bytes, require_positive
 
 MAGICS = (b"\x88\x1b\x03\x6f", b"\x88\x1b\x03\x70", b"\x88\x1b\x03\x71")
 _PHASE_RESOLUTION = {0: 4096, 1: 32768, 2: 131072}

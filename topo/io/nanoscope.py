@@ -17,10 +17,10 @@ from pathlib import Path
 
 import numpy as np
 
-from topo.errors import TopographyFileError, check_size
-from topo.heightmap import HeightMap
-from topo.io._common import make_provenance, read_all_bytes
-from topo.io.units import length_unit_in_metres
+from asperity.topo.errors import TopographyFileError, check_size
+from asperity.topo.heightmap import HeightMap
+from asperity.topo.io._common import make_provenance, read_all_bytes
+from asperity.topo.io.units import length_unit_in_metres
 
 MAGIC = b"\\*File list"
 _Z_SCALE = re.compile(

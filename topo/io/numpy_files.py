@@ -19,9 +19,9 @@ from typing import IO
 
 import numpy as np
 
-from topo.errors import TopographyFileError
-from topo.heightmap import HeightMap, LineProfile
-from topo.io._common import caller_pixel_size, make_provenance
+from asperity.topo.errors import TopographyFileError
+from asperity.topo.heightmap import HeightMap, LineProfile
+from asperity.topo.io._common import caller_pixel_size, make_provenance
 
 #: Deflate cannot compress by more than about 1032:1; a member claiming more is corrupt.
 _MAX_DEFLATE_RATIO = 1100

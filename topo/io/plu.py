@@ -18,9 +18,9 @@ from pathlib import Path
 
 import numpy as np
 
-from topo.errors import TopographyFileError, check_size
-from topo.heightmap import HeightMap
-from topo.io._common import make_provenance, read_all_bytes, require_positive
+from asperity.topo.errors import TopographyFileError, check_size
+from asperity.topo.heightmap import HeightMap
+from asperity.topo.io._common import make_provenance, read_all_bytes, require_positive
 
 HEADER_SIZE = 500
 _UNDEFINED = 1000001.0

@@ -21,10 +21,10 @@ from pathlib import Path
 
 import numpy as np
 
-from topo.errors import TopographyFileError, check_size
-from topo.heightmap import HeightMap, LineProfile
-from topo.io._common import decode_text, make_provenance, read_all_bytes
-from topo.io.units import length_unit_in_metres
+from asperity.topo.errors import TopographyFileError, check_size
+from asperity.topo.heightmap import HeightMap, LineProfile
+from asperity.topo.io._common import decode_text, make_provenance, read_all_bytes
+from asperity.topo.io.units import length_unit_in_metres
 
 MAGIC = b"DIGITAL SURF"
 _HEADER = struct.Struct("<12sHHHH30s30sHHHHHIIHiiiiIfff16s16s16s16s16s16s16s16s16sfff")

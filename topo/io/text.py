@@ -18,9 +18,9 @@ from pathlib import Path
 
 import numpy as np
 
-from topo.errors import TopographyFileError
-from topo.heightmap import HeightMap, LineProfile
-from topo.io._common import caller_pixel_size, make_provenance, read_all_bytes
+from asperity.topo.errors import TopographyFileError
+from asperity.topo.heightmap import HeightMap, LineProfile
+from asperity.topo.io._common import caller_pixel_size, make_provenance, read_all_bytes
 
 #: Largest relative deviation of an x or y step from the mean step of an x-y-z grid.
 _STEP_TOLERANCE = 1e-4

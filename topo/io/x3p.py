@@ -19,9 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
-from topo.errors import TopographyFileError
-from topo.heightmap import HeightMap, LineProfile
-from topo.io._common import make_provenance
+from asperity.topo.errors import TopographyFileError
+from asperity.topo.heightmap import HeightMap, LineProfile
+from asperity.topo.io._common import make_provenance
 
 _DTYPES = {"I": np.dtype("<u2"), "L": np.dtype("<u4"), "F": np.dtype("<f4"), "D": np.dtype("<f8")}
 

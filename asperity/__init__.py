@@ -1,0 +1,40 @@
+"""asperity: adhesive friction of rough elastic contacts.
+
+After Xu, Scheibert, Gadegaard and Mulvihill (2022), "An asperity-based statistical model for the
+adhesive friction of elastic nominally flat rough contact interfaces", J. Mech. Phys. Solids 164,
+104878, doi:10.1016/j.jmps.2022.104878. SI units throughout (m, Pa, N, J/m^2).
+
+The four sub-packages load on first use, so ``import asperity`` is cheap:
+
+- :mod:`asperity.topo`: height maps, their preparation and asperity statistics (Appendix A);
+- :mod:`asperity.bem`: FFT boundary elements, Polonsky-Keer and Pohrt-Popov (Appendix B);
+- :mod:`asperity.statmodel`: the single-asperity laws and the statistical model (Sections 2-4);
+- :mod:`asperity.pipelines`: the main job, from a measured map to a calibrated prediction.
+"""
+
+from __future__ import annotations
+
+import importlib
+from importlib.metadata import PackageNotFoundError, version
+from typing import Any
+
+try:
+    __version__ = version("asperity")
+except PackageNotFoundError:  # a source tree that is not installed
+    __version__ = "0.0.0+unknown"
+
+_SUBPACKAGES = ("topo", "bem", "statmodel", "pipelines")
+
+__all__ = ["__version__", *_SUBPACKAGES]
+
+
+def __getattr__(name: str) -> Any:
+    if name not in _SUBPACKAGES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    module = importlib.import_module(f"{__name__}.{name}")
+    globals()[name] = module
+    return module
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -1,0 +1,7 @@
+"""``python -m asperity`` is the same as the ``asperity`` command."""
+
+import sys
+
+from asperity.pipelines.cli import main
+
+sys.exit(main())
