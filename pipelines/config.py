@@ -25,6 +25,8 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
+from asperity.errors import InputError
+
 if sys.version_info >= (3, 11):
     import tomllib
 else:  # pragma: no cover - exercised on Python 3.10 only
@@ -37,7 +39,7 @@ DETREND_METHODS: tuple[str, ...] = ("none", "mean", "plane", "quadratic")
 SYNTHETIC_RECIPES: tuple[str, ...] = ("paper_like",)
 
 
-class ConfigError(ValueError):
+class ConfigError(InputError):
     """A configuration value is wrong; the message names the file and the key."""
 
 

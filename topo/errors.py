@@ -4,8 +4,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from asperity.errors import InputError
 
-class TopographyFileError(ValueError):
+
+class TopographyFileError(InputError):
     """A topography file is truncated, corrupt, mislabelled or unsupported.
 
     The message always names the file, the offending field and what was expected, so that
