@@ -1,7 +1,10 @@
 """Material and roughness inputs of the statistical model, and Tabor's parameter.
 
 All quantities are SI: Pa, J/m^2, m, 1/m^2. The dataclasses are frozen and validate their
-fields on construction; a bad value raises ``ValueError`` naming the field and what was expected.
+fields on construction; a bad value raises :class:`asperity.errors.InputError` naming the field,
+the expected range with its reason, and the value found. The ranges (:data:`PHYSICAL_BOUNDS`) are
+physical, wide enough for every real interface and narrow enough that the model's arithmetic
+stays finite (``e_star = 1e308`` used to exhaust the memory).
 """
 
 from __future__ import annotations
@@ -9,6 +12,8 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass, fields
+
+from asperity.errors import InputError
 
 #: Below this Tabor parameter the JKR limit no longer applies (paper, Section 2).
 TABOR_JKR_LIMIT = 5.0
@@ -22,20 +27,58 @@ def _check_finite(owner: str, name: str, value: float) -> float:
     try:
         value = float(value)
     except (TypeError, ValueError):
-        raise ValueError(f"{owner}.{name}: expected a real number, got {value!r}") from None
+        raise InputError(f"{owner}.{name}: expected a real number, got {value!r}") from None
     if not math.isfinite(value):
-        raise ValueError(f"{owner}.{name}: expected a finite number, got {value!r}")
+        raise InputError(f"{owner}.{name}: expected a finite number, got {value!r}")
     return value
+
+
+#: (class, field) -> (lowest, highest, unit, why the range). Zero is allowed where the lower bound
+#: is 0 (no adhesion, no friction); a positive-only quantity has a positive lower bound.
+PHYSICAL_BOUNDS: dict[tuple[str, str], tuple[float, float, str, str]] = {
+    ("Material", "e_star"): (
+        1e2,
+        1e13,
+        "Pa",
+        "from the softest gels (~1 kPa) to diamond (~1e12 Pa)",
+    ),
+    ("Material", "work_of_adhesion"): (0.0, 10.0, "J/m^2", "solid surface energies are < ~5 J/m^2"),
+    ("Material", "mode_mixity"): (0.0, 1.0, "1", "lambda is a fraction of the mode-II work"),
+    ("Material", "shear_strength"): (
+        0.0,
+        1e11,
+        "Pa",
+        "no solid shears above its theoretical strength, < 1e11 Pa",
+    ),
+    ("Material", "equilibrium_distance"): (1e-11, 1e-8, "m", "interatomic distances are 0.1-1 nm"),
+    ("Roughness", "asperity_density"): (
+        1e-6,
+        1e20,
+        "1/m^2",
+        "from one summit per km^2 to one per (0.1 nm)^2",
+    ),
+    ("Roughness", "summit_radius"): (1e-10, 1e2, "m", "from atomic (0.1 nm) to 100 m"),
+    ("Roughness", "summit_height_rms"): (1e-12, 1.0, "m", "from 1 pm to 1 m"),
+}
+
+
+def _check_bounds(owner: str, name: str, value: float) -> None:
+    low, high, unit, reason = PHYSICAL_BOUNDS[(owner, name)]
+    if not low <= value <= high:
+        raise InputError(
+            f"{owner}.{name}: expected a value in [{low:g}, {high:g}] {unit} ({reason}), "
+            f"got {value!r}"
+        )
 
 
 def _check_positive(owner: str, name: str, value: float, unit: str) -> None:
     if not value > 0.0:
-        raise ValueError(f"{owner}.{name}: expected a positive value in {unit}, got {value!r}")
+        raise InputError(f"{owner}.{name}: expected a positive value in {unit}, got {value!r}")
 
 
 def _check_non_negative(owner: str, name: str, value: float, unit: str) -> None:
     if not value >= 0.0:
-        raise ValueError(f"{owner}.{name}: expected a value >= 0 in {unit}, got {value!r}")
+        raise InputError(f"{owner}.{name}: expected a value >= 0 in {unit}, got {value!r}")
 
 
 @dataclass(frozen=True)
@@ -45,16 +88,16 @@ class Material:
     Parameters
     ----------
     e_star : float
-        Reduced (contact) modulus E* = E / (1 - nu^2), Pa, > 0.
+        Reduced (contact) modulus E* = E / (1 - nu^2), Pa, in [1e2, 1e13].
     work_of_adhesion : float
-        Work of adhesion w, J/m^2, >= 0 (w = 0 is the Hertz limit).
+        Work of adhesion w, J/m^2, in [0, 10] (w = 0 is the Hertz limit).
     mode_mixity : float
         Mode-mixity parameter lambda of the failure locus E:failure_locus, in [0, 1]
         (0: pure JKR, the tangential work is fully dissipated; 1: Savkoor-Briggs).
     shear_strength : float
-        Frictional shear strength tau0 of sliding junctions (E:Hertz_theory), Pa, >= 0.
+        Frictional shear strength tau0 of sliding junctions (E:Hertz_theory), Pa, in [0, 1e11].
     equilibrium_distance : float
-        Equilibrium interatomic distance epsilon, m, > 0 (default 0.2 nm).
+        Equilibrium interatomic distance epsilon, m, in [1e-11, 1e-8] (default 0.2 nm).
     """
 
     e_star: float
@@ -68,14 +111,8 @@ class Material:
             object.__setattr__(
                 self, f.name, _check_finite("Material", f.name, getattr(self, f.name))
             )
-        _check_positive("Material", "e_star", self.e_star, "Pa")
-        _check_non_negative("Material", "work_of_adhesion", self.work_of_adhesion, "J/m^2")
-        if not 0.0 <= self.mode_mixity <= 1.0:
-            raise ValueError(
-                f"Material.mode_mixity: expected lambda in [0, 1], got {self.mode_mixity!r}"
-            )
-        _check_non_negative("Material", "shear_strength", self.shear_strength, "Pa")
-        _check_positive("Material", "equilibrium_distance", self.equilibrium_distance, "m")
+        for f in fields(self):
+            _check_bounds("Material", f.name, getattr(self, f.name))
 
 
 @dataclass(frozen=True)
@@ -85,11 +122,11 @@ class Roughness:
     Parameters
     ----------
     asperity_density : float
-        Number of summits per unit nominal area eta, 1/m^2, > 0.
+        Number of summits per unit nominal area eta, 1/m^2, in [1e-6, 1e20].
     summit_radius : float
-        Common summit radius of curvature R, m, > 0.
+        Common summit radius of curvature R, m, in [1e-10, 1e2].
     summit_height_rms : float
-        Standard deviation sigma_s of the (Gaussian) summit heights, m, > 0.
+        Standard deviation sigma_s of the (Gaussian) summit heights, m, in [1e-12, 1].
     """
 
     asperity_density: float
@@ -101,9 +138,8 @@ class Roughness:
             object.__setattr__(
                 self, f.name, _check_finite("Roughness", f.name, getattr(self, f.name))
             )
-        _check_positive("Roughness", "asperity_density", self.asperity_density, "1/m^2")
-        _check_positive("Roughness", "summit_radius", self.summit_radius, "m")
-        _check_positive("Roughness", "summit_height_rms", self.summit_height_rms, "m")
+        for f in fields(self):
+            _check_bounds("Roughness", f.name, getattr(self, f.name))
 
 
 def tabor_parameter(

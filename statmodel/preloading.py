@@ -24,6 +24,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.optimize import minimize_scalar
 
+from asperity.errors import InputError
 from asperity.statmodel import integrals as _k
 from asperity.statmodel.jkr import jkr_jump_off_kernel
 from asperity.statmodel.options import ModelSetup, QuadratureOptions, setup_model
@@ -49,8 +50,11 @@ class PreloadResult:
     pull_off_force : float
         Loading-branch pull-off force, N (<= 0): the most tensile load the preload stage can
         carry (see :func:`pull_off_force`).
-    converged : bool
-        Whether the separation solve met its tolerance.
+    success : bool
+        Whether the separation solve met its tolerance (``converged`` is an alias).
+    status : int
+        0 converged, 1 the separation solve did not converge within ``max_iter`` (see
+        :data:`PRELOAD_STATUS`).
     message : str
         Solver message.
     nit : int
@@ -63,9 +67,22 @@ class PreloadResult:
     n_contact: float
     tabor_parameter: float
     pull_off_force: float
-    converged: bool
+    success: bool
+    status: int
     message: str
     nit: int
+
+    @property
+    def converged(self) -> bool:
+        """Alias of ``success`` (the name of asperity 0.1)."""
+        return self.success
+
+
+#: ``PreloadResult.status`` codes and their meaning.
+PRELOAD_STATUS: dict[int, str] = {
+    0: "converged",
+    1: "preload separation solve did not converge",
+}
 
 
 def preload_state(setup: ModelSetup, separation: float) -> np.ndarray:
@@ -183,7 +200,7 @@ def pull_off_force(
     2017's loading branch, lower limit Wu's jump-in distance E:JKR_delta_min_loading): the most
     tensile normal load at which the preload stage of this model has an equilibrium. It is the
     bound ``preload`` and ``shear_curve`` check an imposed load against: a more tensile load has
-    no preload separation and raises ``ValueError`` naming this force in N.
+    no preload separation and raises ``InputError`` naming this force in N.
 
     It is not the force measured when pulling a pre-pressed contact apart: that one belongs to
     the unloading branch after a preload, depends on the preload and is more tensile (asperities
@@ -251,7 +268,7 @@ def unloading_pull_off_force(
     pull = pull_off_point(setup)
     pre = solve_preload(setup, preload_load, pull)
     if not pre.converged:
-        raise ValueError(f"preload_load: {pre.message}")
+        raise InputError(f"preload_load: {pre.message}")
     return pull_off_point(setup, pre.separation)[0]
 
 
@@ -265,12 +282,12 @@ def solve_preload(
     try:
         target = float(normal_load)
     except (TypeError, ValueError):
-        raise ValueError(f"normal_load: expected a number in N, got {normal_load!r}") from None
+        raise InputError(f"normal_load: expected a number in N, got {normal_load!r}") from None
     if not math.isfinite(target):
-        raise ValueError(f"normal_load: expected a finite load in N, got {normal_load!r}")
+        raise InputError(f"normal_load: expected a finite load in N, got {normal_load!r}")
     f_min, d_min_force = pull_off_point(setup) if pull_off is None else pull_off
     if target < f_min:
-        raise ValueError(
+        raise InputError(
             f"normal_load = {target:.6g} N is below the pull-off force {f_min:.6g} N of the "
             "loading branch (E:Fy_Greenwood, the most tensile load at which the preload stage "
             "has an equilibrium; see statmodel.pull_off_force)"
@@ -295,7 +312,7 @@ def solve_preload(
         work,
     )
     n = setup.n_asperities
-    message = "converged" if ok else "preload separation solve did not converge"
+    status = 0 if ok else 1
     return PreloadResult(
         separation=float(d),
         normal_force=float(n * (out[_k.FZ_STICK] + out[_k.FZ_SLIP])),
@@ -303,8 +320,9 @@ def solve_preload(
         n_contact=float(n * (out[_k.N_STICK] + out[_k.N_SLIP])),
         tabor_parameter=setup.tabor_parameter,
         pull_off_force=f_min,
-        converged=bool(ok),
-        message=message,
+        success=bool(ok),
+        status=status,
+        message=PRELOAD_STATUS[status],
         nit=int(nit),
     )
 
@@ -336,7 +354,7 @@ def preload(
 
     Raises
     ------
-    ValueError
+    InputError
         Bad inputs, or a normal load below the pull-off force (the message gives it in N).
     """
     setup = setup_model(
