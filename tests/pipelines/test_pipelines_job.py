@@ -73,9 +73,11 @@ def test_physics_of_the_outputs(small_run):
     )
     assert np.all(fr.curves["real_area"][:, -1] < fr.curves["real_area"][:, 0])
     assert np.all(fr.scalars["static_friction"] >= fr.scalars["sliding_friction"])
-    np.testing.assert_allclose(
-        fr.scalars["static_friction"], np.nanmax(fr.curves["tangential_force"], axis=1), rtol=1e-6
-    )
+    # the static friction is the continuous peak of F_x(delta_T): at or above every grid point,
+    # and close to the grid maximum on this 41-step curve
+    grid_peak = np.nanmax(fr.curves["tangential_force"], axis=1)
+    assert np.all(fr.scalars["static_friction"] >= grid_peak * (1 - 1e-12))
+    assert np.all(fr.scalars["static_friction"] <= grid_peak * 1.01)
     # stick and slip parts add up to the totals
     for name in ("tangential_force", "normal_force", "real_area"):
         np.testing.assert_allclose(
