@@ -41,21 +41,25 @@ wavenumber ``q1 = pi / max(dx, dy)`` of the coarser axis (or an explicit ``q_cut
 The theory here is non-adhesive. Adhesion only adds attraction, so at a given compressive
 load an adhesive contact is at least as large (JKR against Hertz for one asperity, Persson's
 adhesive extension and our BEM with ``w > 0`` alike): the curve is a lower bound of the
-adhesive ``A_r(F_z)``, and the exact answer in the limit of a vanishing Tabor parameter times
-work of adhesion. The adhesive extension (Persson 2006, Section 8) is not implemented.
+adhesive ``A_r(F_z)`` and its limit as the work of adhesion goes to zero. The adhesive
+extension (Persson 2006, Section 8) is not implemented.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 from scipy.special import erf
 
 from asperity.errors import InputError
 from asperity.statmodel.spectral_moments import isotropic_moment, validate_spectrum
+
+if TYPE_CHECKING:
+    from asperity.topo.heightmap import HeightMap
+    from asperity.topo.psd import RadialPSD
 
 __all__ = [
     "KAPPA_PERSSON",
@@ -150,11 +154,12 @@ def _pressures(values: object, name: str, unit: str, where: str) -> np.ndarray:
     except (TypeError, ValueError):
         raise InputError(f"{where}: {name} must be numbers in {unit}, got {values!r}") from None
     if array.ndim != 1 or array.size == 0:
-        raise InputError(f"{where}: {name} must be a non-empty 1D sequence, got {values!r}")
-    if not np.all(np.isfinite(array)) or np.any(array < 0):
+        raise InputError(f"{where}: {name} must be a non-empty 1D sequence, shape {array.shape}")
+    bad = ~(np.isfinite(array) & (array >= 0))
+    if np.any(bad):
         raise InputError(
             f"{where}: {name} must be finite and >= 0 {unit} (the theory is non-adhesive: "
-            f"no tensile load), got {values!r}"
+            f"no tensile load), found {array[bad][0]!r} at index {int(np.flatnonzero(bad)[0])}"
         )
     return array
 
@@ -297,7 +302,9 @@ def _hann_windowed(surface):
     return surface.with_heights(heights * window)
 
 
-def persson_psd(surface, *, window: Literal["auto", "hann", "none"] = "auto"):
+def persson_psd(
+    surface: HeightMap, *, window: Literal["auto", "hann", "none"] = "auto"
+) -> tuple[np.ndarray, np.ndarray]:
     """Radial PSD of a height map in Persson's normalisation: ``C_P = C_topo / (2 pi)^2``.
 
     Parameters
@@ -337,17 +344,24 @@ def persson_psd(surface, *, window: Literal["auto", "hann", "none"] = "auto"):
 
 
 def _surface_spectrum(surface, q_cutoff: float | None, window: str):
-    """(q, C_P, q0, q1) of a map: rings up to Nyquist of the coarser axis or ``q_cutoff``."""
-    q, c = persson_psd(surface, window=window)  # type: ignore[arg-type]
-    nyquist = math.pi / max(surface.dx, surface.dy)
-    q_max = nyquist if q_cutoff is None else q_cutoff
-    if not q[0] < q_max <= nyquist * (1 + 1e-12):
+    """(q, C_P, q0, q1) of a map or radial PSD, up to its largest q1 or ``q_cutoff``."""
+    from asperity.topo.psd import RadialPSD
+
+    if isinstance(surface, RadialPSD):
+        q, c = validate_spectrum(surface.q, surface.psd, "persson_real_area")
+        c = c / (2.0 * math.pi) ** 2
+        largest, what = float(q[-1]), "its last ring"
+    else:
+        q, c = persson_psd(surface, window=window)  # type: ignore[arg-type]
+        largest = math.pi / max(surface.dx, surface.dy)
+        what = "the Nyquist wavenumber pi / max(dx, dy)"
+    q_max = largest if q_cutoff is None else q_cutoff
+    if not q[0] < q_max <= largest * (1 + 1e-12):
         raise InputError(
-            f"persson_real_area: q_cutoff must lie in ({q[0]:.6g}, {nyquist:.6g}] rad/m "
-            f"(above the first PSD ring, at most the Nyquist wavenumber pi / max(dx, dy)), "
-            f"got {q_cutoff!r}"
+            f"persson_real_area: q_cutoff must lie in ({q[0]:.6g}, {largest:.6g}] rad/m "
+            f"(above the first PSD ring, at most {what}), got {q_cutoff!r}"
         )
-    q_max = min(q_max, nyquist)
+    q_max = min(q_max, largest)
     # keep one ring beyond q_max so that the integral can reach q_max by interpolation
     stop = min(int(np.searchsorted(q, q_max, side="left")) + 1, q.size)
     q, c = q[:stop], c[:stop]
@@ -355,7 +369,7 @@ def _surface_spectrum(surface, q_cutoff: float | None, window: str):
 
 
 def persson_real_area(
-    surface,
+    surface: HeightMap | RadialPSD,
     e_star: float,
     normal_loads: object,
     nominal_area: float,
@@ -364,7 +378,7 @@ def persson_real_area(
     form: ClosedForm = "erf",
     window: Literal["auto", "hann", "none"] = "auto",
 ) -> PerssonResult:
-    """Real contact area against load by Persson's theory, from a measured height map.
+    """Real contact area against load by Persson's theory, from a height map or its PSD.
 
     ``A_r = A_n erf(p / (2 sqrt(G_p)))``, ``p = F_z / A_n``,
     ``G_p = (pi/4) E*^2 int_{q0}^{q1} q^3 C(q) dq`` (Persson, J. Chem. Phys. 115, 3840
@@ -377,9 +391,12 @@ def persson_real_area(
 
     Parameters
     ----------
-    surface : asperity.topo.HeightMap
-        Heights in m, no missing pixel (levelled; a non-periodic map is Hann-windowed, see
-        ``window``).
+    surface : asperity.topo.HeightMap or asperity.topo.psd.RadialPSD
+        A height map (m, no missing pixel, levelled; a non-periodic map is Hann-windowed, see
+        ``window``), or a radial PSD from :func:`asperity.topo.radial_psd` (its normalisation,
+        converted here; integrated from its first to its last ring, or to ``q_cutoff``: note
+        that its default rings run into the corners of the 2D spectrum, up to
+        ``sqrt(2) pi / dx``, which a map resolves only along the diagonals).
     e_star : float
         Reduced modulus E* = E / (1 - nu^2) (Pa).
     normal_loads : array_like
@@ -392,7 +409,7 @@ def persson_real_area(
     form : {"erf", "small_load"}
         Persson's result, or its small-load limit ``sqrt(8/pi) p / (E* h'_rms)``.
     window : {"auto", "hann", "none"}
-        See :func:`persson_psd`.
+        See :func:`persson_psd` (maps only).
 
     Returns
     -------

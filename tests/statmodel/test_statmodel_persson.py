@@ -18,7 +18,7 @@ from asperity.statmodel import (
     persson_small_load_fraction,
     psd_rms_slope,
 )
-from asperity.topo import HeightMap, fourier_resample, rms_height, rms_slope
+from asperity.topo import HeightMap, fourier_resample, radial_psd, rms_height, rms_slope
 from asperity.topo.psd import psd_2d
 from asperity.topo.synthetic import self_affine
 
@@ -146,6 +146,17 @@ def test_rms_slope_from_the_psd_matches_finite_differences(seed):
     assert dq < result.q_min < 1.5 * dq
 
 
+def test_a_radial_psd_gives_what_its_map_gives(surface):
+    # topo.radial_psd's normalisation is converted the same way; its rings run past the
+    # Nyquist wavenumber, so the map's range is imposed with q_cutoff
+    area = surface.nominal_area
+    loads = np.array([0.01, 0.1]) * E_STAR * area
+    from_map = persson_real_area(surface, E_STAR, loads, area)
+    from_psd = persson_real_area(radial_psd(surface), E_STAR, loads, area, q_cutoff=math.pi / PIXEL)
+    assert np.allclose(from_psd.contact_fraction, from_map.contact_fraction, rtol=1e-12)
+    assert (from_psd.q_min, from_psd.q_max) == (from_map.q_min, from_map.q_max)
+
+
 def test_non_periodic_map_is_windowed():
     # a quarter of a periodic map: its edges do not match; without a window the edge
     # leakage inflates the slope integral by tens of %, the Hann window brings it back
@@ -259,6 +270,8 @@ def test_bad_input_is_refused_by_name(surface):
         persson_real_area(surface, E_STAR, [1.0], float("nan"))
     with pytest.raises(InputError, match="q_cutoff"):
         persson_real_area(surface, E_STAR, [1.0], area, q_cutoff=2 * math.pi / PIXEL)
+    with pytest.raises(InputError, match="index 1"):
+        persson_real_area(surface, E_STAR, [1.0, float("inf")], area)
     with pytest.raises(InputError, match="form"):
         persson_real_area(surface, E_STAR, [1.0], area, form="linear")
     with pytest.raises(InputError, match="missing pixels"):
