@@ -313,8 +313,9 @@ def persson_psd(
         Heights in m, no missing pixel.
     window : {"auto", "hann", "none"}
         "hann": the mean-free map times a separable Hann window scaled so that the mean
-        square height is kept (removes the leakage of a non-periodic map's edges, which
-        otherwise adds a spurious ``q^-4`` tail to the spectrum); "none": the map as it is;
+        square height is kept (removes the leakage of a non-periodic map's edges, whose
+        mismatch otherwise adds a spurious tail, ``C ~ q^-2.5`` to ``q^-3``, to the radial
+        spectrum, i.e. a slope that grows with the resolution); "none": the map as it is;
         "auto" (default): "none" for a periodic map, "hann" otherwise.
 
     Returns
@@ -345,8 +346,14 @@ def persson_psd(
 
 def _surface_spectrum(surface, q_cutoff: float | None, window: str):
     """(q, C_P, q0, q1) of a map or radial PSD, up to its largest q1 or ``q_cutoff``."""
+    from asperity.topo.heightmap import HeightMap
     from asperity.topo.psd import RadialPSD
 
+    if not isinstance(surface, (HeightMap, RadialPSD)):
+        raise InputError(
+            "persson_real_area: surface must be an asperity.topo.HeightMap or the RadialPSD "
+            f"of asperity.topo.radial_psd, got {type(surface).__name__}"
+        )
     if isinstance(surface, RadialPSD):
         q, c = validate_spectrum(surface.q, surface.psd, "persson_real_area")
         c = c / (2.0 * math.pi) ** 2
