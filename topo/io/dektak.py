@@ -5,7 +5,8 @@ Facts (from the sample files): a ``Scan Parameters`` block with ``Length,<value>
 followed by a column header such as ``Lateral um,Raw Micrometer,`` and one
 ``lateral,height,,`` line per sample. The lateral positions must be uniform (each within
 half a step of ``x0 + i dx``, since they are printed rounded); the last position must reach
-the declared ``Length`` (so a truncated file is refused).
+the declared ``Length`` (so a truncated file is refused). Numbers are in the text readers'
+one format (``.`` decimal point; an empty height field is a missing point).
 """
 
 from __future__ import annotations
@@ -16,7 +17,8 @@ import numpy as np
 
 from asperity.topo.errors import TopographyFileError
 from asperity.topo.heightmap import LineProfile
-from asperity.topo.io._common import make_provenance, read_all_bytes
+from asperity.topo.io._common import make_provenance, make_surface, parse_number, read_all_bytes
+from asperity.topo.io.limits import check_map_points
 from asperity.topo.io.units import length_unit_in_metres
 
 _COLUMN_UNITS = {"micrometer": "um", "nanometer": "nm", "millimeter": "mm", "angstrom": "A"}
@@ -80,7 +82,7 @@ def read_dektak(path: str | Path) -> LineProfile:
             value = parts[1].split()
             factor = length_unit_in_metres(value[1]) if len(value) > 1 else None
             if factor is not None:
-                declared_length = float(value[0]) * factor
+                declared_length = parse_number(path, "Length", value[0]) * factor
     header_line = next((i for i in range(start + 1, len(lines)) if lines[i].strip()), None)
     if header_line is None:
         raise TopographyFileError(path, "Scan Data", "has no column header and no data lines")
@@ -96,17 +98,24 @@ def read_dektak(path: str | Path) -> LineProfile:
         if not line.strip():
             continue
         parts = line.split(",")
-        try:
-            lateral.append(float(parts[0]))
-            heights.append(float(parts[1]) if parts[1].strip() else np.nan)
-        except (ValueError, IndexError):
+        if len(parts) < 2:
             raise TopographyFileError(
                 path, f"data line {number}", f"is {line[:60]!r}; expected 'lateral,height'"
-            ) from None
+            )
+        lateral.append(parse_number(path, f"data line {number}, lateral", parts[0]))
+        height = parts[1].strip()
+        heights.append(
+            parse_number(path, f"data line {number}, height", height) if height else np.nan
+        )
+        check_map_points(path, "Scan Data", len(lateral))
     x = np.asarray(lateral) * lateral_factor
     z = np.asarray(heights) * height_factor
     if x.size < 2:
         raise TopographyFileError(path, "Scan Data", f"has {x.size} samples; expected at least 2")
+    if not np.all(np.abs(x) < 1e3):
+        raise TopographyFileError(
+            path, "lateral column", "holds positions beyond 1 km; expected positions in m"
+        )
     # The positions are printed rounded (e.g. to 0.1 um for 0.156 um steps): dx and x0 are
     # the least-squares line through them, and every sample must lie within half a step
     # of that uniform grid, with increasing positions.
@@ -136,4 +145,4 @@ def read_dektak(path: str | Path) -> LineProfile:
         channel=columns[1].strip(),
         units={"lateral": columns[0].strip(), "height": columns[1].strip()},
     )
-    return LineProfile(z, dx, provenance)
+    return make_surface(path, z, (("lateral column step", dx),), provenance, profile=True)
