@@ -11,13 +11,20 @@ one format (``.`` decimal point; an empty height field is a missing point).
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
 
 from asperity.topo.errors import TopographyFileError
 from asperity.topo.heightmap import LineProfile
-from asperity.topo.io._common import make_provenance, make_surface, parse_number, read_all_bytes
+from asperity.topo.io._common import (
+    NUMBER,
+    make_provenance,
+    make_surface,
+    parse_number,
+    read_all_bytes,
+)
 from asperity.topo.io.limits import check_map_points
 from asperity.topo.io.units import length_unit_in_metres
 
@@ -47,6 +54,31 @@ def _column_unit(path: Path, label: str, field: str) -> float:
         if factor is not None:
             return factor
     raise TopographyFileError(path, field, f"is {label!r}; expected a length unit such as 'um'")
+
+
+_DATA_LINE = re.compile(rf"[ \t]*({NUMBER.pattern})[ \t]*,[ \t]*({NUMBER.pattern})?[ \t]*(?:,.*)?")
+
+
+def _data_columns(path: Path, lines: list[str], first: int) -> tuple[np.ndarray, np.ndarray]:
+    """Lateral positions and heights (NaN where empty) of the data lines from ``first``."""
+    lateral, heights = [], []
+    for number, line in enumerate(lines[first:], start=first + 1):
+        match = _DATA_LINE.fullmatch(line)
+        if match is None:
+            if not line.strip():
+                continue
+            parts = line.split(",")
+            if len(parts) < 2:
+                raise TopographyFileError(
+                    path, f"data line {number}", f"is {line[:60]!r}; expected 'lateral,height'"
+                )
+            parse_number(path, f"data line {number}, lateral", parts[0])
+            parse_number(path, f"data line {number}, height", parts[1])
+            raise TopographyFileError(path, f"data line {number}", f"is {line[:60]!r}")
+        lateral.append(match.group(1))
+        heights.append(match.group(2) or "nan")
+    check_map_points(path, "Scan Data", len(lateral))
+    return np.array(lateral, dtype=np.float64), np.array(heights, dtype=np.float64)
 
 
 def read_dektak(path: str | Path) -> LineProfile:
@@ -93,23 +125,9 @@ def read_dektak(path: str | Path) -> LineProfile:
         )
     lateral_factor = _column_unit(path, columns[0], "lateral column header")
     height_factor = _column_unit(path, columns[1], "height column header")
-    lateral, heights = [], []
-    for number, line in enumerate(lines[header_line + 1 :], start=header_line + 2):
-        if not line.strip():
-            continue
-        parts = line.split(",")
-        if len(parts) < 2:
-            raise TopographyFileError(
-                path, f"data line {number}", f"is {line[:60]!r}; expected 'lateral,height'"
-            )
-        lateral.append(parse_number(path, f"data line {number}, lateral", parts[0]))
-        height = parts[1].strip()
-        heights.append(
-            parse_number(path, f"data line {number}, height", height) if height else np.nan
-        )
-        check_map_points(path, "Scan Data", len(lateral))
-    x = np.asarray(lateral) * lateral_factor
-    z = np.asarray(heights) * height_factor
+    lateral, heights = _data_columns(path, lines, header_line + 1)
+    x = lateral * lateral_factor
+    z = heights * height_factor
     if x.size < 2:
         raise TopographyFileError(path, "Scan Data", f"has {x.size} samples; expected at least 2")
     if not np.all(np.abs(x) < 1e3):

@@ -222,6 +222,13 @@ def read_text(
                 "(the pixel sizes are their steps); leave pixel_size out"
             )
         return _read_xyz(path, rows)
+    if path.suffix.lower() == ".xyz":
+        raise TopographyFileError(
+            path,
+            "columns",
+            f"hold {len(rows)} rows of {len(rows[0])} values; a .xyz file must hold x y z "
+            "columns of a regular grid (at least 2 x 2 nodes)",
+        )
     widths = {len(row) for row in rows}
     if len(widths) != 1:
         lengths = [len(row) for row in rows]
