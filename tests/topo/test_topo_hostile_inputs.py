@@ -252,3 +252,292 @@ def test_project_hdf5_with_bad_attributes_or_a_hollow_dataset_is_refused(tmp_pat
     with pytest.raises(TopographyFileError, match=message) as info:
         topo.read_surface(path)
     assert "bad.h5" in str(info.value)
+
+
+# --- issue 12: readers that refuse ---------------------------------------------------------
+
+
+def patched(tmp_path: Path, name: str, offset: int, fmt: str, value, suffix: str = "") -> Path:
+    """A copy of a sample with one struct field overwritten."""
+    import struct
+
+    data = bytearray((DATA / name).read_bytes())
+    struct.pack_into(fmt, data, offset, value)
+    path = tmp_path / (suffix or name)
+    path.write_bytes(bytes(data))
+    return path
+
+
+@pytest.mark.parametrize(
+    ("name", "offset", "fmt", "value", "field"),
+    [
+        ("sur-3.sur", 128, "<f", 0.0, "z spacing"),
+        ("sur-3.sur", 128, "<f", -1.0, "invert the surface"),
+        ("sur-3.sur", 120, "<f", 1e21, "x spacing: gives a pixel size of"),
+        ("sur-3.sur", 120, "<f", 1e-39, "x spacing: gives a pixel size of"),
+        ("metropro-1.dat", 164, ">f", 0.0, "intf_scale_factor"),
+        ("metropro-1.dat", 184, ">f", 1e21, "lateral_res"),
+        ("plu-1.plu", 404, "<f", 1e-39, "micrometers per pixel x"),
+    ],
+)
+def test_zero_negative_or_absurd_scale_factors_are_refused(
+    tmp_path, name, offset, fmt, value, field
+):
+    from asperity.topo.errors import PhysicalBoundsError
+
+    with pytest.raises(PhysicalBoundsError, match=field) as info:
+        topo.read_surface(patched(tmp_path, name, offset, fmt, value))
+    assert name in str(info.value)
+
+
+def edited_text(tmp_path: Path, name: str, old: bytes, new: bytes) -> Path:
+    data = (DATA / name).read_bytes()
+    assert old in data
+    path = tmp_path / name
+    path.write_bytes(data.replace(old, new, 1))
+    return path
+
+
+def test_nanoscope_and_picoview_zero_height_scales_are_refused(tmp_path):
+    from asperity.topo.errors import PhysicalBoundsError
+
+    zero_z = edited_text(
+        tmp_path, "di-3.di", b"(0.005035400 V/LSB) 329.9950 V", b"(0.005035400 V/LSB) 0.000000 V"
+    )
+    with pytest.raises(PhysicalBoundsError, match=r"image 3 '@2:Z scale'.*a zero factor"):
+        topo.read_surface(zero_z)
+    (tmp_path / "di-3.di").unlink()
+    data = (DATA / "mi-1.mi").read_bytes()
+    start = data.index(b"bufferRange")
+    line_end = data.index(b"\n", start)
+    path = tmp_path / "mi-1.mi"
+    value = data[start + 14 : line_end].rstrip(b"\r")
+    zero = b"0." + b"0" * (len(value) - 2)
+    path.write_bytes(data[: start + 14] + zero + data[start + 14 + len(value) :])
+    with pytest.raises(PhysicalBoundsError, match="bufferRange"):
+        topo.read_surface(path)
+
+
+def test_nanoscope_data_offset_into_the_header_is_refused(tmp_path):
+    from asperity.topo.errors import CorruptFileError
+
+    path = edited_text(tmp_path, "di-3.di", b"\\Data offset: 434176", b"\\Data offset: 004096")
+    with pytest.raises(
+        CorruptFileError, match=r"image 3 'Data offset': is 4096, inside the header"
+    ):
+        topo.read_surface(path)
+
+
+def test_nanoscope_never_falls_back_to_another_channel(tmp_path):
+    from asperity.topo.errors import ChannelNotFoundError
+
+    path = edited_text(tmp_path, "di-3.di", b'[Height] "Height"', b'[Heighx] "Heighx"')
+    with pytest.raises(
+        ChannelNotFoundError, match=r"no channel is named 'Height'.*3: Heighx"
+    ) as info:
+        topo.read_surface(path)
+    assert "0: Height Sensor [ZSensor]" in str(info.value)
+    assert topo.read_surface(path, channel="Heighx").heights.shape == (256, 256)
+    # a Height channel whose scale is not a length is refused, not replaced by another one
+    path.unlink()
+    broken = edited_text(
+        tmp_path, "di-3.di", b"@2:Z scale: V [Sens. Zsens]", b"@2:Z scale: V [Sens. Zsenx]"
+    )
+    with pytest.raises(TopographyFileError, match="not a length"):
+        topo.read_surface(broken)
+
+
+def test_instrument_invalid_points_are_counted_in_provenance():
+    for name, expected in (("sur-3.sur", 233009), ("opd-1.opd", 116), ("plu-1.plu", 0)):
+        surface = topo.read_surface(DATA / name)
+        assert surface.provenance["missing_pixels"] == expected == surface.n_missing
+        assert surface.provenance["invalid_marker"]
+
+
+@pytest.mark.parametrize(
+    ("text", "where"),
+    [
+        ("1,5 2,5\n3,5 4,5\n", r"line 1, column 1: is '1,5' \(a decimal comma"),
+        ("1.5;2,5\n3.5;4.5\n", r"line 1, column 5 \(value 2\): is '2,5' \(a decimal comma"),
+        ("1e-6 2e-6\n3e-6 1_000\n", r"line 2, column 6 \(value 2\): is '1_000' \(digit sep"),
+        ("1e-6 2e-6\n3e-6 inf\n", r"line 2, column 6 \(value 2\): is 'inf'"),
+        ("1e-6\t2e-6\n3e-6  0x1p-20\n", r"line 2, column 7 \(value 2\): is '0x1p-20'"),
+    ],
+)
+def test_text_outside_the_stated_number_format_is_refused_with_line_and_column(
+    tmp_path, text, where
+):
+    from asperity.topo.errors import NumberFormatError
+
+    path = tmp_path / "map.txt"
+    path.write_text(text)
+    with pytest.raises(NumberFormatError, match=where) as info:
+        topo.read_surface(path, pixel_size=1e-6)
+    assert "map.txt" in str(info.value)
+
+
+def test_text_separators_and_nan_in_the_stated_format(tmp_path):
+    expected = np.array([[1.5e-6, -2e-7], [np.nan, 4e-6]])
+    for body in (
+        "1.5e-6, -2E-7,\n nan , 4e-6,\n",
+        "1.5e-6;-2e-7\nNaN;+4e-6\n",
+        "1.5e-6\t-2e-7\nnan 4e-6\n",
+    ):
+        path = tmp_path / "map.csv"
+        path.write_text("# heights in m\n" + body)
+        surface = topo.read_surface(path, pixel_size=1e-6)
+        np.testing.assert_array_equal(surface.heights, expected)
+        assert surface.provenance["missing_pixels"] == 1
+
+
+def zip_with_member(path: Path, flag_bits: int = 0, method: int = zipfile.ZIP_DEFLATED) -> Path:
+    buffer = io.BytesIO()
+    np.save(buffer, np.zeros((4, 4)))
+    with zipfile.ZipFile(path, "w", method) as archive:
+        archive.writestr("heights.npy", buffer.getvalue())
+    data = bytearray(path.read_bytes())
+    for signature, flags_at in ((b"PK\x03\x04", 6), (b"PK\x01\x02", 8)):
+        start = data.index(signature)
+        data[start + flags_at] |= flag_bits
+    path.write_bytes(bytes(data))
+    return path
+
+
+def test_npz_encrypted_unsupported_and_crc_damaged_members_are_refused(tmp_path):
+    from asperity.topo.errors import CorruptFileError, UnsupportedContentError
+
+    with pytest.raises(UnsupportedContentError, match="'heights.npy': is encrypted"):
+        topo.read_surface(zip_with_member(tmp_path / "enc.npz", flag_bits=1), pixel_size=1e-6)
+    with pytest.raises(UnsupportedContentError, match="compression method 12"):
+        topo.read_surface(
+            zip_with_member(tmp_path / "bz.npz", method=zipfile.ZIP_BZIP2), pixel_size=1e-6
+        )
+    path = zip_with_member(tmp_path / "crc.npz", method=zipfile.ZIP_STORED)
+    data = bytearray(path.read_bytes())
+    data[data.index(b"\x93NUMPY") + 200] ^= 0x01  # one data bit; the CRC-32 no longer matches
+    path.write_bytes(bytes(data))
+    with pytest.raises(CorruptFileError, match="CRC"):
+        topo.read_surface(path, pixel_size=1e-6)
+
+
+def test_damaged_npy_header_is_a_typed_error(tmp_path):
+    path = tmp_path / "bad.npy"
+    buffer = io.BytesIO()
+    np.save(buffer, np.zeros((4, 4)))
+    data = buffer.getvalue().replace(b"'shape': (4, 4)", b"'shape': (4, 4 ")
+    path.write_bytes(data)
+    with pytest.raises(TopographyFileError, match=r"bad\.npy: array NPY header: is unreadable"):
+        topo.read_surface(path, pixel_size=1e-6)
+
+
+def test_x3p_valid_points_mask_larger_than_the_map_is_refused_before_reading(tmp_path):
+    from asperity.topo.errors import CorruptFileError
+
+    source = DATA / "x3p-2.x3p"
+    path = tmp_path / "mask.x3p"
+    with zipfile.ZipFile(source) as old, zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as new:
+        for info in old.infolist():
+            body = old.read(info)
+            if info.filename == "main.xml":
+                body = body.replace(
+                    b"</DataLink>",
+                    b"<ValidPointsLink>bindata/valid.bin</ValidPointsLink></DataLink>",
+                )
+            new.writestr(info.filename, body)
+        new.writestr("bindata/valid.bin", bytes(2**24))  # 16 MiB of zeros, deflates to 16 kB
+    with pytest.raises(
+        CorruptFileError,
+        match=r"valid-points mask bindata/valid.bin: declares 16777216 bytes; expected 52813",
+    ):
+        topo.read_surface(path)
+
+
+def test_hdf5_external_storage_links_and_loops_are_refused(tmp_path):
+    import h5py
+
+    from asperity.topo.errors import CorruptFileError, UnsupportedContentError
+
+    secret = tmp_path / "secret.bin"
+    secret.write_bytes(np.arange(16.0).tobytes())
+    external = tmp_path / "external.h5"
+    write_project_hdf5(external)
+    with h5py.File(external, "r+") as handle:
+        del handle["heights"]
+        handle.create_dataset(
+            "heights", shape=(4, 4), dtype="<f8", external=[(str(secret), 0, 128)]
+        )
+    with pytest.raises(UnsupportedContentError, match="stores its data in another file"):
+        topo.read_surface(external)
+    for kind in ("soft-loop", "external-link"):
+        path = tmp_path / f"{kind}.h5"
+        write_project_hdf5(path)
+        with h5py.File(path, "r+") as handle:
+            del handle["heights"]
+            if kind == "soft-loop":
+                handle["heights"] = h5py.SoftLink("/again")
+                handle["again"] = h5py.SoftLink("/heights")
+            else:
+                handle["heights"] = h5py.ExternalLink(str(external), "/heights")
+        error = CorruptFileError if kind == "soft-loop" else UnsupportedContentError
+        with pytest.raises(error, match="link"):
+            topo.read_surface(path)
+
+
+def test_hdf5_virtual_dataset_is_refused(tmp_path):
+    import h5py
+
+    from asperity.topo.errors import UnsupportedContentError
+
+    source = tmp_path / "source.h5"
+    write_project_hdf5(source)
+    path = tmp_path / "virtual.h5"
+    write_project_hdf5(path)
+    layout = h5py.VirtualLayout(shape=(4, 4), dtype="f8")
+    layout[:] = h5py.VirtualSource(str(source), "heights", shape=(4, 4))
+    with h5py.File(path, "r+") as handle:
+        del handle["heights"]
+        handle.create_virtual_dataset("heights", layout)
+    with pytest.raises(UnsupportedContentError, match="virtual dataset"):
+        topo.read_surface(path)
+
+
+@pytest.mark.parametrize(
+    ("periodic", "expected"),
+    [(True, True), (False, False), (np.int64(1), True), (0, False), ("no", None), (b"yes", None),
+     (2, None), (0.5, None)],
+)  # fmt: skip
+def test_hdf5_periodic_accepts_booleans_and_0_1_only(tmp_path, periodic, expected):
+    path = tmp_path / "p.h5"
+    write_project_hdf5(path, periodic=periodic)
+    if expected is None:
+        with pytest.raises(
+            TopographyFileError, match="attribute 'periodic': is .*expected a boolean"
+        ):
+            topo.read_surface(path)
+    else:
+        assert topo.read_surface(path).periodic is expected
+
+
+def test_hdf5_non_string_provenance_is_a_typed_error(tmp_path):
+    for value in (np.arange(3), 7, "[1, 2]", "{not json"):
+        path = tmp_path / "prov.h5"
+        write_project_hdf5(path, provenance=value)
+        with pytest.raises(TopographyFileError, match="attribute 'provenance'"):
+            topo.read_surface(path)
+    write_project_hdf5(path, provenance='{"seed": 4}')
+    assert topo.read_surface(path).provenance["seed"] == 4
+
+
+def test_hdf5_pixel_sizes_beyond_the_physical_bounds_are_refused(tmp_path):
+    from asperity.topo.errors import PhysicalBoundsError
+
+    for value in (1e21, 1e-39):
+        path = tmp_path / "dx.h5"
+        write_project_hdf5(path, dx=value)
+        with pytest.raises(PhysicalBoundsError, match="attribute 'dx': gives a pixel size"):
+            topo.read_surface(path)
+
+
+def test_directory_is_named_as_a_directory(tmp_path):
+    with pytest.raises(TopographyFileError, match="is a directory"):
+        topo.read_surface(tmp_path)

@@ -2,22 +2,40 @@
 
 Every reader returns heights in m and pixel sizes in m, with missing pixels as NaN, and
 refuses truncated, corrupt or mislabelled files with a :class:`topo.errors.TopographyFileError`
-(a ``ValueError``) naming the file, the field and what was expected.
+(an :class:`asperity.errors.InputError`) naming the file, the field and what was expected.
+
+:func:`read_surface` is the one entry point: nothing but a ``TopographyFileError`` (or an
+``InputError`` for a bad ``channel``/``pixel_size`` argument) leaves it for a bad file. The
+failures of the decoders the readers use on a file's bytes (zlib, zipfile, struct, text
+decoding, numpy's NPY header parser, h5py, arithmetic overflow, recursion, memory) are turned
+into a :class:`~asperity.topo.errors.CorruptFileError` (or
+:class:`~asperity.topo.errors.OverBudgetError`) naming the file; any other exception is a
+defect of the reader and surfaces as itself.
 """
 
 from __future__ import annotations
 
+import struct
+import tokenize
 import zipfile
+import zlib
 from pathlib import Path
 
 import h5py
+import numpy as np
 
-from asperity.topo.errors import TopographyFileError
+from asperity.errors import InputError
+from asperity.topo.errors import (
+    CorruptFileError,
+    OverBudgetError,
+    TopographyFileError,
+    UnsupportedContentError,
+)
 from asperity.topo.heightmap import HeightMap, LineProfile
 from asperity.topo.io.datx import is_datx, read_datx
 from asperity.topo.io.dektak import looks_like_dektak, read_dektak
 from asperity.topo.io.gwy import read_gwy
-from asperity.topo.io.hdf5 import is_project_hdf5, read_project_hdf5, write_hdf5
+from asperity.topo.io.hdf5 import H5PY_ERRORS, is_project_hdf5, read_project_hdf5, write_hdf5
 from asperity.topo.io.metropro import MAGICS as _METROPRO_MAGICS
 from asperity.topo.io.metropro import read_metropro
 from asperity.topo.io.nanoscope import read_nanoscope
@@ -55,6 +73,22 @@ FORMATS_BY_EXTENSION = {
 }
 
 _HDF5_MAGIC = b"\x89HDF\r\n\x1a\n"
+
+#: Exceptions of the decoders run on a file's bytes: a bad file, not a defect of asperity.
+DECODER_FAILURES = (
+    zlib.error,
+    zipfile.BadZipFile,
+    zipfile.LargeZipFile,
+    struct.error,
+    UnicodeDecodeError,
+    tokenize.TokenError,
+    EOFError,
+    OverflowError,
+    ZeroDivisionError,
+    RecursionError,
+    OSError,
+    np.linalg.LinAlgError,
+)
 
 
 def _looks_like_text(head: bytes) -> bool:
@@ -107,7 +141,7 @@ def detect_format(path: str | Path) -> str | None:
         try:
             with zipfile.ZipFile(path) as archive:
                 names = archive.namelist()
-        except zipfile.BadZipFile:
+        except (*DECODER_FAILURES, ValueError, NotImplementedError):
             return "zip"
         if "main.xml" in names:
             return "x3p"
@@ -122,8 +156,8 @@ def detect_format(path: str | Path) -> str | None:
 def _read_hdf5(path: Path) -> HeightMap:
     try:
         handle = h5py.File(path, "r")
-    except OSError as exc:
-        raise TopographyFileError(
+    except H5PY_ERRORS as exc:
+        raise CorruptFileError(
             path, "HDF5 container", f"cannot be opened ({exc}); truncated?"
         ) from None
     with handle:
@@ -131,7 +165,7 @@ def _read_hdf5(path: Path) -> HeightMap:
             return read_project_hdf5(path, handle)
         if is_datx(handle):
             return read_datx(path, handle)
-    raise TopographyFileError(
+    raise UnsupportedContentError(
         path, "HDF5 layout", "is neither an asperity height map nor a Zygo DATX file"
     )
 
@@ -166,20 +200,44 @@ def read_surface(
 
     Raises
     ------
-    TopographyFileError (ValueError)
-        Unknown, truncated, corrupt or mislabelled files (the message names the file, the
-        field and what was expected).
-    ValueError
-        A missing, invalid or superfluous ``pixel_size``; a ``channel`` that does not exist
-        (the message lists the channels) or given for a single-channel format.
+    TopographyFileError (an InputError)
+        Unknown, truncated, corrupt, over-budget, out-of-bounds or mislabelled files, a
+        ``channel`` that does not exist (the message names the file, the field and what
+        was expected; subclasses in :mod:`asperity.topo.errors`).
+    InputError
+        A missing, invalid or superfluous ``pixel_size``; a ``channel`` given for a
+        single-channel format.
     FileNotFoundError
         If ``path`` does not exist.
     """
     path = Path(path)
+    if path.is_dir():
+        raise TopographyFileError(path, "file", "is a directory; expected a topography file")
     if not path.is_file():
         raise FileNotFoundError(f"{path}: no such file")
     if path.stat().st_size == 0:
         raise TopographyFileError(path, "file", "is empty (0 bytes)")
+    with np.errstate(all="ignore"):
+        try:
+            return _read_checked(path, channel, pixel_size)
+        except InputError:
+            raise
+        except MemoryError:
+            raise OverBudgetError(
+                path, "file", "needs more memory than is available; refused"
+            ) from None
+        except DECODER_FAILURES as exc:
+            raise CorruptFileError(
+                path,
+                f"{path.suffix.lower() or 'file'} content",
+                f"cannot be decoded ({type(exc).__name__}: {exc}); corrupt or truncated file",
+            ) from None
+
+
+def _read_checked(
+    path: Path, channel: str | int | None, pixel_size: float | tuple[float, float] | None
+) -> HeightMap | LineProfile:
+    """Detect the format, check the arguments against it, and run its reader."""
     extension = path.suffix.lower()
     announced = FORMATS_BY_EXTENSION.get(extension)
     detected = detect_format(path)
@@ -201,11 +259,11 @@ def read_surface(
             f"{extension!r} announces {announced} but the content is {detected} (mislabelled file)",
         )
     if channel is not None and detected not in ("nanoscope", "picoview", "gwy"):
-        raise ValueError(
+        raise InputError(
             f"{path}: channel {channel!r} given, but a {detected} file has a single channel"
         )
     if pixel_size is not None and detected not in ("text", "npy", "npz"):
-        raise ValueError(
+        raise InputError(
             f"{path}: pixel_size {pixel_size!r} given, but the {detected} format carries its "
             "own calibrated pixel size; leave pixel_size (--pixel-size) out"
         )
@@ -233,7 +291,7 @@ def read_surface(
         head = handle.read(8192)
     if looks_like_dektak(head):
         if pixel_size is not None:
-            raise ValueError(
+            raise InputError(
                 f"{path}: pixel_size {pixel_size!r} given, but a Dektak CSV file carries its "
                 "own lateral positions; leave pixel_size (--pixel-size) out"
             )

@@ -5,7 +5,9 @@ strings describes the tree; ``Root -> Measurement -> Surface -> Path`` gives the
 dataset. That dataset carries the attributes ``No Data`` (the missing-value marker),
 ``Unit`` (height unit) and ``X Converter``/``Y Converter``/``Z Converter`` (compound:
 category, base unit, parameters; for lateral axes ``parameters[1]`` is the pixel size in
-m). The dataset is stored row by row (C order ``(ny, nx)``, x fastest).
+m). The dataset is stored row by row (C order ``(ny, nx)``, x fastest). ``No Data`` values
+and non-finite values become NaN, counted in ``provenance["missing_pixels"]``. Links are
+resolved as in :mod:`asperity.topo.io.hdf5` (no external storage, links or plugins).
 """
 
 from __future__ import annotations
@@ -17,8 +19,13 @@ import numpy as np
 
 from asperity.topo.errors import TopographyFileError
 from asperity.topo.heightmap import HeightMap
-from asperity.topo.io._common import make_provenance
-from asperity.topo.io.hdf5 import check_dataset_storage
+from asperity.topo.io._common import make_provenance, make_surface
+from asperity.topo.io.hdf5 import (
+    H5PY_ERRORS,
+    read_attribute,
+    read_dataset,
+    resolve_dataset,
+)
 from asperity.topo.io.units import length_unit_in_metres
 
 
@@ -42,13 +49,17 @@ def is_datx(handle: h5py.File) -> bool:
     -------
     bool
     """
-    return "MetaData" in handle
+    try:
+        return "MetaData" in handle
+    except H5PY_ERRORS:
+        return False
 
 
 def _surface_path(path: Path, handle: h5py.File) -> str:
     links: dict[str, dict[str, str]] = {}
+    table = read_dataset(path, resolve_dataset(path, handle, "/MetaData"), "/MetaData")
     try:
-        for row in handle["MetaData"][()]:
+        for row in table.ravel():
             source, link, destination = (_text(item) for item in tuple(row)[:3])
             links.setdefault(source, {})[link] = destination
     except (TypeError, ValueError, KeyError) as exc:
@@ -62,20 +73,16 @@ def _surface_path(path: Path, handle: h5py.File) -> str:
             raise TopographyFileError(
                 path, "/MetaData", f"has no '{step}' entry on the way to the surface"
             )
-    if node not in handle:
-        raise TopographyFileError(
-            path, "/MetaData Surface Path", f"names {node!r}, not in the file"
-        )
     return node
 
 
-def _converter_step(path: Path, attrs: h5py.AttributeManager, name: str) -> float:
-    if name not in attrs:
+def _converter_step(path: Path, dataset: h5py.Dataset, name: str) -> float:
+    value = read_attribute(path, dataset, name)
+    if value is None:
         raise TopographyFileError(path, name, "attribute is missing")
-    record = np.asarray(attrs[name]).ravel()[0]
-    fields = tuple(record)
     try:
-        parameters = np.asarray(fields[-1], dtype=float).ravel()
+        record = np.asarray(value).ravel()[0]
+        parameters = np.asarray(tuple(record)[-1], dtype=float).ravel()
         step = float(parameters[1])
     except (ValueError, IndexError, TypeError):
         raise TopographyFileError(path, name, "has no pixel size in its parameters") from None
@@ -106,30 +113,29 @@ def read_datx(path: str | Path, handle: h5py.File) -> HeightMap:
     """
     path = Path(path)
     surface_path = _surface_path(path, handle)
-    dataset = handle[surface_path]
+    dataset = resolve_dataset(path, handle, surface_path)
     if dataset.ndim != 2:
         raise TopographyFileError(path, surface_path, f"has shape {dataset.shape}; expected 2D")
-    attrs = dataset.attrs
-    unit = _text(attrs.get("Unit", b"")).strip()
+    unit = _text(read_attribute(path, dataset, "Unit", b"")).strip()
     factor = length_unit_in_metres(unit)
     if factor is None:
         raise TopographyFileError(
             path, f"{surface_path} Unit", f"is {unit!r}; expected a length unit"
         )
-    dx = _converter_step(path, attrs, "X Converter")
-    dy = _converter_step(path, attrs, "Y Converter")
+    dx = _converter_step(path, dataset, "X Converter")
+    dy = _converter_step(path, dataset, "Y Converter")
     if dataset.dtype.kind not in "fiu":
         raise TopographyFileError(
             path, surface_path, f"has dtype {dataset.dtype}; expected real numbers"
         )
-    check_dataset_storage(path, dataset, surface_path)
-    try:
-        raw = np.asarray(dataset[()], dtype=np.float64)
-    except OSError as exc:
-        raise TopographyFileError(path, surface_path, f"cannot be read ({exc})") from None
+    raw = read_dataset(path, dataset, surface_path).astype(np.float64)
     invalid = ~np.isfinite(raw)
-    if "No Data" in attrs:
-        invalid |= raw == float(np.asarray(attrs["No Data"]).ravel()[0])
+    no_data = np.asarray(read_attribute(path, dataset, "No Data", np.nan))
+    if no_data.dtype.kind not in "fiu" or no_data.size < 1:
+        raise TopographyFileError(
+            path, f"{surface_path} No Data", f"is {no_data!r}; expected a number"
+        )
+    invalid |= raw == float(no_data.ravel()[0])
     heights = raw * factor
     heights[invalid] = np.nan
     provenance = make_provenance(
@@ -138,5 +144,7 @@ def read_datx(path: str | Path, handle: h5py.File) -> HeightMap:
         instrument="Zygo (DATX)",
         channel=surface_path,
         units={"height": unit, "lateral": "m"},
+        invalid_marker="'No Data' value or non-finite",
     )
-    return HeightMap(heights.T, dx, dy, False, provenance)
+    sizes = (("X Converter pixel size", dx), ("Y Converter pixel size", dy))
+    return make_surface(path, heights.T, sizes, provenance)

@@ -5,18 +5,27 @@ Facts (from the sample files): a ``Scan Parameters`` block with ``Length,<value>
 followed by a column header such as ``Lateral um,Raw Micrometer,`` and one
 ``lateral,height,,`` line per sample. The lateral positions must be uniform (each within
 half a step of ``x0 + i dx``, since they are printed rounded); the last position must reach
-the declared ``Length`` (so a truncated file is refused).
+the declared ``Length`` (so a truncated file is refused). Numbers are in the text readers'
+one format (``.`` decimal point; an empty height field is a missing point).
 """
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
 
 from asperity.topo.errors import TopographyFileError
 from asperity.topo.heightmap import LineProfile
-from asperity.topo.io._common import make_provenance, read_all_bytes
+from asperity.topo.io._common import (
+    NUMBER,
+    make_provenance,
+    make_surface,
+    parse_number,
+    read_all_bytes,
+)
+from asperity.topo.io.limits import check_map_points
 from asperity.topo.io.units import length_unit_in_metres
 
 _COLUMN_UNITS = {"micrometer": "um", "nanometer": "nm", "millimeter": "mm", "angstrom": "A"}
@@ -45,6 +54,31 @@ def _column_unit(path: Path, label: str, field: str) -> float:
         if factor is not None:
             return factor
     raise TopographyFileError(path, field, f"is {label!r}; expected a length unit such as 'um'")
+
+
+_DATA_LINE = re.compile(rf"[ \t]*({NUMBER.pattern})[ \t]*,[ \t]*({NUMBER.pattern})?[ \t]*(?:,.*)?")
+
+
+def _data_columns(path: Path, lines: list[str], first: int) -> tuple[np.ndarray, np.ndarray]:
+    """Lateral positions and heights (NaN where empty) of the data lines from ``first``."""
+    lateral, heights = [], []
+    for number, line in enumerate(lines[first:], start=first + 1):
+        match = _DATA_LINE.fullmatch(line)
+        if match is None:
+            if not line.strip():
+                continue
+            parts = line.split(",")
+            if len(parts) < 2:
+                raise TopographyFileError(
+                    path, f"data line {number}", f"is {line[:60]!r}; expected 'lateral,height'"
+                )
+            parse_number(path, f"data line {number}, lateral", parts[0])
+            parse_number(path, f"data line {number}, height", parts[1])
+            raise TopographyFileError(path, f"data line {number}", f"is {line[:60]!r}")
+        lateral.append(match.group(1))
+        heights.append(match.group(2) or "nan")
+    check_map_points(path, "Scan Data", len(lateral))
+    return np.array(lateral, dtype=np.float64), np.array(heights, dtype=np.float64)
 
 
 def read_dektak(path: str | Path) -> LineProfile:
@@ -80,7 +114,7 @@ def read_dektak(path: str | Path) -> LineProfile:
             value = parts[1].split()
             factor = length_unit_in_metres(value[1]) if len(value) > 1 else None
             if factor is not None:
-                declared_length = float(value[0]) * factor
+                declared_length = parse_number(path, "Length", value[0]) * factor
     header_line = next((i for i in range(start + 1, len(lines)) if lines[i].strip()), None)
     if header_line is None:
         raise TopographyFileError(path, "Scan Data", "has no column header and no data lines")
@@ -91,22 +125,15 @@ def read_dektak(path: str | Path) -> LineProfile:
         )
     lateral_factor = _column_unit(path, columns[0], "lateral column header")
     height_factor = _column_unit(path, columns[1], "height column header")
-    lateral, heights = [], []
-    for number, line in enumerate(lines[header_line + 1 :], start=header_line + 2):
-        if not line.strip():
-            continue
-        parts = line.split(",")
-        try:
-            lateral.append(float(parts[0]))
-            heights.append(float(parts[1]) if parts[1].strip() else np.nan)
-        except (ValueError, IndexError):
-            raise TopographyFileError(
-                path, f"data line {number}", f"is {line[:60]!r}; expected 'lateral,height'"
-            ) from None
-    x = np.asarray(lateral) * lateral_factor
-    z = np.asarray(heights) * height_factor
+    lateral, heights = _data_columns(path, lines, header_line + 1)
+    x = lateral * lateral_factor
+    z = heights * height_factor
     if x.size < 2:
         raise TopographyFileError(path, "Scan Data", f"has {x.size} samples; expected at least 2")
+    if not np.all(np.abs(x) < 1e3):
+        raise TopographyFileError(
+            path, "lateral column", "holds positions beyond 1 km; expected positions in m"
+        )
     # The positions are printed rounded (e.g. to 0.1 um for 0.156 um steps): dx and x0 are
     # the least-squares line through them, and every sample must lie within half a step
     # of that uniform grid, with increasing positions.
@@ -136,4 +163,4 @@ def read_dektak(path: str | Path) -> LineProfile:
         channel=columns[1].strip(),
         units={"lateral": columns[0].strip(), "height": columns[1].strip()},
     )
-    return LineProfile(z, dx, provenance)
+    return make_surface(path, z, (("lateral column step", dx),), provenance, profile=True)

@@ -9,7 +9,8 @@ All numbers are little-endian. The top-level ``GwyContainer`` holds channels as
 ``/N/data`` (``GwyDataField``: ``xres``, ``yres``, ``xreal``, ``yreal``, ``si_unit_xy``,
 ``si_unit_z`` (``GwySIUnit`` with ``unitstr``) and ``data``, ``xres*yres`` doubles, row by
 row with x fastest) and titles as ``/N/data/title``. Every size and count is checked
-against the bytes left in its parent object; nothing is executed or unpickled.
+against the bytes left in its parent object, objects nest at most :data:`MAX_DEPTH` deep,
+and nothing is executed or unpickled.
 """
 
 from __future__ import annotations
@@ -19,20 +20,24 @@ from pathlib import Path
 
 import numpy as np
 
-from asperity.topo.errors import TopographyFileError
+from asperity.topo.errors import ChannelNotFoundError, CorruptFileError, TopographyFileError
 from asperity.topo.heightmap import HeightMap
-from asperity.topo.io._common import make_provenance, read_all_bytes
+from asperity.topo.io._common import make_provenance, make_surface, read_all_bytes
+from asperity.topo.io.limits import check_map_points
 from asperity.topo.io.units import length_unit_in_metres
 
 MAGIC = b"GWYP"
 _SCALAR = {"b": "<?", "c": "<c", "i": "<i", "q": "<q", "d": "<d"}
 _ARRAY = {"C": "u1", "I": "<i4", "Q": "<i8", "D": "<f8"}
+#: Deepest nesting of objects accepted (Gwyddion writes about 4 levels).
+MAX_DEPTH = 32
 
 
 class _Parser:
     def __init__(self, path: Path, data: bytes) -> None:
         self.path = path
         self.data = data
+        self.depth = 0
 
     def fail(self, field: str, problem: str) -> TopographyFileError:
         return TopographyFileError(self.path, field, problem)
@@ -44,6 +49,17 @@ class _Parser:
         return self.data[pos:stop].decode("utf-8", "replace"), stop + 1
 
     def object(self, pos: int, end: int, field: str) -> tuple[dict, int]:
+        if self.depth >= MAX_DEPTH:
+            raise CorruptFileError(
+                self.path, field, f"nests objects more than {MAX_DEPTH} deep; corrupt file"
+            )
+        self.depth += 1
+        try:
+            return self._object(pos, end, field)
+        finally:
+            self.depth -= 1
+
+    def _object(self, pos: int, end: int, field: str) -> tuple[dict, int]:
         name, pos = self.string(pos, end, field)
         if pos + 4 > end:
             raise self.fail(field, f"object {name!r} size field runs past the end of its parent")
@@ -97,7 +113,23 @@ class _Parser:
 
 
 def _unit(field: object) -> str:
-    return field.get("unitstr", "") if isinstance(field, dict) else ""
+    unit = field.get("unitstr", "") if isinstance(field, dict) else ""
+    return unit if isinstance(unit, str) else ""
+
+
+def _component(path: Path, field: dict, key: str, index: int, kind: type) -> float:
+    """A scalar component (``xres``, ``xreal`` ...) of a data field, of the right kind."""
+    value = field.get(key)
+    if isinstance(value, bytes | str | dict | list | np.ndarray) or value is None:
+        raise TopographyFileError(
+            path, f"/{index}/data {key}", f"is {type(value).__name__}; expected a number"
+        )
+    number = float(value)
+    if kind is int and not (np.isfinite(number) and number == int(number)):
+        raise TopographyFileError(
+            path, f"/{index}/data {key}", f"is {number!r}; expected a whole number"
+        )
+    return kind(number)
 
 
 def list_channels(path: str | Path) -> list[dict]:
@@ -167,7 +199,7 @@ def read_gwy(path: str | Path, *, channel: str | int | None = None) -> HeightMap
     TopographyFileError
         Wrong magic, sizes or counts beyond the bytes present, a data array whose length is
         not ``xres*yres``, non-length units.
-    ValueError
+    ChannelNotFoundError
         A ``channel`` that is not in the file (the message lists the channels).
     """
     path = Path(path)
@@ -187,16 +219,18 @@ def read_gwy(path: str | Path, *, channel: str | int | None = None) -> HeightMap
             (f for f in fields if str(channel).lower() in (str(f[0]), f[1].lower())), None
         )
         if chosen is None:
-            raise ValueError(f"{path}: channel {channel!r} not found; available: {titles}")
+            raise ChannelNotFoundError(
+                path, "channel", f"{channel!r} not found; available: {titles}"
+            )
     index, title, field = chosen
-    try:
-        xres, yres = int(field["xres"]), int(field["yres"])
-        xreal, yreal = float(field["xreal"]), float(field["yreal"])
-        values = field["data"]
-    except KeyError as exc:
-        raise TopographyFileError(path, f"/{index}/data {exc}", "is missing") from None
+    xres = _component(path, field, "xres", index, int)
+    yres = _component(path, field, "yres", index, int)
+    xreal = _component(path, field, "xreal", index, float)
+    yreal = _component(path, field, "yreal", index, float)
+    values = field.get("data")
     if xres < 1 or yres < 1 or not (xreal > 0 and yreal > 0):
         raise TopographyFileError(path, f"/{index}/data xres/xreal", "must be positive")
+    check_map_points(path, f"/{index}/data xres x yres", xres, yres)
     if not isinstance(values, np.ndarray) or values.size != xres * yres:
         raise TopographyFileError(
             path,
@@ -210,7 +244,7 @@ def read_gwy(path: str | Path, *, channel: str | int | None = None) -> HeightMap
         raise TopographyFileError(
             path, f"/{index}/data units", f"are xy {xy_unit!r}, z {z_unit!r}; expected lengths"
         )
-    heights = values.reshape(yres, xres).T * z_factor
+    heights = values.astype(np.float64).reshape(yres, xres).T * z_factor
     provenance = make_provenance(
         path,
         "gwy",
@@ -219,4 +253,8 @@ def read_gwy(path: str | Path, *, channel: str | int | None = None) -> HeightMap
         channels=titles,
         units={"lateral": xy_unit, "height": z_unit},
     )
-    return HeightMap(heights, xreal * xy_factor / xres, yreal * xy_factor / yres, False, provenance)
+    sizes = (
+        (f"/{index}/data xreal / xres", xreal * xy_factor / xres),
+        (f"/{index}/data yreal / yres", yreal * xy_factor / yres),
+    )
+    return make_surface(path, heights, sizes, provenance)

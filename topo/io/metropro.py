@@ -7,7 +7,9 @@ origin/width/height and byte count at 64-75; ``intf_scale_factor`` (S), ``wavele
 (W, m), ``obliquity_factor`` (O) and ``lateral_res`` (pixel size, m) as float32 at
 164/168/176/184; ``phase_res`` at 218 (0: R = 4096, 1: 32768, 2: 131072); ``sign`` at 232.
 The phase array is big-endian int32, row by row (x fastest); values >= 2147483640 are
-invalid. Height (m) = phase * S * O * W / R, negated when ``sign`` is set.
+invalid (NaN, counted in ``provenance["missing_pixels"]``). Height (m) = phase * S * O * W / R,
+negated when ``sign`` is set (the format's own inversion). S, O and W must be finite and > 0,
+and the resulting height step 1e-24 .. 1 m per count; ``lateral_res`` 1 pm .. 1 m.
 """
 
 from __future__ import annotations
@@ -19,7 +21,13 @@ import numpy as np
 
 from asperity.topo.errors import TopographyFileError, check_size
 from asperity.topo.heightmap import HeightMap
-from asperity.topo.io._common import make_provenance, read_all_bytes, require_positive
+from asperity.topo.io._common import (
+    make_provenance,
+    make_surface,
+    read_all_bytes,
+    require_positive,
+)
+from asperity.topo.io.limits import check_height_step
 
 MAGICS = (b"\x88\x1b\x03\x6f", b"\x88\x1b\x03\x70", b"\x88\x1b\x03\x71")
 _PHASE_RESOLUTION = {0: 4096, 1: 32768, 2: 131072}
@@ -86,10 +94,16 @@ def read_metropro(path: str | Path) -> HeightMap:
         raise TopographyFileError(path, "phase_res", f"is {phase_res}; expected 0, 1 or 2")
     require_positive(path, "lateral_res", lateral, " m")
     require_positive(path, "wavelength_in", wavelength, " m")
+    require_positive(path, "intf_scale_factor", scale)
+    require_positive(path, "obliquity_factor", obliquity)
     start = header_size + ac_bytes
     check_size(path, "cn_n_bytes (phase data)", start + cn_bytes, len(data))
     raw = np.frombuffer(data, dtype=">i4", count=cn_w * cn_h, offset=start)
-    factor = scale * obliquity * wavelength / _PHASE_RESOLUTION[phase_res]
+    factor = check_height_step(
+        path,
+        "intf_scale_factor * obliquity_factor * wavelength_in / phase resolution",
+        scale * obliquity * wavelength / _PHASE_RESOLUTION[phase_res],
+    )
     if sign:
         factor = -factor
     heights = raw.astype(np.float64) * factor
@@ -100,6 +114,9 @@ def read_metropro(path: str | Path) -> HeightMap:
         instrument="Zygo MetroPro",
         header_format=int(header_format),
         channel="connected phase",
+        invalid_marker=f"phase >= {_INVALID_PHASE}",
+        inverted=bool(sign),
         units={"lateral": "m", "wavelength": "m", "phase_resolution": _PHASE_RESOLUTION[phase_res]},
     )
-    return HeightMap(heights.reshape(cn_h, cn_w).T, lateral, lateral, False, provenance)
+    sizes = (("lateral_res", lateral), ("lateral_res", lateral))
+    return make_surface(path, heights.reshape(cn_h, cn_w).T, sizes, provenance)

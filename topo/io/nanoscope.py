@@ -8,6 +8,13 @@ per channel with ``Data offset``, ``Data length``, ``Bytes/pixel`` (2 or 4), ``S
 the hard scale is the last value of ``@2:Z scale: V [Sens. key] (v V/LSB) value V`` divided
 by 65536 (and by another 65536 for 4-byte data), and the soft scale is the value of
 ``@Sens. key: V s nm/V`` found in the scanner sections. Data is little-endian, line by line.
+
+Checks: every image's ``Data offset`` must lie past the header (the ``Data length`` of the
+``\\*File list`` section, and the ``\\*File list end`` line), so the header is never read as
+heights; the height factor (Z scale times sensitivity) must be > 0 and finite (1e-24 .. 1 m
+per count) and the pixel size ``Scan Size / Samps/line`` 1 pm .. 1 m. The default channel is
+the one named ``Height`` (label or key); a file without one (unless it has a single channel)
+is refused with the list of channels, never read from another channel silently.
 """
 
 from __future__ import annotations
@@ -17,9 +24,15 @@ from pathlib import Path
 
 import numpy as np
 
-from asperity.topo.errors import TopographyFileError, check_size
+from asperity.topo.errors import (
+    ChannelNotFoundError,
+    CorruptFileError,
+    TopographyFileError,
+    check_size,
+)
 from asperity.topo.heightmap import HeightMap
-from asperity.topo.io._common import make_provenance, read_all_bytes
+from asperity.topo.io._common import make_provenance, make_surface, parse_number, read_all_bytes
+from asperity.topo.io.limits import check_height_step, check_map_points
 from asperity.topo.io.units import length_unit_in_metres
 
 MAGIC = b"\\*File list"
@@ -28,10 +41,12 @@ _Z_SCALE = re.compile(
     r"\s*(?P<value>[-+0-9.eE]+)\s*(?P<unit>\S*)"
 )
 _IMAGE_DATA = re.compile(r'^S\s*\[(?P<key>[^\]]*)\]\s*"(?P<label>[^"]*)"')
+_INTEGER = re.compile(r"[+-]?\d+")
+_END = b"\\*File list end"
 
 
 def _parse_header(path: Path, data: bytes) -> list[tuple[str, dict[str, str]]]:
-    end = data.find(b"\\*File list end")
+    end = data.find(_END)
     if end < 0:
         raise TopographyFileError(path, "header", "has no '\\*File list end' line (truncated?)")
     sections: list[tuple[str, dict[str, str]]] = []
@@ -53,13 +68,21 @@ def _parse_header(path: Path, data: bytes) -> list[tuple[str, dict[str, str]]]:
     return sections
 
 
-def _int_field(path: Path, section: dict[str, str], key: str, channel: int) -> int:
-    try:
-        return int(section[key])
-    except (KeyError, ValueError):
+def _int_field(path: Path, section: dict[str, str], key: str, channel: int | str) -> int:
+    text = section.get(key, "").strip()
+    if not _INTEGER.fullmatch(text):
         raise TopographyFileError(
             path, f"image {channel} '{key}'", f"is {section.get(key)!r}; expected an integer"
-        ) from None
+        )
+    return int(text)
+
+
+def _header_end(path: Path, data: bytes, sections: list[tuple[str, dict[str, str]]]) -> int:
+    """First byte after the header: past the end line and the declared header length."""
+    end_line = data.find(_END)
+    declared = sections[0][1].get("data length")
+    length = _int_field(path, sections[0][1], "data length", "file list") if declared else 0
+    return max(end_line + len(_END), length)
 
 
 def list_channels(path: str | Path) -> list[dict]:
@@ -85,6 +108,7 @@ def _channels(path: Path, data: bytes) -> list[dict]:
     if not data.startswith(MAGIC):
         raise TopographyFileError(path, "magic", f"is {data[:11]!r}; expected '\\*File list'")
     sections = _parse_header(path, data)
+    header_end = _header_end(path, data, sections)
     scanner: dict[str, str] = {}
     for name, values in sections:
         if name != "ciao image list":
@@ -109,18 +133,28 @@ def _channels(path: Path, data: bytes) -> list[dict]:
                 f"image {index} 'Data length'",
                 f"is {length}; expected at least {nx}*{ny}*{itemsize} = {nx * ny * itemsize}",
             )
+        check_map_points(path, f"image {index} 'Samps/line' x 'Number of lines'", nx, ny)
+        if offset < header_end:
+            raise CorruptFileError(
+                path,
+                f"image {index} 'Data offset'",
+                f"is {offset}, inside the header (which ends at byte {header_end}); "
+                "expected an offset past the header",
+                expected=f">= {header_end}",
+                found=offset,
+            )
         check_size(
             path, f"image {index} 'Data offset' + data", offset + nx * ny * itemsize, len(data)
         )
         size = section.get("scan size", "").split()
-        try:
-            sx, sy = float(size[0]), float(size[1])
-        except (IndexError, ValueError):
+        if len(size) < 2:
             raise TopographyFileError(
                 path,
                 f"image {index} 'Scan Size'",
                 f"is {section.get('scan size')!r}; expected 'sx sy unit'",
-            ) from None
+            )
+        sx = parse_number(path, f"image {index} 'Scan Size' x", size[0])
+        sy = parse_number(path, f"image {index} 'Scan Size' y", size[1])
         lateral_unit = size[2] if len(size) > 2 else "nm"
         lateral_factor = length_unit_in_metres(lateral_unit)
         if lateral_factor is None or sx <= 0 or sy <= 0:
@@ -137,7 +171,8 @@ def _channels(path: Path, data: bytes) -> list[dict]:
             raise TopographyFileError(
                 path, f"image {index} '@2:Z scale'", "is missing or malformed"
             )
-        hard = float(scale.group("value")) / 65536.0 / (65536.0 if itemsize == 4 else 1.0)
+        z_scale = parse_number(path, f"image {index} '@2:Z scale'", scale.group("value"))
+        hard = z_scale / 65536.0 / (65536.0 if itemsize == 4 else 1.0)
         height_factor = None
         height_unit = scale.group("unit")
         sens_key = scale.group("key")
@@ -148,7 +183,8 @@ def _channels(path: Path, data: bytes) -> list[dict]:
                 factor = length_unit_in_metres(soft_unit)
                 height_unit = soft_unit
                 if factor is not None:
-                    height_factor = hard * float(sens[1]) * factor
+                    sensitivity = parse_number(path, f"'@{sens_key}'", sens[1])
+                    height_factor = hard * sensitivity * factor
         channels.append(
             {
                 "index": index,
@@ -162,6 +198,7 @@ def _channels(path: Path, data: bytes) -> list[dict]:
                 "dy": sy * lateral_factor / ny,
                 "height_unit": height_unit,
                 "height_factor": height_factor,
+                "height_factor_field": f"image {index} '@2:Z scale' x '@{sens_key}'",
                 "line_direction": section.get("line direction", ""),
             }
         )
@@ -171,7 +208,7 @@ def _channels(path: Path, data: bytes) -> list[dict]:
 
 
 def choose_channel(path: Path, channels: list[dict], channel: str | int | None) -> dict:
-    """Pick a channel by index or name (label or key, case-insensitive); default: height.
+    """Pick a channel by index or name (label or key, case-insensitive); default: ``Height``.
 
     Parameters
     ----------
@@ -180,8 +217,8 @@ def choose_channel(path: Path, channels: list[dict], channel: str | int | None) 
     channels : list of dict
         As returned by :func:`list_channels`.
     channel : str or int or None
-        Index, label or key; None picks ``Height``, else ``Height Sensor``/``ZSensor``,
-        else the first length channel.
+        Index, label or key; None picks the channel named ``Height`` (label or key), or the
+        only channel of a single-channel file. There is no other fallback.
 
     Returns
     -------
@@ -190,19 +227,23 @@ def choose_channel(path: Path, channels: list[dict], channel: str | int | None) 
 
     Raises
     ------
-    ValueError
-        An unknown channel (the message lists the channels).
+    ChannelNotFoundError
+        An unknown channel, or no ``Height`` channel in a multi-channel file (the message
+        lists the channels).
     """
+    names = ", ".join(f"{c['index']}: {c['label']} [{c['key']}]" for c in channels)
     if channel is None:
-        heights = [c for c in channels if c["height_factor"] is not None]
-        for wanted in ("height", "zsensor", "height sensor"):
-            for candidate in heights:
-                if wanted in (candidate["label"].lower(), candidate["key"].lower()):
-                    return candidate
-        if heights:
-            return heights[0]
-        raise TopographyFileError(path, "channels", "no channel with height (length) units")
-    names = [f"{c['index']}: {c['label']} [{c['key']}]" for c in channels]
+        for candidate in channels:
+            if "height" in (candidate["label"].lower(), candidate["key"].lower()):
+                return candidate
+        if len(channels) == 1:
+            return channels[0]
+        raise ChannelNotFoundError(
+            path,
+            "channel",
+            f"no channel is named 'Height'; choose one by name (channel=, --channel); "
+            f"available channels: {names}",
+        )
     if isinstance(channel, int) or str(channel).isdigit():
         index = int(channel)
         if 0 <= index < len(channels):
@@ -211,8 +252,8 @@ def choose_channel(path: Path, channels: list[dict], channel: str | int | None) 
         for candidate in channels:
             if str(channel).lower() in (candidate["label"].lower(), candidate["key"].lower()):
                 return candidate
-    raise ValueError(
-        f"{path}: channel {channel!r} not found; available channels: {', '.join(names)}"
+    raise ChannelNotFoundError(
+        path, "channel", f"{channel!r} not found; available channels: {names}"
     )
 
 
@@ -225,7 +266,7 @@ def read_nanoscope(path: str | Path, *, channel: str | int | None = None) -> Hei
         The file.
     channel : str or int, optional
         Index, label (e.g. ``"Height Sensor"``) or key (e.g. ``"ZSensor"``). Default: the
-        channel labelled ``Height``, else ``Height Sensor``, else the first length channel.
+        channel named ``Height`` (or the only channel of a single-channel file).
 
     Returns
     -------
@@ -236,8 +277,9 @@ def read_nanoscope(path: str | Path, *, channel: str | int | None = None) -> Hei
     ------
     TopographyFileError
         Header problems, data blocks beyond the end of the file, non-length channels.
-    ValueError
-        A ``channel`` that is not in the file (the message lists the channels).
+    ChannelNotFoundError
+        A ``channel`` that is not in the file, or no ``Height`` channel (the message lists
+        the channels).
     """
     path = Path(path)
     data = read_all_bytes(path)
@@ -249,10 +291,11 @@ def read_nanoscope(path: str | Path, *, channel: str | int | None = None) -> Hei
             f"channel {chosen['label']!r}",
             f"has unit {chosen['height_unit']!r}, not a length; choose a height channel",
         )
+    factor = check_height_step(path, chosen["height_factor_field"], chosen["height_factor"])
     dtype = np.dtype("<i2") if chosen["itemsize"] == 2 else np.dtype("<i4")
     nx, ny = chosen["nx"], chosen["ny"]
     raw = np.frombuffer(data, dtype=dtype, count=nx * ny, offset=chosen["offset"])
-    heights = raw.astype(np.float64).reshape(ny, nx).T * chosen["height_factor"]
+    heights = raw.astype(np.float64).reshape(ny, nx).T * factor
     provenance = make_provenance(
         path,
         "nanoscope",
@@ -261,4 +304,6 @@ def read_nanoscope(path: str | Path, *, channel: str | int | None = None) -> Hei
         channels=[c["label"] for c in channels],
         units={"height": chosen["height_unit"], "lateral": "m"},
     )
-    return HeightMap(heights, chosen["dx"], chosen["dy"], False, provenance)
+    field = f"image {chosen['index']} 'Scan Size' / "
+    sizes = ((field + "'Samps/line'", chosen["dx"]), (field + "'Number of lines'", chosen["dy"]))
+    return make_surface(path, heights, sizes, provenance)

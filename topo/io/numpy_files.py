@@ -6,25 +6,48 @@ holds scalar ``dx`` and ``dy`` entries beside ``heights``. Heights are taken as 
 Every ``.npy`` header (alone, or a member of an ``.npz`` archive) is parsed first; its
 shape times the item size must fit in the bytes that follow it (and, inside an archive,
 in the member's size, which a deflated member cannot exceed 1100 times its compressed
-size), so a corrupt header cannot make the reader allocate memory the file does not back.
-Object (pickled) arrays are refused.
+size), so a corrupt header cannot make the reader allocate memory the file does not back;
+the data must fill the rest of the file or member exactly (trailing bytes are refused) and
+every archive member is read to its end, so its CRC-32 is checked. Encrypted members and
+compression methods other than stored and deflate are refused, and so are object (pickled)
+arrays, negative dimensions and arrays over the memory budget.
 """
 
 from __future__ import annotations
 
+import io
 import math
-import zipfile
+import tokenize
 from pathlib import Path
 from typing import IO
 
 import numpy as np
 
-from asperity.topo.errors import TopographyFileError
+from asperity.errors import InputError
+from asperity.topo.errors import CorruptFileError, TopographyFileError, TruncatedFileError
 from asperity.topo.heightmap import HeightMap, LineProfile
-from asperity.topo.io._common import caller_pixel_size, make_provenance
+from asperity.topo.io._common import (
+    caller_pixel_size,
+    make_provenance,
+    make_surface,
+    open_zip,
+    read_zip_member,
+)
+from asperity.topo.io.limits import MAX_MAP_BYTES, check_map_points, check_pixel_size
 
-#: Deflate cannot compress by more than about 1032:1; a member claiming more is corrupt.
-_MAX_DEFLATE_RATIO = 1100
+#: What numpy's header parser raises on a damaged header (it evaluates a Python literal).
+_HEADER_ERRORS = (
+    ValueError,
+    EOFError,
+    OSError,
+    SyntaxError,
+    tokenize.TokenError,
+    TypeError,
+    KeyError,
+    RecursionError,
+    MemoryError,
+    UnicodeDecodeError,
+)
 
 
 def _read_npy(path: Path, handle: IO[bytes], available: int, where: str) -> np.ndarray:
@@ -37,8 +60,8 @@ def _read_npy(path: Path, handle: IO[bytes], available: int, where: str) -> np.n
             shape, fortran, dtype = np.lib.format.read_array_header_2_0(handle)
         else:
             raise ValueError(f"unknown NPY format version {version}")
-    except (ValueError, EOFError, OSError, SyntaxError) as exc:
-        raise TopographyFileError(
+    except _HEADER_ERRORS as exc:
+        raise CorruptFileError(
             path, f"{where} NPY header", f"is unreadable ({exc}); truncated or not NPY"
         ) from None
     if dtype.hasobject:
@@ -49,15 +72,25 @@ def _read_npy(path: Path, handle: IO[bytes], available: int, where: str) -> np.n
         raise TopographyFileError(path, f"{where} dtype", f"is {dtype}; expected real numbers")
     if len(shape) not in (0, 1, 2):
         raise TopographyFileError(path, f"{where} shape", f"is {shape}; expected 1D or 2D")
+    if any(dim < 0 for dim in shape):
+        raise CorruptFileError(path, f"{where} shape", f"is {shape}; negative dimension")
     count = math.prod(shape)
     needed = count * dtype.itemsize
     remaining = available - handle.tell()
     if needed > remaining:
-        raise TopographyFileError(
+        raise TruncatedFileError(
             path,
             f"{where} shape",
             f"is {shape} of {dtype} ({needed} bytes) but only {remaining} bytes follow "
             "the header (truncated file or corrupt header)",
+        )
+    check_map_points(path, f"{where} shape", *shape)
+    if needed < remaining:
+        raise CorruptFileError(
+            path,
+            f"{where} shape",
+            f"is {shape} of {dtype} ({needed} bytes) but {remaining} bytes follow the "
+            "header; expected exactly the array (corrupt header or trailing data)",
         )
     data = handle.read(needed)
     if len(data) != needed:
@@ -69,33 +102,16 @@ def _read_npy(path: Path, handle: IO[bytes], available: int, where: str) -> np.n
 
 
 def _read_npz(path: Path) -> dict[str, np.ndarray]:
-    try:
-        archive = zipfile.ZipFile(path)
-    except (zipfile.BadZipFile, OSError) as exc:
-        raise TopographyFileError(
-            path, "zip container", f"is not a readable NPZ archive ({exc}); truncated?"
-        ) from None
     arrays: dict[str, np.ndarray] = {}
-    with archive:
+    budget = 2 * MAX_MAP_BYTES
+    with open_zip(path, "NPZ") as archive:
         for info in archive.infolist():
             if not info.filename.endswith(".npy"):
                 continue
             key = info.filename[: -len(".npy")]
-            where = f"array {key!r}"
-            if info.compress_type != zipfile.ZIP_STORED and info.file_size > (
-                _MAX_DEFLATE_RATIO * info.compress_size + 4096
-            ):
-                raise TopographyFileError(
-                    path,
-                    f"{where} member size",
-                    f"claims {info.file_size} bytes from {info.compress_size} compressed "
-                    "bytes; corrupt archive",
-                )
-            try:
-                with archive.open(info) as handle:
-                    arrays[key] = _read_npy(path, handle, info.file_size, where)
-            except (zipfile.BadZipFile, OSError, EOFError) as exc:
-                raise TopographyFileError(path, where, f"is corrupt ({exc})") from None
+            data = read_zip_member(path, archive, info, budget)
+            budget -= len(data)
+            arrays[key] = _read_npy(path, io.BytesIO(data), len(data), f"array {key!r}")
     return arrays
 
 
@@ -110,7 +126,7 @@ def _scalar_length(path: Path, arrays: dict[str, np.ndarray], key: str) -> float
         raise TopographyFileError(
             path, f"array {key!r}", f"is {size!r}; expected a finite pixel size > 0 m"
         )
-    return size
+    return check_pixel_size(path, f"array {key!r}", size)
 
 
 def read_numpy(
@@ -141,7 +157,9 @@ def read_numpy(
     """
     path = Path(path)
     dx = dy = None
-    if path.suffix.lower() == ".npz" or zipfile.is_zipfile(path):
+    with open(path, "rb") as handle:
+        is_archive = handle.read(4) == b"PK\x03\x04"
+    if path.suffix.lower() == ".npz" or is_archive:
         arrays = _read_npz(path)
         keys = sorted(arrays)
         if "heights" in arrays:
@@ -167,13 +185,15 @@ def read_numpy(
     if given is not None:
         dx, dy = given
     if dx is None:
-        raise ValueError(
+        raise InputError(
             f"{path}: a NumPy array carries no pixel size; give pixel_size= "
             "(or --pixel-size DX on the command line), in metres"
         )
     provenance = make_provenance(
         path, path.suffix.lstrip(".").lower(), units={"all": "m (assumed)"}
     )
+    source = "pixel_size" if given is not None else "array 'dx'"
     if heights.ndim == 1:
-        return LineProfile(heights, float(dx), provenance)
-    return HeightMap(heights, float(dx), float(dy), False, provenance)
+        return make_surface(path, heights, ((source, dx),), provenance, profile=True)
+    sizes = ((source, dx), (source if given is not None else "array 'dy'", dy))
+    return make_surface(path, heights, sizes, provenance)

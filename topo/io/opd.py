@@ -8,7 +8,8 @@ follow the directory back to back, in directory order, for entries of length > 0
 data block (``RAW DATA``, ``RAW_DATA``, ``OPD`` or ``Raw``) starts with ``nx``, ``ny``,
 item size (uint16) and holds ``nx*ny`` items with the x index varying slowest. Heights
 are in units of ``Wavelength`` (nm) / ``Mult``; ``Pixel_size`` is in mm, ``Aspect`` scales y.
-Undefined points are stored as huge values (|v| >= 1e32) or non-finite floats.
+Undefined points are stored as huge values (|v| >= 1e32) or non-finite floats; they become
+NaN, counted in ``provenance["missing_pixels"]``.
 """
 
 from __future__ import annotations
@@ -18,9 +19,15 @@ from pathlib import Path
 
 import numpy as np
 
-from asperity.topo.errors import TopographyFileError, check_size
+from asperity.topo.errors import PhysicalBoundsError, TopographyFileError, check_size
 from asperity.topo.heightmap import HeightMap
-from asperity.topo.io._common import make_provenance, read_all_bytes, require_positive
+from asperity.topo.io._common import (
+    make_provenance,
+    make_surface,
+    read_all_bytes,
+    require_positive,
+)
+from asperity.topo.io.limits import check_height_step
 
 _ENTRY = struct.Struct("<16shlH")
 _DATA_BLOCKS = ("RAW DATA", "RAW_DATA", "OPD", "Raw")
@@ -83,13 +90,19 @@ def read_opd(path: str | Path) -> HeightMap:
             raise TopographyFileError(path, f"block {key!r}", "is missing; needed for the scale")
     require_positive(path, "Wavelength", values["Wavelength"], " nm")
     require_positive(path, "Pixel_size", values["Pixel_size"], " mm")
-    mult = values.get("Mult", 1) or 1
+    mult = values.get("Mult", 1)
+    if mult < 1:
+        raise PhysicalBoundsError(path, "block 'Mult'", f"is {mult}; expected >= 1", found=mult)
     aspect = values.get("Aspect", 1.0)
     require_positive(path, "Aspect", aspect)
     name = next((candidate for candidate in _DATA_BLOCKS if candidate in blocks), None)
     if name is None:
         raise TopographyFileError(path, "data block", f"none of {_DATA_BLOCKS} found")
     offset, length = blocks[name]
+    if length < 6:
+        raise TopographyFileError(
+            path, f"block {name!r} length", f"is {length}; expected 6 + nx*ny*itemsize"
+        )
     nx, ny, itemsize = struct.unpack_from("<HHH", data, offset)
     if itemsize not in _DTYPES:
         raise TopographyFileError(
@@ -104,7 +117,8 @@ def read_opd(path: str | Path) -> HeightMap:
     raw = np.frombuffer(data, dtype=_DTYPES[itemsize], count=nx * ny, offset=offset + 6)
     raw = raw.astype(np.float64)
     invalid = ~np.isfinite(raw) | (np.abs(raw) >= 1e32)
-    heights = raw * (values["Wavelength"] * 1e-9 / mult)
+    step = check_height_step(path, "Wavelength / Mult", values["Wavelength"] * 1e-9 / mult)
+    heights = raw * step
     heights[invalid] = np.nan
     pixel = values["Pixel_size"] * 1e-3
     provenance = make_provenance(
@@ -112,9 +126,11 @@ def read_opd(path: str | Path) -> HeightMap:
         "opd",
         instrument="Wyko Vision",
         channel=name,
+        invalid_marker="|value| >= 1e32 or non-finite",
         units={
             "lateral": "mm",
             "height": f"wavelength/{mult} (wavelength {values['Wavelength']} nm)",
         },
     )
-    return HeightMap(heights.reshape(nx, ny), pixel, pixel * aspect, False, provenance)
+    sizes = (("Pixel_size", pixel), ("Pixel_size * Aspect", pixel * aspect))
+    return make_surface(path, heights.reshape(nx, ny), sizes, provenance)

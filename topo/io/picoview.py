@@ -6,17 +6,21 @@ column, starting with ``fileType Image``; ``xPixels``/``yPixels``, ``xLength``/`
 ``bufferRange`` and ``bufferUnit``. The header ends with the line ``data BINARY`` (int16)
 or ``data BINARY_32`` (int32); the buffers follow back to back, line by line (x fastest),
 and a value is ``raw / 2**15`` (or ``/ 2**31``) times ``bufferRange`` in ``bufferUnit``.
+``bufferRange`` must be > 0 (a zero range would flatten the map) and the pixel sizes
+``xLength/xPixels``, ``yLength/yPixels`` 1 pm .. 1 m.
 """
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
 
-from asperity.topo.errors import TopographyFileError, check_size
+from asperity.topo.errors import ChannelNotFoundError, TopographyFileError, check_size
 from asperity.topo.heightmap import HeightMap
-from asperity.topo.io._common import make_provenance, read_all_bytes
+from asperity.topo.io._common import make_provenance, make_surface, parse_number, read_all_bytes
+from asperity.topo.io.limits import check_height_step
 from asperity.topo.io.units import length_unit_in_metres
 
 MAGIC = b"fileType"
@@ -67,7 +71,7 @@ def read_picoview(path: str | Path, *, channel: str | int | None = None) -> Heig
     TopographyFileError
         Not an image file, text data, missing sizes, or data shorter than
         ``buffers * xPixels * yPixels * itemsize``.
-    ValueError
+    ChannelNotFoundError
         A ``channel`` that is not in the file (the message lists the channels).
     """
     path = Path(path)
@@ -83,13 +87,14 @@ def read_picoview(path: str | Path, *, channel: str | int | None = None) -> Heig
     if encoding not in ("BINARY", "BINARY_32", ""):
         raise TopographyFileError(path, "data", f"is {encoding!r}; expected BINARY or BINARY_32")
     itemsize, full_scale = (4, 2.0**31) if encoding == "BINARY_32" else (2, 2.0**15)
-    try:
-        nx, ny = int(header["xPixels"]), int(header["yPixels"])
-        lx, ly = float(header["xLength"]), float(header["yLength"])
-    except (KeyError, ValueError):
-        raise TopographyFileError(
-            path, "xPixels/yPixels/xLength/yLength", "missing or not numbers"
-        ) from None
+    for key in ("xPixels", "yPixels"):
+        if not re.fullmatch(r"[+-]?\d+", header.get(key, "")):
+            raise TopographyFileError(
+                path, key, f"is {header.get(key)!r}; expected a number of pixels"
+            )
+    nx, ny = int(header["xPixels"]), int(header["yPixels"])
+    lx = parse_number(path, "xLength", header.get("xLength", ""))
+    ly = parse_number(path, "yLength", header.get("yLength", ""))
     if nx < 1 or ny < 1 or not (lx > 0 and ly > 0):
         raise TopographyFileError(
             path, "xPixels/xLength", f"are {nx}, {ny}, {lx}, {ly}; expected > 0"
@@ -118,11 +123,13 @@ def read_picoview(path: str | Path, *, channel: str | int | None = None) -> Heig
     elif isinstance(channel, int) or str(channel).isdigit():
         index = int(channel)
         if not 0 <= index < len(buffers):
-            raise ValueError(f"{path}: channel {channel} not found; available: {labels}")
+            raise ChannelNotFoundError(path, "channel", f"{channel} not found; available: {labels}")
     else:
         matches = [i for i, label in enumerate(labels) if label.lower() == str(channel).lower()]
         if not matches:
-            raise ValueError(f"{path}: channel {channel!r} not found; available: {labels}")
+            raise ChannelNotFoundError(
+                path, "channel", f"{channel!r} not found; available: {labels}"
+            )
         index = matches[0]
     chosen = buffers[index]
     unit = chosen.get("bufferUnit", "")
@@ -133,15 +140,12 @@ def read_picoview(path: str | Path, *, channel: str | int | None = None) -> Heig
             f"buffer {labels[index]!r} bufferUnit",
             f"is {unit!r}, not a length; not a height map",
         )
-    try:
-        value_range = float(chosen["bufferRange"])
-    except (KeyError, ValueError):
-        raise TopographyFileError(
-            path, f"buffer {labels[index]!r} bufferRange", "missing"
-        ) from None
+    range_field = f"buffer {labels[index]!r} bufferRange"
+    value_range = parse_number(path, range_field, chosen.get("bufferRange", ""))
+    step = check_height_step(path, range_field, value_range / full_scale * factor)
     dtype = np.dtype("<i4") if itemsize == 4 else np.dtype("<i2")
     raw = np.frombuffer(data, dtype=dtype, count=nx * ny, offset=start + index * block)
-    heights = raw.astype(np.float64).reshape(ny, nx).T * (value_range / full_scale * factor)
+    heights = raw.astype(np.float64).reshape(ny, nx).T * step
     provenance = make_provenance(
         path,
         "picoview",
@@ -150,4 +154,5 @@ def read_picoview(path: str | Path, *, channel: str | int | None = None) -> Heig
         channels=labels,
         units={"height": unit, "lateral": "m"},
     )
-    return HeightMap(heights, lx / nx, ly / ny, False, provenance)
+    sizes = (("xLength / xPixels", lx / nx), ("yLength / yPixels", ly / ny))
+    return make_surface(path, heights, sizes, provenance)

@@ -6,7 +6,8 @@ date text (128 bytes), time (uint32), comment (256 bytes), calibration block at 
 x/y offsets, um per pixel in z, z offset as float32), measurement configuration at 428
 (type: 1 profile, 3 topography; area type), scan settings, then ``num_layers`` at byte
 489. Each layer is ``yres``, ``xres`` (uint32) followed by ``xres*yres`` float32 heights in
-um (x fastest) and two float32 trailer values. The value 1000001 marks an undefined point.
+um (x fastest) and two float32 trailer values. The value 1000001 marks an undefined point
+(NaN, counted in ``provenance["missing_pixels"]``).
 After the layers comes the colour (RGB) image, ``3*xres*yres`` bytes, which must be
 present in full; the metadata trailer after it has no documented size and is not checked.
 """
@@ -20,7 +21,12 @@ import numpy as np
 
 from asperity.topo.errors import TopographyFileError, check_size
 from asperity.topo.heightmap import HeightMap
-from asperity.topo.io._common import make_provenance, read_all_bytes, require_positive
+from asperity.topo.io._common import (
+    make_provenance,
+    make_surface,
+    read_all_bytes,
+    require_positive,
+)
 
 HEADER_SIZE = 500
 _UNDEFINED = 1000001.0
@@ -92,6 +98,8 @@ def read_plu(path: str | Path) -> HeightMap:
         date=date,
         channel="layer 0",
         n_layers=int(n_layers),
+        invalid_marker=f"{_UNDEFINED:g} or non-finite",
         units={"lateral": "um", "height": "um"},
     )
-    return HeightMap(heights.reshape(ny, nx).T, um_x * 1e-6, um_y * 1e-6, False, provenance)
+    sizes = (("micrometers per pixel x", um_x * 1e-6), ("micrometers per pixel y", um_y * 1e-6))
+    return make_surface(path, heights.reshape(ny, nx).T, sizes, provenance)

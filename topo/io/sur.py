@@ -11,7 +11,12 @@ x fastest) starts ``512 + comment + private`` bytes into the file.
 Units: each spacing is converted with its own step unit (``delta_x_unit`` for ``dx``,
 ``delta_data_unit`` for the z step), so files whose axes use different units are right.
 Missing pixels: when the non-measured flag is set, a raw value outside the declared
-``[zmin, zmax]`` range (MountainsMap writes ``zmin - 2``) marks a non-measured point.
+``[zmin, zmax]`` range (MountainsMap writes ``zmin - 2``) marks a non-measured point; they
+become NaN, counted in ``provenance["missing_pixels"]``.
+
+Bounds: the x and y steps must give pixel sizes of 1 pm .. 1 m; the z step must be > 0
+(a zero step would flatten the map; the format defines no inverted axis, so a negative step
+is refused rather than silently inverting the surface).
 """
 
 from __future__ import annotations
@@ -23,7 +28,8 @@ import numpy as np
 
 from asperity.topo.errors import TopographyFileError, check_size
 from asperity.topo.heightmap import HeightMap, LineProfile
-from asperity.topo.io._common import decode_text, make_provenance, read_all_bytes
+from asperity.topo.io._common import decode_text, make_provenance, make_surface, read_all_bytes
+from asperity.topo.io.limits import check_height_step, check_map_points
 from asperity.topo.io.units import length_unit_in_metres
 
 MAGIC = b"DIGITAL SURF"
@@ -84,6 +90,7 @@ def read_sur(path: str | Path) -> HeightMap | LineProfile:
         raise TopographyFileError(
             path, "total points", f"is {n_points}; expected points per line * lines = {nx * ny}"
         )
+    check_map_points(path, "points per line / lines", nx, ny)
     dtype = np.dtype("<i2") if bits == 16 else np.dtype("<i4")
     start = HEADER_SIZE + comment_size + private_size
     check_size(
@@ -91,7 +98,7 @@ def read_sur(path: str | Path) -> HeightMap | LineProfile:
     )
     dx = step_x * _unit(path, "x step unit", unit_dx)
     dy = step_y * _unit(path, "y step unit", unit_dy)
-    dz = step_z * _unit(path, "z step unit", unit_dz)
+    dz = check_height_step(path, "z spacing", step_z * _unit(path, "z step unit", unit_dz))
     raw = np.frombuffer(data, dtype=dtype, count=n_points, offset=start)
     heights = raw.astype(np.float64) * dz
     if special_points:
@@ -104,6 +111,7 @@ def read_sur(path: str | Path) -> HeightMap | LineProfile:
         object_name=decode_text(obj_name),
         channel=decode_text(name_z),
         n_objects=int(n_objects),
+        invalid_marker="raw value outside [zmin, zmax]" if special_points else None,
         units={
             "x step": decode_text(unit_dx),
             "y step": decode_text(unit_dy),
@@ -113,6 +121,5 @@ def read_sur(path: str | Path) -> HeightMap | LineProfile:
             "z": decode_text(unit_z),
         },
     )
-    if ny == 1:
-        return LineProfile(heights[:, 0], dx, provenance)
-    return HeightMap(heights, dx, dy, False, provenance)
+    sizes = (("x spacing", dx), ("y spacing", dy))
+    return make_surface(path, heights, sizes[: 1 if ny == 1 else 2], provenance, profile=ny == 1)

@@ -1,7 +1,14 @@
 """Plain-text height data: a matrix of heights, or ``x y z`` columns on a regular grid.
 
-Both are in metres (SI) unless stated otherwise by the caller; lines starting with ``#``
-or ``%`` are comments; separators may be spaces, tabs, commas or semicolons.
+Both are in metres (SI); lines starting with ``#`` or ``%`` are comments.
+
+The one number format (stated, never guessed): ``[+-]digits[.digits][(e|E)[+-]digits]``
+with ``.`` as the decimal point, or ``nan`` (a missing pixel). Decimal commas, digit
+separators (``1_000``, ``1,000``), ``inf`` and hexadecimal are refused with an error naming
+the file, line and column. Separators: the first data line fixes one for the whole file:
+``;`` if it holds one, else ``,`` if it holds one, else blanks (spaces or tabs); blanks
+around ``,``/``;`` and one trailing separator per line are allowed. So ``1,5;2,5`` and
+``1,5 2,5`` (decimal commas) are refused, never read as four numbers.
 
 * Matrix: read as written, ``heights[i, j]`` is row ``i``, column ``j`` of the file, so the
   row index is axis 0 (x). The pixel size must come from the caller (``pixel_size``).
@@ -14,32 +21,95 @@ or ``%`` are comments; separators may be spaces, tabs, commas or semicolons.
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
 
-from asperity.topo.errors import TopographyFileError
+from asperity.errors import InputError
+from asperity.topo.errors import CorruptFileError, TopographyFileError
 from asperity.topo.heightmap import HeightMap, LineProfile
-from asperity.topo.io._common import caller_pixel_size, make_provenance, read_all_bytes
+from asperity.topo.io._common import (
+    NAN_WORDS,
+    NUMBER,
+    caller_pixel_size,
+    make_provenance,
+    make_surface,
+    parse_number,
+    read_all_bytes,
+)
+from asperity.topo.io.limits import check_map_points
 
 #: Largest relative deviation of an x or y step from the mean step of an x-y-z grid.
 _STEP_TOLERANCE = 1e-4
 
 
-def _rows(path: Path) -> list[list[float]]:
-    rows: list[list[float]] = []
+_VALUE = f"(?:{NUMBER.pattern}|[+-]?(?:nan|NaN|NAN))"
+_LINE_PATTERNS = {
+    None: re.compile(rf"{_VALUE}(?:[ \t]+{_VALUE})*"),
+    ",": re.compile(rf"{_VALUE}(?:[ \t]*,[ \t]*{_VALUE})*(?:[ \t]*,)?"),
+    ";": re.compile(rf"{_VALUE}(?:[ \t]*;[ \t]*{_VALUE})*(?:[ \t]*;)?"),
+}
+
+
+_DECIMAL_COMMA = re.compile(r"[+-]?\d*,\d+(?:[eE][+-]?\d+)?")
+
+
+def _separator(line: str) -> str | None:
+    """The separator the first data line announces: ';', ',' or None (blanks)."""
+    if ";" in line:
+        return ";"
+    if "," in line:
+        return ","
+    return None
+
+
+def _fields(line: str, separator: str | None) -> list[str]:
+    if separator is None:
+        return line.split()
+    fields = [field.strip() for field in line.split(separator)]
+    return fields[:-1] if len(fields) > 1 and fields[-1] == "" else fields
+
+
+def _refuse_line(path: Path, number: int, line: str, separator: str | None) -> None:
+    """Name the first value of a refused line that is not a number (line and column)."""
+    if separator == ",":  # blank-separated decimal commas, e.g. '1,5 2,5'
+        for token in line.split():
+            if _DECIMAL_COMMA.fullmatch(token):
+                where = f"line {number}, column {line.find(token) + 1}"
+                parse_number(path, where, token)
+    cursor = 0
+    for index, field in enumerate(_fields(line, separator), start=1):
+        column = line.find(field, cursor) + 1 if field else cursor + 1
+        cursor = max(column, cursor)
+        where = f"line {number}, column {column} (value {index})"
+        if field == "":
+            raise CorruptFileError(
+                path, where, f"is empty; expected a number (separator {separator!r}; nan = missing)"
+            )
+        parse_number(path, where, field, allow_nan=True)
+    raise CorruptFileError(path, f"line {number}", f"is {line[:60]!r}; expected numbers only")
+
+
+def _rows(path: Path) -> list[np.ndarray]:
+    """The numeric lines of the file, each an array of float64, in the stated format."""
+    rows: list[np.ndarray] = []
     text = read_all_bytes(path).decode("latin-1")
+    separator: str | None = None
+    values = 0
     for number, line in enumerate(text.splitlines(), start=1):
         stripped = line.strip()
         if not stripped or stripped[0] in "#%":
             continue
-        fields = stripped.replace(",", " ").replace(";", " ").split()
-        try:
-            rows.append([float(value) for value in fields])
-        except ValueError:
-            raise TopographyFileError(
-                path, f"line {number}", f"is {stripped[:60]!r}; expected numbers only"
-            ) from None
+        if not rows:
+            separator = _separator(stripped)
+        if not _LINE_PATTERNS[separator].fullmatch(stripped):
+            _refuse_line(path, number, stripped, separator)
+        fields = _fields(stripped, separator)
+        row = np.array([float("nan") if field in NAN_WORDS else float(field) for field in fields])
+        values += row.size
+        check_map_points(path, f"data up to line {number}", values)
+        rows.append(row)
     if not rows:
         raise TopographyFileError(path, "data", "no numeric lines found")
     return rows
@@ -48,18 +118,18 @@ def _rows(path: Path) -> list[list[float]]:
 def _pixel_sizes(path: Path, pixel_size: float | tuple[float, float] | None) -> tuple[float, float]:
     sizes = caller_pixel_size(path, pixel_size)
     if sizes is None:
-        raise ValueError(
+        raise InputError(
             f"{path}: a plain height matrix carries no pixel size; give pixel_size= "
             "(or --pixel-size DX on the command line), in metres"
         )
     return sizes
 
 
-def _looks_like_xyz(rows: list[list[float]]) -> bool:
+def _looks_like_xyz(rows: list[np.ndarray]) -> bool:
     """Three columns whose first two repeat like grid coordinates (not a 3-column matrix)."""
     if len(rows) < 4 or any(len(row) != 3 for row in rows):
         return False
-    array = np.asarray(rows)
+    array = np.vstack(rows)
     n_x, n_y = np.unique(array[:, 0]).size, np.unique(array[:, 1]).size
     return 1 < n_x < len(rows) and 1 < n_y < len(rows) and n_x * n_y <= 2 * len(rows)
 
@@ -80,8 +150,13 @@ def _grid_step(path: Path, values: np.ndarray, name: str) -> float:
     return step
 
 
-def _read_xyz(path: Path, rows: list[list[float]]) -> HeightMap:
-    array = np.asarray(rows)
+def _read_xyz(path: Path, rows: list[np.ndarray]) -> HeightMap:
+    array = np.vstack(rows)
+    if np.isnan(array[:, :2]).any():
+        line = int(np.flatnonzero(np.isnan(array[:, :2]).any(axis=1))[0]) + 1
+        raise TopographyFileError(
+            path, "x y columns", f"data row {line} has a nan coordinate; expected x and y in m"
+        )
     xs, ix = np.unique(array[:, 0], return_inverse=True)
     ys, iy = np.unique(array[:, 1], return_inverse=True)
     dx = _grid_step(path, xs, "x")
@@ -107,7 +182,7 @@ def _read_xyz(path: Path, rows: list[list[float]]) -> HeightMap:
         units={"all": "m (assumed)"},
         missing_nodes=missing or None,
     )
-    return HeightMap(heights, dx, dy, False, provenance)
+    return make_surface(path, heights, (("x column step", dx), ("y column step", dy)), provenance)
 
 
 def read_text(
@@ -131,9 +206,10 @@ def read_text(
     Raises
     ------
     TopographyFileError
-        Non-numeric lines, ragged rows (e.g. a truncated file), a non-uniform x-y grid or
+        Text not in the stated number format (:class:`NumberFormatError`, naming line and
+        column), ragged rows (e.g. a truncated file), a non-uniform x-y grid or
         a node given twice.
-    ValueError
+    InputError
         A matrix without ``pixel_size``, an invalid ``pixel_size``, or ``pixel_size``
         given for x-y-z columns.
     """
@@ -141,11 +217,18 @@ def read_text(
     rows = _rows(path)
     if _looks_like_xyz(rows):
         if pixel_size is not None:
-            raise ValueError(
+            raise InputError(
                 f"{path}: pixel_size given, but x y z columns carry their own coordinates "
                 "(the pixel sizes are their steps); leave pixel_size out"
             )
         return _read_xyz(path, rows)
+    if path.suffix.lower() == ".xyz":
+        raise TopographyFileError(
+            path,
+            "columns",
+            f"hold {len(rows)} rows of {len(rows[0])} values; a .xyz file must hold x y z "
+            "columns of a regular grid (at least 2 x 2 nodes)",
+        )
     widths = {len(row) for row in rows}
     if len(widths) != 1:
         lengths = [len(row) for row in rows]
@@ -156,11 +239,11 @@ def read_text(
             f"has {lengths[bad]} values; expected {lengths[0]} like the first row "
             "(ragged or truncated matrix)",
         )
-    heights = np.asarray(rows, dtype=np.float64)
+    heights = np.vstack(rows)
     dx, dy = _pixel_sizes(path, pixel_size)
     provenance = make_provenance(
         path, "matrix-text", channel="heights", units={"all": "m (assumed)"}
     )
-    if heights.shape[1] == 1 or heights.shape[0] == 1:
-        return LineProfile(heights.ravel(), dx, provenance)
-    return HeightMap(heights, dx, dy, False, provenance)
+    profile = heights.shape[1] == 1 or heights.shape[0] == 1
+    sizes = (("pixel_size dx", dx), ("pixel_size dy", dy))
+    return make_surface(path, heights, sizes, provenance, profile=profile)

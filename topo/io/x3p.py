@@ -8,6 +8,13 @@ incremental (``AxisType`` ``I``); x and y increments may differ (non-square pixe
 Invalid points are NaN (float data) or flagged in the valid-points mask (1 bit per point,
 least significant bit first); both become NaN. Point data is stored x fastest, so the raw
 buffer is ``(ny, nx)`` in C order and is transposed to the project's ``(nx, ny)``.
+
+Checks before anything is decompressed or allocated: ``SizeX*SizeY`` within the memory
+budget; every member stored or deflated (encrypted members and other methods refused), its
+declared size exactly what ``main.xml`` implies (the valid-points mask: ``ceil(n/8)`` bytes,
+up to 64 KiB of padding), and no more than deflate's ratio; CRC-32 of every member and the
+MD5 of the point data checked. ``CX``/``CY`` increments are pixel sizes of 1 pm .. 1 m; the
+``CZ`` increment of integer data a height step of 1e-24 .. 1 m.
 """
 
 from __future__ import annotations
@@ -19,11 +26,21 @@ from pathlib import Path
 
 import numpy as np
 
-from asperity.topo.errors import TopographyFileError
+from asperity.topo.errors import CorruptFileError, TopographyFileError
 from asperity.topo.heightmap import HeightMap, LineProfile
-from asperity.topo.io._common import make_provenance
+from asperity.topo.io._common import (
+    make_provenance,
+    make_surface,
+    open_zip,
+    parse_number,
+    read_zip_member,
+    zip_member_info,
+)
+from asperity.topo.io.limits import MAX_MAP_BYTES, check_height_step, check_map_points
 
 _DTYPES = {"I": np.dtype("<u2"), "L": np.dtype("<u4"), "F": np.dtype("<f4"), "D": np.dtype("<f8")}
+#: Padding accepted after the valid-points bits, bytes.
+_MASK_SLACK = 65536
 
 
 def _strip_namespaces(root: ElementTree.Element) -> None:
@@ -41,26 +58,20 @@ def _text(path: Path, parent: ElementTree.Element | None, tag: str, where: str) 
 
 def _number(path: Path, parent: ElementTree.Element, tag: str, where: str, kind: type) -> float:
     text = _text(path, parent, tag, where)
-    try:
-        return kind(text)
-    except ValueError:
-        raise TopographyFileError(
-            path, f"main.xml {where}/{tag}", f"is {text!r}; expected a {kind.__name__}"
-        ) from None
+    if kind is int:
+        if not text.lstrip("+-").isdigit() or not text.isascii():
+            raise TopographyFileError(
+                path, f"main.xml {where}/{tag}", f"is {text!r}; expected an integer"
+            )
+        return int(text)
+    return parse_number(path, f"main.xml {where}/{tag}", text)
 
 
-def _check_compression(path: Path, info: zipfile.ZipInfo) -> None:
-    """Refuse a member whose declared size no deflate stream could give (about 1032:1 max)."""
-    if (
-        info.compress_type != zipfile.ZIP_STORED
-        and info.file_size > 1100 * info.compress_size + 4096
-    ):
-        raise TopographyFileError(
-            path,
-            f"zip member {info.filename}",
-            f"claims {info.file_size} bytes from {info.compress_size} compressed bytes; "
-            "corrupt archive",
-        )
+def _optional_number(path: Path, parent: ElementTree.Element, tag: str, default: float) -> float:
+    text = parent.findtext(tag)
+    if text is None or not text.strip():
+        return default
+    return parse_number(path, f"main.xml Axes/CZ/{tag}", text)
 
 
 def _data_list_values(path: Path, data_list: ElementTree.Element, count: int) -> np.ndarray:
@@ -82,12 +93,9 @@ def _data_list_values(path: Path, data_list: ElementTree.Element, count: int) ->
         text = (datum.text or "").strip()
         if not text:
             continue
-        try:
-            values[index] = float(text.split(";")[-1])
-        except ValueError:
-            raise TopographyFileError(
-                path, f"Record3/DataList/Datum {index}", f"is {text[:40]!r}; expected a number"
-            ) from None
+        values[index] = parse_number(
+            path, f"Record3/DataList/Datum {index}", text.split(";")[-1], allow_nan=True
+        )
     return values
 
 
@@ -111,25 +119,8 @@ def read_x3p(path: str | Path) -> HeightMap | LineProfile:
         does not match ``SizeX*SizeY*SizeZ`` times the item size, a failed MD5 or CRC.
     """
     path = Path(path)
-    try:
-        archive = zipfile.ZipFile(path)
-    except zipfile.BadZipFile as exc:
-        raise TopographyFileError(
-            path, "zip container", f"is not a readable ZIP archive ({exc}); truncated or not X3P"
-        ) from None
-    with archive:
-        try:
-            _check_compression(path, archive.getinfo("main.xml"))
-            xml_bytes = archive.read("main.xml")
-        except KeyError:
-            raise TopographyFileError(path, "main.xml", "is missing from the archive") from None
-        except (zipfile.BadZipFile, OSError, EOFError) as exc:
-            raise TopographyFileError(path, "main.xml", f"cannot be extracted ({exc})") from None
-        try:
-            root = ElementTree.fromstring(xml_bytes)
-        except ElementTree.ParseError as exc:
-            raise TopographyFileError(path, "main.xml", f"is not well-formed XML ({exc})") from None
-        _strip_namespaces(root)
+    with open_zip(path, "X3P") as archive:
+        root = _main_xml(path, archive)
         record1, record3 = root.find("Record1"), root.find("Record3")
         if record1 is None or record3 is None:
             raise TopographyFileError(path, "main.xml", "lacks Record1 or Record3")
@@ -139,32 +130,7 @@ def read_x3p(path: str | Path) -> HeightMap | LineProfile:
             raise TopographyFileError(
                 path, "Record1/FeatureType", f"is {feature!r}; expected 'SUR' or 'PRF'"
             )
-        axes = record1.find("Axes")
-        spacing = {}
-        for name in ("CX", "CY"):
-            axis = None if axes is None else axes.find(name)
-            if axis is None:
-                raise TopographyFileError(path, f"Record1/Axes/{name}", "is missing")
-            axis_type = _text(path, axis, "AxisType", f"Axes/{name}")
-            if axis_type != "I":
-                raise TopographyFileError(
-                    path,
-                    f"Axes/{name}/AxisType",
-                    f"is {axis_type!r}; only incremental axes ('I') are supported",
-                )
-            spacing[name] = _number(path, axis, "Increment", f"Axes/{name}", float)
-        cz = None if axes is None else axes.find("CZ")
-        if cz is None:
-            raise TopographyFileError(path, "Record1/Axes/CZ", "is missing")
-        data_type = _text(path, cz, "DataType", "Axes/CZ")
-        if data_type not in _DTYPES:
-            raise TopographyFileError(
-                path, "Axes/CZ/DataType", f"is {data_type!r}; expected one of I, L, F, D"
-            )
-        dtype = _DTYPES[data_type]
-        z_increment = float(cz.findtext("Increment") or 1.0)
-        z_offset = float(cz.findtext("Offset") or 0.0)
-
+        spacing, data_type, z_increment, z_offset = _axes(path, record1)
         dims = record3.find("MatrixDimension")
         if dims is None:
             raise TopographyFileError(path, "Record3/MatrixDimension", "is missing")
@@ -177,66 +143,20 @@ def read_x3p(path: str | Path) -> HeightMap | LineProfile:
                 "Record3/MatrixDimension",
                 f"is {nx} x {ny} x {nz}; expected SizeX, SizeY >= 1 and SizeZ == 1",
             )
+        check_map_points(path, "Record3/MatrixDimension SizeX x SizeY", nx, ny)
         link = record3.find("DataLink")
         data_list = record3.find("DataList")
         if link is None and data_list is not None:
             values = _data_list_values(path, data_list, nx * ny)
         else:
-            member = _text(path, link, "PointDataLink", "Record3/DataLink")
-            expected = nx * ny * dtype.itemsize
-            try:
-                info = archive.getinfo(member)
-            except KeyError:
-                raise TopographyFileError(
-                    path, "Record3/DataLink/PointDataLink", f"names {member!r}, not in the archive"
-                ) from None
-            _check_compression(path, info)
-            if info.file_size != expected:
-                raise TopographyFileError(
-                    path,
-                    f"point data {member}",
-                    f"has {info.file_size} bytes; expected {expected} "
-                    f"({nx} x {ny} points of type {data_type})",
-                )
-            try:
-                raw = archive.read(member)
-            except (zipfile.BadZipFile, OSError, EOFError) as exc:
-                raise TopographyFileError(
-                    path, f"point data {member}", f"is corrupt ({exc})"
-                ) from None
-            md5 = link.findtext("MD5ChecksumPointData") if link is not None else None
-            if md5 and hashlib.md5(raw).hexdigest().lower() != md5.strip().lower():
-                raise TopographyFileError(
-                    path, "Record3/DataLink/MD5ChecksumPointData", "does not match the point data"
-                )
-            values = np.frombuffer(raw, dtype=dtype).astype(np.float64)
+            values = _point_data(path, archive, link, nx * ny, data_type)
         if data_type in "IL":
             values = values * z_increment + z_offset
         valid_member = link.findtext("ValidPointsLink") if link is not None else None
-        if valid_member:
-            try:
-                bits = archive.read(valid_member.strip())
-            except (KeyError, zipfile.BadZipFile, OSError, EOFError) as exc:
-                raise TopographyFileError(
-                    path, "Record3/DataLink/ValidPointsLink", f"cannot be read ({exc})"
-                ) from None
-            if len(bits) * 8 < nx * ny:
-                raise TopographyFileError(
-                    path,
-                    f"valid-points mask {valid_member}",
-                    f"has {len(bits)} bytes; expected at least {(nx * ny + 7) // 8}",
-                )
-            valid = np.unpackbits(np.frombuffer(bits, np.uint8), bitorder="little")[: nx * ny]
-            values[valid == 0] = np.nan
+        if valid_member and valid_member.strip():
+            values[~_valid_points(path, archive, valid_member.strip(), nx * ny)] = np.nan
         heights = values.reshape(ny, nx).T
-        record2 = root.find("Record2")
-        instrument = None
-        if record2 is not None and record2.find("Instrument") is not None:
-            parts = [
-                record2.find("Instrument").findtext(tag) or ""
-                for tag in ("Manufacturer", "Model", "Version")
-            ]
-            instrument = " ".join(part for part in parts if part)
+        instrument = _instrument(root)
     provenance = make_provenance(
         path,
         "x3p",
@@ -244,7 +164,104 @@ def read_x3p(path: str | Path) -> HeightMap | LineProfile:
         instrument=instrument,
         channel="CZ",
         units={"lateral": "m", "height": "m", "data_type": data_type},
+        invalid_marker="valid-points mask, NaN or empty Datum",
     )
     if feature == "PRF" or ny == 1:
-        return LineProfile(heights[:, 0], spacing["CX"], provenance)
-    return HeightMap(heights, spacing["CX"], spacing["CY"], False, provenance)
+        return make_surface(
+            path, heights[:, 0], (("Axes/CX/Increment", spacing["CX"]),), provenance, profile=True
+        )
+    sizes = (("Axes/CX/Increment", spacing["CX"]), ("Axes/CY/Increment", spacing["CY"]))
+    return make_surface(path, heights, sizes, provenance)
+
+
+def _main_xml(path: Path, archive: zipfile.ZipFile) -> ElementTree.Element:
+    """Parse ``main.xml`` (namespaces stripped) after checking its member header."""
+    info = zip_member_info(path, archive, "main.xml", "main.xml")
+    xml_bytes = read_zip_member(path, archive, info, MAX_MAP_BYTES)
+    try:
+        root = ElementTree.fromstring(xml_bytes)
+    except (ElementTree.ParseError, ValueError, RecursionError) as exc:
+        raise CorruptFileError(path, "main.xml", f"is not well-formed XML ({exc})") from None
+    _strip_namespaces(root)
+    return root
+
+
+def _axes(path: Path, record1: ElementTree.Element) -> tuple[dict, str, float, float]:
+    """Lateral increments (m), z data type, z increment (m per count) and offset (m)."""
+    axes = record1.find("Axes")
+    spacing = {}
+    for name in ("CX", "CY"):
+        axis = None if axes is None else axes.find(name)
+        if axis is None:
+            raise TopographyFileError(path, f"Record1/Axes/{name}", "is missing")
+        axis_type = _text(path, axis, "AxisType", f"Axes/{name}")
+        if axis_type != "I":
+            raise TopographyFileError(
+                path,
+                f"Axes/{name}/AxisType",
+                f"is {axis_type!r}; only incremental axes ('I') are supported",
+            )
+        spacing[name] = _number(path, axis, "Increment", f"Axes/{name}", float)
+    cz = None if axes is None else axes.find("CZ")
+    if cz is None:
+        raise TopographyFileError(path, "Record1/Axes/CZ", "is missing")
+    data_type = _text(path, cz, "DataType", "Axes/CZ")
+    if data_type not in _DTYPES:
+        raise TopographyFileError(
+            path, "Axes/CZ/DataType", f"is {data_type!r}; expected one of I, L, F, D"
+        )
+    z_increment = _optional_number(path, cz, "Increment", 1.0)
+    z_offset = _optional_number(path, cz, "Offset", 0.0)
+    if data_type in "IL":
+        check_height_step(path, "Axes/CZ/Increment", z_increment)
+    return spacing, data_type, z_increment, z_offset
+
+
+def _point_data(
+    path: Path, archive: zipfile.ZipFile, link: ElementTree.Element | None, count: int, kind: str
+) -> np.ndarray:
+    """The binary point data (float64, x fastest), size and MD5 checked."""
+    member = _text(path, link, "PointDataLink", "Record3/DataLink")
+    dtype = _DTYPES[kind]
+    expected = count * dtype.itemsize
+    info = zip_member_info(path, archive, member, "Record3/DataLink/PointDataLink")
+    if info.file_size != expected:
+        raise TopographyFileError(
+            path,
+            f"point data {member}",
+            f"has {info.file_size} bytes; expected {expected} ({count} points of type {kind})",
+        )
+    raw = read_zip_member(path, archive, info, expected)
+    md5 = link.findtext("MD5ChecksumPointData") if link is not None else None
+    if md5 and hashlib.md5(raw).hexdigest().lower() != md5.strip().lower():
+        raise CorruptFileError(
+            path, "Record3/DataLink/MD5ChecksumPointData", "does not match the point data"
+        )
+    return np.frombuffer(raw, dtype=dtype).astype(np.float64)
+
+
+def _valid_points(path: Path, archive: zipfile.ZipFile, member: str, count: int) -> np.ndarray:
+    """The valid-points bit mask (1 bit per point, least significant first) as booleans."""
+    field = f"valid-points mask {member}"
+    info = zip_member_info(path, archive, member, "Record3/DataLink/ValidPointsLink")
+    needed = (count + 7) // 8
+    if not needed <= info.file_size <= needed + _MASK_SLACK:
+        raise CorruptFileError(
+            path,
+            field,
+            f"declares {info.file_size} bytes; expected {needed} (one bit per point)",
+            expected=needed,
+            found=info.file_size,
+        )
+    bits = read_zip_member(path, archive, info, needed + _MASK_SLACK)
+    mask = np.frombuffer(bits, np.uint8, count=needed)
+    return np.unpackbits(mask, bitorder="little")[:count].astype(bool)
+
+
+def _instrument(root: ElementTree.Element) -> str | None:
+    record2 = root.find("Record2")
+    instrument = None if record2 is None else record2.find("Instrument")
+    if instrument is None:
+        return None
+    parts = [instrument.findtext(tag) or "" for tag in ("Manufacturer", "Model", "Version")]
+    return " ".join(part for part in parts if part) or None
