@@ -19,7 +19,7 @@ from asperity.bem.options import SolverOptions
 from asperity.bem.problem import ContactProblem
 from asperity.bem.result import ContactResult, SolverStatus
 
-__all__ = ["assemble_result"]
+__all__ = ["assemble_result", "first_contact_result"]
 
 
 def _returned_state_residual(s: IterationState, problem: ContactProblem, offset: float) -> float:
@@ -49,11 +49,14 @@ def _iteration_cap(
 
 def _load_check(problem: ContactProblem, stop: Stop, pressure: np.ndarray, force: float) -> Stop:
     """Status 4 when the imposed force was not reached, or elements in contact end below
-    -Sigma (a tensile load this contact cannot carry)."""
+    -Sigma (a tensile load this contact cannot carry). The force is compared relative to the
+    larger of |F| and sum |p| dx dy, so that a zero imposed load is checked against the
+    pressures that cancel in it."""
+    force_scale = max(abs(problem.force), float(np.abs(pressure).sum()) * problem.pixel_area)
     if (
         problem.load_control
         and stop.status == SolverStatus.CONVERGED
-        and abs(force - problem.force) > 1e-8 * max(abs(problem.force), 1e-300)
+        and abs(force - problem.force) > 1e-8 * force_scale
     ):
         stop = Stop(
             SolverStatus.LOAD_NOT_CARRIED,
@@ -137,4 +140,52 @@ def assemble_result(
         residual=s.residual,
         extra={**_diagnostics(s, problem, counters), **extra},
         branch=branch,
+    )
+
+
+def first_contact_result(problem: ContactProblem, started: float) -> ContactResult:
+    """The loading branch at an imposed force <= 0 (N): it starts at first contact, the flat
+    touching the highest point with no pressure, at F = 0 (converged); a tensile force is not
+    on it (status 4)."""
+    h = problem.heights
+    top = float(h.max())
+    mask = h == top
+    if problem.force == 0:
+        status, message = (
+            SolverStatus.CONVERGED,
+            (
+                "converged: zero load on the loading branch is first contact (the flat touches the "
+                "highest point, no pressure)"
+            ),
+        )
+    else:
+        status, message = (
+            SolverStatus.LOAD_NOT_CARRIED,
+            (
+                f"load not carried: a tensile force ({problem.force:.6g} N) is not on the loading "
+                "branch, which starts at first contact with F = 0; pull on a state of the "
+                "unloading branch instead (initial=..., e.g. the last result of a load_sweep)"
+            ),
+        )
+    gap = top - h
+    return ContactResult(
+        pressure=np.zeros_like(h),
+        gap=gap,
+        contact_mask=mask,
+        real_area=int(mask.sum()) * problem.pixel_area,
+        contact_fraction=float(mask.mean()),
+        normal_force=0.0,
+        mean_pressure=0.0,
+        mean_gap=float(gap.mean()),
+        separation=top,
+        nit=0,
+        residual_history=np.zeros(1),
+        status=int(status),
+        message=message,
+        seconds=time.perf_counter() - started,
+        dx=problem.dx,
+        dy=problem.dy,
+        critical_tension=problem.critical_tension,
+        residual=0.0,
+        branch="loading",
     )

@@ -243,6 +243,14 @@ def step_length(
         # -Sigma delaminate. Take the set-change step alone (tau = 0) instead of stopping
         # before it (seen on a single-element adhesive contact under tension)
         return 0.0
+    if s.residual < options.tol:
+        # the linear problem on the set is solved exactly and the set is settled (nothing
+        # penetrates, nothing below -Sigma): a converged state, e.g. a flat map in full contact
+        return Stop(
+            SolverStatus.CONVERGED,
+            f"converged: residual {s.residual:.3g} < tol {options.tol:.3g} and the contact set "
+            "is settled",
+        )
     return Stop(
         SolverStatus.STALLED,
         f"stalled: the search direction vanished (curvature {rt:.3g}) at residual "

@@ -19,7 +19,7 @@ __all__ = ["SolverOptions", "resolve_options"]
 
 #: Bounds of ``tol`` (see :class:`SolverOptions`).
 TOL_RANGE = (1e-14, 1e-2)
-#: Upper bound of ``max_iter``, ``stall_window``, ``refresh`` and ``loading_steps``.
+#: Upper bound of ``max_iter``, ``stall_window`` and ``refresh``.
 MAX_COUNT = 1_000_000
 #: Upper bound of ``threads``.
 MAX_THREADS = 1024
@@ -60,10 +60,6 @@ class SolverOptions:
         Start a cold load-controlled periodic non-adhesive solve from the solution on a grid
         coarsened 2x (recursively down to 64 px). Off by default: on the benchmark surfaces
         the fine grid then needs more iterations (1024^2 unpreconditioned: 454 vs 280).
-    loading_steps : int
-        Steps of the internal loading ramp of an adhesive solve from scratch (no ``initial``):
-        the load (or approach) rises from first contact to the imposed one in this many
-        warm-started solves, so that the result lies on the loading branch; in [1, 1000].
     """
 
     tol: float = 1e-8
@@ -75,7 +71,6 @@ class SolverOptions:
     fft_backend: str = "auto"
     threads: int | None = None
     coarse_start: bool = False
-    loading_steps: int = 8
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "tol", _check_tol(self.tol))
@@ -84,7 +79,6 @@ class SolverOptions:
             ("stall_window", MAX_COUNT),
             ("refresh", MAX_COUNT),
             ("threads", MAX_THREADS),
-            ("loading_steps", 1000),
         ):
             value = getattr(self, name)
             if value is None and name in ("max_iter", "threads"):

@@ -52,11 +52,13 @@ Convergence residual (the ``tol`` knob)
 
 from __future__ import annotations
 
+import dataclasses
 import time
 
 import numpy as np
 
-from asperity.bem.assembly import assemble_result
+from asperity.bem.assembly import assemble_result, first_contact_result
+from asperity.bem.branch import solve_branch
 from asperity.bem.iteration import iterate, new_state
 from asperity.bem.options import SolverOptions, resolve_options
 from asperity.bem.problem import ContactProblem, set_up_problem
@@ -154,24 +156,50 @@ def solve_contact(
 def _solve(
     problem: ContactProblem, initial: object, opts: SolverOptions, started: float
 ) -> ContactResult:
-    """Start, iterate and assemble one validated problem."""
+    """Solve one validated problem on the branch its start implies (:mod:`asperity.bem.branch`)."""
+    branch = solve_branch(problem, initial)
+    if branch == "loading":
+        return _solve_on_loading_branch(problem, initial, opts, started)
+    return _iterate_from(problem, initial, opts, started, branch, {})
+
+
+def _solve_on_loading_branch(
+    problem: ContactProblem, initial: object, opts: SolverOptions, started: float
+) -> ContactResult:
+    """Adhesive loading branch: the non-adhesive solution at this load (warm-started from a
+    previous loading-branch state), then the adhesive iteration from it as the check."""
+    if problem.load_control and problem.force <= 0:
+        return first_contact_result(problem, started)
+    plain = dataclasses.replace(problem, work_of_adhesion=0.0, critical_tension=0.0)
+    warm = initial if isinstance(initial, ContactResult) else None
+    contact = _iterate_from(plain, warm, opts, time.perf_counter(), "unique", {})
+    extra = {
+        "loading_iterations": contact.nit,
+        "loading_convolutions": contact.extra["convolutions"],
+        "loading_message": contact.message,
+    }
+    return _iterate_from(problem, contact, opts, started, "loading", extra)
+
+
+def _iterate_from(
+    problem: ContactProblem,
+    initial: object,
+    opts: SolverOptions,
+    started: float,
+    branch: str,
+    extra: dict,
+) -> ContactResult:
+    """Start (warm, coarse-grid or cold), iterate and assemble one validated problem."""
     counters = {"calls": problem.op.calls, "seconds": problem.op.seconds}
-    extra: dict = {}
     coarse = None
     if initial is None and _coarse_start_applies(problem, opts):
-        coarse, extra = _coarse_start(problem, opts)
+        coarse, coarse_info = _coarse_start(problem, opts)
+        extra = {**extra, **coarse_info}
     p, c = starting_state(problem, initial, coarse)
     state = new_state(problem, p, c, opts)
     stop = iterate(state, problem, opts)
     return assemble_result(
-        problem,
-        state,
-        stop,
-        opts,
-        started=started,
-        counters=counters,
-        extra=extra,
-        branch="unique",
+        problem, state, stop, opts, started=started, counters=counters, extra=extra, branch=branch
     )
 
 

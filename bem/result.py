@@ -109,9 +109,9 @@ class ContactResult:
         ``preconditioner_dropped_at`` (iteration where a stalled preconditioned iteration fell
         back to plain Polonsky-Keer, or None), and for a coarse-grid start ``coarse_iterations``,
         ``coarse_convolutions``, ``coarse_seconds``; for a stall ``stall_causes`` (the
-        causes named in the message); for an adhesive solve from scratch
-        ``loading_ramp`` (the forces, N, or separations, m, of the internal loading ramp)
-        and ``ramp_iterations`` (its iterations, not counted in ``nit``).
+        causes named in the message); for an adhesive solve on the loading branch
+        ``loading_iterations``, ``loading_convolutions`` and ``loading_message`` of the
+        non-adhesive solve it starts from (not counted in ``nit``).
     branch : str
         Which solution this is (one of :data:`BRANCHES`): "unique" without adhesion,
         "loading", "unloading" or "from initial" with adhesion.

@@ -2,10 +2,9 @@
 
 A warm start (a previous :class:`~asperity.bem.result.ContactResult` or a pressure field, Pa)
 is clipped to the pressure bound (0, or -Sigma with adhesion); otherwise the cold start is a
-uniform pressure on the whole map (load control without adhesion), the penetrating elements
-(displacement control), or the highest 1 % of the points (adhesive load control: only the
-first solve of the internal loading ramp of :mod:`asperity.bem.polonsky_keer` starts so, at a
-load small enough that this is first contact). Under load control the start then carries the
+uniform pressure on the whole map (load control) or the penetrating elements (displacement
+control). An adhesive solve never starts cold: from scratch it starts from the non-adhesive
+solution, its loading branch (:mod:`asperity.bem.branch`). Under load control the start carries the
 imposed force exactly: rescaled without adhesion (Polonsky & Keer), shifted uniformly on the
 contact set with adhesion (where the force may be zero or tensile).
 """
@@ -55,14 +54,9 @@ def _warm_start(p: np.ndarray, c: np.ndarray, problem: ContactProblem, initial: 
 def _cold_start(p: np.ndarray, c: np.ndarray, problem: ContactProblem) -> None:
     h0 = problem.heights
     nx, ny = h0.shape
-    if problem.load_control and not problem.adhesive:
+    if problem.load_control:
         p[:nx, :ny] = problem.force / problem.nominal_area
         c[:nx, :ny] = 1
-    elif problem.load_control:
-        top = h0 >= np.quantile(h0, 0.99)
-        c[:nx, :ny] = top
-        share = max(problem.force, 0.0) / problem.pixel_area / max(1, top.sum())
-        p[:nx, :ny] = np.where(top, share, 0.0)
     else:
         c[:nx, :ny] = (h0 - problem.separation) > 0
 
