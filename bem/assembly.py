@@ -14,6 +14,7 @@ import time
 import numpy as np
 
 from asperity.bem import kernels as kr
+from asperity.bem.diagnosis import residual_floor, stall_causes
 from asperity.bem.iteration import IterationState, Stop
 from asperity.bem.options import SolverOptions
 from asperity.bem.problem import ContactProblem
@@ -74,6 +75,25 @@ def _load_check(problem: ContactProblem, stop: Stop, pressure: np.ndarray, force
     return stop
 
 
+def _name_stall_causes(
+    s: IterationState,
+    problem: ContactProblem,
+    options: SolverOptions,
+    stop: Stop,
+    contact_fraction: float,
+    extra: dict,
+) -> tuple[Stop, dict]:
+    """Append the likely causes of a stall (:mod:`asperity.bem.diagnosis`) to its message."""
+    floor = residual_floor(problem, int(np.count_nonzero(s.c)), s.offset, s.psq)
+    causes = stall_causes(problem, contact_fraction, floor, options.tol)
+    if causes:
+        text = "; likely cause: " + "; ".join(sentence for _, sentence in causes)
+    else:
+        text = "; no cause detected (checked: outlier pixels, near-full contact, tol vs precision)"
+    extra = {**extra, "stall_causes": [code for code, _ in causes]}
+    return Stop(stop.status, stop.message + text), extra
+
+
 def _diagnostics(s: IterationState, problem: ContactProblem, counters: dict) -> dict:
     """FFT counters since the start of the solve and the preconditioner fallback."""
     op, pre = problem.op, s.preconditioner
@@ -119,6 +139,8 @@ def assemble_result(
     total_force = float(pressure.sum()) * problem.pixel_area
     stop = _load_check(problem, stop, pressure, total_force)
     n_contact = int(np.count_nonzero(mask))
+    if stop.status == SolverStatus.STALLED:
+        stop, extra = _name_stall_causes(s, problem, options, stop, n_contact / mask.size, extra)
     return ContactResult(
         pressure=pressure,
         gap=gap,

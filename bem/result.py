@@ -163,8 +163,8 @@ class ContactResult:
         return {
             "contact_fraction": float(self.contact_fraction),
             "real_area": float(self.real_area),
-            "normal_force": float(self.normal_force),
-            "mean_gap": float(self.mean_gap),
+            "normal_force": float(self.normal_force) + 0.0,  # + 0.0: never "-0"
+            "mean_gap": float(self.mean_gap) + 0.0,
             "iterations": int(self.nit),
             "converged": bool(self.converged),
             "seconds": float(self.seconds),
