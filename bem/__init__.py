@@ -14,17 +14,23 @@ from typing import Any
 # `asperity --help` and light sub-commands do not load numba kernels they never call.
 _EXPORTS: dict[str, str] = {
     "approach_retract": "asperity.bem.adhesion",
-    "critical_tension": "asperity.bem.adhesion",
+    "critical_tension": "asperity.bem.pohrt_popov",
     "pull_off_force": "asperity.bem.adhesion",
     "crop_to_fast_size": "asperity.bem.fft_backend",
     "fast_size": "asperity.bem.fft_backend",
     "solve_contact": "asperity.bem.polonsky_keer",
     "ContactResult": "asperity.bem.result",
+    "SolverOptions": "asperity.bem.options",
+    "SolverStatus": "asperity.bem.result",
+    "BemInputError": "asperity.bem.errors",
     "load_sweep": "asperity.bem.sweep",
 }
 
 __all__ = [
+    "BemInputError",
     "ContactResult",
+    "SolverOptions",
+    "SolverStatus",
     "approach_retract",
     "critical_tension",
     "crop_to_fast_size",

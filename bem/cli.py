@@ -6,8 +6,10 @@
 
 Several loads (``--load 0.5,1,2``) give a warm-started sweep. ``--json`` prints
 ``contact_fraction``, ``real_area`` (m^2), ``normal_force`` (N), ``mean_gap`` (m), ``iterations``,
-``converged``, ``seconds`` (lists when several loads). Exit status 1 when a solve did not converge
-(results still printed).
+``converged``, ``seconds``, ``status``, ``branch`` (lists when several loads). Exit status 1 when a
+solve did not converge (results still printed), 2 for bad input. Negative loads (``--load -1e-3``,
+a pull) are parsed as numbers; they need adhesion and a loaded state to pull on (a sweep such as
+``--load 1e-3,-1e-4``).
 """
 
 from __future__ import annotations
@@ -16,9 +18,10 @@ import argparse
 import json
 import math
 import os
+import re
 import sys
 
-#: Keys of ``asperity bem --json``, in order (a contract with other tools).
+#: Keys of ``asperity bem --json``, in order (a contract with other tools: add, never rename).
 JSON_KEYS = (
     "contact_fraction",
     "real_area",
@@ -27,16 +30,28 @@ JSON_KEYS = (
     "iterations",
     "converged",
     "seconds",
+    "status",
+    "branch",
 )
+
+# argparse takes "-1e6" for an option unless told that negative numbers (with exponents)
+# are values: this sub-command has no option that looks like a number
+_NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$")
+
+
+def _bad(message: str) -> Exception:
+    from asperity.bem.errors import BemInputError
+
+    return BemInputError(message)
 
 
 def _positive(name: str, text: str) -> float:
     try:
         value = float(text)
     except ValueError:
-        raise ValueError(f"{name}: expected a number, got {text!r}") from None
+        raise _bad(f"{name}: expected a number, got {text!r}") from None
     if not (math.isfinite(value) and value > 0):
-        raise ValueError(f"{name}: expected a finite value > 0, got {text!r}")
+        raise _bad(f"{name}: expected a finite value > 0, got {text!r}")
     return value
 
 
@@ -45,15 +60,13 @@ def _load_list(name: str, text: str) -> list[float]:
     for part in text.split(","):
         part = part.strip()
         if not part:
-            raise ValueError(f"{name}: empty entry in {text!r} (expected e.g. 0.5,1,2)")
+            raise _bad(f"{name}: empty entry in {text!r} (expected e.g. 0.5,1,2)")
         try:
             value = float(part)
         except ValueError:
-            raise ValueError(
-                f"{name}: expected numbers separated by commas, got {text!r}"
-            ) from None
+            raise _bad(f"{name}: expected numbers separated by commas, got {text!r}") from None
         if not math.isfinite(value):
-            raise ValueError(f"{name}: expected finite numbers, got {text!r}")
+            raise _bad(f"{name}: expected finite numbers, got {text!r}")
         values.append(value)
     return values
 
@@ -69,6 +82,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
             "adhesion. SI units: m, Pa, N, J/m^2."
         ),
     )
+    p._negative_number_matcher = _NEGATIVE_NUMBER
     p.add_argument("file", metavar="FILE", help="height map (any format topo.read_surface reads)")
     p.add_argument("--e-star", required=True, help="reduced modulus E* = E/(1-nu^2) (Pa)")
     load = p.add_mutually_exclusive_group(required=True)
@@ -82,7 +96,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         default="plane",
         help="form removed before the solve (default plane; mean only for periodic maps)",
     )
-    p.add_argument("--tol", default="1e-8", help="residual tolerance (see docs/bem.md)")
+    p.add_argument("--tol", default="1e-8", help="residual tolerance in [1e-14, 1e-2]")
     p.add_argument("--max-iter", type=int, default=None, help="iteration cap per solve")
     p.add_argument(
         "--free-boundary",
@@ -98,87 +112,115 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.set_defaults(func=handler)
 
 
-def handler(args: argparse.Namespace) -> int:
-    """Run ``asperity bem``; returns 0, or 1 when a solve did not converge."""
-    # OpenMP threads that spin on a shared 2-core machine slow FFTW down badly; must be set
-    # before pyFFTW loads libgomp (it is imported lazily by bem.fft_backend).
-    os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+def _solver_options(args: argparse.Namespace):
+    """The SolverOptions of the command line, each refusal naming its option."""
+    from asperity.bem.errors import BemInputError
+    from asperity.bem.options import SolverOptions
+
+    tol = _positive("--tol", args.tol)
+    try:
+        SolverOptions(tol=tol)
+    except BemInputError as exc:
+        raise _bad(f"--tol: {exc}".replace("solve_contact: tol ", "")) from None
+    try:
+        return SolverOptions(tol=tol, max_iter=args.max_iter)
+    except BemInputError as exc:
+        raise _bad(f"--max-iter: {exc}".replace("solve_contact: max_iter ", "")) from None
+
+
+def _adhesion(text: str) -> float:
+    try:
+        w = float(text)
+    except ValueError:
+        raise _bad(f"--work-of-adhesion: expected a number, got {text!r}") from None
+    if not (math.isfinite(w) and w >= 0):
+        raise _bad(f"--work-of-adhesion: expected a finite value >= 0, got {w}")
+    return w
+
+
+def _loads(args: argparse.Namespace, adhesive: bool) -> tuple[str, list[float]]:
+    if args.load is not None:
+        kind, values = "normal_force", _load_list("--load", args.load)
+    else:
+        kind, values = "mean_pressure", _load_list("--mean-pressure", args.mean_pressure)
+    if not adhesive and any(v <= 0 for v in values):
+        raise _bad(
+            f"--{kind.replace('_', '-')}: loads must be > 0 without adhesion (a rigid flat "
+            f"cannot pull on a non-adhesive surface), got {min(values):g}"
+        )
+    return kind, values
+
+
+def _read_heights(args: argparse.Namespace):
+    """Heights (m) and pixel sizes (m) of the file, levelled (and cropped if asked)."""
     import numpy as np
 
     from asperity import topo
-    from asperity.bem import crop_to_fast_size, load_sweep, solve_contact
+    from asperity.bem import crop_to_fast_size
 
-    e_star = _positive("--e-star", args.e_star)
-    tol = _positive("--tol", args.tol)
-    try:
-        w = float(args.work_of_adhesion)
-    except ValueError:
-        raise ValueError(
-            f"--work-of-adhesion: expected a number, got {args.work_of_adhesion!r}"
-        ) from None
-    if not (math.isfinite(w) and w >= 0):
-        raise ValueError(f"--work-of-adhesion: expected a finite value >= 0, got {w}")
-    pixel_size = _positive("--pixel-size", args.pixel_size) if args.pixel_size is not None else None
-    if args.max_iter is not None and args.max_iter < 1:
-        raise ValueError(f"--max-iter: expected an integer >= 1, got {args.max_iter}")
-    if args.load is not None:
-        loads = _load_list("--load", args.load)
-        kind = "normal_force"
-    else:
-        loads = _load_list("--mean-pressure", args.mean_pressure)
-        kind = "mean_pressure"
-    if w == 0 and any(v <= 0 for v in loads):
-        raise ValueError(f"--{kind.replace('_', '-')}: loads must be > 0 without adhesion")
-
+    pixel_size = _positive("--pixel-size", args.pixel_size) if args.pixel_size else None
     surface = topo.read_surface(args.file, pixel_size=pixel_size)
     if not isinstance(surface, topo.HeightMap):
-        raise ValueError(f"{args.file}: bem needs a 2D height map, the file holds a line profile")
+        raise _bad(f"{args.file}: bem needs a 2D height map, the file holds a line profile")
     surface = topo.level(surface, method=args.detrend)
     heights = np.asarray(surface.heights, dtype=np.float64)
     if surface.n_missing:
-        raise ValueError(
+        raise _bad(
             f"{args.file}: heights: {surface.n_missing} missing (NaN) pixels; fill or crop them "
             "before a contact solve"
         )
     if args.crop_to_fast_size:
         heights = np.ascontiguousarray(crop_to_fast_size(heights))
-    dx, dy = float(surface.dx), float(surface.dy)
+    return heights, float(surface.dx), float(surface.dy)
+
+
+def _print_table(args, heights, dx, dy, e_star, w, rows) -> None:
+    print(
+        f"{args.file}: {heights.shape[0]} x {heights.shape[1]} pixels, dx = {dx:.4g} m, "
+        f"dy = {dy:.4g} m, E* = {e_star:.4g} Pa, w = {w:.4g} J/m^2"
+    )
+    print(
+        f"{'normal_force (N)':>18} {'contact_fraction':>17} {'real_area (m^2)':>16} "
+        f"{'mean_gap (m)':>13} {'iterations':>10} {'converged':>9} {'seconds':>8}"
+    )
+    for row in rows:
+        print(
+            f"{row['normal_force']:18.6g} {row['contact_fraction']:17.6g} "
+            f"{row['real_area']:16.6g} {row['mean_gap']:13.6g} {row['iterations']:10d} "
+            f"{row['converged']!s:>9} {row['seconds']:8.3f}"
+        )
+
+
+def handler(args: argparse.Namespace) -> int:
+    """Run ``asperity bem``; returns 0, or 1 when a solve did not converge."""
+    # OpenMP threads that spin on a shared 2-core machine slow FFTW down badly; must be set
+    # before pyFFTW loads libgomp (it is imported lazily by bem.fft_backend).
+    os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+    from asperity.bem import load_sweep, solve_contact
+
+    e_star = _positive("--e-star", args.e_star)
+    options = _solver_options(args)
+    w = _adhesion(args.work_of_adhesion)
+    kind, loads = _loads(args, w > 0)
+    heights, dx, dy = _read_heights(args)
     nominal = heights.size * dx * dy
     forces = [v if kind == "normal_force" else v * nominal for v in loads]
-    options = dict(
-        work_of_adhesion=w, tol=tol, max_iter=args.max_iter, periodic=not args.free_boundary
-    )
+    common = dict(work_of_adhesion=w, options=options, periodic=not args.free_boundary)
     if len(forces) == 1:
-        results = [solve_contact(heights, dx, dy, e_star, normal_force=forces[0], **options)]
+        results = [solve_contact(heights, dx, dy, e_star, normal_force=forces[0], **common)]
     else:
-        results = load_sweep(heights, dx, dy, e_star, forces, **options)
-
+        results = load_sweep(heights, dx, dy, e_star, forces, **common)
     rows = [r.summary() for r in results]
     if args.json:
-        if len(rows) == 1:
-            out = {k: rows[0][k] for k in JSON_KEYS}
-        else:
-            out = {k: [row[k] for row in rows] for k in JSON_KEYS}
-        print(json.dumps(out))
+        pick = (lambda k: rows[0][k]) if len(rows) == 1 else (lambda k: [r[k] for r in rows])
+        print(json.dumps({k: pick(k) for k in JSON_KEYS}))
     else:
-        print(
-            f"{args.file}: {heights.shape[0]} x {heights.shape[1]} pixels, dx = {dx:.4g} m, "
-            f"dy = {dy:.4g} m, E* = {e_star:.4g} Pa, w = {w:.4g} J/m^2"
-        )
-        print(
-            f"{'normal_force (N)':>18} {'contact_fraction':>17} {'real_area (m^2)':>16} "
-            f"{'mean_gap (m)':>13} {'iterations':>10} {'converged':>9} {'seconds':>8}"
-        )
-        for row in rows:
-            print(
-                f"{row['normal_force']:18.6g} {row['contact_fraction']:17.6g} "
-                f"{row['real_area']:16.6g} {row['mean_gap']:13.6g} {row['iterations']:10d} "
-                f"{row['converged']!s:>9} {row['seconds']:8.3f}"
-            )
+        _print_table(args, heights, dx, dy, e_star, w, rows)
     failed = [r for r in results if not r.converged]
     for r in failed:
         print(
-            f"asperity bem: solve at F = {r.normal_force:.6g} N did not converge: {r.message}",
+            f"asperity bem: solve at F = {r.normal_force + 0.0:.6g} N did not converge "
+            f"(status {r.status}): {r.message}",
             file=sys.stderr,
         )
     return 1 if failed else 0

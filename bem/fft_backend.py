@@ -30,6 +30,8 @@ from pathlib import Path
 import numpy as np
 from numba import njit
 
+from asperity.bem.errors import BemInputError
+
 __all__ = [
     "Convolution",
     "available_backends",
@@ -119,7 +121,7 @@ def fast_size(n: int) -> int:
         A grid size (pixels), >= 1.
     """
     if n < 1:
-        raise ValueError(f"fast_size: expected a size >= 1, got {n}")
+        raise BemInputError(f"fast_size: expected a size >= 1, got {n}")
     m = n
     while not _is_smooth(m):
         m -= 1
@@ -146,7 +148,9 @@ def crop_to_fast_size(heights: np.ndarray, *, warn: bool = True) -> np.ndarray:
     """
     heights = np.asarray(heights)
     if heights.ndim != 2:
-        raise ValueError(f"crop_to_fast_size: expected a 2D height map, got shape {heights.shape}")
+        raise BemInputError(
+            f"crop_to_fast_size: expected a 2D height map, got shape {heights.shape}"
+        )
     nx, ny = heights.shape
     mx, my = fast_size(nx), fast_size(ny)
     if warn and (mx, my) != (nx, ny):
@@ -259,15 +263,17 @@ class Convolution:
         self.spectral_shape = (nx, ny // 2 + 1)
         multiplier = np.asarray(multiplier, dtype=np.float64)
         if multiplier.shape != self.spectral_shape:
-            raise ValueError(
+            raise BemInputError(
                 f"Convolution: multiplier shape {multiplier.shape} does not match the half "
                 f"spectrum {self.spectral_shape} of the grid {self.shape}"
             )
         self.threads = int(threads) if threads else default_threads()
         if backend not in ("auto", "pyfftw", "scipy"):
-            raise ValueError(f"fft_backend: expected 'auto', 'pyfftw' or 'scipy', got {backend!r}")
+            raise BemInputError(
+                f"fft_backend: expected 'auto', 'pyfftw' or 'scipy', got {backend!r}"
+            )
         if backend == "pyfftw" and "pyfftw" not in available_backends():
-            raise ValueError("fft_backend='pyfftw' requested but pyFFTW is not installed")
+            raise BemInputError("fft_backend='pyfftw' requested but pyFFTW is not installed")
         self._fwd = None
         self.calls = 0  # convolutions done (a machine-independent cost measure)
         self.seconds = 0.0  # wall time spent in them (s)

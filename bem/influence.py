@@ -38,6 +38,8 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from asperity.bem.errors import BemInputError
+
 __all__ = [
     "influence_multiplier",
     "love_patch_deflection",
@@ -55,10 +57,12 @@ def _wavevectors(nx: int, ny: int, dx: float, dy: float) -> tuple[np.ndarray, np
 
 def _check(nx: int, ny: int, dx: float, dy: float, e_star: float) -> None:
     if nx < 1 or ny < 1:
-        raise ValueError(f"influence kernel: grid must be at least 1 x 1 pixels, got {nx} x {ny}")
+        raise BemInputError(
+            f"influence kernel: grid must be at least 1 x 1 pixels, got {nx} x {ny}"
+        )
     for name, val in (("dx", dx), ("dy", dy), ("e_star", e_star)):
         if not (np.isfinite(val) and val > 0):
-            raise ValueError(
+            raise BemInputError(
                 f"influence kernel: {name} must be a positive finite number, got {val}"
             )
 
@@ -143,7 +147,7 @@ def love_periodic_multiplier(
     """
     _check(nx, ny, dx, dy, e_star)
     if n_alias < 1:
-        raise ValueError(f"love_periodic_multiplier: n_alias must be >= 1, got {n_alias}")
+        raise BemInputError(f"love_periodic_multiplier: n_alias must be >= 1, got {n_alias}")
     qx, qy = _wavevectors(nx, ny, dx, dy)
     out = _alias_sum(qx, qy, float(dx), float(dy), int(n_alias)) * (2.0 / e_star)
     out[0, 0] = 0.0
@@ -239,4 +243,4 @@ def influence_multiplier(
         return point_force_multiplier(nx, ny, dx, dy, e_star), (nx, ny)
     if kernel == "love":
         return love_periodic_multiplier(nx, ny, dx, dy, e_star), (nx, ny)
-    raise ValueError(f"kernel: expected 'point' or 'love', got {kernel!r}")
+    raise BemInputError(f"kernel: expected 'point' or 'love', got {kernel!r}")

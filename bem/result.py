@@ -1,12 +1,53 @@
-"""The result of one boundary-element contact solve (scipy.optimize-like status fields)."""
+"""The result of one boundary-element contact solve (scipy.optimize-like status fields).
+
+Status codes (``ContactResult.status``, :class:`SolverStatus`), the same for every bem result:
+
+====  ================  ======================================================================
+code  name              meaning
+====  ================  ======================================================================
+0     CONVERGED         residual below ``tol`` with the contact set settled and the imposed
+                        load carried (also: displacement control with the flat beyond the
+                        highest point, an exact no-contact state)
+1     ITERATION_CAP     ``max_iter`` iterations done, residual still above ``tol``
+2     STALLED           no progress: the residual did not decrease by 0.1 % in
+                        ``stall_window`` iterations, or the search direction vanished; the
+                        message names the likely cause it detects (outlier pixels, near-full
+                        contact, a tolerance below the attainable precision)
+3     CONTACT_LOST      every element left the contact set (an adhesive load beyond pull-off)
+4     LOAD_NOT_CARRIED  the iteration ended but the contact cannot carry the imposed load
+                        (force not reached, or elements in contact below -Sigma): a tensile
+                        load needs a start on the unloading branch (``initial=``)
+====  ================  ======================================================================
+
+``success`` (and its alias ``converged``) is ``status == 0``.
+"""
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from enum import IntEnum
 
 import numpy as np
 
-__all__ = ["ContactResult"]
+__all__ = ["BRANCHES", "ContactResult", "SolverStatus"]
+
+
+class SolverStatus(IntEnum):
+    """Outcome of a solve (see the module docstring for the meaning of each code)."""
+
+    CONVERGED = 0
+    ITERATION_CAP = 1
+    STALLED = 2
+    CONTACT_LOST = 3
+    LOAD_NOT_CARRIED = 4
+
+
+#: Values of ``ContactResult.branch``: which solution of the (history-dependent) adhesive
+#: problem a result is. "unique": no adhesion, the solution does not depend on the path;
+#: "loading": reached by increasing the load (or the approach) from first contact;
+#: "unloading": reached by decreasing it from a loaded state; "from initial": continued from
+#: a caller's pressure field whose history the solver does not know.
+BRANCHES = ("unique", "loading", "unloading", "from initial")
 
 
 @dataclass(frozen=True, eq=False)
@@ -46,10 +87,9 @@ class ContactResult:
         with adhesion at every Pohrt-Popov delamination step, and the preconditioned
         iteration minimises an energy norm, not this residual. A warm start shows as a small
         first value.
-    converged : bool
-        True only when the residual fell below ``tol`` with the contact set settled and the
-        imposed force reached (``success`` is the same flag); False for an iteration cap, a
-        stall, a lost contact or a force that cannot be carried.
+    status : int
+        Outcome code (:class:`SolverStatus`): 0 converged, 1 iteration cap, 2 stalled,
+        3 contact lost, 4 load not carried. ``success`` and ``converged`` are ``status == 0``.
     message : str
         Why the iteration stopped: starts with "converged", "iteration cap reached",
         "stalled", "contact lost", "no element in contact" (displacement control beyond the
@@ -68,7 +108,13 @@ class ContactResult:
         (wall time in them, s), ``fft_backend``, ``fft_threads``,
         ``preconditioner_dropped_at`` (iteration where a stalled preconditioned iteration fell
         back to plain Polonsky-Keer, or None), and for a coarse-grid start ``coarse_iterations``,
-        ``coarse_convolutions``, ``coarse_seconds``.
+        ``coarse_convolutions``, ``coarse_seconds``; for a stall ``stall_causes`` (the
+        causes named in the message); for an adhesive solve on the loading branch
+        ``loading_iterations``, ``loading_convolutions`` and ``loading_message`` of the
+        non-adhesive solve it starts from (not counted in ``nit``).
+    branch : str
+        Which solution this is (one of :data:`BRANCHES`): "unique" without adhesion,
+        "loading", "unloading" or "from initial" with adhesion.
     """
 
     pressure: np.ndarray
@@ -82,7 +128,7 @@ class ContactResult:
     separation: float
     nit: int
     residual_history: np.ndarray
-    converged: bool
+    status: int
     message: str
     seconds: float
     dx: float
@@ -90,6 +136,7 @@ class ContactResult:
     critical_tension: float = 0.0
     residual: float = float("nan")
     extra: dict = field(default_factory=dict)
+    branch: str = "unique"
 
     @property
     def iterations(self) -> int:
@@ -98,8 +145,13 @@ class ContactResult:
 
     @property
     def success(self) -> bool:
-        """Same as ``converged`` (scipy.optimize naming)."""
-        return self.converged
+        """The solve converged: ``status == 0`` (scipy.optimize naming)."""
+        return self.status == SolverStatus.CONVERGED
+
+    @property
+    def converged(self) -> bool:
+        """Same as ``success``."""
+        return self.success
 
     @property
     def nominal_area(self) -> float:
@@ -111,11 +163,13 @@ class ContactResult:
         return {
             "contact_fraction": float(self.contact_fraction),
             "real_area": float(self.real_area),
-            "normal_force": float(self.normal_force),
-            "mean_gap": float(self.mean_gap),
+            "normal_force": float(self.normal_force) + 0.0,  # + 0.0: never "-0"
+            "mean_gap": float(self.mean_gap) + 0.0,
             "iterations": int(self.nit),
             "converged": bool(self.converged),
             "seconds": float(self.seconds),
+            "status": int(self.status),
+            "branch": self.branch,
         }
 
     def __repr__(self) -> str:
@@ -123,5 +177,6 @@ class ContactResult:
             f"ContactResult(shape={self.pressure.shape}, "
             f"contact_fraction={self.contact_fraction:.6g}, "
             f"normal_force={self.normal_force:.6g} N, mean_gap={self.mean_gap:.6g} m, "
-            f"nit={self.nit}, converged={self.converged}, message={self.message!r})"
+            f"nit={self.nit}, status={self.status}, branch={self.branch!r}, "
+            f"message={self.message!r})"
         )

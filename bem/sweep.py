@@ -20,6 +20,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from asperity.bem.errors import BemInputError
 from asperity.bem.polonsky_keer import solve_contact
 from asperity.bem.result import ContactResult
 
@@ -64,10 +65,10 @@ def load_sweep(
     """
     for key in ("normal_force", "mean_pressure", "separation"):
         if key in options:
-            raise ValueError(f"load_sweep: pass the loads as normal_forces, not {key}=")
+            raise BemInputError(f"load_sweep: pass the loads as normal_forces, not {key}=")
     forces = [float(f) for f in normal_forces]
     if not forces:
-        raise ValueError("load_sweep: normal_forces is empty")
+        raise BemInputError("load_sweep: normal_forces is empty")
     previous = options.pop("initial", None)
     # the secant start only without adhesion (solve_contact validates the value itself)
     secant = isinstance(options.get("work_of_adhesion", 0.0), (int, float)) and not (

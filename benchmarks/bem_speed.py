@@ -59,7 +59,7 @@ import json, os, resource, sys, time
 sys.path.insert(0, {root!r})
 import numpy as np
 from asperity.bem import solve_contact
-from asperity.bem.polonsky_keer import _operator
+from asperity.bem.operators import influence_operator as _operator
 h = np.load({surface!r})
 n = h.shape[0]
 t0 = time.perf_counter()

@@ -15,6 +15,8 @@ KEYS = [
     "iterations",
     "converged",
     "seconds",
+    "status",
+    "branch",
 ]
 
 
@@ -141,6 +143,10 @@ def test_table_output_and_adhesion(capsys, npy_surface):
         (["--load", "1,x", "--e-star", "1e9"], "--load"),
         (["--load", "-1", "--e-star", "1e9"], "> 0 without adhesion"),
         (["--load", "1", "--e-star", "1e9", "--tol", "-1"], "--tol"),
+        (["--load", "1", "--e-star", "1e9", "--tol", "1e300"], "--tol"),
+        (["--load", "1", "--e-star", "1e9", "--tol", "1e-20"], "precision"),
+        (["--load", "1", "--e-star", "1e9", "--max-iter", "0"], "--max-iter"),
+        (["--mean-pressure", "-1e6", "--e-star", "1e9"], "> 0 without adhesion"),
     ],
 )
 def test_bad_input_exits_2(capsys, npy_surface, extra, message):
@@ -187,3 +193,22 @@ def test_nan_pixels_are_refused(capsys, tmp_path):
         ],
     )
     assert status == 2 and "holes.npy" in err and "missing" in err
+
+
+def test_negative_mean_pressure_is_a_tensile_load(capsys, npy_surface):
+    """ "-1e6" is parsed as a number; with adhesion a pull from scratch is not on the loading
+    branch: status 4, exit 1, and the message says what to do."""
+    argv = ["bem", str(npy_surface), "--pixel-size", "1e-6", "--e-star", "1e9", "--json"]
+    argv += ["--mean-pressure", "-1e6", "--work-of-adhesion", "0.05"]
+    status, out, err = _run(capsys, argv)
+    assert status == 1
+    data = json.loads(out)
+    assert data["status"] == 4 and data["converged"] is False and data["branch"] == "loading"
+    assert "loading branch" in err and "status 4" in err
+
+
+def test_zero_adhesive_load_prints_no_negative_zero(capsys, npy_surface):
+    argv = ["bem", str(npy_surface), "--pixel-size", "1e-6", "--e-star", "1e9"]
+    status, out, _ = _run(capsys, [*argv, "--load", "0", "--work-of-adhesion", "0.05"])
+    assert status == 0
+    assert "-0 " not in out and "-0\n" not in out

@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from asperity.bem import critical_tension, load_sweep, solve_contact
-from asperity.bem.adhesion import pohrt_popov_chi
+from asperity.bem import SolverStatus, critical_tension, load_sweep, solve_contact
 from asperity.bem.influence import love_patch_deflection
+from asperity.bem.pohrt_popov import pohrt_popov_chi
 from asperity.pipelines.cli import main
 
 
@@ -121,7 +121,7 @@ def test_status_fields_consistent_in_every_outcome(rough):
         "converged": solve_contact(h, 1.0, 1.0, 1.0, mean_pressure=0.04),
         "iteration cap": solve_contact(h, 1.0, 1.0, 1.0, mean_pressure=0.04, max_iter=3),
         "stalled": solve_contact(
-            h, 1.0, 1.0, 1.0, mean_pressure=0.04, tol=1e-30, stall_window=20, max_iter=5000
+            h + 1e3, 1.0, 1.0, 1.0, mean_pressure=0.04, tol=1e-14, stall_window=20, max_iter=5000
         ),
     }
     for kind, res in outcomes.items():
@@ -130,7 +130,7 @@ def test_status_fields_consistent_in_every_outcome(rough):
         assert res.nit == res.iterations
         assert len(res.residual_history) == res.nit + 1
         assert res.residual == res.residual_history[-1]
-        tol = 1e-30 if kind == "stalled" else 1e-8
+        tol = 1e-14 if kind == "stalled" else 1e-8
         assert (res.residual < tol) is res.converged
         assert res.seconds > 0
         assert res.summary()["converged"] is res.converged
@@ -145,7 +145,8 @@ def test_cold_tensile_load_is_not_reported_as_converged(contact_ok):
     h = _bump()
     res = solve_contact(h, 1.0, 1.0, 1.0, normal_force=-1.0, work_of_adhesion=0.1)
     assert not res.converged
-    assert "-Sigma" in res.message or "contact lost" in res.message
+    assert res.status == SolverStatus.LOAD_NOT_CARRIED and res.branch == "loading"
+    assert "loading branch" in res.message and "initial=" in res.message
 
 
 def test_sweep_into_full_contact(rough, contact_ok):

@@ -51,8 +51,9 @@ def test_pull_off_force_converges_to_jkr(cycles):
     """Pohrt & Popov: the mesh-dependent criterion gives the JKR pull-off within a few per cent
     once the critical contact radius spans ~20 elements; the error falls under refinement."""
     errs = {n: pull_off_force(c[3]) / P_PULL - 1 for n, c in cycles.items()}
-    assert 0 < errs[64] < 0.15  # a_c = 10 dx (measured +11.0 %)
-    assert 0 < errs[128] < 0.07  # a_c = 20 dx (measured +4.6 %)
+    # 40-step retraction (measured +11.0 %, +4.6 %; converged retraction: +13.0 %, +6.6 %)
+    assert 0 < errs[64] < 0.15  # a_c = 10 dx
+    assert 0 < errs[128] < 0.07  # a_c = 20 dx
     assert errs[128] < 0.6 * errs[64]
 
 

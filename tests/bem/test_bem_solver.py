@@ -101,9 +101,11 @@ def test_iteration_cap_reports_non_convergence(rough):
 
 
 def test_unreachable_tolerance_stalls_or_caps(rough):
-    h = rough(64, seed=1)
+    """Heights 1e5 rms above their datum: the gaps' round-off (2.2e-16 x 1e5) is far above what
+    tol = 1e-14 asks; the solve says so instead of looping."""
+    h = rough(64, seed=1) + 1e5
     res = solve_contact(
-        h, 1.0, 1.0, 1.0, mean_pressure=0.04, tol=1e-30, stall_window=30, max_iter=2000
+        h, 1.0, 1.0, 1.0, mean_pressure=0.04, tol=1e-14, stall_window=30, max_iter=2000
     )
     assert not res.converged
     assert res.message.startswith(("stalled", "iteration cap"))
@@ -170,13 +172,21 @@ def test_nan_heights_are_refused():
         solve_contact(np.zeros((8, 8)), -1.0, 1.0, 1.0, mean_pressure=1.0)
 
 
-def test_adhesion_enlarges_contact_at_equal_load(rough, contact_ok):
-    """Same rough surface and force: the adhesive contact (tension down to -Sigma) is larger."""
+def test_adhesion_enlarges_contact_on_unloading_only(rough, contact_ok):
+    """Same rough surface and force. Loading from first contact (Pohrt-Popov: elements enter
+    only where the gap closes) gives the non-adhesive contact; unloading from a higher force
+    keeps elements in tension (down to -Sigma), so the contact is larger: hysteresis."""
     h = rough(64, seed=1) * 1e-6
     plain = solve_contact(h, 1e-6, 1e-6, 1e9, normal_force=0.1)
-    sticky = solve_contact(h, 1e-6, 1e-6, 1e9, normal_force=0.1, work_of_adhesion=0.05)
-    assert plain.converged and sticky.converged, sticky.message
-    contact_ok(plain, h, force=0.1)
-    contact_ok(sticky, h, force=0.1)
-    assert sticky.critical_tension > 0 and sticky.pressure.min() < 0
-    assert sticky.contact_fraction > plain.contact_fraction
+    loading = solve_contact(h, 1e-6, 1e-6, 1e9, normal_force=0.1, work_of_adhesion=0.05)
+    assert plain.converged and loading.converged, loading.message
+    assert loading.branch == "loading" and plain.branch == "unique"
+    np.testing.assert_array_equal(loading.contact_mask, plain.contact_mask)
+    top = solve_contact(h, 1e-6, 1e-6, 1e9, normal_force=0.4, work_of_adhesion=0.05)
+    unloading = solve_contact(
+        h, 1e-6, 1e-6, 1e9, normal_force=0.1, work_of_adhesion=0.05, initial=top
+    )
+    assert unloading.converged and unloading.branch == "unloading", unloading.message
+    contact_ok(unloading, h, force=0.1)
+    assert unloading.critical_tension > 0 and unloading.pressure.min() < 0
+    assert unloading.contact_fraction > plain.contact_fraction

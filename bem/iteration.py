@@ -1,0 +1,424 @@
+"""One Polonsky-Keer iteration as named steps on a small state object.
+
+An iteration (Polonsky & Keer 1999, with the preconditioner of Vollebregt 2014 and the
+Pohrt-Popov active set for adhesion) is:
+
+1. :func:`measure_gap`: the gap statistics on the contact set Omega_c (under load control the
+   rigid-body term is the mean gap there) and the squared gap residual G;
+2. the direction: :func:`plain_pk_iteration` uses t = g + beta t (beta = G / G_old);
+   :func:`preconditioned_pk_iteration` t = z - mean(z) + beta t, z = K^-1 g on Omega_c;
+3. :func:`check_progress`: the convergence residual, the Pohrt-Popov schedule
+   (:func:`pohrt_popov_schedule`: when the contact set may change), stall detection;
+4. :func:`step_length`: tau = sum g t / sum t K t;
+5. :func:`apply_step`: p -= tau t, the active-set update (elements leave where p < -Sigma, or
+   p < 0 without adhesion; enter where g < 0), the gap update, and the force restoration
+   (:func:`restore_force`) or the cheap incremental gap (:func:`advance_gap`).
+
+Each step reads and writes an :class:`IterationState`; a step that ends the iteration returns
+a :class:`Stop`. The loop itself is :func:`iterate`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import NamedTuple
+
+import numpy as np
+
+from asperity.bem import kernels as kr
+from asperity.bem.fft_backend import Convolution
+from asperity.bem.operators import stiffness_preconditioner
+from asperity.bem.options import SolverOptions
+from asperity.bem.problem import ContactProblem
+from asperity.bem.result import SolverStatus
+
+__all__ = ["IterationState", "Stop", "iterate", "new_state"]
+
+#: Relative round-off of float64 (used for the floor of the gap residual).
+EPS = 2.2e-16
+
+
+class Stop(NamedTuple):
+    """Why the iteration ended: a :class:`SolverStatus` and a message."""
+
+    status: SolverStatus
+    message: str
+
+
+class GapMeasure(NamedTuple):
+    """Contact-set size and squared gap residual G (m^2) of the current state."""
+
+    n_contact: int
+    g_sq: float
+
+
+#: Returned by :func:`check_progress` when the preconditioned iteration stopped progressing.
+FALL_BACK = "fall back to plain Polonsky-Keer"
+
+
+@dataclass(eq=False)
+class IterationState:
+    """The arrays and scalars a Polonsky-Keer iteration carries from one step to the next.
+
+    Arrays live on the FFT grid; the ``*f`` attributes are flat views for the kernels. ``w``
+    holds the gap u - h without the rigid-body term (m), or a fresh deflection K p while
+    ``stats`` is None; ``offset`` is the rigid-body term (the mean gap on Omega_c under load
+    control, -d under displacement control), ``shift`` the reference the gap statistics are
+    taken about.
+    """
+
+    p: np.ndarray
+    c: np.ndarray
+    w: np.ndarray
+    t: np.ndarray
+    r: np.ndarray
+    pre: Convolution | None
+    s_arr: np.ndarray | None
+    z_arr: np.ndarray | None
+    psq: float
+    offset: float
+    shift: float
+    last_allowed: bool
+    stats: kr.GapStats | None = None
+    g_old: float = 0.0
+    gz_old: float = 0.0
+    reset: bool = True
+    best: float = math.inf
+    best_it: int = 0
+    steps: int = 0
+    since_refresh: int = 0
+    residual: float = math.inf
+    allow_change: bool = True
+    frozen_its: int = 0
+    inner_target: float = 0.0
+    dropped_at: int | None = None
+    history: list[float] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        self.pf, self.cf, self.wf, self.tf, self.rf = (
+            a.ravel() for a in (self.p, self.c, self.w, self.t, self.r)
+        )
+        self.sf = self.s_arr.ravel() if self.s_arr is not None else None
+        self.zf = self.z_arr.ravel() if self.z_arr is not None else None
+        # the preconditioner is kept here for its counters after a fallback drops it
+        self.preconditioner = self.pre
+        self.pre_calls_at_start = self.pre.calls if self.pre is not None else 0
+        self.pre_seconds_at_start = self.pre.seconds if self.pre is not None else 0.0
+
+
+def new_state(
+    problem: ContactProblem, p: np.ndarray, c: np.ndarray, options: SolverOptions
+) -> IterationState:
+    """The state at the starting pressure ``p`` (Pa) and contact set ``c``: u = K p computed."""
+    op = problem.op
+    w = op.empty()
+    op(p, out=w)
+    pre = None
+    if options.precondition:
+        pre = stiffness_preconditioner(op, problem.dx, problem.dy, problem.e_star)
+    nx, ny = problem.heights.shape
+    load = problem.load_control
+    offset = 0.0 if load else -problem.separation
+    return IterationState(
+        p=p,
+        c=c,
+        w=w,
+        t=op.zeros(),
+        r=op.empty(),
+        pre=pre,
+        s_arr=op.empty() if pre is not None else None,
+        z_arr=op.empty() if pre is not None else None,
+        psq=kr.dot(p.ravel(), p.ravel()),
+        offset=offset,
+        shift=float(np.mean(w[:nx, :ny] - problem.heights)) if load else offset,
+        last_allowed=not problem.adhesive,
+    )
+
+
+def lost_contact(s: IterationState, problem: ContactProblem) -> Stop:
+    """No element remains in contact: converged only under displacement control with the flat
+    beyond the highest point (p = 0 everywhere is then the exact solution)."""
+    s.residual = math.inf
+    status, message = (
+        SolverStatus.CONTACT_LOST,
+        (
+            "contact lost: no element remains in contact (the imposed load is below the "
+            "pull-off force, or the separation exceeds the highest point)"
+            if problem.adhesive or not problem.load_control
+            else "no contact"
+        ),
+    )
+    if not problem.load_control:
+        top = float(problem.heights.max())
+        if top <= problem.separation:
+            s.residual = 0.0
+            status, message = SolverStatus.CONVERGED, "no element in contact at this separation"
+        else:
+            status, message = (
+                SolverStatus.STALLED,
+                (
+                    f"stalled: every element left the contact set but the flat at separation "
+                    f"{problem.separation:.6g} m penetrates the highest point ({top:.6g} m)"
+                ),
+            )
+    s.history.append(s.residual)
+    return Stop(status, message)
+
+
+def measure_gap(s: IterationState, problem: ContactProblem) -> GapMeasure | Stop:
+    """Step 1: gap statistics on Omega_c (from w = K p if fresh), the rigid-body term under load
+    control, and G = sum_c (g - g_mean)^2 floored at the round-off of the gaps."""
+    if s.stats is None:
+        s.stats = kr.deflection_to_gap_stats(s.wf, problem.grid_heights.ravel(), s.cf, s.shift)
+    n_c, s1, s2 = s.stats
+    s.stats = None
+    if n_c == 0:
+        return lost_contact(s, problem)
+    if not problem.load_control:
+        return GapMeasure(n_c, s2)
+    mean_c = s1 / n_c
+    s.offset = s.shift + mean_c
+    # below the round-off floor of the gaps the difference carries no information
+    floor = n_c * (EPS * (problem.height_scale + abs(s.offset))) ** 2
+    s.shift = s.offset
+    return GapMeasure(n_c, max(s2 - s1 * mean_c, floor))
+
+
+def pohrt_popov_schedule(s: IterationState, problem: ContactProblem, g_sq: float, tol: float):
+    """The Pohrt-Popov active-set iteration: the contact set stays frozen while the conjugate
+    gradients solve on it, until its gap residual dropped 100-fold (or reached ``tol``, or 100
+    iterations passed); then elements delaminate (p < -Sigma) or attach (g < 0) in one step."""
+    gap_res = math.sqrt(g_sq / s.psq) * problem.stiffness if s.psq > 0 else math.inf
+    if s.frozen_its == 0:
+        s.inner_target = max(tol, 1e-2 * gap_res)
+    s.allow_change = gap_res <= s.inner_target or s.frozen_its >= 100
+
+
+def check_progress(
+    s: IterationState, problem: ContactProblem, options: SolverOptions, g_sq: float, pen: float
+) -> Stop | str | None:
+    """Step 3: the residual (rms gap violation x E*/sqrt(dx dy) over the rms pressure), its
+    history, convergence, the preconditioner fallback (:data:`FALL_BACK`) and stalls."""
+    residual = math.sqrt((g_sq + pen) / s.psq) * problem.stiffness if s.psq > 0 else math.inf
+    s.residual = residual
+    s.history.append(residual)
+    if problem.adhesive:
+        pohrt_popov_schedule(s, problem, g_sq, options.tol)
+    if residual < options.tol and s.last_allowed:
+        return Stop(
+            SolverStatus.CONVERGED, f"converged: residual {residual:.3g} < tol {options.tol:.3g}"
+        )
+    if residual < options.tol:
+        s.allow_change = True
+    it = s.steps
+    if residual < s.best * (1 - 1e-3):
+        s.best, s.best_it = residual, it
+    elif (
+        s.pre is not None
+        and not problem.adhesive  # there the residual jumps at every delamination step
+        and (it - s.best_it >= options.stall_window // 2 or residual > 1e3 * s.best)
+    ):
+        return FALL_BACK
+    elif it - s.best_it >= options.stall_window:
+        return Stop(
+            SolverStatus.STALLED,
+            f"stalled: the residual ({residual:.3g}, best {s.best:.3g}) has not decreased for "
+            f"{options.stall_window} iterations (tol {options.tol:.3g})",
+        )
+    return None
+
+
+def step_length(
+    s: IterationState, problem: ContactProblem, options: SolverOptions, sgt: float, npen: int
+) -> float | Stop:
+    """Step 4: r = K t (with sum t r fused in Fourier space) and tau = sum g t / sum t r."""
+    rt = problem.op.with_energy(s.t, s.r)
+    if rt > 0:
+        return sgt / rt
+    below = problem.adhesive and bool(np.any((s.pf < -problem.critical_tension) & (s.cf != 0)))
+    if s.allow_change and (npen > 0 or below):
+        # the linear problem on the current contact set is solved exactly (t = 0), but the set
+        # itself is wrong: penetrating elements must enter, or (adhesion) elements below
+        # -Sigma delaminate. Take the set-change step alone (tau = 0) instead of stopping
+        # before it (seen on a single-element adhesive contact under tension)
+        return 0.0
+    if s.residual < options.tol:
+        # the linear problem on the set is solved exactly and the set is settled (nothing
+        # penetrates, nothing below -Sigma): a converged state, e.g. a flat map in full contact
+        return Stop(
+            SolverStatus.CONVERGED,
+            f"converged: residual {s.residual:.3g} < tol {options.tol:.3g} and the contact set "
+            "is settled",
+        )
+    return Stop(
+        SolverStatus.STALLED,
+        f"stalled: the search direction vanished (curvature {rt:.3g}) at residual "
+        f"{s.residual:.3g} > tol {options.tol:.3g}",
+    )
+
+
+def entering_gain(s: IterationState, problem: ContactProblem, tau: float) -> float:
+    """Pressure per gap (Pa/m) of elements entering the contact set: Polonsky-Keer's p = -tau g;
+    preconditioned they enter with p = 0 and are loaded by the next step (any entering pressure
+    made a rough 5000^2 map cycle between contact sets), except with adhesion, where the set
+    changes only in the Pohrt-Popov steps and -tau g E*/sqrt(dx dy) is kept (zero made a
+    near-jump-off state stall)."""
+    if s.pre is None:
+        return tau
+    return tau * problem.stiffness if problem.adhesive else 0.0
+
+
+def restore_force(s: IterationState, problem: ContactProblem, psum: float) -> None:
+    """After the contact set changed: restore the imposed force (Polonsky & Keer's rescale
+    without adhesion, a uniform shift on Omega_c with adhesion) and recompute u = K p."""
+    if problem.load_control:
+        target_sum = problem.target_pressure_sum
+        if not problem.adhesive:
+            if psum > 0:
+                s.p *= target_sum / psum
+                s.psq *= (target_sum / psum) ** 2
+        else:
+            n_c = int(np.count_nonzero(s.cf))
+            if n_c:
+                kr.shift_on_contact(s.pf, s.cf, (target_sum - psum) / n_c)
+                s.psq = kr.dot(s.pf, s.pf)
+    problem.op(s.p, out=s.w)
+    s.since_refresh = 0
+
+
+def advance_gap(
+    s: IterationState, problem: ContactProblem, options: SolverOptions, upd: kr.PressureUpdate
+) -> None:
+    """The contact set did not change: keep the incremental gap (exact up to round-off since t
+    vanishes outside Omega_c), recomputing u = K p every ``refresh`` iterations; without
+    adhesion restore the force by rescaling p (u scales with it)."""
+    psum = upd.pressure_sum
+    rescale = problem.load_control and not problem.adhesive and psum > 0
+    alpha = problem.target_pressure_sum / psum if rescale else 1.0
+    if s.since_refresh >= options.refresh:
+        if rescale:
+            s.p *= alpha
+            s.psq *= alpha**2
+        problem.op(s.p, out=s.w)
+        s.since_refresh = 0
+    elif rescale and abs(alpha - 1.0) > 1e-14:
+        # after elements left without a restart, t is not zero-mean on the contact set
+        s.stats = kr.scale_with_stats(
+            s.pf, s.wf, problem.grid_heights.ravel(), s.cf, alpha, s.shift
+        )
+        s.psq *= alpha * alpha
+    else:
+        s.stats = upd.gap_stats()
+
+
+def apply_step(
+    s: IterationState,
+    problem: ContactProblem,
+    options: SolverOptions,
+    g_sq: float,
+    tau: float,
+) -> None:
+    """Step 5: pressure step and active-set update in one fused pass, then the bookkeeping of
+    the conjugacy (Polonsky & Keer restart when elements enter; with adhesion or the
+    preconditioner also when they leave) and the force/gap update."""
+    gain = entering_gain(s, problem, tau)
+    upd = kr.update_pressure(
+        s.pf,
+        s.tf,
+        s.wf,
+        s.rf,
+        s.cf,
+        tau,
+        s.offset,
+        problem.critical_tension,
+        s.shift,
+        s.allow_change,
+        gain,
+    )
+    s.psq = upd.pressure_sq
+    s.last_allowed = s.allow_change
+    s.frozen_its = 0 if s.allow_change else s.frozen_its + 1
+    s.g_old = g_sq
+    s.steps += 1
+    s.since_refresh += 1
+    s.reset = upd.n_entered > 0 or ((problem.adhesive or s.pre is not None) and upd.n_left > 0)
+    if upd.n_left or (upd.n_entered and gain != 0.0):
+        restore_force(s, problem, upd.pressure_sum)
+    else:
+        advance_gap(s, problem, options, upd)
+
+
+def plain_pk_iteration(
+    s: IterationState, problem: ContactProblem, options: SolverOptions
+) -> Stop | None:
+    """One iteration of plain Polonsky-Keer (conjugate gradients on the contact set)."""
+    gap = measure_gap(s, problem)
+    if isinstance(gap, Stop):
+        return gap
+    beta = 0.0 if s.reset or s.g_old <= 0 else gap.g_sq / s.g_old
+    d = kr.update_direction(s.wf, s.cf, s.tf, s.offset, beta)
+    verdict = check_progress(s, problem, options, gap.g_sq, d.penetration_sq)
+    if isinstance(verdict, Stop):
+        return verdict
+    return _take_step(s, problem, options, gap.g_sq, d.sum_gt, d.n_penetrating)
+
+
+def _take_step(
+    s: IterationState,
+    problem: ContactProblem,
+    options: SolverOptions,
+    g_sq: float,
+    sgt: float,
+    npen: int,
+) -> Stop | None:
+    tau = step_length(s, problem, options, sgt, npen)
+    if isinstance(tau, Stop):
+        return tau
+    apply_step(s, problem, options, g_sq, tau)
+    return None
+
+
+def drop_preconditioner(s: IterationState) -> None:
+    """The preconditioned iteration stopped making progress (seen once, on a rough 5001^2 map
+    from a cold start): go on with plain Polonsky-Keer from this state."""
+    s.pre = None
+    s.dropped_at = s.steps
+    s.best = s.residual
+    s.best_it = s.steps
+    s.reset = True
+
+
+def preconditioned_pk_iteration(
+    s: IterationState, problem: ContactProblem, options: SolverOptions
+) -> Stop | None:
+    """One preconditioned iteration: direction from z = P_c K^-1 P_c g (the stiffness E*|q|/2
+    on the contact-set residual), zero-mean on Omega_c under load control, beta = (g.z) /
+    (g.z)_old."""
+    gap = measure_gap(s, problem)
+    if isinstance(gap, Stop):
+        return gap
+    res = kr.residual_field(s.wf, s.cf, s.sf, s.offset)
+    verdict = check_progress(s, problem, options, gap.g_sq, res.penetration_sq)
+    if isinstance(verdict, Stop):
+        return verdict
+    if verdict == FALL_BACK:
+        drop_preconditioner(s)
+        d = kr.update_direction(s.wf, s.cf, s.tf, s.offset, 0.0)
+        return _take_step(s, problem, options, gap.g_sq, d.sum_gt, d.n_penetrating)
+    gz = s.pre.with_energy(s.s_arr, s.z_arr)
+    zbar = kr.masked_sum(s.zf, s.cf) / gap.n_contact if problem.load_control else 0.0
+    beta = 0.0 if s.reset or s.gz_old <= 0 else gz / s.gz_old
+    s.gz_old = gz
+    sgt = kr.update_direction_preconditioned(s.wf, s.cf, s.tf, s.zf, s.offset, zbar, beta)
+    return _take_step(s, problem, options, gap.g_sq, sgt, res.n_penetrating)
+
+
+def iterate(s: IterationState, problem: ContactProblem, options: SolverOptions) -> Stop | None:
+    """Iterate until a step stops the loop; None when the iteration cap was reached."""
+    for _ in range(options.max_iterations(problem.heights.shape)):
+        step = plain_pk_iteration if s.pre is None else preconditioned_pk_iteration
+        stop = step(s, problem, options)
+        if stop is not None:
+            return stop
+    return None

@@ -1,0 +1,381 @@
+"""Fused numba kernels of the Polonsky-Keer iteration (flat float64 arrays, int8 contact mask).
+
+Each kernel is one pass over the arrays, written as four interleaved lanes with separate partial
+sums and without data-dependent branches in the common path: the loop-carried floating-point
+sums then no longer serialise on the add latency and LLVM can pack the lanes into SIMD
+registers, all without fastmath (the summation order is fixed, results are deterministic).
+Measured at 1024^2: 5.1 ms -> 1.1 ms for the direction update.
+
+The array ``w`` holds the gap u - h without the rigid-body term (m), ``p`` the pressure (Pa),
+``t`` the conjugate direction, ``r = K t`` its deflection, ``c`` the contact set (1 = in
+contact). Kernels that return several sums return them as named tuples.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+from numba import njit
+
+__all__ = [
+    "DirectionUpdate",
+    "GapStats",
+    "PressureUpdate",
+    "ResidualField",
+    "deflection_to_gap_stats",
+    "dot",
+    "masked_sum",
+    "residual_field",
+    "scale_with_stats",
+    "shift_on_contact",
+    "update_direction",
+    "update_direction_preconditioned",
+    "update_pressure",
+]
+
+
+class GapStats(NamedTuple):
+    """Gap statistics over the contact set: element count, sum of (g - shift) (m) and sum of
+    (g - shift)^2 (m^2)."""
+
+    n_contact: int
+    gap_sum: float
+    gap_sq: float
+
+
+class DirectionUpdate(NamedTuple):
+    """Result of :func:`update_direction`: sum over the contact set of g t (m^2), the squared
+    penetration outside it (m^2) and the number of penetrating elements."""
+
+    sum_gt: float
+    penetration_sq: float
+    n_penetrating: int
+
+
+class ResidualField(NamedTuple):
+    """Result of :func:`residual_field`: squared penetration outside the contact set (m^2) and
+    the number of penetrating elements."""
+
+    penetration_sq: float
+    n_penetrating: int
+
+
+class PressureUpdate(NamedTuple):
+    """Result of :func:`update_pressure`: elements that left / entered the contact set, sum p
+    and sum p^2 (Pa, Pa^2) after the step, and the new state's contact-set gap statistics (as
+    :class:`GapStats`)."""
+
+    n_left: int
+    n_entered: int
+    pressure_sum: float
+    pressure_sq: float
+    n_contact: int
+    gap_sum: float
+    gap_sq: float
+
+    def gap_stats(self) -> GapStats:
+        """The contact-set gap statistics of the new state."""
+        return GapStats(self.n_contact, self.gap_sum, self.gap_sq)
+
+
+@njit(inline="always")
+def _gap_elem(w, h, c, i, shift):  # pragma: no cover - compiled
+    g = w[i] - h[i]
+    w[i] = g
+    ci = c[i]
+    d = (g - shift) * (1.0 if ci else 0.0)
+    return ci, d, d * d
+
+
+@njit(cache=True, fastmath=False)
+def deflection_to_gap_stats(w, h, c, shift):  # pragma: no cover - compiled
+    """w -= h in place (deflection -> gap without the rigid-body term); returns n, sum(g - shift)
+    and sum((g - shift)^2) over the contact set."""
+    n = 0
+    a0 = a1 = a2 = a3 = 0.0
+    b0 = b1 = b2 = b3 = 0.0
+    size = w.size
+    m4 = size - size % 4
+    for i in range(0, m4, 4):
+        k0, x0, y0 = _gap_elem(w, h, c, i, shift)
+        k1, x1, y1 = _gap_elem(w, h, c, i + 1, shift)
+        k2, x2, y2 = _gap_elem(w, h, c, i + 2, shift)
+        k3, x3, y3 = _gap_elem(w, h, c, i + 3, shift)
+        n += k0 + k1 + k2 + k3
+        a0 += x0
+        a1 += x1
+        a2 += x2
+        a3 += x3
+        b0 += y0
+        b1 += y1
+        b2 += y2
+        b3 += y3
+    for i in range(m4, size):
+        k0, x0, y0 = _gap_elem(w, h, c, i, shift)
+        n += k0
+        a0 += x0
+        b0 += y0
+    return GapStats(n, (a0 + a1) + (a2 + a3), (b0 + b1) + (b2 + b3))
+
+
+@njit(inline="always")
+def _direction_elem(w, c, t, i, offset, beta):  # pragma: no cover - compiled
+    g = w[i] - offset
+    m = 1.0 if c[i] else 0.0
+    ti = m * (g + beta * t[i])
+    t[i] = ti
+    q = min(g, 0.0) * (1.0 - m)
+    return g * ti, q * q, 1 if q < 0.0 else 0
+
+
+@njit(cache=True, fastmath=False)
+def update_direction(w, c, t, offset, beta):  # pragma: no cover - compiled
+    """t = g + beta t on the contact set (0 outside), g = w - offset.
+
+    Returns sum_c g t, the squared penetration outside the set and its pixel count.
+    """
+    a0 = a1 = a2 = a3 = 0.0
+    b0 = b1 = b2 = b3 = 0.0
+    npen = 0
+    size = w.size
+    m4 = size - size % 4
+    for i in range(0, m4, 4):
+        x0, y0, k0 = _direction_elem(w, c, t, i, offset, beta)
+        x1, y1, k1 = _direction_elem(w, c, t, i + 1, offset, beta)
+        x2, y2, k2 = _direction_elem(w, c, t, i + 2, offset, beta)
+        x3, y3, k3 = _direction_elem(w, c, t, i + 3, offset, beta)
+        a0 += x0
+        a1 += x1
+        a2 += x2
+        a3 += x3
+        b0 += y0
+        b1 += y1
+        b2 += y2
+        b3 += y3
+        npen += k0 + k1 + k2 + k3
+    for i in range(m4, size):
+        x0, y0, k0 = _direction_elem(w, c, t, i, offset, beta)
+        a0 += x0
+        b0 += y0
+        npen += k0
+    return DirectionUpdate((a0 + a1) + (a2 + a3), (b0 + b1) + (b2 + b3), npen)
+
+
+@njit(inline="always")
+def _residual_elem(w, c, s, i, offset):  # pragma: no cover - compiled
+    g = w[i] - offset
+    m = 1.0 if c[i] else 0.0
+    s[i] = m * g
+    q = min(g, 0.0) * (1.0 - m)
+    return q * q, 1 if q < 0.0 else 0
+
+
+@njit(cache=True, fastmath=False)
+def residual_field(w, c, s, offset):  # pragma: no cover - compiled
+    """s = g on the contact set, 0 outside (g = w - offset), the input of the preconditioner;
+    returns the squared penetration outside the set and its pixel count."""
+    b0 = b1 = b2 = b3 = 0.0
+    npen = 0
+    size = w.size
+    m4 = size - size % 4
+    for i in range(0, m4, 4):
+        y0, k0 = _residual_elem(w, c, s, i, offset)
+        y1, k1 = _residual_elem(w, c, s, i + 1, offset)
+        y2, k2 = _residual_elem(w, c, s, i + 2, offset)
+        y3, k3 = _residual_elem(w, c, s, i + 3, offset)
+        b0 += y0
+        b1 += y1
+        b2 += y2
+        b3 += y3
+        npen += k0 + k1 + k2 + k3
+    for i in range(m4, size):
+        y0, k0 = _residual_elem(w, c, s, i, offset)
+        b0 += y0
+        npen += k0
+    return ResidualField((b0 + b1) + (b2 + b3), npen)
+
+
+@njit(cache=True, fastmath=False)
+def masked_sum(z, c):  # pragma: no cover - compiled
+    """Sum of z over the contact set."""
+    s0 = s1 = s2 = s3 = 0.0
+    size = z.size
+    m4 = size - size % 4
+    for i in range(0, m4, 4):
+        s0 += z[i] * (1.0 if c[i] else 0.0)
+        s1 += z[i + 1] * (1.0 if c[i + 1] else 0.0)
+        s2 += z[i + 2] * (1.0 if c[i + 2] else 0.0)
+        s3 += z[i + 3] * (1.0 if c[i + 3] else 0.0)
+    for i in range(m4, size):
+        s0 += z[i] * (1.0 if c[i] else 0.0)
+    return (s0 + s1) + (s2 + s3)
+
+
+@njit(inline="always")
+def _pc_direction_elem(w, c, t, z, i, offset, zbar, beta):  # pragma: no cover - compiled
+    m = 1.0 if c[i] else 0.0
+    ti = m * ((z[i] - zbar) + beta * t[i])
+    t[i] = ti
+    return (w[i] - offset) * ti
+
+
+@njit(cache=True, fastmath=False)
+def update_direction_preconditioned(w, c, t, z, offset, zbar, beta):  # pragma: no cover
+    """t = (z - zbar) + beta t on the contact set, 0 outside, z the preconditioned gap;
+    returns sum_c g t with g = w - offset."""
+    a0 = a1 = a2 = a3 = 0.0
+    size = w.size
+    m4 = size - size % 4
+    for i in range(0, m4, 4):
+        a0 += _pc_direction_elem(w, c, t, z, i, offset, zbar, beta)
+        a1 += _pc_direction_elem(w, c, t, z, i + 1, offset, zbar, beta)
+        a2 += _pc_direction_elem(w, c, t, z, i + 2, offset, zbar, beta)
+        a3 += _pc_direction_elem(w, c, t, z, i + 3, offset, zbar, beta)
+    for i in range(m4, size):
+        a0 += _pc_direction_elem(w, c, t, z, i, offset, zbar, beta)
+    return (a0 + a1) + (a2 + a3)
+
+
+@njit(inline="always")
+def _pressure_elem(p, t, w, r, c, i, step):  # pragma: no cover - compiled
+    tau, offset, lower, shift, allow_change, gain = step
+    ci = c[i]
+    wi = w[i]
+    pi = p[i] - tau * t[i]  # t = 0 and p = 0 outside the contact set
+    g = wi - offset
+    leave = allow_change and ci != 0 and pi < -lower
+    enter = allow_change and ci == 0 and g < 0.0
+    pi = 0.0 if leave else pi
+    pi = -gain * g if enter else pi
+    cn = 0 if leave else ci
+    cn = 1 if enter else cn
+    c[i] = cn
+    p[i] = pi
+    wi -= tau * r[i]
+    w[i] = wi
+    d = (wi - shift) * (1.0 if cn else 0.0)
+    return 1 if leave else 0, 1 if enter else 0, pi, cn, d
+
+
+@njit(cache=True, fastmath=False)
+def update_pressure(p, t, w, r, c, tau, offset, lower, shift, allow_change, gain):  # noqa
+    """Pressure step, contact-set update (Pohrt-Popov rule), incremental gap, next statistics.
+
+    p -= tau t and w -= tau r everywhere (t = 0 outside the set). When ``allow_change``:
+    elements in contact leave where p < -lower (p -> 0), elements outside with gap g < 0 enter
+    with p = -gain g (``gain`` in Pa/m). Returns a :class:`PressureUpdate`.
+    """  # pragma: no cover - compiled
+    step = (tau, offset, lower, shift, allow_change, gain)
+    left = 0
+    entered = 0
+    n = 0
+    ps0 = ps1 = ps2 = ps3 = 0.0
+    pq0 = pq1 = pq2 = pq3 = 0.0
+    a0 = a1 = a2 = a3 = 0.0
+    b0 = b1 = b2 = b3 = 0.0
+    size = w.size
+    m4 = size - size % 4
+    for i in range(0, m4, 4):
+        l0, e0, p0, k0, d0 = _pressure_elem(p, t, w, r, c, i, step)
+        l1, e1, p1, k1, d1 = _pressure_elem(p, t, w, r, c, i + 1, step)
+        l2, e2, p2, k2, d2 = _pressure_elem(p, t, w, r, c, i + 2, step)
+        l3, e3, p3, k3, d3 = _pressure_elem(p, t, w, r, c, i + 3, step)
+        left += l0 + l1 + l2 + l3
+        entered += e0 + e1 + e2 + e3
+        n += k0 + k1 + k2 + k3
+        ps0 += p0
+        ps1 += p1
+        ps2 += p2
+        ps3 += p3
+        pq0 += p0 * p0
+        pq1 += p1 * p1
+        pq2 += p2 * p2
+        pq3 += p3 * p3
+        a0 += d0
+        a1 += d1
+        a2 += d2
+        a3 += d3
+        b0 += d0 * d0
+        b1 += d1 * d1
+        b2 += d2 * d2
+        b3 += d3 * d3
+    for i in range(m4, size):
+        l0, e0, p0, k0, d0 = _pressure_elem(p, t, w, r, c, i, step)
+        left += l0
+        entered += e0
+        n += k0
+        ps0 += p0
+        pq0 += p0 * p0
+        a0 += d0
+        b0 += d0 * d0
+    psum, psq = (ps0 + ps1) + (ps2 + ps3), (pq0 + pq1) + (pq2 + pq3)
+    return PressureUpdate(left, entered, psum, psq, n, (a0 + a1) + (a2 + a3), (b0 + b1) + (b2 + b3))
+
+
+@njit(cache=True, fastmath=False)
+def dot(a, b):  # pragma: no cover - compiled
+    s0 = s1 = s2 = s3 = 0.0
+    size = a.size
+    m4 = size - size % 4
+    for i in range(0, m4, 4):
+        s0 += a[i] * b[i]
+        s1 += a[i + 1] * b[i + 1]
+        s2 += a[i + 2] * b[i + 2]
+        s3 += a[i + 3] * b[i + 3]
+    for i in range(m4, size):
+        s0 += a[i] * b[i]
+    return (s0 + s1) + (s2 + s3)
+
+
+@njit(inline="always")
+def _scale_elem(p, w, h, c, i, alpha, shift):  # pragma: no cover - compiled
+    p[i] *= alpha
+    hi = h[i]
+    wi = alpha * (w[i] + hi) - hi
+    w[i] = wi
+    ci = c[i]
+    d = (wi - shift) * (1.0 if ci else 0.0)
+    return ci, d
+
+
+@njit(cache=True, fastmath=False)
+def scale_with_stats(p, w, h, c, alpha, shift):  # pragma: no cover - compiled
+    """p *= alpha and the gap w = u - h follows (u = K p is linear in p); returns the
+    contact-set gap statistics after."""
+    n = 0
+    a0 = a1 = a2 = a3 = 0.0
+    b0 = b1 = b2 = b3 = 0.0
+    size = w.size
+    m4 = size - size % 4
+    for i in range(0, m4, 4):
+        k0, d0 = _scale_elem(p, w, h, c, i, alpha, shift)
+        k1, d1 = _scale_elem(p, w, h, c, i + 1, alpha, shift)
+        k2, d2 = _scale_elem(p, w, h, c, i + 2, alpha, shift)
+        k3, d3 = _scale_elem(p, w, h, c, i + 3, alpha, shift)
+        n += k0 + k1 + k2 + k3
+        a0 += d0
+        a1 += d1
+        a2 += d2
+        a3 += d3
+        b0 += d0 * d0
+        b1 += d1 * d1
+        b2 += d2 * d2
+        b3 += d3 * d3
+    for i in range(m4, size):
+        k0, d0 = _scale_elem(p, w, h, c, i, alpha, shift)
+        n += k0
+        a0 += d0
+        b0 += d0 * d0
+    return GapStats(n, (a0 + a1) + (a2 + a3), (b0 + b1) + (b2 + b3))
+
+
+@njit(cache=True, fastmath=False)
+def shift_on_contact(p, c, delta):  # pragma: no cover - compiled
+    """p += delta on the contact set (elements pushed below -Sigma delaminate at the next
+    change-allowed step); returns the new sum of p."""
+    s = 0.0
+    for i in range(p.size):
+        if c[i]:
+            p[i] += delta
+        s += p[i]
+    return s

@@ -1,0 +1,235 @@
+"""Input checks and the set-up of one contact problem (eqs. E:BEM_eq1..E:BEM_eq4).
+
+:func:`set_up_problem` turns the arguments of :func:`asperity.bem.solve_contact` into a
+:class:`ContactProblem`: validated heights (m) on the FFT grid, the imposed load (force in N,
+or separation in m), the Pohrt-Popov critical tension (Pa, eq:max_sigma) and the influence
+operator. Every refusal is a :class:`~asperity.bem.errors.BemInputError` naming the argument.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from asperity.bem.errors import BemInputError
+from asperity.bem.fft_backend import Convolution
+from asperity.bem.operators import influence_operator
+from asperity.bem.options import SolverOptions
+from asperity.bem.pohrt_popov import critical_tension
+
+__all__ = ["ContactProblem", "set_up_problem"]
+
+
+@dataclass(frozen=True, eq=False)
+class ContactProblem:
+    """One validated contact problem.
+
+    Attributes
+    ----------
+    heights : ndarray (nx, ny)
+        The surface heights h (m) as given.
+    grid_heights : ndarray
+        Heights on the FFT grid (m): ``heights`` itself when periodic, else padded far below
+        (never in contact) to the doubled grid.
+    dx, dy, e_star : float
+        Pixel sizes (m) and reduced modulus (Pa).
+    periodic : bool
+        Periodic domain or finite specimen.
+    load_control : bool
+        Imposed force (True) or imposed separation (False).
+    force : float
+        Imposed total force F_z (N); NaN under displacement control.
+    separation : float
+        Imposed rigid-body distance d (m); NaN under load control.
+    work_of_adhesion, critical_tension : float
+        w (J/m^2) and the Pohrt-Popov Sigma (Pa); both 0 without adhesion.
+    op : Convolution
+        u = K * p on the FFT grid.
+    """
+
+    heights: np.ndarray
+    grid_heights: np.ndarray
+    dx: float
+    dy: float
+    e_star: float
+    periodic: bool
+    load_control: bool
+    force: float
+    separation: float
+    work_of_adhesion: float
+    critical_tension: float
+    op: Convolution
+
+    @property
+    def adhesive(self) -> bool:
+        """Pohrt-Popov adhesion active (w > 0)."""
+        return self.work_of_adhesion > 0
+
+    @property
+    def pixel_area(self) -> float:
+        """dx dy (m^2)."""
+        return self.dx * self.dy
+
+    @property
+    def nominal_area(self) -> float:
+        """Projected area of the map (m^2)."""
+        return self.heights.size * self.pixel_area
+
+    @property
+    def stiffness(self) -> float:
+        """E*/sqrt(dx dy) (Pa/m): the stiffness of a pixel-sized wavelength."""
+        return self.e_star / math.sqrt(self.pixel_area)
+
+    @property
+    def height_scale(self) -> float:
+        """max |h| (m): sets the round-off floor of the gaps."""
+        return float(np.abs(self.heights).max())
+
+    @property
+    def target_pressure_sum(self) -> float:
+        """sum p (Pa) that carries the imposed force: F / (dx dy)."""
+        return self.force / self.pixel_area
+
+
+def real_scalar(name: str, val: object) -> float:
+    """``val`` as a float, or a BemInputError naming the argument (bools, strings, arrays with
+    more than one element and complex numbers are refused)."""
+    if isinstance(val, (bool, np.bool_, str, bytes)) or np.ndim(val) != 0 or np.iscomplexobj(val):
+        raise BemInputError(f"solve_contact: {name} must be a real number, got {val!r}")
+    try:
+        return float(val)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise BemInputError(f"solve_contact: {name} must be a real number, got {val!r}") from None
+
+
+def checked_heights(heights: object) -> np.ndarray:
+    """Heights (m) as a real 2D float64 array of at least 2 x 2 finite values."""
+    if np.iscomplexobj(heights):
+        raise BemInputError("solve_contact: heights must be real (m), got a complex array")
+    try:
+        h = np.asarray(heights, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise BemInputError("solve_contact: heights must be a 2D array of numbers (m)") from None
+    if h.ndim != 2:
+        raise BemInputError(f"solve_contact: heights must be a 2D array (m), got shape {h.shape}")
+    if h.shape[0] < 2 or h.shape[1] < 2:
+        raise BemInputError(f"solve_contact: heights must be at least 2 x 2 pixels, got {h.shape}")
+    n_bad = int(np.count_nonzero(~np.isfinite(h)))
+    if n_bad:
+        raise BemInputError(
+            f"solve_contact: heights contain {n_bad} missing/non-finite values (NaN or inf); "
+            "fill or crop them before a contact solve"
+        )
+    return h
+
+
+def _positive(name: str, val: object) -> float:
+    v = real_scalar(name, val)
+    if not (math.isfinite(v) and v > 0):
+        raise BemInputError(f"solve_contact: {name} must be a positive finite number, got {val!r}")
+    return v
+
+
+def _the_load(loads: dict[str, object]) -> tuple[str, float]:
+    given = [k for k, v in loads.items() if v is not None]
+    if len(given) != 1:
+        raise BemInputError(
+            "solve_contact: give exactly one of normal_force (N), mean_pressure (Pa) or "
+            f"separation (m); got {given or 'none'}"
+        )
+    value = real_scalar(given[0], loads[given[0]])
+    if not math.isfinite(value):
+        raise BemInputError(f"solve_contact: {given[0]} must be finite, got {value}")
+    return given[0], value
+
+
+def _checked_force(force: float, adhesive: bool) -> float:
+    if not math.isfinite(force):
+        raise BemInputError(f"solve_contact: the imposed load must be finite, got {force}")
+    if not adhesive and force <= 0:
+        raise BemInputError(
+            f"solve_contact: without adhesion the imposed force must be > 0 (N), got {force}: "
+            "a rigid flat cannot pull on a non-adhesive surface"
+        )
+    return force
+
+
+def _checked_separation(separation: float, h: np.ndarray, periodic: bool) -> float:
+    if periodic and separation <= float(h.mean()):
+        # periodic kernels have K(q = 0) = 0: the mean deflection is zero, so the mean gap
+        # is d - mean(h) whatever the pressure; d <= mean(h) has no finite solution
+        raise BemInputError(
+            f"solve_contact: separation {separation:.6g} m must exceed the mean height "
+            f"{float(h.mean()):.6g} m on a periodic domain (the mean deflection is zero: "
+            "the flat cannot be pushed below the mean plane; d -> mean(h) is full contact "
+            "at infinite force)"
+        )
+    return separation
+
+
+def _grid_heights(
+    h: np.ndarray, shape: tuple[int, int], separation: float, pixel_area: float
+) -> np.ndarray:
+    """Heights on the FFT grid: padding far below the surface (and the flat) is never in
+    contact."""
+    if shape == h.shape:
+        return np.ascontiguousarray(h)
+    h_rms = float(np.sqrt(np.mean((h - h.mean()) ** 2)))
+    grid = np.empty(shape)
+    grid[...] = h.min() - 1e6 * (float(np.ptp(h)) + (h_rms if h_rms > 0 else math.sqrt(pixel_area)))
+    if math.isfinite(separation):
+        grid[...] -= abs(separation)
+    grid[: h.shape[0], : h.shape[1]] = h
+    return grid
+
+
+def set_up_problem(
+    heights: object,
+    dx: object,
+    dy: object,
+    e_star: object,
+    loads: dict[str, object],
+    work_of_adhesion: object,
+    periodic: object,
+    options: SolverOptions,
+) -> ContactProblem:
+    """Validate the arguments of :func:`asperity.bem.solve_contact` and build the problem.
+
+    ``loads`` maps ``normal_force`` (N), ``mean_pressure`` (Pa) and ``separation`` (m) to their
+    values, exactly one not None.
+    """
+    h = checked_heights(heights)
+    dx_, dy_, e_ = (_positive(n, v) for n, v in (("dx", dx), ("dy", dy), ("e_star", e_star)))
+    name, value = _the_load(loads)
+    w = real_scalar("work_of_adhesion", work_of_adhesion)
+    if not (math.isfinite(w) and w >= 0):
+        raise BemInputError(
+            f"solve_contact: work_of_adhesion must be >= 0 (J/m^2), got {work_of_adhesion}"
+        )
+    if not isinstance(periodic, (bool, np.bool_)):
+        raise BemInputError(f"solve_contact: periodic must be True or False, got {periodic!r}")
+    force, separation = math.nan, math.nan
+    if name == "separation":
+        separation = _checked_separation(value, h, bool(periodic))
+    else:
+        nominal = h.size * dx_ * dy_
+        force = _checked_force(value if name == "normal_force" else value * nominal, w > 0)
+    op = influence_operator(
+        h.shape, dx_, dy_, e_, options.kernel, bool(periodic), options.fft_backend, options.threads
+    )
+    return ContactProblem(
+        heights=h,
+        grid_heights=_grid_heights(h, op.shape, separation, dx_ * dy_),
+        dx=dx_,
+        dy=dy_,
+        e_star=e_,
+        periodic=bool(periodic),
+        load_control=name != "separation",
+        force=force,
+        separation=separation,
+        work_of_adhesion=w,
+        critical_tension=critical_tension(w, e_, dx_, dy_) if w > 0 else 0.0,
+        op=op,
+    )

@@ -1,0 +1,95 @@
+"""The starting pressure and contact set of a Polonsky-Keer iteration.
+
+A warm start (a previous :class:`~asperity.bem.result.ContactResult` or a pressure field, Pa)
+is clipped to the pressure bound (0, or -Sigma with adhesion); otherwise the cold start is a
+uniform pressure on the whole map (load control) or the penetrating elements (displacement
+control). An adhesive solve never starts cold: from scratch it starts from the non-adhesive
+solution, its loading branch (:mod:`asperity.bem.branch`). Under load control the start carries the
+imposed force exactly: rescaled without adhesion (Polonsky & Keer), shifted uniformly on the
+contact set with adhesion (where the force may be zero or tensile).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from asperity.bem.errors import BemInputError
+from asperity.bem.kernels import shift_on_contact
+from asperity.bem.problem import ContactProblem
+from asperity.bem.result import ContactResult
+
+__all__ = ["starting_state"]
+
+
+def _initial_fields(initial: object, shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+    """Pressure (Pa) and contact mask of a warm start, checked against the heights' shape."""
+    if isinstance(initial, ContactResult):
+        pressure, mask = initial.pressure, initial.contact_mask
+    else:
+        pressure, mask = np.asarray(initial, dtype=np.float64), None
+    if pressure.shape != shape:
+        raise BemInputError(
+            f"solve_contact: initial pressure shape {pressure.shape} does not match heights {shape}"
+        )
+    if not np.all(np.isfinite(pressure)):
+        raise BemInputError(
+            "solve_contact: initial pressure contains non-finite values (NaN or inf)"
+        )
+    return pressure, (pressure != 0 if mask is None else mask)
+
+
+def _warm_start(p: np.ndarray, c: np.ndarray, problem: ContactProblem, initial: object) -> None:
+    nx, ny = problem.heights.shape
+    pressure, mask = _initial_fields(initial, (nx, ny))
+    p[:nx, :ny] = pressure
+    c[:nx, :ny] = mask
+    np.maximum(p, np.where(c, -problem.critical_tension, 0.0), out=p)
+    p[c == 0] = 0.0
+    if problem.load_control and not problem.adhesive and not p.sum() > 0:
+        # nothing compressive to rescale to the imposed force: start cold instead
+        p[...] = 0.0
+        c[...] = 0
+
+
+def _cold_start(p: np.ndarray, c: np.ndarray, problem: ContactProblem) -> None:
+    h0 = problem.heights
+    nx, ny = h0.shape
+    if problem.load_control:
+        p[:nx, :ny] = problem.force / problem.nominal_area
+        c[:nx, :ny] = 1
+    else:
+        c[:nx, :ny] = (h0 - problem.separation) > 0
+
+
+def impose_force(p: np.ndarray, c: np.ndarray, problem: ContactProblem) -> None:
+    """Make sum p dx dy the imposed force: rescale (no adhesion) or shift on the contact set."""
+    target_sum = problem.target_pressure_sum
+    psum = float(p.sum())
+    if not problem.adhesive:
+        p *= target_sum / psum
+        return
+    n_c = int(np.count_nonzero(c))
+    if n_c:
+        shift_on_contact(p.ravel(), c.ravel(), (target_sum - psum) / n_c)
+
+
+def starting_state(
+    problem: ContactProblem, initial: object = None, coarse: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """Pressure (Pa) and int8 contact set on the FFT grid to start the iteration from.
+
+    ``initial``: a warm start (ContactResult or pressure field); ``coarse``: a pressure field
+    (Pa) on the heights' grid interpolated from a coarse-grid solve.
+    """
+    p = problem.op.zeros()
+    c = np.zeros(problem.op.shape, dtype=np.int8)
+    if initial is not None:
+        _warm_start(p, c, problem, initial)
+    elif coarse is not None:
+        p[...] = coarse
+        c[...] = p > 0
+    if not c.any():
+        _cold_start(p, c, problem)
+    if problem.load_control:
+        impose_force(p, c, problem)
+    return p, c
