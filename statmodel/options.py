@@ -25,6 +25,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
+from asperity.errors import InputError
 from asperity.statmodel import integrals as _k
 from asperity.statmodel.jkr import jkr_jump_in_kernel
 from asperity.statmodel.parameters import Material, Roughness, material_tabor_parameter
@@ -42,15 +43,15 @@ class QuadratureOptions:
 
     def __post_init__(self) -> None:
         if int(self.nodes) != self.nodes or self.nodes < 1:
-            raise ValueError(f"nodes: expected a positive integer, got {self.nodes!r}")
+            raise InputError(f"nodes: expected a positive integer, got {self.nodes!r}")
         if int(self.panels) != self.panels or self.panels < 1:
-            raise ValueError(f"panels: expected a positive integer, got {self.panels!r}")
+            raise InputError(f"panels: expected a positive integer, got {self.panels!r}")
         if not (math.isfinite(self.cutoff_sigma) and self.cutoff_sigma > 0):
-            raise ValueError(f"cutoff_sigma: expected a positive number, got {self.cutoff_sigma!r}")
+            raise InputError(f"cutoff_sigma: expected a positive number, got {self.cutoff_sigma!r}")
         if not (math.isfinite(self.load_rtol) and self.load_rtol > 0):
-            raise ValueError(f"load_rtol: expected a positive number, got {self.load_rtol!r}")
+            raise InputError(f"load_rtol: expected a positive number, got {self.load_rtol!r}")
         if int(self.max_iter) != self.max_iter or self.max_iter < 1:
-            raise ValueError(f"max_iter: expected a positive integer, got {self.max_iter!r}")
+            raise InputError(f"max_iter: expected a positive integer, got {self.max_iter!r}")
 
     @classmethod
     def from_knobs(cls, **knobs: float) -> QuadratureOptions:
@@ -58,7 +59,7 @@ class QuadratureOptions:
         names = {f.name for f in fields(cls)}
         unknown = sorted(set(knobs) - names)
         if unknown:
-            raise ValueError(
+            raise InputError(
                 f"unknown accuracy knob(s) {unknown}; expected some of {sorted(names)}"
             )
         return cls(**knobs)
@@ -92,12 +93,12 @@ def check_nominal_area(roughness: Roughness, nominal_area: float) -> float:
     try:
         area = float(nominal_area)
     except (TypeError, ValueError):
-        raise ValueError(f"nominal_area: expected a number in m^2, got {nominal_area!r}") from None
+        raise InputError(f"nominal_area: expected a number in m^2, got {nominal_area!r}") from None
     if not (math.isfinite(area) and area > 0.0):
-        raise ValueError(f"nominal_area: expected a positive area in m^2, got {nominal_area!r}")
+        raise InputError(f"nominal_area: expected a positive area in m^2, got {nominal_area!r}")
     n = roughness.asperity_density * area
     if n < 1.0:
-        raise ValueError(
+        raise InputError(
             f"nominal_area = {area:.6g} m^2 holds eta*A_n = {n:.3g} < 1 asperity "
             f"(asperity_density = {roughness.asperity_density:.6g} 1/m^2); "
             "the statistical model needs at least one"
@@ -113,9 +114,9 @@ def setup_model(
 ) -> ModelSetup:
     """Validate the inputs and pack them for the compiled kernels (SI units)."""
     if not isinstance(material, Material):
-        raise ValueError(f"material: expected a statmodel.Material, got {type(material).__name__}")
+        raise InputError(f"material: expected a statmodel.Material, got {type(material).__name__}")
     if not isinstance(roughness, Roughness):
-        raise ValueError(
+        raise InputError(
             f"roughness: expected a statmodel.Roughness, got {type(roughness).__name__}"
         )
     options = options or QuadratureOptions()

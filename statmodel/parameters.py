@@ -10,6 +10,8 @@ import math
 import warnings
 from dataclasses import dataclass, fields
 
+from asperity.errors import InputError
+
 #: Below this Tabor parameter the JKR limit no longer applies (paper, Section 2).
 TABOR_JKR_LIMIT = 5.0
 
@@ -22,20 +24,20 @@ def _check_finite(owner: str, name: str, value: float) -> float:
     try:
         value = float(value)
     except (TypeError, ValueError):
-        raise ValueError(f"{owner}.{name}: expected a real number, got {value!r}") from None
+        raise InputError(f"{owner}.{name}: expected a real number, got {value!r}") from None
     if not math.isfinite(value):
-        raise ValueError(f"{owner}.{name}: expected a finite number, got {value!r}")
+        raise InputError(f"{owner}.{name}: expected a finite number, got {value!r}")
     return value
 
 
 def _check_positive(owner: str, name: str, value: float, unit: str) -> None:
     if not value > 0.0:
-        raise ValueError(f"{owner}.{name}: expected a positive value in {unit}, got {value!r}")
+        raise InputError(f"{owner}.{name}: expected a positive value in {unit}, got {value!r}")
 
 
 def _check_non_negative(owner: str, name: str, value: float, unit: str) -> None:
     if not value >= 0.0:
-        raise ValueError(f"{owner}.{name}: expected a value >= 0 in {unit}, got {value!r}")
+        raise InputError(f"{owner}.{name}: expected a value >= 0 in {unit}, got {value!r}")
 
 
 @dataclass(frozen=True)
@@ -71,7 +73,7 @@ class Material:
         _check_positive("Material", "e_star", self.e_star, "Pa")
         _check_non_negative("Material", "work_of_adhesion", self.work_of_adhesion, "J/m^2")
         if not 0.0 <= self.mode_mixity <= 1.0:
-            raise ValueError(
+            raise InputError(
                 f"Material.mode_mixity: expected lambda in [0, 1], got {self.mode_mixity!r}"
             )
         _check_non_negative("Material", "shear_strength", self.shear_strength, "Pa")

@@ -24,6 +24,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.optimize import minimize_scalar
 
+from asperity.errors import InputError
 from asperity.statmodel import integrals as _k
 from asperity.statmodel.jkr import jkr_jump_off_kernel
 from asperity.statmodel.options import ModelSetup, QuadratureOptions, setup_model
@@ -251,7 +252,7 @@ def unloading_pull_off_force(
     pull = pull_off_point(setup)
     pre = solve_preload(setup, preload_load, pull)
     if not pre.converged:
-        raise ValueError(f"preload_load: {pre.message}")
+        raise InputError(f"preload_load: {pre.message}")
     return pull_off_point(setup, pre.separation)[0]
 
 
@@ -265,12 +266,12 @@ def solve_preload(
     try:
         target = float(normal_load)
     except (TypeError, ValueError):
-        raise ValueError(f"normal_load: expected a number in N, got {normal_load!r}") from None
+        raise InputError(f"normal_load: expected a number in N, got {normal_load!r}") from None
     if not math.isfinite(target):
-        raise ValueError(f"normal_load: expected a finite load in N, got {normal_load!r}")
+        raise InputError(f"normal_load: expected a finite load in N, got {normal_load!r}")
     f_min, d_min_force = pull_off_point(setup) if pull_off is None else pull_off
     if target < f_min:
-        raise ValueError(
+        raise InputError(
             f"normal_load = {target:.6g} N is below the pull-off force {f_min:.6g} N of the "
             "loading branch (E:Fy_Greenwood, the most tensile load at which the preload stage "
             "has an equilibrium; see statmodel.pull_off_force)"

@@ -30,6 +30,7 @@ from numpy.typing import ArrayLike
 from scipy.optimize import brentq
 from scipy.special import gamma, ndtr, pbdv
 
+from asperity.errors import InputError
 from asperity.statmodel import integrals as _k
 from asperity.statmodel.options import ModelSetup, QuadratureOptions, setup_model
 from asperity.statmodel.parameters import Material, Roughness
@@ -84,11 +85,11 @@ class ShearCurve:
 def _check_displacements(tangential_displacement: ArrayLike) -> np.ndarray:
     dts = np.ascontiguousarray(np.atleast_1d(np.asarray(tangential_displacement, dtype=float)))
     if dts.ndim != 1 or dts.size == 0:
-        raise ValueError("tangential_displacement: expected a non-empty 1D array in m")
+        raise InputError("tangential_displacement: expected a non-empty 1D array in m")
     if not np.all(np.isfinite(dts)) or np.any(dts < 0.0):
-        raise ValueError("tangential_displacement: expected finite values >= 0 m")
+        raise InputError("tangential_displacement: expected finite values >= 0 m")
     if np.any(np.diff(dts) < 0.0):
-        raise ValueError(
+        raise InputError(
             "tangential_displacement: expected a non-decreasing history (monotonic loading, "
             "the formulation E:delta_2 assumes it)"
         )
@@ -417,9 +418,9 @@ def shear_curve_fixed_separation(
     try:
         d = float(separation)
     except (TypeError, ValueError):
-        raise ValueError(f"separation: expected a number in m, got {separation!r}") from None
+        raise InputError(f"separation: expected a number in m, got {separation!r}") from None
     if not math.isfinite(d):
-        raise ValueError(f"separation: expected a finite separation in m, got {separation!r}")
+        raise InputError(f"separation: expected a finite separation in m, got {separation!r}")
     prm = setup.with_preload_separation(d)
     results = np.empty((dts.size, _k.N_RESULTS))
     _k.fixed_separation_path(dts, d, prm, setup.gl_x, setup.gl_w, setup.panels, results)

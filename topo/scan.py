@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from asperity.errors import InputError
 from asperity.topo.heightmap import HeightMap, require_height_map
 from asperity.topo.summits import summit_statistics
 
@@ -142,10 +143,10 @@ def resolution_scan(
     """
     surface = require_height_map(surface, "resolution_scan")
     if isinstance(max_stride, bool) or int(max_stride) != max_stride or max_stride < 1:
-        raise ValueError(f"max_stride: expected an integer >= 1, got {max_stride!r}")
+        raise InputError(f"max_stride: expected an integer >= 1, got {max_stride!r}")
     limit = min(surface.nx, surface.ny) // 3
     if max_stride > max(limit, 1):
-        raise ValueError(
+        raise InputError(
             f"max_stride {max_stride} leaves fewer than 3 points per axis on a "
             f"{surface.nx} x {surface.ny} map; use at most {max(limit, 1)}"
         )

@@ -236,6 +236,7 @@ def test_draw_shear_curve_accepts_a_user_figure(fig4_curve):
     assert len(fig.get_axes()) == 4 and fig._suptitle is None
 
 
+@pytest.mark.slow  # ~0.6-1 s each; Fig. 4 (the shared plotter) is checked by default
 @pytest.mark.parametrize(
     "name", ["fig1_pc_single_asperity", "fig2_status_map", "fig5_parameter_study"]
 )

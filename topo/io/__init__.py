@@ -12,6 +12,7 @@ from pathlib import Path
 
 import h5py
 
+from asperity.errors import InputError
 from asperity.topo.errors import TopographyFileError
 from asperity.topo.heightmap import HeightMap, LineProfile
 from asperity.topo.io.datx import is_datx, read_datx
@@ -201,11 +202,11 @@ def read_surface(
             f"{extension!r} announces {announced} but the content is {detected} (mislabelled file)",
         )
     if channel is not None and detected not in ("nanoscope", "picoview", "gwy"):
-        raise ValueError(
+        raise InputError(
             f"{path}: channel {channel!r} given, but a {detected} file has a single channel"
         )
     if pixel_size is not None and detected not in ("text", "npy", "npz"):
-        raise ValueError(
+        raise InputError(
             f"{path}: pixel_size {pixel_size!r} given, but the {detected} format carries its "
             "own calibrated pixel size; leave pixel_size (--pixel-size) out"
         )
@@ -233,7 +234,7 @@ def read_surface(
         head = handle.read(8192)
     if looks_like_dektak(head):
         if pixel_size is not None:
-            raise ValueError(
+            raise InputError(
                 f"{path}: pixel_size {pixel_size!r} given, but a Dektak CSV file carries its "
                 "own lateral positions; leave pixel_size (--pixel-size) out"
             )

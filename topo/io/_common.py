@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
+from asperity.errors import InputError
 from asperity.topo.errors import TopographyFileError, check_size
 
 
@@ -68,7 +69,7 @@ def caller_pixel_size(
         return None
     values = (pixel_size, pixel_size) if np.ndim(pixel_size) == 0 else tuple(pixel_size)  # type: ignore[arg-type]
     if len(values) != 2:
-        raise ValueError(
+        raise InputError(
             f"{path}: pixel_size: is {pixel_size!r}; expected dx or (dx, dy), in metres"
         )
     sizes = []
@@ -78,7 +79,7 @@ def caller_pixel_size(
         except (TypeError, ValueError):
             size = float("nan")
         if not (size > 0 and size < float("inf")):
-            raise ValueError(
+            raise InputError(
                 f"{path}: pixel_size {name}: is {value!r}; expected a finite length > 0 m"
             )
         sizes.append(size)

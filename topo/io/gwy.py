@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from asperity.errors import InputError
 from asperity.topo.errors import TopographyFileError
 from asperity.topo.heightmap import HeightMap
 from asperity.topo.io._common import make_provenance, read_all_bytes
@@ -187,7 +188,7 @@ def read_gwy(path: str | Path, *, channel: str | int | None = None) -> HeightMap
             (f for f in fields if str(channel).lower() in (str(f[0]), f[1].lower())), None
         )
         if chosen is None:
-            raise ValueError(f"{path}: channel {channel!r} not found; available: {titles}")
+            raise InputError(f"{path}: channel {channel!r} not found; available: {titles}")
     index, title, field = chosen
     try:
         xres, yres = int(field["xres"]), int(field["yres"])

@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from asperity.errors import InputError
 from asperity.topo.errors import TopographyFileError, check_size
 from asperity.topo.heightmap import HeightMap
 from asperity.topo.io._common import make_provenance, read_all_bytes
@@ -211,7 +212,7 @@ def choose_channel(path: Path, channels: list[dict], channel: str | int | None) 
         for candidate in channels:
             if str(channel).lower() in (candidate["label"].lower(), candidate["key"].lower()):
                 return candidate
-    raise ValueError(
+    raise InputError(
         f"{path}: channel {channel!r} not found; available channels: {', '.join(names)}"
     )
 

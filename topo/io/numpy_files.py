@@ -19,6 +19,7 @@ from typing import IO
 
 import numpy as np
 
+from asperity.errors import InputError
 from asperity.topo.errors import TopographyFileError
 from asperity.topo.heightmap import HeightMap, LineProfile
 from asperity.topo.io._common import caller_pixel_size, make_provenance
@@ -167,7 +168,7 @@ def read_numpy(
     if given is not None:
         dx, dy = given
     if dx is None:
-        raise ValueError(
+        raise InputError(
             f"{path}: a NumPy array carries no pixel size; give pixel_size= "
             "(or --pixel-size DX on the command line), in metres"
         )

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from asperity.errors import InputError
 from asperity.topo.errors import TopographyFileError, check_size
 from asperity.topo.heightmap import HeightMap
 from asperity.topo.io._common import make_provenance, read_all_bytes
@@ -118,11 +119,11 @@ def read_picoview(path: str | Path, *, channel: str | int | None = None) -> Heig
     elif isinstance(channel, int) or str(channel).isdigit():
         index = int(channel)
         if not 0 <= index < len(buffers):
-            raise ValueError(f"{path}: channel {channel} not found; available: {labels}")
+            raise InputError(f"{path}: channel {channel} not found; available: {labels}")
     else:
         matches = [i for i, label in enumerate(labels) if label.lower() == str(channel).lower()]
         if not matches:
-            raise ValueError(f"{path}: channel {channel!r} not found; available: {labels}")
+            raise InputError(f"{path}: channel {channel!r} not found; available: {labels}")
         index = matches[0]
     chosen = buffers[index]
     unit = chosen.get("bufferUnit", "")

@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from asperity.errors import InputError
 from asperity.topo.errors import TopographyFileError
 from asperity.topo.heightmap import HeightMap, LineProfile
 from asperity.topo.io._common import caller_pixel_size, make_provenance, read_all_bytes
@@ -48,7 +49,7 @@ def _rows(path: Path) -> list[list[float]]:
 def _pixel_sizes(path: Path, pixel_size: float | tuple[float, float] | None) -> tuple[float, float]:
     sizes = caller_pixel_size(path, pixel_size)
     if sizes is None:
-        raise ValueError(
+        raise InputError(
             f"{path}: a plain height matrix carries no pixel size; give pixel_size= "
             "(or --pixel-size DX on the command line), in metres"
         )
@@ -141,7 +142,7 @@ def read_text(
     rows = _rows(path)
     if _looks_like_xyz(rows):
         if pixel_size is not None:
-            raise ValueError(
+            raise InputError(
                 f"{path}: pixel_size given, but x y z columns carry their own coordinates "
                 "(the pixel sizes are their steps); leave pixel_size out"
             )
