@@ -98,7 +98,7 @@ _BACKEND_PROBE = """
 import importlib, json, pkgutil, sys
 import matplotlib
 matplotlib.use("svg")  # the user's choice: a sentinel the library must not change
-skip = set(sys.argv[2].split(",")) if sys.argv[2] else set()
+out, skip, mode = sys.argv[1], set(filter(None, sys.argv[2].split(","))), sys.argv[3]
 imported = []
 for name in ("asperity.topo", "asperity.bem", "asperity.statmodel", "asperity.pipelines"):
     package = importlib.import_module(name)
@@ -106,11 +106,19 @@ for name in ("asperity.topo", "asperity.bem", "asperity.statmodel", "asperity.pi
         if info.name not in skip and not info.name.rsplit(".", 1)[-1].startswith("__"):
             importlib.import_module(info.name)
             imported.append(info.name)
-import asperity.plotting
+import h5py
 from asperity import topo
+from asperity.plotting import save_figure
 from asperity.pipelines.cli import main
-out = sys.argv[1]
-status = main(["figures", "--out", out])
+from asperity.statmodel.figures import FIGURES
+status = None
+if mode == "cli":
+    status = main(["figures", "--out", out])
+else:  # draw every paper figure, save one of them in two formats
+    with h5py.File(out + "/data.h5", "w") as h5:
+        figures = {name: draw(h5) for name, draw in FIGURES.items()}
+    save_figure(figures["fig4_shear_curve"], out + "/fig4.png", dpi=30)
+    save_figure(figures["fig4_shear_curve"], out + "/fig4.pdf")
 scan = topo.resolution_scan(topo.synthetic.paper_like(n=96, pixel_size=10e-6, seed=1), 6)
 topo.plot_resolution_scan(scan, out + "/scan.svg", title="probe")
 print(json.dumps({
@@ -123,39 +131,46 @@ print(json.dumps({
 """
 
 
-def _probe(out: Path, skip: tuple[str, ...]) -> dict:
+def _probe(out: Path, mode: str) -> dict:
     done = subprocess.run(
-        [sys.executable, "-c", _BACKEND_PROBE, str(out), ",".join(skip)],
+        [sys.executable, "-c", _BACKEND_PROBE, str(out), ",".join(NOT_YET_CONVERTED), mode],
         capture_output=True,
         text=True,
     )
     assert done.returncode == 0, done.stderr
-    return json.loads(done.stdout.splitlines()[-1])
+    report = json.loads(done.stdout.splitlines()[-1])
+    assert report["backend"] == report["rc_backend"] == "svg"
+    assert report["pyplot"] is False
+    assert {"asperity.statmodel.figures", "asperity.topo.scan", "asperity.bem.cli"} <= set(
+        report["imported"]
+    )
+    assert (out / "scan.svg").read_bytes().startswith(b"<?xml")
+    return report
 
 
 def test_library_never_forces_a_backend_nor_imports_pyplot(tmp_path):
     """Importing every module and drawing every figure leaves a notebook's backend alone.
 
-    The probe chooses the "svg" backend first, imports every module of the four packages,
-    runs ``asperity figures`` (Figs. 1, 2, 4, 5) and writes a resolution-scan figure; the
-    backend must still be "svg" and ``matplotlib.pyplot`` never imported. The files written
-    are then checked: four PNGs and the HDF5 data with units on every dataset.
+    A fresh interpreter chooses the "svg" backend first, imports every module of the four
+    packages, draws Figs. 1, 2, 4, 5 and a resolution scan and saves some as PNG, PDF and SVG;
+    the backend must still be "svg" and ``matplotlib.pyplot`` never imported.
     """
-    report = _probe(tmp_path, NOT_YET_CONVERTED)
-    assert report["status"] == 0
-    assert report["backend"] == report["rc_backend"] == "svg"
-    assert report["pyplot"] is False
-    assert {"asperity.statmodel.figures", "asperity.topo.scan", "asperity.plotting"} - {
-        *report["imported"],
-        "asperity.plotting",
-    } == set()
+    _probe(tmp_path, "draw")
+    assert (tmp_path / "fig4.png").read_bytes().startswith(b"\x89PNG")
+    assert (tmp_path / "fig4.pdf").read_bytes().startswith(b"%PDF")
+
+
+@pytest.mark.slow
+def test_figures_command_writes_pngs_and_data_and_keeps_the_backend(tmp_path):
+    """``asperity figures`` in a fresh interpreter (backend "svg"): four PNGs and the HDF5
+    data with units on every dataset; the backend is untouched."""
+    assert _probe(tmp_path, "cli")["status"] == 0
     assert sorted(p.name for p in tmp_path.glob("*.png")) == [
         "fig1_pc_single_asperity.png",
         "fig2_status_map.png",
         "fig4_shear_curve.png",
         "fig5_parameter_study.png",
     ]
-    assert (tmp_path / "scan.svg").read_bytes().startswith(b"<?xml")
     with h5py.File(tmp_path / "statmodel_figures.h5") as fh:
         assert {"fig1", "fig2", "fig4", "fig5"} <= set(fh)
         names = []
