@@ -246,7 +246,7 @@ def draw_resolution_scan(fig: Figure, scan: ResolutionScan, *, title: str = "") 
     Figure
         ``fig``, drawn on.
     """
-    from matplotlib.ticker import NullFormatter
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
     from asperity.plotting import display_unit
 
@@ -268,6 +268,9 @@ def draw_resolution_scan(fig: Figure, scan: ResolutionScan, *, title: str = "") 
         label = f"power law, exponent {scan.density_exponent:.3g}"
         ax_eta.loglog(res, u_eta(fit), "-", label=label)
     ax_eta.set_ylabel(u_eta.label(r"asperity density $\eta$"))
+    # labels at 1, 2, 5 x 10^k: readable whether the scan spans one decade or three
+    ax_eta.xaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
+    ax_eta.xaxis.set_major_formatter(FuncFormatter(lambda value, _: f"{value:g}"))
     ax_eta.xaxis.set_minor_formatter(NullFormatter())
     u_sigma = display_unit(scan.summit_height_rms, "m")
     ax_sigma.plot(res, u_sigma(scan.summit_height_rms), "o", ms=3, label="data")
