@@ -3,8 +3,8 @@
 ``asperity friction PARAMS.toml [--json] [--out FILE.h5]`` solves the shear curve of the parameter
 file (schema in :mod:`statmodel.config`), prints a short summary (or one JSON object with
 ``--json``) and optionally writes HDF5. Exit status 0, 1 if the solve did not converge (results
-still printed/written), 2 for bad input (raised as ``ValueError``). A Tabor parameter below 5
-prints ``asperity friction: warning: ...`` on stderr (the run goes on).
+still printed/written), 2 for bad input (raised as :class:`asperity.errors.InputError`). A Tabor
+parameter below 5 prints ``asperity friction: warning: ...`` on stderr (the run goes on).
 
 ``asperity figures --out DIR`` writes the paper's Figs. 1, 2, 4 and 5 as PNG plus their data in
 ``DIR/statmodel_figures.h5`` (see :mod:`statmodel.figures`).
@@ -17,6 +17,8 @@ import dataclasses
 import sys
 import warnings
 from pathlib import Path
+
+from asperity.errors import ExitStatus
 
 
 def run_friction(args: argparse.Namespace) -> int:
@@ -71,8 +73,8 @@ def run_friction(args: argparse.Namespace) -> int:
         )
     if not curve.converged:
         print(f"asperity friction: {curve.message}", file=sys.stderr)
-        return 1
-    return 0
+        return ExitStatus.NOT_CONVERGED
+    return ExitStatus.OK
 
 
 def run_figures(args: argparse.Namespace) -> int:
@@ -82,7 +84,7 @@ def run_figures(args: argparse.Namespace) -> int:
     paths = write_all_figures(Path(args.out))
     for p in paths:
         print(p)
-    return 0
+    return ExitStatus.OK
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:

@@ -38,6 +38,7 @@ from typing import Any
 
 import numpy as np
 
+from asperity.errors import InputError
 from asperity.statmodel.options import QuadratureOptions, check_nominal_area
 from asperity.statmodel.parameters import Material, Roughness
 
@@ -101,20 +102,20 @@ class FrictionParameters:
 def _value(path: str, table: str, key: str, raw: Any, unit: str, check: str) -> float | int:
     where = f"{path}: [{table}] {key}"
     if isinstance(raw, bool) or not isinstance(raw, (int, float)):
-        raise ValueError(f"{where}: expected a number ({unit}), got {raw!r}")
+        raise InputError(f"{where}: expected a number ({unit}), got {raw!r}")
     value = float(raw)
     if not math.isfinite(value):
-        raise ValueError(f"{where}: expected a finite number ({unit}), got {raw!r}")
+        raise InputError(f"{where}: expected a finite number ({unit}), got {raw!r}")
     if check == "positive" and not value > 0:
-        raise ValueError(f"{where}: expected a positive value ({unit}), got {raw!r}")
+        raise InputError(f"{where}: expected a positive value ({unit}), got {raw!r}")
     if check == "non-negative" and not value >= 0:
-        raise ValueError(f"{where}: expected a value >= 0 ({unit}), got {raw!r}")
+        raise InputError(f"{where}: expected a value >= 0 ({unit}), got {raw!r}")
     if check == "unit-interval" and not 0 <= value <= 1:
-        raise ValueError(f"{where}: expected a value in [0, 1], got {raw!r}")
+        raise InputError(f"{where}: expected a value in [0, 1], got {raw!r}")
     if check in ("steps", "count"):
         least = 1
         if not isinstance(raw, int) or raw < least:
-            raise ValueError(f"{where}: expected an integer >= {least}, got {raw!r}")
+            raise InputError(f"{where}: expected an integer >= {least}, got {raw!r}")
         return int(raw)
     return value
 
@@ -122,10 +123,10 @@ def _value(path: str, table: str, key: str, raw: Any, unit: str, check: str) -> 
 def parse_friction_parameters(data: dict, path: str = "<parameters>") -> FrictionParameters:
     """Validate a parsed TOML document (dict) against the schema; see the module docstring."""
     if not isinstance(data, dict):
-        raise ValueError(f"{path}: expected a TOML document with tables")
+        raise InputError(f"{path}: expected a TOML document with tables")
     unknown = sorted(set(data) - set(_TABLES))
     if unknown:
-        raise ValueError(
+        raise InputError(
             f"{path}: unknown table or key {unknown[0]!r}; expected tables {sorted(_TABLES)}"
         )
     values: dict[str, dict[str, float | int]] = {}
@@ -133,20 +134,20 @@ def parse_friction_parameters(data: dict, path: str = "<parameters>") -> Frictio
         section = data.get(table)
         if section is None:
             if table in _REQUIRED_TABLES:
-                raise ValueError(f"{path}: missing table [{table}]")
+                raise InputError(f"{path}: missing table [{table}]")
             section = {}
         if not isinstance(section, dict):
-            raise ValueError(f"{path}: {table!r} must be a table [{table}]")
+            raise InputError(f"{path}: {table!r} must be a table [{table}]")
         extra = sorted(set(section) - set(schema))
         if extra:
-            raise ValueError(
+            raise InputError(
                 f"{path}: [{table}] unknown key {extra[0]!r}; expected keys {sorted(schema)}"
             )
         values[table] = {}
         for key, (attr, unit, check, required) in schema.items():
             if key not in section:
                 if required:
-                    raise ValueError(f"{path}: [{table}] missing key {key!r} ({unit})")
+                    raise InputError(f"{path}: [{table}] missing key {key!r} ({unit})")
                 continue
             values[table][attr] = _value(path, table, key, section[key], unit, check)
     try:
@@ -155,12 +156,12 @@ def parse_friction_parameters(data: dict, path: str = "<parameters>") -> Frictio
         accuracy = dict(values["accuracy"])
         QuadratureOptions.from_knobs(**accuracy)
     except ValueError as exc:
-        raise ValueError(f"{path}: {exc}") from None
+        raise InputError(f"{path}: {exc}") from None
     load = values["loading"]
     try:
         check_nominal_area(roughness, load["nominal_area"])
     except ValueError as exc:
-        raise ValueError(f"{path}: [loading] {exc}") from None
+        raise InputError(f"{path}: [loading] {exc}") from None
     return FrictionParameters(
         material=material,
         roughness=roughness,
@@ -179,5 +180,5 @@ def read_friction_parameters(path: str | Path) -> FrictionParameters:
         try:
             data = tomllib.load(fh)
         except tomllib.TOMLDecodeError as exc:
-            raise ValueError(f"{path}: not valid TOML: {exc}") from None
+            raise InputError(f"{path}: not valid TOML: {exc}") from None
     return parse_friction_parameters(data, str(path))

@@ -29,6 +29,7 @@ import math
 import numpy as np
 from numba import njit
 
+from asperity.errors import InputError
 from asperity.statmodel.papangelo_ciavarella import (
     coupling_term,
     pc_fold_indentation,
@@ -50,7 +51,7 @@ N_PARAMS = 10
 def gauss_legendre(nodes: int) -> tuple[np.ndarray, np.ndarray]:
     """Gauss-Legendre nodes and weights on [-1, 1] (numpy.polynomial.legendre.leggauss)."""
     if nodes < 1:
-        raise ValueError(f"nodes: expected a positive number of Gauss-Legendre nodes, got {nodes}")
+        raise InputError(f"nodes: expected a positive number of Gauss-Legendre nodes, got {nodes}")
     x, w = np.polynomial.legendre.leggauss(int(nodes))
     return np.ascontiguousarray(x), np.ascontiguousarray(w)
 

@@ -24,6 +24,8 @@ import numpy as np
 from numba import njit, vectorize
 from numpy.typing import ArrayLike
 
+from asperity.errors import InputError
+
 #: Status codes returned by :func:`asperity_status`.
 OUT_OF_CONTACT = 0
 STICK = 1
@@ -161,10 +163,10 @@ def asperity_status(
     args = {"delta_tilde": delta_tilde, "delta_t_tilde": delta_t_tilde, "mode_mixity": mode_mixity}
     for name, value in args.items():
         if np.any(np.isnan(np.asarray(value, dtype=float))):
-            raise ValueError(
+            raise InputError(
                 f"asperity_status: {name} contains NaN (no status for an undefined state)"
             )
     lam = np.asarray(mode_mixity, dtype=float)
     if np.any((lam < 0.0) | (lam > 1.0)):
-        raise ValueError(f"asperity_status: mode_mixity must lie in [0, 1], got {mode_mixity!r}")
+        raise InputError(f"asperity_status: mode_mixity must lie in [0, 1], got {mode_mixity!r}")
     return _status_ufunc(delta_tilde, delta_t_tilde, mode_mixity)

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from asperity.errors import ExitStatus, InputError
 from asperity.topo.heightmap import HeightMap, require_height_map
 
 #: Keys of ``asperity stats --json``, in order (a contract with other tools).
@@ -48,17 +49,17 @@ def _pixel_size(text: str | None) -> float | tuple[float, float] | None:
         return None
     parts = text.split(",")
     if len(parts) > 2:
-        raise ValueError(f"--pixel-size: expected DX or DX,DY in metres, got {text!r}")
+        raise InputError(f"--pixel-size: expected DX or DX,DY in metres, got {text!r}")
     values = []
     for part in parts:
         try:
             value = float(part)
         except ValueError:
-            raise ValueError(
+            raise InputError(
                 f"--pixel-size: expected DX or DX,DY in metres, got {text!r}"
             ) from None
         if not (math.isfinite(value) and value > 0):
-            raise ValueError(f"--pixel-size: expected finite lengths > 0 m, got {text!r}")
+            raise InputError(f"--pixel-size: expected finite lengths > 0 m, got {text!r}")
         values.append(value)
     return values[0] if len(values) == 1 else (values[0], values[1])
 
@@ -143,7 +144,7 @@ def _stats(args: argparse.Namespace) -> int:
                 else (f"{value:.6g}" if isinstance(value, float) else str(value))
             )
             print(f"  {key:18s} {text} {_UNITS.get(key, '')}".rstrip())
-    return 0
+    return ExitStatus.OK
 
 
 def _scan(args: argparse.Namespace) -> int:
@@ -191,7 +192,7 @@ def _scan(args: argparse.Namespace) -> int:
         for target in (args.out, figure):
             if target:
                 print(f"wrote {target}")
-    return 0
+    return ExitStatus.OK
 
 
 def _synth(args: argparse.Namespace) -> int:
@@ -200,7 +201,7 @@ def _synth(args: argparse.Namespace) -> int:
 
     out = Path(args.out)
     if out.suffix.lower() not in (".h5", ".hdf5", ".npy", ".npz"):
-        raise ValueError(f"--out {out}: expected a .h5 (project HDF5), .npy or .npz file name")
+        raise InputError(f"--out {out}: expected a .h5 (project HDF5), .npy or .npz file name")
     recipe = {
         "hurst": args.hurst,
         "rms_height": args.rms_height,
@@ -226,7 +227,7 @@ def _synth(args: argparse.Namespace) -> int:
             else ""
         )
     )
-    return 0
+    return ExitStatus.OK
 
 
 def _add_input_options(parser: argparse.ArgumentParser) -> None:

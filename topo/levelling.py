@@ -12,6 +12,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from asperity.errors import InputError
 from asperity.topo.heightmap import HeightMap, require_height_map
 
 METHODS = ("none", "mean", "plane", "quadratic")
@@ -106,13 +107,13 @@ def fit_form(surface: HeightMap, method: str = "plane") -> np.ndarray:
         ``u = 2 i/(nx-1) - 1`` and ``v = 2 j/(ny-1) - 1`` (pixel indices scaled to [-1, 1]).
     """
     if method not in _N_TERMS:
-        raise ValueError(f"levelling method {method!r}: expected one of {METHODS[1:]}")
+        raise InputError(f"levelling method {method!r}: expected one of {METHODS[1:]}")
     surface = require_height_map(surface, "level")
     n_terms = _N_TERMS[method]
     matrix, rhs, count = _normal_equations(surface.heights, n_terms)
     if count < n_terms:
         source = surface.provenance.get("file", "the map")
-        raise ValueError(
+        raise InputError(
             f"level({method!r}): {source} has {count} valid (non-NaN) pixels; the fit needs "
             f"at least {n_terms}"
         )
@@ -144,7 +145,7 @@ def level(surface: HeightMap, method: str = "plane") -> HeightMap:
     map stays periodic; the provenance records ``"mean (periodic map)"``.
     """
     if method not in METHODS:
-        raise ValueError(f"levelling method {method!r}: expected one of {METHODS}")
+        raise InputError(f"levelling method {method!r}: expected one of {METHODS}")
     surface = require_height_map(surface, "level")
     if method == "none":
         return surface

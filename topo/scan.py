@@ -18,11 +18,16 @@ import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
+from asperity.errors import InputError
 from asperity.topo.heightmap import HeightMap, require_height_map
 from asperity.topo.summits import summit_statistics
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 ARRAY_FIELDS = (
     "stride",
@@ -138,10 +143,10 @@ def resolution_scan(
     """
     surface = require_height_map(surface, "resolution_scan")
     if isinstance(max_stride, bool) or int(max_stride) != max_stride or max_stride < 1:
-        raise ValueError(f"max_stride: expected an integer >= 1, got {max_stride!r}")
+        raise InputError(f"max_stride: expected an integer >= 1, got {max_stride!r}")
     limit = min(surface.nx, surface.ny) // 3
     if max_stride > max(limit, 1):
-        raise ValueError(
+        raise InputError(
             f"max_stride {max_stride} leaves fewer than 3 points per axis on a "
             f"{surface.nx} x {surface.ny} map; use at most {max(limit, 1)}"
         )
@@ -219,15 +224,78 @@ def write_scan_hdf5(scan: ResolutionScan, path: str | Path, *, source: dict | No
     return path
 
 
+def draw_resolution_scan(fig: Figure, scan: ResolutionScan, *, title: str = "") -> Figure:
+    """Draw the paper's Fig 12(a-c) on ``fig``: R, eta and sigma_s against the resolution.
+
+    Three panels side by side, each with the data and the fit of the module docstring: (a) the
+    mean summit radius R with its linear fit, (b) the asperity density eta with its power law
+    (log-log), (c) the rms summit height sigma_s with its mean. Units carry the SI prefix that
+    suits the data (um for the resolution of most maps, mm for R, mm^-2 for eta).
+
+    Parameters
+    ----------
+    fig : Figure
+        A blank :class:`matplotlib.figure.Figure` (e.g. ``asperity.plotting.new_figure(13, 4)``).
+    scan : ResolutionScan
+        The scan (SI units: m, 1/m^2).
+    title : str
+        Figure title (e.g. the file name); none when empty.
+
+    Returns
+    -------
+    Figure
+        ``fig``, drawn on.
+    """
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+    from asperity.plotting import display_unit
+
+    u_res = display_unit(scan.resolution, "m")
+    res = u_res(scan.resolution)
+    x_label = u_res.label(r"resolution $\Delta$")
+    ax_r, ax_eta, ax_sigma = fig.subplots(1, 3)
+    u_r = display_unit(scan.summit_radius, "m")
+    ax_r.plot(res, u_r(scan.summit_radius), "o", ms=3, label="data")
+    if math.isfinite(scan.radius_slope):
+        fit = scan.radius_slope * scan.resolution + scan.radius_intercept
+        ax_r.plot(res, u_r(fit), "-", label=f"linear fit, slope {scan.radius_slope:.3g}")
+    ax_r.set_ylabel(u_r.label("mean summit radius $R$"))
+    positive = scan.asperity_density > 0
+    u_eta = display_unit(scan.asperity_density[positive], "m", -2)
+    ax_eta.loglog(res[positive], u_eta(scan.asperity_density[positive]), "o", ms=3, label="data")
+    if math.isfinite(scan.density_exponent):
+        fit = scan.density_prefactor * scan.resolution**scan.density_exponent
+        label = f"power law, exponent {scan.density_exponent:.3g}"
+        ax_eta.loglog(res, u_eta(fit), "-", label=label)
+    ax_eta.set_ylabel(u_eta.label(r"asperity density $\eta$"))
+    # labels at 1, 2, 5 x 10^k: readable whether the scan spans one decade or three
+    ax_eta.xaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
+    ax_eta.xaxis.set_major_formatter(FuncFormatter(lambda value, _: f"{value:g}"))
+    ax_eta.xaxis.set_minor_formatter(NullFormatter())
+    u_sigma = display_unit(scan.summit_height_rms, "m")
+    ax_sigma.plot(res, u_sigma(scan.summit_height_rms), "o", ms=3, label="data")
+    if math.isfinite(scan.height_rms_mean):
+        spread = f"mean, spread {100 * scan.height_rms_relative_spread:.1f} %"
+        ax_sigma.axhline(u_sigma(scan.height_rms_mean), color="C1", label=spread)
+    ax_sigma.set_ylabel(u_sigma.label(r"rms summit height $\sigma_s$"))
+    for ax, tag in zip((ax_r, ax_eta, ax_sigma), "abc", strict=True):
+        ax.set_xlabel(x_label)
+        ax.set_title(f"({tag})")
+        ax.legend()
+    if title:
+        fig.suptitle(title)
+    return fig
+
+
 def plot_resolution_scan(scan: ResolutionScan, path: str | Path, *, title: str = "") -> Path:
-    """Save the paper's Fig 12(a-c) panels (R, eta, sigma_s against resolution), 150 dpi.
+    """Save the paper's Fig 12(a-c) panels (:func:`draw_resolution_scan`), 150 dpi.
 
     Parameters
     ----------
     scan : ResolutionScan
-        The scan; plotted in um (resolution), mm (R, sigma_s) and mm^-2 (eta).
+        The scan (SI units; drawn with SI-prefixed units chosen from the data).
     path : str or Path
-        Output PNG file.
+        Output file; the suffix picks the format (``.png``, ``.svg``, ``.pdf``).
     title : str
         Figure title (e.g. the file name).
 
@@ -236,54 +304,6 @@ def plot_resolution_scan(scan: ResolutionScan, path: str | Path, *, title: str =
     Path
         The file written.
     """
-    import matplotlib
-    import matplotlib.ticker
+    from asperity.plotting import new_figure, save_figure
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    res_um = scan.resolution * 1e6
-    fig, axes = plt.subplots(1, 3, figsize=(13, 4))
-    ax = axes[0]
-    ax.plot(res_um, scan.summit_radius * 1e3, "o", ms=3, label="data")
-    if math.isfinite(scan.radius_slope):
-        ax.plot(
-            res_um,
-            (scan.radius_slope * scan.resolution + scan.radius_intercept) * 1e3,
-            "-",
-            label=f"linear fit, slope {scan.radius_slope:.3g}",
-        )
-    ax.set_xlabel(r"resolution $\Delta$ ($\mu$m)")
-    ax.set_ylabel(r"mean summit radius $R$ (mm)")
-    ax.set_title("(a)")
-    ax.legend()
-    ax = axes[1]
-    positive = scan.asperity_density > 0
-    ax.loglog(res_um[positive], scan.asperity_density[positive] * 1e-6, "o", ms=3, label="data")
-    if math.isfinite(scan.density_exponent):
-        fit = scan.density_prefactor * scan.resolution**scan.density_exponent
-        ax.loglog(res_um, fit * 1e-6, "-", label=f"power law, exponent {scan.density_exponent:.3g}")
-    ax.set_xlabel(r"resolution $\Delta$ ($\mu$m)")
-    ax.set_ylabel(r"asperity density $\eta$ (mm$^{-2}$)")
-    ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
-    ax.set_title("(b)")
-    ax.legend()
-    ax = axes[2]
-    ax.plot(res_um, scan.summit_height_rms * 1e3, "o", ms=3, label="data")
-    if math.isfinite(scan.height_rms_mean):
-        ax.axhline(
-            scan.height_rms_mean * 1e3,
-            color="C1",
-            label=f"mean, spread {100 * scan.height_rms_relative_spread:.1f} %",
-        )
-    ax.set_xlabel(r"resolution $\Delta$ ($\mu$m)")
-    ax.set_ylabel(r"rms summit height $\sigma_s$ (mm)")
-    ax.set_title("(c)")
-    ax.legend()
-    if title:
-        fig.suptitle(title)
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
-    return path
+    return save_figure(draw_resolution_scan(new_figure(13, 4), scan, title=title), path)

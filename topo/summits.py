@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
+from asperity.errors import InputError
 from asperity.topo.heightmap import HeightMap, require_height_map
 from asperity.topo.resampling import decimate
 
@@ -119,7 +120,7 @@ def _check_analysable(surface: HeightMap, grid: HeightMap, stride: int) -> None:
             else f"({surface.nx} x {surface.ny} pixels) decimated by stride {stride} "
             f"leaves {grid.nx} x {grid.ny} pixels"
         )
-        raise ValueError(
+        raise InputError(
             f"summit_statistics: {source} {grid_text}; a summit needs a neighbour on each "
             "side, so at least 3 x 3 pixels are required"
         )
@@ -129,7 +130,7 @@ def _check_not_all_missing(surface: HeightMap, grid: HeightMap, stride: int) -> 
     """Refuse a grid without valid pixels (called only when no summit was found)."""
     source = surface.provenance.get("file", "the map")
     if grid.n_missing == grid.nx * grid.ny:
-        raise ValueError(
+        raise InputError(
             f"summit_statistics: every pixel of {source} (stride {stride}) is missing (NaN); "
             "there is nothing to analyse"
         )
@@ -137,7 +138,7 @@ def _check_not_all_missing(surface: HeightMap, grid: HeightMap, stride: int) -> 
 
 def _check_neighbours(neighbours: int) -> bool:
     if neighbours not in (4, 8):
-        raise ValueError(f"neighbours: expected 4 (the paper's rule) or 8, got {neighbours!r}")
+        raise InputError(f"neighbours: expected 4 (the paper's rule) or 8, got {neighbours!r}")
     return neighbours == 8
 
 

@@ -23,6 +23,7 @@ import math
 import numpy as np
 import scipy.fft
 
+from asperity.errors import InputError
 from asperity.topo.heightmap import HeightMap
 
 _ROWS_PER_BLOCK = 256
@@ -85,18 +86,18 @@ def self_affine(
     nx = int(n)
     ny = nx if ny is None else int(ny)
     if nx < 2 or ny < 2:
-        raise ValueError(f"self_affine: need at least 2 x 2 pixels, got {nx} x {ny}")
+        raise InputError(f"self_affine: need at least 2 x 2 pixels, got {nx} x {ny}")
     for name, value in (
         ("pixel_size", pixel_size),
         ("rms_height", rms_height),
         ("rolloff_wavelength", rolloff_wavelength),
     ):
         if not (math.isfinite(value) and value > 0):
-            raise ValueError(f"self_affine: {name} must be a finite value > 0 m, got {value!r}")
+            raise InputError(f"self_affine: {name} must be a finite value > 0 m, got {value!r}")
     if not 0 < hurst <= MAX_HURST:
-        raise ValueError(f"self_affine: hurst must be in (0, {MAX_HURST:g}], got {hurst!r}")
+        raise InputError(f"self_affine: hurst must be in (0, {MAX_HURST:g}], got {hurst!r}")
     if short_cutoff is not None and not short_cutoff > 0:
-        raise ValueError(f"self_affine: short_cutoff must be > 0 m, got {short_cutoff!r}")
+        raise InputError(f"self_affine: short_cutoff must be > 0 m, got {short_cutoff!r}")
     q_r = 2 * math.pi / rolloff_wavelength
     q_s = math.inf if short_cutoff is None else 2 * math.pi / short_cutoff
     rng = np.random.default_rng(seed)
@@ -116,7 +117,7 @@ def self_affine(
     heights -= heights.mean()
     rms = float(np.sqrt(np.mean(heights * heights)))
     if rms == 0:
-        raise ValueError("self_affine: the band between roll-off and cut-off holds no mode")
+        raise InputError("self_affine: the band between roll-off and cut-off holds no mode")
     heights *= rms_height / rms
     provenance = {
         "format": "synthetic",

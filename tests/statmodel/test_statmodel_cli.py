@@ -157,24 +157,6 @@ def test_friction_pull_off_under_shear_exits_1_with_results(tmp_path, capsys):
     assert status == 0 and json.loads(out)["converged"] is True
 
 
-def test_figures_command_writes_pngs_and_data(tmp_path, capsys):
-    status, out, _ = run(capsys, "figures", "--out", str(tmp_path))
-    assert status == 0
-    pngs = sorted(p.name for p in tmp_path.glob("*.png"))
-    assert pngs == [
-        "fig1_pc_single_asperity.png",
-        "fig2_status_map.png",
-        "fig4_shear_curve.png",
-        "fig5_parameter_study.png",
-    ]
-    with h5py.File(tmp_path / "statmodel_figures.h5") as fh:
-        assert {"fig1", "fig2", "fig4", "fig5"} <= set(fh)
-        names = []
-        fh.visititems(lambda n, o: names.append(n) if isinstance(o, h5py.Dataset) else None)
-        assert all("units" in fh[n].attrs for n in names)
-        np.testing.assert_allclose(fh["fig4/normal_force"][()], 3.1, rtol=1e-9)
-
-
 def test_friction_single_step_is_the_preload_state(tmp_path, capsys):
     p = _write(tmp_path, EXAMPLE.read_text().replace("steps = 281", "steps = 1"))
     status, out, _ = run(capsys, "friction", str(p), "--json")
@@ -198,3 +180,70 @@ def test_friction_warns_on_stderr_when_tabor_is_below_5(tmp_path, capsys):
     assert json.loads(out)["tabor_parameter"] == pytest.approx(2.62, rel=1e-2)
     status, _, err = run(capsys, "friction", str(EXAMPLE), "--json")
     assert status == 0 and "warning" not in err
+
+
+# ------------------------------------------------------------------ Fig. 4 and the figures
+
+
+@pytest.fixture(scope="module")
+def fig4_curve():
+    return shear_curve(
+        Material(2.133e6, 0.040, 0.2, 0.13e6),
+        Roughness(652.1e6, 0.041e-3, 0.032e-3),
+        700e-6,
+        3.1,
+        np.linspace(0, 14e-6, 57),
+    )
+
+
+def test_draw_shear_curve_draws_fig4_in_readable_units(fig4_curve):
+    """Fig. 4's four panels in um, N, mm^2 and mN; each total is its stick plus sliding part
+    (the two integrals of E:NewFormulation_Fy/Fx/Ar) and F_z stays at the imposed 3.1 N."""
+    from asperity.plotting import layout_problems, new_figure
+    from asperity.statmodel import draw_shear_curve
+
+    fig = draw_shear_curve(new_figure(10, 8), fig4_curve, title="Fig. 4")
+    axes = fig.get_axes()
+    assert [ax.get_title() for ax in axes] == ["(a)", "(b)", "(c)", "(d)"]
+    assert all(ax.get_xlabel().endswith("(\u00b5m)") for ax in axes)
+    units = [ax.get_ylabel().rsplit("(", 1)[-1] for ax in axes]
+    assert units == ["N)", "contacting asperities", "mm$^{2}$)", "mN)"]
+    for ax in axes:
+        x, total, stick, slip = (ax.lines[0].get_xdata(), *(ln.get_ydata() for ln in ax.lines))
+        np.testing.assert_allclose(x[-1], 14.0)  # um
+        np.testing.assert_allclose(total, stick + slip, rtol=1e-9, atol=1e-9 * np.max(total))
+    np.testing.assert_allclose(axes[0].lines[0].get_ydata(), 3.1, rtol=1e-9)
+    # the paper's Fig. 4(c): about 6 mm^2 at preload; (d) the static peak, in mN
+    assert axes[2].lines[0].get_ydata()[0] == pytest.approx(fig4_curve.real_area[0] * 1e6)
+    assert 5.0 < axes[2].lines[0].get_ydata()[0] < 7.0
+    assert max(axes[3].lines[0].get_ydata()) == pytest.approx(fig4_curve.static_friction * 1e3)
+    assert [t.get_text() for t in axes[0].get_legend().get_texts()] == [
+        "total",
+        "stick",
+        "sliding",
+    ]
+    assert layout_problems(fig) == []
+
+
+def test_draw_shear_curve_accepts_a_user_figure(fig4_curve):
+    """Any blank Figure will do (a notebook's, sized by the user), and it is returned."""
+    from matplotlib.figure import Figure
+
+    from asperity.statmodel import draw_shear_curve
+
+    fig = Figure(figsize=(6, 5))
+    assert draw_shear_curve(fig, fig4_curve) is fig
+    assert len(fig.get_axes()) == 4 and fig._suptitle is None
+
+
+@pytest.mark.slow  # ~0.6-1 s each; Fig. 4 (the shared plotter) is checked by default
+@pytest.mark.parametrize(
+    "name", ["fig1_pc_single_asperity", "fig2_status_map", "fig5_parameter_study"]
+)
+def test_every_paper_figure_has_a_clean_layout(tmp_path, name):
+    """No overlapping or clipped text in Figs. 1, 2, 5 (Fig. 4: the test above)."""
+    from asperity.plotting import layout_problems
+    from asperity.statmodel.figures import FIGURES
+
+    with h5py.File(tmp_path / "data.h5", "w") as h5:
+        assert layout_problems(FIGURES[name](h5)) == []

@@ -142,3 +142,22 @@ def test_scan_and_synth_commands(capsys, tmp_path):
     npy = tmp_path / "synth.npy"
     assert run_cli(capsys, "synth", "--n", 64, "--pixel-size", 1e-5, "--out", npy)[0] == 0
     assert np.load(npy).shape == (64, 64)
+
+
+def test_resolution_scan_figure_units_follow_the_data(surface):
+    """Fig 12(a-c) of a 10 um map: resolution in um, eta in mm^-2 (the paper's units), the
+    plotted points are the scan's own, and no text overlaps or is clipped."""
+    from asperity.plotting import layout_problems, new_figure
+
+    scan = topo.resolution_scan(surface, 12)
+    fig = topo.draw_resolution_scan(new_figure(13, 4), scan, title="paper-like map")
+    ax_r, ax_eta, ax_sigma = fig.get_axes()
+    assert all(ax.get_xlabel() == "resolution $\\Delta$ (\u00b5m)" for ax in fig.get_axes())
+    assert ax_eta.get_ylabel().endswith("(mm$^{-2}$)") and ax_eta.get_yscale() == "log"
+    np.testing.assert_allclose(ax_r.lines[0].get_xdata(), np.arange(1, 13) * 10.0)
+    eta = ax_eta.lines[0].get_ydata()
+    np.testing.assert_allclose(eta, scan.asperity_density * 1e-6)
+    r_unit = ax_r.get_ylabel().rsplit("(", 1)[-1].rstrip(")")
+    factor = {"\u00b5m": 1e6, "mm": 1e3}[r_unit]
+    np.testing.assert_allclose(ax_r.lines[0].get_ydata(), scan.summit_radius * factor)
+    assert layout_problems(fig) == []

@@ -1,0 +1,208 @@
+"""Plotting helpers shared by every asperity figure: no backend is ever forced.
+
+Every figure of the library is a :class:`matplotlib.figure.Figure` built with
+:func:`new_figure` and written with :func:`save_figure`; neither touches ``matplotlib.pyplot``
+nor ``matplotlib.use``, so importing or calling asperity in a notebook leaves the user's
+backend as it was. Axis units are chosen from the data with :func:`display_unit` (SI prefixes:
+a 10 um map is drawn in um, not in "mm x 1e-2"). :func:`layout_problems` lists overlapping or
+clipped text of a drawn figure (used by the tests).
+
+This module imports matplotlib only inside its functions, so importing it is cheap.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+#: Resolution of raster output (PNG), dots per inch.
+DEFAULT_DPI = 150
+
+#: SI prefixes by power of ten (engineering steps only: no centi, no deci).
+SI_PREFIXES: dict[int, str] = {
+    -15: "f",
+    -12: "p",
+    -9: "n",
+    -6: "\u00b5",
+    -3: "m",
+    0: "",
+    3: "k",
+    6: "M",
+    9: "G",
+}
+
+#: The display value of the largest datum is kept nearest to 10**1.5 (~32) on a log scale:
+#: for a unit to the first power that means 1 <= value < 1000.
+_TARGET_LOG10 = 1.5
+_TIE_BREAK = 1e-9
+
+
+@dataclass(frozen=True)
+class DisplayUnit:
+    """An SI-prefixed unit to draw data in.
+
+    Attributes
+    ----------
+    factor : float
+        Multiply values in the SI unit by this to get values in the display unit
+        (e.g. 1e6 to draw metres in micrometres).
+    symbol : str
+        The unit as matplotlib text, e.g. ``"µm"``, ``"mm$^{2}$"``, ``"mm$^{-2}$"``, ``"mN"``.
+    """
+
+    factor: float
+    symbol: str
+
+    def label(self, quantity: str) -> str:
+        """Axis label ``"quantity (unit)"``; ``quantity`` may hold mathtext."""
+        return f"{quantity} ({self.symbol})" if self.symbol else quantity
+
+    def __call__(self, values: ArrayLike) -> np.ndarray:
+        """The values (SI unit) in the display unit."""
+        return np.asarray(values, dtype=float) * self.factor
+
+
+def _unit_symbol(prefix: str, base: str, power: int) -> str:
+    if power == 1:
+        return f"{prefix}{base}"
+    return f"{prefix}{base}$^{{{power}}}$"
+
+
+def display_unit(values: ArrayLike, base: str, power: int = 1) -> DisplayUnit:
+    """Choose the SI prefix of ``base**power`` that draws ``values`` with readable numbers.
+
+    The prefix applies to the base unit before the power (areas in mm^2, densities in mm^-2,
+    as in the paper). The largest finite magnitude is brought nearest to 10**1.5 on a log
+    scale, so lengths and forces read 1 to 999 (0.0120 mm becomes 12.0 um; 3.1e-3 N becomes
+    3.1 mN) and areas 0.03 to 3e4 of their unit.
+
+    Parameters
+    ----------
+    values : array_like
+        The data in the SI unit ``base**power`` (e.g. m, N, m^2, 1/m^2).
+    base : str
+        The SI base unit symbol, e.g. ``"m"``, ``"N"``, ``"Pa"``.
+    power : int
+        Its power: 1 for lengths and forces, 2 for areas, -2 for densities per area.
+
+    Returns
+    -------
+    DisplayUnit
+        The factor and the symbol; the plain SI unit when no value is finite and non-zero.
+    """
+    if power == 0:
+        raise ValueError("display_unit: power must be non-zero (a dimensionless value has no unit)")
+    magnitudes = np.abs(np.asarray(values, dtype=float)).ravel()
+    magnitudes = magnitudes[np.isfinite(magnitudes) & (magnitudes > 0)]
+    if magnitudes.size == 0:
+        return DisplayUnit(1.0, _unit_symbol("", base, power))
+    largest = math.log10(float(magnitudes.max()))
+    # the tiny shift breaks ties upwards: 1e-3 m is 1 mm, not 1000 um
+    exponent = min(SI_PREFIXES, key=lambda e: abs(largest - e * power - _TARGET_LOG10 + _TIE_BREAK))
+    symbol = _unit_symbol(SI_PREFIXES[exponent], base, power)
+    return DisplayUnit(10.0 ** (-exponent * power), symbol)
+
+
+def new_figure(width: float, height: float) -> Figure:
+    """A blank figure of ``width`` x ``height`` inches with matplotlib's constrained layout.
+
+    The layout engine places titles, labels and legends so that they neither overlap nor get
+    clipped. The figure is not registered with pyplot: it needs no closing and shows in a
+    notebook only when the user displays it.
+    """
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=(width, height), layout="constrained")
+
+
+def save_figure(fig: Figure, path: str | Path, *, dpi: int = DEFAULT_DPI) -> Path:
+    """Write ``fig`` to ``path``; the suffix picks the format (``.png``, ``.svg``, ``.pdf``).
+
+    Parameters
+    ----------
+    fig : Figure
+        The figure (from :func:`new_figure`).
+    path : str or Path
+        The output file; its folder must exist.
+    dpi : int
+        Resolution of raster formats, dots per inch.
+
+    Returns
+    -------
+    Path
+        The file written.
+    """
+    path = Path(path)
+    fig.savefig(path, dpi=dpi)
+    return path
+
+
+def _drawn_texts(fig: Figure) -> tuple[list, object]:
+    """Lay out ``fig`` (Agg metrics, nothing rasterised); return the texts drawn and the renderer.
+
+    Only texts the figure actually draws are returned (tick labels outside the view limits
+    exist as artists but are not drawn).
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    renderer = FigureCanvasAgg(fig).get_renderer()
+    drawn: list = []
+
+    def record_text(gc, x, y, s, prop, angle, ismath=False, mtext=None) -> None:  # noqa: ANN001
+        if mtext is not None and s.strip() and all(mtext is not t for t in drawn):
+            drawn.append(mtext)
+
+    # matplotlib's own way to run a draw for sizes only (as in savefig); optional API
+    no_drawing = getattr(renderer, "_draw_disabled", contextlib.nullcontext)
+    with no_drawing():
+        renderer.draw_text = record_text
+        fig.draw(renderer)
+    return drawn, renderer
+
+
+def _overlap(a, b) -> bool:  # noqa: ANN001
+    """Two display boxes intersect by more than one pixel each way."""
+    return min(a.x1, b.x1) - max(a.x0, b.x0) > 1 and min(a.y1, b.y1) - max(a.y0, b.y0) > 1
+
+
+def layout_problems(fig: Figure) -> list[str]:
+    """Texts of a figure that overlap each other or stick out of the figure, once drawn.
+
+    Checks every text the renderer draws: titles, axis labels, tick labels, legend entries,
+    annotations. Two texts overlap when their boxes intersect by more than one pixel each way;
+    a text is clipped when its box leaves the figure by more than one pixel.
+
+    Parameters
+    ----------
+    fig : Figure
+        The figure to check; it is drawn here with the Agg renderer (the backend is not
+        changed).
+
+    Returns
+    -------
+    list of str
+        One line per problem, e.g. ``"overlap: 'F_x (N)' and '0.8'"``; empty when the layout
+        is clean.
+    """
+    texts, renderer = _drawn_texts(fig)
+    page = fig.bbox.padded(1.0)
+    boxes = [(text.get_text(), text.get_window_extent(renderer)) for text in texts]
+    problems = [
+        f"clipped: {name!r}"
+        for name, box in boxes
+        if box.x0 < page.x0 or box.y0 < page.y0 or box.x1 > page.x1 or box.y1 > page.y1
+    ]
+    for i, (first, a) in enumerate(boxes):
+        problems += [
+            f"overlap: {first!r} and {second!r}" for second, b in boxes[i + 1 :] if _overlap(a, b)
+        ]
+    return problems

@@ -1,0 +1,250 @@
+"""Every exit status of the ``asperity`` command means one thing (asperity.errors.ExitStatus).
+
+In-process: ``main([...])`` returns the status; handlers are replaced with monkeypatch where a
+fault has to be injected (``asperity figures``'s handler stands in for any command).
+"""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from asperity.errors import ExitStatus, InputError
+from asperity.pipelines.cli import main
+from asperity.statmodel import TaborWarning
+
+DATA = Path(__file__).resolve().parent / "data"
+FRICTION_EXAMPLE = Path(__file__).resolve().parents[1] / "statmodel" / "examples" / "fig4.toml"
+
+
+def run(capsys: pytest.CaptureFixture[str], *argv: object) -> tuple[int, str, str]:
+    status = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def replace_handler(monkeypatch: pytest.MonkeyPatch, handler) -> None:  # noqa: ANN001
+    """Make ``asperity figures`` run ``handler(args)`` instead of drawing the figures."""
+    monkeypatch.setattr("asperity.statmodel.cli.run_figures", handler)
+
+
+def test_codes_are_the_documented_ones():
+    codes = {s.name: int(s) for s in ExitStatus}
+    assert codes == {
+        "OK": 0,
+        "NOT_CONVERGED": 1,
+        "BAD_INPUT": 2,
+        "INVALID_RESULT": 3,
+        "INTERNAL_ERROR": 70,
+        "INTERRUPTED": 130,
+    }
+
+
+# --------------------------------------------------------------------------- 0 and 1
+
+
+def test_success_is_0(capsys, tmp_path):
+    status, out, err = run(
+        capsys, "synth", "--n", 32, "--pixel-size", 1e-5, "--out", tmp_path / "s.npy"
+    )
+    assert status == ExitStatus.OK and isinstance(status, ExitStatus)
+    assert "wrote" in out and err == ""
+
+
+ADHESIVE_IN_TENSION = """
+[material]
+E_star = 1e6
+work_of_adhesion = 0.05
+mode_mixity = 0.2
+shear_strength = 1e5
+[roughness]
+asperity_density = 1e9
+summit_radius = 1e-4
+summit_height_rms = 3e-8
+[loading]
+normal_load = -1.0
+nominal_area = 1e-4
+max_tangential_displacement = 50e-6
+steps = 11
+"""
+
+
+def test_a_solve_that_fails_is_1_with_its_results(capsys, tmp_path):
+    """A smooth adhesive contact held in tension: shear peels the junctions until the tensile
+    load can no longer be carried, the solve stops (a physical end, not bad input)."""
+    params = tmp_path / "tension.toml"
+    params.write_text(ADHESIVE_IN_TENSION)
+    status, out, err = run(capsys, "friction", params, "--json")
+    assert status == ExitStatus.NOT_CONVERGED
+    assert '"converged": false' in out
+    assert "cannot be carried" in err and "error" not in err
+
+
+# ------------------------------------------------------------------------------ 2
+
+
+def test_usage_errors_are_2_from_argparse(capsys):
+    for argv in (["stats"], ["stats", "x.npy", "--neighbours", "5"], ["no-such-command"]):
+        with pytest.raises(SystemExit) as stop:
+            main(argv)
+        assert stop.value.code == ExitStatus.BAD_INPUT
+        assert "usage: asperity" in capsys.readouterr().err
+
+
+def test_no_command_is_2(capsys):
+    assert main([]) == ExitStatus.BAD_INPUT
+    assert "COMMAND" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    "argv, named",
+    [
+        (["stats", "{tmp}/missing.x3p"], "{tmp}/missing.x3p"),
+        (["friction", "{tmp}/missing.toml"], "missing.toml: No such file or directory"),
+        (["friction", "{tmp}"], "{tmp}"),  # a directory where a file was expected
+        (["figures", "--out", "{tmp}/a_file.txt"], "a_file.txt"),  # a file where a folder was
+        (["stats", str(DATA / "dektak-1.csv")], "1D line profile"),  # InputError (reader)
+        (["stats", "{tmp}/m.npy", "--pixel-size", "-1e-6"], "--pixel-size"),  # InputError (CLI)
+        (["stats", "{tmp}/m.npy"], "--pixel-size"),  # a file without a pixel size
+        (["synth", "--n", "32", "--pixel-size", "1e-5", "--out", "{tmp}/s.png"], "--out"),
+    ],
+)
+def test_bad_input_is_2_with_one_line_naming_it(capsys, tmp_path, argv, named):
+    np.save(tmp_path / "m.npy", np.zeros((8, 8)))
+    (tmp_path / "a_file.txt").write_text("not a folder")
+    argv = [a.replace("{tmp}", str(tmp_path)) for a in argv]
+    status, _, err = run(capsys, *argv)
+    assert status == ExitStatus.BAD_INPUT
+    assert err.startswith(f"asperity {argv[0]}: error: ")
+    assert named.replace("{tmp}", str(tmp_path)) in err
+    assert len(err.splitlines()) == 1 and "Traceback" not in err
+
+
+def test_bad_parameter_value_is_2(capsys, tmp_path):
+    params = tmp_path / "p.toml"
+    params.write_text(
+        FRICTION_EXAMPLE.read_text().replace("mode_mixity = 0.2", "mode_mixity = 1.2")
+    )
+    status, _, err = run(capsys, "friction", params)
+    assert status == ExitStatus.BAD_INPUT
+    assert err.startswith("asperity friction: error: ") and "mode_mixity" in err
+
+
+def test_library_validation_errors_are_input_errors():
+    """Bad arguments to library functions raise InputError (still a ValueError)."""
+    from asperity import statmodel, topo
+
+    with pytest.raises(InputError, match="mode_mixity"):
+        statmodel.Material(2e6, 0.04, 1.5, 1e5)
+    with pytest.raises(InputError, match="pixel size"):
+        topo.HeightMap(np.zeros((4, 4)), 0.0, 1e-6)
+    with pytest.raises(InputError, match="stride"):
+        topo.decimate(topo.HeightMap(np.zeros((4, 4)), 1e-6, 1e-6), 0)
+    with pytest.raises(ValueError, match="max_stride"):
+        topo.resolution_scan(topo.HeightMap(np.zeros((9, 9)), 1e-6, 1e-6), 5)
+
+
+# ----------------------------------------------------------------------------- 70
+
+
+@pytest.mark.parametrize(
+    "fault",
+    [
+        ZeroDivisionError("division by zero"),
+        ValueError("a bare ValueError is a bug"),
+        OSError(5, "I/O"),
+    ],
+)
+def test_an_internal_bug_is_70_never_2(capsys, monkeypatch, fault):
+    def broken(args):  # noqa: ANN001, ARG001
+        raise fault
+
+    replace_handler(monkeypatch, broken)
+    monkeypatch.delenv("ASPERITY_DEBUG", raising=False)
+    status, _, err = run(capsys, "figures", "--out", "anywhere")
+    assert status == ExitStatus.INTERNAL_ERROR
+    assert err == (
+        f"asperity figures: internal error: {type(fault).__name__}: {fault} "
+        "(please report this; run with ASPERITY_DEBUG=1 for the traceback)\n"
+    )
+
+
+def test_asperity_debug_adds_the_traceback(capsys, monkeypatch):
+    def broken(args):  # noqa: ANN001, ARG001
+        return 1 / 0
+
+    replace_handler(monkeypatch, broken)
+    monkeypatch.setenv("ASPERITY_DEBUG", "1")
+    status, _, err = run(capsys, "figures", "--out", "anywhere")
+    assert status == ExitStatus.INTERNAL_ERROR
+    assert err.startswith("Traceback (most recent call last):")
+    assert "in broken" in err and "return 1 / 0" in err
+    assert err.splitlines()[-1].startswith("asperity figures: internal error: ZeroDivisionError")
+    monkeypatch.setenv("ASPERITY_DEBUG", "0")
+    assert run(capsys, "figures", "--out", "anywhere")[2].startswith("asperity figures:")
+
+
+def test_an_undocumented_status_from_a_handler_is_70(capsys, monkeypatch):
+    replace_handler(monkeypatch, lambda args: 5)
+    status, _, err = run(capsys, "figures", "--out", "anywhere")
+    assert status == ExitStatus.INTERNAL_ERROR and "5 is not a valid ExitStatus" in err
+
+
+# ---------------------------------------------------------------------------- 130
+
+
+def test_ctrl_c_is_130(capsys, monkeypatch):
+    def interrupted(args):  # noqa: ANN001, ARG001
+        raise KeyboardInterrupt
+
+    replace_handler(monkeypatch, interrupted)
+    status, _, err = run(capsys, "figures", "--out", "anywhere")
+    assert status == ExitStatus.INTERRUPTED
+    assert err.startswith("asperity figures: interrupted")
+
+
+# ------------------------------------------------------------------------- warnings
+
+
+def test_warnings_are_one_clean_line_each(capsys, monkeypatch):
+    """TaborWarning, numpy's RuntimeWarnings and others: one line per distinct message,
+    ``asperity CMD: warning: ...``, never Python's ``file:line: Category: message`` form."""
+
+    def noisy(args):  # noqa: ANN001, ARG001
+        for _ in range(3):
+            warnings.warn(
+                "Tabor parameter mu = 2.6 < 5: outside the model's\n  validity",
+                TaborWarning,
+                stacklevel=1,
+            )
+            with np.errstate(divide="warn"):
+                np.log(np.zeros(2))
+        warnings.warn("something else", UserWarning, stacklevel=1)
+        return ExitStatus.OK
+
+    replace_handler(monkeypatch, noisy)
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")
+        status, _, err = run(capsys, "figures", "--out", "anywhere")
+    assert status == ExitStatus.OK
+    assert err.splitlines() == [
+        "asperity figures: warning: Tabor parameter mu = 2.6 < 5: outside the model's validity",
+        "asperity figures: warning: RuntimeWarning: divide by zero encountered in log",
+        "asperity figures: warning: something else",
+    ]
+
+
+def test_warning_filters_still_apply_and_are_restored(capsys, monkeypatch):
+    def noisy(args):  # noqa: ANN001, ARG001
+        warnings.warn("silenced by the user", RuntimeWarning, stacklevel=1)
+
+    replace_handler(monkeypatch, noisy)
+    before = warnings.showwarning
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        status, _, err = run(capsys, "figures", "--out", "anywhere")
+    assert status == ExitStatus.OK and err == ""
+    assert warnings.showwarning is before
