@@ -216,7 +216,11 @@ def test_draw_shear_curve_draws_fig4_in_readable_units(fig4_curve):
     # the paper's Fig. 4(c): about 6 mm^2 at preload; (d) the static peak, in mN
     assert axes[2].lines[0].get_ydata()[0] == pytest.approx(fig4_curve.real_area[0] * 1e6)
     assert 5.0 < axes[2].lines[0].get_ydata()[0] < 7.0
-    assert max(axes[3].lines[0].get_ydata()) == pytest.approx(fig4_curve.static_friction * 1e3)
+    # the static friction is the continuous peak: no plotted grid point above it, the grid's
+    # maximum within 1 % of it on 57 steps
+    plotted_peak = max(axes[3].lines[0].get_ydata())
+    assert plotted_peak <= fig4_curve.static_friction * 1e3 * (1 + 1e-12)
+    assert plotted_peak >= fig4_curve.static_friction * 1e3 * 0.99
     assert [t.get_text() for t in axes[0].get_legend().get_texts()] == [
         "total",
         "stick",
