@@ -117,6 +117,23 @@ class MaterialConfig:
     shear_strength: float = 0.13e6
     equilibrium_distance: float = 0.2e-9
 
+    @property
+    def e_star(self) -> float:
+        """E*, Pa (the spelling of :class:`statmodel.Material`)."""
+        return self.E_star
+
+    def to_material(self, mode_mixity: float | None = None) -> Any:
+        """The :class:`statmodel.Material` of this table, optionally with another lambda."""
+        from asperity.statmodel.parameters import Material
+
+        return Material(
+            e_star=self.E_star,
+            work_of_adhesion=self.work_of_adhesion,
+            mode_mixity=self.mode_mixity if mode_mixity is None else mode_mixity,
+            shear_strength=self.shear_strength,
+            equilibrium_distance=self.equilibrium_distance,
+        )
+
 
 @dataclass(frozen=True)
 class LoadingConfig:
@@ -158,6 +175,9 @@ class BemConfig:
         Coarsest decimation of the map tried by the refinement check.
     adhesive : bool
         Also run the Pohrt-Popov adhesive sweep.
+    enabled : bool
+        Run the BEM at all; false needs a measured A_r(F_z) (``measured.normal_area``), which
+        then alone chooses the effective resolution.
     """
 
     tol: float = 1e-6
@@ -165,6 +185,7 @@ class BemConfig:
     area_tolerance: float = 0.05
     max_stride: int = 4
     adhesive: bool = True
+    enabled: bool = True
 
 
 @dataclass(frozen=True)
@@ -262,12 +283,28 @@ class JobConfig:
             del data["measured"]["shear_area"]
         return dump_toml(data)
 
-    def section_hash(self, *names: str) -> str:
-        """SHA-256 of the named sections (e.g. ``"material", "loading"``): a stage's cache key."""
-        data = self.to_dict()
-        picked = {name: data[name] for name in names}
-        text = json.dumps(picked, sort_keys=True, default=str)
-        return hashlib.sha256(text.encode()).hexdigest()
+    def key_document(self) -> dict[str, Any]:
+        """The configuration as plain data with every file replaced by its path and SHA-256:
+        what stage keys hash, so a changed file recomputes the stages that read it."""
+        return _with_file_hashes(dataclasses.asdict(self))
+
+
+def _file_sha256(path: Path) -> str:
+    digest = hashlib.sha256()
+    with open(path, "rb") as handle:
+        while block := handle.read(1 << 20):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def _with_file_hashes(value: Any) -> Any:
+    if isinstance(value, dict):
+        return {k: _with_file_hashes(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_with_file_hashes(v) for v in value]
+    if isinstance(value, Path):
+        return {"path": str(value), "sha256": _file_sha256(value)}
+    return value
 
 
 def _toml_value(value: Any) -> str:
@@ -325,7 +362,7 @@ def preset_text(name: str) -> str:
     """The TOML text of a shipped preset (``"default"`` or ``"paper"``)."""
     if name not in PRESETS:
         raise ConfigError(f"unknown preset {name!r}; expected one of {', '.join(PRESETS)}")
-    return resources.files("pipelines").joinpath("presets", f"{name}.toml").read_text("utf-8")
+    return resources.files("asperity.pipelines.presets").joinpath(f"{name}.toml").read_text("utf-8")
 
 
 def load_preset(name: str) -> JobConfig:
@@ -519,6 +556,7 @@ def config_from_dict(
         area_tolerance=b.number("area_tolerance", BemConfig.area_tolerance, positive=True),
         max_stride=b.integer("max_stride", BemConfig.max_stride),
         adhesive=b.boolean("adhesive", BemConfig.adhesive),
+        enabled=b.boolean("enabled", BemConfig.enabled),
     )
     b.finish()
 
@@ -529,6 +567,11 @@ def config_from_dict(
     s.finish()
 
     measured = _measured(tables["measured"], base_dir)
+    if not bem.enabled and measured.normal_area is None:
+        raise ConfigError(
+            f"{source}: bem.enabled: expected true unless measured.normal_area gives a measured "
+            "A_r(F_z) to calibrate against, got false without it"
+        )
 
     f = tables["fit"]
     bounds = f.get("mode_mixity_bounds", list(FitConfig.mode_mixity_bounds))

@@ -6,15 +6,16 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import asperity.pipelines.job as job_module
+import asperity.pipelines.bem_stage as bem_module
 from asperity import statmodel
 from asperity.pipelines.cli import main
-from asperity.pipelines.config import config_from_dict, preset_text
+from asperity.pipelines.config import ConfigError, config_from_dict, preset_text
 from asperity.pipelines.fitting import area_up_to_peak, interpolate_area
 from asperity.pipelines.friction_stage import model_shear_area
 from asperity.pipelines.job import run_job
 from asperity.pipelines.measured import NormalAreaCurve, ShearAreaCurve, write_shear_area
-from asperity.pipelines.resolution_stage import material_from_config, roughness_from_scan
+from asperity.pipelines.pull_off import roughness_from_scan
+from asperity.pipelines.resolution_stage import material_from_config
 from asperity.pipelines.surface_stage import read_and_level, scan_resolutions
 
 try:
@@ -85,9 +86,11 @@ def test_load_below_pull_off_refused_before_bem(tmp_path, monkeypatch):
     def no_bem(*a, **k):
         raise AssertionError("the BEM must not run")
 
-    monkeypatch.setattr(job_module, "bem_reference", no_bem)
-    with pytest.raises(ValueError, match=r"loading\.normal_loads: -1000 N .* pull-off"):
+    monkeypatch.setattr(bem_module, "bem_reference", no_bem)
+    refused = r"loading\.normal_loads: expected .* pull-off .*got -1000 N"
+    with pytest.raises(ConfigError, match=refused):
         run_job(cfg, tmp_path / "out")
+    assert not (tmp_path / "out" / "results.h5").exists()  # a refused config writes nothing
 
 
 def test_cli_exit_1_when_a_solver_did_not_converge(tmp_path, capsys):
@@ -117,9 +120,10 @@ def _compare(a, b):
     np.testing.assert_allclose(a.bem.contact_fraction, b.bem.contact_fraction, rtol=1e-12)
     np.testing.assert_allclose(a.resolution.real_area, b.resolution.real_area, rtol=1e-12)
     for name in ("tangential_force", "real_area"):
-        np.testing.assert_allclose(a.friction.curves[name], b.friction.curves[name], rtol=1e-12)
+        np.testing.assert_allclose(getattr(a.friction, name), getattr(b.friction, name), rtol=1e-12)
 
 
+@pytest.mark.slow
 def test_parallel_runs_match_serial(tmp_path):
     """Two worker processes, and a dask.distributed cluster, give the serial numbers."""
     distributed = pytest.importorskip("distributed")
