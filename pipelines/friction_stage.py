@@ -616,7 +616,7 @@ def compute_mode_mixity(context: StageContext) -> ModeMixityChoice:
     """Stage 5 of the job: :func:`calibrate_mode_mixity` on the measured A_r(F_x) curves."""
     config = context.config
     return calibrate_mode_mixity(
-        config.material.to_material(),
+        config.material,
         context.result(STATISTICAL_MODEL).roughness,
         config.loading.nominal_area,
         context.measured.shear_area,
@@ -630,7 +630,9 @@ def compute_mode_mixity(context: StageContext) -> ModeMixityChoice:
 def compute_friction(context: StageContext) -> FrictionPrediction:
     """Stage 6 of the job: :func:`friction_prediction` with the calibrated lambda."""
     config = context.config
-    material = config.material.to_material(context.result(MODE_MIXITY).mode_mixity)
+    material = dataclasses.replace(
+        config.material, mode_mixity=context.result(MODE_MIXITY).mode_mixity
+    )
     return friction_prediction(
         material,
         context.result(STATISTICAL_MODEL).roughness,

@@ -10,6 +10,7 @@ the BEM on the map (adhesive when run). The effective resolution is the one of l
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 from collections.abc import Sequence
@@ -21,7 +22,7 @@ import numpy as np
 from asperity import statmodel
 from asperity.errors import InputError
 from asperity.pipelines.bem_stage import BEM, BemReference
-from asperity.pipelines.config import ConfigError, MaterialConfig
+from asperity.pipelines.config import ConfigError
 from asperity.pipelines.fields import array, scalar, text
 from asperity.pipelines.measured import NormalAreaCurve
 from asperity.pipelines.parallel import run_map
@@ -67,10 +68,13 @@ def validity_notes(real_area_fraction: np.ndarray, tabor_parameter: float) -> li
 
 
 def material_from_config(
-    config: MaterialConfig, mode_mixity: float | None = None
+    material: statmodel.Material, mode_mixity: float | None = None
 ) -> statmodel.Material:
-    """The :class:`statmodel.Material` of the configuration (SI), optionally with another lambda."""
-    return config.to_material(mode_mixity)
+    """The configured :class:`statmodel.Material` (``config.material``), optionally with
+    another lambda."""
+    if mode_mixity is None:
+        return material
+    return dataclasses.replace(material, mode_mixity=mode_mixity)
 
 
 def areas_at_loads(
@@ -364,7 +368,7 @@ def compute_statistical_model(context: StageContext) -> ResolutionChoice:
     config = context.config
     return statistical_model_scan(
         context.result(SCAN),
-        config.material.to_material(),
+        config.material,
         config.loading.nominal_area,
         config.loading.normal_loads,
         bem=context.result(BEM),

@@ -226,7 +226,7 @@ def check_scan_loads(context: StageContext, scan: ScanResult) -> None:
     """After stage 2: every load must exceed the statistical model's pull-off force."""
     config = context.config
     check_loads_above_pull_off(
-        config.material.to_material(),
+        config.material,
         scan,
         config.loading.nominal_area,
         config.loading.normal_loads,
