@@ -69,6 +69,7 @@ def test_effective_resolution_and_lambda_recovered_from_measurements(tmp_path):
     write_shear_area(tmp_path / "shear.csv", curves)
     data["measured"] = {"normal_area": "area.csv", "shear_area": "shear.csv"}
     data["fit"] = {"mode_mixity_bounds": [1e-3, 1.0]}
+    data["bem"]["enabled"] = False  # the measurement alone calibrates (no BEM needed)
     result = run_job(config_from_dict(data, base_dir=tmp_path), tmp_path / "out")
     res, lam = result.resolution, result.mode_mixity
     assert res.basis == "measured"
@@ -111,9 +112,6 @@ def test_cli_exit_1_when_a_solver_did_not_converge(tmp_path, capsys):
     assert "NOT CONVERGED" in out
     assert (tmp_path / "out" / "report.md").exists()  # everything still written
     assert "Not converged" in (tmp_path / "out" / "report.md").read_text()
-    # a second run resumes every stage and still reports the failure
-    assert main(["run", str(path), "--out", str(tmp_path / "out")]) == 1
-    assert "stored stages skipped" in capsys.readouterr().out
 
 
 def _compare(a, b):
