@@ -32,7 +32,9 @@ from concurrent.futures import Executor
 from dataclasses import dataclass, field
 from typing import Any, Generic, TypeVar
 
+from asperity.pipelines.config import JobConfig
 from asperity.pipelines.fields import field_specs
+from asperity.pipelines.measured import Measurements
 from asperity.pipelines.store import ResultStore, StoredStageError
 
 R = TypeVar("R")
@@ -42,7 +44,7 @@ T = TypeVar("T")
 DISABLED = "disabled"
 
 
-def _always(config: Any) -> bool:
+def _always(config: JobConfig) -> bool:
     return True
 
 
@@ -60,15 +62,15 @@ class StageContext:
         Runs independent sweeps (serial, worker processes or dask).
     progress : bool
         Show progress bars.
-    measured : Any
-        The measured curves, read before any stage ran (``pipelines.measured.Measurements``).
+    measured : Measurements
+        The measured curves, read before any stage ran.
     """
 
-    config: Any
+    config: JobConfig
     results: dict[str, Any]
     executor: Executor
     progress: bool = False
-    measured: Any = None
+    measured: Measurements = field(default_factory=Measurements)
 
     def result(self, stage: Stage[T]) -> T:
         """The result of an input stage (None when it was disabled)."""
@@ -106,7 +108,7 @@ class Stage(Generic[R]):
     config: tuple[str, ...]
     inputs: tuple[Stage, ...]
     compute: Callable[[StageContext], R]
-    enabled: Callable[[Any], bool] = _always
+    enabled: Callable[[JobConfig], bool] = _always
     check: Callable[[StageContext, R], None] | None = None
 
     def __post_init__(self) -> None:

@@ -34,7 +34,7 @@ from __future__ import annotations
 import sys
 from dataclasses import dataclass, fields
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from asperity.schema import (
     REQUIRED,
@@ -47,6 +47,9 @@ from asperity.schema import (
     Section,
 )
 from asperity.statmodel.parameters import Material, Roughness
+
+if TYPE_CHECKING:
+    from asperity.statmodel.options import QuadratureOptions
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -161,7 +164,7 @@ LOADING = Section(
 )
 
 
-def _quadrature_options(**knobs: Any) -> Any:
+def _quadrature_options(**knobs: Any) -> QuadratureOptions:
     from asperity.statmodel.options import QuadratureOptions  # loads the compiled kernels
 
     return QuadratureOptions(**{k: v for k, v in knobs.items() if v is not None})
@@ -222,7 +225,7 @@ class FrictionParameters:
     nominal_area: float
     max_tangential_displacement: float
     steps: int
-    options: Any
+    options: QuadratureOptions
 
     @property
     def accuracy(self) -> dict[str, Any]:
