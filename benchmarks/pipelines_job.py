@@ -27,7 +27,8 @@ from pathlib import Path
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 from asperity.pipelines.config import config_from_dict, preset_text  # noqa: E402
-from asperity.pipelines.job import STAGES, run_job  # noqa: E402
+from asperity.pipelines.job import STAGE_NAMES as STAGES  # noqa: E402
+from asperity.pipelines.job import run_job  # noqa: E402
 from asperity.pipelines.report import write_report  # noqa: E402
 
 try:
@@ -65,7 +66,7 @@ def time_job(n: int, workers: int) -> dict:
         "job": t_job,
         "report": t_report,
         "fraction": float(result.bem.reference_fraction()[median]),
-        "stride": result.bem.grid.stride,
+        "stride": result.bem.stride,
         "converged": result.converged,
     }
 

@@ -16,16 +16,17 @@ is resolved).
 
 from __future__ import annotations
 
-import time
 from collections.abc import Sequence
 from concurrent.futures import Executor
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from asperity import bem, topo
+from asperity.pipelines.fields import array, scalar, text
 from asperity.pipelines.parallel import run_map, worker_threads
-from asperity.pipelines.store import StageRecord, Variable
+from asperity.pipelines.stages import Stage, StageContext
+from asperity.pipelines.surface_stage import SURFACE
 
 #: The map is solved as one period of a periodic interface, as in the paper (Appendix B: the
 #: measured 10 x 10 mm^2 map is a seventh of the nominal area, so the domain is taken periodic).
@@ -243,47 +244,79 @@ def choose_bem_grid(
 
 @dataclass
 class BemReference:
-    """Stage-3 result: the BEM A_r(F_z) reference on the map.
+    """Stage-3 result: the BEM A_r(F_z) reference on the map, and the grid check behind it.
 
     Attributes
     ----------
     normal_load : ndarray
         Experiment loads F_z, N.
+    mode : ndarray
+        0 non-adhesive, 1 adhesive (Pohrt-Popov, when run).
+    check_stride : ndarray
+        Strides solved by the grid refinement check, coarse to fine.
+    mask_x, mask_y : ndarray
+        Pixel positions of the solved grid, m.
     map_normal_load : ndarray
         Loads on the solved map, F_z A_map / A_n, N.
     contact_fraction : ndarray
-        Non-adhesive A_r/A_map.
+        Non-adhesive A_r/A_map (= A_r/A_n of the experiment).
     contact_fraction_adhesive : ndarray or None
         Adhesive (Pohrt-Popov) A_r/A_map; None when not run.
-    iterations, converged : ndarray
-        Per load, non-adhesive then adhesive (shape (n_modes, n_loads)).
-    grid : GridChoice
-        The refinement check and the chosen stride.
+    iterations, converged, solve_seconds : ndarray, shape (n_mode, n_load)
+        Per solve: iterations, convergence, wall time (s).
+    check_contact_fraction : ndarray, shape (n_check_stride, n_mode)
+        A_r/A_map at the check pressure per stride and mode.
+    check_relative_change : ndarray
+        Largest relative change to the next finer stride (NaN for the finest).
+    contact_mask : ndarray of bool
+        Contact at the largest load (adhesive when run).
+    stride : int
+        Chosen decimation of the map for the sweeps.
     dx, dy : float
         Pixel sizes of the solved grid, m.
-    contact_mask : ndarray
-        Contact mask at the largest load (adhesive when run).
+    check_pressure : float
+        Nominal pressure of the check, Pa.
+    grid_converged : bool
+        Some pair of strides agreed within ``bem.area_tolerance``.
+    grid_reason : str
+        One sentence for the report.
     messages : list of str
         Solver messages of runs that did not converge.
+    all_converged : bool
+        Every solve converged (derived).
     """
 
-    normal_load: np.ndarray
-    map_normal_load: np.ndarray
-    contact_fraction: np.ndarray
-    contact_fraction_adhesive: np.ndarray | None
-    iterations: np.ndarray
-    converged: np.ndarray
-    grid: GridChoice
-    dx: float
-    dy: float
-    contact_mask: np.ndarray
-    messages: list[str] = field(default_factory=list)
-    seconds: float = 0.0
+    normal_load: np.ndarray = array("N", ("normal_load",), "normal load on the nominal area")
+    mode: np.ndarray = array("1", ("mode",), "0 non-adhesive, 1 adhesive (Pohrt-Popov)")
+    check_stride: np.ndarray = array("1", ("check_stride",), "strides of the grid refinement check")
+    mask_x: np.ndarray = array("m", ("mask_x",), "x")
+    mask_y: np.ndarray = array("m", ("mask_y",), "y")
+    map_normal_load: np.ndarray = array("N", ("normal_load",), "load on the map, F_z A_map / A_n")
+    contact_fraction: np.ndarray = array("1", ("normal_load",), "non-adhesive A_r / A_n")
+    iterations: np.ndarray = array("1", ("mode", "normal_load"), "solver iterations")
+    converged: np.ndarray = array("1", ("mode", "normal_load"), "solver converged")
+    solve_seconds: np.ndarray = array("s", ("mode", "normal_load"), "wall time of each solve")
+    check_contact_fraction: np.ndarray = array(
+        "1", ("check_stride", "mode"), "A_r / A_map at the check pressure"
+    )
+    check_relative_change: np.ndarray = array(
+        "1", ("check_stride",), "relative change to the next finer stride"
+    )
+    contact_mask: np.ndarray = array("1", ("mask_x", "mask_y"), "contact at the largest load")
+    stride: int = scalar("1", "decimation of the map used by the sweeps")
+    dx: float = scalar("m", "pixel size of the solved grid along x")
+    dy: float = scalar("m", "pixel size of the solved grid along y")
+    check_pressure: float = scalar("Pa", "nominal pressure of the grid check")
+    grid_converged: bool = scalar("1", "the grid check found a converged stride")
+    grid_reason: str = text("why this grid")
+    messages: list[str] = text("messages of solves that did not converge")
+    contact_fraction_adhesive: np.ndarray | None = array(
+        "1", ("normal_load",), "adhesive A_r / A_n", optional=True
+    )
+    all_converged: bool = scalar("1", "every BEM solve converged", init=False)
 
-    @property
-    def all_converged(self) -> bool:
-        """Every BEM solve converged."""
-        return bool(np.all(self.converged))
+    def __post_init__(self) -> None:
+        self.all_converged = bool(np.all(self.converged))
 
     def reference_fraction(self) -> np.ndarray:
         """The A_r/A_n the statistical model is compared with: adhesive when run."""
@@ -330,7 +363,6 @@ def bem_reference(
     executor : Executor, optional
         Runs the two sweeps (and the check solves) in parallel.
     """
-    start = time.perf_counter()
     loads = np.asarray(normal_loads, dtype=float)
     grid = choose_bem_grid(
         surface,
@@ -356,111 +388,63 @@ def bem_reference(
         for i, (m, ok) in enumerate(zip(sw["messages"], sw["converged"], strict=True))
         if not ok
     ]
+    mask = sweeps[-1]["contact_mask"]
     return BemReference(
         normal_load=loads,
+        mode=np.arange(len(ws)),
+        check_stride=grid.strides,
+        mask_x=np.arange(mask.shape[0]) * dx,
+        mask_y=np.arange(mask.shape[1]) * dy,
         map_normal_load=map_loads,
         contact_fraction=sweeps[0]["contact_fraction"],
-        contact_fraction_adhesive=sweeps[1]["contact_fraction"] if len(sweeps) > 1 else None,
         iterations=np.array([sw["iterations"] for sw in sweeps]),
         converged=np.array([sw["converged"] for sw in sweeps]),
-        grid=grid,
+        solve_seconds=np.array([sw["seconds"] for sw in sweeps]),
+        check_contact_fraction=grid.contact_fraction,
+        check_relative_change=grid.relative_change,
+        contact_mask=mask,
+        stride=grid.stride,
         dx=dx,
         dy=dy,
-        contact_mask=sweeps[-1]["contact_mask"],
+        check_pressure=grid.check_pressure,
+        grid_converged=grid.converged,
+        grid_reason=grid.reason,
         messages=messages,
-        seconds=time.perf_counter() - start,
+        contact_fraction_adhesive=sweeps[1]["contact_fraction"] if len(sweeps) > 1 else None,
     )
 
 
-def bem_record(ref: BemReference) -> StageRecord:
-    """Stage-3 record."""
-    modes = ["non_adhesive", "adhesive"][: ref.iterations.shape[0]]
-    mask = ref.contact_mask
-    record = StageRecord(
-        coords={
-            "normal_load": Variable(
-                ref.normal_load, "N", ("normal_load",), "normal load on the nominal area"
-            ),
-            "mode": Variable(
-                np.arange(len(modes)), "1", ("mode",), "0 non-adhesive, 1 adhesive (Pohrt-Popov)"
-            ),
-            "check_stride": Variable(
-                ref.grid.strides, "1", ("check_stride",), "strides of the grid refinement check"
-            ),
-            "mask_x": Variable(np.arange(mask.shape[0]) * ref.dx, "m", ("mask_x",), "x"),
-            "mask_y": Variable(np.arange(mask.shape[1]) * ref.dy, "m", ("mask_y",), "y"),
-        },
-        variables={
-            "map_normal_load": Variable(
-                ref.map_normal_load, "N", ("normal_load",), "load on the map, F_z A_map / A_n"
-            ),
-            "contact_fraction": Variable(
-                ref.contact_fraction, "1", ("normal_load",), "non-adhesive A_r / A_n"
-            ),
-            "iterations": Variable(
-                ref.iterations, "1", ("mode", "normal_load"), "solver iterations"
-            ),
-            "converged": Variable(
-                ref.converged, "1", ("mode", "normal_load"), "solver converged (1) or not (0)"
-            ),
-            "check_contact_fraction": Variable(
-                ref.grid.contact_fraction,
-                "1",
-                ("check_stride", "mode"),
-                "A_r / A_map at the check pressure",
-            ),
-            "check_relative_change": Variable(
-                ref.grid.relative_change,
-                "1",
-                ("check_stride",),
-                "relative change to the next finer stride",
-            ),
-            "contact_mask": Variable(
-                mask, "1", ("mask_x", "mask_y"), "contact at the largest load"
-            ),
-        },
-        attrs={
-            "stride": ref.grid.stride,
-            "dx": ref.dx,
-            "dy": ref.dy,
-            "check_pressure": ref.grid.check_pressure,
-            "grid_converged": ref.grid.converged,
-            "grid_reason": ref.grid.reason,
-            "messages": "\n".join(ref.messages),
-            "all_converged": ref.all_converged,
-        },
+def compute_bem(context: StageContext) -> BemReference:
+    """Stage 3 of the job: :func:`bem_reference` with ``[bem]``, the material and the loads."""
+    config, b = context.config, context.config.bem
+    return bem_reference(
+        context.result(SURFACE).height_map(),
+        config.material.e_star,
+        config.material.work_of_adhesion,
+        config.loading.normal_loads,
+        config.loading.nominal_area,
+        tol=b.tol,
+        max_iter=b.max_iter,
+        area_tolerance=b.area_tolerance,
+        max_stride=b.max_stride,
+        adhesive=b.adhesive,
+        executor=context.executor,
+        progress=context.progress,
     )
-    if ref.contact_fraction_adhesive is not None:
-        record.variables["contact_fraction_adhesive"] = Variable(
-            ref.contact_fraction_adhesive, "1", ("normal_load",), "adhesive A_r / A_n"
-        )
-    return record
 
 
-def bem_from_record(record: StageRecord) -> BemReference:
-    """Rebuild the stage-3 result from its stored record."""
-    v, a = record.variables, record.attrs
-    messages = [m for m in str(a.get("messages", "")).split("\n") if m]
-    grid = GridChoice(
-        int(a["stride"]),
-        record.coords["check_stride"].data,
-        v["check_contact_fraction"].data,
-        v["check_relative_change"].data,
-        float(a["check_pressure"]),
-        bool(a["grid_converged"]),
-        str(a["grid_reason"]),
-    )
-    adhesive = v.get("contact_fraction_adhesive")
-    return BemReference(
-        normal_load=record.coords["normal_load"].data,
-        map_normal_load=v["map_normal_load"].data,
-        contact_fraction=v["contact_fraction"].data,
-        contact_fraction_adhesive=None if adhesive is None else adhesive.data,
-        iterations=v["iterations"].data,
-        converged=v["converged"].data.astype(bool),
-        grid=grid,
-        dx=float(a["dx"]),
-        dy=float(a["dy"]),
-        contact_mask=v["contact_mask"].data.astype(bool),
-        messages=messages,
-    )
+BEM = Stage(
+    name="bem_reference",
+    title="3 BEM reference",
+    result=BemReference,
+    config=(
+        "material.E_star",
+        "material.work_of_adhesion",
+        "loading.nominal_area",
+        "loading.normal_loads",
+        "bem",
+    ),
+    inputs=(SURFACE,),
+    compute=compute_bem,
+    enabled=lambda config: config.bem.enabled,
+)

@@ -4,20 +4,21 @@ Every value is in SI units (m, Pa, N, J/m^2). A configuration names either a sur
 (any format :func:`topo.read_surface` reads) or a seeded synthetic recipe, the material, the
 loads, the solver tolerances and, optionally, measured curves to calibrate against.
 
-Validation happens in :func:`load_config` and :func:`config_from_dict` within milliseconds: an
-unknown key, a missing file, a negative modulus or a malformed table raises :class:`ConfigError`
-naming the key (``material.E_star``) and what was expected. The check that the loads are above
-the statistical model's pull-off force needs the surface statistics; it runs right after the
-resolution scan (stage 2), before the BEM, and names ``loading.normal_loads``.
+The schema (:data:`JOB_SCHEMA`) is built with :mod:`asperity.schema`, the mechanism the
+``asperity friction`` parameter file uses too, and shares its ``[material]`` table
+(:func:`statmodel.config.material_section`, building a :class:`statmodel.Material`; ``E_star``
+and ``e_star`` both accepted). Validation happens in :func:`load_config` and
+:func:`config_from_dict` within milliseconds and loads no numerical library: an unknown key,
+a missing file, a value outside its bounds (each bound states its reason, e.g. the memory that
+``loading.steps`` implies) raises :class:`ConfigError` as one line
+``job.toml: material.E_star: expected a number in (0, 1e+13] Pa (...), got -2133000.0``.
+The check that the loads are above the statistical model's pull-off force needs the surface
+statistics; it runs right after the resolution scan (stage 2), before the BEM, and names
+``loading.normal_loads``.
 """
 
 from __future__ import annotations
 
-import copy
-import dataclasses
-import hashlib
-import json
-import math
 import sys
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -25,12 +26,33 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from asperity.errors import InputError
+from asperity.schema import (
+    Choice,
+    ConfigError,
+    Context,
+    ExistingFile,
+    Flag,
+    Integer,
+    Invalid,
+    Key,
+    Kind,
+    ListOf,
+    OrAuto,
+    Real,
+    Schema,
+    Section,
+    Text,
+    dump_toml,
+)
+from asperity.statmodel.config import material_section
+from asperity.statmodel.parameters import Material
 
 if sys.version_info >= (3, 11):
     import tomllib
 else:  # pragma: no cover - exercised on Python 3.10 only
     import tomli as tomllib
+
+__all__ = ["ConfigError", "JobConfig", "config_from_dict", "dump_toml", "load_config"]
 
 #: Names of the shipped presets (``pipelines/presets/<name>.toml``).
 PRESETS: tuple[str, ...] = ("default", "paper")
@@ -38,9 +60,14 @@ PRESETS: tuple[str, ...] = ("default", "paper")
 DETREND_METHODS: tuple[str, ...] = ("none", "mean", "plane", "quadratic")
 SYNTHETIC_RECIPES: tuple[str, ...] = ("paper_like",)
 
-
-class ConfigError(InputError):
-    """A configuration value is wrong; the message names the file and the key."""
+#: The material of the paper's Figs 5 and 13 (used for absent ``[material]`` keys).
+DEFAULT_MATERIAL = Material(
+    e_star=2.133e6,
+    work_of_adhesion=0.040,
+    mode_mixity=0.03,
+    shear_strength=0.13e6,
+    equilibrium_distance=0.2e-9,
+)
 
 
 @dataclass(frozen=True)
@@ -94,31 +121,6 @@ class SurfaceConfig:
 
 
 @dataclass(frozen=True)
-class MaterialConfig:
-    """Material and interface parameters (``statmodel.Material``), SI units.
-
-    Attributes
-    ----------
-    E_star : float
-        Effective elastic modulus E*, Pa.
-    work_of_adhesion : float
-        w, J/m^2.
-    mode_mixity : float
-        lambda in [0, 1]; the starting value of the fit when measured shear curves are given.
-    shear_strength : float
-        tau0, Pa (sliding junctions, E:Hertz_theory).
-    equilibrium_distance : float
-        epsilon, m (Tabor parameter).
-    """
-
-    E_star: float = 2.133e6
-    work_of_adhesion: float = 0.040
-    mode_mixity: float = 0.03
-    shear_strength: float = 0.13e6
-    equilibrium_distance: float = 0.2e-9
-
-
-@dataclass(frozen=True)
 class LoadingConfig:
     """Loads and the shear path.
 
@@ -158,6 +160,9 @@ class BemConfig:
         Coarsest decimation of the map tried by the refinement check.
     adhesive : bool
         Also run the Pohrt-Popov adhesive sweep.
+    enabled : bool
+        Run the BEM at all; false needs a measured A_r(F_z) (``measured.normal_area``), which
+        then alone chooses the effective resolution.
     """
 
     tol: float = 1e-6
@@ -165,6 +170,7 @@ class BemConfig:
     area_tolerance: float = 0.05
     max_stride: int = 4
     adhesive: bool = True
+    enabled: bool = True
 
 
 @dataclass(frozen=True)
@@ -233,7 +239,7 @@ class JobConfig:
     """The whole resolved configuration of ``asperity run``."""
 
     surface: SurfaceConfig
-    material: MaterialConfig
+    material: Material
     loading: LoadingConfig
     bem: BemConfig
     statmodel: StatmodelConfig
@@ -242,78 +248,223 @@ class JobConfig:
     run: RunConfig
     source: str = "<dict>"
 
+    def sections(self) -> dict[str, Any]:
+        """The built sections by table name."""
+        return {section.name: getattr(self, section.name) for section in JOB_SCHEMA.sections}
+
     def to_dict(self) -> dict[str, Any]:
-        """The resolved configuration as plain TOML-like data (paths as strings)."""
-        return _plain(dataclasses.asdict(self))
+        """The resolved configuration as TOML data (documented spellings, paths as strings)."""
+        return JOB_SCHEMA.plain(self.sections())
 
     def to_toml(self) -> str:
         """The resolved configuration as TOML text (defaults filled in, paths absolute)."""
-        data = self.to_dict()
-        data.pop("source", None)
-        data["measured"]["shear_area"] = [
-            item["file"] if item["normal_load"] is None else item
-            for item in data["measured"]["shear_area"]
-        ]
-        if len(data["measured"]["shear_area"]) == 1 and isinstance(
-            data["measured"]["shear_area"][0], str
-        ):
-            data["measured"]["shear_area"] = data["measured"]["shear_area"][0]
-        elif not data["measured"]["shear_area"]:
-            del data["measured"]["shear_area"]
-        return dump_toml(data)
+        return dump_toml(self.to_dict())
 
-    def section_hash(self, *names: str) -> str:
-        """SHA-256 of the named sections (e.g. ``"material", "loading"``): a stage's cache key."""
-        data = self.to_dict()
-        picked = {name: data[name] for name in names}
-        text = json.dumps(picked, sort_keys=True, default=str)
-        return hashlib.sha256(text.encode()).hexdigest()
+    def key_document(self) -> dict[str, Any]:
+        """Every key as plain data, files by path and SHA-256: what the stage keys hash, so
+        a changed file recomputes the stages that read it."""
+        return JOB_SCHEMA.document(self.sections())
 
 
-def _toml_value(value: Any) -> str:
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, (int, float)):
-        return repr(value)
-    if isinstance(value, str):  # a JSON string is a TOML basic string, once DEL is escaped
-        return json.dumps(value, ensure_ascii=False).replace("\x7f", "\\u007f")
-    if isinstance(value, list):
-        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
-    if isinstance(value, dict):
-        return (
-            "{"
-            + ", ".join(f"{k} = {_toml_value(v)}" for k, v in value.items() if v is not None)
-            + "}"
-        )
-    raise TypeError(f"cannot write {value!r} as TOML")
+@dataclass(frozen=True)
+class ShearFiles(Kind):
+    """``measured.shear_area``: one long file, or a list of ``{normal_load, file}`` tables."""
+
+    def convert(self, value: Any, context: Context) -> tuple[ShearCurveFile, ...]:
+        if isinstance(value, str):
+            return (ShearCurveFile(ExistingFile().convert(value, context)),)
+        if not isinstance(value, list):
+            raise Invalid('a file name or a list of {normal_load = N, file = "curve.csv"} tables')
+        return tuple(self._item(i, item, context) for i, item in enumerate(value))
+
+    @staticmethod
+    def _item(i: int, item: Any, context: Context) -> ShearCurveFile:
+        if not isinstance(item, Mapping) or set(item) != {"normal_load", "file"}:
+            raise Invalid('a table {normal_load = N, file = "curve.csv"}', f"[{i}]", item)
+        parts = {"normal_load": LOAD, "file": ExistingFile()}
+        values = {}
+        for name, kind in parts.items():
+            try:
+                values[name] = kind.convert(item[name], context)
+            except Invalid as exc:
+                raise Invalid(exc.expected, f"[{i}].{name}", item[name]) from None
+        return ShearCurveFile(values["file"], values["normal_load"])
+
+    def plain(self, value: tuple[ShearCurveFile, ...]) -> Any:
+        if not value:
+            return None
+        if len(value) == 1 and value[0].normal_load is None:
+            return str(value[0].file)
+        return [{"normal_load": c.normal_load, "file": str(c.file)} for c in value]
+
+    def document(self, value: tuple[ShearCurveFile, ...]) -> Any:
+        return [[c.normal_load, ExistingFile().document(c.file)] for c in value]
 
 
-def dump_toml(data: Mapping[str, Any], prefix: str = "") -> str:
-    """Write nested plain data (tables, lists, str, numbers, bool; None omitted) as TOML."""
-    lines: list[str] = []
-    tables: list[tuple[str, Mapping[str, Any]]] = []
-    for key, value in data.items():
-        if value is None:
-            continue
-        if isinstance(value, Mapping):
-            tables.append((key, value))
-        else:
-            lines.append(f"{key} = {_toml_value(value)}")
-    text = "\n".join(lines) + ("\n" if lines else "")
-    for key, table in tables:
-        name = f"{prefix}{key}"
-        text += f"\n[{name}]\n" + dump_toml(table, prefix=name + ".")
-    return text
+#: One normal load, N.
+LOAD = Real("N", -1e6, 1e6, why="a laboratory or machine contact")
+#: A pixel size, m.
+PIXEL = Real("m", 1e-10, 1e-2, why="from an atomic-resolution map to a 1 cm pixel")
 
 
-def _plain(value: Any) -> Any:
-    if isinstance(value, dict):
-        return {k: _plain(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_plain(v) for v in value]
-    if isinstance(value, Path):
-        return str(value)
-    return value
+def _one_surface_source(values: dict[str, Any]) -> None:
+    if (values["file"] is None) == (values["synthetic"] is None):
+        raise Invalid("exactly one of surface.file and a [surface.synthetic] recipe", "file")
+
+
+def _ordered_bounds(values: dict[str, Any]) -> None:
+    low, high = values["mode_mixity_bounds"]
+    if not low < high:
+        raise Invalid("[low, high] with 0 < low < high <= 1", "mode_mixity_bounds", [low, high])
+
+
+SYNTHETIC = Section(
+    "surface.synthetic",
+    SyntheticRecipe,
+    (
+        Key("recipe", Choice(SYNTHETIC_RECIPES), "paper_like"),
+        Key(
+            "n",
+            Integer(8, 10001, why="an n x n map takes 8 n^2 bytes and the BEM ~30 times that"),
+            SyntheticRecipe.n,
+        ),
+        Key("pixel_size", PIXEL, SyntheticRecipe.pixel_size),
+        Key("seed", Integer(0, 2**32 - 1, why="a numpy random seed"), 0),
+    ),
+)
+
+JOB_SCHEMA = Schema(
+    (
+        Section(
+            "surface",
+            SurfaceConfig,
+            (
+                Key("file", ExistingFile(), None),
+                Key("channel", Text(), None),
+                Key("pixel_size", PIXEL, None),
+                Key("synthetic", SYNTHETIC, None),
+                Key("detrend", Choice(DETREND_METHODS), "plane"),
+                Key(
+                    "max_stride",
+                    Integer(1, 1000, why="strides 1..max_stride of the resolution scan"),
+                    SurfaceConfig.max_stride,
+                ),
+            ),
+            required=True,
+            check=_one_surface_source,
+        ),
+        material_section(DEFAULT_MATERIAL),
+        Section(
+            "loading",
+            LoadingConfig,
+            (
+                Key(
+                    "nominal_area",
+                    Real("m^2", 0, 100, open_low=True, why="up to 10 m x 10 m"),
+                    LoadingConfig.nominal_area,
+                ),
+                Key(
+                    "normal_loads",
+                    ListOf(LOAD, 1, 100, why="each load is a BEM solve and a shear curve"),
+                    LoadingConfig.normal_loads,
+                ),
+                Key(
+                    "max_tangential_displacement",
+                    OrAuto(Real("m", 0, 1, open_low=True, why="a shear path up to 1 m")),
+                    None,
+                ),
+                Key(
+                    "steps",
+                    Integer(
+                        3,
+                        100_000,
+                        why="each step stores 17 float64 values per load: 100000 steps x "
+                        "100 loads take 1.4 GB",
+                    ),
+                    LoadingConfig.steps,
+                ),
+            ),
+        ),
+        Section(
+            "bem",
+            BemConfig,
+            (
+                Key(
+                    "tol",
+                    Real(
+                        "",
+                        1e-14,
+                        1e-2,
+                        why="relative residual of the BEM: below 1e-14 double precision "
+                        "cannot reach it, above 1e-2 the area is not converged",
+                    ),
+                    BemConfig.tol,
+                ),
+                Key("max_iter", Integer(1, 1_000_000, why="solver iterations"), None),
+                Key(
+                    "area_tolerance",
+                    Real("", 0, 1, open_low=True, why="a relative change of A_r"),
+                    BemConfig.area_tolerance,
+                ),
+                Key(
+                    "max_stride",
+                    Integer(1, 64, why="coarsest decimation of the grid check"),
+                    BemConfig.max_stride,
+                ),
+                Key("adhesive", Flag(), BemConfig.adhesive),
+                Key("enabled", Flag(), BemConfig.enabled),
+            ),
+        ),
+        Section(
+            "statmodel",
+            StatmodelConfig,
+            (
+                Key(
+                    "area_tolerance",
+                    Real(
+                        "",
+                        1e-10,
+                        0.5,
+                        why="relative change between quadrature settings: no setting "
+                        "reaches less than 1e-10",
+                    ),
+                    StatmodelConfig.area_tolerance,
+                ),
+            ),
+        ),
+        Section(
+            "measured",
+            MeasuredConfig,
+            (
+                Key("normal_area", ExistingFile(), None),
+                Key("shear_area", ShearFiles(), ()),
+            ),
+        ),
+        Section(
+            "fit",
+            FitConfig,
+            (
+                Key(
+                    "mode_mixity_bounds",
+                    ListOf(Real("", 0, 1, open_low=True, why="lambda"), 2, 2),
+                    FitConfig.mode_mixity_bounds,
+                ),
+            ),
+            check=_ordered_bounds,
+        ),
+        Section(
+            "run",
+            RunConfig,
+            (
+                Key(
+                    "workers",
+                    Integer(1, 256, why="worker processes on this machine"),
+                    RunConfig.workers,
+                ),
+            ),
+        ),
+    )
+)
 
 
 # --------------------------------------------------------------------------------------------
@@ -324,8 +475,8 @@ def _plain(value: Any) -> Any:
 def preset_text(name: str) -> str:
     """The TOML text of a shipped preset (``"default"`` or ``"paper"``)."""
     if name not in PRESETS:
-        raise ConfigError(f"unknown preset {name!r}; expected one of {', '.join(PRESETS)}")
-    return resources.files("pipelines").joinpath("presets", f"{name}.toml").read_text("utf-8")
+        raise ConfigError(f"--preset: expected one of {', '.join(PRESETS)}, got {name!r}")
+    return resources.files("asperity.pipelines.presets").joinpath(f"{name}.toml").read_text("utf-8")
 
 
 def load_preset(name: str) -> JobConfig:
@@ -342,107 +493,21 @@ def load_config(path: str | Path) -> JobConfig:
     Raises
     ------
     ConfigError
-        Unreadable TOML, unknown or missing key, wrong type or value, missing file.
+        Unreadable file or TOML, unknown or missing key, wrong type, value out of bounds,
+        missing file.
     """
     path = Path(path)
     try:
-        text = path.read_text("utf-8")
+        text = path.read_bytes().decode("utf-8")
     except FileNotFoundError as exc:
         raise ConfigError(f"{path}: configuration file not found") from exc
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ConfigError(f"{path}: cannot read the configuration: {exc}") from exc
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"{path}: not valid TOML: {exc}") from exc
     return config_from_dict(data, source=str(path), base_dir=path.resolve().parent)
-
-
-class _Section:
-    """Typed access to one TOML table that reports unknown and wrongly typed keys by name."""
-
-    def __init__(self, data: Any, name: str, source: str):
-        if not isinstance(data, Mapping):
-            raise ConfigError(f"{source}: [{name}] must be a table")
-        self.data = dict(data)
-        self.name = name
-        self.source = source
-        self.used: set[str] = set()
-
-    def key(self, key: str) -> str:
-        return f"{self.name}.{key}"
-
-    def fail(self, key: str, expected: str, value: Any = None) -> ConfigError:
-        got = "" if value is None else f", got {value!r}"
-        return ConfigError(f"{self.source}: {self.key(key)}: expected {expected}{got}")
-
-    def get(self, key: str, default: Any) -> Any:
-        self.used.add(key)
-        return self.data.get(key, default)
-
-    def number(
-        self,
-        key: str,
-        default: float | None,
-        *,
-        positive: bool = False,
-        nonnegative: bool = False,
-        allow_none: bool = False,
-    ) -> float | None:
-        value = self.get(key, default)
-        if value is None and allow_none:
-            return None
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise self.fail(key, "a number", value)
-        value = float(value)
-        if not math.isfinite(value):
-            raise self.fail(key, "a finite number", value)
-        if positive and value <= 0:
-            raise self.fail(key, "a positive number", value)
-        if nonnegative and value < 0:
-            raise self.fail(key, "a non-negative number", value)
-        return value
-
-    def integer(
-        self, key: str, default: int | None, *, minimum: int = 1, allow_none: bool = False
-    ) -> int | None:
-        value = self.get(key, default)
-        if value is None and allow_none:
-            return None
-        if isinstance(value, bool) or not isinstance(value, int):
-            raise self.fail(key, "an integer", value)
-        if value < minimum:
-            raise self.fail(key, f"an integer >= {minimum}", value)
-        return int(value)
-
-    def choice(self, key: str, default: str, choices: tuple[str, ...]) -> str:
-        value = self.get(key, default)
-        if value not in choices:
-            raise self.fail(key, "one of " + ", ".join(repr(c) for c in choices), value)
-        return value
-
-    def boolean(self, key: str, default: bool) -> bool:
-        value = self.get(key, default)
-        if not isinstance(value, bool):
-            raise self.fail(key, "true or false", value)
-        return value
-
-    def finish(self) -> None:
-        unknown = sorted(set(self.data) - self.used)
-        if unknown:
-            raise ConfigError(
-                f"{self.source}: unknown key {self.key(unknown[0])!r}"
-                f" (known keys in [{self.name}]: {', '.join(sorted(self.used))})"
-            )
-
-
-def _existing_file(section: _Section, key: str, value: Any, base_dir: Path) -> Path:
-    if not isinstance(value, str) or not value:
-        raise section.fail(key, "a file name", value)
-    path = Path(value).expanduser()
-    if not path.is_absolute():
-        path = base_dir / path
-    if not path.is_file():
-        raise ConfigError(f"{section.source}: {section.key(key)}: file not found: {path}")
-    return path
 
 
 def config_from_dict(
@@ -458,168 +523,17 @@ def config_from_dict(
         Name used in error messages (the file name).
     base_dir : path
         Directory against which relative file names are resolved.
+
+    Raises
+    ------
+    ConfigError
+        ``source: section.key: expected ..., got ...``.
     """
-    base_dir = Path(base_dir)
-    data = copy.deepcopy(dict(data))
-    top = _Section(data, "config", source)
-    tables = {}
-    for name in ("surface", "material", "loading", "bem", "statmodel", "measured", "fit", "run"):
-        tables[name] = _Section(top.get(name, {}), name, source)
-    unknown = sorted(set(data) - top.used)
-    if unknown:
-        raise ConfigError(
-            f"{source}: unknown table or key {unknown[0]!r} (known: {', '.join(sorted(top.used))})"
+    sections = JOB_SCHEMA.read(data, source=source, base_dir=base_dir)
+    if not sections["bem"].enabled and sections["measured"].normal_area is None:
+        raise Context(source).fail(
+            "bem.enabled",
+            "true unless measured.normal_area gives a measured A_r(F_z) to calibrate against",
+            False,
         )
-
-    surface = _surface(tables["surface"], base_dir)
-    m = tables["material"]
-    material = MaterialConfig(
-        E_star=m.number("E_star", MaterialConfig.E_star, positive=True),
-        work_of_adhesion=m.number(
-            "work_of_adhesion", MaterialConfig.work_of_adhesion, nonnegative=True
-        ),
-        mode_mixity=m.number("mode_mixity", MaterialConfig.mode_mixity, nonnegative=True),
-        shear_strength=m.number("shear_strength", MaterialConfig.shear_strength, nonnegative=True),
-        equilibrium_distance=m.number(
-            "equilibrium_distance", MaterialConfig.equilibrium_distance, positive=True
-        ),
-    )
-    if material.mode_mixity > 1:
-        raise m.fail("mode_mixity", "a number in [0, 1]", material.mode_mixity)
-    m.finish()
-
-    ld = tables["loading"]
-    loads_raw = ld.get("normal_loads", list(LoadingConfig.normal_loads))
-    if (
-        not isinstance(loads_raw, list)
-        or not loads_raw
-        or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in loads_raw)
-    ):
-        raise ld.fail("normal_loads", "a non-empty list of numbers (N)", loads_raw)
-    loads = tuple(float(v) for v in loads_raw)
-    if not all(math.isfinite(v) for v in loads):
-        raise ld.fail("normal_loads", "finite numbers", loads_raw)
-    max_dt = ld.get("max_tangential_displacement", "auto")
-    if max_dt == "auto":
-        max_dt = None
-    else:
-        max_dt = ld.number("max_tangential_displacement", None, positive=True)
-    loading = LoadingConfig(
-        nominal_area=ld.number("nominal_area", LoadingConfig.nominal_area, positive=True),
-        normal_loads=loads,
-        max_tangential_displacement=max_dt,
-        steps=ld.integer("steps", LoadingConfig.steps, minimum=3),
-    )
-    ld.finish()
-
-    b = tables["bem"]
-    bem = BemConfig(
-        tol=b.number("tol", BemConfig.tol, positive=True),
-        max_iter=b.integer("max_iter", None, allow_none=True),
-        area_tolerance=b.number("area_tolerance", BemConfig.area_tolerance, positive=True),
-        max_stride=b.integer("max_stride", BemConfig.max_stride),
-        adhesive=b.boolean("adhesive", BemConfig.adhesive),
-    )
-    b.finish()
-
-    s = tables["statmodel"]
-    statmodel_cfg = StatmodelConfig(
-        area_tolerance=s.number("area_tolerance", StatmodelConfig.area_tolerance, positive=True),
-    )
-    s.finish()
-
-    measured = _measured(tables["measured"], base_dir)
-
-    f = tables["fit"]
-    bounds = f.get("mode_mixity_bounds", list(FitConfig.mode_mixity_bounds))
-    if (
-        not isinstance(bounds, list)
-        or len(bounds) != 2
-        or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in bounds)
-        or not 0 < bounds[0] < bounds[1] <= 1
-    ):
-        raise f.fail("mode_mixity_bounds", "[low, high] with 0 < low < high <= 1", bounds)
-    fit = FitConfig(mode_mixity_bounds=(float(bounds[0]), float(bounds[1])))
-    f.finish()
-
-    r = tables["run"]
-    run = RunConfig(workers=r.integer("workers", RunConfig.workers))
-    r.finish()
-
-    return JobConfig(
-        surface=surface,
-        material=material,
-        loading=loading,
-        bem=bem,
-        statmodel=statmodel_cfg,
-        measured=measured,
-        fit=fit,
-        run=run,
-        source=source,
-    )
-
-
-def _surface(s: _Section, base_dir: Path) -> SurfaceConfig:
-    file_value = s.get("file", None)
-    synthetic_value = s.get("synthetic", None)
-    if file_value is not None and synthetic_value is not None:
-        raise ConfigError(
-            f"{s.source}: [surface] gives both surface.file and "
-            "[surface.synthetic]; expected exactly one"
-        )
-    if file_value is None and synthetic_value is None:
-        raise ConfigError(
-            f"{s.source}: [surface] needs surface.file or a [surface.synthetic] recipe"
-        )
-    file = None if file_value is None else _existing_file(s, "file", file_value, base_dir)
-    synthetic = None
-    if synthetic_value is not None:
-        t = _Section(synthetic_value, "surface.synthetic", s.source)
-        synthetic = SyntheticRecipe(
-            recipe=t.choice("recipe", "paper_like", SYNTHETIC_RECIPES),
-            n=t.integer("n", SyntheticRecipe.n, minimum=8),
-            pixel_size=t.number("pixel_size", SyntheticRecipe.pixel_size, positive=True),
-            seed=t.integer("seed", 0, minimum=0),
-        )
-        t.finish()
-    channel = s.get("channel", None)
-    if channel is not None and not isinstance(channel, str):
-        raise s.fail("channel", "a channel name", channel)
-    result = SurfaceConfig(
-        file=file,
-        channel=channel,
-        pixel_size=s.number("pixel_size", None, positive=True, allow_none=True),
-        synthetic=synthetic,
-        detrend=s.choice("detrend", "plane", DETREND_METHODS),
-        max_stride=s.integer("max_stride", SurfaceConfig.max_stride),
-    )
-    s.finish()
-    return result
-
-
-def _measured(s: _Section, base_dir: Path) -> MeasuredConfig:
-    normal = s.get("normal_area", None)
-    normal_path = None if normal is None else _existing_file(s, "normal_area", normal, base_dir)
-    shear = s.get("shear_area", None)
-    curves: list[ShearCurveFile] = []
-    if shear is None:
-        pass
-    elif isinstance(shear, str):
-        curves.append(ShearCurveFile(_existing_file(s, "shear_area", shear, base_dir)))
-    elif isinstance(shear, list):
-        for i, item in enumerate(shear):
-            key = f"shear_area[{i}]"
-            if not isinstance(item, Mapping) or set(item) != {"normal_load", "file"}:
-                raise s.fail(key, 'a table {normal_load = N, file = "curve.csv"}', item)
-            load = item["normal_load"]
-            if isinstance(load, bool) or not isinstance(load, (int, float)):
-                raise s.fail(key + ".normal_load", "a number (N)", load)
-            curves.append(
-                ShearCurveFile(
-                    _existing_file(s, key + ".file", item["file"], base_dir), float(load)
-                )
-            )
-    else:
-        raise s.fail("shear_area", "a file name or a list of {normal_load, file} tables", shear)
-    s.finish()
-    return MeasuredConfig(normal_area=normal_path, shear_area=tuple(curves))
+    return JobConfig(**sections, source=source)

@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
+from asperity.errors import InputError
 from asperity.pipelines.measured import ShearAreaCurve
 
 #: ``model(mode_mixity, normal_load) -> (tangential_force N, real_area m^2)`` along delta_T.
@@ -147,13 +148,13 @@ def fit_mode_mixity(
     LambdaFit
     """
     if not curves:
-        raise ValueError("fit_mode_mixity: no measured curves")
+        raise InputError("fit_mode_mixity: no measured curves")
     low, high = bounds
     if not 0 < low < high <= 1:
-        raise ValueError(f"fit_mode_mixity: bounds must satisfy 0 < low < high <= 1, got {bounds}")
+        raise InputError(f"fit_mode_mixity: bounds must satisfy 0 < low < high <= 1, got {bounds}")
     n_points = sum(len(c.real_area) for c in curves)
     if n_points < 2:
-        raise ValueError("fit_mode_mixity: need at least two measured points")
+        raise InputError("fit_mode_mixity: need at least two measured points")
 
     grid = np.logspace(math.log10(low), math.log10(high), grid_points)
     grid_rms = np.array(

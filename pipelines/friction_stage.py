@@ -24,21 +24,22 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-import json
 import math
 import time
 from collections.abc import Mapping, Sequence
 from concurrent.futures import Executor
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from asperity import statmodel
+from asperity.pipelines.fields import array, scalar, text
 from asperity.pipelines.fitting import LambdaFit, fit_mode_mixity
 from asperity.pipelines.measured import ShearAreaCurve
 from asperity.pipelines.parallel import run_map
-from asperity.pipelines.store import StageRecord, Variable
+from asperity.pipelines.resolution_stage import STATISTICAL_MODEL
+from asperity.pipelines.stages import Stage, StageContext
 from asperity.statmodel.results_io import ARRAY_UNITS, SCALAR_UNITS
 
 #: Per-step arrays and per-load scalars of :class:`statmodel.ShearCurve` kept by stage 6, with
@@ -292,12 +293,106 @@ def choose_quadrature(
 
 @dataclass
 class ModeMixityChoice:
-    """Stage-5 result: the lambda used downstream and how it was obtained."""
+    """Stage-5 result: the lambda used downstream and, when fitted, the fit and its data.
 
-    mode_mixity: float
-    fitted: bool
-    fit: LambdaFit | None = None
-    curves: list[ShearAreaCurve] = field(default_factory=list)
+    Attributes
+    ----------
+    mode_mixity : float
+        lambda used by stage 6.
+    fitted : bool
+        Fitted to measured A_r(F_x) (else the configured value).
+    lambda_grid, grid_residual_rms : ndarray or None
+        The fit's coarse scan: lambda and the rms relative residual.
+    measured_normal_load, measured_tangential_force, measured_real_area : ndarray or None
+        The measured points (N, N, m^2).
+    mode_mixity_std, residual_rms : float or None
+        One-sigma uncertainty of lambda; rms relative residual at the optimum.
+    n_points, nfev : int or None
+        Points fitted; model evaluations of the optimiser.
+    success : bool or None
+        The optimiser reported success.
+    message : str or None
+        The optimiser's message.
+    """
+
+    mode_mixity: float = scalar("1", "mode mixity lambda used downstream")
+    fitted: bool = scalar("1", "lambda fitted to measured A_r(F_x)")
+    lambda_grid: np.ndarray | None = array(
+        "1", ("lambda_grid",), "lambda of the coarse scan", optional=True
+    )
+    grid_residual_rms: np.ndarray | None = array(
+        "1",
+        ("lambda_grid",),
+        "rms of (A_model - A_measured) / max(A_measured)",
+        optional=True,
+    )
+    measured_normal_load: np.ndarray | None = array("N", ("point",), "normal load", optional=True)
+    measured_tangential_force: np.ndarray | None = array(
+        "N", ("point",), "measured tangential force", optional=True
+    )
+    measured_real_area: np.ndarray | None = array(
+        "m^2", ("point",), "measured real contact area", optional=True
+    )
+    mode_mixity_std: float | None = scalar("1", "one-sigma uncertainty of lambda", optional=True)
+    residual_rms: float | None = scalar("1", "rms relative residual", optional=True)
+    n_points: int | None = scalar("1", "measured points fitted", optional=True)
+    nfev: int | None = scalar("1", "model evaluations of the optimiser", optional=True)
+    success: bool | None = scalar("1", "the optimiser reported success", optional=True)
+    message: str | None = text("the optimiser's message", optional=True)
+
+    @classmethod
+    def from_fit(cls, fit: LambdaFit, curves: Sequence[ShearAreaCurve]) -> ModeMixityChoice:
+        """A fitted lambda with its fit and the measured curves."""
+        return cls(
+            mode_mixity=fit.mode_mixity,
+            fitted=True,
+            lambda_grid=np.asarray(fit.grid_mode_mixity, dtype=float),
+            grid_residual_rms=np.asarray(fit.grid_residual_rms, dtype=float),
+            measured_normal_load=np.concatenate(
+                [np.full(len(c.real_area), c.normal_load) for c in curves]
+            ),
+            measured_tangential_force=np.concatenate([c.tangential_force for c in curves]),
+            measured_real_area=np.concatenate([c.real_area for c in curves]),
+            mode_mixity_std=fit.mode_mixity_std,
+            residual_rms=fit.residual_rms,
+            n_points=fit.n_points,
+            nfev=fit.nfev,
+            success=fit.success,
+            message=fit.message,
+        )
+
+    @property
+    def fit(self) -> LambdaFit | None:
+        """The lambda fit, when fitted."""
+        if not self.fitted:
+            return None
+        return LambdaFit(
+            self.mode_mixity,
+            self.mode_mixity_std,
+            self.residual_rms,
+            self.n_points,
+            self.lambda_grid,
+            self.grid_residual_rms,
+            self.success,
+            self.message,
+            self.nfev,
+        )
+
+    @property
+    def curves(self) -> list[ShearAreaCurve]:
+        """The measured A_r(F_x) curves fitted (empty when not fitted)."""
+        if not self.fitted:
+            return []
+        loads = self.measured_normal_load
+        return [
+            ShearAreaCurve(
+                float(f),
+                self.measured_tangential_force[loads == f],
+                self.measured_real_area[loads == f],
+                "stored",
+            )
+            for f in np.unique(loads)
+        ]
 
 
 def calibrate_mode_mixity(
@@ -332,7 +427,7 @@ def calibrate_mode_mixity(
         Evaluates the loads in parallel.
     """
     if not curves:
-        return ModeMixityChoice(material.mode_mixity, False)
+        return ModeMixityChoice(mode_mixity=material.mode_mixity, fitted=False)
     model = functools.partial(
         model_shear_area,
         material=material,
@@ -345,45 +440,102 @@ def calibrate_mode_mixity(
     fit = fit_mode_mixity(
         list(curves), model, bounds=bounds, map_fn=map if executor is None else executor.map
     )
-    return ModeMixityChoice(fit.mode_mixity, True, fit, list(curves))
+    return ModeMixityChoice.from_fit(fit, curves)
 
 
 @dataclass
 class FrictionPrediction:
-    """Stage-6 result: shear curves at every normal load.
+    """Stage-6 result: the shear curve (:class:`statmodel.ShearCurve`) at every normal load.
+
+    Every per-step array of a shear curve has shape (n_load, steps) and every per-curve
+    scalar shape (n_load,), SI units as in :mod:`statmodel.results_io` (the ``asperity
+    friction`` output), with stick and slip parts (E:NewFormulation_Fy..Ar).
 
     Attributes
     ----------
     normal_load : ndarray
         F_z, N.
-    curves : dict of str to ndarray
-        Each of :data:`CURVE_FIELDS`, shape (n_load, steps), SI.
-    scalars : dict of str to ndarray
-        Each of :data:`CURVE_SCALARS`, one per load, SI.
     converged : ndarray of bool
         Per load.
-    messages : list of str
-        Per load.
+    quadrature_relative_change, quadrature_seconds : ndarray
+        The quadrature refinement check per setting (relative change, s per curve).
     mode_mixity, shear_strength, nominal_area : float
         lambda, tau0 (Pa) and A_n (m^2) used.
-    quadrature : QuadratureChoice
-        The refinement check.
+    messages : list of str
+        Per load.
+    quadrature_knobs : dict
+        The chosen knobs of :func:`statmodel.shear_curve`.
+    quadrature_ladder : list of dict
+        The settings tried, coarse to fine.
+    quadrature_reason : str
+        One sentence for the report.
+    constant_shear_strength_force : ndarray
+        tau0 A_r, N: the constant-shear-strength model of Fig 13 (derived).
+    all_converged : bool
+        Every shear curve converged (derived).
     """
 
-    normal_load: np.ndarray
-    curves: dict[str, np.ndarray]
-    scalars: dict[str, np.ndarray]
-    converged: np.ndarray
-    messages: list[str]
-    mode_mixity: float
-    shear_strength: float
-    nominal_area: float
-    quadrature: QuadratureChoice
+    normal_load: np.ndarray = array("N", ("normal_load",), "normal load")
+    tangential_displacement: np.ndarray = array(
+        "m", ("normal_load", "step"), "tangential displacement delta_T"
+    )
+    tangential_force: np.ndarray = array("N", ("normal_load", "step"), "tangential force F_x")
+    normal_force: np.ndarray = array("N", ("normal_load", "step"), "normal force F_z")
+    real_area: np.ndarray = array("m^2", ("normal_load", "step"), "real contact area A_r")
+    n_contact: np.ndarray = array("1", ("normal_load", "step"), "asperities in contact")
+    n_stick: np.ndarray = array("1", ("normal_load", "step"), "sticking asperities")
+    n_slip: np.ndarray = array("1", ("normal_load", "step"), "sliding asperities")
+    separation: np.ndarray = array("m", ("normal_load", "step"), "separation d")
+    tangential_force_stick: np.ndarray = array(
+        "N", ("normal_load", "step"), "F_x of sticking asperities"
+    )
+    tangential_force_slip: np.ndarray = array(
+        "N", ("normal_load", "step"), "F_x of sliding asperities"
+    )
+    normal_force_stick: np.ndarray = array(
+        "N", ("normal_load", "step"), "F_z of sticking asperities"
+    )
+    normal_force_slip: np.ndarray = array("N", ("normal_load", "step"), "F_z of sliding asperities")
+    real_area_stick: np.ndarray = array(
+        "m^2", ("normal_load", "step"), "A_r of sticking asperities"
+    )
+    real_area_slip: np.ndarray = array("m^2", ("normal_load", "step"), "A_r of sliding asperities")
+    delta_1: np.ndarray = array("m", ("normal_load", "step"), "limit delta_1 (E:delta_1)")
+    delta_2: np.ndarray = array("m", ("normal_load", "step"), "limit delta_2 (E:delta_2)")
+    tabor_parameter: np.ndarray = array("1", ("normal_load",), "Tabor parameter mu")
+    separation_preload: np.ndarray = array("m", ("normal_load",), "separation at the preload")
+    static_friction: np.ndarray = array("N", ("normal_load",), "static friction (peak F_x)")
+    sliding_friction: np.ndarray = array("N", ("normal_load",), "sliding friction")
+    sliding_separation: np.ndarray = array("m", ("normal_load",), "separation at full sliding")
+    sliding_displacement: np.ndarray = array("m", ("normal_load",), "delta_T at full sliding")
+    pull_off_force: np.ndarray = array("N", ("normal_load",), "pull-off force")
+    converged: np.ndarray = array("1", ("normal_load",), "shear curve converged")
+    quadrature_relative_change: np.ndarray = array(
+        "1", ("quadrature_setting",), "change of F_x, A_r to the next finer setting"
+    )
+    quadrature_seconds: np.ndarray = array("s", ("quadrature_setting",), "time per curve")
+    mode_mixity: float = scalar("1", "mode mixity lambda used")
+    shear_strength: float = scalar("Pa", "shear strength tau0 used")
+    nominal_area: float = scalar("m^2", "nominal contact area A_n")
+    messages: list[str] = text("solver message per load")
+    quadrature_knobs: dict[str, int] = text("chosen knobs of statmodel.shear_curve")
+    quadrature_ladder: list[dict[str, int]] = text("quadrature settings tried, coarse to fine")
+    quadrature_reason: str = text("why this quadrature")
+    constant_shear_strength_force: np.ndarray = array(
+        "N",
+        ("normal_load", "step"),
+        "tau0 A_r: the constant-shear-strength model of Fig 13",
+        init=False,
+    )
+    all_converged: bool = scalar("1", "every shear curve converged", init=False)
 
-    @property
-    def all_converged(self) -> bool:
-        """Every shear curve converged."""
-        return bool(np.all(self.converged))
+    def __post_init__(self) -> None:
+        self.constant_shear_strength_force = self.shear_strength * np.asarray(self.real_area)
+        self.all_converged = bool(np.all(self.converged))
+
+    def curve_arrays(self, index: int) -> dict[str, np.ndarray]:
+        """The per-step arrays of the shear curve at load ``index``, by name (SI)."""
+        return {name: getattr(self, name)[index] for name in CURVE_FIELDS}
 
 
 def friction_prediction(
@@ -442,164 +594,79 @@ def friction_prediction(
         for f in loads
     ]
     results = run_map(_curve_job, jobs, executor, desc="shear curves", progress=progress)
-    curves = {name: np.array([r[name] for r in results]) for name in CURVE_FIELDS}
-    scalars = {name: np.array([r[name] for r in results]) for name in CURVE_SCALARS}
+    names = (*CURVE_FIELDS, *CURVE_SCALARS)
+    per_load = {name: np.array([r[name] for r in results]) for name in names}
     return FrictionPrediction(
         normal_load=loads,
-        curves=curves,
-        scalars=scalars,
-        converged=np.array([r["converged"] for r in results]),
-        messages=[r["message"] for r in results],
+        converged=np.array([r["converged"] for r in results], dtype=bool),
+        quadrature_relative_change=quad.relative_change,
+        quadrature_seconds=quad.seconds,
         mode_mixity=material.mode_mixity,
         shear_strength=material.shear_strength,
-        nominal_area=nominal_area,
-        quadrature=quad,
+        nominal_area=float(nominal_area),
+        messages=[r["message"] for r in results],
+        quadrature_knobs=quad.knobs,
+        quadrature_ladder=quad.ladder,
+        quadrature_reason=quad.reason,
+        **per_load,
     )
 
 
-def lambda_record(choice: ModeMixityChoice, nominal_area: float) -> StageRecord:
-    """Stage-5 record (the fit's scan and the measured curves when fitted)."""
-    record = StageRecord(attrs={"mode_mixity": choice.mode_mixity, "fitted": choice.fitted})
-    if choice.fit is None:
-        return record
-    fit = choice.fit
-    record.coords["lambda_grid"] = Variable(
-        fit.grid_mode_mixity, "1", ("lambda_grid",), "lambda of the coarse scan"
+def compute_mode_mixity(context: StageContext) -> ModeMixityChoice:
+    """Stage 5 of the job: :func:`calibrate_mode_mixity` on the measured A_r(F_x) curves."""
+    config = context.config
+    return calibrate_mode_mixity(
+        config.material,
+        context.result(STATISTICAL_MODEL).roughness,
+        config.loading.nominal_area,
+        context.measured.shear_area,
+        bounds=config.fit.mode_mixity_bounds,
+        max_tangential_displacement=config.loading.max_tangential_displacement,
+        steps=config.loading.steps,
+        executor=context.executor,
     )
-    record.variables["grid_residual_rms"] = Variable(
-        fit.grid_residual_rms,
-        "1",
-        ("lambda_grid",),
-        "rms of (A_model - A_measured) / max(A_measured)",
-    )
-    loads = np.concatenate([np.full(len(c.real_area), c.normal_load) for c in choice.curves])
-    record.coords["point"] = Variable(np.arange(len(loads)), "1", ("point",), "measured point")
-    record.variables["measured_normal_load"] = Variable(loads, "N", ("point",), "normal load")
-    record.variables["measured_tangential_force"] = Variable(
-        np.concatenate([c.tangential_force for c in choice.curves]),
-        "N",
-        ("point",),
-        "measured tangential force",
-    )
-    record.variables["measured_real_area"] = Variable(
-        np.concatenate([c.real_area for c in choice.curves]),
-        "m^2",
-        ("point",),
-        "measured real contact area",
-    )
-    record.attrs.update(
-        mode_mixity_std=fit.mode_mixity_std,
-        residual_rms=fit.residual_rms,
-        n_points=fit.n_points,
-        success=fit.success,
-        message=fit.message,
-        nfev=fit.nfev,
-        nominal_area=nominal_area,
-    )
-    return record
 
 
-def lambda_from_record(record: StageRecord) -> ModeMixityChoice:
-    """Rebuild the stage-5 result from its stored record."""
-    a, v = record.attrs, record.variables
-    if not a.get("fitted"):
-        return ModeMixityChoice(float(a["mode_mixity"]), False)
-    loads = v["measured_normal_load"].data
-    curves = [
-        ShearAreaCurve(
-            float(f),
-            v["measured_tangential_force"].data[loads == f],
-            v["measured_real_area"].data[loads == f],
-            "stored",
-        )
-        for f in np.unique(loads)
-    ]
-    fit = LambdaFit(
-        float(a["mode_mixity"]),
-        float(a["mode_mixity_std"]),
-        float(a["residual_rms"]),
-        int(a["n_points"]),
-        record.coords["lambda_grid"].data,
-        v["grid_residual_rms"].data,
-        bool(a["success"]),
-        str(a["message"]),
-        int(a["nfev"]),
+def compute_friction(context: StageContext) -> FrictionPrediction:
+    """Stage 6 of the job: :func:`friction_prediction` with the calibrated lambda."""
+    config = context.config
+    material = dataclasses.replace(
+        config.material, mode_mixity=context.result(MODE_MIXITY).mode_mixity
     )
-    return ModeMixityChoice(fit.mode_mixity, True, fit, curves)
+    return friction_prediction(
+        material,
+        context.result(STATISTICAL_MODEL).roughness,
+        config.loading.nominal_area,
+        config.loading.normal_loads,
+        max_tangential_displacement=config.loading.max_tangential_displacement,
+        steps=config.loading.steps,
+        quadrature_tolerance=config.statmodel.area_tolerance,
+        executor=context.executor,
+        progress=context.progress,
+    )
 
 
-def friction_record(pred: FrictionPrediction) -> StageRecord:
-    """Stage-6 record: curves over (normal_load, step), scalars over normal_load."""
-    steps = pred.curves["tangential_force"].shape[1]
-    record = StageRecord(
-        coords={
-            "normal_load": Variable(pred.normal_load, "N", ("normal_load",), "normal load"),
-            "step": Variable(np.arange(steps), "1", ("step",), "shear step (0: delta_T = 0)"),
-            "quadrature_setting": Variable(
-                np.arange(len(pred.quadrature.ladder)),
-                "1",
-                ("quadrature_setting",),
-                "quadrature ladder index",
-            ),
-        }
-    )
-    for name, units in CURVE_FIELDS.items():
-        record.variables[name] = Variable(
-            pred.curves[name], units, ("normal_load", "step"), name.replace("_", " ")
-        )
-    for name, units in CURVE_SCALARS.items():
-        record.variables[name] = Variable(
-            pred.scalars[name], units, ("normal_load",), name.replace("_", " ")
-        )
-    record.variables["converged"] = Variable(
-        pred.converged, "1", ("normal_load",), "shear curve converged"
-    )
-    record.variables["constant_shear_strength_force"] = Variable(
-        pred.shear_strength * pred.curves["real_area"],
-        "N",
-        ("normal_load", "step"),
-        "tau0 A_r: the constant-shear-strength model of Fig 13",
-    )
-    record.variables["quadrature_relative_change"] = Variable(
-        pred.quadrature.relative_change,
-        "1",
-        ("quadrature_setting",),
-        "change of F_x, A_r to the next finer setting",
-    )
-    record.variables["quadrature_seconds"] = Variable(
-        pred.quadrature.seconds, "s", ("quadrature_setting",), "time per curve"
-    )
-    record.attrs.update(
-        mode_mixity=pred.mode_mixity,
-        shear_strength=pred.shear_strength,
-        nominal_area=pred.nominal_area,
-        messages="\n".join(pred.messages),
-        quadrature_knobs=json.dumps(pred.quadrature.knobs),
-        quadrature_ladder=json.dumps(pred.quadrature.ladder),
-        quadrature_reason=pred.quadrature.reason,
-        all_converged=pred.all_converged,
-    )
-    return record
+MODE_MIXITY = Stage(
+    name="mode_mixity",
+    title="5 lambda",
+    result=ModeMixityChoice,
+    config=(
+        "material",
+        "loading.nominal_area",
+        "loading.max_tangential_displacement",
+        "loading.steps",
+        "measured.shear_area",
+        "fit",
+    ),
+    inputs=(STATISTICAL_MODEL,),
+    compute=compute_mode_mixity,
+)
 
-
-def friction_from_record(record: StageRecord) -> FrictionPrediction:
-    """Rebuild the stage-6 result from its stored record."""
-    v, a = record.variables, record.attrs
-    quad = QuadratureChoice(
-        json.loads(a["quadrature_knobs"]),
-        json.loads(a["quadrature_ladder"]),
-        v["quadrature_relative_change"].data,
-        v["quadrature_seconds"].data,
-        str(a["quadrature_reason"]),
-    )
-    return FrictionPrediction(
-        normal_load=record.coords["normal_load"].data,
-        curves={name: v[name].data for name in CURVE_FIELDS},
-        scalars={name: v[name].data for name in CURVE_SCALARS},
-        converged=v["converged"].data.astype(bool),
-        messages=str(a.get("messages", "")).split("\n"),
-        mode_mixity=float(a["mode_mixity"]),
-        shear_strength=float(a["shear_strength"]),
-        nominal_area=float(a["nominal_area"]),
-        quadrature=quad,
-    )
+FRICTION = Stage(
+    name="friction",
+    title="6 friction prediction",
+    result=FrictionPrediction,
+    config=("material", "loading", "statmodel"),
+    inputs=(STATISTICAL_MODEL, MODE_MIXITY),
+    compute=compute_friction,
+)

@@ -14,10 +14,17 @@ from __future__ import annotations
 
 import csv
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
+
+from asperity.errors import InputError
+
+
+class MeasuredFileError(InputError):
+    """A measured CSV file is malformed; the message names the file, row and column."""
 
 
 @dataclass(frozen=True)
@@ -77,7 +84,7 @@ def read_columns(
 
     Raises
     ------
-    ValueError
+    MeasuredFileError
         Missing column, non-numeric or non-finite value, fewer than two data rows.
     """
     path = Path(path)
@@ -87,13 +94,13 @@ def read_columns(
     try:
         header = [name.strip() for name in next(reader)]
     except StopIteration:
-        raise ValueError(
+        raise MeasuredFileError(
             f"{path}: empty file; expected a header row with {', '.join(columns)}"
         ) from None
     wanted = list(columns) + [c for c in optional if c in header]
     for name in columns:
         if name not in header:
-            raise ValueError(
+            raise MeasuredFileError(
                 f"{path}: missing column {name!r} (header: {', '.join(header)}); "
                 f"expected columns {', '.join(columns)} in SI units"
             )
@@ -104,16 +111,16 @@ def read_columns(
             try:
                 value = float(row[i])
             except (IndexError, ValueError):
-                raise ValueError(
+                raise MeasuredFileError(
                     f"{path}: row {row_number}, column {name!r}: expected a "
                     f"number, got {row[i] if i < len(row) else 'nothing'!r}"
                 ) from None
             if not np.isfinite(value):
-                raise ValueError(f"{path}: row {row_number}, column {name!r}: not finite")
+                raise MeasuredFileError(f"{path}: row {row_number}, column {name!r}: not finite")
             values[name].append(value)
     arrays = {name: np.asarray(v, dtype=float) for name, v in values.items()}
     if len(arrays[columns[0]]) < 2:
-        raise ValueError(f"{path}: fewer than two data rows")
+        raise MeasuredFileError(f"{path}: fewer than two data rows")
     return arrays
 
 
@@ -121,7 +128,7 @@ def read_normal_area(path: str | Path) -> NormalAreaCurve:
     """Read a measured A_r(F_z) CSV (``normal_load`` N, ``real_area`` m^2)."""
     cols = read_columns(path, ("normal_load", "real_area"))
     if np.any(cols["real_area"] < 0):
-        raise ValueError(f"{path}: column 'real_area': negative area (expected m^2 >= 0)")
+        raise MeasuredFileError(f"{path}: column 'real_area': negative area (expected m^2 >= 0)")
     order = np.argsort(cols["normal_load"])
     return NormalAreaCurve(cols["normal_load"][order], cols["real_area"][order], str(path))
 
@@ -144,13 +151,13 @@ def read_shear_area(path: str | Path, normal_load: float | None = None) -> list[
     """
     cols = read_columns(path, ("tangential_force", "real_area"), optional=("normal_load",))
     if np.any(cols["real_area"] < 0):
-        raise ValueError(f"{path}: column 'real_area': negative area (expected m^2 >= 0)")
+        raise MeasuredFileError(f"{path}: column 'real_area': negative area (expected m^2 >= 0)")
     if "normal_load" in cols:
         loads = cols["normal_load"]
     elif normal_load is not None:
         loads = np.full(cols["real_area"].shape, float(normal_load))
     else:
-        raise ValueError(
+        raise MeasuredFileError(
             f"{path}: no 'normal_load' column and no normal_load given in the "
             "configuration (measured.shear_area)"
         )
@@ -171,3 +178,28 @@ def write_shear_area(path: str | Path, curves: Sequence[ShearAreaCurve]) -> None
         for curve in curves:
             for fx, ar in zip(curve.tangential_force, curve.real_area, strict=True):
                 writer.writerow([repr(curve.normal_load), repr(float(fx)), repr(float(ar))])
+
+
+@dataclass(frozen=True)
+class Measurements:
+    """The measured curves of a job configuration (``[measured]``), read before any stage.
+
+    Attributes
+    ----------
+    normal_area : NormalAreaCurve or None
+        A_r(F_z) at rest.
+    shear_area : list of ShearAreaCurve
+        A_r(F_x) curves, one per normal load.
+    """
+
+    normal_area: NormalAreaCurve | None = None
+    shear_area: list[ShearAreaCurve] = field(default_factory=list)
+
+
+def read_measurements(config: Any) -> Measurements:
+    """Read every measured file of a ``[measured]`` configuration (``MeasuredConfig``)."""
+    normal = None if config.normal_area is None else read_normal_area(config.normal_area)
+    shear: list[ShearAreaCurve] = []
+    for item in config.shear_area:
+        shear += read_shear_area(item.file, item.normal_load)
+    return Measurements(normal, shear)

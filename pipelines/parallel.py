@@ -25,6 +25,8 @@ import os
 from collections.abc import Callable, Iterable, Iterator
 from typing import Any
 
+from asperity.errors import InputError
+
 #: Environment variables that cap the threads of the numerical libraries.
 THREAD_ENV_VARS: tuple[str, ...] = (
     "OMP_NUM_THREADS",
@@ -165,8 +167,9 @@ def make_executor(
         try:
             from distributed import Client
         except ImportError as exc:  # pragma: no cover - depends on the installed extras
-            raise ValueError(
-                "--scheduler needs dask.distributed: pip install 'asperity[dask]'"
+            raise InputError(
+                "--scheduler: expected dask.distributed to be installed, got an ImportError "
+                "(pip install 'asperity[dask]')"
             ) from exc
         client = scheduler if isinstance(scheduler, Client) else Client(scheduler)
         # Workers in other processes get the caps; in-process workers (a LocalCluster with
@@ -179,7 +182,7 @@ def make_executor(
             return _BorrowedDaskExecutor(client)
         return DaskExecutor(client)
     if workers < 1:
-        raise ValueError(f"workers must be >= 1, got {workers}")
+        raise InputError(f"workers: expected an integer >= 1, got {workers}")
     if workers == 1:
         return SerialExecutor()
     return concurrent.futures.ProcessPoolExecutor(

@@ -23,26 +23,25 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import numpy as np
+from matplotlib import colormaps
+from matplotlib.figure import Figure
 
 DPI = 150
 
 
-def _save(fig: Any, path: Path) -> Path:
+def _save(fig: Figure, path: Path) -> Path:
+    """Lay out and write a figure (no pyplot: nothing global to close)."""
     fig.tight_layout()
     fig.savefig(path, dpi=DPI)
-    plt.close(fig)
     return path
 
 
 def plot_surface(result: Any, path: Path) -> Path:
     """Stage 1: the levelled height map (um) over x, y (mm)."""
     s = result.surface
-    fig, ax = plt.subplots(figsize=(5.2, 4.4))
+    fig = Figure(figsize=(5.2, 4.4))
+    ax = fig.subplots()
     step = max(1, max(s.nx, s.ny) // 800)
     image = ax.imshow(
         s.heights[::step, ::step].T * 1e6,
@@ -62,7 +61,8 @@ def plot_resolution(result: Any, path: Path) -> Path:
     scan, res, bem = result.scan, result.resolution, result.bem
     a_n = result.config.loading.nominal_area
     um = np.asarray(scan.resolution) * 1e6
-    fig, axes = plt.subplots(2, 2, figsize=(10, 8))
+    fig = Figure(figsize=(10, 8))
+    axes = fig.subplots(2, 2)
     ax = axes[0, 0]
     ax.plot(um, np.asarray(scan.summit_radius) * 1e3, "o", label="map")
     fit_r = scan.radius_intercept + scan.radius_slope * np.asarray(scan.resolution)
@@ -86,10 +86,11 @@ def plot_resolution(result: Any, path: Path) -> Path:
     ax.set_ylabel("rms summit height sigma_s (mm)")
     ax.set_title("(c)")
     ax = axes[1, 1]
-    loads = bem.normal_load
-    ax.plot(loads, bem.contact_fraction, "s", mfc="none", label="BEM, non-adhesive")
-    if bem.contact_fraction_adhesive is not None:
-        ax.plot(loads, bem.contact_fraction_adhesive, "s", label="BEM, adhesive")
+    loads = res.normal_load
+    if bem is not None:
+        ax.plot(loads, bem.contact_fraction, "s", mfc="none", label="BEM, non-adhesive")
+        if bem.contact_fraction_adhesive is not None:
+            ax.plot(loads, bem.contact_fraction_adhesive, "s", label="BEM, adhesive")
     n = len(res.stride)
     picks = sorted({0, res.index, n - 1})
     for i in picks:
@@ -111,9 +112,11 @@ def plot_resolution(result: Any, path: Path) -> Path:
 def plot_misfit(result: Any, path: Path) -> Path:
     """Stage 4: the misfit curve that chose the effective resolution."""
     res = result.resolution
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig = Figure(figsize=(6, 4))
+    ax = fig.subplots()
     um = res.resolution * 1e6
-    ax.plot(um, res.misfit_bem, "o-", label="against BEM")
+    if np.isfinite(res.misfit_bem).any():
+        ax.plot(um, res.misfit_bem, "o-", label="against BEM")
     if res.misfit_measured is not None:
         ax.plot(um, res.misfit_measured, "s-", label="against measured A_r(F_z)")
     ax.axvline(
@@ -132,15 +135,15 @@ def plot_misfit(result: Any, path: Path) -> Path:
 def plot_bem_grid(result: Any, path: Path) -> Path:
     """Stage 3: the refinement check and the contact mask at the largest load."""
     bem = result.bem
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4.2))
-    grid = bem.grid
-    pixel = grid.strides * result.surface.dx * 1e6
+    fig = Figure(figsize=(10, 4.2))
+    ax1, ax2 = fig.subplots(1, 2)
+    pixel = bem.check_stride * result.surface.dx * 1e6
     labels = ["non-adhesive", "adhesive"]
-    for k in range(grid.contact_fraction.shape[1]):
-        ax1.plot(pixel, grid.contact_fraction[:, k], "o-", label=labels[k])
-    ax1.axvline(grid.stride * result.surface.dx * 1e6, color="k", ls="--", label="chosen")
+    for k in range(bem.check_contact_fraction.shape[1]):
+        ax1.plot(pixel, bem.check_contact_fraction[:, k], "o-", label=labels[k])
+    ax1.axvline(bem.stride * result.surface.dx * 1e6, color="k", ls="--", label="chosen")
     ax1.set_xlabel("BEM pixel size (um)")
-    ax1.set_ylabel(f"A_r / A_n at p = {grid.check_pressure:.3g} Pa")
+    ax1.set_ylabel(f"A_r / A_n at p = {bem.check_pressure:.3g} Pa")
     ax1.set_title("grid refinement check")
     ax1.legend()
     mask = bem.contact_mask
@@ -159,7 +162,8 @@ def plot_bem_grid(result: Any, path: Path) -> Path:
 def plot_lambda_fit(result: Any, path: Path) -> Path:
     """Stage 5: the misfit of the coarse lambda scan and the fitted value."""
     fit = result.mode_mixity.fit
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig = Figure(figsize=(6, 4))
+    ax = fig.subplots()
     ax.loglog(fit.grid_mode_mixity, fit.grid_residual_rms, "o-", label="coarse scan")
     ax.axvline(
         fit.mode_mixity,
@@ -182,9 +186,10 @@ def plot_shear(result: Any, path: Path) -> Path:
     """Fig 4: macroscopic curves and their stick / slip parts at the heaviest load."""
     fr = result.friction
     i = int(np.argmax(fr.normal_load))
-    c = {k: v[i] for k, v in fr.curves.items()}
+    c = fr.curve_arrays(i)
     dt = c["tangential_displacement"] * 1e6
-    fig, axes = plt.subplots(2, 2, figsize=(10, 7.5))
+    fig = Figure(figsize=(10, 7.5))
+    axes = fig.subplots(2, 2)
     panels = [
         ("normal_force", "normal load F_z (N)", 1.0),
         (("n_contact", "n_stick", "n_slip"), "contacting asperities", 1.0),
@@ -211,17 +216,18 @@ def plot_area_vs_force(result: Any, path: Path) -> Path:
     """Fig 13: A_r/A_n against F_x at each load, measured curves, and tau0 A_r."""
     fr = result.friction
     a_n = fr.nominal_area
-    fig, ax = plt.subplots(figsize=(7, 5))
-    colors = plt.cm.viridis(np.linspace(0, 0.9, len(fr.normal_load)))
+    fig = Figure(figsize=(7, 5))
+    ax = fig.subplots()
+    colors = colormaps["viridis"](np.linspace(0, 0.9, len(fr.normal_load)))
     for i, f in enumerate(fr.normal_load):
-        fx, ar = fr.curves["tangential_force"][i], fr.curves["real_area"][i]
+        fx, ar = fr.tangential_force[i], fr.real_area[i]
         ax.plot(fx, ar / a_n, "--", color=colors[i], label=f"model F_z = {f:.3g} N")
     for curve in result.mode_mixity.curves:
         j = int(np.argmin(np.abs(fr.normal_load - curve.normal_load)))
         ax.plot(curve.tangential_force, curve.real_area / a_n, "-", color=colors[j], lw=1)
     if result.mode_mixity.curves:
         ax.plot([], [], "k-", lw=1, label="measured")
-    fmax = np.nanmax(fr.curves["tangential_force"])
+    fmax = np.nanmax(fr.tangential_force)
     line = np.linspace(0, fmax, 50)
     ax.plot(
         line,
@@ -230,7 +236,7 @@ def plot_area_vs_force(result: Any, path: Path) -> Path:
         lw=1,
         label="F_x = tau0 A_r (constant shear strength)",
     )
-    top = np.nanmax(fr.curves["real_area"]) / a_n
+    top = np.nanmax(fr.real_area) / a_n
     ax.set_ylim(0, 1.15 * top)
     ax.set_xlabel("tangential load F_x (N)")
     ax.set_ylabel("A_r / A_n")
@@ -241,9 +247,10 @@ def plot_area_vs_force(result: Any, path: Path) -> Path:
 def plot_friction_vs_load(result: Any, path: Path) -> Path:
     """Static and sliding friction against normal load."""
     fr = result.friction
-    fig, ax = plt.subplots(figsize=(6, 4))
-    ax.plot(fr.normal_load, fr.scalars["static_friction"], "o-", label="static (peak)")
-    ax.plot(fr.normal_load, fr.scalars["sliding_friction"], "s--", label="sliding")
+    fig = Figure(figsize=(6, 4))
+    ax = fig.subplots()
+    ax.plot(fr.normal_load, fr.static_friction, "o-", label="static (peak)")
+    ax.plot(fr.normal_load, fr.sliding_friction, "s--", label="sliding")
     ax.set_xlabel("normal load F_z (N)")
     ax.set_ylabel("friction force (N)")
     ax.legend()
@@ -257,11 +264,12 @@ def write_figures(result: Any, out_dir: Path) -> dict[str, Path]:
         "surface": plot_surface(result, out_dir / "surface.png"),
         "resolution": plot_resolution(result, out_dir / "fig12_resolution.png"),
         "misfit": plot_misfit(result, out_dir / "fig12d_misfit.png"),
-        "bem_grid": plot_bem_grid(result, out_dir / "bem_grid.png"),
         "shear": plot_shear(result, out_dir / "fig4_shear.png"),
         "area_vs_force": plot_area_vs_force(result, out_dir / "fig13_area_vs_force.png"),
         "friction_vs_load": plot_friction_vs_load(result, out_dir / "friction_vs_load.png"),
     }
+    if result.bem is not None:
+        figures["bem_grid"] = plot_bem_grid(result, out_dir / "bem_grid.png")
     if result.mode_mixity.fit is not None:
         figures["lambda_fit"] = plot_lambda_fit(result, out_dir / "lambda_fit.png")
     return figures
@@ -288,21 +296,26 @@ def key_numbers(result: Any) -> list[tuple[str, str]]:
         ("Tabor parameter mu", f"{res.tabor_parameter:.4g}"),
         ("misfit at effective resolution", f"{res.misfit[res.index]:.3g} (rms ln ratio)"),
     ]
-    if lam.fit is not None:
+    if lam.fitted:
         rows.append(
             (
                 "mode mixity lambda (fitted)",
-                f"{lam.mode_mixity:.4g} +/- {lam.fit.mode_mixity_std:.2g} "
-                f"(rms relative residual {lam.fit.residual_rms:.3g}, "
-                f"{lam.fit.n_points} points)",
+                f"{lam.mode_mixity:.4g} +/- {lam.mode_mixity_std:.2g} "
+                f"(rms relative residual {lam.residual_rms:.3g}, "
+                f"{lam.n_points} points)",
             )
         )
     else:
         rows.append(("mode mixity lambda (configured)", f"{lam.mode_mixity:.4g}"))
+    if bem is None:
+        rows.append(("BEM", "not run ([bem] enabled = false): calibrated on the measurement"))
+    else:
+        rows += [
+            ("BEM grid", f"stride {bem.stride} ({bem.dx * 1e6:.4g} um): {bem.grid_reason}"),
+            ("BEM solves converged", f"{int(np.sum(bem.converged))} / {bem.converged.size}"),
+        ]
     rows += [
-        ("BEM grid", f"stride {bem.grid.stride} ({bem.dx * 1e6:.4g} um): {bem.grid.reason}"),
-        ("BEM solves converged", f"{int(np.sum(bem.converged))} / {bem.converged.size}"),
-        ("statmodel quadrature", fr.quadrature.reason),
+        ("statmodel quadrature", fr.quadrature_reason),
         ("shear curves converged", f"{int(np.sum(fr.converged))} / {fr.converged.size}"),
     ]
     return rows
@@ -322,17 +335,18 @@ def load_table(result: Any) -> tuple[list[str], list[list[str]]]:
         "delta_T slide (um)",
     ]
     rows = []
-    adh = bem.contact_fraction_adhesive
+    plain = None if bem is None else bem.contact_fraction
+    adh = None if bem is None else bem.contact_fraction_adhesive
     for i, f in enumerate(fr.normal_load):
         rows.append(
             [
                 f"{f:.4g}",
-                f"{bem.contact_fraction[i]:.4g}",
+                "-" if plain is None else f"{plain[i]:.4g}",
                 "-" if adh is None else f"{adh[i]:.4g}",
                 f"{res.real_area[res.index, i] / a_n:.4g}",
-                f"{fr.scalars['static_friction'][i]:.4g}",
-                f"{fr.scalars['sliding_friction'][i]:.4g}",
-                f"{fr.scalars['sliding_displacement'][i] * 1e6:.4g}",
+                f"{fr.static_friction[i]:.4g}",
+                f"{fr.sliding_friction[i]:.4g}",
+                f"{fr.sliding_displacement[i] * 1e6:.4g}",
             ]
         )
     return header, rows
@@ -349,10 +363,8 @@ def write_report(result: Any, out_dir: str | Path) -> Path:
     out_dir = Path(out_dir)
     figures = write_figures(result, out_dir)
     header, rows = load_table(result)
-    stage_rows = [
-        [s.name, "stored (skipped)" if s.cached else "computed", f"{s.seconds:.2f}"]
-        for s in result.stages
-    ]
+    status = {"stored": "stored (skipped)", "computed": "computed", "disabled": "disabled"}
+    stage_rows = [[s.name, status[s.status], f"{s.seconds:.2f}"] for s in result.stages]
     problems = result.problems()
     text = [
         "# asperity run report",

@@ -10,21 +10,25 @@ the BEM on the map (adhesive when run). The effective resolution is the one of l
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 from collections.abc import Sequence
 from concurrent.futures import Executor
-from dataclasses import dataclass, field
-from typing import Any
+from dataclasses import dataclass
 
 import numpy as np
 
 from asperity import statmodel
-from asperity.pipelines.bem_stage import BemReference
-from asperity.pipelines.config import MaterialConfig
+from asperity.errors import InputError
+from asperity.pipelines.bem_stage import BEM, BemReference
+from asperity.pipelines.config import ConfigError
+from asperity.pipelines.fields import array, scalar, text
 from asperity.pipelines.measured import NormalAreaCurve
 from asperity.pipelines.parallel import run_map
-from asperity.pipelines.store import StageRecord, Variable
+from asperity.pipelines.pull_off import has_summits, pull_off_forces, roughness_from_scan
+from asperity.pipelines.stages import Stage, StageContext
+from asperity.pipelines.surface_stage import SCAN, ScanResult
 
 #: Above this A_r/A_n the asperities of the statistical model would overlap: independent
 #: asperities (the Greenwood-Williamson / Fuller-Tabor picture) are no longer a fair model.
@@ -64,71 +68,13 @@ def validity_notes(real_area_fraction: np.ndarray, tabor_parameter: float) -> li
 
 
 def material_from_config(
-    config: MaterialConfig, mode_mixity: float | None = None
+    material: statmodel.Material, mode_mixity: float | None = None
 ) -> statmodel.Material:
-    """The :class:`statmodel.Material` of the configuration (SI), optionally with another lambda."""
-    return statmodel.Material(
-        e_star=config.E_star,
-        work_of_adhesion=config.work_of_adhesion,
-        mode_mixity=config.mode_mixity if mode_mixity is None else mode_mixity,
-        shear_strength=config.shear_strength,
-        equilibrium_distance=config.equilibrium_distance,
-    )
-
-
-def roughness_from_scan(scan: Any, index: int) -> statmodel.Roughness:
-    """The :class:`statmodel.Roughness` (eta 1/m^2, R m, sigma_s m) at one scan entry."""
-    return statmodel.Roughness(
-        asperity_density=float(scan.asperity_density[index]),
-        summit_radius=float(scan.summit_radius[index]),
-        summit_height_rms=float(scan.summit_height_rms[index]),
-    )
-
-
-def _usable(scan: Any, index: int) -> bool:
-    values = (
-        scan.asperity_density[index],
-        scan.summit_radius[index],
-        scan.summit_height_rms[index],
-    )
-    return all(np.isfinite(v) and v > 0 for v in values)
-
-
-def pull_off_forces(material: statmodel.Material, scan: Any, nominal_area: float) -> np.ndarray:
-    """Pull-off force of the statistical model at each scan resolution, N (negative)."""
-    out = np.full(len(scan.stride), np.nan)
-    for i in range(len(scan.stride)):
-        if _usable(scan, i):
-            try:
-                out[i] = statmodel.pull_off_force(
-                    material, roughness_from_scan(scan, i), nominal_area
-                )
-            except ValueError:
-                pass
-    return out
-
-
-def check_loads_above_pull_off(
-    material: statmodel.Material, scan: Any, nominal_area: float, normal_loads: Sequence[float]
-) -> np.ndarray:
-    """Raise ValueError naming ``loading.normal_loads`` if a load is below a pull-off force.
-
-    Returns
-    -------
-    ndarray
-        The pull-off force at each resolution, N.
-    """
-    pull_off = pull_off_forces(material, scan, nominal_area)
-    worst = np.nanmax(pull_off) if np.isfinite(pull_off).any() else -math.inf
-    low = [f for f in normal_loads if f <= worst]
-    if low:
-        i = int(np.nanargmax(pull_off))
-        raise ValueError(
-            f"loading.normal_loads: {low[0]:g} N is at or below the statistical model's pull-off "
-            f"force {worst:.4g} N (at resolution {scan.resolution[i] * 1e6:.4g} um); every load "
-            "must exceed the pull-off force"
-        )
-    return pull_off
+    """The configured :class:`statmodel.Material` (``config.material``), optionally with
+    another lambda."""
+    if mode_mixity is None:
+        return material
+    return dataclasses.replace(material, mode_mixity=mode_mixity)
 
 
 def areas_at_loads(
@@ -169,7 +115,7 @@ def log_misfit(model: np.ndarray, reference: np.ndarray) -> float:
 
 @dataclass
 class ResolutionChoice:
-    """Stage-4 result.
+    """Stage-4 result: the statistical model at every resolution and the effective one.
 
     Attributes
     ----------
@@ -177,67 +123,155 @@ class ResolutionChoice:
         The scan's strides and pixel sizes (m).
     normal_load : ndarray
         F_z, N.
-    real_area : ndarray, shape (n_stride, n_load)
-        Model A_r, m^2.
+    real_area, real_area_fraction : ndarray, shape (n_stride, n_load)
+        Model A_r (m^2) and A_r/A_n.
     misfit_bem : ndarray
         RMS ln-ratio misfit against the BEM fraction at each stride (NaN without BEM).
-    misfit_measured : ndarray or None
-        Same against the measured A_r(F_z).
-    basis : str
-        What chose the effective resolution: "measured" or "bem".
-    index : int
-        Index of the effective resolution.
-    roughness : statmodel.Roughness
-        eta, R, sigma_s at the effective resolution.
-    tabor_parameter : float
-        mu at the effective resolution.
     pull_off : ndarray
         Pull-off force at each stride, N.
-    measured : NormalAreaCurve or None
-        The measured A_r(F_z) when given.
-    model_at_measured : ndarray or None
-        Model A_r (m^2) at the measured loads, shape (n_stride, n_measured).
+    basis : str
+        What chose the effective resolution: "measured" or "bem".
+    effective_index, effective_stride : int
+        Index and stride of the effective resolution.
+    effective_resolution : float
+        Its pixel size, m.
+    asperity_density, summit_radius, summit_height_rms : float
+        eta (1/m^2), R (m), sigma_s (m) at the effective resolution.
+    tabor_parameter : float
+        mu at the effective resolution.
+    nominal_area : float
+        A_n, m^2.
     messages : list of str
         Model refusals per stride.
     validity : list of str
         Where the model is outside its validity at the effective resolution
         (:func:`validity_notes`); empty when it is not.
+    measured_normal_load, measured_real_area : ndarray or None
+        The measured A_r(F_z) (N, m^2) when given.
+    model_real_area_at_measured : ndarray or None
+        Model A_r (m^2) at the measured loads, shape (n_stride, n_measured).
+    misfit_measured : ndarray or None
+        RMS ln-ratio misfit against the measured A_r(F_z).
     """
 
-    stride: np.ndarray
-    resolution: np.ndarray
-    normal_load: np.ndarray
-    real_area: np.ndarray
-    misfit_bem: np.ndarray
-    misfit_measured: np.ndarray | None
-    basis: str
-    index: int
-    roughness: statmodel.Roughness
-    tabor_parameter: float
-    pull_off: np.ndarray
-    measured: NormalAreaCurve | None = None
-    model_at_measured: np.ndarray | None = None
-    messages: list[str] = field(default_factory=list)
-    validity: list[str] = field(default_factory=list)
+    stride: np.ndarray = array("1", ("stride",), "decimation stride")
+    normal_load: np.ndarray = array("N", ("normal_load",), "normal load")
+    resolution: np.ndarray = array("m", ("stride",), "pixel size")
+    real_area: np.ndarray = array(
+        "m^2", ("stride", "normal_load"), "statistical-model real contact area"
+    )
+    real_area_fraction: np.ndarray = array("1", ("stride", "normal_load"), "A_r / A_n")
+    misfit_bem: np.ndarray = array("1", ("stride",), "rms ln(A_model / A_bem) over loads")
+    pull_off: np.ndarray = array("N", ("stride",), "pull-off force")
+    basis: str = text("what chose the effective resolution: measured or bem")
+    effective_index: int = scalar("1", "index of the effective resolution")
+    effective_stride: int = scalar("1", "stride of the effective resolution")
+    effective_resolution: float = scalar("m", "pixel size of the effective resolution")
+    asperity_density: float = scalar("1/m^2", "eta at the effective resolution")
+    summit_radius: float = scalar("m", "R at the effective resolution")
+    summit_height_rms: float = scalar("m", "sigma_s at the effective resolution")
+    tabor_parameter: float = scalar("1", "Tabor parameter at the effective resolution")
+    nominal_area: float = scalar("m^2", "nominal contact area A_n")
+    messages: list[str] = text("model refusals per stride")
+    validity: list[str] = text("where the model is outside its validity")
+    measured_normal_load: np.ndarray | None = array(
+        "N", ("measured_normal_load",), "measured normal load", optional=True
+    )
+    measured_real_area: np.ndarray | None = array(
+        "m^2", ("measured_normal_load",), "measured A_r", optional=True
+    )
+    model_real_area_at_measured: np.ndarray | None = array(
+        "m^2",
+        ("stride", "measured_normal_load"),
+        "model A_r at the measured loads",
+        optional=True,
+    )
+    misfit_measured: np.ndarray | None = array(
+        "1", ("stride",), "rms ln(A_model / A_measured) over loads", optional=True
+    )
 
     @property
-    def effective_stride(self) -> int:
-        """Stride of the effective resolution."""
-        return int(self.stride[self.index])
+    def index(self) -> int:
+        """Index of the effective resolution (same as ``effective_index``)."""
+        return self.effective_index
 
     @property
-    def effective_resolution(self) -> float:
-        """Pixel size of the effective resolution, m."""
-        return float(self.resolution[self.index])
+    def roughness(self) -> statmodel.Roughness:
+        """eta, R, sigma_s at the effective resolution."""
+        return statmodel.Roughness(
+            self.asperity_density, self.summit_radius, self.summit_height_rms
+        )
+
+    @property
+    def measured(self) -> NormalAreaCurve | None:
+        """The measured A_r(F_z) when given."""
+        if self.measured_normal_load is None or self.measured_real_area is None:
+            return None
+        return NormalAreaCurve(self.measured_normal_load, self.measured_real_area, "stored")
 
     @property
     def misfit(self) -> np.ndarray:
         """The misfit curve that chose the resolution."""
-        return self.misfit_measured if self.basis == "measured" else self.misfit_bem
+        if self.basis == "measured" and self.misfit_measured is not None:
+            return self.misfit_measured
+        return self.misfit_bem
+
+
+def _model_areas(
+    scan: ScanResult,
+    material: statmodel.Material,
+    roughness: dict[int, statmodel.Roughness],
+    nominal_area: float,
+    loads: np.ndarray,
+    measured: NormalAreaCurve | None,
+    executor: Executor | None,
+    progress: bool,
+) -> tuple[np.ndarray, np.ndarray | None, list[str]]:
+    """Model A_r (m^2) at the loads and at the measured loads, per stride; refusals."""
+    n = len(scan.stride)
+    load_sets = [loads] if measured is None else [loads, measured.normal_load]
+    jobs = [(material, roughness[i], nominal_area, ls) for i in roughness for ls in load_sets]
+    results = iter(
+        run_map(areas_at_loads, jobs, executor, desc="statistical model", progress=progress)
+    )
+    tables = [np.full((n, len(ls)), np.nan) for ls in load_sets]
+    messages = []
+    for i in roughness:
+        for table in tables:
+            values, message = next(results)
+            if message:
+                messages.append(f"stride {int(scan.stride[i])}: {message}")
+            table[i] = values
+    return tables[0], (tables[1] if measured is not None else None), messages
+
+
+def _misfit_curve(
+    area: np.ndarray, roughness: dict[int, statmodel.Roughness], reference: np.ndarray | None
+) -> np.ndarray:
+    """:func:`log_misfit` per stride (NaN without summits or without a reference)."""
+    misfit = np.full(area.shape[0], np.nan)
+    if reference is not None:
+        for i in roughness:
+            misfit[i] = log_misfit(area[i], reference)
+    return misfit
+
+
+def _quiet_tabor_parameter(roughness: statmodel.Roughness, material: statmodel.Material) -> float:
+    """mu (dimensionless); its warning is reported with the validity notes instead."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return float(
+            statmodel.tabor_parameter(
+                roughness.summit_radius,
+                material.work_of_adhesion,
+                material.e_star,
+                material.equilibrium_distance,
+            )
+        )
 
 
 def statistical_model_scan(
-    scan: Any,
+    scan: ScanResult,
     material: statmodel.Material,
     nominal_area: float,
     normal_loads: Sequence[float],
@@ -271,160 +305,91 @@ def statistical_model_scan(
     ResolutionChoice
     """
     if bem is None and measured is None:
-        raise ValueError("statistical_model_scan: needs a BEM reference or a measured A_r(F_z)")
+        raise InputError("statistical_model_scan: expected bem= or measured=, got neither")
     loads = np.asarray(normal_loads, dtype=float)
-    n = len(scan.stride)
-    usable = [i for i in range(n) if _usable(scan, i)]
-    if not usable:
-        raise ValueError("statistical_model_scan: no resolution of the scan has summits")
-    roughness = {i: roughness_from_scan(scan, i) for i in usable}
-    load_sets = [loads] if measured is None else [loads, measured.normal_load]
-    jobs = [(material, roughness[i], nominal_area, ls) for i in usable for ls in load_sets]
-    results = run_map(areas_at_loads, jobs, executor, desc="statistical model", progress=progress)
-    area = np.full((n, len(loads)), np.nan)
-    at_measured = None if measured is None else np.full((n, len(measured.normal_load)), np.nan)
-    messages = []
-    k = 0
-    for i in usable:
-        for j, _ in enumerate(load_sets):
-            values, message = results[k]
-            k += 1
-            if message:
-                messages.append(f"stride {int(scan.stride[i])}: {message}")
-            if j == 0:
-                area[i] = values
-            else:
-                at_measured[i] = values
-    misfit_bem = np.full(n, np.nan)
-    if bem is not None:
-        reference = bem.reference_fraction() * nominal_area
-        for i in usable:
-            misfit_bem[i] = log_misfit(area[i], reference)
+    roughness = {
+        i: roughness_from_scan(scan, i) for i in range(len(scan.stride)) if has_summits(scan, i)
+    }
+    if not roughness:
+        raise InputError(
+            "surface: expected summits at some resolution of the scan, found none (a flat or "
+            "too small map)"
+        )
+    area, at_measured, messages = _model_areas(
+        scan, material, roughness, nominal_area, loads, measured, executor, progress
+    )
+    misfit_bem = _misfit_curve(
+        area, roughness, None if bem is None else bem.reference_fraction() * nominal_area
+    )
     misfit_measured = None
     if measured is not None:
-        misfit_measured = np.full(n, np.nan)
-        for i in usable:
-            misfit_measured[i] = log_misfit(at_measured[i], measured.real_area)
+        misfit_measured = _misfit_curve(at_measured, roughness, measured.real_area)
     basis = "measured" if measured is not None else "bem"
     curve = misfit_measured if measured is not None else misfit_bem
     if not np.isfinite(curve).any():
-        raise ValueError(
-            "statistical_model_scan: the model gave no finite misfit at any "
-            "resolution: " + "; ".join(messages[:3])
+        raise ConfigError(
+            "loading.normal_loads: expected loads the statistical model can carry at some "
+            "resolution of the scan, got none: " + "; ".join(messages[:3])
         )
     index = int(np.nanargmin(np.where(np.isfinite(curve), curve, np.nan)))
     best = roughness[index]
-    with warnings.catch_warnings():  # reported below, with the area check, as one warning
-        warnings.simplefilter("ignore")
-        mu = statmodel.tabor_parameter(
-            best.summit_radius,
-            material.work_of_adhesion,
-            material.e_star,
-            material.equilibrium_distance,
-        )
-    validity = validity_notes(area[index] / nominal_area, float(mu))
+    mu = _quiet_tabor_parameter(best, material)
+    validity = validity_notes(area[index] / nominal_area, mu)
     for note in validity:
         warnings.warn(note, ModelValidityWarning, stacklevel=2)
     return ResolutionChoice(
         stride=np.asarray(scan.stride),
-        resolution=np.asarray(scan.resolution, dtype=float),
         normal_load=loads,
+        resolution=np.asarray(scan.resolution, dtype=float),
         real_area=area,
+        real_area_fraction=area / nominal_area,
         misfit_bem=misfit_bem,
-        misfit_measured=misfit_measured,
-        basis=basis,
-        index=index,
-        roughness=best,
-        tabor_parameter=float(mu),
         pull_off=pull_off_forces(material, scan, nominal_area),
-        measured=measured,
-        model_at_measured=at_measured,
+        basis=basis,
+        effective_index=index,
+        effective_stride=int(scan.stride[index]),
+        effective_resolution=float(scan.resolution[index]),
+        asperity_density=best.asperity_density,
+        summit_radius=best.summit_radius,
+        summit_height_rms=best.summit_height_rms,
+        tabor_parameter=mu,
+        nominal_area=float(nominal_area),
         messages=messages,
         validity=validity,
+        measured_normal_load=None if measured is None else measured.normal_load,
+        measured_real_area=None if measured is None else measured.real_area,
+        model_real_area_at_measured=at_measured,
+        misfit_measured=misfit_measured,
     )
 
 
-def resolution_record(choice: ResolutionChoice, nominal_area: float) -> StageRecord:
-    """Stage-4 record."""
-    r = choice.roughness
-    record = StageRecord(
-        coords={
-            "stride": Variable(choice.stride, "1", ("stride",), "decimation stride"),
-            "normal_load": Variable(choice.normal_load, "N", ("normal_load",), "normal load"),
-        },
-        variables={
-            "resolution": Variable(choice.resolution, "m", ("stride",), "pixel size"),
-            "real_area": Variable(
-                choice.real_area,
-                "m^2",
-                ("stride", "normal_load"),
-                "statistical-model real contact area",
-            ),
-            "real_area_fraction": Variable(
-                choice.real_area / nominal_area, "1", ("stride", "normal_load"), "A_r / A_n"
-            ),
-            "misfit_bem": Variable(
-                choice.misfit_bem, "1", ("stride",), "rms ln(A_model / A_bem) over loads"
-            ),
-            "pull_off": Variable(choice.pull_off, "N", ("stride",), "pull-off force"),
-        },
-        attrs={
-            "basis": choice.basis,
-            "effective_index": choice.index,
-            "effective_stride": choice.effective_stride,
-            "effective_resolution": choice.effective_resolution,
-            "asperity_density": r.asperity_density,
-            "summit_radius": r.summit_radius,
-            "summit_height_rms": r.summit_height_rms,
-            "tabor_parameter": choice.tabor_parameter,
-            "nominal_area": nominal_area,
-            "messages": "\n".join(choice.messages),
-            "validity": "\n".join(choice.validity),
-        },
+def compute_statistical_model(context: StageContext) -> ResolutionChoice:
+    """Stage 4 of the job: :func:`statistical_model_scan` against the BEM and/or measurement."""
+    config = context.config
+    return statistical_model_scan(
+        context.result(SCAN),
+        config.material,
+        config.loading.nominal_area,
+        config.loading.normal_loads,
+        bem=context.result(BEM),
+        measured=context.measured.normal_area,
+        executor=context.executor,
+        progress=context.progress,
     )
-    if choice.measured is not None:
-        record.coords["measured_normal_load"] = Variable(
-            choice.measured.normal_load, "N", ("measured_normal_load",), "measured normal load"
-        )
-        record.variables["measured_real_area"] = Variable(
-            choice.measured.real_area, "m^2", ("measured_normal_load",), "measured A_r"
-        )
-        record.variables["model_real_area_at_measured"] = Variable(
-            choice.model_at_measured,
-            "m^2",
-            ("stride", "measured_normal_load"),
-            "model A_r at the measured loads",
-        )
-        record.variables["misfit_measured"] = Variable(
-            choice.misfit_measured, "1", ("stride",), "rms ln(A_model / A_measured) over loads"
-        )
-    return record
 
 
-def resolution_from_record(record: StageRecord) -> ResolutionChoice:
-    """Rebuild the stage-4 result from its stored record."""
-    v, a = record.variables, record.attrs
-    measured = None
-    if "measured_real_area" in v:
-        measured = NormalAreaCurve(
-            record.coords["measured_normal_load"].data, v["measured_real_area"].data, "stored"
-        )
-    return ResolutionChoice(
-        stride=record.coords["stride"].data,
-        resolution=v["resolution"].data,
-        normal_load=record.coords["normal_load"].data,
-        real_area=v["real_area"].data,
-        misfit_bem=v["misfit_bem"].data,
-        misfit_measured=v["misfit_measured"].data if measured is not None else None,
-        basis=str(a["basis"]),
-        index=int(a["effective_index"]),
-        roughness=statmodel.Roughness(
-            float(a["asperity_density"]), float(a["summit_radius"]), float(a["summit_height_rms"])
-        ),
-        tabor_parameter=float(a["tabor_parameter"]),
-        pull_off=v["pull_off"].data,
-        measured=measured,
-        model_at_measured=(v["model_real_area_at_measured"].data if measured is not None else None),
-        messages=[m for m in str(a.get("messages", "")).split("\n") if m],
-        validity=[m for m in str(a.get("validity", "")).split("\n") if m],
-    )
+STATISTICAL_MODEL = Stage(
+    name="statistical_model",
+    title="4 statistical model / resolution",
+    result=ResolutionChoice,
+    config=(
+        "material.E_star",
+        "material.work_of_adhesion",
+        "material.equilibrium_distance",
+        "loading.nominal_area",
+        "loading.normal_loads",
+        "measured.normal_area",
+    ),
+    inputs=(SCAN, BEM),
+    compute=compute_statistical_model,
+)

@@ -15,6 +15,7 @@ import argparse
 import os
 import sys
 
+from asperity.errors import InputError
 from asperity.pipelines.config import PRESETS, load_config, load_preset
 
 
@@ -68,9 +69,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def handle_run(args: argparse.Namespace) -> int:
     """Run the job; 0 when every solver converged, 1 otherwise."""
     if args.config is not None and args.preset is not None:
-        raise ValueError("give either CONFIG.toml or --preset, not both")
+        raise InputError("give either CONFIG.toml or --preset, not both")
     if args.workers is not None and args.workers < 1:
-        raise ValueError(f"--workers: expected an integer >= 1, got {args.workers}")
+        raise InputError(f"--workers: expected an integer >= 1, got {args.workers}")
     config = (
         load_config(args.config)
         if args.config is not None

@@ -3,162 +3,175 @@
 Layout of ``results.h5``::
 
     /                       attrs: asperity_version, config_toml (the resolved configuration),
-                                   config_source, input_sha256, created (UTC ISO time)
-    /<stage>                attrs: stage_key (hash of the configuration parts the stage
-                                   depends on), seconds, finished, plus stage scalars
+                                   config_source, input, input_sha256, conventions, modified
+    /<stage>                attrs: stage_key (hash of what the stage was computed from),
+                                   key_inputs (that document, JSON), checksum (SHA-256 of the
+                                   stored values), seconds, finished, attribute_units (JSON map
+                                   of the numeric attributes' SI units), plus the stage scalars
     /<stage>/<dimension>    1D coordinate (an HDF5 dimension scale)
     /<stage>/<variable>     array; attrs ``units`` (SI, "1" for dimensionless), ``long_name``,
                             and its axes attached to the coordinates above (DIMENSION_LIST)
 
 Each group is a self-contained netCDF-4-like dataset: ``xarray.open_dataset(path,
-group=stage, engine="h5netcdf")`` opens it with named dimensions and units.
+group=stage, engine="h5netcdf")`` opens it with named dimensions and units. Booleans are HDF5
+booleans. What goes in a group is the stage's result dataclass, field by field, as its
+metadata declares (:mod:`pipelines.fields`); the same declaration reads it back.
 
 Crash safety: every write copies the current file to a temporary file in the same directory,
-writes the new group there, flushes it to disk and renames it over ``results.h5``
-(:func:`os.replace` is atomic on POSIX), so an interruption leaves either the old file or the
-new one, never a half-written one.
+writes the new group (and the file's provenance, and drops stale groups) there, flushes it to
+disk and renames it over ``results.h5`` (:func:`os.replace` is atomic on POSIX), so an
+interruption leaves either the old file or the new one, never a half-written one, and the
+provenance always describes the stages beside it.
 """
 
 from __future__ import annotations
 
 import contextlib
 import datetime as _dt
+import json
 import os
 import shutil
 import warnings
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 import h5py
 import numpy as np
 
+from asperity.pipelines.fields import FieldSpec, canonical, checksum, field_specs
+
+R = TypeVar("R")
+
+#: Arrays larger than this many elements are gzip-compressed.
+COMPRESS_ABOVE = 4096
+
+
+class StoredStageError(RuntimeError):
+    """A stored stage group does not match its declaration or its checksum."""
+
+
+class ResultLayoutError(RuntimeError):
+    """A result's arrays disagree with their declared dimensions (a defect in a stage)."""
+
 
 @dataclass(frozen=True)
-class Variable:
-    """One stored array with its unit and named dimensions.
+class StoredStage:
+    """What the store knows of a finished stage without reading its arrays.
 
     Attributes
     ----------
-    data : array_like
-        The values (bool arrays are stored as int8).
-    units : str
-        SI unit ("m", "Pa", "N", "m^2", "1/m^2", "1" for dimensionless).
-    dims : tuple of str
-        One dimension name per axis; each must be a coordinate of the record.
-    long_name : str
-        What the values are.
+    key : str
+        The stage key it was computed with.
+    checksum : str
+        SHA-256 of its stored values at write time.
+    seconds : float
+        Wall time it took, s.
     """
 
-    data: Any
-    units: str
-    dims: tuple[str, ...]
-    long_name: str = ""
+    key: str
+    checksum: str
+    seconds: float
 
 
-@dataclass
-class StageRecord:
-    """What one stage stores: coordinates, variables and scalar attributes.
-
-    Attributes
-    ----------
-    coords : dict of str to Variable
-        1D coordinates; a coordinate's only dimension is its own name.
-    variables : dict of str to Variable
-        Data arrays over those dimensions.
-    attrs : dict
-        Scalars and short strings (numbers in SI units; the unit in the name or docs).
-    """
-
-    coords: dict[str, Variable] = field(default_factory=dict)
-    variables: dict[str, Variable] = field(default_factory=dict)
-    attrs: dict[str, Any] = field(default_factory=dict)
+def _attr(value: Any) -> Any:
+    return value.decode() if isinstance(value, bytes) else value
 
 
-def _as_array(value: Any) -> np.ndarray:
-    array = np.asarray(value)
-    if array.dtype == bool:
-        return array.astype(np.int8)
-    return array
-
-
-def _attr_value(value: Any) -> Any:
-    if value is None:
-        return "none"
-    if isinstance(value, (bool, np.bool_)):
-        return np.int8(value)
-    if isinstance(value, Path):
-        return str(value)
-    return value
-
-
-def write_record(group: h5py.Group, record: StageRecord) -> None:
-    """Write a record into an (empty) HDF5 group with dimension scales and units."""
-    scales: dict[str, h5py.Dataset] = {}
-    for name, coord in record.coords.items():
-        data = _as_array(coord.data)
-        if data.ndim != 1 or coord.dims != (name,):
-            raise ValueError(f"coordinate {name!r} must be 1D with dims ({name!r},)")
-        ds = group.create_dataset(name, data=data)
-        ds.attrs["units"] = coord.units
-        if coord.long_name:
-            ds.attrs["long_name"] = coord.long_name
-        ds.make_scale(name)
-        scales[name] = ds
-    for name, var in record.variables.items():
-        data = _as_array(var.data)
-        if data.ndim != len(var.dims):
-            raise ValueError(f"variable {name!r}: {data.ndim} axes but dims {var.dims}")
-        for axis, dim in enumerate(var.dims):
-            if dim not in scales:
-                raise ValueError(f"variable {name!r}: dimension {dim!r} has no coordinate")
-            if data.shape[axis] != scales[dim].shape[0]:
-                raise ValueError(
-                    f"variable {name!r}: axis {axis} has {data.shape[axis]} "
-                    f"entries, coordinate {dim!r} has {scales[dim].shape[0]}"
+def _dimension_lengths(specs: Sequence[FieldSpec], values: Mapping[str, Any]) -> dict[str, int]:
+    lengths: dict[str, int] = {}
+    for spec in specs:
+        data = values[spec.name]
+        if spec.kind != "array" or data is None:
+            continue
+        if data.ndim != len(spec.dims):
+            raise ResultLayoutError(f"{spec.name!r}: {data.ndim} axes but dims {spec.dims}")
+        for dim, n in zip(spec.dims, data.shape, strict=True):
+            if lengths.setdefault(dim, n) != n:
+                raise ResultLayoutError(
+                    f"{spec.name!r}: dimension {dim!r} has {n} entries here and "
+                    f"{lengths[dim]} elsewhere"
                 )
-        compress = {"compression": "gzip", "compression_opts": 4} if data.size > 4096 else {}
-        ds = group.create_dataset(name, data=data, **compress)
-        ds.attrs["units"] = var.units
-        if var.long_name:
-            ds.attrs["long_name"] = var.long_name
-        for axis, dim in enumerate(var.dims):
-            ds.dims[axis].attach_scale(scales[dim])
-            ds.dims[axis].label = dim
-    for key, value in record.attrs.items():
-        group.attrs[key] = _attr_value(value)
+    return lengths
 
 
-def read_record(group: h5py.Group) -> StageRecord:
-    """Read a record written by :func:`write_record` (arrays loaded into memory)."""
-    record = StageRecord()
-    for name, ds in group.items():
-        if not isinstance(ds, h5py.Dataset):
+def _dataset(group: h5py.Group, name: str, data: np.ndarray, units: str, long_name: str):
+    compress = {"compression": "gzip", "compression_opts": 4} if data.size > COMPRESS_ABOVE else {}
+    ds = group.create_dataset(name, data=data, **compress)
+    ds.attrs["units"] = units
+    if long_name:
+        ds.attrs["long_name"] = long_name
+    return ds
+
+
+def write_result(group: h5py.Group, result: Any) -> None:
+    """Write a result dataclass into an empty HDF5 group, as its field metadata declares.
+
+    Raises
+    ------
+    ResultLayoutError
+        An array's axes disagree with its dims, or one dimension has two lengths.
+    """
+    specs = field_specs(type(result))
+    values = {s.name: canonical(s, getattr(result, s.name)) for s in specs}
+    lengths = _dimension_lengths(specs, values)
+    coords = {s.name: s for s in specs if s.is_coordinate and values[s.name] is not None}
+    scales = {}
+    for dim, n in lengths.items():
+        if dim in coords:
+            spec = coords[dim]
+            ds = _dataset(group, dim, values[dim], spec.units, spec.long_name)
+        else:
+            ds = _dataset(group, dim, np.arange(n), "1", f"index along {dim}")
+        ds.make_scale(dim)
+        scales[dim] = ds
+    units = {}
+    for spec in specs:
+        value = values[spec.name]
+        if value is None or spec.name in coords:
             continue
-        units = str(ds.attrs.get("units", ""))
-        long_name = str(ds.attrs.get("long_name", ""))
-        if ds.is_scale:
-            record.coords[name] = Variable(ds[()], units, (name,), long_name)
-            continue
-        dims = tuple(
-            h5py.h5ds.get_scale_name(ds.dims[axis][0].id).decode() if len(ds.dims[axis]) else ""
-            for axis in range(ds.ndim)
-        )
-        record.variables[name] = Variable(ds[()], units, dims, long_name)
-    for key, value in group.attrs.items():
-        if key in ("DIMENSION_LIST", "REFERENCE_LIST", "CLASS", "NAME"):
-            continue
-        if isinstance(value, bytes):
-            value = value.decode()
-        if isinstance(value, np.generic):
-            value = value.item()
-        record.attrs[key] = value
-    return record
+        if spec.kind == "array":
+            ds = _dataset(group, spec.name, value, spec.units, spec.long_name)
+            for axis, dim in enumerate(spec.dims):
+                ds.dims[axis].attach_scale(scales[dim])
+        elif spec.kind == "json":
+            group.attrs[spec.name] = json.dumps(value)
+        else:
+            group.attrs[spec.name] = value
+            if spec.kind == "number":
+                units[spec.name] = spec.units
+    group.attrs["attribute_units"] = json.dumps(units)
+
+
+def read_result(group: h5py.Group, cls: type[R]) -> R:
+    """Read a result dataclass written by :func:`write_result` (arrays loaded into memory).
+
+    Raises
+    ------
+    StoredStageError
+        A required field is missing (the group was written for another declaration).
+    """
+    kwargs, derived = {}, {}
+    for spec in field_specs(cls):
+        if spec.kind == "array":
+            value = group[spec.name][()] if spec.name in group else None
+        elif spec.name in group.attrs:
+            value = _attr(group.attrs[spec.name])
+            value = json.loads(value) if spec.kind == "json" else canonical(spec, value)
+        else:
+            value = None
+        if value is None and not spec.optional:
+            raise StoredStageError(f"group {group.name!r} has no {spec.name!r}")
+        (kwargs if spec.init else derived)[spec.name] = value
+    result = cls(**kwargs)
+    for name, value in derived.items():  # stored copies of derived values must agree
+        object.__setattr__(result, name, value)
+    return result
 
 
 class ResultStore:
-    """``results.h5`` of one job: stage groups keyed by the configuration they depend on.
+    """``results.h5`` of one job: stage groups keyed by what they were computed from.
 
     Parameters
     ----------
@@ -186,37 +199,47 @@ class ResultStore:
             )
             return None
 
-    def stage_key(self, stage: str) -> str | None:
-        """The key a finished stage was stored with, or None when it is not stored."""
+    def stored(self) -> dict[str, StoredStage]:
+        """Every finished stage in the file, by group name."""
         f = self._open_read()
         if f is None:
-            return None
+            return {}
         with f:
-            if stage not in f or not f[stage].attrs.get("finished", 0):
-                return None
-            return str(f[stage].attrs["stage_key"])
+            out = {}
+            for name, group in f.items():
+                a = group.attrs
+                if isinstance(group, h5py.Group) and a.get("finished", False):
+                    out[name] = StoredStage(
+                        str(_attr(a.get("stage_key", ""))),
+                        str(_attr(a.get("checksum", ""))),
+                        float(a.get("seconds", np.nan)),
+                    )
+            return out
 
-    def has_stage(self, stage: str, key: str) -> bool:
-        """True when ``stage`` is stored finished with exactly this key."""
-        return self.stage_key(stage) == key
+    def read(self, name: str, cls: type[R]) -> R:
+        """The stored result of stage ``name``, checked against its checksum.
 
-    def read_stage(self, stage: str) -> StageRecord:
-        """The stored record of a stage (KeyError when absent)."""
+        Raises
+        ------
+        KeyError
+            The stage is not stored.
+        StoredStageError
+            The group does not fit ``cls`` or its values changed since they were written.
+        """
         f = self._open_read()
-        if f is None or stage not in f:
+        if f is None or name not in f:
             if f is not None:
                 f.close()
-            raise KeyError(f"{self.path}: stage {stage!r} is not stored")
+            raise KeyError(f"{self.path}: stage {name!r} is not stored")
         with f:
-            return read_record(f[stage])
-
-    def stages(self) -> list[str]:
-        """Names of the stored, finished stages."""
-        f = self._open_read()
-        if f is None:
-            return []
-        with f:
-            return [name for name in f if f[name].attrs.get("finished", 0)]
+            group = f[name]
+            result = read_result(group, cls)
+            expected = str(_attr(group.attrs.get("checksum", "")))
+        if checksum(result) != expected:
+            raise StoredStageError(
+                f"{self.path}: stage {name!r} fails its checksum (changed after it was written)"
+            )
+        return result
 
     def root_attrs(self) -> dict[str, Any]:
         """The file-level provenance attributes."""
@@ -224,32 +247,35 @@ class ResultStore:
         if f is None:
             return {}
         with f:
-            return {k: (v.decode() if isinstance(v, bytes) else v) for k, v in f.attrs.items()}
+            return {k: _attr(v) for k, v in f.attrs.items()}
 
     def write(
         self,
-        stage: str | None,
-        record: StageRecord | None,
+        name: str | None = None,
+        result: Any = None,
         *,
         key: str = "",
+        key_inputs: str = "",
         seconds: float = float("nan"),
         root_attrs: Mapping[str, Any] | None = None,
         drop: Sequence[str] = (),
     ) -> None:
-        """Atomically (re)write one stage group and/or the file attributes.
+        """Atomically write one stage group, the file's provenance and the removal of stale groups.
 
         Parameters
         ----------
-        stage, record : str, StageRecord or None
-            The group to replace (None: only update the attributes / drop groups).
+        name, result : str and a result dataclass, or None
+            The group to (re)write (None: only update the attributes / drop groups).
         key : str
-            The stage key (hash of the configuration it depends on).
+            The stage key.
+        key_inputs : str
+            The JSON document the key hashes (provenance of the stage).
         seconds : float
             Wall time the stage took, s.
         root_attrs : mapping, optional
-            File-level attributes to set (provenance).
+            File-level attributes to set (provenance of the whole run).
         drop : sequence of str
-            Groups to delete (stale stages downstream of a recomputed one).
+            Groups to delete (stages of another configuration).
         """
         self.path.parent.mkdir(parents=True, exist_ok=True)
         tmp = self.path.with_name(f".{self.path.name}.{os.getpid()}.tmp")
@@ -259,19 +285,23 @@ class ResultStore:
                 readable.close()
                 shutil.copyfile(self.path, tmp)
             with h5py.File(tmp, "a") as f:
-                for name in drop:
+                for stale in drop:
+                    if stale in f:
+                        del f[stale]
+                if name is not None:
                     if name in f:
                         del f[name]
-                if stage is not None and record is not None:
-                    if stage in f:
-                        del f[stage]
-                    group = f.create_group(stage)
-                    write_record(group, record)
-                    group.attrs["stage_key"] = key
-                    group.attrs["seconds"] = float(seconds)
-                    group.attrs["finished"] = np.int8(1)
+                    group = f.create_group(name)
+                    write_result(group, result)
+                    group.attrs.update(
+                        stage_key=key,
+                        key_inputs=key_inputs,
+                        checksum=checksum(result),
+                        seconds=float(seconds),
+                        finished=True,
+                    )
                 for k, v in (root_attrs or {}).items():
-                    f.attrs[k] = _attr_value(v)
+                    f.attrs[k] = v
                 f.attrs["modified"] = _dt.datetime.now(_dt.timezone.utc).isoformat()
             with open(tmp, "rb+") as handle:
                 os.fsync(handle.fileno())

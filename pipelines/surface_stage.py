@@ -1,23 +1,28 @@
 """Stages 1 and 2: read and level the surface, then scan its summit statistics over resolution.
 
 Stage 1 (:func:`read_and_level`) gives a levelled :class:`topo.HeightMap` from a file (any
-format :func:`topo.read_surface` reads) or from the seeded synthetic recipe.
+format :func:`topo.read_surface` reads) or from the seeded synthetic recipe; the job stores it
+as a :class:`LevelledSurface`.
 Stage 2 (:func:`scan_resolutions`) runs :func:`topo.resolution_scan`: eta, R and sigma_s of the
-map decimated with strides 1..K (Appendix A, Fig 12a-c) and the paper's fits.
+map decimated with strides 1..K (Appendix A, Fig 12a-c) and the paper's fits
+(:class:`ScanResult`).
 """
 
 from __future__ import annotations
 
 import hashlib
 import json
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from asperity import topo
-from asperity.pipelines.config import SurfaceConfig
-from asperity.pipelines.store import StageRecord, Variable
+from asperity.pipelines.config import ConfigError, SurfaceConfig
+from asperity.pipelines.fields import array, scalar, text
+from asperity.pipelines.pull_off import check_loads_above_pull_off
+from asperity.pipelines.stages import Stage, StageContext
 
 #: Fewest pixels per side kept by the coarsest resolution of the scan.
 MIN_SCAN_PIXELS = 16
@@ -47,9 +52,9 @@ def load_surface(config: SurfaceConfig) -> topo.HeightMap:
             config.file, channel=config.channel, pixel_size=config.pixel_size
         )
         if not isinstance(surface, topo.HeightMap):
-            raise ValueError(
-                f"{config.file}: surface.file is a 1D line profile; the job needs "
-                "a 2D height map (summit statistics and the BEM are 2D)"
+            raise ConfigError(
+                f"surface.file: expected a 2D height map (summit statistics and the BEM are "
+                f"2D), got a 1D line profile ({config.file})"
             )
         return surface
     recipe = config.synthetic
@@ -73,50 +78,12 @@ def read_and_level(config: SurfaceConfig) -> topo.HeightMap:
     return topo.level(load_surface(config), method=config.detrend)
 
 
-def surface_record(surface: topo.HeightMap) -> StageRecord:
-    """Stage-1 record: the levelled heights on x/y coordinates (m)."""
-    valid = surface.heights[~np.isnan(surface.heights)]
-    return StageRecord(
-        coords={
-            "x": Variable(np.arange(surface.nx) * surface.dx, "m", ("x",), "position along x"),
-            "y": Variable(np.arange(surface.ny) * surface.dy, "m", ("y",), "position along y"),
-        },
-        variables={"heights": Variable(surface.heights, "m", ("x", "y"), "levelled height")},
-        attrs={
-            "dx": surface.dx,
-            "dy": surface.dy,
-            "periodic": surface.periodic,
-            "nx": surface.nx,
-            "ny": surface.ny,
-            "n_missing": surface.n_missing,
-            "rms_height": float(np.sqrt(np.mean((valid - valid.mean()) ** 2))),
-            "provenance": json.dumps(surface.provenance, default=str),
-        },
-    )
-
-
-def surface_from_record(record: StageRecord) -> topo.HeightMap:
-    """Rebuild the stage-1 height map from its stored record."""
-    a = record.attrs
-    try:
-        provenance = json.loads(a.get("provenance", "{}"))
-    except json.JSONDecodeError:
-        provenance = {}
-    return topo.HeightMap(
-        record.variables["heights"].data,
-        dx=float(a["dx"]),
-        dy=float(a["dy"]),
-        periodic=bool(a["periodic"]),
-        provenance=provenance,
-    )
-
-
 def usable_max_stride(surface: topo.HeightMap, max_stride: int) -> int:
     """``max_stride`` capped so the coarsest decimated map keeps MIN_SCAN_PIXELS per side."""
     return max(1, min(int(max_stride), min(surface.nx, surface.ny) // MIN_SCAN_PIXELS))
 
 
-def scan_resolutions(surface: topo.HeightMap, max_stride: int) -> Any:
+def scan_resolutions(surface: topo.HeightMap, max_stride: int) -> topo.ResolutionScan:
     """Stage 2: summit statistics at strides 1..max_stride (:func:`topo.resolution_scan`).
 
     ``max_stride`` is capped by :func:`usable_max_stride`.
@@ -130,40 +97,163 @@ def scan_resolutions(surface: topo.HeightMap, max_stride: int) -> Any:
     return topo.resolution_scan(surface, usable_max_stride(surface, max_stride))
 
 
-SCAN_FIELDS = {
-    "resolution": ("m", "pixel size of the decimated map"),
-    "n_summits": ("1", "number of summits (4 nearest neighbours)"),
-    "asperity_density": ("1/m^2", "asperity density eta"),
-    "summit_radius": ("m", "mean summit radius R"),
-    "summit_height_rms": ("m", "rms summit height sigma_s"),
-}
-SCAN_FITS = ("radius_slope", "radius_intercept", "density_exponent", "density_prefactor")
+@dataclass
+class LevelledSurface:
+    """Stage-1 result: the levelled height map (SI).
 
+    Attributes
+    ----------
+    x, y : ndarray
+        Pixel positions, m.
+    heights : ndarray, shape (nx, ny)
+        Levelled heights, m (NaN: missing pixel).
+    dx, dy : float
+        Pixel sizes, m.
+    periodic : bool
+        The map is one period of a periodic surface.
+    n_missing : int
+        Missing pixels.
+    rms_height : float
+        Root mean square of the valid heights about their mean, m.
+    provenance : dict
+        Where the map came from (reader, file, levelling).
+    """
 
-def scan_record(scan: Any) -> StageRecord:
-    """Stage-2 record: the scan arrays over ``stride`` and the fits as attributes."""
-    record = StageRecord(
-        coords={"stride": Variable(np.asarray(scan.stride), "1", ("stride",), "decimation stride")}
-    )
-    for name, (units, long_name) in SCAN_FIELDS.items():
-        record.variables[name] = Variable(
-            np.asarray(getattr(scan, name)), units, ("stride",), long_name
+    x: np.ndarray = array("m", ("x",), "position along x")
+    y: np.ndarray = array("m", ("y",), "position along y")
+    heights: np.ndarray = array("m", ("x", "y"), "levelled height")
+    dx: float = scalar("m", "pixel size along x")
+    dy: float = scalar("m", "pixel size along y")
+    periodic: bool = scalar("1", "the map is one period of a periodic surface")
+    n_missing: int = scalar("1", "missing pixels")
+    rms_height: float = scalar("m", "rms of the valid heights")
+    provenance: dict[str, Any] = text("reader, file and levelling (JSON)")
+
+    @classmethod
+    def from_height_map(cls, surface: topo.HeightMap) -> LevelledSurface:
+        """Wrap a levelled :class:`topo.HeightMap` (heights in m)."""
+        valid = surface.heights[~np.isnan(surface.heights)]
+        return cls(
+            x=np.arange(surface.nx) * surface.dx,
+            y=np.arange(surface.ny) * surface.dy,
+            heights=np.asarray(surface.heights, dtype=float),
+            dx=float(surface.dx),
+            dy=float(surface.dy),
+            periodic=bool(surface.periodic),
+            n_missing=int(surface.n_missing),
+            rms_height=float(np.sqrt(np.mean((valid - valid.mean()) ** 2))),
+            provenance=json.loads(json.dumps(surface.provenance, default=str)),
         )
-    for name in SCAN_FITS:
-        record.attrs[name] = float(getattr(scan, name))
-    record.attrs["fit_units"] = (
-        "R = radius_intercept (m) + radius_slope (m/m) * resolution; "
-        "eta = density_prefactor * resolution**density_exponent (SI)"
+
+    def height_map(self) -> topo.HeightMap:
+        """The map as a :class:`topo.HeightMap` (heights in m)."""
+        return topo.HeightMap(
+            self.heights, dx=self.dx, dy=self.dy, periodic=self.periodic, provenance=self.provenance
+        )
+
+    @property
+    def nx(self) -> int:
+        """Pixels along x."""
+        return int(self.heights.shape[0])
+
+    @property
+    def ny(self) -> int:
+        """Pixels along y."""
+        return int(self.heights.shape[1])
+
+    @property
+    def lx(self) -> float:
+        """Map length along x, m."""
+        return self.nx * self.dx
+
+    @property
+    def ly(self) -> float:
+        """Map length along y, m."""
+        return self.ny * self.dy
+
+
+@dataclass
+class ScanResult:
+    """Stage-2 result: summit statistics per decimation stride and the paper's fits (SI).
+
+    The fields of :class:`topo.ResolutionScan` the job uses: R = radius_intercept +
+    radius_slope * resolution, eta = density_prefactor * resolution**density_exponent.
+    """
+
+    stride: np.ndarray = array("1", ("stride",), "decimation stride")
+    resolution: np.ndarray = array("m", ("stride",), "pixel size of the decimated map")
+    n_summits: np.ndarray = array("1", ("stride",), "number of summits (4 nearest neighbours)")
+    asperity_density: np.ndarray = array("1/m^2", ("stride",), "asperity density eta")
+    summit_radius: np.ndarray = array("m", ("stride",), "mean summit radius R")
+    summit_height_rms: np.ndarray = array("m", ("stride",), "rms summit height sigma_s")
+    radius_slope: float = scalar("m/m", "dR/d(resolution) of the linear fit")
+    radius_intercept: float = scalar("m", "R at zero resolution of the linear fit")
+    density_exponent: float = scalar("1", "exponent of eta ~ resolution**exponent")
+    density_prefactor: float = scalar("1/m^2", "eta at a resolution of 1 m (power law)")
+    fit_units: str = text("how the fits read")
+
+    @classmethod
+    def from_scan(cls, scan: topo.ResolutionScan) -> ScanResult:
+        """Keep the arrays and fits of a :class:`topo.ResolutionScan`."""
+        return cls(
+            stride=np.asarray(scan.stride),
+            resolution=np.asarray(scan.resolution, dtype=float),
+            n_summits=np.asarray(scan.n_summits),
+            asperity_density=np.asarray(scan.asperity_density, dtype=float),
+            summit_radius=np.asarray(scan.summit_radius, dtype=float),
+            summit_height_rms=np.asarray(scan.summit_height_rms, dtype=float),
+            radius_slope=float(scan.radius_slope),
+            radius_intercept=float(scan.radius_intercept),
+            density_exponent=float(scan.density_exponent),
+            density_prefactor=float(scan.density_prefactor),
+            fit_units="R = radius_intercept (m) + radius_slope (m/m) * resolution; "
+            "eta = density_prefactor * resolution**density_exponent (SI)",
+        )
+
+
+def compute_surface(context: StageContext) -> LevelledSurface:
+    """Stage 1 of the job: :func:`read_and_level` on ``[surface]``."""
+    return LevelledSurface.from_height_map(read_and_level(context.config.surface))
+
+
+def compute_scan(context: StageContext) -> ScanResult:
+    """Stage 2 of the job: :func:`scan_resolutions` up to ``surface.max_stride``."""
+    surface = context.result(SURFACE).height_map()
+    return ScanResult.from_scan(scan_resolutions(surface, context.config.surface.max_stride))
+
+
+def check_scan_loads(context: StageContext, scan: ScanResult) -> None:
+    """After stage 2: every load must exceed the statistical model's pull-off force."""
+    config = context.config
+    check_loads_above_pull_off(
+        config.material,
+        scan,
+        config.loading.nominal_area,
+        config.loading.normal_loads,
     )
-    return record
 
 
-class StoredScan:
-    """A resolution scan read back from the store, with the fields of topo.ResolutionScan."""
+SURFACE = Stage(
+    name="surface",
+    title="1 read and level",
+    result=LevelledSurface,
+    config=(
+        "surface.file",
+        "surface.channel",
+        "surface.pixel_size",
+        "surface.synthetic",
+        "surface.detrend",
+    ),
+    inputs=(),
+    compute=compute_surface,
+)
 
-    def __init__(self, record: StageRecord):
-        self.stride = np.asarray(record.coords["stride"].data)
-        for name in SCAN_FIELDS:
-            setattr(self, name, np.asarray(record.variables[name].data))
-        for name in SCAN_FITS:
-            setattr(self, name, float(record.attrs[name]))
+SCAN = Stage(
+    name="resolution_scan",
+    title="2 resolution scan",
+    result=ScanResult,
+    config=("surface.max_stride",),
+    inputs=(SURFACE,),
+    compute=compute_scan,
+    check=check_scan_loads,
+)

@@ -1,89 +1,223 @@
-"""The ``asperity friction`` parameter file (TOML, SI units): reading and validation.
+"""The ``asperity friction`` parameter file (TOML, SI units): its schema, reading and validation.
 
-Schema (every key required unless marked optional)::
+Schema (every key required unless marked optional; bounds in brackets)::
 
     [material]
-    E_star = 2.133e6               # Pa, > 0
-    work_of_adhesion = 0.040       # J/m^2, >= 0
-    mode_mixity = 0.2              # lambda, in [0, 1]
-    shear_strength = 0.13e6        # tau0, Pa, >= 0
-    equilibrium_distance = 0.2e-9  # epsilon, m, > 0 (optional, default 0.2e-9)
+    E_star = 2.133e6               # Pa, (0, 1e13]; also spelled e_star
+    work_of_adhesion = 0.040       # J/m^2, [0, 10]
+    mode_mixity = 0.2              # lambda, [0, 1]
+    shear_strength = 0.13e6        # tau0, Pa, [0, 1e11]
+    equilibrium_distance = 0.2e-9  # epsilon, m, [1e-11, 1e-8] (optional, default 0.2e-9)
     [roughness]
-    asperity_density = 652.1e6     # eta, 1/m^2, > 0
-    summit_radius = 0.041e-3       # R, m, > 0
-    summit_height_rms = 0.032e-3   # sigma_s, m, > 0
+    asperity_density = 652.1e6     # eta, 1/m^2, (0, 1e20]
+    summit_radius = 0.041e-3       # R, m, [1e-10, 10]
+    summit_height_rms = 0.032e-3   # sigma_s, m, [1e-12, 1]
     [loading]
-    normal_load = 3.1              # N
-    nominal_area = 700e-6          # m^2, > 0
-    max_tangential_displacement = 14e-6  # m, > 0
-    steps = 281                    # integer >= 1; delta_T = linspace(0, max, steps)
+    normal_load = 3.1              # N, [-1e6, 1e6]
+    nominal_area = 700e-6          # m^2, (0, 100]
+    max_tangential_displacement = 14e-6  # m, (0, 1]
+    steps = 281                    # integer in [1, 100000]; delta_T = linspace(0, max, steps)
                                    # (steps = 1: the preload state delta_T = 0 only)
     [accuracy]                     # optional table: knobs of statmodel.options
-    nodes = 16
-    panels = 4
-    cutoff_sigma = 10.0
-    load_rtol = 1e-12
+    nodes = 16                     # [1, 64]
+    panels = 4                     # [1, 64]
+    cutoff_sigma = 10.0            # [3, 40]
+    load_rtol = 1e-12              # [1e-15, 1e-3]
 
-Unknown tables or keys, missing keys, non-numbers and out-of-range values raise ``ValueError``
-naming the file, the table, the key and what was expected.
+The ``[material]`` table is the one the job configuration (``asperity run``) reads too
+(:func:`material_section`). Every error is one :class:`asperity.schema.ConfigError` line
+``file: table.key: expected ..., got ...``.
 """
 
 from __future__ import annotations
 
-import math
 import sys
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
-from asperity.errors import InputError
-from asperity.statmodel.options import QuadratureOptions, check_nominal_area
+from asperity.schema import (
+    REQUIRED,
+    ConfigError,
+    Context,
+    Integer,
+    Key,
+    Real,
+    Schema,
+    Section,
+)
 from asperity.statmodel.parameters import Material, Roughness
+
+if TYPE_CHECKING:
+    from asperity.statmodel.options import QuadratureOptions
 
 if sys.version_info >= (3, 11):
     import tomllib
 else:  # pragma: no cover
     import tomli as tomllib
 
-# key -> (attribute name, unit, check, required)
-_MATERIAL = {
-    "E_star": ("e_star", "Pa", "positive", True),
-    "work_of_adhesion": ("work_of_adhesion", "J/m^2", "non-negative", True),
-    "mode_mixity": ("mode_mixity", "dimensionless", "unit-interval", True),
-    "shear_strength": ("shear_strength", "Pa", "non-negative", True),
-    "equilibrium_distance": ("equilibrium_distance", "m", "positive", False),
-}
-_ROUGHNESS = {
-    "asperity_density": ("asperity_density", "1/m^2", "positive", True),
-    "summit_radius": ("summit_radius", "m", "positive", True),
-    "summit_height_rms": ("summit_height_rms", "m", "positive", True),
-}
-_LOADING = {
-    "normal_load": ("normal_load", "N", "finite", True),
-    "nominal_area": ("nominal_area", "m^2", "positive", True),
-    "max_tangential_displacement": ("max_tangential_displacement", "m", "positive", True),
-    "steps": ("steps", "count", "steps", True),
-}
-_ACCURACY = {
-    "nodes": ("nodes", "count", "count", False),
-    "panels": ("panels", "count", "count", False),
-    "cutoff_sigma": ("cutoff_sigma", "sigma_s", "positive", False),
-    "load_rtol": ("load_rtol", "relative", "positive", False),
-}
-_TABLES = {
-    "material": _MATERIAL,
-    "roughness": _ROUGHNESS,
-    "loading": _LOADING,
-    "accuracy": _ACCURACY,
-}
-_REQUIRED_TABLES = ("material", "roughness", "loading")
+#: Default of ``[material] equilibrium_distance``, m.
+EQUILIBRIUM_DISTANCE = 0.2e-9
+
+
+def material_section(defaults: Material | None = None) -> Section:
+    """The ``[material]`` table building a :class:`Material` (SI), with its bounds.
+
+    Parameters
+    ----------
+    defaults : Material, optional
+        Values of absent keys; None makes every key but ``equilibrium_distance`` required.
+    """
+
+    def default(name: str) -> Any:
+        return REQUIRED if defaults is None else getattr(defaults, name)
+
+    return Section(
+        "material",
+        Material,
+        (
+            Key(
+                "E_star",
+                Real("Pa", 0, 1e13, open_low=True, why="no solid is stiffer than diamond"),
+                default("e_star"),
+                aliases=("e_star",),
+                attr="e_star",
+            ),
+            Key(
+                "work_of_adhesion",
+                Real("J/m^2", 0, 10, why="twice the surface energy of the strongest solids"),
+                default("work_of_adhesion"),
+            ),
+            Key(
+                "mode_mixity",
+                Real("", 0, 1, why="lambda: 0 pure JKR, 1 Savkoor-Briggs (E:failure_locus)"),
+                default("mode_mixity"),
+            ),
+            Key(
+                "shear_strength",
+                Real("Pa", 0, 1e11, why="the theoretical shear strength of solids, ~G/10"),
+                default("shear_strength"),
+            ),
+            Key(
+                "equilibrium_distance",
+                Real("m", 1e-11, 1e-8, why="an interatomic distance"),
+                EQUILIBRIUM_DISTANCE if defaults is None else defaults.equilibrium_distance,
+            ),
+        ),
+        required=defaults is None,
+    )
+
+
+ROUGHNESS = Section(
+    "roughness",
+    Roughness,
+    (
+        Key(
+            "asperity_density",
+            Real("1/m^2", 0, 1e20, open_low=True, why="at most one summit per 0.1 nm square"),
+        ),
+        Key("summit_radius", Real("m", 1e-10, 10, why="from an atom to a 10 m sphere")),
+        Key("summit_height_rms", Real("m", 1e-12, 1, why="from a picometre to a metre")),
+    ),
+    required=True,
+)
+
+
+@dataclass(frozen=True)
+class FrictionLoading:
+    """The ``[loading]`` table of a friction parameter file (SI).
+
+    Attributes
+    ----------
+    normal_load : float
+        Imposed F_z, N.
+    nominal_area : float
+        A_n, m^2.
+    max_tangential_displacement : float
+        Last delta_T, m.
+    steps : int
+        Number of delta_T values, the first at 0.
+    """
+
+    normal_load: float
+    nominal_area: float
+    max_tangential_displacement: float
+    steps: int
+
+
+LOADING = Section(
+    "loading",
+    FrictionLoading,
+    (
+        Key("normal_load", Real("N", -1e6, 1e6, why="a laboratory or machine contact")),
+        Key("nominal_area", Real("m^2", 0, 100, open_low=True, why="up to 10 m x 10 m")),
+        Key(
+            "max_tangential_displacement",
+            Real("m", 0, 1, open_low=True, why="a shear path up to 1 m"),
+        ),
+        Key(
+            "steps",
+            Integer(1, 100_000, why="one separation solve and 17 stored values per step"),
+        ),
+    ),
+    required=True,
+)
+
+
+def _quadrature_options(**knobs: Any) -> QuadratureOptions:
+    from asperity.statmodel.options import QuadratureOptions  # loads the compiled kernels
+
+    return QuadratureOptions(**{k: v for k, v in knobs.items() if v is not None})
+
+
+ACCURACY = Section(
+    "accuracy",
+    _quadrature_options,
+    (
+        Key("nodes", Integer(1, 64, why="Gauss-Legendre nodes per panel"), None),
+        Key("panels", Integer(1, 64, why="panels per population range"), None),
+        Key(
+            "cutoff_sigma",
+            Real(
+                "",
+                3,
+                40,
+                why="summits beyond cutoff_sigma * sigma_s are ignored: below 3 a visible "
+                "share is dropped, beyond 40 the Gaussian weight underflows",
+            ),
+            None,
+        ),
+        Key(
+            "load_rtol",
+            Real(
+                "",
+                1e-15,
+                1e-3,
+                why="relative load error of each separation solve: double precision to 0.1 %",
+            ),
+            None,
+        ),
+    ),
+)
+
+#: The whole friction parameter file.
+FRICTION_SCHEMA = Schema((material_section(), ROUGHNESS, LOADING, ACCURACY))
 
 
 @dataclass(frozen=True)
 class FrictionParameters:
-    """Validated contents of a friction parameter file (SI units)."""
+    """Validated contents of a friction parameter file (SI units).
+
+    Attributes
+    ----------
+    material : Material
+    roughness : Roughness
+    normal_load, nominal_area, max_tangential_displacement : float
+        N, m^2, m.
+    steps : int
+    options : statmodel.QuadratureOptions
+        The accuracy knobs (defaults where ``[accuracy]`` does not set them).
+    """
 
     material: Material
     roughness: Roughness
@@ -91,94 +225,65 @@ class FrictionParameters:
     nominal_area: float
     max_tangential_displacement: float
     steps: int
-    accuracy: dict
+    options: QuadratureOptions
 
     @property
-    def tangential_displacement(self) -> np.ndarray:
+    def accuracy(self) -> dict[str, Any]:
+        """The accuracy knobs as keyword arguments of :func:`statmodel.shear_curve`."""
+        return {f.name: getattr(self.options, f.name) for f in fields(self.options)}
+
+    @property
+    def tangential_displacement(self) -> Any:
         """delta_T = linspace(0, max_tangential_displacement, steps), m (first entry 0)."""
+        import numpy as np
+
         return np.linspace(0.0, self.max_tangential_displacement, self.steps)
 
 
-def _value(path: str, table: str, key: str, raw: Any, unit: str, check: str) -> float | int:
-    where = f"{path}: [{table}] {key}"
-    if isinstance(raw, bool) or not isinstance(raw, (int, float)):
-        raise InputError(f"{where}: expected a number ({unit}), got {raw!r}")
-    value = float(raw)
-    if not math.isfinite(value):
-        raise InputError(f"{where}: expected a finite number ({unit}), got {raw!r}")
-    if check == "positive" and not value > 0:
-        raise InputError(f"{where}: expected a positive value ({unit}), got {raw!r}")
-    if check == "non-negative" and not value >= 0:
-        raise InputError(f"{where}: expected a value >= 0 ({unit}), got {raw!r}")
-    if check == "unit-interval" and not 0 <= value <= 1:
-        raise InputError(f"{where}: expected a value in [0, 1], got {raw!r}")
-    if check in ("steps", "count"):
-        least = 1
-        if not isinstance(raw, int) or raw < least:
-            raise InputError(f"{where}: expected an integer >= {least}, got {raw!r}")
-        return int(raw)
-    return value
+def parse_friction_parameters(data: Any, path: str = "<parameters>") -> FrictionParameters:
+    """Validate a parsed TOML document against the schema; see the module docstring.
 
+    Raises
+    ------
+    ConfigError
+        ``path: table.key: expected ..., got ...``.
+    """
+    from asperity.statmodel.options import check_nominal_area
 
-def parse_friction_parameters(data: dict, path: str = "<parameters>") -> FrictionParameters:
-    """Validate a parsed TOML document (dict) against the schema; see the module docstring."""
-    if not isinstance(data, dict):
-        raise InputError(f"{path}: expected a TOML document with tables")
-    unknown = sorted(set(data) - set(_TABLES))
-    if unknown:
-        raise InputError(
-            f"{path}: unknown table or key {unknown[0]!r}; expected tables {sorted(_TABLES)}"
-        )
-    values: dict[str, dict[str, float | int]] = {}
-    for table, schema in _TABLES.items():
-        section = data.get(table)
-        if section is None:
-            if table in _REQUIRED_TABLES:
-                raise InputError(f"{path}: missing table [{table}]")
-            section = {}
-        if not isinstance(section, dict):
-            raise InputError(f"{path}: {table!r} must be a table [{table}]")
-        extra = sorted(set(section) - set(schema))
-        if extra:
-            raise InputError(
-                f"{path}: [{table}] unknown key {extra[0]!r}; expected keys {sorted(schema)}"
-            )
-        values[table] = {}
-        for key, (attr, unit, check, required) in schema.items():
-            if key not in section:
-                if required:
-                    raise InputError(f"{path}: [{table}] missing key {key!r} ({unit})")
-                continue
-            values[table][attr] = _value(path, table, key, section[key], unit, check)
+    values = FRICTION_SCHEMA.read(data, source=path)
+    loading: FrictionLoading = values["loading"]
     try:
-        material = Material(**values["material"])
-        roughness = Roughness(**values["roughness"])
-        accuracy = dict(values["accuracy"])
-        QuadratureOptions.from_knobs(**accuracy)
+        check_nominal_area(values["roughness"], loading.nominal_area)
     except ValueError as exc:
-        raise InputError(f"{path}: {exc}") from None
-    load = values["loading"]
-    try:
-        check_nominal_area(roughness, load["nominal_area"])
-    except ValueError as exc:
-        raise InputError(f"{path}: [loading] {exc}") from None
+        raise Context(path).fail(
+            "loading.nominal_area", "an area holding at least one asperity", str(exc)
+        ) from None
     return FrictionParameters(
-        material=material,
-        roughness=roughness,
-        normal_load=float(load["normal_load"]),
-        nominal_area=float(load["nominal_area"]),
-        max_tangential_displacement=float(load["max_tangential_displacement"]),
-        steps=int(load["steps"]),
-        accuracy=accuracy,
+        material=values["material"],
+        roughness=values["roughness"],
+        normal_load=loading.normal_load,
+        nominal_area=loading.nominal_area,
+        max_tangential_displacement=loading.max_tangential_displacement,
+        steps=loading.steps,
+        options=values["accuracy"],
     )
 
 
 def read_friction_parameters(path: str | Path) -> FrictionParameters:
-    """Read and validate a friction parameter TOML file (raises ``ValueError`` / ``OSError``)."""
+    """Read and validate a friction parameter TOML file.
+
+    Raises
+    ------
+    ConfigError
+        Missing or unreadable file, invalid TOML, or a key outside the schema.
+    """
     path = Path(path)
-    with path.open("rb") as fh:
-        try:
-            data = tomllib.load(fh)
-        except tomllib.TOMLDecodeError as exc:
-            raise InputError(f"{path}: not valid TOML: {exc}") from None
+    try:
+        text = path.read_bytes().decode("utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ConfigError(f"{path}: cannot read the parameter file: {exc}") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"{path}: not valid TOML: {exc}") from None
     return parse_friction_parameters(data, str(path))

@@ -7,6 +7,7 @@ import functools
 import numpy as np
 import pytest
 
+from asperity.errors import InputError
 from asperity.pipelines.fitting import area_up_to_peak, fit_mode_mixity, interpolate_area
 from asperity.pipelines.measured import ShearAreaCurve
 
@@ -64,20 +65,17 @@ def test_more_noise_gives_larger_uncertainty():
 
 
 def test_bad_inputs_refused():
-    with pytest.raises(ValueError, match="no measured curves"):
+    with pytest.raises(InputError, match="no measured curves"):
         fit_mode_mixity([], _toy_model)
     curves = [ShearAreaCurve(1.0, np.array([0.0, 0.1]), np.array([1e-6, 1e-6]))]
-    with pytest.raises(ValueError, match="bounds"):
+    with pytest.raises(InputError, match="bounds"):
         fit_mode_mixity(curves, _toy_model, bounds=(0.5, 0.1))
 
 
-statmodel = pytest.importorskip("statmodel")
-
-
-@pytest.mark.skipif(not hasattr(statmodel, "shear_curve"), reason="statmodel not built yet")
 def test_recovers_lambda_from_statistical_model_curves():
     """Curves made by the statistical model itself (Fig 13 roughness) with 1 % noise: the fit
     finds the lambda that made them within its own uncertainty."""
+    from asperity import statmodel
     from asperity.pipelines.friction_stage import model_shear_area
 
     material = statmodel.Material(2.133e6, 0.040, 0.03, 0.13e6, 0.2e-9)
@@ -105,6 +103,7 @@ def test_recovers_lambda_from_statistical_model_curves():
     assert fit.mode_mixity_std < 0.3 * true_lambda
 
 
+@pytest.mark.slow
 def test_fit_in_worker_processes_matches_serial():
     from asperity.pipelines.parallel import make_executor
 

@@ -6,9 +6,11 @@ import h5py
 import numpy as np
 import pytest
 
-import asperity.pipelines.job as job_module
-from asperity.pipelines.config import config_from_dict, preset_text
-from asperity.pipelines.job import STAGES, run_job
+import asperity.pipelines.bem_stage as bem_module
+import asperity.pipelines.resolution_stage as resolution_module
+import asperity.pipelines.surface_stage as surface_module
+from asperity.pipelines.config import config_from_dict
+from asperity.pipelines.job import STAGE_NAMES, run_job
 from asperity.pipelines.report import write_report
 
 try:
@@ -17,31 +19,9 @@ except ModuleNotFoundError:  # pragma: no cover
     import tomli as tomllib
 
 
-def small_config(tmp_path, **measured):
-    """A 2.56 mm, 64 x 64 patch of the paper-like surface: the job in a few seconds."""
-    data = tomllib.loads(preset_text("default"))
-    data["surface"]["synthetic"].update(n=64, pixel_size=40e-6, seed=3)
-    data["surface"]["max_stride"] = 4
-    data["bem"]["max_stride"] = 2
-    data["loading"]["normal_loads"] = [1.0, 2.0, 3.0]
-    data["loading"]["steps"] = 41
-    if measured:
-        data["measured"] = measured
-    return config_from_dict(data, source="small", base_dir=tmp_path)
-
-
-@pytest.fixture(scope="module")
-def small_run(tmp_path_factory):
-    out = tmp_path_factory.mktemp("job")
-    cfg = small_config(out)
-    result = run_job(cfg, out)
-    write_report(result, out)
-    return cfg, out, result
-
-
 def test_all_stages_ran_and_converged(small_run):
     _, out, result = small_run
-    assert [s.name for s in result.stages] == list(STAGES)
+    assert [s.name for s in result.stages] == list(STAGE_NAMES)
     assert not any(s.cached for s in result.stages)
     assert result.converged, result.problems()
     for name in (
@@ -67,34 +47,32 @@ def test_physics_of_the_outputs(small_run):
     assert np.all(np.diff(res.real_area[finite], axis=1) > 0)
     # adhesion adds contact area at equal load
     assert np.all(bem.contact_fraction_adhesive >= bem.contact_fraction)
-    # shear at constant normal load: F_z held, A_r shrinks, peak above sliding, static peak
+    # shear at constant normal load: F_z held, A_r shrinks, the static peak lies above
+    # sliding, and both friction forces grow with the normal load
     np.testing.assert_allclose(
-        fr.curves["normal_force"], np.broadcast_to(fr.normal_load[:, None], (3, 41)), rtol=1e-6
+        fr.normal_force, np.broadcast_to(fr.normal_load[:, None], (3, 41)), rtol=1e-6
     )
-    assert np.all(fr.curves["real_area"][:, -1] < fr.curves["real_area"][:, 0])
-    assert np.all(fr.scalars["static_friction"] >= fr.scalars["sliding_friction"])
+    assert np.all(fr.real_area[:, -1] < fr.real_area[:, 0])
+    assert np.all(fr.static_friction > fr.sliding_friction)
+    assert np.all(np.diff(fr.static_friction) > 0) and np.all(np.diff(fr.sliding_friction) > 0)
     # the static friction is the continuous peak of F_x(delta_T): at or above every grid point,
     # and close to the grid maximum on this 41-step curve
-    grid_peak = np.nanmax(fr.curves["tangential_force"], axis=1)
-    assert np.all(fr.scalars["static_friction"] >= grid_peak * (1 - 1e-12))
-    assert np.all(fr.scalars["static_friction"] <= grid_peak * 1.01)
+    grid_peak = np.nanmax(fr.tangential_force, axis=1)
+    assert np.all(fr.static_friction >= grid_peak * (1 - 1e-12))
+    assert np.all(fr.static_friction <= grid_peak * 1.01)
     # stick and slip parts add up to the totals
     for name in ("tangential_force", "normal_force", "real_area"):
         np.testing.assert_allclose(
-            fr.curves[name + "_stick"] + fr.curves[name + "_slip"],
-            fr.curves[name],
+            getattr(fr, name + "_stick") + getattr(fr, name + "_slip"),
+            getattr(fr, name),
             rtol=1e-9,
             atol=1e-12,
         )
     # at full sliding every junction carries tau0 times its area (E:Hertz_theory): the curve
     # ends on the constant-shear-strength line of Fig 13, at the sliding friction
     tau0 = result.config.material.shear_strength
-    np.testing.assert_allclose(
-        fr.curves["tangential_force"][:, -1], tau0 * fr.curves["real_area"][:, -1], rtol=1e-5
-    )
-    np.testing.assert_allclose(
-        fr.scalars["sliding_friction"], fr.curves["tangential_force"][:, -1], rtol=1e-5
-    )
+    np.testing.assert_allclose(fr.tangential_force[:, -1], tau0 * fr.real_area[:, -1], rtol=1e-5)
+    np.testing.assert_allclose(fr.sliding_friction, fr.tangential_force[:, -1], rtol=1e-5)
     # the effective resolution is the least misfit one
     assert res.index == int(np.nanargmin(res.misfit_bem))
 
@@ -102,7 +80,7 @@ def test_physics_of_the_outputs(small_run):
 def test_results_file_has_units_dims_and_provenance(small_run):
     cfg, out, result = small_run
     with h5py.File(out / "results.h5", "r") as f:
-        assert set(STAGES) <= set(f)
+        assert set(STAGE_NAMES) <= set(f)
         assert f.attrs["input_sha256"] == result.input_sha256
         assert "[material]" in f.attrs["config_toml"]
         assert f.attrs["asperity_version"]
@@ -113,6 +91,7 @@ def test_results_file_has_units_dims_and_provenance(small_run):
             if isinstance(obj, h5py.Dataset):
                 n_datasets += 1
                 assert "units" in obj.attrs, name
+                assert "DIMENSION_LABELS" not in obj.attrs, name
                 for axis in range(obj.ndim):
                     assert len(obj.dims[axis]) == 1 or obj.is_scale, (name, axis)
 
@@ -132,11 +111,11 @@ def test_results_file_has_units_dims_and_provenance(small_run):
         assert f["statistical_model/real_area"].shape == (len(scan["stride"]), n_loads)
 
 
-def test_resume_after_interruption_skips_finished_stages(tmp_path, monkeypatch):
-    cfg = small_config(tmp_path)
+def test_resume_after_interruption_skips_finished_stages(tmp_path, monkeypatch, small):
+    cfg = small(tmp_path)
     out = tmp_path / "out"
     calls = {"surface": 0, "bem": 0}
-    real_read, real_bem = job_module.read_and_level, job_module.bem_reference
+    real_read, real_bem = surface_module.read_and_level, bem_module.bem_reference
 
     def counting_read(*a, **k):
         calls["surface"] += 1
@@ -149,9 +128,9 @@ def test_resume_after_interruption_skips_finished_stages(tmp_path, monkeypatch):
     def crash(*a, **k):
         raise KeyboardInterrupt("simulated interruption in stage 4")
 
-    monkeypatch.setattr(job_module, "read_and_level", counting_read)
-    monkeypatch.setattr(job_module, "bem_reference", counting_bem)
-    monkeypatch.setattr(job_module, "statistical_model_scan", crash)
+    monkeypatch.setattr(surface_module, "read_and_level", counting_read)
+    monkeypatch.setattr(bem_module, "bem_reference", counting_bem)
+    monkeypatch.setattr(resolution_module, "statistical_model_scan", crash)
     with pytest.raises(KeyboardInterrupt):
         run_job(cfg, out)
     with h5py.File(out / "results.h5", "r") as f:  # readable, holding stages 1-3 only
@@ -159,8 +138,8 @@ def test_resume_after_interruption_skips_finished_stages(tmp_path, monkeypatch):
     assert calls == {"surface": 1, "bem": 1}
 
     monkeypatch.undo()
-    monkeypatch.setattr(job_module, "read_and_level", counting_read)
-    monkeypatch.setattr(job_module, "bem_reference", counting_bem)
+    monkeypatch.setattr(surface_module, "read_and_level", counting_read)
+    monkeypatch.setattr(bem_module, "bem_reference", counting_bem)
     result = run_job(cfg, out)
     assert calls == {"surface": 1, "bem": 1}  # not recomputed
     assert [s.cached for s in result.stages] == [True, True, True, False, False, False]
@@ -186,6 +165,7 @@ def test_resume_after_interruption_skips_finished_stages(tmp_path, monkeypatch):
     assert calls == {"surface": 2, "bem": 3}
 
 
+@pytest.mark.slow
 def test_real_afm_file_through_the_job(tmp_path):
     """A real instrument file (Agilent PicoView .mi, 20 um AFM map, tests/data) runs through
     every stage; at the paper's loads its dense nm-scale asperities put the independent-

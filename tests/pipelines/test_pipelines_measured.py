@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from asperity.errors import InputError
 from asperity.pipelines.measured import (
     ShearAreaCurve,
     read_normal_area,
@@ -41,7 +42,7 @@ def test_one_curve_file_takes_load_from_config(tmp_path):
     (curve,) = read_shear_area(path, normal_load=1.5)
     assert curve.normal_load == 1.5
     np.testing.assert_array_equal(curve.tangential_force, [0.0, 0.2])
-    with pytest.raises(ValueError, match="no 'normal_load' column"):
+    with pytest.raises(InputError, match="no 'normal_load' column"):
         read_shear_area(path)
 
 
@@ -59,6 +60,6 @@ def test_one_curve_file_takes_load_from_config(tmp_path):
 def test_bad_files_named(tmp_path, text, message):
     path = tmp_path / "bad.csv"
     path.write_text(text)
-    with pytest.raises(ValueError, match=message) as info:
+    with pytest.raises(InputError, match=message) as info:
         read_shear_area(path, normal_load=1.0)
     assert "bad.csv" in str(info.value)

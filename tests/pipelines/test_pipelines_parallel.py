@@ -7,6 +7,7 @@ import os
 
 import pytest
 
+from asperity.errors import InputError
 from asperity.pipelines.parallel import (
     SerialExecutor,
     make_executor,
@@ -30,10 +31,11 @@ def test_serial_executor_is_plain_calls():
         out = run_map(_worker_report, [(4.0,), (9.0,)], ex)
     assert [o[0] for o in out] == [2.0, 3.0]
     assert {o[1] for o in out} == {os.getpid()}
-    with pytest.raises(ValueError, match="workers"):
+    with pytest.raises(InputError, match="workers"):
         make_executor(0)
 
 
+@pytest.mark.slow
 def test_process_workers_cap_threads():
     with make_executor(2, threads_per_worker=1) as ex:
         out = run_map(_worker_report, [(float(i),) for i in range(6)], ex)
@@ -46,6 +48,7 @@ def test_process_workers_cap_threads():
         assert settings["numba_threads"] == 1
 
 
+@pytest.mark.slow
 def test_dask_local_cluster_runs_the_same_map():
     distributed = pytest.importorskip("distributed")
     with distributed.LocalCluster(

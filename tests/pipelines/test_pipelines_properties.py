@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import tempfile
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -11,7 +12,8 @@ from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
 from asperity.pipelines.config import dump_toml
-from asperity.pipelines.store import ResultStore, StageRecord, Variable
+from asperity.pipelines.fields import array
+from asperity.pipelines.store import ResultStore
 
 try:
     import tomllib
@@ -38,25 +40,22 @@ def test_dump_toml_round_trips(data):
     assert tomllib.loads(dump_toml(data)) == data
 
 
+@dataclass
+class _Values:
+    values: np.ndarray = array("Pa", ("d0", "d1", "d2"))
+
+
 @settings(max_examples=25, deadline=None)
 @given(
     hnp.arrays(
-        dtype=st.sampled_from([np.float64, np.int64, np.int8]),
-        shape=hnp.array_shapes(min_dims=1, max_dims=3, max_side=5),
+        dtype=st.sampled_from([np.float64, np.int64, np.int8, np.bool_]),
+        shape=hnp.array_shapes(min_dims=3, max_dims=3, min_side=0, max_side=5),
     )
 )
-def test_store_round_trips_any_array(array):
-    dims = tuple(f"d{i}" for i in range(array.ndim))
-    record = StageRecord(
-        coords={
-            d: Variable(np.arange(n, dtype=float), "m", (d,))
-            for d, n in zip(dims, array.shape, strict=True)
-        },
-        variables={"values": Variable(array, "Pa", dims)},
-    )
+def test_store_round_trips_any_array(array_values):
     with tempfile.TemporaryDirectory() as tmp:
         store = ResultStore(Path(tmp) / "r.h5")
-        store.write("stage", record, key="k")
-        back = store.read_stage("stage").variables["values"]
-    np.testing.assert_array_equal(back.data, array)
-    assert back.dims == dims and back.units == "Pa"
+        store.write("stage", _Values(array_values), key="k")
+        back = store.read("stage", _Values).values
+    np.testing.assert_array_equal(back, array_values)
+    assert back.dtype == array_values.dtype

@@ -82,23 +82,30 @@ def _write(tmp_path, text):
         ("summit_radius = 0.041e-3    # R, m\n", "", "summit_radius"),
         ("mode_mixity = 0.2", "mode_mixity = 1.2", "mode_mixity"),
         ("steps = 281", "steps = 2.5", "steps"),
-        ("nominal_area = 700e-6", "nominal_area = 1e-12", "[loading] nominal_area"),
-        ("steps = 281", "steps = 0", "[loading] steps"),
-        ("steps = 281", "steps = true", "[loading] steps"),
-        ("E_star = 2.133e6", 'E_star = "2.133e6"', "[material] E_star"),
-        ("E_star = 2.133e6", "E_star = [2.133e6]", "[material] E_star"),
-        ("work_of_adhesion = 0.040", "work_of_adhesion = -0.040", "[material] work_of_adhesion"),
-        ("shear_strength = 0.13e6", "shear_strength = -1.0", "[material] shear_strength"),
+        ("nominal_area = 700e-6", "nominal_area = 1e-12", "loading.nominal_area: expected an area"),
+        ("steps = 281", "steps = 0", "loading.steps: expected an integer in [1, 100000]"),
+        ("steps = 281", "steps = true", "loading.steps: expected an integer"),
+        ("E_star = 2.133e6", 'E_star = "2.133e6"', "material.E_star: expected a number"),
+        ("E_star = 2.133e6", "E_star = [2.133e6]", "material.E_star: expected a number"),
+        ("work_of_adhesion = 0.040", "work_of_adhesion = -0.040", "material.work_of_adhesion"),
+        ("shear_strength = 0.13e6", "shear_strength = -1.0", "material.shear_strength"),
         ("equilibrium_distance = 0.2e-9", "equilibrium_distance = 0.0", "equilibrium_distance"),
-        ("asperity_density = 652.1e6", "asperity_density = 0", "[roughness] asperity_density"),
-        ("summit_radius = 0.041e-3", "summit_radius = -0.041e-3", "[roughness] summit_radius"),
+        ("asperity_density = 652.1e6", "asperity_density = 0", "roughness.asperity_density"),
+        ("summit_radius = 0.041e-3", "summit_radius = -0.041e-3", "roughness.summit_radius"),
         ("summit_height_rms = 0.032e-3", "summit_height_rms = nan", "summit_height_rms"),
         (
             "max_tangential_displacement = 14e-6",
             "max_tangential_displacement = -1e-6",
-            "[loading] max_tangential_displacement",
+            "loading.max_tangential_displacement: expected a number in (0, 1] m",
         ),
-        ("normal_load = 3.1           # N\n", "", "[loading] missing key 'normal_load'"),
+        ("normal_load = 3.1           # N\n", "", "loading.normal_load: expected a value"),
+        # absurd values refused at validation, with the reason (issue 12)
+        ("E_star = 2.133e6", "E_star = 1e308", "material.E_star: expected a number in (0, 1e+13]"),
+        ("steps = 281", "steps = 9223372036854775807", "loading.steps: expected an integer"),
+        ("steps = 281", "steps = 281\n[accuracy]\nnodes = 1e6", "accuracy.nodes: expected"),
+        ("steps = 281", "steps = 281\n[accuracy]\nnodes = 1000000", "accuracy.nodes"),
+        ("steps = 281", "steps = 281\n[accuracy]\ncutoff_sigma = 1e300", "underflows"),
+        ("steps = 281", "steps = 281\n[accuracy]\nload_rtol = 1", "accuracy.load_rtol"),
         ("[loading]", "[load]", "'load'"),
         ("normal_load = 3.1", "normal_load = -1.0", "pull-off force"),
         ("normal_load = 3.1", 'normal_load = "3.1"', "normal_load"),
@@ -111,6 +118,13 @@ def test_friction_bad_input_exits_2_naming_the_key(tmp_path, capsys, old, new, k
     status, _, err = run(capsys, "friction", str(p), "--json")
     assert status == 2
     assert key in err and "error" in err
+
+
+def test_friction_file_accepts_the_lower_case_modulus(tmp_path, capsys):
+    p = _write(tmp_path, EXAMPLE.read_text().replace("E_star =", "e_star ="))
+    status, out, _ = run(capsys, "friction", str(p), "--json")
+    assert status == 0
+    assert json.loads(out)["tabor_parameter"] == pytest.approx(1217, rel=1e-3)
 
 
 def test_friction_unknown_table_and_missing_file(tmp_path, capsys):

@@ -1,0 +1,448 @@
+"""One schema mechanism for every TOML file asperity reads (job and friction parameter files).
+
+A file is a :class:`Schema` of :class:`Section` tables; a section is a list of :class:`Key`
+entries, each with a value :class:`Kind` that converts and bounds it, and a ``build`` callable
+that makes the library's own dataclass from the converted values (``statmodel.Material``,
+``pipelines.config.LoadingConfig``, ...). Every error is one :class:`ConfigError` line::
+
+    job.toml: material.E_star: expected a number in (0, 1e+13] Pa (no solid is stiffer than
+    diamond, E ~ 1.2e12 Pa), got -2133000.0
+
+A key may have other accepted spellings (``aliases``: ``e_star`` beside ``E_star``); giving two
+spellings of one key is refused. Bounds carry their reason, so a value that would exhaust
+memory or make a solver meaningless is refused before any work. Pure Python: validating a file
+loads no numerical library.
+
+Example::
+
+    SECTION = Section("loading", LoadingConfig, (
+        Key("nominal_area", Real("m^2", 0, 100, open_low=True, why="...")),
+        Key("steps", Integer(3, 100_000, why="..."), default=201),
+    ))
+    SCHEMA = Schema((SECTION, ...))
+    values = SCHEMA.read(tomllib.loads(text), source="job.toml", base_dir=".")
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from asperity.errors import InputError
+
+#: Marks a key without a default (it must be given).
+REQUIRED: Any = object()
+
+
+class ConfigError(InputError):
+    """A configuration value is wrong; the message names the file and the key."""
+
+
+_UNSET: Any = object()
+
+
+class Invalid(Exception):
+    """Raised by a :class:`Kind`: what was expected; the section adds the key and the value.
+
+    ``key_suffix`` names a part of the value (``"[2].file"``) and ``value`` that part's value
+    when the error is about a part.
+    """
+
+    def __init__(self, expected: str, key_suffix: str = "", value: Any = _UNSET):
+        super().__init__(expected)
+        self.expected = expected
+        self.key_suffix = key_suffix
+        self.value = value
+
+
+@dataclass(frozen=True)
+class Context:
+    """Where values come from: the file name for messages, the directory for relative files."""
+
+    source: str = "<dict>"
+    base_dir: Path = Path(".")
+
+    def fail(self, key: str, expected: str, value: Any) -> ConfigError:
+        """The one error format: ``source: section.key: expected ..., got ...``."""
+        return ConfigError(f"{self.source}: {key}: expected {expected}, got {value!r}")
+
+
+class Kind:
+    """How one value is converted and bounded; subclasses implement :meth:`convert`."""
+
+    def convert(self, value: Any, context: Context) -> Any:
+        """The checked value; raise :class:`Invalid` with what was expected."""
+        raise NotImplementedError
+
+    def plain(self, value: Any) -> Any:
+        """The value as TOML data (None: omitted)."""
+        return value
+
+    def document(self, value: Any) -> Any:
+        """The value as hashable plain data (files by path and SHA-256)."""
+        return self.plain(value)
+
+
+def _file_sha256(path: Path) -> str:
+    digest = hashlib.sha256()
+    with open(path, "rb") as handle:
+        while block := handle.read(1 << 20):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def _is_number(value: Any) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _interval(low: float, high: float, open_low: bool, open_high: bool) -> str:
+    return f"{'(' if open_low else '['}{low:g}, {high:g}{')' if open_high else ']'}"
+
+
+@dataclass(frozen=True)
+class Real(Kind):
+    """A finite number in [low, high] (ends open when asked), SI ``unit``, ``why`` the bounds."""
+
+    unit: str
+    low: float
+    high: float
+    open_low: bool = False
+    open_high: bool = False
+    why: str = ""
+
+    def expected(self) -> str:
+        """What a valid value is, in words."""
+        unit = f" {self.unit}" if self.unit else ""
+        why = f" ({self.why})" if self.why else ""
+        interval = _interval(self.low, self.high, self.open_low, self.open_high)
+        return f"a number in {interval}{unit}{why}"
+
+    def convert(self, value: Any, context: Context) -> float:
+        if not _is_number(value) or not math.isfinite(value):
+            raise Invalid(self.expected())
+        low_ok = value > self.low if self.open_low else value >= self.low
+        high_ok = value < self.high if self.open_high else value <= self.high
+        if not (low_ok and high_ok):
+            raise Invalid(self.expected())
+        return float(value)
+
+
+@dataclass(frozen=True)
+class Integer(Kind):
+    """An integer in [low, high]; ``why`` the bounds (e.g. the memory a count implies)."""
+
+    low: int
+    high: int
+    why: str = ""
+
+    def convert(self, value: Any, context: Context) -> int:
+        if (
+            isinstance(value, bool)
+            or not isinstance(value, int)
+            or not (self.low <= value <= self.high)
+        ):
+            why = f" ({self.why})" if self.why else ""
+            raise Invalid(f"an integer in [{self.low}, {self.high}]{why}")
+        return int(value)
+
+
+@dataclass(frozen=True)
+class Flag(Kind):
+    """true or false."""
+
+    def convert(self, value: Any, context: Context) -> bool:
+        if not isinstance(value, bool):
+            raise Invalid("true or false")
+        return value
+
+
+@dataclass(frozen=True)
+class Choice(Kind):
+    """One of a few strings."""
+
+    options: tuple[str, ...]
+
+    def convert(self, value: Any, context: Context) -> str:
+        if value not in self.options:
+            raise Invalid("one of " + ", ".join(repr(o) for o in self.options))
+        return value
+
+
+@dataclass(frozen=True)
+class Text(Kind):
+    """A non-empty string (a channel name)."""
+
+    def convert(self, value: Any, context: Context) -> str:
+        if not isinstance(value, str) or not value:
+            raise Invalid("a non-empty string")
+        return value
+
+
+@dataclass(frozen=True)
+class ExistingFile(Kind):
+    """A file name, relative to the configuration's directory, that exists."""
+
+    def convert(self, value: Any, context: Context) -> Path:
+        if not isinstance(value, str) or not value:
+            raise Invalid("a file name")
+        path = Path(value).expanduser()
+        if not path.is_absolute():
+            path = context.base_dir / path
+        if not path.is_file():
+            raise Invalid(f"an existing file (file not found: {path})")
+        return path
+
+    def plain(self, value: Any) -> Any:
+        return None if value is None else str(value)
+
+    def document(self, value: Any) -> Any:
+        return None if value is None else {"path": str(value), "sha256": _file_sha256(value)}
+
+
+@dataclass(frozen=True)
+class OrAuto(Kind):
+    """``"auto"`` (read as None) or a value of ``kind``."""
+
+    kind: Kind
+
+    def convert(self, value: Any, context: Context) -> Any:
+        if value == "auto":
+            return None
+        try:
+            return self.kind.convert(value, context)
+        except Invalid as exc:
+            raise Invalid(f'"auto" or {exc.expected}') from None
+
+    def plain(self, value: Any) -> Any:
+        return "auto" if value is None else self.kind.plain(value)
+
+    def document(self, value: Any) -> Any:
+        return "auto" if value is None else self.kind.document(value)
+
+
+@dataclass(frozen=True)
+class ListOf(Kind):
+    """A list of ``min_len``..``max_len`` values of ``kind`` (``why`` the length limit)."""
+
+    kind: Kind
+    min_len: int = 1
+    max_len: int = 1000
+    why: str = ""
+
+    def convert(self, value: Any, context: Context) -> tuple:
+        why = f" ({self.why})" if self.why else ""
+        if not isinstance(value, list) or not self.min_len <= len(value) <= self.max_len:
+            raise Invalid(f"a list of {self.min_len} to {self.max_len} values{why}")
+        out = []
+        for i, item in enumerate(value):
+            try:
+                out.append(self.kind.convert(item, context))
+            except Invalid as exc:
+                got = item if exc.value is _UNSET else exc.value
+                raise Invalid(exc.expected, f"[{i}]{exc.key_suffix}", got) from None
+        return tuple(out)
+
+    def plain(self, value: Any) -> Any:
+        return [self.kind.plain(v) for v in value]
+
+    def document(self, value: Any) -> Any:
+        return [self.kind.document(v) for v in value]
+
+
+@dataclass(frozen=True)
+class Key:
+    """One key of a section.
+
+    Attributes
+    ----------
+    name : str
+        The documented TOML spelling.
+    kind : Kind
+        Conversion and bounds.
+    default : Any
+        Used when the key is absent (:data:`REQUIRED`: it must be given).
+    aliases : tuple of str
+        Other accepted spellings.
+    attr : str or None
+        Argument of the section's ``build`` (default: ``name``).
+    """
+
+    name: str
+    kind: Kind
+    default: Any = REQUIRED
+    aliases: tuple[str, ...] = ()
+    attr: str | None = None
+
+    @property
+    def argument(self) -> str:
+        """The ``build`` argument this key fills."""
+        return self.attr or self.name
+
+
+@dataclass(frozen=True)
+class Section(Kind):
+    """A TOML table: its keys, the dataclass they build, and checks across keys.
+
+    Also a :class:`Kind`, for tables inside tables (``[surface.synthetic]``).
+
+    Attributes
+    ----------
+    name : str
+        Table name (dotted for nested tables).
+    build : callable
+        Makes the value from the keys' converted values (by ``Key.argument``).
+    keys : tuple of Key
+    required : bool
+        The table must be present.
+    check : callable or None
+        ``check(values) -> None`` on the converted values; raises :class:`Invalid` with the
+        key suffix (relative to the section) of the offending key.
+    """
+
+    name: str
+    build: Callable[..., Any]
+    keys: tuple[Key, ...]
+    required: bool = False
+    check: Callable[[dict[str, Any]], None] | None = None
+
+    def spelling(self, data: Mapping[str, Any], key: Key, context: Context) -> str | None:
+        """The spelling of ``key`` used in ``data`` (None when absent; two are refused)."""
+        given = [n for n in (key.name, *key.aliases) if n in data]
+        if len(given) > 1:
+            raise context.fail(
+                f"{self.name}.{key.name}", "one spelling of the key", {n: data[n] for n in given}
+            )
+        return given[0] if given else None
+
+    def values(self, data: Any, context: Context) -> dict[str, Any]:
+        """The converted values of the table, by ``build`` argument."""
+        if not isinstance(data, Mapping):
+            raise context.fail(self.name, "a table", data)
+        known = {n for k in self.keys for n in (k.name, *k.aliases)}
+        unknown = sorted(set(data) - known)
+        if unknown:
+            names = ", ".join(k.name for k in self.keys)
+            raise context.fail(f"{self.name}.{unknown[0]}", f"one of the keys {names}", unknown[0])
+        out = {}
+        for key in self.keys:
+            spelling = self.spelling(data, key, context)
+            where = f"{self.name}.{spelling or key.name}"
+            if spelling is None:
+                if key.default is REQUIRED:
+                    raise context.fail(where, "a value (the key is required)", None)
+                out[key.argument] = key.default
+                continue
+            try:
+                out[key.argument] = key.kind.convert(data[spelling], context)
+            except Invalid as exc:
+                got = data[spelling] if exc.value is _UNSET else exc.value
+                raise context.fail(where + exc.key_suffix, exc.expected, got) from None
+        if self.check is not None:
+            try:
+                self.check(out)
+            except Invalid as exc:
+                got = data.get(exc.key_suffix) if exc.value is _UNSET else exc.value
+                raise context.fail(f"{self.name}.{exc.key_suffix}", exc.expected, got) from None
+        return out
+
+    def convert(self, value: Any, context: Context) -> Any:
+        try:
+            return self.build(**self.values(value, context))
+        except ConfigError:
+            raise
+        except ValueError as exc:  # the dataclass's own check, after ours
+            raise context.fail(self.name, "values the model accepts", str(exc)) from None
+
+    def plain(self, value: Any) -> dict[str, Any] | None:
+        """The built value as TOML data, documented spellings, defaults filled in."""
+        if value is None:
+            return None
+        out = {}
+        for key in self.keys:
+            item = key.kind.plain(getattr(value, key.argument))
+            if item is not None:
+                out[key.name] = item
+        return out
+
+    def document(self, value: Any) -> dict[str, Any] | None:
+        """Like :meth:`plain`, with every key (None included) and files by SHA-256."""
+        if value is None:
+            return None
+        return {k.name: k.kind.document(getattr(value, k.argument)) for k in self.keys}
+
+
+@dataclass(frozen=True)
+class Schema:
+    """A whole file: its sections (tables), by name."""
+
+    sections: tuple[Section, ...]
+
+    def read(
+        self, data: Any, *, source: str = "<dict>", base_dir: str | Path = "."
+    ) -> dict[str, Any]:
+        """Validate parsed TOML data; returns each section's built value by section name.
+
+        Raises
+        ------
+        ConfigError
+            ``source: section.key: expected ..., got ...``.
+        """
+        context = Context(source, Path(base_dir))
+        if not isinstance(data, Mapping):
+            raise context.fail("the file", "a TOML document with tables", data)
+        names = [s.name for s in self.sections]
+        unknown = sorted(set(data) - set(names))
+        if unknown:
+            raise context.fail(unknown[0], "one of the tables " + ", ".join(names), unknown[0])
+        out = {}
+        for section in self.sections:
+            if section.name not in data and section.required:
+                raise context.fail(section.name, "a table (it is required)", None)
+            out[section.name] = section.convert(data.get(section.name, {}), context)
+        return out
+
+    def plain(self, values: Mapping[str, Any]) -> dict[str, Any]:
+        """Built sections back to TOML data (documented spellings)."""
+        return {s.name: s.plain(values[s.name]) for s in self.sections}
+
+    def document(self, values: Mapping[str, Any]) -> dict[str, Any]:
+        """Built sections as hashable plain data (:meth:`Section.document`)."""
+        return {s.name: s.document(values[s.name]) for s in self.sections}
+
+
+def _toml_value(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (int, float)):
+        return repr(value)
+    if isinstance(value, str):  # a JSON string is a TOML basic string, once DEL is escaped
+        return json.dumps(value, ensure_ascii=False).replace("\x7f", "\\u007f")
+    if isinstance(value, list):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    if isinstance(value, dict):
+        items = (f"{k} = {_toml_value(v)}" for k, v in value.items() if v is not None)
+        return "{" + ", ".join(items) + "}"
+    raise TypeError(f"cannot write {value!r} as TOML")
+
+
+def dump_toml(data: Mapping[str, Any], prefix: str = "") -> str:
+    """Write nested plain data (tables, lists, str, numbers, bool; None omitted) as TOML."""
+    lines: list[str] = []
+    tables: list[tuple[str, Mapping[str, Any]]] = []
+    for key, value in data.items():
+        if value is None:
+            continue
+        if isinstance(value, Mapping):
+            tables.append((key, value))
+        else:
+            lines.append(f"{key} = {_toml_value(value)}")
+    text = "\n".join(lines) + ("\n" if lines else "")
+    for key, table in tables:
+        name = f"{prefix}{key}"
+        text += f"\n[{name}]\n" + dump_toml(table, prefix=name + ".")
+    return text

@@ -1,0 +1,233 @@
+"""Typed stage results: how each field is stored, declared once as dataclass field metadata.
+
+A stage result is a dataclass whose fields say their unit and, for arrays, their named
+dimensions; :mod:`pipelines.store` writes and reads every such dataclass with one generic
+routine, and :func:`checksum` fingerprints it. Three declarations cover every field:
+
+* :func:`array` (``metadata={"units": "m^2", "dims": ("normal_load",)}``): an HDF5 dataset with
+  a ``units`` attribute over named dimensions. A field whose only dimension is its own name is
+  a coordinate (a dimension scale); a dimension without a coordinate field gets an index
+  coordinate 0..n-1.
+* :func:`scalar` (``metadata={"units": "N"}``): a number or boolean, an attribute of the group.
+* :func:`text`: a string (stored as is) or a list/dict of plain values (stored as JSON text).
+
+The Python type of a field (its annotation) decides how a stored value is read back: ``float``,
+``int``, ``bool``, ``str``, ``numpy.ndarray``, ``X | None`` (optional: ``None`` is not
+stored), anything else through JSON. Example::
+
+    @dataclass
+    class Scan:
+        stride: np.ndarray = array("1", ("stride",), "decimation stride")
+        summit_radius: np.ndarray = array("m", ("stride",), "mean summit radius R")
+        radius_slope: float = scalar("m/m", "slope of the linear fit of R")
+        fit_note: str = text("what the fits are")
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import hashlib
+import json
+import types
+import typing
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+#: Group attributes the store writes itself; no result field may use these names.
+RESERVED_ATTRIBUTES: frozenset[str] = frozenset(
+    {
+        "stage_key",
+        "key_inputs",
+        "checksum",
+        "seconds",
+        "finished",
+        "attribute_units",
+        "asperity_version",
+    }
+)
+
+
+def array(
+    units: str,
+    dims: tuple[str, ...],
+    long_name: str = "",
+    *,
+    optional: bool = False,
+    init: bool = True,
+) -> Any:
+    """A stored array field: SI ``units`` ("1" if dimensionless) over named ``dims``.
+
+    ``optional=True`` makes the field default to None (not stored when None); ``init=False``
+    marks an array the dataclass derives in ``__post_init__`` (see :func:`scalar`).
+    """
+    metadata = {"units": units, "dims": tuple(dims), "long_name": long_name}
+    if optional:
+        return dataclasses.field(default=None, metadata=metadata, init=init)
+    return dataclasses.field(metadata=metadata, init=init)
+
+
+def scalar(units: str, long_name: str = "", *, optional: bool = False, init: bool = True) -> Any:
+    """A stored number or boolean (a group attribute) in SI ``units``.
+
+    ``init=False`` marks a value the dataclass derives itself in ``__post_init__`` (stored for
+    readers of the file, not passed back to the constructor).
+    """
+    metadata = {"units": units, "long_name": long_name}
+    if optional:
+        return dataclasses.field(default=None, metadata=metadata, init=init)
+    return dataclasses.field(metadata=metadata, init=init)
+
+
+def text(
+    long_name: str = "",
+    *,
+    optional: bool = False,
+    default_factory: Callable[[], Any] | None = None,
+) -> Any:
+    """A stored string, or a list / dict of plain values (kept as JSON text).
+
+    ``optional=True`` makes the field default to None (not stored when None).
+    """
+    metadata = {"long_name": long_name}
+    if optional:
+        return dataclasses.field(default=None, metadata=metadata)
+    if default_factory is not None:
+        return dataclasses.field(default_factory=default_factory, metadata=metadata)
+    return dataclasses.field(metadata=metadata)
+
+
+@dataclass(frozen=True)
+class FieldSpec:
+    """How one result field is stored (read from its metadata and annotation).
+
+    Attributes
+    ----------
+    name : str
+        Field, dataset and attribute name.
+    kind : str
+        "array" (a dataset), "number" (float/int/bool attribute), "string" (str attribute)
+        or "json" (JSON text attribute).
+    python_type : type
+        The annotation without ``| None`` (``float``, ``numpy.ndarray``, ``list``, ...).
+    units : str
+        SI unit; "" for text.
+    dims : tuple of str
+        Dimension names of an array.
+    long_name : str
+        What the value is.
+    optional : bool
+        None is allowed (and then not stored).
+    init : bool
+        Passed to the constructor when the result is read back.
+    """
+
+    name: str
+    kind: str
+    python_type: Any
+    units: str
+    dims: tuple[str, ...]
+    long_name: str
+    optional: bool
+    init: bool
+
+    @property
+    def is_coordinate(self) -> bool:
+        """An array whose only dimension is its own name (an HDF5 dimension scale)."""
+        return self.kind == "array" and self.dims == (self.name,)
+
+
+def _strip_optional(annotation: Any) -> tuple[Any, bool]:
+    origin = typing.get_origin(annotation)
+    if origin in (typing.Union, types.UnionType):
+        args = [a for a in typing.get_args(annotation) if a is not type(None)]
+        optional = len(args) < len(typing.get_args(annotation))
+        return (args[0] if len(args) == 1 else annotation), optional
+    return annotation, False
+
+
+def _kind(name: str, python_type: Any, metadata: Any) -> str:
+    if "dims" in metadata:
+        if python_type is not np.ndarray:
+            raise TypeError(f"field {name!r}: dims given but the type is {python_type!r}")
+        return "array"
+    if python_type in (float, int, bool):
+        if "units" not in metadata:
+            raise TypeError(f"field {name!r}: a number needs its units (pipelines.fields.scalar)")
+        return "number"
+    if python_type is np.ndarray:
+        raise TypeError(f"field {name!r}: an array needs units and dims (pipelines.fields.array)")
+    return "string" if python_type is str else "json"
+
+
+@functools.cache
+def field_specs(cls: type) -> tuple[FieldSpec, ...]:
+    """The storage description of every field of a result dataclass, in declaration order.
+
+    Raises
+    ------
+    TypeError
+        A field without a storage declaration, a reserved name, or an array of another type
+        (a programming error in a result declaration, found at import of the stage).
+    """
+    if not dataclasses.is_dataclass(cls):
+        raise TypeError(f"{cls!r} is not a dataclass")
+    hints = typing.get_type_hints(cls)
+    specs = []
+    for f in dataclasses.fields(cls):
+        if f.name in RESERVED_ATTRIBUTES:
+            raise TypeError(f"{cls.__name__}.{f.name}: the name is reserved by the store")
+        python_type, optional = _strip_optional(hints[f.name])
+        kind = _kind(f"{cls.__name__}.{f.name}", python_type, f.metadata)
+        specs.append(
+            FieldSpec(
+                name=f.name,
+                kind=kind,
+                python_type=python_type,
+                units=f.metadata.get("units", ""),
+                dims=tuple(f.metadata.get("dims", ())),
+                long_name=f.metadata.get("long_name", ""),
+                optional=optional,
+                init=f.init,
+            )
+        )
+    return tuple(specs)
+
+
+def canonical(spec: FieldSpec, value: Any) -> Any:
+    """A field value in the form it is stored and read back (arrays as ndarrays, numbers cast)."""
+    if value is None:
+        return None
+    if spec.kind == "array":
+        return np.asarray(value)
+    if spec.kind == "number":
+        base = typing.get_origin(spec.python_type) or spec.python_type
+        return base(value)
+    if spec.kind == "string":
+        return value.decode() if isinstance(value, bytes) else str(value)
+    return json.loads(json.dumps(value))
+
+
+def checksum(result: Any) -> str:
+    """SHA-256 of every stored field of a result (names, dtypes, shapes, bytes, values).
+
+    The same for a result and for what the store reads back of it: the integrity check of a
+    stored stage before it is reused.
+    """
+    digest = hashlib.sha256()
+    for spec in field_specs(type(result)):
+        value = canonical(spec, getattr(result, spec.name))
+        digest.update(spec.name.encode() + b"\0")
+        if value is None:
+            digest.update(b"none\0")
+        elif spec.kind == "array":
+            data = np.ascontiguousarray(value)
+            digest.update(f"{data.dtype.str}{data.shape}".encode())
+            digest.update(data.tobytes())
+        else:
+            digest.update(json.dumps(value, sort_keys=True).encode())
+        digest.update(b"\0")
+    return digest.hexdigest()

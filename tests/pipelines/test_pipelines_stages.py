@@ -1,0 +1,209 @@
+"""Stages declared once: every result through the store, keys that depend on exactly what a
+stage reads (and the package version), checksums on reuse, and the BEM switched off."""
+
+from __future__ import annotations
+
+import shutil
+
+import h5py
+import numpy as np
+import pytest
+
+import asperity
+from asperity import statmodel
+from asperity.pipelines.fields import field_specs
+from asperity.pipelines.job import STAGES, run_job
+from asperity.pipelines.parallel import SerialExecutor
+from asperity.pipelines.report import write_report
+from asperity.pipelines.stages import DISABLED, Runner, StageContext
+from asperity.pipelines.store import ResultStore
+from asperity.statmodel.results_io import ARRAY_UNITS, SCALAR_UNITS
+
+
+def _assert_same(a, b, cls):
+    for spec in field_specs(cls):
+        x, y = getattr(a, spec.name), getattr(b, spec.name)
+        if spec.kind == "array" and x is not None:
+            x = np.asarray(x)
+            np.testing.assert_array_equal(x, y, err_msg=spec.name)
+            assert x.dtype == y.dtype, spec.name
+        else:
+            assert x == y, spec.name
+
+
+def test_every_stage_result_round_trips_with_units_and_dims(small_run):
+    _, out, result = small_run
+    store = ResultStore(out / "results.h5")
+    results = {
+        "surface": result.surface,
+        "resolution_scan": result.scan,
+        "bem_reference": result.bem,
+        "statistical_model": result.resolution,
+        "mode_mixity": result.mode_mixity,
+        "friction": result.friction,
+    }
+    with h5py.File(store.path, "r") as f:
+        for stage in STAGES:
+            _assert_same(results[stage.name], store.read(stage.name, stage.result), stage.result)
+            group = f[stage.name]
+            for spec in field_specs(stage.result):
+                if spec.kind != "array" or getattr(results[stage.name], spec.name) is None:
+                    continue
+                ds = group[spec.name]
+                assert ds.attrs["units"] == spec.units, (stage.name, spec.name)
+                if ds.is_scale:
+                    dims = (spec.name,)
+                else:
+                    dims = tuple(
+                        h5py.h5ds.get_scale_name(ds.dims[i][0].id).decode() for i in range(ds.ndim)
+                    )
+                assert dims == spec.dims, (stage.name, spec.name)
+    assert result.bem.converged.dtype == bool
+
+
+def test_friction_result_declares_every_shear_curve_field_with_its_units():
+    """Stage 6 stores the ``asperity friction`` outputs under the same names and units."""
+    from asperity.pipelines.friction_stage import FrictionPrediction
+
+    specs = {s.name: s for s in field_specs(FrictionPrediction)}
+    for name, units in ARRAY_UNITS.items():
+        assert specs[name].units == units and specs[name].dims == ("normal_load", "step")
+    for name, units in SCALAR_UNITS.items():
+        assert specs[name].units == units and specs[name].dims == ("normal_load",)
+
+
+def _keys(config, version="1.0"):
+    runner = Runner(
+        store=ResultStore("unused.h5"),
+        context=StageContext(config, {}, SerialExecutor()),
+        config_document=config.key_document(),
+        version=version,
+        root_attrs={},
+    )
+    runner.plan(STAGES)
+    return runner.keys
+
+
+def _changed(before, after):
+    return {name for name in before if before[name] != after[name]}
+
+
+def _edit(small, tmp_path, section, **values):
+    data = small.data()
+    data[section].update(values)
+    return small(tmp_path, data)
+
+
+ALL = {"surface", "resolution_scan", "bem_reference", "statistical_model", "mode_mixity"}
+ALL = ALL | {"friction"}
+
+
+@pytest.mark.parametrize(
+    ("section", "values", "changed"),
+    [
+        ("run", {"workers": 2}, set()),
+        ("material", {"shear_strength": 0.2e6}, {"mode_mixity", "friction"}),
+        ("loading", {"steps": 61}, {"mode_mixity", "friction"}),
+        ("statmodel", {"area_tolerance": 1e-3}, {"friction"}),
+        ("bem", {"tol": 1e-7}, {"bem_reference", "statistical_model", "mode_mixity", "friction"}),
+        ("surface", {"max_stride": 3}, ALL - {"surface", "bem_reference"}),
+        ("loading", {"normal_loads": [1.0, 2.5]}, ALL - {"surface", "resolution_scan"}),
+        (
+            "material",
+            {"equilibrium_distance": 0.3e-9},
+            ALL - {"surface", "resolution_scan", "bem_reference"},
+        ),
+    ],
+)
+def test_a_key_changes_exactly_with_what_the_stage_reads(small, tmp_path, section, values, changed):
+    assert _changed(_keys(small(tmp_path)), _keys(_edit(small, tmp_path, section, **values))) == (
+        changed
+    )
+
+
+def test_the_lower_case_spelling_keys_the_same_stages(small, tmp_path):
+    data = small.data()
+    data["material"]["e_star"] = data["material"].pop("E_star")
+    assert _keys(small(tmp_path, data)) == _keys(small(tmp_path))
+
+
+def test_a_new_package_version_invalidates_every_stage(small, tmp_path):
+    cfg = small(tmp_path)
+    assert _changed(_keys(cfg, "1.0"), _keys(cfg, "1.1")) == ALL
+
+
+def test_a_changed_measured_file_invalidates_the_stages_that_read_it(small, tmp_path):
+    area = tmp_path / "area.csv"
+    area.write_text("normal_load,real_area\n1,1e-6\n2,2e-6\n")
+    data = small.data()
+    data["measured"] = {"normal_area": "area.csv"}
+    before = _keys(small(tmp_path, data))
+    area.write_text("normal_load,real_area\n1,1e-6\n2,2.1e-6\n")
+    after = _keys(small(tmp_path, data))
+    assert _changed(before, after) == {"statistical_model", "mode_mixity", "friction"}
+
+
+def test_version_change_recomputes_and_a_corrupted_stage_is_not_reused(
+    small_run, tmp_path, monkeypatch
+):
+    cfg, out, _ = small_run
+    copy = tmp_path / "copy"
+    shutil.copytree(out, copy)
+    with h5py.File(copy / "results.h5", "a") as f:
+        f["friction/static_friction"][0] = 1e3  # a flipped value on disk
+    again = run_job(cfg, copy)
+    status = {s.name: s.status for s in again.stages}
+    assert status == {**dict.fromkeys(ALL, "stored"), "friction": "computed"}
+    assert "checksum" in again.stages[-1].note
+    assert again.friction.static_friction[0] < 10.0
+    monkeypatch.setattr(asperity, "__version__", asperity.__version__ + ".post1")
+    newer = run_job(cfg, copy)
+    assert {s.status for s in newer.stages} == {"computed"}
+
+
+def _measured_area_csv(path, result, loads):
+    """A measured A_r(F_z) the model makes at the small job's stride-2 statistics."""
+    res = result.resolution
+    roughness = statmodel.Roughness(
+        float(result.scan.asperity_density[1]),
+        float(result.scan.summit_radius[1]),
+        float(result.scan.summit_height_rms[1]),
+    )
+    area = statmodel.real_area_at_loads(
+        result.config.material, roughness, res.nominal_area, np.asarray(loads)
+    )
+    rows = "".join(f"{f!r},{float(a)!r}\n" for f, a in zip(loads, area, strict=True))
+    path.write_text("normal_load,real_area\n" + rows)
+
+
+def test_bem_disabled_calibrates_on_the_measurement_alone(small, small_run, tmp_path):
+    _, out, reference = small_run
+    shutil.copytree(out, tmp_path / "out")
+    _measured_area_csv(tmp_path / "area.csv", reference, [0.8, 1.6, 2.4, 3.2])
+    data = small.data()
+    data["bem"]["enabled"] = False
+    data["measured"] = {"normal_area": "area.csv"}
+    result = run_job(small(tmp_path, data), tmp_path / "out")
+    status = {s.name: s.status for s in result.stages}
+    assert status["bem_reference"] == "disabled" and result.bem is None
+    assert status["surface"] == status["resolution_scan"] == "stored"
+    res = result.resolution
+    assert res.basis == "measured" and res.effective_stride == 2
+    assert np.all(np.isnan(res.misfit_bem)) and res.misfit_measured[1] < 1e-6
+    assert np.all(result.friction.converged)
+    with h5py.File(tmp_path / "out" / "results.h5", "r") as f:
+        assert "bem_reference" not in f  # the previous run's BEM is not left beside it
+        assert "enabled = false" in f.attrs["config_toml"]
+    report = write_report(result, tmp_path / "out").read_text()
+    assert "enabled = false" in report and "| bem_reference | disabled |" in report
+    assert "bem_grid.png" not in report
+
+
+def test_disabled_key_is_not_a_hash(small, tmp_path):
+    (tmp_path / "area.csv").write_text("normal_load,real_area\n1,1e-6\n2,2e-6\n")
+    data = small.data()
+    data["bem"]["enabled"] = False
+    data["measured"] = {"normal_area": "area.csv"}
+    keys = _keys(small(tmp_path, data))
+    assert keys["bem_reference"] == DISABLED
+    assert _keys(small(tmp_path))["bem_reference"] != DISABLED
