@@ -21,11 +21,14 @@ Figures written in the output directory:
 from __future__ import annotations
 
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
 from matplotlib import colormaps
 from matplotlib.figure import Figure
+
+from asperity.statmodel.figures import draw_shear_curve
 
 DPI = 150
 
@@ -183,32 +186,12 @@ def plot_lambda_fit(result: Any, path: Path) -> Path:
 
 
 def plot_shear(result: Any, path: Path) -> Path:
-    """Fig 4: macroscopic curves and their stick / slip parts at the heaviest load."""
+    """Fig 4 at the heaviest load, drawn by the one Fig-4 plotter, statmodel.draw_shear_curve."""
     fr = result.friction
     i = int(np.argmax(fr.normal_load))
-    c = fr.curve_arrays(i)
-    dt = c["tangential_displacement"] * 1e6
-    fig = Figure(figsize=(10, 7.5))
-    axes = fig.subplots(2, 2)
-    panels = [
-        ("normal_force", "normal load F_z (N)", 1.0),
-        (("n_contact", "n_stick", "n_slip"), "contacting asperities", 1.0),
-        ("real_area", "real contact area A_r (mm^2)", 1e6),
-        ("tangential_force", "tangential load F_x (N)", 1.0),
-    ]
-    for ax, (name, label, scale), tag in zip(axes.flat, panels, "abcd", strict=True):
-        if isinstance(name, tuple):
-            total, stick, slip = (c[n] for n in name)
-        else:
-            total, stick, slip = c[name], c[name + "_stick"], c[name + "_slip"]
-        ax.plot(dt, total * scale, "-", label="total")
-        ax.plot(dt, stick * scale, ":", label="stick")
-        ax.plot(dt, slip * scale, "--", label="slip")
-        ax.set_xlabel("tangential displacement delta_T (um)")
-        ax.set_ylabel(label)
-        ax.set_title(f"({tag})")
-        ax.legend(fontsize=8)
-    fig.suptitle(f"F_z = {fr.normal_load[i]:.3g} N, lambda = {fr.mode_mixity:.3g}")
+    curve = SimpleNamespace(**fr.curve_arrays(i))  # the per-step arrays (SI) at that load
+    title = f"$F_z$ = {fr.normal_load[i]:.3g} N, $\\lambda$ = {fr.mode_mixity:.3g}"
+    fig = draw_shear_curve(Figure(figsize=(10, 7.5)), curve, title=title)
     return _save(fig, path)
 
 

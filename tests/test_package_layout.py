@@ -149,8 +149,6 @@ def test_a_wheel_installs_only_the_asperity_namespace(tmp_path: Path) -> None:
     assert Path(location).is_relative_to(venv)  # the wheel's copy, not the source tree
 
 
-#: Library files still on pyplot, converted on another branch: delete once merged.
-PYPLOT_NOT_YET_REMOVED = {"pipelines/report.py"}
 #: Code (not prose) that imports pyplot or selects a backend.
 FORCES_BACKEND = re.compile(
     r"^\s*(import matplotlib\.pyplot|from matplotlib import pyplot|from matplotlib\.pyplot import)"
@@ -168,8 +166,6 @@ def test_library_source_never_forces_a_matplotlib_backend() -> None:
         for source in sorted((REPO / top).rglob("*.py")):
             name = str(source.relative_to(REPO))
             text = source.read_text()
-            if FORCES_BACKEND.search(text) and name not in PYPLOT_NOT_YET_REMOVED:
+            if FORCES_BACKEND.search(text):
                 offenders.append(name)
     assert offenders == []
-    for name in PYPLOT_NOT_YET_REMOVED:  # an exemption that is no longer needed must go
-        assert FORCES_BACKEND.search((REPO / name).read_text()), f"{name}: drop its exemption"
