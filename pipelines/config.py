@@ -502,7 +502,9 @@ def load_config(path: str | Path) -> JobConfig:
     except FileNotFoundError as exc:
         raise ConfigError(f"{path}: configuration file not found") from exc
     except (OSError, UnicodeDecodeError) as exc:
-        raise ConfigError(f"{path}: cannot read the configuration: {exc}") from exc
+        raise ConfigError(
+            f"{path}: cannot read the configuration: {getattr(exc, 'strerror', None) or exc}"
+        ) from exc
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

@@ -281,7 +281,9 @@ def read_friction_parameters(path: str | Path) -> FrictionParameters:
     try:
         text = path.read_bytes().decode("utf-8")
     except (OSError, UnicodeDecodeError) as exc:
-        raise ConfigError(f"{path}: cannot read the parameter file: {exc}") from None
+        raise ConfigError(
+            f"{path}: cannot read the parameter file: {getattr(exc, 'strerror', None) or exc}"
+        ) from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
