@@ -103,7 +103,10 @@ def test_no_command_is_2(capsys):
     "argv, named",
     [
         (["stats", "{tmp}/missing.x3p"], "{tmp}/missing.x3p"),
-        (["friction", "{tmp}/missing.toml"], "missing.toml: No such file or directory"),
+        (
+            ["friction", "{tmp}/missing.toml"],
+            "missing.toml: cannot read the parameter file: No such file or directory",
+        ),
         (["friction", "{tmp}"], "{tmp}"),  # a directory where a file was expected
         (["figures", "--out", "{tmp}/a_file.txt"], "a_file.txt"),  # a file where a folder was
         (["stats", str(DATA / "dektak-1.csv")], "1D line profile"),  # InputError (reader)
