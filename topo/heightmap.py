@@ -13,6 +13,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from asperity.errors import InputError
+
 
 def _as_float_array(values: object, ndim: int, what: str) -> np.ndarray:
     """Return ``values`` as a read-only float64 view with ``ndim`` dimensions, or raise."""
@@ -20,11 +22,11 @@ def _as_float_array(values: object, ndim: int, what: str) -> np.ndarray:
     if array.dtype.kind not in "fiu":
         raise TypeError(f"{what}: expected real numbers (float64), got dtype {array.dtype}")
     if array.ndim != ndim:
-        raise ValueError(f"{what}: expected a {ndim}D array, got shape {array.shape}")
+        raise InputError(f"{what}: expected a {ndim}D array, got shape {array.shape}")
     if array.dtype != np.float64:
         array = array.astype(np.float64)
     if min(array.shape) < 1:
-        raise ValueError(f"{what}: expected at least one point along every axis, got {array.shape}")
+        raise InputError(f"{what}: expected at least one point along every axis, got {array.shape}")
     view = array.view()
     view.flags.writeable = False
     return view
@@ -37,7 +39,7 @@ def _check_spacing(value: object, name: str) -> float:
     except (TypeError, ValueError):
         raise TypeError(f"{name}: expected a pixel size in metres (float), got {value!r}") from None
     if not math.isfinite(spacing) or spacing <= 0.0:
-        raise ValueError(f"{name}: expected a finite pixel size > 0 m, got {spacing!r}")
+        raise InputError(f"{name}: expected a finite pixel size > 0 m, got {spacing!r}")
     return spacing
 
 
@@ -73,7 +75,7 @@ class HeightMap:
         if not isinstance(self.provenance, dict):
             raise TypeError(f"HeightMap.provenance: expected a dict, got {type(self.provenance)}")
         if np.isinf(self.heights).any():
-            raise ValueError("HeightMap.heights: infinite heights; mark missing pixels with NaN")
+            raise InputError("HeightMap.heights: infinite heights; mark missing pixels with NaN")
 
     @property
     def nx(self) -> int:
@@ -174,7 +176,7 @@ def require_height_map(surface: object, what: str) -> HeightMap:
 
     Raises
     ------
-    ValueError
+    InputError
         For a :class:`LineProfile` (a 1D profile cannot give areal summit statistics).
     TypeError
         For anything else.
@@ -183,7 +185,7 @@ def require_height_map(surface: object, what: str) -> HeightMap:
         return surface
     if isinstance(surface, LineProfile):
         source = surface.provenance.get("file", "this profile")
-        raise ValueError(
+        raise InputError(
             f"{what} needs a 2D height map, but {source} is a 1D line profile "
             f"({surface.nx} points); summit density, radius and areal statistics "
             "are not defined for a single line"

@@ -20,13 +20,14 @@ import numba
 import numpy as np
 import scipy.fft
 
+from asperity.errors import InputError
 from asperity.topo.heightmap import HeightMap, require_height_map
 
 
 def _filled(surface: HeightMap) -> np.ndarray:
     heights = np.asarray(surface.heights)
     if surface.n_missing:
-        raise ValueError(
+        raise InputError(
             f"PSD: {surface.n_missing} missing pixels; the FFT needs a complete map "
             "(crop to a complete region or fill the holes first)"
         )
@@ -125,7 +126,7 @@ def rolloff_wavelength(surface: HeightMap) -> float:
     good = c > 1e-12 * c.max()  # drop bins beyond a hard cut-off (rounding noise only)
     q, c = q[good], c[good]
     if q.size < 6:
-        raise ValueError("rolloff_wavelength: too few PSD bins for a fit")
+        raise InputError("rolloff_wavelength: too few PSD bins for a fit")
     edges = np.geomspace(q[0], q[-1] * 1.0001, min(60, q.size) + 1)
     which = np.digitize(q, edges) - 1
     lq = np.array(

@@ -19,12 +19,13 @@ from __future__ import annotations
 import numpy as np
 import scipy.fft
 
+from asperity.errors import InputError
 from asperity.topo.heightmap import HeightMap, require_height_map
 
 
 def _check_stride(stride: int) -> int:
     if isinstance(stride, bool) or int(stride) != stride or int(stride) < 1:
-        raise ValueError(f"stride: expected an integer >= 1, got {stride!r}")
+        raise InputError(f"stride: expected an integer >= 1, got {stride!r}")
     return int(stride)
 
 
@@ -77,7 +78,7 @@ def block_mean(surface: HeightMap, factor: int) -> HeightMap:
     k = _check_stride(factor)
     nx, ny = surface.nx // k, surface.ny // k
     if nx < 1 or ny < 1:
-        raise ValueError(f"block_mean: factor {k} exceeds the map size {surface.heights.shape}")
+        raise InputError(f"block_mean: factor {k} exceeds the map size {surface.heights.shape}")
     blocks = surface.heights[: nx * k, : ny * k].reshape(nx, k, ny, k)
     valid = ~np.isnan(blocks)
     counts = valid.sum(axis=(1, 3))
@@ -112,12 +113,12 @@ def fourier_resample(surface: HeightMap, factor: int) -> HeightMap:
     surface = require_height_map(surface, "fourier_resample")
     k = _check_stride(factor)
     if surface.n_missing:
-        raise ValueError(
+        raise InputError(
             f"fourier_resample: {surface.n_missing} missing pixels; fill or crop first"
         )
     mx, my = surface.nx // k, surface.ny // k
     if mx < 2 or my < 2:
-        raise ValueError(f"fourier_resample: factor {k} leaves fewer than 2 points per axis")
+        raise InputError(f"fourier_resample: factor {k} leaves fewer than 2 points per axis")
     spectrum = scipy.fft.fft2(surface.heights)
     kept = np.zeros((mx, my), dtype=complex)
     fx = np.fft.fftfreq(surface.nx, 1.0 / surface.nx).astype(int)
