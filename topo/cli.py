@@ -99,8 +99,9 @@ def _load_prepared(args: argparse.Namespace, what: str):
     surface = read_surface(args.file, channel=args.channel, pixel_size=_pixel_size(args.pixel_size))
     surface = require_height_map(surface, f"asperity {what}")
     prepared = prepare_surface(surface, options)
-    for warning in prepared.record.warnings:
-        print(f"asperity {what}: warning: {warning}", file=sys.stderr)
+    if args.json:  # the text output shows them in its surface block
+        for warning in prepared.record.warnings:
+            print(f"asperity {what}: warning: {warning}", file=sys.stderr)
     return prepared
 
 
@@ -179,7 +180,8 @@ def _print_preparation(record: dict) -> None:
     )
     print(
         f"    outliers           {record['n_outliers']} "
-        f"({100 * record['outlier_fraction']:.3g} %) {record['outlier_action']}ed, rule "
+        f"({100 * record['outlier_fraction']:.3g} %) "
+        f"{'masked' if record['outlier_action'] == 'mask' else 'clipped'}, rule "
         f"{record['outlier_rule']}"
     )
     for warning in record["warnings"]:
