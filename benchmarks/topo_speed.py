@@ -71,6 +71,29 @@ def row(name, size, seconds, memory, accuracy, peer_seconds=None):
     print(f"{name:38s} {size:>11s} {seconds:9.3f} {mem} {accuracy:>34s} {peer} {ratio}")
 
 
+def harmonic_fill_row(n: int = 1000, fraction: float = 0.03) -> None:
+    """Harmonic fill of a rough 1000 x 1000 map with 3 % of its pixels (in blobs) missing,
+    plus the error on a plane with the same holes (exact up to rounding)."""
+    rng = np.random.default_rng(0)
+    rough = np.array(topo.synthetic.paper_like(n=n, pixel_size=2e-6, seed=1).heights)
+    holes = np.zeros((n, n), dtype=bool)
+    while holes.mean() < fraction:
+        i, j = rng.integers(0, n - 6, size=2)
+        holes[i : i + 6, j : j + 6] = True
+    x = np.arange(n)[:, None] * 2e-6
+    plane = 1e-5 + 0.01 * x - 0.02 * x.T
+    filled_plane = topo.harmonic_fill(np.where(holes, np.nan, plane), 2e-6, 2e-6)
+    error = float(np.abs(filled_plane - plane).max() / np.abs(plane).max())
+    seconds, _ = timed(lambda: topo.harmonic_fill(np.where(holes, np.nan, rough), 2e-6, 2e-6))
+    row(
+        f"harmonic_fill, {100 * fraction:.0f} % missing",
+        f"{n}x{n}",
+        seconds,
+        None,
+        f"plane error {error:.1e}",
+    )
+
+
 def main(n: int) -> None:
     start = time.perf_counter()
     surface = topo.synthetic.paper_like(n=n, pixel_size=2e-6, seed=0)
@@ -125,6 +148,12 @@ def main(n: int) -> None:
 
     seconds, _ = timed(full_stats)
     row("stats: level plane + summits", size, seconds, peak_memory(full_stats) / nbytes, "")
+
+    seconds, prepared = timed(lambda: topo.prepare_surface(open_map), repeat=2)
+    memory = peak_memory(lambda: topo.prepare_surface(open_map)) / nbytes
+    outliers = f"{prepared.record.n_outliers} outliers, {len(prepared.record.warnings)} warnings"
+    row("prepare_surface (defaults)", size, seconds, memory, outliers)
+    harmonic_fill_row()
 
     max_stride = min(130, n // 3)
     seconds, scan = timed(lambda: topo.resolution_scan(surface, max_stride), repeat=2)

@@ -5,8 +5,10 @@ Public API (SI units: m, m^2, 1/m^2):
 * containers: :class:`HeightMap`, :class:`LineProfile`;
 * reading: :func:`read_surface` (X3P, SUR, MetroPro DAT/DATX, PLU, OPD, Nanoscope, PicoView,
   Gwyddion, Dektak CSV, text, NumPy, project HDF5), :func:`write_hdf5`;
-* form removal :func:`level`; resampling :func:`decimate`, :func:`block_mean`,
-  :func:`fourier_resample`;
+* preparation :func:`prepare_surface` (crop, form removal, outliers, missing pixels, with a
+  record and warnings; the steps separately: :func:`crop_surface`, :func:`find_outliers`,
+  :func:`fill_missing`, :func:`harmonic_fill`); form removal :func:`level`;
+  resampling :func:`decimate`, :func:`block_mean`, :func:`fourier_resample`;
 * :func:`summit_statistics` (eta, R, sigma_s), :func:`resolution_scan` (Fig 12a-c);
 * spectra and rms values in :mod:`topo.psd`; synthetic maps in :mod:`topo.synthetic`.
 """
@@ -26,6 +28,16 @@ _EXPORTS: dict[str, str] = {
     "read_surface": "asperity.topo.io",
     "write_hdf5": "asperity.topo.io",
     "level": "asperity.topo.levelling",
+    "CropWindow": "asperity.topo.cleaning",
+    "OutlierRule": "asperity.topo.cleaning",
+    "crop_surface": "asperity.topo.cleaning",
+    "fill_missing": "asperity.topo.cleaning",
+    "find_outliers": "asperity.topo.cleaning",
+    "harmonic_fill": "asperity.topo.inpainting",
+    "PreparationOptions": "asperity.topo.preparation",
+    "PreparationRecord": "asperity.topo.preparation",
+    "PreparedSurface": "asperity.topo.preparation",
+    "prepare_surface": "asperity.topo.preparation",
     "radial_psd": "asperity.topo.psd",
     "rms_curvature": "asperity.topo.psd",
     "rms_height": "asperity.topo.psd",
@@ -45,17 +57,27 @@ _EXPORTS: dict[str, str] = {
 }
 
 __all__ = [
+    "CropWindow",
     "HeightMap",
     "LineProfile",
+    "OutlierRule",
+    "PreparationOptions",
+    "PreparationRecord",
+    "PreparedSurface",
     "ResolutionScan",
     "SummitStatistics",
     "TopographyFileError",
     "block_mean",
+    "crop_surface",
     "decimate",
     "draw_resolution_scan",
+    "fill_missing",
+    "find_outliers",
     "fourier_resample",
+    "harmonic_fill",
     "level",
     "plot_resolution_scan",
+    "prepare_surface",
     "radial_psd",
     "read_surface",
     "resolution_scan",

@@ -11,6 +11,7 @@ import argparse
 import json
 import math
 import re
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -64,13 +65,44 @@ def _pixel_size(text: str | None) -> float | tuple[float, float] | None:
     return values[0] if len(values) == 1 else (values[0], values[1])
 
 
-def _load_levelled(args: argparse.Namespace, what: str) -> HeightMap:
-    from asperity.topo.io import read_surface
-    from asperity.topo.levelling import level
+def preparation_options(args: argparse.Namespace):
+    """The :class:`~asperity.topo.preparation.PreparationOptions` of the command-line options."""
+    from asperity.topo.cleaning import CropWindow, OutlierRule
+    from asperity.topo.preparation import PreparationOptions
 
+    if args.crop is not None and args.crop_m is not None:
+        raise InputError("--crop and --crop-m: give the window once, in pixels or in metres")
+    crop = None
+    if args.crop is not None:
+        crop = CropWindow.parse(args.crop, "px")
+    elif args.crop_m is not None:
+        crop = CropWindow.parse(args.crop_m, "m")
+    order = (
+        args.form_order
+        if args.form_order is not None
+        else PreparationOptions.order_of(args.detrend)
+    )
+    return PreparationOptions(
+        crop=crop,
+        missing=args.missing,
+        outliers=OutlierRule.parse(args.outliers, args.outlier_action),
+        form_order=order,
+    )
+
+
+def _load_prepared(args: argparse.Namespace, what: str):
+    """Read the file and prepare it as the options say; warnings go to stderr."""
+    from asperity.topo.io import read_surface
+    from asperity.topo.preparation import prepare_surface
+
+    options = preparation_options(args)
     surface = read_surface(args.file, channel=args.channel, pixel_size=_pixel_size(args.pixel_size))
     surface = require_height_map(surface, f"asperity {what}")
-    return level(surface, args.detrend)
+    prepared = prepare_surface(surface, options)
+    if args.json:  # the text output shows them in its surface block
+        for warning in prepared.record.warnings:
+            print(f"asperity {what}: warning: {warning}", file=sys.stderr)
+    return prepared
 
 
 def surface_stats(surface: HeightMap, *, stride: int = 1, neighbours: int = 4) -> dict:
@@ -89,10 +121,13 @@ def surface_stats(surface: HeightMap, *, stride: int = 1, neighbours: int = 4) -
     -------
     dict
         The keys of :data:`STATS_KEYS`: ``nx``, ``ny``, ``dx``, ``dy`` (m, ``nx``/``dx``
-        along the first array axis), ``rms_height`` (m, ``sqrt(<h^2>)`` of the levelled
-        heights: about the mean plane after ``plane``/``mean``), ``n_missing``,
-        ``n_summits``, ``asperity_density`` (1/m^2), ``summit_radius`` (m),
-        ``summit_height_rms`` (m), all of the analysed grid ``decimate(surface, stride)``;
+        along the first array axis), ``rms_height`` (m, ``sqrt(<h^2>)`` of the valid levelled
+        heights: about the mean plane after ``plane``/``mean``), ``n_missing`` (pixels still
+        missing after the preparation), ``n_summits``, ``asperity_density`` (1/m^2),
+        ``summit_radius`` (m), ``summit_height_rms`` (m); then ``nominal_area`` (m^2, the
+        valid area over which the summits are counted: eta = n_summits / nominal_area) and
+        ``grid_area`` (m^2, the whole analysed grid, holes included); all of the analysed
+        grid ``decimate(surface, stride)``;
         NaN becomes None (JSON null).
     """
     from asperity.topo.psd import rms_height
@@ -113,10 +148,13 @@ def surface_stats(surface: HeightMap, *, stride: int = 1, neighbours: int = 4) -
         "summit_radius": stats.summit_radius,
         "summit_height_rms": stats.summit_height_rms,
     }
-    return {key: _json_number(record[key]) for key in STATS_KEYS}
+    record["nominal_area"] = stats.nominal_area
+    record["grid_area"] = stats.grid_area
+    return {key: _json_number(value) for key, value in record.items()}
 
 
 _UNITS = {
+    "nominal_area": "m^2",
     "dx": "m",
     "dy": "m",
     "rms_height": "m",
@@ -126,17 +164,42 @@ _UNITS = {
 }
 
 
+def _print_preparation(record: dict) -> None:
+    """The "Surface" block of the text output (the preparation record)."""
+    crop = record["crop"]
+    print("  surface preparation:")
+    print(f"    crop               {'none' if crop is None else crop} (pixels i0, i1, j0, j1)")
+    print(f"    pixels             dx = {record['dx']:.6g} m, dy = {record['dy']:.6g} m")
+    print(
+        f"    levelling          {record['levelling']} (form rms {record['form_rms']:.4g} m, "
+        f"form/roughness {record['form_to_roughness']:.3g})"
+    )
+    print(
+        f"    missing pixels     {record['n_missing']} ({100 * record['missing_fraction']:.3g} %),"
+        f" policy {record['missing_policy']}, {record['n_filled']} filled"
+    )
+    print(
+        f"    outliers           {record['n_outliers']} "
+        f"({100 * record['outlier_fraction']:.3g} %) "
+        f"{'masked' if record['outlier_action'] == 'mask' else 'clipped'}, rule "
+        f"{record['outlier_rule']}"
+    )
+    for warning in record["warnings"]:
+        print(f"  WARNING: {warning}")
+
+
 def _stats(args: argparse.Namespace) -> int:
-    surface = _load_levelled(args, "stats")
-    record = surface_stats(surface, stride=args.stride, neighbours=args.neighbours)
+    prepared = _load_prepared(args, "stats")
+    record = surface_stats(prepared.surface, stride=args.stride, neighbours=args.neighbours)
+    record["preparation"] = prepared.record.as_dict()
     if args.json:
         print(json.dumps(record, allow_nan=False))
     else:
         print(
-            f"{args.file} (detrend {args.detrend}, stride {args.stride}, "
+            f"{args.file} (detrend {prepared.record.levelling}, stride {args.stride}, "
             f"{args.neighbours} neighbours)"
         )
-        for key in STATS_KEYS:
+        for key in (*STATS_KEYS, "nominal_area"):
             value = record[key]
             text = (
                 "nan"
@@ -144,17 +207,20 @@ def _stats(args: argparse.Namespace) -> int:
                 else (f"{value:.6g}" if isinstance(value, float) else str(value))
             )
             print(f"  {key:18s} {text} {_UNITS.get(key, '')}".rstrip())
+        _print_preparation(record["preparation"])
     return ExitStatus.OK
 
 
 def _scan(args: argparse.Namespace) -> int:
     from asperity.topo.scan import plot_resolution_scan, resolution_scan, write_scan_hdf5
 
-    surface = _load_levelled(args, "scan")
-    scan = resolution_scan(surface, args.max_stride, neighbours=args.neighbours)
+    prepared = _load_prepared(args, "scan")
+    preparation = prepared.record.as_dict()
+    scan = resolution_scan(prepared.surface, args.max_stride, neighbours=args.neighbours)
     figure = args.figure
     if args.out:
-        write_scan_hdf5(scan, args.out, source={"file": str(args.file), "detrend": args.detrend})
+        source = {"file": str(args.file), "detrend": preparation["levelling"]}
+        write_scan_hdf5(scan, args.out, source=source | {"preparation": preparation})
         if figure is None:
             figure = str(Path(args.out).with_suffix(".png"))
     if figure:
@@ -164,6 +230,7 @@ def _scan(args: argparse.Namespace) -> int:
             key: (_json_number(v) if not isinstance(v, list) else [_json_number(x) for x in v])
             for key, v in scan.as_dict().items()
         }
+        data["preparation"] = preparation
         print(json.dumps(data, allow_nan=False))
     else:
         print(
@@ -189,6 +256,7 @@ def _scan(args: argparse.Namespace) -> int:
             f"sigma_s = {scan.height_rms_mean:.4g} m "
             f"(spread {100 * scan.height_rms_relative_spread:.2f} %)"
         )
+        _print_preparation(preparation)
         for target in (args.out, figure):
             if target:
                 print(f"wrote {target}")
@@ -234,11 +302,57 @@ def _add_input_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "file", help="height map: x3p, sur, dat, datx, plu, opd, di, mi, gwy, txt, npy, npz, h5"
     )
-    parser.add_argument(
+    form = parser.add_mutually_exclusive_group()
+    form.add_argument(
         "--detrend",
-        choices=("none", "mean", "plane"),
+        choices=("none", "mean", "plane", "quadratic"),
         default="plane",
         help="form removed before the analysis (default: plane)",
+    )
+    form.add_argument(
+        "--form-order",
+        dest="form_order",
+        type=_form_order,
+        default=None,
+        metavar="N",
+        help="remove the least-squares polynomial of order N (0 mean, 1 plane, 2 quadratic, "
+        "... 8) instead of --detrend",
+    )
+    parser.add_argument(
+        "--crop",
+        default=None,
+        metavar="X0:X1,Y0:Y1",
+        help="keep pixels X0 <= i < X1 (axis 0) and Y0 <= j < Y1 (axis 1); an empty bound is "
+        "the edge, e.g. 100:,:400",
+    )
+    parser.add_argument(
+        "--crop-m",
+        dest="crop_m",
+        default=None,
+        metavar="X0:X1,Y0:Y1",
+        help="the same window in metres from the first pixel, e.g. 0:2e-4,1e-4:3e-4",
+    )
+    parser.add_argument(
+        "--missing",
+        choices=("keep", "refuse", "fill-lowest", "interpolate"),
+        default="keep",
+        help="missing pixels: keep them as holes (statistics over the valid area; default), "
+        "refuse the map, fill them with the lowest height, or interpolate (harmonic fill)",
+    )
+    parser.add_argument(
+        "--outliers",
+        default="mad:10",
+        metavar="RULE",
+        help="outlier rule on the levelled heights: mad:K (beyond K x 1.4826 MAD of the "
+        "median; default mad:10), percentile:P (below P or above 100-P percent), or none",
+    )
+    parser.add_argument(
+        "--outlier-action",
+        dest="outlier_action",
+        choices=("mask", "clip"),
+        default="mask",
+        help="outliers become missing pixels, treated by --missing (mask; default), or are "
+        "clipped to the rule's bounds",
     )
     parser.add_argument(
         "--pixel-size",
@@ -259,6 +373,16 @@ def _add_input_options(parser: argparse.ArgumentParser) -> None:
         default=4,
         help="summit rule: higher than 4 (paper) or 8 neighbours",
     )
+
+
+def _form_order(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer 0..8, got {text!r}") from None
+    if not 0 <= value <= 8:
+        raise argparse.ArgumentTypeError(f"expected an integer 0..8, got {text!r}")
+    return value
 
 
 def _positive_int(text: str) -> int:

@@ -176,7 +176,7 @@ def require_height_map(surface: object, what: str) -> HeightMap:
 
     Raises
     ------
-    ValueError
+    InputError
         For a :class:`LineProfile` (a 1D profile cannot give areal summit statistics).
     TypeError
         For anything else.

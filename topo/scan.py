@@ -76,6 +76,9 @@ class ResolutionScan:
         Number of strides used by the fits.
     neighbours : int
         Summit rule (4 or 8).
+    nominal_area : ndarray or None
+        Per stride, the valid area (m^2) over which the summits are counted (eta = N /
+        nominal_area; see :func:`asperity.topo.summit_statistics`).
     """
 
     stride: np.ndarray
@@ -92,6 +95,7 @@ class ResolutionScan:
     height_rms_relative_spread: float
     n_fitted: int
     neighbours: int = 4
+    nominal_area: np.ndarray | None = None
 
     def fits(self) -> dict:
         """The fitted parameters as a dict of Python numbers."""
@@ -102,6 +106,8 @@ class ResolutionScan:
         data = {name: getattr(self, name).tolist() for name in ARRAY_FIELDS}
         data.update(self.fits())
         data["neighbours"] = self.neighbours
+        if self.nominal_area is not None:
+            data["nominal_area"] = self.nominal_area.tolist()
         return data
 
 
@@ -131,14 +137,16 @@ def resolution_scan(
     Returns
     -------
     ResolutionScan
-        Per stride: resolution (m), N, eta (1/m^2), R (m), sigma_s (m); the fits
+        Per stride: resolution (m), N, eta (1/m^2, over the valid area of the decimated
+        grid: missing pixels and their neighbours are left out of N and of the area alike),
+        R (m), sigma_s (m); the fits
         ``R = radius_slope * resolution + radius_intercept`` (Fig 12a),
         ``eta = density_prefactor * resolution**density_exponent`` (Fig 12b) and the mean
         and relative spread of sigma_s (Fig 12c).
 
     Raises
     ------
-    ValueError
+    InputError
         A LineProfile, or ``max_stride`` that leaves fewer than 3 points per axis.
     """
     surface = require_height_map(surface, "resolution_scan")
@@ -157,7 +165,8 @@ def resolution_scan(
     density = np.array([r.asperity_density for r in rows])
     radius = np.array([r.summit_radius for r in rows])
     height_rms = np.array([r.summit_height_rms for r in rows])
-    use = n_summits >= min_summits
+    counted_area = np.array([r.nominal_area for r in rows])
+    use = (n_summits >= min_summits) & np.isfinite(density)
     n_fit = int(use.sum())
     slope = intercept = exponent = prefactor = math.nan
     if n_fit >= 2:
@@ -181,6 +190,7 @@ def resolution_scan(
         height_rms_relative_spread=spread,
         n_fitted=n_fit,
         neighbours=int(neighbours),
+        nominal_area=counted_area,
     )
 
 
@@ -216,6 +226,8 @@ def write_scan_hdf5(scan: ResolutionScan, path: str | Path, *, source: dict | No
         for name in ARRAY_FIELDS:
             dataset = handle.create_dataset(name, data=getattr(scan, name))
             dataset.attrs["units"] = units[name]
+        if scan.nominal_area is not None:
+            handle.create_dataset("nominal_area", data=scan.nominal_area).attrs["units"] = "m^2"
         for name, value in scan.fits().items():
             handle.attrs[name] = np.nan if value is None else value
         handle.attrs["neighbours"] = scan.neighbours

@@ -3,9 +3,13 @@
 A summit is a valid pixel strictly higher than its 4 nearest neighbours (``neighbours=4``,
 the paper's rule) or its 8 neighbours (``neighbours=8``). Pixels next to a missing (NaN)
 pixel cannot be summits, nor can edge pixels of a non-periodic map (they lack neighbours);
-a periodic map wraps around. From the N summits of a map of nominal area A_n (m^2):
+a periodic map wraps around. From the N summits of a map:
 
-* asperity density ``eta = N / A_n`` (1/m^2);
+* asperity density ``eta = N / A_n`` (1/m^2) over the *valid* area: ``A_n = n_c dx dy``,
+  where ``n_c`` counts the pixels that could host a summit (valid, with all 4, or 8, compared
+  neighbours present and valid). Holes (missing pixels) and the pixels around them, and the
+  edge rows and columns of a non-periodic map, are left out of the count and of the area
+  alike, so that eta of a map with holes estimates the eta of the complete map;
 * rms summit height ``sigma_s = sqrt(<(z - <z>)^2>)`` over the summits, about the mean
   summit height (m);
 * mean summit radius ``R = 1/2 <|z_xx|^-1 + |z_yy|^-1>`` (m), with the central differences
@@ -93,6 +97,33 @@ def _summit_moments(h, dx, dy, periodic, eight):
 
 
 @numba.njit(cache=True)
+def _count_candidates(h, periodic, eight):
+    """Pixels that could host a summit: valid, with every compared neighbour present and valid.
+
+    Edge pixels of a non-periodic map lack a neighbour; a periodic map wraps around. With
+    ``eight`` the diagonal neighbours must be valid too.
+    """
+    nx, ny = h.shape
+    if nx < 3 or ny < 3:
+        return 0
+    i_start, i_stop = (0, nx) if periodic else (1, nx - 1)
+    j_start, j_stop = (0, ny) if periodic else (1, ny - 1)
+    count = 0
+    for i in range(i_start, i_stop):
+        im = i - 1 if i > 0 else nx - 1
+        ip = i + 1 if i < nx - 1 else 0
+        for j in range(j_start, j_stop):
+            jm = j - 1 if j > 0 else ny - 1
+            jp = j + 1 if j < ny - 1 else 0
+            if np.isnan(h[i, j] + h[im, j] + h[ip, j] + h[i, jm] + h[i, jp]):
+                continue
+            if eight and np.isnan(h[im, jm] + h[im, jp] + h[ip, jm] + h[ip, jp]):
+                continue
+            count += 1
+    return count
+
+
+@numba.njit(cache=True)
 def _summit_mask(h, periodic, eight):
     nx, ny = h.shape
     mask = np.zeros((nx, ny), dtype=np.bool_)
@@ -159,13 +190,18 @@ class SummitStatistics:
     dx, dy : float
         Pixel sizes of the analysed (decimated) grid (m).
     nominal_area : float
-        ``A_n`` of the analysed grid, ``nx*dx*ny*dy`` (m^2).
+        ``A_n`` over which the summits are counted, ``n_candidates*dx*dy`` (m^2): the area of
+        the pixels that could host a summit (the valid-area rule of the module docstring).
     stride : int
         Decimation applied before the analysis.
     neighbours : int
         4 or 8.
     mean_summit_height : float
         Mean summit height (m), relative to the map's height datum.
+    n_candidates : int
+        Pixels that could host a summit (valid, with every compared neighbour valid).
+    grid_area : float
+        Area of the whole analysed grid, ``nx*dx*ny*dy`` (m^2), holes included.
     """
 
     n_summits: int
@@ -178,6 +214,13 @@ class SummitStatistics:
     stride: int
     neighbours: int = 4
     mean_summit_height: float = float("nan")
+    n_candidates: int = 0
+    grid_area: float = float("nan")
+
+    @property
+    def valid_fraction(self) -> float:
+        """``nominal_area / grid_area``: the fraction of the grid that could host a summit."""
+        return self.nominal_area / self.grid_area
 
     def as_dict(self) -> dict:
         """The statistics as a plain dict of Python numbers."""
@@ -202,18 +245,24 @@ def summit_statistics(
     Returns
     -------
     SummitStatistics
-        ``eta`` in 1/m^2, ``R`` and ``sigma_s`` in m (NaN when there is no summit).
+        ``eta`` in 1/m^2, ``R`` and ``sigma_s`` in m (NaN when there is no summit; eta NaN
+        when no pixel could host one). ``eta = N / A_n`` with ``A_n`` the valid area: the
+        area ``n_c dx dy`` of the ``n_c`` pixels that could host a summit (valid, with all
+        compared neighbours present and valid; the edge pixels of a non-periodic map never
+        can). Missing pixels therefore lower N and A_n together: on a map with holes eta
+        estimates the hole-free eta instead of being diluted by the holes' area.
 
     Raises
     ------
-    ValueError
+    InputError
         A LineProfile; an analysed grid smaller than 3 x 3 pixels (e.g. a stride larger
         than a third of the map) or without any valid pixel; ``neighbours`` not 4 or 8.
 
     Notes
     -----
     Appendix A of the paper: N summits by the 4-nearest-neighbour rule over the sampling
-    area ``A_n`` give ``eta = N/A_n`` (652.1 mm^-2 for the paper's map at 2 um),
+    area ``A_n`` (complete 5001 x 5001 map: our valid-area rule counts 4999^2 pixels, 0.08 %
+    less than the whole map) give ``eta = N/A_n`` (652.1 mm^-2 for the paper's map at 2 um),
     ``sigma_s = sqrt(<z^2>)`` about the mean summit height (0.032 mm) and
     ``R = 1/2 <|z_xx|^-1 + |z_yy|^-1>`` by central differences (0.041 mm).
     """
@@ -224,7 +273,8 @@ def summit_statistics(
     count, mean, m2, radius_sum = _summit_moments(
         grid.heights, grid.dx, grid.dy, grid.periodic, eight
     )
-    area = grid.nominal_area
+    candidates = int(_count_candidates(grid.heights, grid.periodic, eight))
+    area = candidates * grid.dx * grid.dy
     if count == 0:
         _check_not_all_missing(surface, grid, stride)
         radius = rms = mean_height = float("nan")
@@ -234,7 +284,7 @@ def summit_statistics(
         mean_height = mean
     return SummitStatistics(
         n_summits=int(count),
-        asperity_density=count / area,
+        asperity_density=count / area if candidates else float("nan"),
         summit_radius=float(radius),
         summit_height_rms=float(rms),
         dx=grid.dx,
@@ -243,6 +293,8 @@ def summit_statistics(
         stride=int(stride),
         neighbours=int(neighbours),
         mean_summit_height=float(mean_height),
+        n_candidates=candidates,
+        grid_area=grid.nominal_area,
     )
 
 

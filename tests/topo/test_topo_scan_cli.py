@@ -88,7 +88,8 @@ def test_stats_json_contract(capsys, tmp_path, surface):
     status, out, _ = run_cli(capsys, "stats", path, "--json", "--stride", "3", "--detrend", "mean")
     assert status == 0
     record = json.loads(out)
-    assert tuple(record) == STATS_KEYS
+    assert tuple(record)[: len(STATS_KEYS)] == STATS_KEYS  # documented keys first, in order
+    assert {"nominal_area", "grid_area", "preparation"} <= set(record)
     stats = topo.summit_statistics(topo.level(surface, "mean"), stride=3)
     assert record["nx"] == 134 and record["dx"] == pytest.approx(30e-6)
     assert record["n_summits"] == stats.n_summits
@@ -161,3 +162,44 @@ def test_resolution_scan_figure_units_follow_the_data(surface):
     factor = {"\u00b5m": 1e6, "mm": 1e3}[r_unit]
     np.testing.assert_allclose(ax_r.lines[0].get_ydata(), scan.summit_radius * factor)
     assert layout_problems(fig) == []
+
+
+def stats_json(capsys, *args):
+    status, out, err = run_cli(capsys, "stats", *args, "--json")
+    assert status == 0, err
+    return json.loads(out), err
+
+
+def test_stats_preparation_options_on_real_files(capsys):
+    metropro = DATA / "metropro-1.dat"
+    record, _ = stats_json(capsys, metropro)
+    preparation = record["preparation"]
+    assert preparation["levelling"] == "plane" and preparation["missing_policy"] == "keep"
+    assert 1 <= preparation["n_outliers"] <= 20 and record["n_missing"] == preparation["n_outliers"]
+    untouched, _ = stats_json(capsys, metropro, "--outliers", "none")
+    assert untouched["preparation"]["n_outliers"] == 0 and untouched["n_missing"] == 0
+    by_name, err = stats_json(capsys, metropro, "--detrend", "quadratic")
+    by_order, _ = stats_json(capsys, metropro, "--form-order", "2")
+    assert by_name == by_order and by_name["preparation"]["form_order"] == 2
+    assert "warning: the removed form (quadratic" in err
+    cropped, _ = stats_json(capsys, metropro, "--crop", "100:400,:300", "--missing", "interpolate")
+    assert (cropped["nx"], cropped["ny"], cropped["n_missing"]) == (300, 300, 0)
+    assert cropped["preparation"]["crop"] == [100, 400, 0, 300]
+    status, _, err = run_cli(capsys, "stats", DATA / "opd-1.opd", "--missing", "refuse")
+    assert status == 2 and "opd-1.opd" in err and "'refuse'" in err
+    for bad in (["--outliers", "mad:x"], ["--crop", "0:9999,:"], ["--crop-m", "a:b,:"]):
+        status, _, err = run_cli(capsys, "stats", metropro, *bad)
+        assert status == 2 and ("--outliers" in err or "crop" in err)
+    with pytest.raises(SystemExit):
+        run_cli(capsys, "stats", metropro, "--detrend", "mean", "--form-order", "2")
+
+
+def test_scan_json_carries_the_preparation_and_the_valid_area(capsys):
+    status, out, _ = run_cli(
+        capsys, "scan", DATA / "sur-3.sur", "--max-stride", 3, "--json", "--figure", ""
+    )
+    data = json.loads(out)
+    assert status == 0 and data["preparation"]["missing_fraction"] > 0.88
+    assert any("missing" in w for w in data["preparation"]["warnings"])
+    density = np.array(data["n_summits"]) / np.array(data["nominal_area"])
+    np.testing.assert_allclose(data["asperity_density"], density)

@@ -162,6 +162,23 @@ def test_line_profile_refused():
         topo.summit_statistics(topo.LineProfile(np.arange(10.0), 1e-6))
 
 
+def candidate_pixels(h: np.ndarray, periodic: bool, neighbours: int) -> np.ndarray:
+    """Pixels that could host a summit, by np.roll: valid with every neighbour valid."""
+    valid = ~np.isnan(h)
+    shifts = [(1, 0), (-1, 0), (1, 1), (-1, 1)]
+    ok = valid.copy()
+    for shift, axis in shifts:
+        ok &= np.roll(valid, shift, axis)
+    if neighbours == 8:
+        for sx in (1, -1):
+            for sy in (1, -1):
+                ok &= np.roll(valid, (sx, sy), (0, 1))
+    if not periodic:
+        ok[[0, -1], :] = False
+        ok[:, [0, -1]] = False
+    return ok
+
+
 @pytest.mark.parametrize("periodic", [False, True])
 @pytest.mark.parametrize("neighbours", [4, 8])
 def test_statistics_match_a_direct_numpy_evaluation(periodic, neighbours):
@@ -177,7 +194,11 @@ def test_statistics_match_a_direct_numpy_evaluation(periodic, neighbours):
     zyy = (h[i, (j + 1) % ny] - 2 * z + h[i, (j - 1) % ny]) / dy**2
     stats = topo.summit_statistics(surface, neighbours=neighbours)
     assert stats.n_summits == z.size > 50
-    assert stats.asperity_density == pytest.approx(z.size / (nx * dx * ny * dy), rel=1e-14)
+    candidates = candidate_pixels(h, periodic, neighbours)
+    assert stats.n_candidates == candidates.sum() < nx * ny
+    assert stats.nominal_area == pytest.approx(candidates.sum() * dx * dy, rel=1e-14)
+    assert stats.grid_area == pytest.approx(nx * dx * ny * dy, rel=1e-14)
+    assert stats.asperity_density == pytest.approx(z.size / (candidates.sum() * dx * dy))
     assert stats.summit_height_rms == pytest.approx(np.std(z), rel=1e-10)
     assert stats.summit_radius == pytest.approx(
         np.mean(0.5 * (1 / np.abs(zxx) + 1 / np.abs(zyy))), rel=1e-12
