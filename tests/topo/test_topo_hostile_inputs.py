@@ -146,7 +146,9 @@ def test_all_nan_two_by_two_and_oversized_stride_are_refused():
     surface = topo.HeightMap(np.random.default_rng(0).normal(size=(30, 30)), 1e-6, 1e-6)
     with pytest.raises(ValueError, match="stride 11 leaves 3 x 3|stride 16 leaves 2 x 2"):
         topo.summit_statistics(surface, stride=16)
-    assert topo.summit_statistics(surface, stride=10).nominal_area == pytest.approx(9e-10)
+    # eta is counted per area that can host a summit: the 1 interior pixel of the 3 x 3 map
+    # left by stride 10 (a summit needs its 4 neighbours), 10 um x 10 um
+    assert topo.summit_statistics(surface, stride=10).nominal_area == pytest.approx(1e-10)
 
 
 def test_cli_hostile_inputs_exit_2_with_a_clear_message(capsys, tmp_path):
@@ -166,8 +168,8 @@ def test_cli_hostile_inputs_exit_2_with_a_clear_message(capsys, tmp_path):
         (("stats", empty), "is empty"),
         (("stats", zeros), "match no supported format"),
         (("stats", wrong), "mislabelled"),
-        (("stats", nan_map, "--pixel-size", "1e-6", "--detrend", "none"), "every pixel"),
-        (("stats", nan_map, "--pixel-size", "1e-6"), "has 0 valid (non-NaN) pixels"),
+        (("stats", nan_map, "--pixel-size", "1e-6", "--detrend", "none"), "0 valid pixels"),
+        (("stats", nan_map, "--pixel-size", "1e-6"), "0 valid pixels; the form (plane)"),
         (("stats", tiny, "--pixel-size", "1e-6"), "3 x 3 pixels"),
         (("stats", noisy, "--pixel-size", "1e-6", "--stride", "50"), "3 x 3 pixels"),
         (("scan", noisy, "--pixel-size", "1e-6", "--max-stride", "50"), "max_stride 50"),
