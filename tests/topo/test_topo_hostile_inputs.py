@@ -146,7 +146,7 @@ def test_all_nan_two_by_two_and_oversized_stride_are_refused():
     surface = topo.HeightMap(np.random.default_rng(0).normal(size=(30, 30)), 1e-6, 1e-6)
     with pytest.raises(ValueError, match="stride 11 leaves 3 x 3|stride 16 leaves 2 x 2"):
         topo.summit_statistics(surface, stride=16)
-    assert topo.summit_statistics(surface, stride=10).nominal_area == pytest.approx(9e-10)
+    assert topo.summit_statistics(surface, stride=10).grid_area == pytest.approx(9e-10)
 
 
 def test_cli_hostile_inputs_exit_2_with_a_clear_message(capsys, tmp_path):
