@@ -103,11 +103,15 @@ class PolynomialForm:
         ``c[p, q]`` (m) of ``P_p(u) P_q(v)``; zero where ``p + q > n``.
     n_valid : int
         Valid pixels the fit used.
+    rank : int
+        Rank of the normal equations: below the number of terms the valid pixels do not
+        determine the form (e.g. all on one line) and the minimum-norm solution was taken.
     """
 
     order: int
     coefficients: np.ndarray
     n_valid: int
+    rank: int = -1
 
     def at(self, shape: tuple[int, int], i: np.ndarray, j: np.ndarray) -> np.ndarray:
         """The form (m) at pixels ``(i, j)`` of a map of ``shape`` (the grid it was fitted on)."""
@@ -150,11 +154,11 @@ def fit_polynomial(heights: np.ndarray, order: int) -> PolynomialForm:
     matrix = np.array([[full[p, q, r, s] for r, s in terms] for p, q in terms])
     rhs_full = pu.T @ rhs_rows
     rhs = np.array([rhs_full[p, q] for p, q in terms])
-    solution = np.linalg.lstsq(matrix, rhs, rcond=1e-12)[0]
+    solution, _, rank, _ = np.linalg.lstsq(matrix, rhs, rcond=1e-12)
     coefficients = np.zeros((order + 1, order + 1))
     for (p, q), value in zip(terms, solution, strict=True):
         coefficients[p, q] = value
-    return PolynomialForm(order, coefficients, n_valid)
+    return PolynomialForm(order, coefficients, n_valid, int(rank))
 
 
 @dataclass(frozen=True, eq=False)

@@ -1,7 +1,8 @@
 """Harmonic (Laplace) filling of missing pixels, exact on linear height fields.
 
 The least-squares plane of the valid pixels is removed first (the mean only, for a periodic
-map), the missing pixels of the remainder are the unknowns of the discrete Laplace equation
+map or when the valid pixels lie on one line and determine no plane), the missing pixels of the
+remainder are the unknowns of the discrete Laplace equation
 ``sum over neighbours n of w_n (h[n] - h[p]) = 0`` with ``w = 1/dx^2`` along axis 0 and
 ``1/dy^2`` along axis 1, the valid pixels being the Dirichlet data, and the plane is added
 back. Each hole is thus filled by the smoothest surface that meets its rim (a harmonic
@@ -110,6 +111,9 @@ def harmonic_fill(
     if missing.all():
         raise InputError("missing='interpolate': every pixel is missing; nothing to fill from")
     removal = subtract_polynomial(filled, 0 if periodic else 1)
+    order = removal.form.order
+    if removal.form.rank < (order + 1) * (order + 2) // 2:
+        removal = subtract_polynomial(filled, 0)  # valid pixels on a line: no plane to keep
     values = _solve_laplace(removal.heights, missing, periodic, dx, dy)
     pi, pj = np.nonzero(missing)
     filled[pi, pj] = values + removal.form.at(filled.shape, pi, pj)

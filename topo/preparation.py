@@ -207,12 +207,15 @@ def _applied_order(surface: HeightMap, order: int | None) -> tuple[int | None, s
 
 def _check_enough_pixels(surface: HeightMap, order: int | None) -> None:
     n_valid = surface.nx * surface.ny - surface.n_missing
+    source = surface.provenance.get("file", "the map")
     n_terms = 1 if order is None else (order + 1) * (order + 2) // 2
-    if n_valid < max(n_terms, 1):
-        raise InputError(
-            f"{surface.provenance.get('file', 'the map')}: {n_valid} valid pixels; the form "
-            f"({order_name(order)}) needs at least {n_terms}"
-        )
+    if n_valid >= n_terms:
+        return
+    every = "every pixel is missing (NaN): " if n_valid == 0 else ""
+    raise InputError(
+        f"{source} has {n_valid} valid (non-NaN) pixels; {every}the {order_name(order)} "
+        f"levelling needs at least {n_terms}"
+    )
 
 
 def _level(heights: np.ndarray, order: int | None) -> tuple[np.ndarray, float]:

@@ -149,6 +149,7 @@ def test_all_nan_two_by_two_and_oversized_stride_are_refused():
     # eta is counted per area that can host a summit: the 1 interior pixel of the 3 x 3 map
     # left by stride 10 (a summit needs its 4 neighbours), 10 um x 10 um
     assert topo.summit_statistics(surface, stride=10).nominal_area == pytest.approx(1e-10)
+    assert topo.summit_statistics(surface, stride=10).grid_area == pytest.approx(9e-10)
 
 
 def test_cli_hostile_inputs_exit_2_with_a_clear_message(capsys, tmp_path):

@@ -41,10 +41,13 @@ def test_harmonic_fill_is_exact_on_planes(shape, fraction, slope, seed):
     x, y = coordinates(*shape)
     plane = 2e-6 + slope[0] * x + slope[1] * y
     holes = np.random.default_rng(seed).random(shape) < fraction
-    holes.flat[seed % holes.size] = False  # at least one valid pixel
+    holes[0, 0] = holes[0, -1] = holes[-1, 0] = False  # the valid pixels determine the plane
     filled = topo.harmonic_fill(np.where(holes, np.nan, plane), 1e-6, 2.5e-6)
     scale = np.abs(plane).max()
     np.testing.assert_allclose(filled, plane, rtol=0, atol=1e-12 * scale)
+    line = np.full(shape, np.nan)
+    line[1, :2] = 3e-6  # two valid pixels determine no plane: the fill is their mean
+    np.testing.assert_allclose(topo.harmonic_fill(line, 1e-6, 1e-6), 3e-6, rtol=1e-12)
 
 
 def test_harmonic_fill_obeys_the_maximum_principle_and_keeps_valid_pixels():
