@@ -1,8 +1,10 @@
 """asperity: adhesive friction of rough elastic contacts.
 
-After Xu, Scheibert, Gadegaard and Mulvihill (2022), "An asperity-based statistical model for the
-adhesive friction of elastic nominally flat rough contact interfaces", J. Mech. Phys. Solids 164,
-104878, doi:10.1016/j.jmps.2022.104878. SI units throughout (m, Pa, N, J/m^2).
+After Y. Xu, J. Scheibert, N. Gadegaard and D. M. Mulvihill, "An asperity-based statistical model
+for the adhesive friction of elastic nominally flat rough contact interfaces", Journal of the
+Mechanics and Physics of Solids (2022); preprint arXiv:2207.12735 (doi:10.48550/arXiv.2207.12735).
+See docs/paper.md for the BibTeX entry and the equation labels. SI units throughout (m, Pa, N,
+J/m^2).
 
 The four sub-packages load on first use, so ``import asperity`` is cheap:
 
