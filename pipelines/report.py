@@ -435,6 +435,20 @@ def plot_shear(result: Any, path: Path, options: FigureOptions | None = None) ->
     return publish(*draw_shear(result), path, figure_options(result, options))
 
 
+def _model_at_measured(lam: Any, a_n: float, table: FigureTable, x_col: str, y_col: str) -> None:
+    """The fitted model at the measured points (data only: the curves show it)."""
+    model_at = getattr(lam, "model_real_area_at_measured", None)
+    if model_at is None:
+        return
+    for f in np.unique(lam.measured_normal_load):
+        mask = lam.measured_normal_load == f
+        table.add(
+            "all",
+            f"model at measured points F_z = {f:.6g} N",
+            {x_col: lam.measured_tangential_force[mask], y_col: model_at[mask] / a_n},
+        )
+
+
 def draw_area_vs_force(result: Any) -> tuple[Figure, FigureTable]:
     """Fig 13: A_r/A_n against F_x at each load, measured curves, and tau0 A_r."""
     fr = result.friction
@@ -460,6 +474,7 @@ def draw_area_vs_force(result: Any) -> tuple[Figure, FigureTable]:
         )
     if result.mode_mixity.curves:
         ax.plot([], [], "k-", lw=1, label="measured")
+    _model_at_measured(result.mode_mixity, a_n, table, x_col, y_col)
     line = np.linspace(0, np.nanmax(fr.tangential_force), 50)
     tau_line = line / max(fr.shear_strength, 1e-300) / a_n
     ax.plot(fu(line), tau_line, "k:", lw=1, label="$F_x = \\tau_0 A_r$ (constant shear strength)")

@@ -146,3 +146,48 @@ def test_html_report_shows_a_verdict_stage_generically(small_run, tmp_path):
     page = _parse(tmp_path / "report.html")
     assert page.verdict
     assert "Tabor parameter 12 > 5: JKR limit" in " ".join(page.text)
+
+
+def test_model_values_are_stored_beside_the_measured_points(tmp_path):
+    """Curves the model made at lambda = 0.1: at the fitted lambda the stored model values at
+    the measured points reproduce them, and they read back from results.h5 beside them."""
+    from asperity import statmodel
+    from asperity.pipelines.fitting import area_up_to_peak, interpolate_area
+    from asperity.pipelines.friction_stage import (
+        ModeMixityChoice,
+        calibrate_mode_mixity,
+        model_shear_area,
+    )
+    from asperity.pipelines.measured import ShearAreaCurve
+    from asperity.pipelines.store import ResultStore
+
+    material = statmodel.Material(
+        e_star=2.133e6, work_of_adhesion=0.04, mode_mixity=0.03, shear_strength=0.13e6
+    )
+    roughness = statmodel.Roughness(6e6, 0.3e-3, 40e-6)
+    a_n, curves = 700e-6, []
+    for f in (1.0, 3.0):
+        fx, ar = area_up_to_peak(
+            *model_shear_area(
+                0.1,
+                f,
+                material=material,
+                roughness=roughness,
+                nominal_area=a_n,
+                max_tangential_displacement=None,
+                steps=81,
+                knobs={},
+            )
+        )
+        picks = np.linspace(0, 0.9 * fx[-1], 8)
+        curves.append(ShearAreaCurve(f, picks, interpolate_area(fx, ar, picks)))
+    choice = calibrate_mode_mixity(material, roughness, a_n, curves, steps=81)
+    np.testing.assert_allclose(
+        choice.model_real_area_at_measured, choice.measured_real_area, rtol=1e-3
+    )
+    store = ResultStore(tmp_path / "results.h5")
+    store.write("mode_mixity", choice, key="k", key_inputs="{}", seconds=0.0, root_attrs={})
+    back = store.read("mode_mixity", ModeMixityChoice)
+    np.testing.assert_array_equal(
+        back.model_real_area_at_measured, choice.model_real_area_at_measured
+    )
