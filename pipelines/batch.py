@@ -223,15 +223,12 @@ def run_batch(
         for m, f in zip(maps, folders, strict=True)
     ]
     with make_executor(workers, scheduler=scheduler) as executor:
-        futures = [executor.submit(run_one_map, *a) for a in args]
-        records = []
-        for a, future in zip(args, futures, strict=True):
-            try:
-                record = future.result()
-            except Exception as exc:  # noqa: BLE001 (a worker lost: the map failed)
-                record = {"map": a[3], "folder": a[4], "status": "failed", "message": str(exc)}
-            log(f"{record['map']}: {record['status']}" + _reason(record))
-            records.append(record)
+        futures = []
+        for a in args:
+            future = executor.submit(run_one_map, *a)
+            future.add_done_callback(lambda done, a=a: log(_log_line(done, a[3])))
+            futures.append(future)
+        records = [_record(future, a) for a, future in zip(args, futures, strict=True)]
     from asperity.pipelines.batch_summary import write_summary_csv, write_summary_figure
 
     csv_path = write_summary_csv(records, out_dir / "summary.csv")
@@ -240,5 +237,16 @@ def run_batch(
     return BatchResult(records, csv_path, figure, failed)
 
 
-def _reason(record: dict[str, Any]) -> str:
-    return f" ({record['message']})" if record.get("message") else ""
+def _record(future: Any, args: tuple) -> dict[str, Any]:
+    """A map's record; a lost worker (the task itself raised) is a failed map."""
+    try:
+        return future.result()
+    except Exception as exc:  # noqa: BLE001 (a worker lost: the map failed)
+        return {"map": args[3], "folder": args[4], "status": "failed", "message": str(exc)}
+
+
+def _log_line(future: Any, map_path: str) -> str:
+    """One line as a map finishes (completion order)."""
+    record = _record(future, (None, None, None, map_path, ""))
+    reason = f" ({record['message']})" if record.get("message") else ""
+    return f"{map_path}: {record['status']}{reason}"
