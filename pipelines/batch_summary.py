@@ -11,11 +11,14 @@ from __future__ import annotations
 
 import csv
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from asperity.plotting import display_unit, new_figure, save_figure
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 #: Columns before the numbers.
 LEAD_COLUMNS = ("map", "folder", "status", "message")
@@ -104,9 +107,14 @@ def _per_load_panel(ax: Any, records: list[dict[str, Any]], prefix: str, base: s
 
 
 def write_summary_figure(records: list[dict[str, Any]], path: Path) -> Path | None:
-    """The summary figure (None when no map finished)."""
+    """Write the summary figure (None when no map finished)."""
     if not any("values" in r for r in records):
         return None
+    return save_figure(draw_summary_figure(records), path)
+
+
+def draw_summary_figure(records: list[dict[str, Any]]) -> Figure:
+    """Every summary quantity against the map (top) and against F_z per map (bottom)."""
     fig = new_figure(12, 7)
     axes = fig.subplots(2, 4)
     scalars = [
@@ -130,4 +138,4 @@ def write_summary_figure(records: list[dict[str, Any]], path: Path) -> Path | No
         f"{len(names)} maps (numbered as in summary.csv): mean (line) +- std (band)",
         fontsize=10,
     )
-    return save_figure(fig, path)
+    return fig

@@ -84,3 +84,37 @@ def test_map_patterns_are_checked_before_any_run(small, tmp_path):
     assert main(["batch", str(job), str(folder / "*.x3p"), "--out", str(tmp_path / "o")]) == 2
     assert main(["batch", str(job), str(folder / "missing.npy")]) == 2
     assert not (tmp_path / "o").exists()
+
+
+def _record(name, radius, fraction):
+    values = {
+        "effective resolution (m)": 40e-6,
+        "asperity density eta (1/m^2)": 8e6,
+        "summit radius R (m)": radius,
+        "rms summit height sigma_s (m)": 45e-6,
+        "mode mixity lambda (1)": 0.03,
+    }
+    for load in (1.0, 3.0):
+        values[f"A_r/A_n at F_z={load:.6g} N (1)"] = fraction * load
+        values[f"static friction at F_z={load:.6g} N (N)"] = 0.4 * load
+        values[f"sliding friction at F_z={load:.6g} N (N)"] = 0.3 * load
+    values["verdict"] = ""
+    return {"map": name, "folder": name, "status": "ok", "message": "", "values": values}
+
+
+def test_summary_rows_and_figure_layout(tmp_path):
+    """mean and std rows over the finished maps only; a clean summary figure."""
+    from asperity.pipelines.batch_summary import draw_summary_figure, write_summary_csv
+    from asperity.plotting import layout_problems
+
+    records = [
+        _record("a.x3p", 100e-6, 0.004),
+        {"map": "bad.x3p", "folder": "bad", "status": "failed", "message": "bad input: no"},
+        _record("b.x3p", 140e-6, 0.006),
+    ]
+    rows = _summary(write_summary_csv(records, tmp_path / "summary.csv"))
+    assert [r["map"] for r in rows] == ["a.x3p", "bad.x3p", "b.x3p", "mean", "std"]
+    assert rows[1]["summit radius R (m)"] == "" and rows[1]["message"] == "bad input: no"
+    assert float(rows[3]["summit radius R (m)"]) == pytest.approx(120e-6)
+    assert float(rows[4]["summit radius R (m)"]) == pytest.approx(np.std([100e-6, 140e-6], ddof=1))
+    assert layout_problems(draw_summary_figure(records)) == []
