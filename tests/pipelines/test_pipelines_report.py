@@ -160,3 +160,28 @@ def test_psd_stage_recovers_the_hurst_exponent_and_rolloff():
     # a coarser cut-off removes short-wavelength slopes: more contact at the same load
     assert np.all(psd.persson_real_area_effective > psd.persson_real_area)
     assert math.isfinite(psd.psd_fit_prefactor)
+
+
+def test_lambda_fit_figure_is_not_clipped():
+    """The lambda-fit figure (only drawn with measured curves) keeps its labels on the page."""
+    from asperity.pipelines.friction_stage import ModeMixityChoice
+    from asperity.pipelines.report import draw_lambda_fit
+
+    grid = np.geomspace(1e-3, 1.0, 9)
+    choice = ModeMixityChoice(
+        mode_mixity=0.1,
+        fitted=True,
+        lambda_grid=grid,
+        grid_residual_rms=0.01 + np.abs(np.log10(grid / 0.1)),
+        mode_mixity_std=0.01,
+        residual_rms=0.01,
+        n_points=50,
+        nfev=12,
+        success=True,
+        message="ok",
+    )
+    fig, table = draw_lambda_fit(SimpleNamespace(mode_mixity=choice))
+    assert layout_problems(fig) == []
+    np.testing.assert_array_equal(
+        table.series("fit", "coarse scan", "mode mixity lambda (1)"), grid
+    )
