@@ -115,6 +115,7 @@ def summary_values(result: Any) -> dict[str, Any]:
         values[f"static friction {at} (N)"] = float(fr.static_friction[i])
         values[f"sliding friction {at} (N)"] = float(fr.sliding_friction[i])
     values["verdict"] = _verdict_text(result)
+    values["validity"] = "; ".join(res.validity) or "within the model's assumptions"
     return values
 
 

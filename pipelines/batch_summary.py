@@ -15,17 +15,22 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from asperity.pipelines.report import log_axis, spans_decades
 from asperity.plotting import display_unit, new_figure, save_figure
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
+
+#: Text columns among the values (no mean or std).
+TEXT_COLUMNS = ("verdict", "validity")
 
 #: Columns before the numbers.
 LEAD_COLUMNS = ("map", "folder", "status", "message")
 
 
 def numeric_columns(records: list[dict[str, Any]]) -> list[str]:
-    """Every number column of the finished runs, in first-seen order ("verdict" is text)."""
+    """Every value column of the finished runs, in first-seen order (numbers, then the
+    :data:`TEXT_COLUMNS` where present)."""
     columns: dict[str, None] = {}
     for record in records:
         for name in record.get("values", {}):
@@ -44,7 +49,7 @@ def _statistics(records: list[dict[str, Any]], columns: list[str]) -> tuple[dict
     mean: dict[str, Any] = {"map": "mean"}
     spread: dict[str, Any] = {"map": "std"}
     for name in columns:
-        if name == "verdict":
+        if name in TEXT_COLUMNS:
             continue
         v = column_values(records, name)
         v = v[np.isfinite(v)]
@@ -86,7 +91,10 @@ def _panel(ax: Any, records: list[dict[str, Any]], name: str, base: str, power: 
         ax.axhline(m, color="k", lw=1)
         if good.size > 1:
             s = unit(good.std(ddof=1))
-            ax.axhspan(m - s, m + s, color="0.85", zorder=0)
+            low = m - s if m - s > 0 or not spans_decades(good) else unit(good.min()) / 2
+            ax.axhspan(low, m + s, color="0.85", zorder=0)
+    if spans_decades(good):
+        log_axis(ax, "y", unit(good))
     ax.set_xlabel("map")
     ax.set_ylabel(unit.label(name.rsplit(" (", 1)[0]), fontsize=8)
     ax.set_xticks(index)
@@ -101,6 +109,8 @@ def _per_load_panel(ax: Any, records: list[dict[str, Any]], prefix: str, base: s
     yu = display_unit(table, base) if base else None
     for row in table:
         ax.plot(fu(loads), row if yu is None else yu(row), "o-", lw=1, ms=3)
+    if spans_decades(table):
+        log_axis(ax, "y", table if yu is None else yu(table))
     label = prefix.strip()
     ax.set_xlabel(fu.label("normal load $F_z$"))
     ax.set_ylabel(yu.label(label) if yu is not None else label, fontsize=8)

@@ -76,7 +76,7 @@ def spans_decades(values: Any) -> bool:
     return v.size > 1 and bool(np.all(v > 0)) and v.max() >= LOG_SPAN * v.min()
 
 
-def _log_axis(ax: Any, which: str, values: Any = None) -> None:
+def log_axis(ax: Any, which: str, values: Any = None) -> None:
     """A log axis labelled at 1, 2, 5 x 10^k (1 x 10^k beyond 3 decades) in plain numbers;
     no minor tick labels (they overprint)."""
     getattr(ax, f"set_{which}scale")("log")
@@ -97,9 +97,9 @@ def _tick_text(value: float, _position: Any) -> str:
 def _auto_scale(ax: Any, x: Any, y: Any) -> None:
     """Log axes where the plotted data span decades."""
     if spans_decades(x):
-        _log_axis(ax, "x", x)
+        log_axis(ax, "x", x)
     if spans_decades(y):
-        _log_axis(ax, "y", y)
+        log_axis(ax, "y", y)
 
 
 def draw_surface(result: Any) -> tuple[Figure, FigureTable]:
@@ -183,8 +183,8 @@ def _draw_scan_panel(ax: Any, xu: DisplayUnit, result: Any, spec: dict[str, Any]
         ax.plot(xu(spec["fit_x"]), yu(spec["fit"]), "-", label=spec["fit_label"])
     _mark_resolution(ax, xu, result.resolution, scan, yu(values))
     if spec.get("log"):
-        _log_axis(ax, "x", xu(scan.resolution))
-        _log_axis(ax, "y", yu(values))
+        log_axis(ax, "x", xu(scan.resolution))
+        log_axis(ax, "y", yu(values))
     ax.set_xlabel(xu.label("resolution"))
     ax.set_ylabel(yu.label(spec["quantity"]))
     ax.set_title(spec["title"])
@@ -325,7 +325,7 @@ def draw_misfit(result: Any) -> tuple[Figure, FigureTable]:
     )
     ax.set_xlabel(xu.label("resolution"))
     ax.set_ylabel("rms of ln($A_{model}$ / $A_{reference}$)")
-    _log_axis(ax, "y", [m for _, m, _ in curves])
+    log_axis(ax, "y", [m for _, m, _ in curves])
     ax.legend(fontsize=8)
     return fig, table
 
