@@ -2,9 +2,9 @@
 
 The page holds the validity verdict (when the result has a verdict stage: read generically,
 field by field, so any verdict dataclass shows), the key numbers, the per-load table, the
-validity and convergence notes, the stage table and every figure, embedded as inline SVG
-(when SVG was written) or as a base64 PNG (otherwise; drawn in memory when only PDF was
-written). It needs no other file and no network: mail it, or open it from a notebook.
+validity and convergence notes, the stage table and every figure, embedded as a base64 PNG
+(when PNG was written), else as inline SVG, else (PDF only) as a PNG drawn in memory. It needs
+no other file and no network: mail it, or open it from a notebook.
 """
 
 from __future__ import annotations
@@ -82,13 +82,15 @@ def _png_bytes(result: Any, name: str) -> bytes:
 
 
 def figure_html(result: Any, name: str, path: Path, caption: str) -> str:
-    """One figure embedded (inline SVG, else base64 PNG) with its caption."""
-    svg, png = path.with_suffix(".svg"), path.with_suffix(".png")
-    if svg.exists():
-        text = svg.read_text(encoding="utf-8")
+    """One figure embedded with its caption: the PNG just written (base64), else the SVG
+    just written (inline), else (PDF only) a PNG drawn in memory. ``path`` is the file of
+    the first format written (PNG whenever PNG was requested), so a stale file of an earlier
+    run is never embedded."""
+    if path.suffix == ".svg":
+        text = path.read_text(encoding="utf-8")
         body = text[text.index("<svg") :]
     else:
-        data = png.read_bytes() if png.exists() else _png_bytes(result, name)
+        data = path.read_bytes() if path.suffix == ".png" else _png_bytes(result, name)
         encoded = base64.b64encode(data).decode("ascii")
         body = f'<img alt="{html.escape(caption)}" src="data:image/png;base64,{encoded}">'
     return (

@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 from asperity import topo
-from asperity.pipelines.figure_output import FigureOptions, read_figure_csv
+from asperity.errors import InputError
+from asperity.pipelines.figure_output import FigureOptions, publish, read_figure_csv
 from asperity.pipelines.psd_stage import psd_and_persson
 from asperity.pipelines.report import (
     FIGURES,
@@ -21,7 +22,6 @@ from asperity.pipelines.report import (
     draw_resolution,
     draw_surface,
     spans_decades,
-    write_figures,
 )
 from asperity.pipelines.surface_stage import LevelledSurface
 from asperity.plotting import layout_problems
@@ -76,19 +76,22 @@ def _png_size(path):
 
 
 def test_formats_and_dpi(small_run, tmp_path):
-    """Each figure in PNG, SVG and PDF; the PNG's pixels follow the dpi."""
+    """A figure in PNG, SVG and PDF with its CSV; the PNG's pixels follow the dpi."""
     _, _, result = small_run
-    written = write_figures(result, tmp_path, FigureOptions(("png", "svg", "pdf"), dpi=60))
-    for name, path in written.items():
+    options = FigureOptions(("png", "svg", "pdf"), dpi=60)
+    for name in ("friction_vs_load", "psd"):
         stem = tmp_path / FIGURES[name][0]
-        assert path == stem.with_suffix(".png")
+        fig, table = FIGURES[name][1](result)
+        assert publish(fig, table, stem.with_suffix(".png"), options) == stem.with_suffix(".png")
         assert stem.with_suffix(".pdf").read_bytes()[:5] == b"%PDF-"
         assert b"<svg" in stem.with_suffix(".svg").read_bytes()[:2000]
         assert stem.with_suffix(".csv").exists()
     width, height = _png_size(tmp_path / "friction_vs_load.png")
     assert (width, height) == (6 * 60, 4 * 60)
-    with pytest.raises(Exception, match="formats"):
+    with pytest.raises(InputError, match="formats"):
         FigureOptions(("png", "tiff"))
+    with pytest.raises(InputError, match="dpi"):
+        FigureOptions(("png",), dpi=5)
 
 
 def _surface(heights, dx):

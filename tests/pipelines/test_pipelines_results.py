@@ -13,7 +13,7 @@ import asperity
 from asperity.errors import InputError
 from asperity.pipelines.cli import main
 from asperity.pipelines.fields import checksum
-from asperity.pipelines.html_report import find_verdict
+from asperity.pipelines.html_report import find_verdict, write_html
 from asperity.pipelines.job import STAGES
 from asperity.pipelines.report import FIGURES, key_numbers, load_table, write_report
 from asperity.pipelines.results import ATTRIBUTES
@@ -59,7 +59,7 @@ def test_open_results_refuses_what_is_not_a_run(tmp_path):
 
 
 def test_report_command_redraws_without_solving(small_run, tmp_path, monkeypatch, capsys):
-    """`asperity report OUT --formats png,pdf --dpi 80` from results.h5 alone: no solver."""
+    """`asperity report OUT --formats png --dpi 40` from results.h5 alone: no solver runs."""
     _, out, _ = small_run
     shutil.copy(out / "results.h5", tmp_path / "results.h5")
 
@@ -72,10 +72,10 @@ def test_report_command_redraws_without_solving(small_run, tmp_path, monkeypatch
     monkeypatch.setattr(bem, "solve_contact", refuse, raising=False)
     monkeypatch.setattr(statmodel, "shear_curve", refuse, raising=False)
     monkeypatch.setattr(job, "run_job", refuse)
-    assert main(["report", str(tmp_path), "--formats", "png,pdf", "--dpi", "80"]) == 0
+    assert main(["report", str(tmp_path), "--formats", "png", "--dpi", "40"]) == 0
     for stem, _, _ in FIGURES.values():
         if stem != "lambda_fit":
-            for suffix in (".png", ".pdf", ".csv"):
+            for suffix in (".png", ".csv"):
                 assert (tmp_path / stem).with_suffix(suffix).exists(), stem + suffix
     assert (tmp_path / "report.md").exists() and (tmp_path / "report.html").exists()
     assert main(["report", str(tmp_path), "--formats", "gif"]) == 2
@@ -142,7 +142,7 @@ def test_html_report_shows_a_verdict_stage_generically(small_run, tmp_path):
     with_verdict = dataclasses.replace(result, out_dir=tmp_path)
     with_verdict.verdict = verdict
     assert find_verdict(with_verdict) is verdict
-    write_report(with_verdict, tmp_path)
+    write_html(with_verdict, tmp_path, {}, {})
     page = _parse(tmp_path / "report.html")
     assert page.verdict
     assert "Tabor parameter 12 > 5: JKR limit" in " ".join(page.text)
@@ -191,3 +191,18 @@ def test_model_values_are_stored_beside_the_measured_points(tmp_path):
     np.testing.assert_array_equal(
         back.model_real_area_at_measured, choice.model_real_area_at_measured
     )
+
+
+@pytest.mark.slow
+def test_html_embeds_svg_or_a_drawn_png_without_png_files(small_run, tmp_path):
+    """SVG only: the figures are inline SVG; PDF only: PNGs drawn in memory (no stale files)."""
+    from asperity.pipelines.figure_output import FigureOptions
+
+    _, _, result = small_run
+    expected = len([n for n in FIGURES if n != "lambda_fit"])
+    write_report(result, tmp_path, FigureOptions(("svg",)))
+    page = _parse(tmp_path / "report.html")
+    assert (page.svgs, page.images) == (expected, 0)
+    write_report(result, tmp_path, FigureOptions(("pdf",)))
+    page = _parse(tmp_path / "report.html")
+    assert (page.svgs, page.images) == (0, expected)
