@@ -129,8 +129,9 @@ def draw_surface(result: Any) -> tuple[Figure, FigureTable]:
     )
     ax.set_xlabel(xu.label("x"))
     ax.set_ylabel(xu.label("y"))
-    pixel = display_unit(s.dx, "m")
-    ax.set_title(f"levelled surface, {s.nx} x {s.ny} px of {pixel(s.dx):.3g} {pixel.symbol}")
+    pixel = display_unit([s.dx, s.dy], "m")
+    size = f"{pixel(s.dx):.3g}" if s.dx == s.dy else f"{pixel(s.dx):.3g} x {pixel(s.dy):.3g}"
+    ax.set_title(f"levelled surface, {s.nx} x {s.ny} px of {size} {pixel.symbol}")
     ix, iy = np.meshgrid(np.arange(h.shape[0]) * step, np.arange(h.shape[1]) * step, indexing="ij")
     table = FigureTable()
     table.add(
