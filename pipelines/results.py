@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import asperity
 from asperity.errors import InputError
 
 #: Group name -> attribute of :class:`Results` (and of ``job.JobResult``) for the job's stages.
@@ -189,7 +190,11 @@ def open_results(path: str | Path) -> Results:
         try:
             value = store.read(stage.name, stage.result)
         except (StoredStageError, TypeError, ValueError, KeyError) as exc:
-            raise InputError(f"{path}: stage {stage.name!r} does not read back: {exc}") from exc
+            raise InputError(
+                f"{path}: stage {stage.name!r} does not read back ({exc}); the file was written "
+                f"by asperity {results.asperity_version or '?'}, this is {asperity.__version__}: "
+                "run `asperity run` with the same configuration to recompute it"
+            ) from exc
         if stage.name in ATTRIBUTES:
             setattr(results, ATTRIBUTES[stage.name], value)
         else:
