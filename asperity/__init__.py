@@ -12,6 +12,9 @@ The four sub-packages load on first use, so ``import asperity`` is cheap:
 - :mod:`asperity.bem`: FFT boundary elements, Polonsky-Keer and Pohrt-Popov (Appendix B);
 - :mod:`asperity.statmodel`: the single-asperity laws and the statistical model (Sections 2-4);
 - :mod:`asperity.pipelines`: the main job, from a measured map to a calibrated prediction.
+
+``asperity.open_results(path)`` reopens a run's ``results.h5`` as typed stage results
+(:mod:`asperity.pipelines.results`).
 """
 
 from __future__ import annotations
@@ -27,10 +30,17 @@ except PackageNotFoundError:  # a source tree that is not installed
 
 _SUBPACKAGES = ("topo", "bem", "statmodel", "pipelines")
 
-__all__ = ["__version__", *_SUBPACKAGES]
+#: Public functions by name -> the module that defines them (imported on first use).
+_EXPORTS: dict[str, str] = {"open_results": "asperity.pipelines.results"}
+
+__all__ = ["__version__", *_SUBPACKAGES, *_EXPORTS]
 
 
 def __getattr__(name: str) -> Any:
+    if name in _EXPORTS:
+        value = getattr(importlib.import_module(_EXPORTS[name]), name)
+        globals()[name] = value
+        return value
     if name not in _SUBPACKAGES:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
     module = importlib.import_module(f"{__name__}.{name}")

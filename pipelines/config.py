@@ -234,6 +234,18 @@ class RunConfig:
     workers: int = 1
 
 
+#: Figure formats ``[report] formats`` accepts (matplotlib writers without extra packages).
+FIGURE_FORMATS: tuple[str, ...] = ("png", "svg", "pdf")
+
+
+@dataclass(frozen=True)
+class ReportConfig:
+    """Figures: ``formats`` written (each figure in each), ``dpi`` of raster output (PNG)."""
+
+    formats: tuple[str, ...] = ("png",)
+    dpi: int = 150
+
+
 @dataclass(frozen=True)
 class JobConfig:
     """The whole resolved configuration of ``asperity run``."""
@@ -246,6 +258,7 @@ class JobConfig:
     measured: MeasuredConfig
     fit: FitConfig
     run: RunConfig
+    report: ReportConfig = ReportConfig()
     source: str = "<dict>"
 
     def sections(self) -> dict[str, Any]:
@@ -460,6 +473,22 @@ JOB_SCHEMA = Schema(
                     "workers",
                     Integer(1, 256, why="worker processes on this machine"),
                     RunConfig.workers,
+                ),
+            ),
+        ),
+        Section(
+            "report",
+            ReportConfig,
+            (
+                Key(
+                    "formats",
+                    ListOf(Choice(FIGURE_FORMATS), 1, len(FIGURE_FORMATS)),
+                    ReportConfig.formats,
+                ),
+                Key(
+                    "dpi",
+                    Integer(30, 2400, why="dots per inch of PNG figures"),
+                    ReportConfig.dpi,
                 ),
             ),
         ),

@@ -35,7 +35,7 @@ import numpy as np
 
 from asperity import statmodel
 from asperity.pipelines.fields import array, scalar, text
-from asperity.pipelines.fitting import LambdaFit, fit_mode_mixity
+from asperity.pipelines.fitting import LambdaFit, fit_mode_mixity, interpolate_area
 from asperity.pipelines.measured import ShearAreaCurve
 from asperity.pipelines.parallel import run_map
 from asperity.pipelines.resolution_stage import STATISTICAL_MODEL
@@ -313,6 +313,9 @@ class ModeMixityChoice:
         The optimiser reported success.
     message : str or None
         The optimiser's message.
+    model_real_area_at_measured : ndarray or None
+        The model's A_r (m^2) at each measured (F_z, F_x) point with the fitted lambda
+        (beside ``measured_real_area``).
     """
 
     mode_mixity: float = scalar("1", "mode mixity lambda used downstream")
@@ -339,6 +342,9 @@ class ModeMixityChoice:
     nfev: int | None = scalar("1", "model evaluations of the optimiser", optional=True)
     success: bool | None = scalar("1", "the optimiser reported success", optional=True)
     message: str | None = text("the optimiser's message", optional=True)
+    model_real_area_at_measured: np.ndarray | None = array(
+        "m^2", ("point",), "model A_r at the measured points, fitted lambda", optional=True
+    )
 
     @classmethod
     def from_fit(cls, fit: LambdaFit, curves: Sequence[ShearAreaCurve]) -> ModeMixityChoice:
@@ -437,10 +443,17 @@ def calibrate_mode_mixity(
         steps=max(steps, MIN_FIT_STEPS),
         knobs=dict(knobs or {}),
     )
-    fit = fit_mode_mixity(
-        list(curves), model, bounds=bounds, map_fn=map if executor is None else executor.map
+    map_fn = map if executor is None else executor.map
+    fit = fit_mode_mixity(list(curves), model, bounds=bounds, map_fn=map_fn)
+    choice = ModeMixityChoice.from_fit(fit, curves)
+    outputs = map_fn(model, [fit.mode_mixity] * len(curves), [c.normal_load for c in curves])
+    choice.model_real_area_at_measured = np.concatenate(
+        [
+            interpolate_area(fx, ar, c.tangential_force)
+            for c, (fx, ar) in zip(curves, outputs, strict=True)
+        ]
     )
-    return ModeMixityChoice.from_fit(fit, curves)
+    return choice
 
 
 @dataclass

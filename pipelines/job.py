@@ -1,4 +1,4 @@
-"""The whole job: six declared stages run in order, each stored in ``results.h5``.
+"""The whole job: seven declared stages run in order, each stored in ``results.h5``.
 
 The stages are declared in their modules (:class:`pipelines.stages.Stage`): what configuration
 keys and earlier stages each reads, and its typed result. A stage is skipped when
@@ -35,6 +35,7 @@ from asperity.pipelines.friction_stage import (
 )
 from asperity.pipelines.measured import read_measurements
 from asperity.pipelines.parallel import make_executor
+from asperity.pipelines.psd_stage import PSD, PsdResult
 from asperity.pipelines.resolution_stage import STATISTICAL_MODEL, ResolutionChoice
 from asperity.pipelines.stages import Runner, StageContext, StageRun
 from asperity.pipelines.store import ResultStore
@@ -47,7 +48,7 @@ from asperity.pipelines.surface_stage import (
 )
 
 #: The stages of the job, in order (each one's ``name`` is its group in results.h5).
-STAGES = (SURFACE, SCAN, BEM, STATISTICAL_MODEL, MODE_MIXITY, FRICTION)
+STAGES = (SURFACE, SCAN, BEM, STATISTICAL_MODEL, MODE_MIXITY, FRICTION, PSD)
 #: Their group names.
 STAGE_NAMES: tuple[str, ...] = tuple(stage.name for stage in STAGES)
 
@@ -70,6 +71,7 @@ class JobResult:
     stages: list[StageRun] = field(default_factory=list)
     total_seconds: float = 0.0
     input_sha256: str = ""
+    psd: PsdResult | None = None
 
     @property
     def results_path(self) -> Path:
@@ -123,7 +125,7 @@ def run_job(
     progress: bool = False,
     log: Callable[[str], None] | None = None,
 ) -> JobResult:
-    """Run (or resume) the six stages and write ``results.h5`` in ``out_dir``.
+    """Run (or resume) the seven stages and write ``results.h5`` in ``out_dir``.
 
     Parameters
     ----------
@@ -177,6 +179,7 @@ def run_job(
         stages=runner.runs,
         total_seconds=time.perf_counter() - t_job,
         input_sha256=input_hash,
+        psd=results[PSD.name],
     )
 
 

@@ -25,7 +25,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "run",
         help="the main job: surface -> resolution -> BEM -> statistical model -> lambda -> "
         "friction",
-        description="Run (or resume) the six stages and write results.h5, PNG figures and "
+        description="Run (or resume) the seven stages and write results.h5, the figures and "
         "report.md in --out. SI units throughout.",
     )
     parser.add_argument(
@@ -64,6 +64,15 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="dask.distributed scheduler address (needs the 'dask' extra)",
     )
     parser.set_defaults(func=handle_run)
+    register_companions(subparsers)
+
+
+def register_companions(subparsers: argparse._SubParsersAction) -> None:
+    """Add ``report`` (redraw from results.h5) and ``batch`` (many maps, one job)."""
+    from asperity.pipelines import batch_cli, report_cli
+
+    report_cli.register(subparsers)
+    batch_cli.register(subparsers)
 
 
 def handle_run(args: argparse.Namespace) -> int:

@@ -1,0 +1,151 @@
+"""The across-maps summary of a batch: ``summary.csv`` and ``summary.png``.
+
+``summary.csv``: one row per map (``map``, ``folder``, ``status``, ``message``, then the
+numbers of :func:`pipelines.batch.summary_values`, SI units in the headers), then a ``mean``
+and a ``std`` row (sample standard deviation, ddof = 1) over the maps whose run finished
+(status "ok" or "not converged"). ``summary.png``: each quantity against the map number,
+with the mean (line) and mean +- std (band).
+"""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from asperity.pipelines.report import log_axis, spans_decades
+from asperity.plotting import display_unit, new_figure, save_figure
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+#: Text columns among the values (no mean or std).
+TEXT_COLUMNS = ("verdict", "validity")
+
+#: Columns before the numbers.
+LEAD_COLUMNS = ("map", "folder", "status", "message")
+
+
+def numeric_columns(records: list[dict[str, Any]]) -> list[str]:
+    """Every value column of the finished runs, in first-seen order (numbers, then the
+    :data:`TEXT_COLUMNS` where present)."""
+    columns: dict[str, None] = {}
+    for record in records:
+        for name in record.get("values", {}):
+            columns.setdefault(name, None)
+    return list(columns)
+
+
+def column_values(records: list[dict[str, Any]], name: str) -> np.ndarray:
+    """One column over the finished runs (NaN where a run lacks it)."""
+    return np.array(
+        [float(r["values"].get(name, np.nan)) for r in records if "values" in r], dtype=float
+    )
+
+
+def _statistics(records: list[dict[str, Any]], columns: list[str]) -> tuple[dict, dict]:
+    mean: dict[str, Any] = {"map": "mean"}
+    spread: dict[str, Any] = {"map": "std"}
+    for name in columns:
+        if name in TEXT_COLUMNS:
+            continue
+        v = column_values(records, name)
+        v = v[np.isfinite(v)]
+        mean[name] = float(v.mean()) if v.size else np.nan
+        spread[name] = float(v.std(ddof=1)) if v.size > 1 else np.nan
+    finished = sum("values" in r for r in records)
+    mean["message"] = spread["message"] = f"over {finished} finished maps"
+    return mean, spread
+
+
+def _cell(value: Any) -> str:
+    if isinstance(value, float):
+        return "" if not np.isfinite(value) else repr(value)
+    return "" if value is None else str(value)
+
+
+def write_summary_csv(records: list[dict[str, Any]], path: Path) -> Path:
+    """One row per map, then the mean and std rows."""
+    columns = numeric_columns(records)
+    rows = [{**{k: r.get(k, "") for k in LEAD_COLUMNS}, **r.get("values", {})} for r in records]
+    rows += list(_statistics(records, columns))
+    with open(path, "w", newline="", encoding="utf-8") as handle:
+        writer = csv.writer(handle)
+        writer.writerow([*LEAD_COLUMNS, *columns])
+        for row in rows:
+            writer.writerow([_cell(row.get(name, "")) for name in (*LEAD_COLUMNS, *columns)])
+    return path
+
+
+def _panel(ax: Any, records: list[dict[str, Any]], name: str, base: str, power: int) -> None:
+    """One quantity against the map number: points, mean line, mean +- std band."""
+    values = column_values(records, name)
+    unit = display_unit(values, base, power)
+    index = np.arange(1, values.size + 1)
+    ax.plot(index, unit(values), "o")
+    good = values[np.isfinite(values)]
+    if good.size:
+        m = unit(good.mean())
+        ax.axhline(m, color="k", lw=1)
+        if good.size > 1:
+            s = unit(good.std(ddof=1))
+            low = m - s if m - s > 0 or not spans_decades(good) else unit(good.min()) / 2
+            ax.axhspan(low, m + s, color="0.85", zorder=0)
+    if spans_decades(good):
+        log_axis(ax, "y", unit(good))
+    ax.set_xlabel("map")
+    ax.set_ylabel(unit.label(name.rsplit(" (", 1)[0]), fontsize=8)
+    ax.set_xticks(index)
+
+
+def _per_load_panel(ax: Any, records: list[dict[str, Any]], prefix: str, base: str) -> None:
+    """A per-load quantity against F_z, one line per map."""
+    columns = [c for c in numeric_columns(records) if c.startswith(prefix)]
+    loads = np.array([float(c.split("F_z=")[1].split(" N")[0]) for c in columns])
+    table = np.array([column_values(records, c) for c in columns]).T  # (map, load)
+    fu = display_unit(loads, "N")
+    yu = display_unit(table, base) if base else None
+    for row in table:
+        ax.plot(fu(loads), row if yu is None else yu(row), "o-", lw=1, ms=3)
+    if spans_decades(table):
+        log_axis(ax, "y", table if yu is None else yu(table))
+    label = prefix.strip()
+    ax.set_xlabel(fu.label("normal load $F_z$"))
+    ax.set_ylabel(yu.label(label) if yu is not None else label, fontsize=8)
+
+
+def write_summary_figure(records: list[dict[str, Any]], path: Path) -> Path | None:
+    """Write the summary figure (None when no map finished)."""
+    if not any("values" in r for r in records):
+        return None
+    return save_figure(draw_summary_figure(records), path)
+
+
+def draw_summary_figure(records: list[dict[str, Any]]) -> Figure:
+    """Every summary quantity against the map (top) and against F_z per map (bottom)."""
+    fig = new_figure(12, 7)
+    axes = fig.subplots(2, 4)
+    scalars = [
+        ("effective resolution (m)", "m", 1),
+        ("summit radius R (m)", "m", 1),
+        ("asperity density eta (1/m^2)", "m", -2),
+        ("rms summit height sigma_s (m)", "m", 1),
+    ]
+    for ax, (name, base, power) in zip(axes[0], scalars, strict=True):
+        _panel(ax, records, name, base, power)
+    _per_load_panel(axes[1, 0], records, "A_r/A_n", "")
+    _per_load_panel(axes[1, 1], records, "static friction", "N")
+    _per_load_panel(axes[1, 2], records, "sliding friction", "N")
+    values = column_values(records, "mode mixity lambda (1)")
+    axes[1, 3].plot(np.arange(1, values.size + 1), values, "o")
+    axes[1, 3].set_xlabel("map")
+    axes[1, 3].set_ylabel("mode mixity $\\lambda$", fontsize=8)
+    axes[1, 3].set_xticks(np.arange(1, values.size + 1))
+    names = [Path(r["map"]).name for r in records if "values" in r]
+    fig.suptitle(
+        f"{len(names)} maps (numbered as in summary.csv): mean (line) +- std (band)",
+        fontsize=10,
+    )
+    return fig

@@ -1,0 +1,152 @@
+"""``report.html``: one self-contained page (figures embedded) beside ``report.md``.
+
+The page holds the validity verdict (when the result has a verdict stage: read generically,
+field by field, so any verdict dataclass shows), the key numbers, the per-load table, the
+validity and convergence notes, the stage table and every figure, embedded as a base64 PNG
+(when PNG was written), else as inline SVG, else (PDF only) as a PNG drawn in memory. It needs
+no other file and no network: mail it, or open it from a notebook.
+"""
+
+from __future__ import annotations
+
+import base64
+import dataclasses
+import html
+import io
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+#: Attribute names under which a result may hold a verdict stage's result.
+VERDICT_NAMES: tuple[str, ...] = ("verdict", "validity_verdict")
+
+
+def find_verdict(result: Any) -> Any | None:
+    """The verdict stage's result when the result holds one (any dataclass), else None."""
+    for name in VERDICT_NAMES:
+        value = getattr(result, name, None)
+        if value is not None and dataclasses.is_dataclass(value):
+            return value
+    for name, value in getattr(result, "extra", {}).items():
+        if "verdict" in name and dataclasses.is_dataclass(value):
+            return value
+    return None
+
+
+def _plain(value: Any) -> str | None:
+    """A verdict field as text; None for arrays and empty values (not shown)."""
+    if value is None or isinstance(value, np.ndarray):
+        return None
+    if isinstance(value, list | tuple):
+        return "; ".join(str(v) for v in value) if value else None
+    if isinstance(value, dict):
+        return json.dumps(value, default=str)
+    if isinstance(value, float):
+        return f"{value:.4g}"
+    return str(value)
+
+
+def verdict_html(verdict: Any) -> str:
+    """The verdict block: one row per non-array field, in declaration order."""
+    rows = []
+    for field in dataclasses.fields(verdict):
+        text = _plain(getattr(verdict, field.name))
+        if text is not None:
+            rows.append([field.name.replace("_", " "), text])
+    return (
+        '<section class="verdict"><h2>Validity verdict</h2>'
+        + table_html(["item", "value"], rows)
+        + "</section>"
+    )
+
+
+def table_html(header: list[str], rows: list[list[str]]) -> str:
+    """An HTML table of text cells (escaped)."""
+    head = "".join(f"<th>{html.escape(h)}</th>" for h in header)
+    body = "".join(
+        "<tr>" + "".join(f"<td>{html.escape(str(c))}</td>" for c in row) + "</tr>" for row in rows
+    )
+    return f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
+
+
+def _png_bytes(result: Any, name: str) -> bytes:
+    """Draw one figure into PNG bytes (when no PNG or SVG file was written)."""
+    from asperity.pipelines.report import FIGURES
+
+    fig, _ = FIGURES[name][1](result)
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", dpi=110)
+    return buffer.getvalue()
+
+
+def figure_html(result: Any, name: str, path: Path, caption: str) -> str:
+    """One figure embedded with its caption: the PNG just written (base64), else the SVG
+    just written (inline), else (PDF only) a PNG drawn in memory. ``path`` is the file of
+    the first format written (PNG whenever PNG was requested), so a stale file of an earlier
+    run is never embedded."""
+    if path.suffix == ".svg":
+        text = path.read_text(encoding="utf-8")
+        body = text[text.index("<svg") :]
+    else:
+        data = path.read_bytes() if path.suffix == ".png" else _png_bytes(result, name)
+        encoded = base64.b64encode(data).decode("ascii")
+        body = f'<img alt="{html.escape(caption)}" src="data:image/png;base64,{encoded}">'
+    return (
+        f'<figure id="fig-{name}" data-figure="{name}">{body}'
+        f"<figcaption>{html.escape(caption)} Data: {html.escape(path.stem)}.csv</figcaption>"
+        "</figure>"
+    )
+
+
+STYLE = (
+    "body{font-family:sans-serif;max-width:1100px;margin:2em auto;color:#222}"
+    "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px 8px;"
+    "text-align:left}th{background:#eee}figure{margin:2em 0}figure img,figure svg{max-width:"
+    "100%;height:auto}.verdict{border:2px solid #446;padding:0 1em;background:#f4f6ff}"
+    ".warning{color:#a40}"
+)
+
+
+def _notes(title: str, ok_text: str, notes: list[str]) -> str:
+    if not notes:
+        return f"<h2>{title}</h2><p>{html.escape(ok_text)}</p>"
+    items = "".join(f'<li class="warning">{html.escape(n)}</li>' for n in notes)
+    return f"<h2>{title}</h2><ul>{items}</ul>"
+
+
+def write_html(
+    result: Any, out_dir: Path, figures: dict[str, Path], captions: dict[str, str]
+) -> Path:
+    """Write ``report.html`` in ``out_dir``; ``figures`` as returned by ``write_figures``."""
+    from asperity.pipelines.report import key_numbers, load_table
+
+    status = {"stored": "stored (skipped)", "computed": "computed", "disabled": "disabled"}
+    stage_rows = [
+        [s.name, status.get(s.status, s.status), f"{s.seconds:.2f}"] for s in result.stages
+    ]
+    verdict = find_verdict(result)
+    parts = [
+        "<!DOCTYPE html><html><head><meta charset='utf-8'><title>asperity run report</title>",
+        f"<style>{STYLE}</style></head><body><h1>asperity run report</h1>",
+        verdict_html(verdict) if verdict is not None else "",
+        "<h2>Key numbers</h2>",
+        table_html(["quantity", "value"], [list(r) for r in key_numbers(result)]),
+        "<h2>Per normal load</h2>",
+        table_html(*load_table(result)),
+        _notes(
+            "Validity",
+            "The statistical model is within its assumptions.",
+            result.resolution.validity,
+        ),
+        _notes("Convergence", "All solvers converged.", result.problems()),
+        "<h2>Stages</h2>",
+        table_html(["stage", "status", "seconds"], stage_rows),
+        "<h2>Figures</h2>",
+        *(figure_html(result, n, p, captions.get(n, n)) for n, p in figures.items()),
+        "</body></html>",
+    ]
+    path = Path(out_dir) / "report.html"
+    path.write_text("\n".join(p for p in parts if p), encoding="utf-8")
+    return path

@@ -1,0 +1,120 @@
+"""Batch mode: many maps through one job, one folder each (resumable), one summary; a failing
+map is reported and does not stop the others; locally or on a dask LocalCluster."""
+
+from __future__ import annotations
+
+import csv
+
+import numpy as np
+import pytest
+
+from asperity import topo
+from asperity.pipelines.batch import expand_maps, run_batch
+from asperity.pipelines.cli import main
+from asperity.schema import dump_toml
+
+
+def _maps_and_job(small, tmp_path, n_maps=2):
+    """``n_maps`` 64 x 64 paper-like maps (.npy, heights in m) and the small job reading them."""
+    folder = tmp_path / "maps"
+    folder.mkdir()
+    for seed in range(n_maps):
+        surface = topo.synthetic.paper_like(n=64, pixel_size=40e-6, seed=seed + 3)
+        np.save(folder / f"map{seed}.npy", surface.heights)
+    data = small.data()
+    data["surface"] = {"pixel_size": 40e-6, "max_stride": 4, "detrend": "plane"}
+    data["loading"]["normal_loads"] = [1.0, 3.0]
+    job = tmp_path / "job.toml"
+    job.write_text(dump_toml(data), encoding="utf-8")
+    return job, folder
+
+
+def _summary(path):
+    with open(path, newline="", encoding="utf-8") as handle:
+        return list(csv.DictReader(handle))
+
+
+@pytest.mark.slow
+def test_batch_summary_failure_and_resume(small, tmp_path):
+    """Two good maps and a broken one: the good ones finish, the broken one is named with its
+    reason in summary.csv and the exit status; mean and std rows follow; a second run resumes
+    every stored stage."""
+    job, folder = _maps_and_job(small, tmp_path)
+    (folder / "map9.npy").write_bytes(b"not a numpy file")
+    out = tmp_path / "out"
+    status = main(["batch", str(job), str(folder / "*.npy"), "--out", str(out)])
+    assert status == 2  # a map failed
+    rows = _summary(out / "summary.csv")
+    assert [r["map"] for r in rows] == [str(folder / f"map{i}.npy") for i in (0, 1, 9)] + [
+        "mean",
+        "std",
+    ]
+    assert [r["status"] for r in rows[:3]] == ["ok", "ok", "failed"]
+    assert "map9.npy" in rows[2]["message"] or "npy" in rows[2]["message"].lower()
+    radius = np.array([float(r["summit radius R (m)"]) for r in rows[:2]])
+    assert float(rows[3]["summit radius R (m)"]) == pytest.approx(radius.mean())
+    assert float(rows[4]["summit radius R (m)"]) == pytest.approx(radius.std(ddof=1))
+    assert float(rows[0]["A_r/A_n at F_z=3 N (1)"]) > float(rows[0]["A_r/A_n at F_z=1 N (1)"])
+    assert (out / "summary.png").exists()
+    for i in (0, 1):
+        assert (out / f"map{i}" / "results.h5").exists() and (
+            out / f"map{i}" / "report.html"
+        ).exists()
+    again = run_batch(job, [str(folder / "map0.npy")], out)
+    assert again.records[0]["status"] == "ok" and again.records[0]["computed"] == []
+
+
+@pytest.mark.slow
+def test_batch_on_a_dask_local_cluster(small, tmp_path):
+    """One map per task on a LocalCluster with 2 workers gives the serial batch's numbers."""
+    distributed = pytest.importorskip("distributed")
+    job, folder = _maps_and_job(small, tmp_path)
+    serial = run_batch(job, [str(folder / "*.npy")], tmp_path / "serial")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True) as cluster:
+        with distributed.Client(cluster) as client:
+            remote = run_batch(job, [str(folder / "*.npy")], tmp_path / "dask", scheduler=client)
+    assert [r["status"] for r in remote.records] == ["ok", "ok"]
+    for a, b in zip(serial.records, remote.records, strict=True):
+        assert a["values"] == pytest.approx(b["values"])
+
+
+def test_map_patterns_are_checked_before_any_run(small, tmp_path):
+    job, folder = _maps_and_job(small, tmp_path, n_maps=1)
+    assert expand_maps([str(folder / "*.npy"), str(folder / "map0.npy")]) == [folder / "map0.npy"]
+    assert main(["batch", str(job), str(folder / "*.x3p"), "--out", str(tmp_path / "o")]) == 2
+    assert main(["batch", str(job), str(folder / "missing.npy")]) == 2
+    assert not (tmp_path / "o").exists()
+
+
+def _record(name, radius, fraction):
+    values = {
+        "effective resolution (m)": 40e-6,
+        "asperity density eta (1/m^2)": 8e6,
+        "summit radius R (m)": radius,
+        "rms summit height sigma_s (m)": 45e-6,
+        "mode mixity lambda (1)": 0.03,
+    }
+    for load in (1.0, 3.0):
+        values[f"A_r/A_n at F_z={load:.6g} N (1)"] = fraction * load
+        values[f"static friction at F_z={load:.6g} N (N)"] = 0.4 * load
+        values[f"sliding friction at F_z={load:.6g} N (N)"] = 0.3 * load
+    values["verdict"] = ""
+    return {"map": name, "folder": name, "status": "ok", "message": "", "values": values}
+
+
+def test_summary_rows_and_figure_layout(tmp_path):
+    """mean and std rows over the finished maps only; a clean summary figure."""
+    from asperity.pipelines.batch_summary import draw_summary_figure, write_summary_csv
+    from asperity.plotting import layout_problems
+
+    records = [
+        _record("a.x3p", 100e-6, 0.004),
+        {"map": "bad.x3p", "folder": "bad", "status": "failed", "message": "bad input: no"},
+        _record("b.x3p", 140e-6, 0.006),
+    ]
+    rows = _summary(write_summary_csv(records, tmp_path / "summary.csv"))
+    assert [r["map"] for r in rows] == ["a.x3p", "bad.x3p", "b.x3p", "mean", "std"]
+    assert rows[1]["summit radius R (m)"] == "" and rows[1]["message"] == "bad input: no"
+    assert float(rows[3]["summit radius R (m)"]) == pytest.approx(120e-6)
+    assert float(rows[4]["summit radius R (m)"]) == pytest.approx(np.std([100e-6, 140e-6], ddof=1))
+    assert layout_problems(draw_summary_figure(records)) == []

@@ -1,0 +1,208 @@
+"""Reopening a run: asperity.open_results, `asperity report` (no solver runs) and report.html."""
+
+from __future__ import annotations
+
+import dataclasses
+import shutil
+from html.parser import HTMLParser
+
+import numpy as np
+import pytest
+
+import asperity
+from asperity.errors import InputError
+from asperity.pipelines.cli import main
+from asperity.pipelines.fields import checksum
+from asperity.pipelines.html_report import find_verdict, write_html
+from asperity.pipelines.job import STAGES
+from asperity.pipelines.report import FIGURES, key_numbers, load_table, write_report
+from asperity.pipelines.results import ATTRIBUTES
+
+
+def test_open_results_gives_back_every_stage(small_run):
+    """Each stored stage reads back equal (same checksum) to what the job returned."""
+    _, out, result = small_run
+    run = asperity.open_results(out)
+    for stage in STAGES:
+        attribute = ATTRIBUTES[stage.name]
+        stored, computed = getattr(run, attribute), getattr(result, attribute)
+        assert checksum(stored) == checksum(computed), stage.name
+        assert getattr(run, stage.name) is stored  # also by group name
+    assert [s.name for s in run.stages] == [s.name for s in STAGES]
+    assert run.input_sha256 == result.input_sha256
+    assert run.problems() == result.problems()
+    assert "[material]" in run.config_toml
+
+
+def test_to_xarray_has_units_and_dims(small_run):
+    pytest.importorskip("xarray")
+    pytest.importorskip("h5netcdf")
+    _, out, result = small_run
+    datasets = asperity.open_results(out / "results.h5").to_xarray()
+    friction = datasets["friction"]
+    assert friction["static_friction"].attrs["units"] == "N"
+    assert friction["static_friction"].dims == ("normal_load",)
+    np.testing.assert_array_equal(friction["static_friction"], result.friction.static_friction)
+    tree = asperity.open_results(out).to_datatree()
+    assert set(tree.children) == set(datasets)
+
+
+def test_open_results_refuses_what_is_not_a_run(tmp_path):
+    """A missing file or a non-HDF5 file: InputError naming it, and the file left in place."""
+    with pytest.raises(InputError, match="not found"):
+        asperity.open_results(tmp_path)
+    bogus = tmp_path / "results.h5"
+    bogus.write_text("not hdf5")
+    with pytest.raises(InputError, match="not an HDF5 file"):
+        asperity.open_results(bogus)
+    assert bogus.read_text() == "not hdf5"
+
+
+def test_report_command_redraws_without_solving(small_run, tmp_path, monkeypatch, capsys):
+    """`asperity report OUT --formats png --dpi 40` from results.h5 alone: no solver runs."""
+    _, out, _ = small_run
+    shutil.copy(out / "results.h5", tmp_path / "results.h5")
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("a solver ran during `asperity report`")
+
+    from asperity import bem, statmodel
+    from asperity.pipelines import job
+
+    monkeypatch.setattr(bem, "solve_contact", refuse, raising=False)
+    monkeypatch.setattr(statmodel, "shear_curve", refuse, raising=False)
+    monkeypatch.setattr(job, "run_job", refuse)
+    assert main(["report", str(tmp_path), "--formats", "png", "--dpi", "40"]) == 0
+    for stem, _, _ in FIGURES.values():
+        if stem != "lambda_fit":
+            for suffix in (".png", ".csv"):
+                assert (tmp_path / stem).with_suffix(suffix).exists(), stem + suffix
+    assert (tmp_path / "report.md").exists() and (tmp_path / "report.html").exists()
+    assert main(["report", str(tmp_path), "--formats", "gif"]) == 2
+    assert "--formats: expected" in capsys.readouterr().err
+
+
+class _Page(HTMLParser):
+    """Collects figure ids, embedded images and the visible text of report.html."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.figures: list[str] = []
+        self.images = 0
+        self.svgs = 0
+        self.text: list[str] = []
+        self.verdict = False
+
+    def handle_starttag(self, tag, attrs):
+        attrs = dict(attrs)
+        if tag == "figure":
+            self.figures.append(attrs["data-figure"])
+        if tag == "img" and attrs.get("src", "").startswith("data:image/png;base64,"):
+            self.images += 1
+        if tag == "svg":
+            self.svgs += 1
+        if tag == "section" and attrs.get("class") == "verdict":
+            self.verdict = True
+
+    def handle_data(self, data):
+        self.text.append(data)
+
+
+def _parse(path) -> _Page:
+    page = _Page()
+    page.feed(path.read_text(encoding="utf-8"))
+    return page
+
+
+def test_html_report_holds_every_figure_and_number(small_run):
+    _, out, result = small_run
+    page = _parse(out / "report.html")
+    expected = [n for n in FIGURES if n != "lambda_fit"]
+    assert sorted(page.figures) == sorted(expected)
+    assert page.images + page.svgs == len(expected)
+    text = " ".join(page.text)
+    for quantity, value in key_numbers(result):
+        assert quantity in text and value in text, quantity
+    header, rows = load_table(result)
+    assert all(h in text for h in header) and all(c in text for row in rows for c in row)
+    assert all(stage.name in text for stage in STAGES)
+    assert not page.verdict  # no verdict stage in this job
+
+
+@dataclasses.dataclass
+class _Verdict:
+    verdict: str
+    reasons: list
+
+
+def test_html_report_shows_a_verdict_stage_generically(small_run, tmp_path):
+    """Any verdict dataclass on the result (before or after a verdict stage exists) is shown."""
+    _, _, result = small_run
+    verdict = _Verdict("invalid", ["Tabor parameter 12 > 5: JKR limit"])
+    with_verdict = dataclasses.replace(result, out_dir=tmp_path)
+    with_verdict.verdict = verdict
+    assert find_verdict(with_verdict) is verdict
+    write_html(with_verdict, tmp_path, {}, {})
+    page = _parse(tmp_path / "report.html")
+    assert page.verdict
+    assert "Tabor parameter 12 > 5: JKR limit" in " ".join(page.text)
+
+
+def test_model_values_are_stored_beside_the_measured_points(tmp_path):
+    """Curves the model made at lambda = 0.1: at the fitted lambda the stored model values at
+    the measured points reproduce them, and they read back from results.h5 beside them."""
+    from asperity import statmodel
+    from asperity.pipelines.fitting import area_up_to_peak, interpolate_area
+    from asperity.pipelines.friction_stage import (
+        ModeMixityChoice,
+        calibrate_mode_mixity,
+        model_shear_area,
+    )
+    from asperity.pipelines.measured import ShearAreaCurve
+    from asperity.pipelines.store import ResultStore
+
+    material = statmodel.Material(
+        e_star=2.133e6, work_of_adhesion=0.04, mode_mixity=0.03, shear_strength=0.13e6
+    )
+    roughness = statmodel.Roughness(6e6, 0.3e-3, 40e-6)
+    a_n, curves = 700e-6, []
+    for f in (1.0, 3.0):
+        fx, ar = area_up_to_peak(
+            *model_shear_area(
+                0.1,
+                f,
+                material=material,
+                roughness=roughness,
+                nominal_area=a_n,
+                max_tangential_displacement=None,
+                steps=81,
+                knobs={},
+            )
+        )
+        picks = np.linspace(0, 0.9 * fx[-1], 8)
+        curves.append(ShearAreaCurve(f, picks, interpolate_area(fx, ar, picks)))
+    choice = calibrate_mode_mixity(material, roughness, a_n, curves, steps=81)
+    np.testing.assert_allclose(
+        choice.model_real_area_at_measured, choice.measured_real_area, rtol=1e-3
+    )
+    store = ResultStore(tmp_path / "results.h5")
+    store.write("mode_mixity", choice, key="k", key_inputs="{}", seconds=0.0, root_attrs={})
+    back = store.read("mode_mixity", ModeMixityChoice)
+    np.testing.assert_array_equal(
+        back.model_real_area_at_measured, choice.model_real_area_at_measured
+    )
+
+
+@pytest.mark.slow
+def test_html_embeds_svg_or_a_drawn_png_without_png_files(small_run, tmp_path):
+    """SVG only: the figures are inline SVG; PDF only: PNGs drawn in memory (no stale files)."""
+    from asperity.pipelines.figure_output import FigureOptions
+
+    _, _, result = small_run
+    expected = len([n for n in FIGURES if n != "lambda_fit"])
+    write_report(result, tmp_path, FigureOptions(("svg",)))
+    page = _parse(tmp_path / "report.html")
+    assert (page.svgs, page.images) == (expected, 0)
+    write_report(result, tmp_path, FigureOptions(("pdf",)))
+    page = _parse(tmp_path / "report.html")
+    assert (page.svgs, page.images) == (0, expected)
