@@ -149,7 +149,9 @@ def run_job(
     """
     t_job = time.perf_counter()
     out_dir = Path(out_dir)
-    measured = read_measurements(config.measured)  # a malformed CSV fails before any work
+    measured = read_measurements(
+        config.measured, config.loading.nominal_area
+    )  # a malformed CSV fails before any work
     input_hash = input_sha256(config.surface)
     workers = config.run.workers if workers is None else workers
     out_dir.mkdir(parents=True, exist_ok=True)

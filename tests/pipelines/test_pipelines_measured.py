@@ -50,7 +50,7 @@ def test_one_curve_file_takes_load_from_config(tmp_path):
     ("text", "message"),
     [
         ("tangential_force,area\n0,1\n1,2\n", "missing column 'real_area'"),
-        ("tangential_force,real_area\n0,abc\n1,2\n", "row 2, column 'real_area'"),
+        ("tangential_force,real_area\n0,abc\n1,2\n", "line 2, column 'real_area'"),
         ("tangential_force,real_area\n0,nan\n1,2\n", "not finite"),
         ("tangential_force,real_area\n0,1\n", "fewer than two"),
         ("", "empty file"),
