@@ -45,9 +45,10 @@ from asperity.pipelines.surface_stage import (
     ScanResult,
     input_sha256,
 )
+from asperity.pipelines.verdict import VERDICT, Verdict
 
 #: The stages of the job, in order (each one's ``name`` is its group in results.h5).
-STAGES = (SURFACE, SCAN, BEM, STATISTICAL_MODEL, MODE_MIXITY, FRICTION)
+STAGES = (SURFACE, SCAN, BEM, STATISTICAL_MODEL, MODE_MIXITY, FRICTION, VERDICT)
 #: Their group names.
 STAGE_NAMES: tuple[str, ...] = tuple(stage.name for stage in STAGES)
 
@@ -56,7 +57,8 @@ STAGE_NAMES: tuple[str, ...] = tuple(stage.name for stage in STAGES)
 class JobResult:
     """Everything the job produced (the same data as results.h5).
 
-    ``bem`` is None when ``[bem] enabled = false``.
+    ``bem`` is None when ``[bem] enabled = false``. ``verdict`` (stage 7,
+    :mod:`pipelines.verdict`) says whether the report stands behind the numbers.
     """
 
     config: JobConfig
@@ -70,6 +72,7 @@ class JobResult:
     stages: list[StageRun] = field(default_factory=list)
     total_seconds: float = 0.0
     input_sha256: str = ""
+    verdict: Verdict | None = None
 
     @property
     def results_path(self) -> Path:
@@ -179,6 +182,7 @@ def run_job(
         stages=runner.runs,
         total_seconds=time.perf_counter() - t_job,
         input_sha256=input_hash,
+        verdict=results[VERDICT.name],
     )
 
 

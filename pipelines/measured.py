@@ -58,7 +58,7 @@ class ShearAreaCurve:
     normal_load : float
         F_z, N.
     tangential_force : ndarray
-        F_x, N.
+        F_x, N, in acquisition (file) order.
     real_area : ndarray
         A_r, m^2.
     source : str
@@ -261,7 +261,8 @@ def read_shear_area(
     Returns
     -------
     list of ShearAreaCurve
-        One per distinct normal load, points sorted by tangential force.
+        One per distinct normal load, points in the file's order (the acquisition order:
+        the fit finds the first static peak of F_x in it, before the stick-slip tail).
     """
     cols = read_columns(path, ("tangential_force", "real_area"), optional=("normal_load",))
     check_areas(path, cols, nominal_area)
@@ -278,8 +279,7 @@ def read_shear_area(
     for load in np.unique(loads):
         pick = loads == load
         fx, ar = cols["tangential_force"][pick], cols["real_area"][pick]
-        order = np.argsort(fx, kind="stable")
-        curves.append(ShearAreaCurve(float(load), fx[order], ar[order], str(path)))
+        curves.append(ShearAreaCurve(float(load), fx, ar, str(path)))
     return curves
 
 

@@ -11,6 +11,7 @@ Figures written in the output directory:
 * ``fig12d_misfit.png`` - stage 4: misfit of the statistical model against resolution.
 * ``bem_grid.png`` - stage 3: the grid refinement check and the contact mask.
 * ``lambda_fit.png`` - stage 5 (when measured curves are given): misfit against lambda.
+* ``lambda_residuals.png`` - stage 5: measured minus fitted A_r against F_x, one panel per load.
 * ``fig4_shear.png`` - stage 6: F_z, contact counts, A_r and F_x against delta_T with their
   stick and slip parts, at the heaviest load (Fig 4).
 * ``fig13_area_vs_force.png`` - stage 6: A_r/A_n against F_x at every load, the measured
@@ -28,6 +29,7 @@ import numpy as np
 from matplotlib import colormaps
 from matplotlib.figure import Figure
 
+from asperity.pipelines.verdict import mark, verdict_lines, verdict_markdown
 from asperity.statmodel.figures import draw_shear_curve
 
 DPI = 150
@@ -185,6 +187,24 @@ def plot_lambda_fit(result: Any, path: Path) -> Path:
     return _save(fig, path)
 
 
+def plot_lambda_residuals(result: Any, path: Path) -> Path:
+    """Stage 5: measured minus fitted A_r against F_x, one panel per load (fitted points)."""
+    lam = result.mode_mixity
+    loads = np.unique(lam.fitted_normal_load)
+    fig = Figure(figsize=(6, 2.2 * len(loads) + 0.6))
+    axes = np.atleast_1d(fig.subplots(len(loads), 1, sharex=False, squeeze=False)[:, 0])
+    for ax, load in zip(axes, loads, strict=True):
+        pick = lam.fitted_normal_load == load
+        fx = lam.fitted_tangential_force[pick]
+        measured, model = lam.fitted_real_area[pick], lam.fitted_model_area[pick]
+        ax.axhline(0.0, color="0.6", lw=0.8)
+        ax.plot(fx * 1e3, 100 * (measured - model) / np.max(measured), "o-", ms=3)
+        ax.set_ylabel("residual (% of max A_r)")
+        ax.set_title(f"$F_z$ = {load:.4g} N ({lam.fit_mode} fit)", fontsize=9)
+    axes[-1].set_xlabel("tangential force F_x (mN)")
+    return _save(fig, path)
+
+
 def plot_shear(result: Any, path: Path) -> Path:
     """Fig 4 at the heaviest load, drawn by the one Fig-4 plotter, statmodel.draw_shear_curve."""
     fr = result.friction
@@ -255,6 +275,10 @@ def write_figures(result: Any, out_dir: Path) -> dict[str, Path]:
         figures["bem_grid"] = plot_bem_grid(result, out_dir / "bem_grid.png")
     if result.mode_mixity.fit is not None:
         figures["lambda_fit"] = plot_lambda_fit(result, out_dir / "lambda_fit.png")
+    if getattr(result.mode_mixity, "fitted_model_area", None) is not None:
+        figures["lambda_residuals"] = plot_lambda_residuals(
+            result, out_dir / "lambda_residuals.png"
+        )
     return figures
 
 
@@ -301,7 +325,17 @@ def key_numbers(result: Any) -> list[tuple[str, str]]:
         ("statmodel quadrature", fr.quadrature_reason),
         ("shear curves converged", f"{int(np.sum(fr.converged))} / {fr.converged.size}"),
     ]
-    return rows
+    verdict = getattr(result, "verdict", None)
+    judged = (
+        "effective resolution",
+        "summit",
+        "asperity",
+        "rms summit",
+        "Tabor",
+        "misfit",
+        "mode mixity lambda (fitted)",
+    )
+    return [(k, mark(v, verdict) if k.startswith(judged) else v) for k, v in rows]
 
 
 def load_table(result: Any) -> tuple[list[str], list[list[str]]]:
@@ -332,7 +366,42 @@ def load_table(result: Any) -> tuple[list[str], list[list[str]]]:
                 f"{fr.sliding_displacement[i] * 1e6:.4g}",
             ]
         )
+    verdict = getattr(result, "verdict", None)
+    rows = [[*row[:3], *(mark(cell, verdict) for cell in row[3:])] for row in rows]
     return header, rows
+
+
+def surface_section(result: Any) -> list[str]:
+    """The report's "Surface" section: how the map was prepared, with its warnings."""
+    surface = result.surface
+    record = getattr(surface, "preparation", None) or {}
+    rows = [
+        ["grid", f"{surface.nx} x {surface.ny} px"],
+        ["pixel size dx, dy", f"{surface.dx * 1e6:.4g} um, {surface.dy * 1e6:.4g} um"],
+    ]
+    if record:
+        ratio = record.get("form_to_roughness")
+        rows += [
+            ["crop", str(record.get("crop") or "none")],
+            ["levelling (form removed)", str(record.get("levelling"))],
+            ["form-to-roughness rms ratio", "-" if ratio is None else f"{ratio:.3g}"],
+            [
+                "missing pixels",
+                f"{record['n_missing']} ({100 * record['missing_fraction']:.3g} %), policy "
+                f"{record['missing_policy']}; {record['n_filled']} filled",
+            ],
+            [
+                "outliers changed",
+                f"{record['n_outliers']} ({100 * record['outlier_fraction']:.3g} % of the valid "
+                f"pixels, {record['outlier_action']}): {record['outlier_rule']}",
+            ],
+            ["rms roughness after preparation", f"{record['roughness_rms'] * 1e6:.4g} um"],
+        ]
+    rows = [[key, value.replace("|", "\\|")] for key, value in rows]  # a pipe ends a cell
+    lines = ["## Surface", "", _md_table(["step", "value"], rows), ""]
+    warnings = record.get("warnings") or []
+    lines += [f"- **Warning:** {w}" for w in warnings]
+    return [*lines, ""] if warnings else lines
 
 
 def _md_table(header: list[str], rows: list[list[str]]) -> str:
@@ -349,9 +418,11 @@ def write_report(result: Any, out_dir: str | Path) -> Path:
     status = {"stored": "stored (skipped)", "computed": "computed", "disabled": "disabled"}
     stage_rows = [[s.name, status[s.status], f"{s.seconds:.2f}"] for s in result.stages]
     problems = result.problems()
+    verdict = getattr(result, "verdict", None)
     text = [
         "# asperity run report",
         "",
+        *([] if verdict is None else verdict_markdown(verdict)),
         f"Configuration: `{result.config.source}`; input SHA-256 `{result.input_sha256[:16]}...`;"
         " all data in `results.h5` (SI units).",
         "",
@@ -363,9 +434,12 @@ def write_report(result: Any, out_dir: str | Path) -> Path:
         "",
         _md_table(header, rows),
         "",
+        *surface_section(result),
         "## Validity",
         "",
-        "The statistical model is within its assumptions."
+        f"Verdict: **{verdict.verdict}** (reasons at the top)."
+        if verdict is not None
+        else "The statistical model is within its assumptions."
         if not result.resolution.validity
         else "\n".join(f"- **Warning:** {note}" for note in result.resolution.validity),
         "",
@@ -389,6 +463,8 @@ def write_report(result: Any, out_dir: str | Path) -> Path:
         "misfit": "Stage 4: misfit of the statistical model against resolution.",
         "bem_grid": "Stage 3: BEM grid refinement check and contact at the largest load.",
         "lambda_fit": "Stage 5: lambda fit.",
+        "lambda_residuals": "Stage 5: measured minus fitted A_r at each load (the points "
+        "fitted: trimmed after the first static peak, repeated points merged).",
         "shear": "Fig 4: shear response at the heaviest load, with stick and slip parts.",
         "area_vs_force": "Fig 13: A_r/A_n against F_x (dashed: model; dotted: constant shear "
         "strength).",
@@ -404,10 +480,10 @@ def write_report(result: Any, out_dir: str | Path) -> Path:
 def summary_text(result: Any) -> str:
     """The one-screen terminal summary."""
     lines = ["asperity run: summary", ""]
+    if getattr(result, "verdict", None) is not None:
+        lines += [*verdict_lines(result.verdict), ""]
     width = max(len(k) for k, _ in key_numbers(result))
     for key, value in key_numbers(result):
-        if len(value) > 90:
-            value = value[:87] + "..."
         lines.append(f"  {key:<{width}}  {value}")
     header, rows = load_table(result)
     widths = [max(len(h), *(len(r[j]) for r in rows)) for j, h in enumerate(header)]
@@ -422,8 +498,8 @@ def summary_text(result: Any) -> str:
         + (f"; stored stages skipped: {', '.join(cached)}" if cached else "")
         + f"; total {result.total_seconds:.1f} s",
     ]
-    for note in result.resolution.validity:
-        lines.append(f"  WARNING: {note}")
+    if getattr(result, "verdict", None) is None:
+        lines += [f"  WARNING: {note}" for note in result.resolution.validity]
     problems = result.problems()
     if problems:
         lines.append("  NOT CONVERGED:")

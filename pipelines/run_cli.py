@@ -6,7 +6,7 @@
 Without a configuration the embedded ``default`` preset runs (the paper-like synthetic surface
 on a reduced grid, about a minute). The configuration is validated before any heavy work; a
 bad key exits 2 naming it. Exit status 1 when a solver did not converge (everything is still
-written).
+written), else 3 when the validity verdict is "invalid" (:mod:`pipelines.verdict`).
 """
 
 from __future__ import annotations
@@ -67,7 +67,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def handle_run(args: argparse.Namespace) -> int:
-    """Run the job; 0 when every solver converged, 1 otherwise."""
+    """Run the job; 0 ok, 1 a solver did not converge, 3 the verdict is invalid."""
     if args.config is not None and args.preset is not None:
         raise InputError("give either CONFIG.toml or --preset, not both")
     if args.workers is not None and args.workers < 1:
@@ -97,4 +97,6 @@ def handle_run(args: argparse.Namespace) -> int:
     )
     write_report(result, args.out)
     print(summary_text(result))
-    return 0 if result.converged else 1
+    from asperity.pipelines.verdict import exit_status
+
+    return int(exit_status(result.converged, result.verdict))

@@ -41,7 +41,7 @@ def test_one_curve_file_takes_load_from_config(tmp_path):
     path.write_text("tangential_force,real_area\n0.2,1e-6\n0.0,2e-6\n")
     (curve,) = read_shear_area(path, normal_load=1.5)
     assert curve.normal_load == 1.5
-    np.testing.assert_array_equal(curve.tangential_force, [0.0, 0.2])
+    np.testing.assert_array_equal(curve.tangential_force, [0.2, 0.0])  # file order kept
     with pytest.raises(InputError, match="no 'normal_load' column"):
         read_shear_area(path)
 
