@@ -25,8 +25,9 @@ from pathlib import Path
 from typing import Any
 
 import asperity
+from asperity.errors import InputError
 from asperity.pipelines.bem_stage import BEM, BemReference
-from asperity.pipelines.config import JobConfig
+from asperity.pipelines.config import ConfigError, JobConfig
 from asperity.pipelines.friction_stage import (
     FRICTION,
     MODE_MIXITY,
@@ -168,7 +169,7 @@ def run_job(
             force=force,
             log=log or (lambda line: None),
         )
-        runner.run_all(STAGES)
+        run_stages(runner)
     results = runner.context.results
     return JobResult(
         config=config,
@@ -184,6 +185,25 @@ def run_job(
         input_sha256=input_hash,
         verdict=results[VERDICT.name],
     )
+
+
+def run_stages(runner: Runner) -> None:
+    """Run :data:`STAGES`; bad input met inside a stage names the stage and its config keys.
+
+    A stage's functions see solver arguments (a load scaled to the map, a pixel grid); an
+    :class:`InputError` about those is re-raised as a :class:`ConfigError` that says which
+    stage met it and which configuration keys feed that stage, so the user knows what to edit.
+    """
+    try:
+        runner.run_all(STAGES)
+    except ConfigError:
+        raise
+    except InputError as exc:
+        stage = STAGES[min(len(runner.runs), len(STAGES) - 1)]
+        keys = ", ".join(stage.config) or "none"
+        raise ConfigError(
+            f"stage {stage.title} (configuration keys it reads: {keys}): {exc}"
+        ) from exc
 
 
 def progress_enabled() -> bool:
