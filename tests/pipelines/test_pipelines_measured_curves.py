@@ -117,3 +117,22 @@ def test_mm2_values_under_an_si_header_are_refused(tmp_path, model):
     path.write_text("tangential_force (N);real_area [mm^2]\n" + rows.replace(",", ";"))
     (back,) = read_shear_area(path, 1.06, nominal_area=A_N)
     np.testing.assert_allclose(back.real_area, curve.real_area, rtol=1e-12)
+
+
+def test_fit_points_stored_and_residual_plot_per_load(tmp_path, model):
+    """The fitted (trimmed, merged) points and the model there survive the stage result, and
+    the report draws one residual panel per load."""
+    from types import SimpleNamespace
+
+    from asperity.pipelines.friction_stage import ModeMixityChoice
+    from asperity.pipelines.report import plot_lambda_residuals
+
+    curves = _measured(model, repeat=3)
+    fit = fit_mode_mixity(curves, model, bounds=(1e-3, 1.0), grid_points=7)
+    choice = ModeMixityChoice.from_fit(fit, curves)
+    assert choice.fit.at_bound is False and choice.fit.interval == fit.interval
+    assert sorted(np.unique(choice.fitted_normal_load)) == list(LOADS)
+    residual = choice.fitted_real_area - choice.fitted_model_area
+    assert np.sqrt(np.mean((residual / choice.fitted_real_area.max()) ** 2)) < 0.02
+    path = plot_lambda_residuals(SimpleNamespace(mode_mixity=choice), tmp_path / "res.png")
+    assert path.stat().st_size > 10_000

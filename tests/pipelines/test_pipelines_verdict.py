@@ -155,3 +155,19 @@ def test_x3p_map_with_pdms_material_is_invalid_with_status_3(tmp_path, capsys):
         cell.strip().startswith("invalid:") for r in rows for cell in r.split("|")[4:-1]
     )
     assert "0.1277 um, 0.3146 um" in report  # dx and dy both shown
+
+
+def test_bad_input_inside_a_stage_names_its_configuration_keys(small, tmp_path, monkeypatch):
+    """A solver argument refused deep in a stage comes back naming the stage and the keys
+    that feed it, not only the map-scaled argument."""
+    import asperity.pipelines.friction_stage as friction_module
+    from asperity.errors import InputError
+    from asperity.pipelines.config import ConfigError
+    from asperity.pipelines.job import run_job
+
+    def refuse(*args, **kwargs):
+        raise InputError("normal_load: expected > 0 N on the map, got -1.2e-06")
+
+    monkeypatch.setattr(friction_module, "friction_prediction", refuse)
+    with pytest.raises(ConfigError, match=r"6 friction prediction .*loading.*normal_load"):
+        run_job(small(tmp_path), tmp_path / "out")
