@@ -186,7 +186,8 @@ def check_resolution(misfit_curve: np.ndarray, index: int, basis: str) -> list[R
     Parameters
     ----------
     misfit_curve : ndarray
-        rms ln ratio per stride of the scan (NaN where the model has no value).
+        rms ln ratio per stride of the scan (NaN where the model has no value, inf where it
+        gives no area at a load where the reference has one).
     index : int
         Index of the effective resolution.
     basis : str
@@ -195,10 +196,10 @@ def check_resolution(misfit_curve: np.ndarray, index: int, basis: str) -> list[R
     curve = np.asarray(misfit_curve, dtype=float)
     misfit = float(curve[index])
     basis = {"bem": "BEM"}.get(basis, basis)
-    scored = np.flatnonzero(np.isfinite(curve))
+    scored = np.flatnonzero(~np.isnan(curve))  # inf: evaluated, and no area where needed
     n_strides = len(curve)
     reasons = []
-    at_edge = scored.size > 1 and index in (int(scored[0]), int(scored[-1]))
+    at_edge = scored.size > 0 and index in (int(scored[0]), int(scored[-1]))
     if not math.isfinite(misfit) or misfit > MAX_MISFIT:
         reasons.append(
             Reason(
@@ -220,6 +221,8 @@ def check_resolution(misfit_curve: np.ndarray, index: int, basis: str) -> list[R
         )
     if at_edge:
         end = "finest" if index == int(scored[0]) else "coarsest"
+        if scored.size == 1:
+            end = "only scored resolution"
         severity = "invalid" if not math.isfinite(misfit) or misfit > WARN_MISFIT else "warning"
         reasons.append(
             Reason(
@@ -231,7 +234,11 @@ def check_resolution(misfit_curve: np.ndarray, index: int, basis: str) -> list[R
                     f", and its misfit {misfit:.3g} > {WARN_MISFIT:g}: no resolution of the "
                     "scan fits"
                     if severity == "invalid"
-                    else "; a wider scan (surface.max_stride) may fit better"
+                    else (
+                        "; a finer measurement may fit better"
+                        if end == "finest"
+                        else "; a wider scan (surface.max_stride) may fit better"
+                    )
                 ),
             )
         )

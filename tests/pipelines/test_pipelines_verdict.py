@@ -47,6 +47,9 @@ def test_resolution_misfit_and_edge():
     # best at the coarsest scored stride (NaN beyond) with a large misfit: nothing fits
     codes = _codes(v.check_resolution(np.array([9.0, 6.0, 5.0, np.nan]), 2, "bem"))
     assert codes == {("misfit", "invalid"), ("resolution_at_edge", "invalid")}
+    # one scored stride (inf: no area where the reference has one), as on sur-3.sur
+    lonely = v.check_resolution(np.array([0.33, np.inf, np.nan, np.inf]), 0, "bem")
+    assert ("resolution_at_edge", "invalid") in _codes(lonely)
     assert _codes(v.check_resolution(np.array([0.5, 0.3, 0.6]), 1, "bem")) == {
         ("misfit", "warning")
     }
