@@ -165,6 +165,9 @@ class LevelledSurface:
     preparation : dict or None
         The :class:`topo.PreparationRecord` (crop, levelling, form-to-roughness ratio,
         missing fraction and policy, outliers changed, dx and dy, warnings), SI units.
+    filled : ndarray of bool or None
+        Pixels whose height the missing-pixel policy filled (measured holes and masked
+        outliers); the resolution scan leaves them out, so eta is per measured area.
     """
 
     x: np.ndarray = array("m", ("x",), "position along x")
@@ -177,6 +180,24 @@ class LevelledSurface:
     rms_height: float = scalar("m", "rms of the valid heights")
     provenance: dict[str, Any] = text("reader, file and levelling (JSON)")
     preparation: dict[str, Any] | None = text("surface preparation record (JSON)", optional=True)
+    filled: np.ndarray | None = array(
+        "1", ("x", "y"), "height filled by the missing-pixel policy, not measured", optional=True
+    )
+
+    @classmethod
+    def from_prepared(cls, prepared: topo.PreparedSurface) -> LevelledSurface:
+        """Wrap a :class:`topo.PreparedSurface`, keeping which pixels were filled."""
+        stored = cls.from_height_map(prepared.surface)
+        if prepared.filled_mask.any():
+            stored.filled = np.asarray(prepared.filled_mask, dtype=bool)
+        return stored
+
+    def measured_height_map(self) -> topo.HeightMap:
+        """The map with filled pixels missing again (NaN): what summit statistics count."""
+        surface = self.height_map()
+        if self.filled is None or not np.any(self.filled):
+            return surface
+        return surface.with_heights(np.where(self.filled, np.nan, self.heights))
 
     @classmethod
     def from_height_map(cls, surface: topo.HeightMap) -> LevelledSurface:
@@ -262,13 +283,14 @@ class ScanResult:
 
 
 def compute_surface(context: StageContext) -> LevelledSurface:
-    """Stage 1 of the job: :func:`read_and_level` on ``[surface]``."""
-    return LevelledSurface.from_height_map(read_and_level(context.config.surface))
+    """Stage 1 of the job: :func:`prepare` on ``[surface]``."""
+    return LevelledSurface.from_prepared(prepare(context.config.surface))
 
 
 def compute_scan(context: StageContext) -> ScanResult:
-    """Stage 2 of the job: :func:`scan_resolutions` up to ``surface.max_stride``."""
-    surface = context.result(SURFACE).height_map()
+    """Stage 2 of the job: :func:`scan_resolutions` up to ``surface.max_stride``, over the
+    measured pixels only (filled ones are missing again: eta per measured area)."""
+    surface = context.result(SURFACE).measured_height_map()
     return ScanResult.from_scan(scan_resolutions(surface, context.config.surface.max_stride))
 
 

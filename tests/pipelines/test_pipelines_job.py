@@ -115,7 +115,7 @@ def test_resume_after_interruption_skips_finished_stages(tmp_path, monkeypatch, 
     cfg = small(tmp_path)
     out = tmp_path / "out"
     calls = {"surface": 0, "bem": 0}
-    real_read, real_bem = surface_module.read_and_level, bem_module.bem_reference
+    real_read, real_bem = surface_module.prepare, bem_module.bem_reference
 
     def counting_read(*a, **k):
         calls["surface"] += 1
@@ -128,7 +128,7 @@ def test_resume_after_interruption_skips_finished_stages(tmp_path, monkeypatch, 
     def crash(*a, **k):
         raise KeyboardInterrupt("simulated interruption in stage 4")
 
-    monkeypatch.setattr(surface_module, "read_and_level", counting_read)
+    monkeypatch.setattr(surface_module, "prepare", counting_read)
     monkeypatch.setattr(bem_module, "bem_reference", counting_bem)
     monkeypatch.setattr(resolution_module, "statistical_model_scan", crash)
     with pytest.raises(KeyboardInterrupt):
@@ -138,7 +138,7 @@ def test_resume_after_interruption_skips_finished_stages(tmp_path, monkeypatch, 
     assert calls == {"surface": 1, "bem": 1}
 
     monkeypatch.undo()
-    monkeypatch.setattr(surface_module, "read_and_level", counting_read)
+    monkeypatch.setattr(surface_module, "prepare", counting_read)
     monkeypatch.setattr(bem_module, "bem_reference", counting_bem)
     result = run_job(cfg, out)
     assert calls == {"surface": 1, "bem": 1}  # not recomputed

@@ -60,3 +60,19 @@ def test_bad_surface_keys_refused_by_name(tmp_path):
         _surface("mi-1.mi", tmp_path, outliers="percentile", outlier_threshold=60.0)
     with pytest.raises(ConfigError, match=r"surface\.missing: expected one of"):
         _surface("mi-1.mi", tmp_path, missing="keep")
+
+
+def test_scan_counts_summits_over_measured_pixels_only(tmp_path):
+    """sur-3.sur is 89 % missing: the BEM gets the harmonic fill, but the resolution scan
+    sees the filled pixels as missing again, so eta is per measured area, several times the
+    value diluted over the smooth fill."""
+    from asperity import topo
+
+    stored = LevelledSurface.from_prepared(prepare(_surface("sur-3.sur", tmp_path).surface))
+    assert stored.filled is not None and stored.filled.mean() > 0.85
+    assert not np.isnan(stored.heights).any()  # complete for the BEM
+    measured = stored.measured_height_map()
+    assert np.isnan(measured.heights).mean() == pytest.approx(stored.filled.mean())
+    valid = topo.resolution_scan(measured, 2).asperity_density[0]
+    diluted = topo.resolution_scan(stored.height_map(), 2).asperity_density[0]
+    assert valid > 3 * diluted
