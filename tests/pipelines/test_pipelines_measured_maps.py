@@ -62,6 +62,7 @@ def test_bad_surface_keys_refused_by_name(tmp_path):
         _surface("mi-1.mi", tmp_path, missing="keep")
 
 
+@pytest.mark.slow
 def test_scan_counts_summits_over_measured_pixels_only(tmp_path):
     """sur-3.sur is 89 % missing: the BEM gets the harmonic fill, but the resolution scan
     sees the filled pixels as missing again, so eta is per measured area, several times the
