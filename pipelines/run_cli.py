@@ -25,7 +25,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "run",
         help="the main job: surface -> resolution -> BEM -> statistical model -> lambda -> "
         "friction",
-        description="Run (or resume) the six stages and write results.h5, PNG figures and "
+        description="Run (or resume) the seven stages and write results.h5, PNG figures and "
         "report.md in --out. SI units throughout.",
     )
     parser.add_argument(
