@@ -1,4 +1,4 @@
-"""The whole job: seven declared stages (the seventh, the validity verdict) run in order, each stored in ``results.h5``.
+"""The whole job: seven declared stages run in order, each stored in ``results.h5``.
 
 The stages are declared in their modules (:class:`pipelines.stages.Stage`): what configuration
 keys and earlier stages each reads, and its typed result. A stage is skipped when
