@@ -176,11 +176,12 @@ def plot_lambda_fit(result: Any, path: Path) -> Path:
         ls="--",
         label=f"fit {fit.mode_mixity:.3g} +/- {fit.mode_mixity_std:.2g}",
     )
-    ax.axvspan(
-        max(fit.mode_mixity - fit.mode_mixity_std, 1e-12),
-        fit.mode_mixity + fit.mode_mixity_std,
-        color="0.85",
-    )
+    if np.isfinite(fit.mode_mixity_std):  # an unbounded uncertainty has no band to draw
+        ax.axvspan(
+            max(fit.mode_mixity - fit.mode_mixity_std, 1e-12),
+            fit.mode_mixity + fit.mode_mixity_std,
+            color="0.85",
+        )
     ax.set_xlabel("mode mixity lambda")
     ax.set_ylabel("rms of (A_model - A_measured) / max A_measured")
     ax.legend()

@@ -136,3 +136,18 @@ def test_fit_points_stored_and_residual_plot_per_load(tmp_path, model):
     assert np.sqrt(np.mean((residual / choice.fitted_real_area.max()) ** 2)) < 0.02
     path = plot_lambda_residuals(SimpleNamespace(mode_mixity=choice), tmp_path / "res.png")
     assert path.stat().st_size > 10_000
+
+
+def test_lambda_plot_with_an_unbounded_uncertainty(tmp_path, model):
+    """An absolute fit of offset data ends at a bound with an infinite sigma: the report's
+    lambda plot still draws (no band), it does not crash the report."""
+    from types import SimpleNamespace
+
+    from asperity.pipelines.friction_stage import ModeMixityChoice
+    from asperity.pipelines.report import plot_lambda_fit
+
+    curves = _measured(model, tail=False)
+    fit = fit_mode_mixity(curves, model, bounds=(1e-4, 1.0), grid_points=5, mode="absolute")
+    assert fit.at_bound and not np.isfinite(fit.mode_mixity_std)
+    choice = ModeMixityChoice.from_fit(fit, curves)
+    assert plot_lambda_fit(SimpleNamespace(mode_mixity=choice), tmp_path / "l.png").exists()
