@@ -160,7 +160,9 @@ def first_peak_end(tangential_force: np.ndarray, drop: float = PEAK_DROP) -> int
     return int(np.argmax(fx[: fallen[0]])) + 1
 
 
-def merge_repeated(tangential_force: np.ndarray, real_area: np.ndarray) -> tuple:
+def merge_repeated(
+    tangential_force: np.ndarray, real_area: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Points of equal F_x (N) merged into one: F_x sorted, mean A_r (m^2)."""
     fx, inverse = np.unique(np.asarray(tangential_force, float), return_inverse=True)
     area = np.bincount(inverse, weights=np.asarray(real_area, float)) / np.bincount(inverse)
@@ -185,7 +187,13 @@ def _scale(model_area: np.ndarray, measured: np.ndarray, mode: str) -> float:
 class _Objective:
     """Residuals of the curves at a lambda; model curves cached per lambda."""
 
-    def __init__(self, curves, model, map_fn, mode):
+    def __init__(
+        self,
+        curves: Sequence[ShearAreaCurve],
+        model: ShearAreaModel,
+        map_fn: MapFunction,
+        mode: str,
+    ) -> None:
         self.curves, self.model, self.map_fn, self.mode = curves, model, map_fn, mode
         self.cache: dict[float, list[tuple[np.ndarray, np.ndarray]]] = {}
 
