@@ -59,6 +59,12 @@ PRESETS: tuple[str, ...] = ("default", "paper")
 
 DETREND_METHODS: tuple[str, ...] = ("none", "mean", "plane", "quadratic")
 SYNTHETIC_RECIPES: tuple[str, ...] = ("paper_like",)
+#: ``surface.missing``: what a contact solve can use (a complete map).
+MISSING_POLICIES: tuple[str, ...] = ("refuse", "fill-lowest", "interpolate")
+#: ``surface.outliers``.
+OUTLIER_RULES: tuple[str, ...] = ("mad", "percentile", "none")
+#: ``fit.mode`` (the first is the default).
+FIT_MODES: tuple[str, ...] = ("shape", "absolute")
 
 #: The material of the paper's Figs 5 and 13 (used for absent ``[material]`` keys).
 DEFAULT_MATERIAL = Material(
@@ -110,6 +116,21 @@ class SurfaceConfig:
         Levelling before any analysis: "none", "mean", "plane" or "quadratic".
     max_stride : int
         Resolution scan over strides 1..max_stride (the paper's decimation, Fig 12a-c).
+    crop : tuple of int or None
+        ``(x0, x1, y0, y1)``: pixel window kept (half-open, axis 0 then axis 1); None: all.
+    missing : str
+        Missing pixels (measured holes and masked outliers): "refuse", "fill-lowest" or
+        "interpolate" (harmonic fill). The BEM needs a complete map.
+    outliers : str
+        Outlier rule on the levelled heights: "mad" (|h - median| > k x 1.4826 MAD),
+        "percentile" (below the p-th or above the (100 - p)-th percentile) or "none".
+    outlier_threshold : float
+        k of the MAD rule or p (percent) of the percentile rule.
+    outlier_action : str
+        "mask" (the outliers become missing pixels) or "clip" (set to the rule's bounds).
+    form_order : int or None
+        Polynomial order of the form removed (0 mean, 1 plane, 2 quadratic, ... 8); None
+        uses ``detrend``.
     """
 
     file: Path | None = None
@@ -118,6 +139,12 @@ class SurfaceConfig:
     synthetic: SyntheticRecipe | None = None
     detrend: str = "plane"
     max_stride: int = 20
+    crop: tuple[int, int, int, int] | None = None
+    missing: str = "interpolate"
+    outliers: str = "mad"
+    outlier_threshold: float = 10.0
+    outlier_action: str = "mask"
+    form_order: int | None = None
 
 
 @dataclass(frozen=True)
@@ -222,9 +249,16 @@ class FitConfig:
     ----------
     mode_mixity_bounds : tuple of float
         Search interval for lambda.
+    mode : str
+        "shape" (default: A_r/A_r(F_x=0), the paper's shape of the area reduction; a measured
+        level offset does not bias lambda) or "absolute" (A_r itself).
+    trim_after_first_peak : bool
+        Cut each measured curve after its first static peak of F_x (the stick-slip tail).
     """
 
     mode_mixity_bounds: tuple[float, float] = (1e-4, 1.0)
+    mode: str = "shape"
+    trim_after_first_peak: bool = True
 
 
 @dataclass(frozen=True)
@@ -314,6 +348,23 @@ class ShearFiles(Kind):
         return [[c.normal_load, ExistingFile().document(c.file)] for c in value]
 
 
+@dataclass(frozen=True)
+class CropPixels(Kind):
+    """``surface.crop``: ``[x0, x1, y0, y1]``, half-open pixel ranges along axis 0 and 1."""
+
+    def convert(self, value: Any, context: Context) -> tuple[int, ...]:
+        pixels = ListOf(Integer(0, 10**7, why="a pixel index"), 4, 4).convert(value, context)
+        if not (pixels[0] < pixels[1] and pixels[2] < pixels[3]):
+            raise Invalid("[x0, x1, y0, y1] with x0 < x1 and y0 < y1 (pixels)", "", value)
+        return pixels
+
+    def plain(self, value: Any) -> Any:
+        return None if value is None else list(value)
+
+    def document(self, value: Any) -> Any:
+        return self.plain(value)
+
+
 #: One normal load, N.
 LOAD = Real("N", -1e6, 1e6, why="a laboratory or machine contact")
 #: A pixel size, m.
@@ -323,6 +374,20 @@ PIXEL = Real("m", 1e-10, 1e-2, why="from an atomic-resolution map to a 1 cm pixe
 def _one_surface_source(values: dict[str, Any]) -> None:
     if (values["file"] is None) == (values["synthetic"] is None):
         raise Invalid("exactly one of surface.file and a [surface.synthetic] recipe", "file")
+
+
+def _percentile_below_half(values: dict[str, Any]) -> None:
+    if values["outliers"] == "percentile" and not values["outlier_threshold"] < 50:
+        raise Invalid(
+            "a percentile p < 50 with outliers = 'percentile'",
+            "outlier_threshold",
+            values["outlier_threshold"],
+        )
+
+
+def _surface_checks(values: dict[str, Any]) -> None:
+    _one_surface_source(values)
+    _percentile_below_half(values)
 
 
 def _ordered_bounds(values: dict[str, Any]) -> None:
@@ -362,9 +427,29 @@ JOB_SCHEMA = Schema(
                     Integer(1, 1000, why="strides 1..max_stride of the resolution scan"),
                     SurfaceConfig.max_stride,
                 ),
+                Key(
+                    "crop",
+                    CropPixels(),
+                    None,
+                ),
+                Key("missing", Choice(MISSING_POLICIES), SurfaceConfig.missing),
+                Key("outliers", Choice(OUTLIER_RULES), SurfaceConfig.outliers),
+                Key(
+                    "outlier_threshold",
+                    Real(
+                        "",
+                        0,
+                        1000,
+                        open_low=True,
+                        why="k of the k x MAD rule, or a percentile p < 50",
+                    ),
+                    SurfaceConfig.outlier_threshold,
+                ),
+                Key("outlier_action", Choice(("mask", "clip")), SurfaceConfig.outlier_action),
+                Key("form_order", Integer(0, 8, why="polynomial order of the form"), None),
             ),
             required=True,
-            check=_one_surface_source,
+            check=_surface_checks,
         ),
         material_section(DEFAULT_MATERIAL),
         Section(
@@ -462,6 +547,8 @@ JOB_SCHEMA = Schema(
                     ListOf(Real("", 0, 1, open_low=True, why="lambda"), 2, 2),
                     FitConfig.mode_mixity_bounds,
                 ),
+                Key("mode", Choice(FIT_MODES), FitConfig.mode),
+                Key("trim_after_first_peak", Flag(), FitConfig.trim_after_first_peak),
             ),
             check=_ordered_bounds,
         ),

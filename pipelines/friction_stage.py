@@ -345,6 +345,23 @@ class ModeMixityChoice:
     model_real_area_at_measured: np.ndarray | None = array(
         "m^2", ("point",), "model A_r at the measured points, fitted lambda", optional=True
     )
+    fit_mode: str | None = text("shape (A_r/A_r(F_x=0)) or absolute", optional=True)
+    at_bound: bool | None = scalar("1", "lambda on a bound of the search interval", optional=True)
+    interval_low: float | None = scalar("1", "one-sigma profile interval, low end", optional=True)
+    interval_high: float | None = scalar("1", "one-sigma profile interval, high end", optional=True)
+    n_points_read: int | None = scalar("1", "measured points before trim/merge", optional=True)
+    fitted_normal_load: np.ndarray | None = array(
+        "N", ("fitted_point",), "normal load of the fitted points", optional=True
+    )
+    fitted_tangential_force: np.ndarray | None = array(
+        "N", ("fitted_point",), "F_x of the fitted (trimmed, merged) points", optional=True
+    )
+    fitted_real_area: np.ndarray | None = array(
+        "m^2", ("fitted_point",), "measured A_r of the fitted points", optional=True
+    )
+    fitted_model_area: np.ndarray | None = array(
+        "m^2", ("fitted_point",), "model A_r (times the curve's factor) there", optional=True
+    )
 
     @classmethod
     def from_fit(cls, fit: LambdaFit, curves: Sequence[ShearAreaCurve]) -> ModeMixityChoice:
@@ -365,6 +382,15 @@ class ModeMixityChoice:
             nfev=fit.nfev,
             success=fit.success,
             message=fit.message,
+            fit_mode=fit.mode,
+            at_bound=fit.at_bound,
+            interval_low=float(fit.interval[0]),
+            interval_high=float(fit.interval[1]),
+            n_points_read=fit.n_points_read,
+            fitted_normal_load=fit.points.get("normal_load"),
+            fitted_tangential_force=fit.points.get("tangential_force"),
+            fitted_real_area=fit.points.get("real_area"),
+            fitted_model_area=fit.points.get("model_area"),
         )
 
     @property
@@ -382,6 +408,21 @@ class ModeMixityChoice:
             self.success,
             self.message,
             self.nfev,
+            mode=self.fit_mode or "absolute",
+            at_bound=bool(self.at_bound),
+            interval=(
+                math.nan if self.interval_low is None else self.interval_low,
+                math.nan if self.interval_high is None else self.interval_high,
+            ),
+            n_points_read=self.n_points_read or self.n_points,
+            points={}
+            if self.fitted_model_area is None
+            else {
+                "normal_load": self.fitted_normal_load,
+                "tangential_force": self.fitted_tangential_force,
+                "real_area": self.fitted_real_area,
+                "model_area": self.fitted_model_area,
+            },
         )
 
     @property
@@ -412,6 +453,8 @@ def calibrate_mode_mixity(
     steps: int = 201,
     knobs: Mapping[str, Any] | None = None,
     executor: Executor | None = None,
+    mode: str = "shape",
+    trim: bool = True,
 ) -> ModeMixityChoice:
     """Stage 5: fit lambda to measured A_r(F_x) curves, or keep ``material.mode_mixity``.
 
@@ -431,6 +474,8 @@ def calibrate_mode_mixity(
         Shear path and quadrature of the model curves (at least :data:`MIN_FIT_STEPS` steps).
     executor : Executor, optional
         Evaluates the loads in parallel.
+    mode, trim
+        Fit mode and trimming of :func:`pipelines.fitting.fit_mode_mixity`.
     """
     if not curves:
         return ModeMixityChoice(mode_mixity=material.mode_mixity, fitted=False)
@@ -444,7 +489,7 @@ def calibrate_mode_mixity(
         knobs=dict(knobs or {}),
     )
     map_fn = map if executor is None else executor.map
-    fit = fit_mode_mixity(list(curves), model, bounds=bounds, map_fn=map_fn)
+    fit = fit_mode_mixity(list(curves), model, bounds=bounds, map_fn=map_fn, mode=mode, trim=trim)
     choice = ModeMixityChoice.from_fit(fit, curves)
     outputs = map_fn(model, [fit.mode_mixity] * len(curves), [c.normal_load for c in curves])
     choice.model_real_area_at_measured = np.concatenate(
@@ -637,6 +682,8 @@ def compute_mode_mixity(context: StageContext) -> ModeMixityChoice:
         max_tangential_displacement=config.loading.max_tangential_displacement,
         steps=config.loading.steps,
         executor=context.executor,
+        mode=config.fit.mode,
+        trim=config.fit.trim_after_first_peak,
     )
 
 

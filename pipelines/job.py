@@ -25,8 +25,9 @@ from pathlib import Path
 from typing import Any
 
 import asperity
+from asperity.errors import InputError
 from asperity.pipelines.bem_stage import BEM, BemReference
-from asperity.pipelines.config import JobConfig
+from asperity.pipelines.config import ConfigError, JobConfig
 from asperity.pipelines.friction_stage import (
     FRICTION,
     MODE_MIXITY,
@@ -46,9 +47,10 @@ from asperity.pipelines.surface_stage import (
     ScanResult,
     input_sha256,
 )
+from asperity.pipelines.verdict import VERDICT, Verdict
 
 #: The stages of the job, in order (each one's ``name`` is its group in results.h5).
-STAGES = (SURFACE, SCAN, BEM, STATISTICAL_MODEL, MODE_MIXITY, FRICTION, PSD)
+STAGES = (SURFACE, SCAN, BEM, STATISTICAL_MODEL, MODE_MIXITY, FRICTION, PSD, VERDICT)
 #: Their group names.
 STAGE_NAMES: tuple[str, ...] = tuple(stage.name for stage in STAGES)
 
@@ -57,7 +59,8 @@ STAGE_NAMES: tuple[str, ...] = tuple(stage.name for stage in STAGES)
 class JobResult:
     """Everything the job produced (the same data as results.h5).
 
-    ``bem`` is None when ``[bem] enabled = false``.
+    ``bem`` is None when ``[bem] enabled = false``. ``verdict`` (stage 7,
+    :mod:`pipelines.verdict`) says whether the report stands behind the numbers.
     """
 
     config: JobConfig
@@ -72,6 +75,7 @@ class JobResult:
     total_seconds: float = 0.0
     input_sha256: str = ""
     psd: PsdResult | None = None
+    verdict: Verdict | None = None
 
     @property
     def results_path(self) -> Path:
@@ -151,7 +155,9 @@ def run_job(
     """
     t_job = time.perf_counter()
     out_dir = Path(out_dir)
-    measured = read_measurements(config.measured)  # a malformed CSV fails before any work
+    measured = read_measurements(
+        config.measured, config.loading.nominal_area
+    )  # a malformed CSV fails before any work
     input_hash = input_sha256(config.surface)
     workers = config.run.workers if workers is None else workers
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -165,7 +171,7 @@ def run_job(
             force=force,
             log=log or (lambda line: None),
         )
-        runner.run_all(STAGES)
+        run_stages(runner)
     results = runner.context.results
     return JobResult(
         config=config,
@@ -180,7 +186,27 @@ def run_job(
         total_seconds=time.perf_counter() - t_job,
         input_sha256=input_hash,
         psd=results[PSD.name],
+        verdict=results[VERDICT.name],
     )
+
+
+def run_stages(runner: Runner) -> None:
+    """Run :data:`STAGES`; bad input met inside a stage names the stage and its config keys.
+
+    A stage's functions see solver arguments (a load scaled to the map, a pixel grid); an
+    :class:`InputError` about those is re-raised as a :class:`ConfigError` that says which
+    stage met it and which configuration keys feed that stage, so the user knows what to edit.
+    """
+    try:
+        runner.run_all(STAGES)
+    except ConfigError:
+        raise
+    except InputError as exc:
+        stage = STAGES[min(len(runner.runs), len(STAGES) - 1)]
+        keys = ", ".join(stage.config) or "none"
+        raise ConfigError(
+            f"stage {stage.title} (configuration keys it reads: {keys}): {exc}"
+        ) from exc
 
 
 def progress_enabled() -> bool:

@@ -1,18 +1,21 @@
-"""Measured curves to calibrate against: CSV files in SI units with a header row.
+"""Measured curves to calibrate against: CSV files with a header row (SI, or units stated).
 
 * A_r(F_z) at rest: columns ``normal_load`` (N) and ``real_area`` (m^2).
 * A_r(F_x) under shear: columns ``tangential_force`` (N) and ``real_area`` (m^2), one file per
   normal load (the load given in the configuration), or one long file with an extra
   ``normal_load`` (N) column holding several loads.
 
-Extra columns are ignored; comment lines start with ``#``. A file that lacks a column, holds a
-non-numeric or non-finite value, or has fewer than two rows is refused with a message naming
-the file and the column.
+A header cell may state its unit, ``real_area [mm^2]`` or ``tangential_force (mN)``; values
+are converted to SI (:data:`UNIT_FACTORS`). ``,`` or ``;`` separate the columns. Extra
+columns are ignored; comment lines start with ``#``. A file that lacks a column, holds a
+non-numeric or non-finite value, a negative area or an area above A_n, or has fewer than two
+rows is refused with a message naming the file, the file's own line number and the column.
 """
 
 from __future__ import annotations
 
 import csv
+import re
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -55,7 +58,7 @@ class ShearAreaCurve:
     normal_load : float
         F_z, N.
     tangential_force : ndarray
-        F_x, N.
+        F_x, N, in acquisition (file) order.
     real_area : ndarray
         A_r, m^2.
     source : str
@@ -68,72 +71,181 @@ class ShearAreaCurve:
     source: str = ""
 
 
+#: Units accepted in a column header (``name [unit]`` or ``name (unit)``), as SI factors.
+UNIT_FACTORS: dict[str, dict[str, float]] = {
+    "area": {
+        "m^2": 1.0,
+        "cm^2": 1e-4,
+        "mm^2": 1e-6,
+        "um^2": 1e-12,
+        "nm^2": 1e-18,
+    },
+    "force": {"N": 1.0, "kN": 1e3, "mN": 1e-3, "uN": 1e-6, "nN": 1e-9},
+}
+#: What each known column measures.
+COLUMN_QUANTITY: dict[str, str] = {
+    "real_area": "area",
+    "normal_load": "force",
+    "tangential_force": "force",
+}
+_HEADER = re.compile(r"^\s*([^\[\(]*?)\s*(?:[\[\(]\s*([^\]\)]*?)\s*[\]\)])?\s*$")
+
+
+def _normal_unit(unit: str) -> str:
+    """``µm²`` -> ``um^2``: one spelling per unit."""
+    return (
+        unit.replace("\u00b5", "u")
+        .replace("\u03bc", "u")
+        .replace("\u00b2", "^2")
+        .replace("**", "^")
+    )
+
+
+def parse_header_cell(path: Path, cell: str) -> tuple[str, float]:
+    """Column name and SI factor of a header cell (``real_area [mm^2]`` -> real_area, 1e-6).
+
+    A known column without a unit is taken as SI; an unknown unit of a known column is refused.
+    """
+    match = _HEADER.match(cell)
+    name, unit = (match.group(1), match.group(2)) if match else (cell.strip(), None)
+    quantity = COLUMN_QUANTITY.get(name)
+    if not unit or quantity is None:
+        return name, 1.0
+    factors = UNIT_FACTORS[quantity]
+    factor = factors.get(_normal_unit(unit))
+    if factor is None:
+        raise MeasuredFileError(
+            f"{path}: line 1, column {name!r}: unit {unit!r} not understood; expected one of "
+            f"{', '.join(factors)}"
+        )
+    return name, factor
+
+
+def _data_lines(path: Path) -> list[tuple[int, str]]:
+    """(line number in the file, text) of every line that is not blank or a ``#`` comment."""
+    with open(path, newline="", encoding="utf-8") as handle:
+        return [
+            (number, line)
+            for number, line in enumerate(handle, start=1)
+            if line.strip() and not line.lstrip().startswith("#")
+        ]
+
+
+def _delimiter(header_line: str) -> str:
+    """``;`` when the header holds more semicolons than commas, else ``,``."""
+    return ";" if header_line.count(";") > header_line.count(",") else ","
+
+
+def _cell_value(path: Path, number: int, name: str, row: list[str], i: int) -> float:
+    try:
+        value = float(row[i])
+    except (IndexError, ValueError):
+        found = row[i] if i < len(row) else "nothing"
+        raise MeasuredFileError(
+            f"{path}: line {number}, column {name!r}: expected a number, got {found!r}"
+        ) from None
+    if not np.isfinite(value):
+        raise MeasuredFileError(f"{path}: line {number}, column {name!r}: not finite")
+    return value
+
+
 def read_columns(
     path: str | Path, columns: Sequence[str], optional: Iterable[str] = ()
 ) -> dict[str, np.ndarray]:
-    """Read named numeric columns of a CSV file with a header row.
+    """Read named numeric columns of a CSV file with a header row, converted to SI.
 
     Parameters
     ----------
     path : path
-        The CSV file.
+        The CSV file: ``,`` or ``;`` separated; a header cell may carry a unit,
+        ``real_area [mm^2]`` or ``tangential_force (mN)`` (:data:`UNIT_FACTORS`); without
+        one the column is in SI (m^2, N).
     columns : sequence of str
         Required column names.
     optional : iterable of str
         Columns returned when present.
 
+    Returns
+    -------
+    dict
+        Column name -> values in SI units; ``"_line"`` -> each row's line number in the file.
+
     Raises
     ------
     MeasuredFileError
-        Missing column, non-numeric or non-finite value, fewer than two data rows.
+        Missing column, unknown unit, non-numeric or non-finite value (naming the file's own
+        line number and the column), fewer than two data rows.
     """
     path = Path(path)
-    with open(path, newline="", encoding="utf-8") as handle:
-        lines = [line for line in handle if line.strip() and not line.lstrip().startswith("#")]
-    reader = csv.reader(lines)
-    try:
-        header = [name.strip() for name in next(reader)]
-    except StopIteration:
+    lines = _data_lines(path)
+    if not lines:
         raise MeasuredFileError(
             f"{path}: empty file; expected a header row with {', '.join(columns)}"
-        ) from None
-    wanted = list(columns) + [c for c in optional if c in header]
+        )
+    delimiter = _delimiter(lines[0][1])
+    rows = list(csv.reader([text for _, text in lines], delimiter=delimiter))
+    cells = [parse_header_cell(path, cell) for cell in rows[0]]
+    header = [name for name, _ in cells]
     for name in columns:
         if name not in header:
             raise MeasuredFileError(
-                f"{path}: missing column {name!r} (header: {', '.join(header)}); "
-                f"expected columns {', '.join(columns)} in SI units"
+                f"{path}: missing column {name!r} (header: {', '.join(header)}); expected "
+                f"columns {', '.join(columns)} (SI, or with a unit: 'real_area [mm^2]')"
             )
+    wanted = list(columns) + [c for c in optional if c in header and c not in columns]
     index = {name: header.index(name) for name in wanted}
     values: dict[str, list[float]] = {name: [] for name in wanted}
-    for row_number, row in enumerate(reader, start=2):
+    for (number, _), row in zip(lines[1:], rows[1:], strict=True):
         for name, i in index.items():
-            try:
-                value = float(row[i])
-            except (IndexError, ValueError):
-                raise MeasuredFileError(
-                    f"{path}: row {row_number}, column {name!r}: expected a "
-                    f"number, got {row[i] if i < len(row) else 'nothing'!r}"
-                ) from None
-            if not np.isfinite(value):
-                raise MeasuredFileError(f"{path}: row {row_number}, column {name!r}: not finite")
-            values[name].append(value)
+            values[name].append(_cell_value(path, number, name, row, i) * cells[i][1])
     arrays = {name: np.asarray(v, dtype=float) for name, v in values.items()}
     if len(arrays[columns[0]]) < 2:
         raise MeasuredFileError(f"{path}: fewer than two data rows")
+    arrays["_line"] = np.array([number for number, _ in lines[1:]], dtype=int)
     return arrays
 
 
-def read_normal_area(path: str | Path) -> NormalAreaCurve:
-    """Read a measured A_r(F_z) CSV (``normal_load`` N, ``real_area`` m^2)."""
+def check_areas(path: str | Path, cols: dict[str, np.ndarray], nominal_area: float | None) -> None:
+    """Refuse a negative A_r, or A_r > A_n (m^2), naming the file's line and the column.
+
+    An A_r above A_n is physically impossible; it is what areas in mm^2 under an SI header
+    look like (``real_area`` means m^2: write ``real_area [mm^2]``).
+    """
+    area, lines = cols["real_area"], cols["_line"]
+    negative = np.flatnonzero(area < 0)
+    if negative.size:
+        i = int(negative[0])
+        raise MeasuredFileError(
+            f"{path}: line {lines[i]}, column 'real_area': negative area {area[i]:.6g} "
+            "(expected m^2 >= 0)"
+        )
+    if nominal_area is None:
+        return
+    above = np.flatnonzero(area > nominal_area)
+    if above.size:
+        i = int(above[0])
+        raise MeasuredFileError(
+            f"{path}: line {lines[i]}, column 'real_area': A_r = {area[i]:.6g} m^2 exceeds "
+            f"the nominal area A_n = {nominal_area:.6g} m^2 (loading.nominal_area), which is "
+            "impossible; if the file holds mm^2 or um^2, say so in the header "
+            "('real_area [mm^2]')"
+        )
+
+
+def read_normal_area(path: str | Path, nominal_area: float | None = None) -> NormalAreaCurve:
+    """Read a measured A_r(F_z) CSV (``normal_load`` N, ``real_area`` m^2, or with units).
+
+    ``nominal_area`` (m^2), when given, refuses any A_r above it (:func:`check_areas`).
+    """
     cols = read_columns(path, ("normal_load", "real_area"))
-    if np.any(cols["real_area"] < 0):
-        raise MeasuredFileError(f"{path}: column 'real_area': negative area (expected m^2 >= 0)")
+    check_areas(path, cols, nominal_area)
     order = np.argsort(cols["normal_load"])
     return NormalAreaCurve(cols["normal_load"][order], cols["real_area"][order], str(path))
 
 
-def read_shear_area(path: str | Path, normal_load: float | None = None) -> list[ShearAreaCurve]:
+def read_shear_area(
+    path: str | Path, normal_load: float | None = None, nominal_area: float | None = None
+) -> list[ShearAreaCurve]:
     """Read measured A_r(F_x) curves from one CSV file.
 
     Parameters
@@ -143,15 +255,17 @@ def read_shear_area(path: str | Path, normal_load: float | None = None) -> list[
         several loads, ``normal_load`` (N).
     normal_load : float, optional
         The normal load, N, of a one-curve file without a ``normal_load`` column.
+    nominal_area : float, optional
+        A_n, m^2: any A_r above it is refused (:func:`check_areas`).
 
     Returns
     -------
     list of ShearAreaCurve
-        One per distinct normal load, points sorted by tangential force.
+        One per distinct normal load, points in the file's order (the acquisition order:
+        the fit finds the first static peak of F_x in it, before the stick-slip tail).
     """
     cols = read_columns(path, ("tangential_force", "real_area"), optional=("normal_load",))
-    if np.any(cols["real_area"] < 0):
-        raise MeasuredFileError(f"{path}: column 'real_area': negative area (expected m^2 >= 0)")
+    check_areas(path, cols, nominal_area)
     if "normal_load" in cols:
         loads = cols["normal_load"]
     elif normal_load is not None:
@@ -165,8 +279,7 @@ def read_shear_area(path: str | Path, normal_load: float | None = None) -> list[
     for load in np.unique(loads):
         pick = loads == load
         fx, ar = cols["tangential_force"][pick], cols["real_area"][pick]
-        order = np.argsort(fx, kind="stable")
-        curves.append(ShearAreaCurve(float(load), fx[order], ar[order], str(path)))
+        curves.append(ShearAreaCurve(float(load), fx, ar, str(path)))
     return curves
 
 
@@ -196,10 +309,15 @@ class Measurements:
     shear_area: list[ShearAreaCurve] = field(default_factory=list)
 
 
-def read_measurements(config: Any) -> Measurements:
-    """Read every measured file of a ``[measured]`` configuration (``MeasuredConfig``)."""
-    normal = None if config.normal_area is None else read_normal_area(config.normal_area)
+def read_measurements(config: Any, nominal_area: float | None = None) -> Measurements:
+    """Read every measured file of a ``[measured]`` configuration (``MeasuredConfig``).
+
+    ``nominal_area`` (m^2, ``loading.nominal_area``) refuses any measured A_r above it.
+    """
+    normal = (
+        None if config.normal_area is None else read_normal_area(config.normal_area, nominal_area)
+    )
     shear: list[ShearAreaCurve] = []
     for item in config.shear_area:
-        shear += read_shear_area(item.file, item.normal_load)
+        shear += read_shear_area(item.file, item.normal_load, nominal_area)
     return Measurements(normal, shear)

@@ -19,6 +19,7 @@ Figures written in the output directory (stem; one file per format):
 * ``fig12d_misfit`` - stage 4: misfit of the statistical model against resolution.
 * ``bem_grid`` - stage 3: the grid refinement check and the contact mask.
 * ``lambda_fit`` - stage 5 (when measured curves are given): misfit against lambda.
+* ``lambda_residuals`` - stage 5: measured minus fitted A_r against F_x, one panel per load.
 * ``fig4_shear`` - stage 6: F_z, contact counts, A_r and F_x against delta_T with their
   stick and slip parts, at the heaviest load (Fig 4).
 * ``fig13_area_vs_force`` - stage 6: A_r/A_n against F_x at every load, the measured
@@ -41,6 +42,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
 from asperity.pipelines.figure_output import FigureOptions, FigureTable, publish
+from asperity.pipelines.verdict import mark, verdict_lines, verdict_markdown
 from asperity.plotting import DisplayUnit, display_unit, new_figure
 from asperity.statmodel.figures import draw_shear_curve
 
@@ -386,11 +388,12 @@ def draw_lambda_fit(result: Any) -> tuple[Figure, FigureTable]:
         ls="--",
         label=f"fit {fit.mode_mixity:.3g} +/- {fit.mode_mixity_std:.2g}",
     )
-    ax.axvspan(
-        max(fit.mode_mixity - fit.mode_mixity_std, 1e-12),
-        fit.mode_mixity + fit.mode_mixity_std,
-        color="0.85",
-    )
+    if np.isfinite(fit.mode_mixity_std):  # an unbounded uncertainty has no band to draw
+        ax.axvspan(
+            max(fit.mode_mixity - fit.mode_mixity_std, 1e-12),
+            fit.mode_mixity + fit.mode_mixity_std,
+            color="0.85",
+        )
     ax.set_xlabel("mode mixity $\\lambda$")
     ax.set_ylabel("rms of ($A_{model}$ - $A_{measured}$) / max $A_{measured}$")
     ax.legend(fontsize=8)
@@ -411,6 +414,42 @@ def draw_lambda_fit(result: Any) -> tuple[Figure, FigureTable]:
 def plot_lambda_fit(result: Any, path: Path, options: FigureOptions | None = None) -> Path:
     """Stage 5: the misfit of the coarse lambda scan and the fitted value."""
     return publish(*draw_lambda_fit(result), path, figure_options(result, options))
+
+
+def draw_lambda_residuals(result: Any) -> tuple[Figure, FigureTable]:
+    """Stage 5: measured minus fitted A_r against F_x, one panel per load (fitted points)."""
+    lam = result.mode_mixity
+    loads = np.unique(lam.fitted_normal_load)
+    fig = new_figure(6, 2.2 * len(loads) + 0.6)
+    axes = fig.subplots(len(loads), 1, squeeze=False)[:, 0]
+    fu = display_unit(lam.fitted_tangential_force, "N")
+    table = FigureTable()
+    for ax, load in zip(axes, loads, strict=True):
+        pick = lam.fitted_normal_load == load
+        fx = lam.fitted_tangential_force[pick]
+        measured, model = lam.fitted_real_area[pick], lam.fitted_model_area[pick]
+        residual = (measured - model) / np.max(measured)
+        ax.axhline(0.0, color="0.6", lw=0.8)
+        ax.plot(fu(fx), 100 * residual, "o-", ms=3)
+        ax.set_ylabel("residual (% of max $A_r$)")
+        ax.set_title(f"$F_z$ = {load:.4g} N ({lam.fit_mode} fit)", fontsize=9)
+        table.add(
+            f"F_z = {load:.4g} N",
+            "residual",
+            {
+                "tangential force F_x (N)": fx,
+                "measured A_r (m^2)": measured,
+                "fitted model A_r (m^2)": model,
+                "residual / max measured A_r (1)": residual,
+            },
+        )
+    axes[-1].set_xlabel(fu.label("tangential force $F_x$"))
+    return fig, table
+
+
+def plot_lambda_residuals(result: Any, path: Path, options: FigureOptions | None = None) -> Path:
+    """Stage 5: measured minus fitted A_r against F_x, one panel per load (fitted points)."""
+    return publish(*draw_lambda_residuals(result), path, figure_options(result, options))
 
 
 def draw_shear(result: Any) -> tuple[Figure, FigureTable]:
@@ -588,6 +627,11 @@ FIGURES: dict[str, tuple[str, Any, Any]] = {
     "friction_vs_load": ("friction_vs_load", draw_friction_vs_load, lambda r: True),
     "bem_grid": ("bem_grid", draw_bem_grid, lambda r: r.bem is not None),
     "lambda_fit": ("lambda_fit", draw_lambda_fit, lambda r: r.mode_mixity.fit is not None),
+    "lambda_residuals": (
+        "lambda_residuals",
+        draw_lambda_residuals,
+        lambda r: getattr(r.mode_mixity, "fitted_model_area", None) is not None,
+    ),
     "psd": ("psd", draw_psd, lambda r: getattr(r, "psd", None) is not None),
 }
 
@@ -655,7 +699,17 @@ def key_numbers(result: Any) -> list[tuple[str, str]]:
         ("statmodel quadrature", fr.quadrature_reason),
         ("shear curves converged", f"{int(np.sum(fr.converged))} / {fr.converged.size}"),
     ]
-    return rows
+    verdict = getattr(result, "verdict", None)
+    judged = (
+        "effective resolution",
+        "summit",
+        "asperity",
+        "rms summit",
+        "Tabor",
+        "misfit",
+        "mode mixity lambda (fitted)",
+    )
+    return [(k, mark(v, verdict) if k.startswith(judged) else v) for k, v in rows]
 
 
 def psd_key_numbers(result: Any) -> list[tuple[str, str]]:
@@ -707,7 +761,43 @@ def load_table(result: Any) -> tuple[list[str], list[list[str]]]:
         )
         if persson is not None:
             rows[-1].append(f"{persson[i]:.4g}")
+    verdict = getattr(result, "verdict", None)
+    # the statistical model's columns carry the verdict; BEM and Persson are references
+    rows = [[*row[:3], *(mark(cell, verdict) for cell in row[3:7]), *row[7:]] for row in rows]
     return header, rows
+
+
+def surface_section(result: Any) -> list[str]:
+    """The report's "Surface" section: how the map was prepared, with its warnings."""
+    surface = result.surface
+    record = getattr(surface, "preparation", None) or {}
+    rows = [
+        ["grid", f"{surface.nx} x {surface.ny} px"],
+        ["pixel size dx, dy", f"{surface.dx * 1e6:.4g} um, {surface.dy * 1e6:.4g} um"],
+    ]
+    if record:
+        ratio = record.get("form_to_roughness")
+        rows += [
+            ["crop", str(record.get("crop") or "none")],
+            ["levelling (form removed)", str(record.get("levelling"))],
+            ["form-to-roughness rms ratio", "-" if ratio is None else f"{ratio:.3g}"],
+            [
+                "missing pixels",
+                f"{record['n_missing']} ({100 * record['missing_fraction']:.3g} %), policy "
+                f"{record['missing_policy']}; {record['n_filled']} filled",
+            ],
+            [
+                "outliers changed",
+                f"{record['n_outliers']} ({100 * record['outlier_fraction']:.3g} % of the valid "
+                f"pixels, {record['outlier_action']}): {record['outlier_rule']}",
+            ],
+            ["rms roughness after preparation", f"{record['roughness_rms'] * 1e6:.4g} um"],
+        ]
+    rows = [[key, value.replace("|", "\\|")] for key, value in rows]  # a pipe ends a cell
+    lines = ["## Surface", "", _md_table(["step", "value"], rows), ""]
+    warnings = record.get("warnings") or []
+    lines += [f"- **Warning:** {w}" for w in warnings]
+    return [*lines, ""] if warnings else lines
 
 
 def _md_table(header: list[str], rows: list[list[str]]) -> str:
@@ -733,9 +823,11 @@ def write_report(result: Any, out_dir: str | Path, options: FigureOptions | None
     status = {"stored": "stored (skipped)", "computed": "computed", "disabled": "disabled"}
     stage_rows = [[s.name, status[s.status], f"{s.seconds:.2f}"] for s in result.stages]
     problems = result.problems()
+    verdict = getattr(result, "verdict", None)
     text = [
         "# asperity run report",
         "",
+        *([] if verdict is None else verdict_markdown(verdict)),
         f"Configuration: `{_source(result)}`; input SHA-256 `{result.input_sha256[:16]}...`;"
         " all data in `results.h5` (SI units).",
         "",
@@ -747,9 +839,12 @@ def write_report(result: Any, out_dir: str | Path, options: FigureOptions | None
         "",
         _md_table(header, rows),
         "",
+        *surface_section(result),
         "## Validity",
         "",
-        "The statistical model is within its assumptions."
+        f"Verdict: **{verdict.verdict}** (reasons at the top)."
+        if verdict is not None
+        else "The statistical model is within its assumptions."
         if not result.resolution.validity
         else "\n".join(f"- **Warning:** {note}" for note in result.resolution.validity),
         "",
@@ -773,6 +868,8 @@ def write_report(result: Any, out_dir: str | Path, options: FigureOptions | None
         "misfit": "Stage 4: misfit of the statistical model against resolution.",
         "bem_grid": "Stage 3: BEM grid refinement check and contact at the largest load.",
         "lambda_fit": "Stage 5: lambda fit.",
+        "lambda_residuals": "Stage 5: measured minus fitted A_r at each load (the points "
+        "fitted: trimmed after the first static peak, repeated points merged).",
         "shear": "Fig 4: shear response at the heaviest load, with stick and slip parts.",
         "area_vs_force": "Fig 13: A_r/A_n against F_x (dashed: model; dotted: constant shear "
         "strength).",
@@ -792,10 +889,10 @@ def write_report(result: Any, out_dir: str | Path, options: FigureOptions | None
 def summary_text(result: Any) -> str:
     """The one-screen terminal summary."""
     lines = ["asperity run: summary", ""]
+    if getattr(result, "verdict", None) is not None:
+        lines += [*verdict_lines(result.verdict), ""]
     width = max(len(k) for k, _ in key_numbers(result))
     for key, value in key_numbers(result):
-        if len(value) > 90:
-            value = value[:87] + "..."
         lines.append(f"  {key:<{width}}  {value}")
     header, rows = load_table(result)
     widths = [max(len(h), *(len(r[j]) for r in rows)) for j, h in enumerate(header)]
@@ -810,8 +907,8 @@ def summary_text(result: Any) -> str:
         + (f"; stored stages skipped: {', '.join(cached)}" if cached else "")
         + f"; total {result.total_seconds:.1f} s",
     ]
-    for note in result.resolution.validity:
-        lines.append(f"  WARNING: {note}")
+    if getattr(result, "verdict", None) is None:
+        lines += [f"  WARNING: {note}" for note in result.resolution.validity]
     problems = result.problems()
     if problems:
         lines.append("  NOT CONVERGED:")

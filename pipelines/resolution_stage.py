@@ -16,6 +16,7 @@ import warnings
 from collections.abc import Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -364,8 +365,18 @@ def statistical_model_scan(
 
 
 def compute_statistical_model(context: StageContext) -> ResolutionChoice:
-    """Stage 4 of the job: :func:`statistical_model_scan` against the BEM and/or measurement."""
+    """Stage 4 of the job: :func:`statistical_model_scan` against the BEM and/or measurement.
+
+    Its :class:`ModelValidityWarning` is not raised here: the notes stay in ``validity`` and
+    the job's verdict (:mod:`pipelines.verdict`) reports them as lines, not as a traceback.
+    """
     config = context.config
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelValidityWarning)
+        return _statistical_model_of_job(context, config)
+
+
+def _statistical_model_of_job(context: StageContext, config: Any) -> ResolutionChoice:
     return statistical_model_scan(
         context.result(SCAN),
         config.material,

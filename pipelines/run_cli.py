@@ -6,7 +6,7 @@
 Without a configuration the embedded ``default`` preset runs (the paper-like synthetic surface
 on a reduced grid, about a minute). The configuration is validated before any heavy work; a
 bad key exits 2 naming it. Exit status 1 when a solver did not converge (everything is still
-written).
+written), else 3 when the validity verdict is "invalid" (:mod:`pipelines.verdict`).
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "run",
         help="the main job: surface -> resolution -> BEM -> statistical model -> lambda -> "
         "friction",
-        description="Run (or resume) the seven stages and write results.h5, the figures and "
+        description="Run (or resume) the eight stages and write results.h5, the figures and "
         "report.md in --out. SI units throughout.",
     )
     parser.add_argument(
@@ -76,7 +76,7 @@ def register_companions(subparsers: argparse._SubParsersAction) -> None:
 
 
 def handle_run(args: argparse.Namespace) -> int:
-    """Run the job; 0 when every solver converged, 1 otherwise."""
+    """Run the job; 0 ok, 1 a solver did not converge, 3 the verdict is invalid."""
     if args.config is not None and args.preset is not None:
         raise InputError("give either CONFIG.toml or --preset, not both")
     if args.workers is not None and args.workers < 1:
@@ -106,4 +106,6 @@ def handle_run(args: argparse.Namespace) -> int:
     )
     write_report(result, args.out)
     print(summary_text(result))
-    return 0 if result.converged else 1
+    from asperity.pipelines.verdict import exit_status
+
+    return int(exit_status(result.converged, result.verdict))

@@ -1,8 +1,10 @@
-"""Stages 1 and 2: read and level the surface, then scan its summit statistics over resolution.
+"""Stages 1 and 2: read and prepare the surface, then scan its summit statistics over resolution.
 
-Stage 1 (:func:`read_and_level`) gives a levelled :class:`topo.HeightMap` from a file (any
-format :func:`topo.read_surface` reads) or from the seeded synthetic recipe; the job stores it
-as a :class:`LevelledSurface`.
+Stage 1 (:func:`read_and_level`) gives a prepared :class:`topo.HeightMap` from a file (any
+format :func:`topo.read_surface` reads) or from the seeded synthetic recipe, with
+:func:`topo.prepare_surface`: crop, form removal (``detrend`` or ``form_order``), the outlier
+rule and the missing-pixel policy of ``[surface]``; the job stores it, with the preparation
+record, as a :class:`LevelledSurface`.
 Stage 2 (:func:`scan_resolutions`) runs :func:`topo.resolution_scan`: eta, R and sigma_s of the
 map decimated with strides 1..K (Appendix A, Fig 12a-c) and the paper's fits
 (:class:`ScanResult`).
@@ -19,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from asperity import topo
+from asperity.errors import InputError
 from asperity.pipelines.config import ConfigError, SurfaceConfig
 from asperity.pipelines.fields import array, scalar, text
 from asperity.pipelines.pull_off import check_loads_above_pull_off
@@ -62,20 +65,62 @@ def load_surface(config: SurfaceConfig) -> topo.HeightMap:
     return generator(n=recipe.n, pixel_size=recipe.pixel_size, seed=recipe.seed)
 
 
+def preparation_options(config: SurfaceConfig) -> topo.PreparationOptions:
+    """The :class:`topo.PreparationOptions` of ``[surface]``: crop, form, outliers, missing.
+
+    ``form_order`` wins over ``detrend`` when given; ``detrend`` names the order otherwise
+    (none, mean 0, plane 1, quadratic 2).
+    """
+    crop = None
+    if config.crop is not None:
+        x0, x1, y0, y1 = config.crop
+        crop = topo.CropWindow((x0, x1), (y0, y1), "px")
+    order = (
+        config.form_order
+        if config.form_order is not None
+        else topo.PreparationOptions.order_of(config.detrend)
+    )
+    return topo.PreparationOptions(
+        crop=crop,
+        missing=config.missing,
+        outliers=topo.OutlierRule(config.outliers, config.outlier_threshold, config.outlier_action),
+        form_order=order,
+    )
+
+
+def prepare(config: SurfaceConfig) -> topo.PreparedSurface:
+    """Read (or generate) the surface and prepare it (:func:`topo.prepare_surface`).
+
+    Raises
+    ------
+    ConfigError
+        Naming the ``surface.*`` key: a crop outside the map, missing pixels with
+        ``missing = "refuse"``, too few valid pixels for the form.
+    """
+    surface = load_surface(config)
+    try:
+        return topo.prepare_surface(surface, preparation_options(config))
+    except InputError as exc:
+        key = "surface.crop" if config.crop is not None and "window" in str(exc) else None
+        key = key or ("surface.missing" if config.missing == "refuse" else "surface")
+        raise ConfigError(f"{key}: {exc}") from exc
+
+
 def read_and_level(config: SurfaceConfig) -> topo.HeightMap:
-    """Stage 1: read (or generate) the surface and level it with ``config.detrend``.
+    """Stage 1: read (or generate) the surface and prepare it as ``[surface]`` says.
 
     Parameters
     ----------
     config : SurfaceConfig
-        ``file`` or ``synthetic`` recipe, and the levelling method.
+        ``file`` or ``synthetic`` recipe, crop, form (``detrend`` / ``form_order``), outlier
+        rule and missing-pixel policy.
 
     Returns
     -------
     topo.HeightMap
-        Heights in m (axis 0 is x), levelled.
+        Heights in m (axis 0 is x), prepared; ``provenance["preparation"]`` holds the record.
     """
-    return topo.level(load_surface(config), method=config.detrend)
+    return prepare(config).surface
 
 
 def usable_max_stride(surface: topo.HeightMap, max_stride: int) -> int:
@@ -117,6 +162,12 @@ class LevelledSurface:
         Root mean square of the valid heights about their mean, m.
     provenance : dict
         Where the map came from (reader, file, levelling).
+    preparation : dict or None
+        The :class:`topo.PreparationRecord` (crop, levelling, form-to-roughness ratio,
+        missing fraction and policy, outliers changed, dx and dy, warnings), SI units.
+    filled : ndarray of bool or None
+        Pixels whose height the missing-pixel policy filled (measured holes and masked
+        outliers); the resolution scan leaves them out, so eta is per measured area.
     """
 
     x: np.ndarray = array("m", ("x",), "position along x")
@@ -128,6 +179,25 @@ class LevelledSurface:
     n_missing: int = scalar("1", "missing pixels")
     rms_height: float = scalar("m", "rms of the valid heights")
     provenance: dict[str, Any] = text("reader, file and levelling (JSON)")
+    preparation: dict[str, Any] | None = text("surface preparation record (JSON)", optional=True)
+    filled: np.ndarray | None = array(
+        "1", ("x", "y"), "height filled by the missing-pixel policy, not measured", optional=True
+    )
+
+    @classmethod
+    def from_prepared(cls, prepared: topo.PreparedSurface) -> LevelledSurface:
+        """Wrap a :class:`topo.PreparedSurface`, keeping which pixels were filled."""
+        stored = cls.from_height_map(prepared.surface)
+        if prepared.filled_mask.any():
+            stored.filled = np.asarray(prepared.filled_mask, dtype=bool)
+        return stored
+
+    def measured_height_map(self) -> topo.HeightMap:
+        """The map with filled pixels missing again (NaN): what summit statistics count."""
+        surface = self.height_map()
+        if self.filled is None or not np.any(self.filled):
+            return surface
+        return surface.with_heights(np.where(self.filled, np.nan, self.heights))
 
     @classmethod
     def from_height_map(cls, surface: topo.HeightMap) -> LevelledSurface:
@@ -143,6 +213,7 @@ class LevelledSurface:
             n_missing=int(surface.n_missing),
             rms_height=float(np.sqrt(np.mean((valid - valid.mean()) ** 2))),
             provenance=json.loads(json.dumps(surface.provenance, default=str)),
+            preparation=json.loads(json.dumps(surface.provenance.get("preparation"), default=str)),
         )
 
     def height_map(self) -> topo.HeightMap:
@@ -212,13 +283,14 @@ class ScanResult:
 
 
 def compute_surface(context: StageContext) -> LevelledSurface:
-    """Stage 1 of the job: :func:`read_and_level` on ``[surface]``."""
-    return LevelledSurface.from_height_map(read_and_level(context.config.surface))
+    """Stage 1 of the job: :func:`prepare` on ``[surface]``."""
+    return LevelledSurface.from_prepared(prepare(context.config.surface))
 
 
 def compute_scan(context: StageContext) -> ScanResult:
-    """Stage 2 of the job: :func:`scan_resolutions` up to ``surface.max_stride``."""
-    surface = context.result(SURFACE).height_map()
+    """Stage 2 of the job: :func:`scan_resolutions` up to ``surface.max_stride``, over the
+    measured pixels only (filled ones are missing again: eta per measured area)."""
+    surface = context.result(SURFACE).measured_height_map()
     return ScanResult.from_scan(scan_resolutions(surface, context.config.surface.max_stride))
 
 
@@ -243,6 +315,12 @@ SURFACE = Stage(
         "surface.pixel_size",
         "surface.synthetic",
         "surface.detrend",
+        "surface.crop",
+        "surface.missing",
+        "surface.outliers",
+        "surface.outlier_threshold",
+        "surface.outlier_action",
+        "surface.form_order",
     ),
     inputs=(),
     compute=compute_surface,

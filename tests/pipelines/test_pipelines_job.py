@@ -115,7 +115,7 @@ def test_resume_after_interruption_skips_finished_stages(tmp_path, monkeypatch, 
     cfg = small(tmp_path)
     out = tmp_path / "out"
     calls = {"surface": 0, "bem": 0}
-    real_read, real_bem = surface_module.read_and_level, bem_module.bem_reference
+    real_read, real_bem = surface_module.prepare, bem_module.bem_reference
 
     def counting_read(*a, **k):
         calls["surface"] += 1
@@ -128,7 +128,7 @@ def test_resume_after_interruption_skips_finished_stages(tmp_path, monkeypatch, 
     def crash(*a, **k):
         raise KeyboardInterrupt("simulated interruption in stage 4")
 
-    monkeypatch.setattr(surface_module, "read_and_level", counting_read)
+    monkeypatch.setattr(surface_module, "prepare", counting_read)
     monkeypatch.setattr(bem_module, "bem_reference", counting_bem)
     monkeypatch.setattr(resolution_module, "statistical_model_scan", crash)
     with pytest.raises(KeyboardInterrupt):
@@ -138,7 +138,7 @@ def test_resume_after_interruption_skips_finished_stages(tmp_path, monkeypatch, 
     assert calls == {"surface": 1, "bem": 1}
 
     monkeypatch.undo()
-    monkeypatch.setattr(surface_module, "read_and_level", counting_read)
+    monkeypatch.setattr(surface_module, "prepare", counting_read)
     monkeypatch.setattr(bem_module, "bem_reference", counting_bem)
     result = run_job(cfg, out)
     assert calls == {"surface": 1, "bem": 1}  # not recomputed
@@ -172,7 +172,6 @@ def test_real_afm_file_through_the_job(tmp_path):
     asperity model outside its validity, which the job reports instead of hiding."""
     from pathlib import Path
 
-    from asperity.pipelines.resolution_stage import ModelValidityWarning
     from asperity.pipelines.surface_stage import file_sha256
 
     path = Path(__file__).resolve().parents[1] / "data" / "mi-1.mi"
@@ -182,11 +181,11 @@ def test_real_afm_file_through_the_job(tmp_path):
         "loading": {"steps": 21, "normal_loads": [1.0, 3.0]},
     }
     cfg = config_from_dict(data, base_dir=tmp_path)
-    with pytest.warns(ModelValidityWarning):
-        result = run_job(cfg, tmp_path / "out")
+    result = run_job(cfg, tmp_path / "out")  # no Python warning: the verdict says it
     assert result.converged, result.problems()
     assert result.surface.lx == pytest.approx(20e-6, rel=0.02)
     assert result.input_sha256 == file_sha256(path)
     assert result.resolution.validity
+    assert result.verdict.verdict == "invalid" and "area_fraction" in result.verdict.codes
     report = write_report(result, tmp_path / "out").read_text()
-    assert "**Warning:**" in report
+    assert "**Verdict: INVALID.**" in report

@@ -41,7 +41,7 @@ def test_one_curve_file_takes_load_from_config(tmp_path):
     path.write_text("tangential_force,real_area\n0.2,1e-6\n0.0,2e-6\n")
     (curve,) = read_shear_area(path, normal_load=1.5)
     assert curve.normal_load == 1.5
-    np.testing.assert_array_equal(curve.tangential_force, [0.0, 0.2])
+    np.testing.assert_array_equal(curve.tangential_force, [0.2, 0.0])  # file order kept
     with pytest.raises(InputError, match="no 'normal_load' column"):
         read_shear_area(path)
 
@@ -50,7 +50,7 @@ def test_one_curve_file_takes_load_from_config(tmp_path):
     ("text", "message"),
     [
         ("tangential_force,area\n0,1\n1,2\n", "missing column 'real_area'"),
-        ("tangential_force,real_area\n0,abc\n1,2\n", "row 2, column 'real_area'"),
+        ("tangential_force,real_area\n0,abc\n1,2\n", "line 2, column 'real_area'"),
         ("tangential_force,real_area\n0,nan\n1,2\n", "not finite"),
         ("tangential_force,real_area\n0,1\n", "fewer than two"),
         ("", "empty file"),
@@ -63,3 +63,37 @@ def test_bad_files_named(tmp_path, text, message):
     with pytest.raises(InputError, match=message) as info:
         read_shear_area(path, normal_load=1.0)
     assert "bad.csv" in str(info.value)
+
+
+@pytest.mark.parametrize(
+    ("header", "force_factor", "area_factor"),
+    [
+        ("tangential_force,real_area", 1.0, 1.0),
+        ("tangential_force (mN),real_area [mm^2]", 1e-3, 1e-6),
+        ("tangential_force [uN],real_area (um^2)", 1e-6, 1e-12),
+        ("tangential_force (\u00b5N),real_area [\u00b5m\u00b2]", 1e-6, 1e-12),
+        ("tangential_force [kN],real_area [cm^2]", 1e3, 1e-4),
+    ],
+)
+def test_unit_headers_converted_to_si(tmp_path, header, force_factor, area_factor):
+    path = tmp_path / "units.csv"
+    for sep in (",", ";"):
+        path.write_text(f"{header.replace(',', sep)}\n0{sep}3\n2{sep}1.5\n", encoding="utf-8")
+        (curve,) = read_shear_area(path, normal_load=1.0)
+        np.testing.assert_allclose(curve.tangential_force, [0.0, 2 * force_factor])
+        np.testing.assert_allclose(curve.real_area, [3 * area_factor, 1.5 * area_factor])
+
+
+def test_unknown_unit_and_impossible_areas_name_line_and_column(tmp_path):
+    path = tmp_path / "c.csv"
+    path.write_text("tangential_force (lbf),real_area\n0,1e-6\n1,1e-6\n")
+    with pytest.raises(InputError, match=r"c\.csv: line 1, column 'tangential_force': unit"):
+        read_shear_area(path, normal_load=1.0)
+    # comments and blank lines count: the message gives the file's own line number
+    path.write_text("# rig 2\n\ntangential_force,real_area\n0,1e-6\n# pause\n1,-2e-6\n")
+    with pytest.raises(InputError, match=r"line 6, column 'real_area': negative area"):
+        read_shear_area(path, normal_load=1.0)
+    path.write_text("normal_load;real_area\n1;1e-4\n2;9e-4\n")
+    with pytest.raises(InputError, match=r"line 3, column 'real_area': A_r = 0.0009 m\^2 exceeds"):
+        read_normal_area(path, nominal_area=700e-6)
+    assert read_normal_area(path).real_area[1] == 9e-4  # without A_n nothing to compare

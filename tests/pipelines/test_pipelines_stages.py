@@ -42,6 +42,7 @@ def test_every_stage_result_round_trips_with_units_and_dims(small_run):
         "mode_mixity": result.mode_mixity,
         "friction": result.friction,
         "psd": result.psd,
+        "verdict": result.verdict,
     }
     with h5py.File(store.path, "r") as f:
         for stage in STAGES:
@@ -96,21 +97,17 @@ def _edit(small, tmp_path, section, **values):
 
 
 ALL = {"surface", "resolution_scan", "bem_reference", "statistical_model", "mode_mixity"}
-ALL = ALL | {"friction", "psd"}
+ALL = ALL | {"friction", "psd", "verdict"}
 
 
 @pytest.mark.parametrize(
     ("section", "values", "changed"),
     [
         ("run", {"workers": 2}, set()),
-        ("material", {"shear_strength": 0.2e6}, {"mode_mixity", "friction"}),
-        ("loading", {"steps": 61}, {"mode_mixity", "friction"}),
-        ("statmodel", {"area_tolerance": 1e-3}, {"friction"}),
-        (
-            "bem",
-            {"tol": 1e-7},
-            {"bem_reference", "statistical_model", "mode_mixity", "friction", "psd"},
-        ),
+        ("material", {"shear_strength": 0.2e6}, {"mode_mixity", "friction", "verdict"}),
+        ("loading", {"steps": 61}, {"mode_mixity", "friction", "verdict"}),
+        ("statmodel", {"area_tolerance": 1e-3}, {"friction", "verdict"}),
+        ("bem", {"tol": 1e-7}, ALL - {"surface", "resolution_scan"}),
         ("surface", {"max_stride": 3}, ALL - {"surface", "bem_reference"}),
         ("loading", {"normal_loads": [1.0, 2.5]}, ALL - {"surface", "resolution_scan"}),
         (
@@ -145,7 +142,13 @@ def test_a_changed_measured_file_invalidates_the_stages_that_read_it(small, tmp_
     before = _keys(small(tmp_path, data))
     area.write_text("normal_load,real_area\n1,1e-6\n2,2.1e-6\n")
     after = _keys(small(tmp_path, data))
-    assert _changed(before, after) == {"statistical_model", "mode_mixity", "friction", "psd"}
+    assert _changed(before, after) == {
+        "statistical_model",
+        "mode_mixity",
+        "friction",
+        "psd",
+        "verdict",
+    }
 
 
 def test_version_change_recomputes_and_a_corrupted_stage_is_not_reused(
