@@ -1,4 +1,4 @@
-"""The whole job: seven declared stages run in order, each stored in ``results.h5``.
+"""The whole job: eight declared stages run in order, each stored in ``results.h5``.
 
 The stages are declared in their modules (:class:`pipelines.stages.Stage`): what configuration
 keys and earlier stages each reads, and its typed result. A stage is skipped when
@@ -129,7 +129,7 @@ def run_job(
     progress: bool = False,
     log: Callable[[str], None] | None = None,
 ) -> JobResult:
-    """Run (or resume) the seven stages and write ``results.h5`` in ``out_dir``.
+    """Run (or resume) the eight stages and write ``results.h5`` in ``out_dir``.
 
     Parameters
     ----------

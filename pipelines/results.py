@@ -34,6 +34,7 @@ ATTRIBUTES: dict[str, str] = {
     "mode_mixity": "mode_mixity",
     "friction": "friction",
     "psd": "psd",
+    "verdict": "verdict",
 }
 
 
@@ -45,11 +46,11 @@ class Results:
     ----------
     path : Path
         The file read.
-    surface, scan, bem, resolution, mode_mixity, friction, psd
-        The results of stages 1-7 (see ``docs/pipelines.md``); also reachable by their group
+    surface, scan, bem, resolution, mode_mixity, friction, psd, verdict
+        The results of stages 1-8 (see ``docs/pipelines.md``); also reachable by their group
         names (``results.resolution_scan``, ``results.statistical_model``, ...).
     extra : dict
-        Results of any other stage of ``job.STAGES`` (e.g. a verdict), by group name, also
+        Results of any other stage of ``job.STAGES``, by group name, also
         reachable as attributes.
     stages : list of StageRun
         One "stored" row per stage read, with the seconds it took to compute.
@@ -66,6 +67,7 @@ class Results:
     mode_mixity: Any = None
     friction: Any = None
     psd: Any = None
+    verdict: Any = None
     extra: dict[str, Any] = field(default_factory=dict)
     stages: list[Any] = field(default_factory=list)
     source: str = ""

@@ -430,14 +430,14 @@ def verdict_markdown(verdict: Verdict) -> list[str]:
 
 def mark(value: str, verdict: Verdict | None) -> str:
     """A table cell: ``invalid: <value>`` when the verdict is invalid, else the value."""
-    if verdict is None or not verdict.invalid or value in ("-", ""):
+    if getattr(verdict, "verdict", None) != "invalid" or value in ("-", ""):
         return value
     return f"invalid: {value}"
 
 
 VERDICT = Stage(
     name="verdict",
-    title="7 validity verdict",
+    title="8 validity verdict",
     result=Verdict,
     config=("measured", "loading.normal_loads", "loading.nominal_area"),
     inputs=(SURFACE, SCAN, BEM, STATISTICAL_MODEL, MODE_MIXITY, FRICTION),

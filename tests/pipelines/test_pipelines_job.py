@@ -142,7 +142,16 @@ def test_resume_after_interruption_skips_finished_stages(tmp_path, monkeypatch, 
     monkeypatch.setattr(bem_module, "bem_reference", counting_bem)
     result = run_job(cfg, out)
     assert calls == {"surface": 1, "bem": 1}  # not recomputed
-    assert [s.cached for s in result.stages] == [True, True, True, False, False, False, False]
+    assert [s.cached for s in result.stages] == [
+        True,
+        True,
+        True,
+        False,
+        False,
+        False,
+        False,
+        False,
+    ]
 
     # a change of the loads recomputes the BEM and what follows, not the surface
     changed = config_from_dict(
@@ -157,7 +166,16 @@ def test_resume_after_interruption_skips_finished_stages(tmp_path, monkeypatch, 
         base_dir=tmp_path,
     )
     result = run_job(changed, out)
-    assert [s.cached for s in result.stages] == [True, True, False, False, False, False, False]
+    assert [s.cached for s in result.stages] == [
+        True,
+        True,
+        False,
+        False,
+        False,
+        False,
+        False,
+        False,
+    ]
     assert calls == {"surface": 1, "bem": 2}
     # --force recomputes everything
     result = run_job(changed, out, force=True)

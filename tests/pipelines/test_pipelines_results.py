@@ -74,7 +74,7 @@ def test_report_command_redraws_without_solving(small_run, tmp_path, monkeypatch
     monkeypatch.setattr(job, "run_job", refuse)
     assert main(["report", str(tmp_path), "--formats", "png", "--dpi", "40"]) == 0
     for stem, _, _ in FIGURES.values():
-        if stem != "lambda_fit":
+        if stem not in ("lambda_fit", "lambda_residuals"):
             for suffix in (".png", ".csv"):
                 assert (tmp_path / stem).with_suffix(suffix).exists(), stem + suffix
     assert (tmp_path / "report.md").exists() and (tmp_path / "report.html").exists()
@@ -117,7 +117,7 @@ def _parse(path) -> _Page:
 def test_html_report_holds_every_figure_and_number(small_run):
     _, out, result = small_run
     page = _parse(out / "report.html")
-    expected = [n for n in FIGURES if n != "lambda_fit"]
+    expected = [n for n in FIGURES if n not in ("lambda_fit", "lambda_residuals")]
     assert sorted(page.figures) == sorted(expected)
     assert page.images + page.svgs == len(expected)
     text = " ".join(page.text)
@@ -126,7 +126,8 @@ def test_html_report_holds_every_figure_and_number(small_run):
     header, rows = load_table(result)
     assert all(h in text for h in header) and all(c in text for row in rows for c in row)
     assert all(stage.name in text for stage in STAGES)
-    assert not page.verdict  # no verdict stage in this job
+    assert page.verdict  # the verdict stage's block is on the page, with its reasons
+    assert all(reason in text for reason in result.verdict.reasons)
 
 
 @dataclasses.dataclass
@@ -199,7 +200,7 @@ def test_html_embeds_svg_or_a_drawn_png_without_png_files(small_run, tmp_path):
     from asperity.pipelines.figure_output import FigureOptions
 
     _, _, result = small_run
-    expected = len([n for n in FIGURES if n != "lambda_fit"])
+    expected = len([n for n in FIGURES if n not in ("lambda_fit", "lambda_residuals")])
     write_report(result, tmp_path, FigureOptions(("svg",)))
     page = _parse(tmp_path / "report.html")
     assert (page.svgs, page.images) == (expected, 0)
