@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+from pathlib import Path
 
 from asperity.errors import InputError
 from asperity.pipelines.config import PRESETS, load_config, load_preset
@@ -66,6 +67,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.set_defaults(func=handle_run)
 
 
+def _log_line(line: str) -> None:
+    print(line, file=sys.stderr)
+
+
 def handle_run(args: argparse.Namespace) -> int:
     """Run the job; 0 when every solver converged, 1 otherwise."""
     if args.config is not None and args.preset is not None:
@@ -83,18 +88,27 @@ def handle_run(args: argparse.Namespace) -> int:
     os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
     # Heavy imports only after the configuration passed validation.
     from asperity.pipelines.job import progress_enabled, run_job
+    from asperity.pipelines.outdir import OutputLock, write_error
     from asperity.pipelines.report import summary_text, write_report
 
     progress = progress_enabled()
-    result = run_job(
-        config,
-        args.out,
-        force=args.force,
-        workers=args.workers,
-        scheduler=args.scheduler,
-        progress=progress,
-        log=lambda line: print(line, file=sys.stderr),
-    )
-    write_report(result, args.out)
+    log = _log_line
+    with OutputLock(args.out, log=log):  # held over the job and the report
+        result = run_job(
+            config,
+            args.out,
+            force=args.force,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            progress=progress,
+            log=log,
+        )
+        try:
+            write_report(result, args.out)
+        except OSError as exc:  # a full disk while writing the figures: results.h5 is complete
+            error = write_error(Path(args.out), exc, "results.h5 holds every stage")
+            if error is None:
+                raise
+            raise error from exc
     print(summary_text(result))
     return 0 if result.converged else 1
