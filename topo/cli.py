@@ -265,7 +265,9 @@ def _scan(args: argparse.Namespace) -> int:
 
 def _synth(args: argparse.Namespace) -> int:
     from asperity.topo.io import write_hdf5
-    from asperity.topo.synthetic import paper_like
+    from asperity.topo.synthetic import check_map_size, paper_like
+
+    check_map_size(args.n, args.n, "--n")  # at once, with the memory it would take
 
     out = Path(args.out)
     if out.suffix.lower() not in (".h5", ".hdf5", ".npy", ".npz"):

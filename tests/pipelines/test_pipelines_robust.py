@@ -432,3 +432,55 @@ def test_an_unreadable_stored_stage_is_recomputed_not_a_crash(small_run, tmp_pat
     friction = next(s for s in result.stages if s.name == "friction")
     assert friction.status == "computed" and "static_friction" in friction.note
     _assert_same_results(result, reference)
+
+
+# --- messages: numerical warnings do not precede an error; absurd sizes refused at once ------
+
+
+def test_numerical_warnings_of_a_failed_command_are_not_printed_before_its_error(
+    capsys, monkeypatch
+):
+    import warnings
+
+    def fails_after_noise(args):  # noqa: ANN001, ARG001
+        with np.errstate(divide="warn", over="warn"):
+            np.log(np.zeros(2))
+            np.exp(np.array([1e4]))
+        raise asperity.errors.InputError("job.toml: loading.steps: expected ..., got ...")
+
+    def succeeds_after_noise(args):  # noqa: ANN001, ARG001
+        with np.errstate(divide="warn"):
+            np.log(np.zeros(2))
+        warnings.warn("own warning", UserWarning, stacklevel=1)
+
+    monkeypatch.setattr("asperity.statmodel.cli.run_figures", fails_after_noise)
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")
+        assert main(["figures", "--out", "anywhere"]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert err == ["asperity figures: error: job.toml: loading.steps: expected ..., got ..."]
+    # a command that succeeds still shows them, in the order they came
+    monkeypatch.setattr("asperity.statmodel.cli.run_figures", succeeds_after_noise)
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")
+        assert main(["figures", "--out", "anywhere"]) == 0
+    assert capsys.readouterr().err.splitlines() == [
+        "asperity figures: warning: RuntimeWarning: divide by zero encountered in log",
+        "asperity figures: warning: own warning",
+    ]
+
+
+def test_synth_refuses_an_absurd_size_at_once_with_the_memory_it_needs(tmp_path, capsys):
+    import time
+
+    from asperity.topo.synthetic import self_affine
+
+    t0 = time.perf_counter()
+    assert main(["synth", "--out", str(tmp_path / "s.h5"), "--n", "30000"]) == 2
+    assert time.perf_counter() - t0 < 1.0  # it used to fail after 45 s
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("asperity synth: error: --n: expected at most 10001 pixels per side")
+    assert "26.8 GiB" in err and "got 30000" in err
+    assert not (tmp_path / "s.h5").exists()
+    with pytest.raises(asperity.errors.InputError, match="GiB"):
+        self_affine(4, 1e-6, rms_height=1e-6, rolloff_wavelength=1e-4, ny=20000)
