@@ -56,7 +56,7 @@ _STORAGE_WORDS = {
     "read-only file system": errno.EROFS,
     "input/output error": errno.EIO,
 }
-_TEMPORARY = re.compile(r"^\.(?P<name>.+)\.(?P<pid>\d+)\.tmp$")
+_TEMPORARY = re.compile(r"^\.(?P<name>.+\.h5)\.(?P<pid>\d+)\.tmp$")  # the store's
 
 
 class OutputLockedError(InputError):
@@ -134,13 +134,13 @@ def pid_alive(pid: int) -> bool:
 
 
 def remove_stale_temporaries(directory: Path, log: Callable[[str], None]) -> list[Path]:
-    """Remove ``.NAME.<pid>.tmp`` files of processes that no longer run on this host.
+    """Remove ``.NAME.h5.<pid>.tmp`` files of processes that no longer run on this host.
 
     Call it while holding the directory's :class:`OutputLock` (no other run of asperity then
     writes there). Returns the files removed; ``log`` gets one line for each.
     """
     removed = []
-    for path in sorted(directory.glob(".*.tmp")):
+    for path in sorted(directory.glob(".*.h5.*.tmp")):
         match = _TEMPORARY.match(path.name)
         if match is None or int(match.group("pid")) == os.getpid():
             continue

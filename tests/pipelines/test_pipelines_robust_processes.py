@@ -132,3 +132,22 @@ def test_a_real_failed_write_is_one_line_exit_2_and_no_crash(small, small_run, t
     assert not list(out.glob(".*.tmp"))
     with h5py.File(out / "results.h5", "r") as f:
         assert "friction" in f
+
+
+def _sleep(seconds: float) -> float:
+    time.sleep(seconds)
+    return seconds
+
+
+def test_a_pool_left_by_an_exception_terminates_its_workers_at_once():
+    from asperity.pipelines.parallel import make_executor
+
+    t0 = time.perf_counter()
+    with pytest.raises(KeyboardInterrupt), make_executor(2) as pool:
+        futures = [pool.submit(_sleep, 30.0) for _ in range(4)]
+        assert _wait_until(lambda: any(f.running() for f in futures), timeout=60)
+        workers = [psutil.Process(p.pid) for p in pool._processes.values()]
+        raise KeyboardInterrupt
+    assert time.perf_counter() - t0 < 20  # not the 60 s the queued calls would take
+    assert not any(_running(w) for w in workers)
+    assert all(f.cancelled() or f.done() for f in futures)
