@@ -15,6 +15,7 @@ import argparse
 import os
 import sys
 from pathlib import Path
+from typing import Any
 
 from asperity.errors import InputError
 from asperity.pipelines.config import PRESETS, load_config, load_preset
@@ -82,33 +83,43 @@ def handle_run(args: argparse.Namespace) -> int:
         if args.config is not None
         else load_preset(args.preset or "default")
     )
+    from asperity.pipelines.outdir import OutputLock
+
+    # The lock first (a second run on --out stops at once, before the heavy imports); held over
+    # the job and the report.
+    with OutputLock(args.out, log=_log_line):
+        result = _run_and_report(args, config)
+    from asperity.pipelines.report import summary_text
+
+    print(summary_text(result))
+    return 0 if result.converged else 1
+
+
+def _run_and_report(args: argparse.Namespace, config: Any) -> Any:
+    """The job and its report in ``args.out`` (the caller holds the directory's lock)."""
     # OpenMP threads that spin-wait (the default) halve the BEM's speed on a busy 2-core machine
     # (measured: 23 s -> 11 s for the default job's BEM stage); it must be set before pyFFTW
     # loads the OpenMP runtime, i.e. before the solvers run.
     os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
     # Heavy imports only after the configuration passed validation.
     from asperity.pipelines.job import progress_enabled, run_job
-    from asperity.pipelines.outdir import OutputLock, write_error
-    from asperity.pipelines.report import summary_text, write_report
+    from asperity.pipelines.outdir import write_error
+    from asperity.pipelines.report import write_report
 
-    progress = progress_enabled()
-    log = _log_line
-    with OutputLock(args.out, log=log):  # held over the job and the report
-        result = run_job(
-            config,
-            args.out,
-            force=args.force,
-            workers=args.workers,
-            scheduler=args.scheduler,
-            progress=progress,
-            log=log,
-        )
-        try:
-            write_report(result, args.out)
-        except OSError as exc:  # a full disk while writing the figures: results.h5 is complete
-            error = write_error(Path(args.out), exc, "results.h5 holds every stage")
-            if error is None:
-                raise
-            raise error from exc
-    print(summary_text(result))
-    return 0 if result.converged else 1
+    result = run_job(
+        config,
+        args.out,
+        force=args.force,
+        workers=args.workers,
+        scheduler=args.scheduler,
+        progress=progress_enabled(),
+        log=_log_line,
+    )
+    try:
+        write_report(result, args.out)
+    except OSError as exc:  # a full disk while writing the figures: results.h5 is complete
+        error = write_error(Path(args.out), exc, "results.h5 holds every stage")
+        if error is None:
+            raise
+        raise error from exc
+    return result
