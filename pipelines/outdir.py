@@ -19,6 +19,10 @@ Three guarantees of ``asperity run --out DIR`` (and :func:`pipelines.job.run_job
   file; :func:`remove_stale_temporaries` (called under the lock) removes those of processes
   that no longer run on this host, and reports each one removed.
 
+Where the file system refuses ``flock`` (some network or FUSE file systems), the pid record
+alone decides, as best it can: a record of a live pid on this host, or of any other host,
+refuses the run; a record of a dead pid on this host is taken over.
+
 Lock re-entry: the same process may take the lock of one directory again (the command line
 holds it around the job and the report, the job takes it too); it is released when the
 outermost holder lets go.
@@ -144,8 +148,8 @@ def remove_stale_temporaries(directory: Path, log: Callable[[str], None]) -> lis
         match = _TEMPORARY.match(path.name)
         if match is None or int(match.group("pid")) == os.getpid():
             continue
-        if pid_alive(int(match.group("pid"))):
-            continue
+        if sys.platform != "win32" and pid_alive(int(match.group("pid"))):
+            continue  # (on Windows the lock alone says that no other run writes here)
         try:
             path.unlink()
         except FileNotFoundError:
@@ -275,8 +279,17 @@ class OutputLock:
             )
 
     def _record_is_live(self) -> bool:
+        """Whether the pid record names a run that may still hold the directory (a run on
+        another host cannot be checked from here, so it counts as live)."""
         record = _read_record(self.path)
-        return record.get("host") == socket.gethostname() and pid_alive(int(record.get("pid", 0)))
+        if not record:
+            return False
+        if record.get("host") != socket.gethostname():
+            return True
+        try:
+            return pid_alive(int(record.get("pid", 0)))
+        except (TypeError, ValueError):
+            return False
 
     def _write_record(self) -> None:
         record = {

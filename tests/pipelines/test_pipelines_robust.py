@@ -182,6 +182,28 @@ def test_the_lock_is_reentrant_in_one_process_and_released_by_the_outermost(tmp_
     child.wait(timeout=10)
 
 
+def test_without_flock_the_pid_record_decides(tmp_path, monkeypatch):
+    def no_locks(handle):
+        raise OSError(errno.ENOLCK, "No locks available")
+
+    monkeypatch.setattr(outdir_module, "_lock_exclusive", no_locks)
+    record = tmp_path / LOCK_NAME
+    host = os.uname().nodename
+    for pid, on_host, refused in [
+        (os.getppid(), host, True),  # a live run here
+        (_dead_pid(), "elsewhere", True),  # another host: cannot be checked, so refused
+        (_dead_pid(), host, False),  # a dead run here: taken over
+    ]:
+        record.write_text(json.dumps({"pid": pid, "host": on_host}) + "\n")
+        lock = OutputLock(tmp_path)
+        if refused:
+            with pytest.raises(OutputLockedError, match=f"pid {pid} on host {on_host}"):
+                lock.acquire()
+        else:
+            lock.acquire()
+            lock.release()
+
+
 def test_an_unwritable_out_dir_is_one_clean_error(tmp_path, small, capsys, monkeypatch):
     blocker = tmp_path / "a-file"
     blocker.write_text("")
