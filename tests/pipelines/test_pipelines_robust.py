@@ -237,6 +237,17 @@ def test_a_read_only_out_dir_exits_2(tmp_path, small, capsys):
     assert "cannot write" in capsys.readouterr().err
 
 
+@pytest.mark.skipif(not os.path.isdir("/sys/kernel"), reason="needs Linux sysfs")
+def test_a_real_directory_that_refuses_files_exits_2(tmp_path, small, capsys):
+    """sysfs refuses new files even to root: a real unwritable --out, not a simulated one."""
+    config = _write_config(tmp_path, small)
+    assert main(["run", str(config), "--out", "/sys"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1, err
+    assert err[0].startswith("asperity run: error: --out /sys: cannot write in the output")
+    assert err[0].endswith(": /sys/.asperity.lock)")  # the OS reason, then the file
+
+
 # --- 6. temporary files ----------------------------------------------------------------------
 
 
