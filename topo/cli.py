@@ -452,7 +452,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         description="Periodic self-affine surface; defaults are the paper-like preset.",
     )
     synth.add_argument("--out", required=True, help="output .h5 (project HDF5), .npy or .npz")
-    synth.add_argument("--n", type=_positive_int, default=5000, help="pixels per side (5000)")
+    synth.add_argument(
+        "--n", type=_positive_int, default=5000, help="pixels per side (5000; at most 10001)"
+    )
     synth.add_argument(
         "--pixel-size", dest="pixel_size", type=float, default=2e-6, help="pixel size in m (2e-6)"
     )
