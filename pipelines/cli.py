@@ -91,28 +91,54 @@ def _one_line(text: str) -> str:
 def _warning_text(message: Warning | str, category: type[Warning]) -> str:
     """The warning's message; foreign categories (numpy's RuntimeWarning, ...) are named."""
     text = _one_line(message)
-    own = category.__module__.startswith("asperity") or category is UserWarning
-    return text if own else f"{category.__name__}: {text}"
+    return text if _own_category(category) else f"{category.__name__}: {text}"
+
+
+def _own_category(category: type[Warning]) -> bool:
+    """asperity's warnings and plain UserWarnings (not numpy's RuntimeWarning, ...)."""
+    return category.__module__.startswith("asperity") or category is UserWarning
 
 
 @contextlib.contextmanager
-def warnings_as_lines(command: str, stream=None) -> Iterator[None]:  # noqa: ANN001
+def warnings_as_lines(command: str, stream=None) -> Iterator[list[str]]:  # noqa: ANN001
     """Print each warning raised inside the block as ``asperity COMMAND: warning: ...``.
 
     One line per distinct message, on ``stream`` (default: ``sys.stderr`` at the time of the
-    warning); the active warning filters still decide which warnings are shown.
+    warning); the active warning filters still decide which warnings are shown. asperity's own
+    warnings (and UserWarning) are printed at once; foreign ones (numpy's RuntimeWarning, ...)
+    wait until the next own warning or the end of the block, and are dropped when the block
+    ends by an exception: a command that fails prints its one error line, not the numerical
+    noise of the computation it abandoned (``ASPERITY_DEBUG=1`` prints them).
     """
     shown: set[str] = set()
+    waiting: list[str] = []
+
+    def emit(text: str) -> None:
+        print(f"asperity {command}: warning: {text}", file=stream or sys.stderr)
 
     def show(message, category, filename, lineno, file=None, line=None) -> None:  # noqa: ANN001
         text = _warning_text(message, category)
-        if text not in shown:
-            shown.add(text)
-            print(f"asperity {command}: warning: {text}", file=stream or sys.stderr)
+        if text in shown:
+            return
+        shown.add(text)
+        if not _own_category(category):
+            waiting.append(text)
+            return
+        while waiting:
+            emit(waiting.pop(0))
+        emit(text)
 
     with warnings.catch_warnings():
         warnings.showwarning = show
-        yield
+        try:
+            yield waiting
+        except BaseException:
+            if not _debugging():
+                waiting.clear()
+            raise
+        finally:
+            while waiting:
+                emit(waiting.pop(0))
 
 
 def _path_error_text(exc: OSError) -> str:

@@ -35,6 +35,7 @@ from asperity.pipelines.friction_stage import (
     ModeMixityChoice,
 )
 from asperity.pipelines.measured import read_measurements
+from asperity.pipelines.outdir import OutputLock
 from asperity.pipelines.parallel import make_executor
 from asperity.pipelines.psd_stage import PSD, PsdResult
 from asperity.pipelines.resolution_stage import STATISTICAL_MODEL, ResolutionChoice
@@ -152,6 +153,13 @@ def run_job(
     -------
     JobResult
         Figures and the report are written separately by :func:`pipelines.report.write_report`.
+
+    Raises
+    ------
+    pipelines.outdir.OutputLockedError
+        Another run holds ``out_dir`` (its lock file ``.asperity.lock``).
+    pipelines.outdir.OutputDirError, pipelines.outdir.OutputWriteError
+        ``out_dir`` cannot be written, or the disk is full: ``results.h5`` keeps what it held.
     """
     t_job = time.perf_counter()
     out_dir = Path(out_dir)
@@ -160,8 +168,11 @@ def run_job(
     )  # a malformed CSV fails before any work
     input_hash = input_sha256(config.surface)
     workers = config.run.workers if workers is None else workers
-    out_dir.mkdir(parents=True, exist_ok=True)
-    with make_executor(workers, scheduler=scheduler) as executor:
+    log = log or (lambda line: None)
+    with (
+        OutputLock(out_dir, log=log),  # one run per directory; stale temporaries removed
+        make_executor(workers, scheduler=scheduler) as executor,
+    ):
         runner = Runner(
             store=ResultStore(out_dir / "results.h5"),
             context=StageContext(config, {}, executor, progress, measured),
@@ -169,7 +180,7 @@ def run_job(
             version=asperity.__version__,
             root_attrs=provenance(config, input_hash),
             force=force,
-            log=log or (lambda line: None),
+            log=log,
         )
         run_stages(runner)
     results = runner.context.results

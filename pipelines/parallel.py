@@ -4,8 +4,10 @@ Every stage maps a picklable top-level function over independent items (loads, r
 BEM branches) through an :class:`Executor`-like object; this module makes one.
 
 * ``workers == 1``: :class:`SerialExecutor`, plain calls in this process.
-* ``workers > 1``: a :class:`concurrent.futures.ProcessPoolExecutor` with the ``spawn`` start
-  method. Its initializer sets ``OMP_NUM_THREADS``, ``OPENBLAS_NUM_THREADS``,
+* ``workers > 1``: a :class:`WorkerPool` (a :class:`concurrent.futures.ProcessPoolExecutor`)
+  with the ``spawn`` start method. Its workers end with this process, even when it is killed
+  (:func:`start_worker`), and with the pool when its ``with`` block ends by an exception. Its
+  initializer sets ``OMP_NUM_THREADS``, ``OPENBLAS_NUM_THREADS``,
   ``MKL_NUM_THREADS``, ``NUMBA_NUM_THREADS`` (and pyFFTW's OpenMP threads through
   ``OMP_NUM_THREADS``) to ``threads_per_worker`` before numpy, numba or the FFT libraries are
   imported in the worker, so N workers do not start N x cores threads and fight for the cores.
@@ -22,6 +24,9 @@ from __future__ import annotations
 import concurrent.futures
 import multiprocessing
 import os
+import sys
+import threading
+import time
 from collections.abc import Callable, Iterable, Iterator
 from typing import Any
 
@@ -185,12 +190,80 @@ def make_executor(
         raise InputError(f"workers: expected an integer >= 1, got {workers}")
     if workers == 1:
         return SerialExecutor()
-    return concurrent.futures.ProcessPoolExecutor(
+    return WorkerPool(
         max_workers=workers,
         mp_context=multiprocessing.get_context("spawn"),
-        initializer=cap_threads,
-        initargs=(threads_per_worker,),
+        initializer=start_worker,
+        initargs=(threads_per_worker, os.getpid()),
     )
+
+
+#: Linux ``prctl`` option: the signal a process gets when its parent ends.
+_PR_SET_PDEATHSIG = 1
+#: Seconds between checks of the parent where ``prctl`` is not available.
+PARENT_POLL_SECONDS = 0.5
+
+
+def start_worker(threads: int, parent_pid: int) -> None:
+    """Initializer of a worker process: thread caps, and an end that follows the parent's.
+
+    On Linux the kernel sends the worker SIGKILL when its parent ends (``PR_SET_PDEATHSIG``,
+    also after ``kill -9`` of the parent); elsewhere a daemon thread checks every
+    :data:`PARENT_POLL_SECONDS` whether the parent still runs. A worker whose parent ended
+    before this ran exits at once. (Linux counts the *thread* that started the worker as its
+    parent: the pool's workers are started by the thread that submits to it, which must outlive
+    the pool, as the job's main thread does.)
+    """
+    cap_threads(threads)
+    if not _exit_with_parent_linux():
+        threading.Thread(target=_watch_parent, args=(parent_pid,), daemon=True).start()
+    if os.getppid() != parent_pid:  # the parent ended before the watch was set up
+        os._exit(1)
+
+
+def _exit_with_parent_linux() -> bool:
+    """Ask Linux to SIGKILL this process when its parent ends; False where unavailable."""
+    if not sys.platform.startswith("linux"):
+        return False
+    import ctypes
+    import signal
+
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        return libc.prctl(_PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0) == 0
+    except (OSError, AttributeError):
+        return False
+
+
+def _watch_parent(parent_pid: int) -> None:
+    while os.getppid() == parent_pid:
+        time.sleep(PARENT_POLL_SECONDS)
+    os._exit(1)
+
+
+class WorkerPool(concurrent.futures.ProcessPoolExecutor):
+    """A process pool whose workers end with it.
+
+    Leaving its ``with`` block by an exception (Ctrl-C, a failed stage) cancels the queued
+    calls and terminates the workers at once, instead of waiting for the running calls; the
+    workers also end when this process is killed (:func:`start_worker`).
+    """
+
+    def __exit__(self, exc_type, exc, tb) -> bool:  # noqa: ANN001
+        if exc_type is None:
+            return super().__exit__(exc_type, exc, tb)
+        self.terminate_workers()
+        return False
+
+    def terminate_workers(self) -> None:
+        """Cancel what is queued, SIGTERM every worker, and reap them."""
+        processes = list((getattr(self, "_processes", None) or {}).values())
+        self.shutdown(wait=False, cancel_futures=True)
+        for process in processes:
+            if process.is_alive():
+                process.terminate()
+        for process in processes:
+            process.join(timeout=5)
 
 
 class _BorrowedDaskExecutor(DaskExecutor):

@@ -821,7 +821,10 @@ def write_report(result: Any, out_dir: str | Path, options: FigureOptions | None
     figures = write_figures(result, out_dir, options)
     header, rows = load_table(result)
     status = {"stored": "stored (skipped)", "computed": "computed", "disabled": "disabled"}
-    stage_rows = [[s.name, status[s.status], f"{s.seconds:.2f}"] for s in result.stages]
+    stage_rows = [
+        [s.name, status[s.status] + (f" ({s.note})" if s.note else ""), f"{s.seconds:.2f}"]
+        for s in result.stages
+    ]
     problems = result.problems()
     verdict = getattr(result, "verdict", None)
     text = [

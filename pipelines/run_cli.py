@@ -14,6 +14,8 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+from pathlib import Path
+from typing import Any
 
 from asperity.errors import InputError
 from asperity.pipelines.config import PRESETS, load_config, load_preset
@@ -75,6 +77,10 @@ def register_companions(subparsers: argparse._SubParsersAction) -> None:
     batch_cli.register(subparsers)
 
 
+def _log_line(line: str) -> None:
+    print(line, file=sys.stderr)
+
+
 def handle_run(args: argparse.Namespace) -> int:
     """Run the job; 0 ok, 1 a solver did not converge, 3 the verdict is invalid."""
     if args.config is not None and args.preset is not None:
@@ -86,26 +92,45 @@ def handle_run(args: argparse.Namespace) -> int:
         if args.config is not None
         else load_preset(args.preset or "default")
     )
+    from asperity.pipelines.outdir import OutputLock
+
+    # The lock first (a second run on --out stops at once, before the heavy imports); held over
+    # the job and the report.
+    with OutputLock(args.out, log=_log_line):
+        result = _run_and_report(args, config)
+    from asperity.pipelines.report import summary_text
+
+    print(summary_text(result))
+    from asperity.pipelines.verdict import exit_status
+
+    return int(exit_status(result.converged, result.verdict))
+
+
+def _run_and_report(args: argparse.Namespace, config: Any) -> Any:
+    """The job and its report in ``args.out`` (the caller holds the directory's lock)."""
     # OpenMP threads that spin-wait (the default) halve the BEM's speed on a busy 2-core machine
     # (measured: 23 s -> 11 s for the default job's BEM stage); it must be set before pyFFTW
     # loads the OpenMP runtime, i.e. before the solvers run.
     os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
     # Heavy imports only after the configuration passed validation.
     from asperity.pipelines.job import progress_enabled, run_job
-    from asperity.pipelines.report import summary_text, write_report
+    from asperity.pipelines.outdir import write_error
+    from asperity.pipelines.report import write_report
 
-    progress = progress_enabled()
     result = run_job(
         config,
         args.out,
         force=args.force,
         workers=args.workers,
         scheduler=args.scheduler,
-        progress=progress,
-        log=lambda line: print(line, file=sys.stderr),
+        progress=progress_enabled(),
+        log=_log_line,
     )
-    write_report(result, args.out)
-    print(summary_text(result))
-    from asperity.pipelines.verdict import exit_status
-
-    return int(exit_status(result.converged, result.verdict))
+    try:
+        write_report(result, args.out)
+    except OSError as exc:  # a full disk while writing the figures: results.h5 is complete
+        error = write_error(Path(args.out), exc, "results.h5 holds every stage")
+        if error is None:
+            raise
+        raise error from exc
+    return result

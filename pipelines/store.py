@@ -17,20 +17,24 @@ group=stage, engine="h5netcdf")`` opens it with named dimensions and units. Bool
 booleans. What goes in a group is the stage's result dataclass, field by field, as its
 metadata declares (:mod:`pipelines.fields`); the same declaration reads it back.
 
-Crash safety: every write copies the current file to a temporary file in the same directory,
-writes the new group (and the file's provenance, and drops stale groups) there, flushes it to
-disk and renames it over ``results.h5`` (:func:`os.replace` is atomic on POSIX), so an
-interruption leaves either the old file or the new one, never a half-written one, and the
-provenance always describes the stages beside it.
+Crash safety: every write builds the new file in memory (the current file, the new group, the
+file's provenance, stale groups dropped), writes those bytes to ``.results.h5.<pid>.tmp`` in the
+same directory, flushes it to disk and renames it over ``results.h5`` (:func:`os.replace` is
+atomic on POSIX), so an interruption leaves either the old file or the new one, never a
+half-written one, and the provenance always describes the stages beside it. libhdf5 itself never
+writes to disk, so a full disk is one clean :class:`pipelines.outdir.OutputWriteError` (exit
+status 2), the previous file intact and the temporary removed, instead of an h5py error and a
+crash of libhdf5 at exit. The file is held in memory while it is written (its size: the
+stage arrays, compressed above 4096 elements).
 """
 
 from __future__ import annotations
 
 import contextlib
 import datetime as _dt
+import io
 import json
 import os
-import shutil
 import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -41,6 +45,7 @@ import h5py
 import numpy as np
 
 from asperity.pipelines.fields import FieldSpec, canonical, checksum, field_specs
+from asperity.pipelines.outdir import write_error
 
 R = TypeVar("R")
 
@@ -233,7 +238,12 @@ class ResultStore:
             raise KeyError(f"{self.path}: stage {name!r} is not stored")
         with f:
             group = f[name]
-            result = read_result(group, cls)
+            try:
+                result = read_result(group, cls)
+            except (OSError, KeyError, TypeError, ValueError) as exc:  # damaged data or layout
+                raise StoredStageError(
+                    f"{self.path}: stage {name!r} cannot be read back ({type(exc).__name__}: {exc})"
+                ) from exc
             expected = str(_attr(group.attrs.get("checksum", "")))
         if checksum(result) != expected:
             raise StoredStageError(
@@ -277,35 +287,111 @@ class ResultStore:
         drop : sequence of str
             Groups to delete (stages of another configuration).
         """
+        image = self._new_image(name, result, key, key_inputs, seconds, root_attrs, drop)
+        self._replace_with(image)
+
+    def _new_image(
+        self,
+        name: str | None,
+        result: Any,
+        key: str,
+        key_inputs: str,
+        seconds: float,
+        root_attrs: Mapping[str, Any] | None,
+        drop: Sequence[str],
+    ) -> io.BytesIO:
+        """The new file's bytes, built in memory: the current file plus the changes.
+
+        libhdf5 never writes to disk here, so a full disk cannot leave it holding a half-closed
+        file (which crashed the interpreter at exit: a segfault after the error).
+        """
+        image = io.BytesIO()
+        readable = self._open_read()
+        if readable is not None:
+            readable.close()
+            image.write(self.path.read_bytes())
+            image.seek(0)
+        with h5py.File(image, "a") as f:
+            for stale in drop:
+                if stale in f:
+                    del f[stale]
+            if name is not None:
+                if name in f:
+                    del f[name]
+                group = f.create_group(name)
+                write_result(group, result)
+                group.attrs.update(
+                    stage_key=key,
+                    key_inputs=key_inputs,
+                    checksum=checksum(result),
+                    seconds=float(seconds),
+                    finished=True,
+                )
+            for k, v in (root_attrs or {}).items():
+                f.attrs[k] = v
+            f.attrs["modified"] = _dt.datetime.now(_dt.timezone.utc).isoformat()
+        return image
+
+    def _replace_with(self, image: io.BytesIO) -> None:
+        """Write ``image`` to a temporary file beside ``results.h5``, sync it, rename it over.
+
+        Raises
+        ------
+        OutputWriteError
+            No space, quota or access: the previous file is intact, no temporary is left.
+        """
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = self.path.with_name(f".{self.path.name}.{os.getpid()}.tmp")
+        tmp = self.temporary_path()
         try:
-            readable = self._open_read()
-            if readable is not None:
-                readable.close()
-                shutil.copyfile(self.path, tmp)
-            with h5py.File(tmp, "a") as f:
-                for stale in drop:
-                    if stale in f:
-                        del f[stale]
-                if name is not None:
-                    if name in f:
-                        del f[name]
-                    group = f.create_group(name)
-                    write_result(group, result)
-                    group.attrs.update(
-                        stage_key=key,
-                        key_inputs=key_inputs,
-                        checksum=checksum(result),
-                        seconds=float(seconds),
-                        finished=True,
-                    )
-                for k, v in (root_attrs or {}).items():
-                    f.attrs[k] = v
-                f.attrs["modified"] = _dt.datetime.now(_dt.timezone.utc).isoformat()
-            with open(tmp, "rb+") as handle:
-                os.fsync(handle.fileno())
+            write_bytes_synced(tmp, image.getbuffer())
             os.replace(tmp, self.path)
+            sync_directory(self.path.parent)
+        except (OSError, RuntimeError) as exc:
+            kept = (
+                f"{self.path} is unchanged (it keeps every stage finished before)"
+                if self.path.exists()
+                else "nothing was written"
+            )
+            error = write_error(self.path, exc, kept)
+            if error is None:
+                raise
+            raise error from exc
         finally:
             with contextlib.suppress(FileNotFoundError):
                 tmp.unlink()
+
+    def temporary_path(self) -> Path:
+        """Where this process writes the next version of the file (``.results.h5.<pid>.tmp``)."""
+        return self.path.with_name(f".{self.path.name}.{os.getpid()}.tmp")
+
+
+#: Bytes written per ``os.write`` call.
+WRITE_CHUNK = 1 << 22
+
+
+def write_bytes_synced(path: Path, data: memoryview | bytes) -> None:
+    """Write ``data`` to a new file ``path`` and flush it to the device (fsync).
+
+    Raises OSError (ENOSPC, EDQUOT, EFBIG, ...) as the operating system reports it.
+    """
+    fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | getattr(os, "O_BINARY", 0), 0o644)
+    try:
+        view = memoryview(data)
+        while view:
+            written = os.write(fd, view[:WRITE_CHUNK])
+            view = view[written:]
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
+def sync_directory(directory: Path) -> None:
+    """Flush a rename in ``directory`` to the device (POSIX; a no-op where unsupported)."""
+    if not hasattr(os, "O_DIRECTORY"):
+        return
+    fd = os.open(directory, os.O_RDONLY | os.O_DIRECTORY)
+    try:
+        with contextlib.suppress(OSError):  # some file systems refuse fsync on a directory
+            os.fsync(fd)
+    finally:
+        os.close(fd)

@@ -265,7 +265,9 @@ def _scan(args: argparse.Namespace) -> int:
 
 def _synth(args: argparse.Namespace) -> int:
     from asperity.topo.io import write_hdf5
-    from asperity.topo.synthetic import paper_like
+    from asperity.topo.synthetic import check_map_size, paper_like
+
+    check_map_size(args.n, args.n, "--n")  # at once, with the memory it would take
 
     out = Path(args.out)
     if out.suffix.lower() not in (".h5", ".hdf5", ".npy", ".npz"):
@@ -450,7 +452,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         description="Periodic self-affine surface; defaults are the paper-like preset.",
     )
     synth.add_argument("--out", required=True, help="output .h5 (project HDF5), .npy or .npz")
-    synth.add_argument("--n", type=_positive_int, default=5000, help="pixels per side (5000)")
+    synth.add_argument(
+        "--n", type=_positive_int, default=5000, help="pixels per side (5000; at most 10001)"
+    )
     synth.add_argument(
         "--pixel-size", dest="pixel_size", type=float, default=2e-6, help="pixel size in m (2e-6)"
     )

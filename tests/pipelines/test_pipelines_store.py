@@ -176,3 +176,55 @@ def test_declarations_are_checked():
         field_specs(NoUnits)
     with pytest.raises(TypeError, match="reserved"):
         field_specs(Reserved)
+
+
+def test_a_full_disk_mid_write_keeps_the_previous_file_and_no_temporary(tmp_path, monkeypatch):
+    import errno
+    import os
+
+    from asperity.pipelines.outdir import OutputWriteError
+
+    store = ResultStore(tmp_path / "results.h5")
+    store.write("a", toy(), key="k", root_attrs={"config_toml": "old"})
+    before = store.path.read_bytes()
+    real_write, calls = os.write, []
+
+    def write_then_full(fd, data):
+        calls.append(len(data))
+        if len(calls) > 1:  # the first chunk reached the disk, then it was full
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        return real_write(fd, data)
+
+    monkeypatch.setattr(store_module, "WRITE_CHUNK", 1000)
+    monkeypatch.setattr(store_module.os, "write", write_then_full)
+    with pytest.raises(OutputWriteError, match="No space left on device") as info:
+        store.write("b", toy(50), key="j", root_attrs={"config_toml": "new"})
+    monkeypatch.undo()
+    assert len(calls) == 2 and info.value.errno == errno.ENOSPC
+    assert "unchanged" in str(info.value) and "\n" not in str(info.value)
+    assert store.path.read_bytes() == before
+    assert store.root_attrs()["config_toml"] == "old" and list(store.stored()) == ["a"]
+    assert [p.name for p in tmp_path.iterdir()] == ["results.h5"]
+
+
+def test_a_flipped_scalar_attribute_fails_its_checksum(tmp_path):
+    store = ResultStore(tmp_path / "results.h5")
+    store.write("stage", toy(), key="k")
+    with h5py.File(store.path, "a") as f:
+        f["stage"].attrs["effective_resolution"] = 2.7e-4
+    with pytest.raises(StoredStageError, match="checksum"):
+        store.read("stage", Toy)
+
+
+def test_a_damaged_compressed_chunk_is_a_stored_stage_error_not_a_crash(tmp_path):
+    store = ResultStore(tmp_path / "results.h5")
+    big = toy(2000)  # real_area: 6000 values, stored gzip-compressed
+    store.write("stage", big, key="k")
+    with h5py.File(store.path, "r") as f:
+        chunk = f["stage/real_area"].id.get_chunk_info(0)
+    data = bytearray(store.path.read_bytes())
+    start = chunk.byte_offset + chunk.size // 3
+    data[start : start + 64] = bytes(64)  # zeroed bytes inside the deflate stream
+    store.path.write_bytes(bytes(data))
+    with pytest.raises(StoredStageError, match="cannot be read back"):
+        store.read("stage", Toy)

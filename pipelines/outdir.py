@@ -1,0 +1,335 @@
+"""The output directory of a job: one run at a time, clean failures, no stale temporary files.
+
+Three guarantees of ``asperity run --out DIR`` (and :func:`pipelines.job.run_job`):
+
+* **One run per directory.** :class:`OutputLock` holds an exclusive lock on ``DIR/.asperity.lock``
+  for the whole run (stages, figures, report). A second run on the same directory stops at once
+  with :class:`OutputLockedError` (exit status 2) naming the lock file and the holder's pid,
+  host and start time. On POSIX the lock is ``fcntl.flock`` on that file: the kernel releases it
+  when the holding process ends in any way (``kill -9`` included), so a lock is never left
+  behind by a dead run on this host; the pid record is then taken over and the log says so. On
+  Windows it is ``msvcrt.locking`` on one byte of the file, released by the system the same way.
+  A lock held from another host over a network file system cannot be checked from here: the
+  message says to delete the file only when that run is gone.
+* **Clean failures.** A directory that cannot be created or written (read-only, not a
+  directory, no permission) is :class:`OutputDirError`, and a full disk or quota while
+  writing is :class:`OutputWriteError`: one line, exit status 2 (a file-system error on a
+  path the user named), the previous ``results.h5`` untouched.
+* **No stale temporary files.** The store writes ``.results.h5.<pid>.tmp`` beside the result
+  file; :func:`remove_stale_temporaries` (called under the lock) removes those of processes
+  that no longer run on this host, and reports each one removed.
+
+Where the file system refuses ``flock`` (some network or FUSE file systems), the pid record
+alone decides, as best it can: a record of a live pid on this host, or of any other host,
+refuses the run; a record of a dead pid on this host is taken over.
+
+Lock re-entry: the same process may take the lock of one directory again (the command line
+holds it around the job and the report, the job takes it too); it is released when the
+outermost holder lets go.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import datetime as _dt
+import errno
+import json
+import os
+import re
+import socket
+import sys
+import threading
+from collections.abc import Callable
+from pathlib import Path
+from types import TracebackType
+
+from asperity.errors import InputError
+
+#: Name of the lock file in the output directory.
+LOCK_NAME = ".asperity.lock"
+#: Byte offset locked on Windows (past the pid record, so that the record stays readable).
+_WINDOWS_LOCK_OFFSET = 1 << 20
+#: Errors of a full or failing storage device (reported as OutputWriteError, not a defect).
+STORAGE_ERRNOS = frozenset(
+    (errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EROFS, errno.EIO, errno.EACCES, errno.EPERM)
+)
+_STORAGE_WORDS = {
+    "no space left on device": errno.ENOSPC,
+    "disk quota exceeded": errno.EDQUOT,
+    "file too large": errno.EFBIG,
+    "read-only file system": errno.EROFS,
+    "input/output error": errno.EIO,
+}
+_TEMPORARY = re.compile(r"^\.(?P<name>.+\.h5)\.(?P<pid>\d+)\.tmp$")  # the store's
+
+
+class OutputLockedError(InputError):
+    """Another run holds the output directory's lock (exit status 2)."""
+
+
+class OutputDirError(InputError):
+    """The output directory cannot be created or written (exit status 2)."""
+
+
+class OutputWriteError(InputError):
+    """Writing an output file failed for lack of space, quota or access (exit status 2).
+
+    Attributes
+    ----------
+    errno : int or None
+        The operating system's error number, when known.
+    """
+
+    def __init__(self, message: str, errno_code: int | None = None):
+        super().__init__(message)
+        self.errno = errno_code
+
+
+def storage_errno(exc: BaseException) -> int | None:
+    """The storage error number behind ``exc`` (an OSError, or h5py's RuntimeError text).
+
+    Returns None when ``exc`` is not a storage failure (a defect must not be relabelled).
+    """
+    code = getattr(exc, "errno", None)
+    if isinstance(exc, OSError) and code in STORAGE_ERRNOS:
+        return code
+    if isinstance(exc, OSError | RuntimeError):  # h5py: "... errno = 28, error message = ..."
+        text = str(exc).lower()
+        match = re.search(r"errno = (\d+)", text)
+        if match and int(match.group(1)) in STORAGE_ERRNOS:
+            return int(match.group(1))
+        for word, number in _STORAGE_WORDS.items():
+            if word in text:
+                return number
+    return None
+
+
+def write_error(path: Path, exc: BaseException, kept: str) -> OutputWriteError | None:
+    """The one-line error for a failed write of ``path``, or None when ``exc`` is a defect.
+
+    Parameters
+    ----------
+    path : Path
+        The file being written.
+    exc : exception
+        What the write raised.
+    kept : str
+        What is still intact on disk (said in the message).
+    """
+    code = storage_errno(exc)
+    if code is None:
+        return None
+    return OutputWriteError(f"{path}: {os.strerror(code)} while writing; {kept}", code)
+
+
+def pid_alive(pid: int) -> bool:
+    """Whether a process with this id runs on this host (POSIX; on Windows: assume it does)."""
+    if pid <= 0:
+        return False
+    if sys.platform == "win32":  # os.kill(pid, 0) would terminate it there
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # exists, another user's
+        return True
+    return True
+
+
+def remove_stale_temporaries(directory: Path, log: Callable[[str], None]) -> list[Path]:
+    """Remove ``.NAME.h5.<pid>.tmp`` files of processes that no longer run on this host.
+
+    Call it while holding the directory's :class:`OutputLock` (no other run of asperity then
+    writes there). Returns the files removed; ``log`` gets one line for each.
+    """
+    removed = []
+    for path in sorted(directory.glob(".*.h5.*.tmp")):
+        match = _TEMPORARY.match(path.name)
+        if match is None or int(match.group("pid")) == os.getpid():
+            continue
+        if sys.platform != "win32" and pid_alive(int(match.group("pid"))):
+            continue  # (on Windows the lock alone says that no other run writes here)
+        try:
+            path.unlink()
+        except FileNotFoundError:
+            continue
+        removed.append(path)
+        log(f"removed {path}: temporary file of an interrupted run (pid {match.group('pid')})")
+    return removed
+
+
+def _lock_exclusive(handle) -> bool:  # noqa: ANN001 (a binary file object)
+    """Try to lock ``handle`` without waiting; False when another process holds it."""
+    try:
+        import fcntl
+    except ImportError:  # Windows
+        import msvcrt
+
+        handle.seek(_WINDOWS_LOCK_OFFSET)
+        try:
+            msvcrt.locking(handle.fileno(), msvcrt.LK_NBLCK, 1)
+        except OSError:
+            return False
+        return True
+    try:
+        fcntl.flock(handle.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        return False
+    except OSError as exc:
+        if exc.errno in (errno.EAGAIN, errno.EACCES):
+            return False
+        raise
+    return True
+
+
+def _read_record(path: Path) -> dict:
+    try:
+        text = path.read_text(encoding="utf-8", errors="replace")
+        record = json.loads(text[: _WINDOWS_LOCK_OFFSET // 2].split("\n", 1)[0] or "{}")
+    except (OSError, ValueError):
+        return {}
+    return record if isinstance(record, dict) else {}
+
+
+class OutputLock:
+    """Exclusive use of an output directory by this process (a context manager).
+
+    Parameters
+    ----------
+    directory : path
+        The output directory (created when missing).
+    log : callable, optional
+        Receives one line when a stale lock record or temporary file is taken over / removed.
+
+    Raises
+    ------
+    OutputLockedError
+        Another live process holds the lock.
+    OutputDirError
+        The directory cannot be created, or the lock file cannot be written there.
+    """
+
+    _held: dict[Path, tuple[OutputLock, int]] = {}
+    _guard = threading.Lock()
+
+    def __init__(self, directory: str | Path, log: Callable[[str], None] | None = None):
+        self.directory = Path(directory)
+        self.path = self.directory / LOCK_NAME
+        self.log = log or (lambda line: None)
+        self._handle = None
+        self._key: Path | None = None
+
+    def __enter__(self) -> OutputLock:
+        self.acquire()
+        return self
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        self.release()
+
+    def acquire(self) -> None:
+        """Take the lock (or re-enter it when this process holds it already)."""
+        try:
+            self.directory.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise OutputDirError(
+                f"--out {self.directory}: cannot create the output directory "
+                f"({exc.strerror or exc})"
+            ) from exc
+        key = self.directory.resolve()
+        with OutputLock._guard:
+            if key in OutputLock._held:
+                owner, depth = OutputLock._held[key]
+                OutputLock._held[key] = (owner, depth + 1)
+                self._key = key
+                return
+            self._take()
+            OutputLock._held[key] = (self, 1)
+            self._key = key
+        remove_stale_temporaries(self.directory, self.log)
+
+    def _take(self) -> None:
+        try:
+            handle = open(self.path, "a+b")  # noqa: SIM115 (held until release)
+        except OSError as exc:
+            raise OutputDirError(
+                f"--out {self.directory}: cannot write in the output directory "
+                f"({exc.strerror or exc}: {self.path})"
+            ) from exc
+        try:
+            locked = _lock_exclusive(handle)
+        except OSError:  # a file system without locks: fall back to the pid record alone
+            locked = not self._record_is_live()
+        if not locked:
+            holder = _read_record(self.path)
+            handle.close()
+            raise OutputLockedError(self._locked_message(holder))
+        previous = _read_record(self.path)
+        self._handle = handle
+        self._write_record()
+        if previous.get("pid") and previous.get("pid") != os.getpid():
+            self.log(
+                f"{self.path}: took over the lock of pid {previous.get('pid')} on "
+                f"{previous.get('host', '?')} (that run ended without releasing it)"
+            )
+
+    def _record_is_live(self) -> bool:
+        """Whether the pid record names a run that may still hold the directory (a run on
+        another host cannot be checked from here, so it counts as live)."""
+        record = _read_record(self.path)
+        if not record:
+            return False
+        if record.get("host") != socket.gethostname():
+            return True
+        try:
+            return pid_alive(int(record.get("pid", 0)))
+        except (TypeError, ValueError):
+            return False
+
+    def _write_record(self) -> None:
+        record = {
+            "pid": os.getpid(),
+            "host": socket.gethostname(),
+            "started": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+            "command": " ".join(sys.argv),
+        }
+        handle = self._handle
+        handle.seek(0)
+        handle.truncate()
+        handle.write((json.dumps(record) + "\n").encode())
+        handle.flush()
+
+    def _locked_message(self, holder: dict) -> str:
+        pid, host = holder.get("pid", "?"), holder.get("host", "?")
+        return (
+            f"--out {self.directory}: in use by another asperity run (pid {pid} on host {host}, "
+            f"started {holder.get('started', '?')}; lock file {self.path}). Wait for it to "
+            "finish or choose another --out. A run that ended on this host releases the lock "
+            "by itself (a dead pid is taken over); delete the lock file only if that run is "
+            "gone and the directory is shared with another host"
+        )
+
+    def release(self) -> None:
+        """Let go (the outermost holder in this process unlocks and closes the file)."""
+        if self._key is None:
+            return
+        with OutputLock._guard:
+            owner, depth = OutputLock._held[self._key]
+            if depth > 1:
+                OutputLock._held[self._key] = (owner, depth - 1)
+            else:
+                del OutputLock._held[self._key]
+                owner._close()
+            self._key = None
+
+    def _close(self) -> None:
+        if self._handle is not None:
+            with contextlib.suppress(OSError):  # a cleared record: this run ended cleanly
+                self._handle.truncate(0)
+            self._handle.close()  # closing the file releases flock / msvcrt locks
+            self._handle = None
