@@ -35,7 +35,7 @@ from asperity.pipelines.friction_stage import (
     ModeMixityChoice,
 )
 from asperity.pipelines.measured import read_measurements
-from asperity.pipelines.outdir import OutputLock
+from asperity.pipelines.outdir import OutputLock, OutputWriteError
 from asperity.pipelines.parallel import make_executor
 from asperity.pipelines.psd_stage import PSD, PsdResult
 from asperity.pipelines.resolution_stage import STATISTICAL_MODEL, ResolutionChoice
@@ -210,7 +210,7 @@ def run_stages(runner: Runner) -> None:
     """
     try:
         runner.run_all(STAGES)
-    except ConfigError:
+    except (ConfigError, OutputWriteError):  # already name the key, or the output file
         raise
     except InputError as exc:
         stage = STAGES[min(len(runner.runs), len(STAGES) - 1)]

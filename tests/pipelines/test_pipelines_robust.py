@@ -34,6 +34,7 @@ from asperity.pipelines.outdir import (
 )
 from asperity.pipelines.parallel import SerialExecutor
 from asperity.pipelines.report import write_report
+from asperity.pipelines.results import ATTRIBUTES
 from asperity.pipelines.stages import Runner, StageContext
 from asperity.pipelines.store import ResultStore
 
@@ -42,14 +43,7 @@ try:
 except ModuleNotFoundError:  # pragma: no cover
     import tomli as tomllib
 
-RESULT_ATTRIBUTES = {
-    "surface": "surface",
-    "resolution_scan": "scan",
-    "bem_reference": "bem",
-    "statistical_model": "resolution",
-    "mode_mixity": "mode_mixity",
-    "friction": "friction",
-}
+RESULT_ATTRIBUTES = ATTRIBUTES  # stage group name -> JobResult attribute
 
 
 # --- helpers ---------------------------------------------------------------------------------
@@ -449,7 +443,9 @@ def test_a_flipped_stored_value_is_recomputed_and_the_report_says_so(
     assert "checksum" in status["bem_reference"].note
     assert status["surface"].status == status["friction"].status == "stored"
     _assert_same_results(result, reference)
-    monkeypatch.setattr(report_module, "write_figures", lambda result, out: {})  # text only
+    monkeypatch.setattr(
+        report_module, "write_figures", lambda result, out, options=None: {}
+    )  # text only
     report = write_report(result, out).read_text()
     row = next(line for line in report.splitlines() if line.startswith("| bem_reference |"))
     assert "checksum" in row
