@@ -28,6 +28,7 @@ import numpy as np
 from matplotlib import colormaps
 from matplotlib.figure import Figure
 
+from asperity.pipelines.bem_report import bem_grid_figure, bem_section
 from asperity.statmodel.figures import draw_shear_curve
 
 DPI = 150
@@ -136,30 +137,8 @@ def plot_misfit(result: Any, path: Path) -> Path:
 
 
 def plot_bem_grid(result: Any, path: Path) -> Path:
-    """Stage 3: the refinement check and the contact mask at the largest load."""
-    bem = result.bem
-    fig = Figure(figsize=(10, 4.2))
-    ax1, ax2 = fig.subplots(1, 2)
-    pixel = bem.check_stride * result.surface.dx * 1e6
-    labels = ["non-adhesive", "adhesive"]
-    for k in range(bem.check_contact_fraction.shape[1]):
-        ax1.plot(pixel, bem.check_contact_fraction[:, k], "o-", label=labels[k])
-    ax1.axvline(bem.stride * result.surface.dx * 1e6, color="k", ls="--", label="chosen")
-    ax1.set_xlabel("BEM pixel size (um)")
-    ax1.set_ylabel(f"A_r / A_n at p = {bem.check_pressure:.3g} Pa")
-    ax1.set_title("grid refinement check")
-    ax1.legend()
-    mask = bem.contact_mask
-    ax2.imshow(
-        mask.T,
-        origin="lower",
-        cmap="gray_r",
-        extent=(0, mask.shape[0] * bem.dx * 1e3, 0, mask.shape[1] * bem.dy * 1e3),
-    )
-    ax2.set_xlabel("x (mm)")
-    ax2.set_ylabel("y (mm)")
-    ax2.set_title(f"contact at F_z = {bem.normal_load.max():.3g} N")
-    return _save(fig, path)
+    """Stage 3: the refinement curve, its error against the finest grid, the contact mask."""
+    return _save(bem_grid_figure(result), path)
 
 
 def plot_lambda_fit(result: Any, path: Path) -> Path:
@@ -363,6 +342,7 @@ def write_report(result: Any, out_dir: str | Path) -> Path:
         "",
         _md_table(header, rows),
         "",
+        *bem_section(result),
         "## Validity",
         "",
         "The statistical model is within its assumptions."
@@ -387,7 +367,8 @@ def write_report(result: Any, out_dir: str | Path) -> Path:
         "resolution": "Fig 12: summit statistics against resolution (a-c) and A_r/A_n against "
         "F_z (d).",
         "misfit": "Stage 4: misfit of the statistical model against resolution.",
-        "bem_grid": "Stage 3: BEM grid refinement check and contact at the largest load.",
+        "bem_grid": "Stage 3: BEM grid refinement (A_r/A_n and its error against the finest "
+        "grid solved) and contact at the largest load.",
         "lambda_fit": "Stage 5: lambda fit.",
         "shear": "Fig 4: shear response at the heaviest load, with stick and slip parts.",
         "area_vs_force": "Fig 13: A_r/A_n against F_x (dashed: model; dotted: constant shear "
@@ -423,6 +404,8 @@ def summary_text(result: Any) -> str:
         + f"; total {result.total_seconds:.1f} s",
     ]
     for note in result.resolution.validity:
+        lines.append(f"  WARNING: {note}")
+    for note in [] if result.bem is None else result.bem.warnings:
         lines.append(f"  WARNING: {note}")
     problems = result.problems()
     if problems:
