@@ -9,8 +9,8 @@ from __future__ import annotations
 
 from typing import Any
 
-import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.ticker import NullFormatter, ScalarFormatter
 
 from asperity.pipelines.bem_grid import EDGE_MISMATCH_LIMIT
 
@@ -83,8 +83,15 @@ def bem_grid_figure(result: Any) -> Figure:
     ax1.set_title(f"grid refinement ({bem.boundary})")
     ax1.legend()
     coarse = bem.check_error > 0
-    ax3.loglog(pixel[coarse], np.abs(bem.check_error[coarse]) * 100, "o-")
-    ax3.axvline(used, color="k", ls="--")
+    ax3.loglog(pixel[coarse], bem.check_error[coarse] * 100, "o-", label="larger of the modes")
+    ax3.axhline(
+        result.config.bem.area_tolerance * 100, color="gray", ls=":", label="area_tolerance"
+    )
+    ax3.axvline(used, color="k", ls="--", label="used")
+    for axis in (ax3.xaxis, ax3.yaxis):
+        axis.set_major_formatter(ScalarFormatter())
+        axis.set_minor_formatter(NullFormatter())
+    ax3.legend()
     ax3.set_xlabel("BEM pixel size (um)")
     ax3.set_ylabel("|A_r - A_r(finest)| / A_r(finest) (%)")
     ax3.set_title(f"error against {pixel.min():.3g} um; used grid: {bem.grid_error:.2%}")

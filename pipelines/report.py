@@ -273,7 +273,11 @@ def key_numbers(result: Any) -> list[tuple[str, str]]:
         rows.append(("BEM", "not run ([bem] enabled = false): calibrated on the measurement"))
     else:
         rows += [
-            ("BEM grid", f"stride {bem.stride} ({bem.dx * 1e6:.4g} um): {bem.grid_reason}"),
+            (
+                "BEM grid",
+                f"stride {bem.stride} ({bem.dx * 1e6:.4g} um), A_r {bem.grid_error:.2%} from the "
+                f"finest grid solved; {bem.boundary} boundary",
+            ),
             ("BEM solves converged", f"{int(np.sum(bem.converged))} / {bem.converged.size}"),
         ]
     rows += [
