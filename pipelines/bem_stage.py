@@ -2,16 +2,15 @@
 
 The map covers only part of the experiment's nominal area A_n, so each normal load is scaled
 to the map at equal nominal pressure, F_map = F_z A_map / A_n, and the result is reported as
-the fraction A_r / A_map (equal to A_r / A_n of the experiment). Two warm-started sweeps over
-the loads (:func:`bem.load_sweep`): non-adhesive and adhesive (Pohrt-Popov, eq:max_sigma).
+the fraction A_r / A_map (equal to A_r / A_n of the experiment). Non-adhesive and adhesive
+(Pohrt-Popov, eq:max_sigma) solves at every load; every adhesive number lies on the loading
+branch (:mod:`asperity.pipelines.bem_solves`).
 
-Grid choice ("model no more than a scene needs"): the map decimated with stride s is solved
-at the median load's nominal pressure and compared with the map at stride s/2, from
-``max_stride`` down to 1; the coarsest stride whose real-area fraction changes by less than
-``area_tolerance`` (relative) on refinement is used for the sweeps. When no pair agrees, the
-full map (stride 1) is used and the report says that the area is not converged under
-refinement (usual for self-affine maps, whose contact area keeps shrinking as finer roughness
-is resolved).
+The boundary condition (``[bem] boundary``) and the grid (``max_stride``, ``area_tolerance``,
+``coarsen``) are chosen and stated as :mod:`asperity.pipelines.bem_grid` explains. Nothing is
+solved twice: the grid check's solve at the chosen stride is the sweep's solve at the check
+load, and the other loads are solved in two chains outwards from it (in parallel with two
+workers; the map is shipped to each worker once).
 """
 
 from __future__ import annotations
@@ -22,224 +21,21 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from asperity import bem, topo
+from asperity import topo
+from asperity.pipelines.bem_grid import (
+    GridCheck,
+    boundary_warning,
+    check_grids,
+    edge_mismatch,
+    solver_grid,
+)
+from asperity.pipelines.bem_solves import SolveSummary, solve_chain
 from asperity.pipelines.fields import array, scalar, text
-from asperity.pipelines.parallel import run_map, worker_threads
+from asperity.pipelines.parallel import run_map, share
 from asperity.pipelines.stages import Stage, StageContext
 from asperity.pipelines.surface_stage import SURFACE
 
-#: The map is solved as one period of a periodic interface, as in the paper (Appendix B: the
-#: measured 10 x 10 mm^2 map is a seventh of the nominal area, so the domain is taken periodic).
-PERIODIC = True
-
-
-def solver_grid(surface: topo.HeightMap, stride: int) -> tuple[np.ndarray, float, float]:
-    """The BEM grid of a stride: decimated heights (m), cropped to fast FFT sizes, and dx, dy.
-
-    Missing pixels are set to the lowest valid height (they never touch). The crop to sizes
-    with prime factors 2, 3, 5, 7 (:func:`bem.crop_to_fast_size`; e.g. 5001 -> 5000) removes at
-    most a few trailing rows and columns; loads are scaled to the area actually solved.
-    """
-    grid = topo.decimate(surface, stride) if stride > 1 else surface
-    heights = np.array(bem.crop_to_fast_size(grid.heights, warn=False), dtype=float)
-    missing = np.isnan(heights)
-    if missing.any():
-        heights[missing] = np.nanmin(heights)
-    return heights, grid.dx, grid.dy
-
-
-def bem_sweep(
-    heights: np.ndarray,
-    dx: float,
-    dy: float,
-    e_star: float,
-    map_loads: Sequence[float],
-    work_of_adhesion: float,
-    tol: float,
-    max_iter: int | None,
-    periodic: bool,
-) -> dict:
-    """One warm-started BEM sweep; returns per-load summaries (picklable, no fields).
-
-    Parameters are those of :func:`bem.load_sweep` (heights m, dx/dy m, e_star Pa, loads N,
-    work_of_adhesion J/m^2). The contact mask of the last (largest) load is returned too.
-    """
-    order = np.argsort(map_loads)
-    results = bem.load_sweep(
-        heights,
-        dx,
-        dy,
-        e_star,
-        [float(map_loads[i]) for i in order],
-        work_of_adhesion=work_of_adhesion,
-        tol=tol,
-        max_iter=max_iter,
-        periodic=periodic,
-        threads=worker_threads(),
-    )
-    n = len(map_loads)
-    out = {
-        "real_area": np.empty(n),
-        "contact_fraction": np.empty(n),
-        "normal_force": np.empty(n),
-        "mean_gap": np.empty(n),
-        "iterations": np.empty(n, dtype=np.int64),
-        "converged": np.empty(n, dtype=bool),
-        "seconds": np.empty(n),
-        "messages": [""] * n,
-    }
-    for rank, i in enumerate(order):
-        r = results[rank]
-        out["real_area"][i] = r.real_area
-        out["contact_fraction"][i] = r.contact_fraction
-        out["normal_force"][i] = r.normal_force
-        out["mean_gap"][i] = r.mean_gap
-        out["iterations"][i] = r.nit
-        out["converged"][i] = bool(r.converged)
-        out["seconds"][i] = r.seconds
-        out["messages"][i] = str(r.message)
-    out["contact_mask"] = np.asarray(results[-1].contact_mask, dtype=bool)
-    return out
-
-
-def _single_solve(
-    heights: np.ndarray,
-    dx: float,
-    dy: float,
-    e_star: float,
-    load: float,
-    work_of_adhesion: float,
-    tol: float,
-    max_iter: int | None,
-    periodic: bool,
-) -> tuple[float, bool, int]:
-    r = bem.solve_contact(
-        heights,
-        dx,
-        dy,
-        e_star,
-        normal_force=load,
-        work_of_adhesion=work_of_adhesion,
-        tol=tol,
-        max_iter=max_iter,
-        periodic=periodic,
-        threads=worker_threads(),
-    )
-    return float(r.contact_fraction), bool(r.converged), int(r.nit)
-
-
-@dataclass
-class GridChoice:
-    """Outcome of the BEM refinement check.
-
-    Attributes
-    ----------
-    stride : int
-        Chosen decimation of the map for the sweeps.
-    strides : ndarray
-        Strides solved (coarse to fine).
-    contact_fraction : ndarray, shape (len(strides), n_modes)
-        A_r/A_map at the check pressure for each stride and mode (non-adhesive, adhesive).
-    relative_change : ndarray
-        Largest relative change of the fraction from each stride to the next finer one (NaN for
-        the finest).
-    check_pressure : float
-        Nominal pressure of the check, Pa (the median load over A_n).
-    converged : bool
-        Some pair agreed within the tolerance.
-    reason : str
-        One sentence for the report.
-    """
-
-    stride: int
-    strides: np.ndarray
-    contact_fraction: np.ndarray
-    relative_change: np.ndarray
-    check_pressure: float
-    converged: bool
-    reason: str
-
-
-def choose_bem_grid(
-    surface: topo.HeightMap,
-    e_star: float,
-    work_of_adhesion: float,
-    check_pressure: float,
-    *,
-    max_stride: int,
-    area_tolerance: float,
-    tol: float,
-    max_iter: int | None = None,
-    adhesive: bool = True,
-    executor: Executor | None = None,
-    progress: bool = False,
-) -> GridChoice:
-    """Pick the coarsest map decimation whose contact area is converged to ``area_tolerance``.
-
-    Parameters
-    ----------
-    surface : topo.HeightMap
-        The levelled map (m).
-    e_star, work_of_adhesion : float
-        E* (Pa) and w (J/m^2).
-    check_pressure : float
-        Nominal pressure of the check solves, Pa.
-    max_stride : int
-        Coarsest stride tried; halved down to 1.
-    area_tolerance : float
-        Allowed relative change of A_r/A_map between a stride and the next finer one.
-    tol, max_iter
-        BEM solver settings.
-    adhesive : bool
-        Also check the adhesive solve (the larger of the two changes decides).
-    executor : Executor, optional
-        Runs the check solves in parallel.
-    """
-    strides = []
-    s = max(int(max_stride), 1)
-    while True:
-        if min(surface.nx, surface.ny) // s >= 8:
-            strides.append(s)
-        if s == 1:
-            break
-        s = max(s // 2, 1)
-    ws = [0.0, work_of_adhesion] if adhesive and work_of_adhesion > 0 else [0.0]
-    jobs = []
-    for s in strides:
-        h, dx, dy = solver_grid(surface, s)
-        load = check_pressure * h.size * dx * dy
-        for w in ws:
-            jobs.append((h, dx, dy, e_star, load, w, tol, max_iter, PERIODIC))
-    solved = run_map(_single_solve, jobs, executor, desc="BEM grid check", progress=progress)
-    fraction = np.array([f for f, _, _ in solved]).reshape(len(strides), len(ws))
-    change = np.full(len(strides), np.nan)
-    for i in range(len(strides) - 1):
-        ref = fraction[i + 1]
-        change[i] = float(np.max(np.abs(fraction[i] - ref) / np.where(ref > 0, ref, np.nan)))
-    chosen, converged = strides[-1], False
-    for i in range(len(strides) - 1):
-        if change[i] <= area_tolerance:
-            chosen, converged = strides[i], True
-            break
-    if len(strides) == 1:
-        reason = "the map is too small to decimate; the full map is used"
-    elif converged:
-        i = strides.index(chosen)
-        reason = (
-            f"stride {chosen} (pixel {chosen * surface.dx * 1e6:.3g} um): A_r/A_map changes "
-            f"by {change[i]:.2%} when refined to stride {strides[i + 1]}, within the "
-            f"requested {area_tolerance:.2%}"
-        )
-    else:
-        finest = np.nanmin(change) if np.isfinite(change).any() else np.nan
-        reason = (
-            f"no decimation converged to {area_tolerance:.2%} (smallest change on "
-            f"refinement {finest:.2%}): the full map (stride 1) is used; the real area of "
-            "this surface is not converged under refinement"
-        )
-    return GridChoice(
-        chosen, np.asarray(strides), fraction, change, float(check_pressure), converged, reason
-    )
+__all__ = ["BEM", "BemReference", "bem_reference", "compute_bem", "solver_grid"]
 
 
 @dataclass
@@ -277,11 +73,35 @@ class BemReference:
     check_pressure : float
         Nominal pressure of the check, Pa.
     grid_converged : bool
-        Some pair of strides agreed within ``bem.area_tolerance``.
+        The two finest grids solved agree within ``bem.area_tolerance`` (the finest grid's
+        area looks converged); True when a single grid was solved.
     grid_reason : str
         One sentence for the report.
     messages : list of str
         Solver messages of runs that did not converge.
+    convolutions : ndarray, shape (n_mode, n_load)
+        FFT convolutions per solve (an adhesive solve's non-adhesive start included).
+    branch : list of list of str
+        Per mode and load: the branch of the solve (``"unique"`` non-adhesive, ``"loading"``).
+    check_error : ndarray
+        Per check stride: largest relative A_r/A_n difference from the finest grid solved.
+    check_iterations, check_convolutions, check_seconds : ndarray, (n_check_stride, n_mode)
+        Per check solve: iterations, convolutions, wall time (s).
+    check_branch : list of list of str
+        Per check stride and mode: the branch of the solve.
+    check_load : float
+        Experiment load of the check, N (one of ``normal_load``: its solve at the chosen
+        stride is the sweep's).
+    grid_error : float
+        Error of the grid used against the finest grid solved (0 when it is the finest).
+    boundary : str
+        ``"periodic"`` or ``"free"``.
+    edge_mismatch : float
+        Rms height jump across opposite edges of the solved grid over its rms height.
+    warnings : list of str
+        Report lines (a periodic solve of a map whose edges do not meet).
+    solves, total_iterations, total_convolutions : int
+        BEM solves made by the stage (each once), their iterations and convolutions.
     all_converged : bool
         Every solve converged (derived).
     """
@@ -310,6 +130,25 @@ class BemReference:
     grid_converged: bool = scalar("1", "the grid check found a converged stride")
     grid_reason: str = text("why this grid")
     messages: list[str] = text("messages of solves that did not converge")
+    convolutions: np.ndarray = array("1", ("mode", "normal_load"), "FFT convolutions per solve")
+    branch: list[list[str]] = text("branch of each solve, per mode and load")
+    check_error: np.ndarray = array(
+        "1", ("check_stride",), "relative A_r/A_n difference from the finest grid solved"
+    )
+    check_iterations: np.ndarray = array("1", ("check_stride", "mode"), "check solve iterations")
+    check_convolutions: np.ndarray = array(
+        "1", ("check_stride", "mode"), "check solve FFT convolutions"
+    )
+    check_seconds: np.ndarray = array("s", ("check_stride", "mode"), "check solve wall time")
+    check_branch: list[list[str]] = text("branch of each check solve, per stride and mode")
+    check_load: float = scalar("N", "experiment load of the grid check")
+    grid_error: float = scalar("1", "error of the grid used against the finest grid solved")
+    boundary: str = text("periodic or free")
+    edge_mismatch: float = scalar("1", "rms seam height jump over rms height")
+    warnings: list[str] = text("report lines about the BEM")
+    solves: int = scalar("1", "BEM solves made by the stage")
+    total_iterations: int = scalar("1", "iterations of all solves of the stage")
+    total_convolutions: int = scalar("1", "FFT convolutions of all solves of the stage")
     contact_fraction_adhesive: np.ndarray | None = array(
         "1", ("normal_load",), "adhesive A_r / A_n", optional=True
     )
@@ -325,6 +164,76 @@ class BemReference:
         return self.contact_fraction
 
 
+def check_load_index(loads: np.ndarray) -> int:
+    """Index of the check load in ``loads``: the middle one, ``sorted(loads)[n // 2]``."""
+    return int(np.argsort(loads, kind="stable")[len(loads) // 2])
+
+
+def load_chains(loads: np.ndarray) -> list[list[int]]:
+    """Indices of the loads other than the check load, in two chains solved outwards from it:
+    increasing above it, decreasing below it (empty chains left out)."""
+    order = list(np.argsort(loads, kind="stable"))
+    k = len(loads) // 2
+    chains = [order[k + 1 :], order[:k][::-1]]
+    return [[int(i) for i in c] for c in chains if c]
+
+
+def _solve_chains(
+    grid: GridCheck,
+    surface: topo.HeightMap,
+    e_star: float,
+    map_loads: np.ndarray,
+    w: float,
+    solver: dict,
+    executor: Executor | None,
+    progress: bool,
+) -> dict[int, tuple[SolveSummary, SolveSummary | None]]:
+    """The sweeps' solves at every load but the check load, per load index; and the contact
+    mask of the largest load under key -1 when a chain reaches it."""
+    chains = load_chains(map_loads)
+    if not chains:
+        return {}
+    h, dx, dy = solver_grid(surface, grid.stride)
+    heights, start = share(executor, h), share(executor, grid.start)
+    largest = int(np.argmax(map_loads))
+    jobs = [
+        (heights, dx, dy, e_star, [float(map_loads[i]) for i in c], w, solver, start, largest in c)
+        for c in chains
+    ]
+    out: dict = {}
+    for chain, (summaries, mask) in zip(
+        chains,
+        run_map(solve_chain, jobs, executor, desc="BEM sweeps", progress=progress),
+        strict=True,
+    ):
+        out.update(zip(chain, summaries, strict=True))
+        if mask is not None:
+            out[-1] = mask
+    return out
+
+
+def _per_load(
+    loads: np.ndarray, k: int, grid: GridCheck, chains: dict, adhesive: bool
+) -> list[list[SolveSummary]]:
+    """Summaries per mode and load: the check solve at the chosen stride at load ``k``."""
+    check = grid.solves[list(grid.strides).index(grid.stride)]
+    modes = range(2 if adhesive else 1)
+    return [[check[m] if i == k else chains[i][m] for i in range(len(loads))] for m in modes]
+
+
+def _field(solves: list[list[SolveSummary]], name: str, dtype: type = float) -> np.ndarray:
+    return np.array([[getattr(s, name) for s in row] for row in solves], dtype=dtype)
+
+
+def _messages(loads: np.ndarray, solves: list[list[SolveSummary]]) -> list[str]:
+    return [
+        f"{'adhesive' if m else 'non-adhesive'} F_z={loads[i]:.4g} N: {s.message}"
+        for m, row in enumerate(solves)
+        for i, s in enumerate(row)
+        if not s.converged
+    ]
+
+
 def bem_reference(
     surface: topo.HeightMap,
     e_star: float,
@@ -337,6 +246,8 @@ def bem_reference(
     area_tolerance: float = 0.05,
     max_stride: int = 4,
     adhesive: bool = True,
+    boundary: str = "periodic",
+    coarsen: bool = True,
     executor: Executor | None = None,
     progress: bool = False,
 ) -> BemReference:
@@ -349,68 +260,89 @@ def bem_reference(
     e_star : float
         E*, Pa.
     work_of_adhesion : float
-        w, J/m^2 (adhesive sweep, Pohrt-Popov).
+        w, J/m^2 (adhesive solves, Pohrt-Popov, on the loading branch).
     normal_loads : sequence of float
         Experiment loads F_z, N (on the nominal area).
     nominal_area : float
         A_n of the experiment, m^2.
     tol, max_iter
         BEM solver settings (:func:`bem.solve_contact`).
-    area_tolerance, max_stride
-        The grid refinement check (:func:`choose_bem_grid`).
+    area_tolerance, max_stride, coarsen
+        The grid check (:func:`asperity.pipelines.bem_grid.check_grids`).
     adhesive : bool
-        Run the adhesive sweep too.
+        Run the adhesive solves too.
+    boundary : {"periodic", "free"}
+        Boundary condition of every solve (:mod:`asperity.pipelines.bem_grid`).
     executor : Executor, optional
-        Runs the two sweeps (and the check solves) in parallel.
+        Runs the two load chains in parallel.
     """
     loads = np.asarray(normal_loads, dtype=float)
-    grid = choose_bem_grid(
+    w = work_of_adhesion if adhesive and work_of_adhesion > 0 else 0.0
+    solver = {"tol": tol, "max_iter": max_iter, "periodic": boundary == "periodic"}
+    k = check_load_index(loads)
+    grid = check_grids(
         surface,
         e_star,
-        work_of_adhesion,
-        float(np.median(loads)) / nominal_area,
+        w,
+        float(loads[k]) / nominal_area,
         max_stride=max_stride,
         area_tolerance=area_tolerance,
-        tol=tol,
-        max_iter=max_iter,
-        adhesive=adhesive,
-        executor=executor,
-        progress=progress,
+        coarsen=coarsen,
+        solver=solver,
     )
     h, dx, dy = solver_grid(surface, grid.stride)
     map_loads = loads * (h.size * dx * dy) / nominal_area
-    ws = [0.0, work_of_adhesion] if adhesive and work_of_adhesion > 0 else [0.0]
-    args = [(h, dx, dy, e_star, map_loads, w, tol, max_iter, PERIODIC) for w in ws]
-    sweeps = run_map(bem_sweep, args, executor, desc="BEM sweeps", progress=progress)
-    messages = [
-        f"{'adhesive' if w > 0 else 'non-adhesive'} F_z={loads[i]:.4g} N: {m}"
-        for w, sw in zip(ws, sweeps, strict=True)
-        for i, (m, ok) in enumerate(zip(sw["messages"], sw["converged"], strict=True))
-        if not ok
-    ]
-    mask = sweeps[-1]["contact_mask"]
+    chains = _solve_chains(grid, surface, e_star, map_loads, w, solver, executor, progress)
+    solves = _per_load(loads, k, grid, chains, w > 0)
+    mask = chains.get(-1, grid.mask)  # the check's own mask when the check load is the largest
+    mismatch = edge_mismatch(h)
+    warning = boundary_warning(boundary, mismatch)
+    chosen = list(grid.strides).index(grid.stride)
+    change = grid.relative_change
+    check_fraction = grid.fractions()
+    check_iter = _field(grid.solves, "iterations", int)
+    check_conv = _field(grid.solves, "convolutions", int)
+    iterations, convolutions = (
+        _field(solves, "iterations", int),
+        _field(solves, "convolutions", int),
+    )
     return BemReference(
         normal_load=loads,
-        mode=np.arange(len(ws)),
+        mode=np.arange(len(solves)),
         check_stride=grid.strides,
         mask_x=np.arange(mask.shape[0]) * dx,
         mask_y=np.arange(mask.shape[1]) * dy,
         map_normal_load=map_loads,
-        contact_fraction=sweeps[0]["contact_fraction"],
-        iterations=np.array([sw["iterations"] for sw in sweeps]),
-        converged=np.array([sw["converged"] for sw in sweeps]),
-        solve_seconds=np.array([sw["seconds"] for sw in sweeps]),
-        check_contact_fraction=grid.contact_fraction,
-        check_relative_change=grid.relative_change,
+        contact_fraction=_field(solves, "contact_fraction")[0],
+        iterations=iterations,
+        converged=_field(solves, "converged", bool),
+        solve_seconds=_field(solves, "seconds"),
+        check_contact_fraction=check_fraction,
+        check_relative_change=change,
         contact_mask=mask,
         stride=grid.stride,
         dx=dx,
         dy=dy,
-        check_pressure=grid.check_pressure,
-        grid_converged=grid.converged,
+        check_pressure=float(loads[k]) / nominal_area,
+        grid_converged=bool(len(change) < 2 or change[-2] <= area_tolerance),
         grid_reason=grid.reason,
-        messages=messages,
-        contact_fraction_adhesive=sweeps[1]["contact_fraction"] if len(sweeps) > 1 else None,
+        messages=_messages(loads, solves),
+        convolutions=convolutions,
+        branch=[[s.branch for s in row] for row in solves],
+        check_error=grid.error,
+        check_iterations=check_iter,
+        check_convolutions=check_conv,
+        check_seconds=_field(grid.solves, "seconds"),
+        check_branch=[[s.branch for s in row] for row in grid.solves],
+        check_load=float(loads[k]),
+        grid_error=float(grid.error[chosen]),
+        boundary=boundary,
+        edge_mismatch=mismatch,
+        warnings=[warning] if warning else [],
+        solves=int(check_iter.size + iterations.size - iterations.shape[0]),
+        total_iterations=int(check_iter.sum() + iterations.sum() - iterations[:, k].sum()),
+        total_convolutions=int(check_conv.sum() + convolutions.sum() - convolutions[:, k].sum()),
+        contact_fraction_adhesive=_field(solves, "contact_fraction")[1] if w > 0 else None,
     )
 
 
@@ -428,6 +360,8 @@ def compute_bem(context: StageContext) -> BemReference:
         area_tolerance=b.area_tolerance,
         max_stride=b.max_stride,
         adhesive=b.adhesive,
+        boundary=b.boundary,
+        coarsen=b.coarsen,
         executor=context.executor,
         progress=context.progress,
     )

@@ -190,6 +190,12 @@ class BemConfig:
     enabled : bool
         Run the BEM at all; false needs a measured A_r(F_z) (``measured.normal_area``), which
         then alone chooses the effective resolution.
+    boundary : str
+        ``"periodic"`` (the map is one period of the interface, as the paper's Appendix B) or
+        ``"free"`` (a finite specimen); see :mod:`asperity.pipelines.bem_grid`.
+    coarsen : bool
+        Let the sweeps use a coarser grid than the map when its area is within
+        ``area_tolerance`` of the finest grid solved (false: the map's own resolution).
     """
 
     tol: float = 1e-6
@@ -198,6 +204,8 @@ class BemConfig:
     max_stride: int = 4
     adhesive: bool = True
     enabled: bool = True
+    boundary: str = "periodic"
+    coarsen: bool = True
 
 
 @dataclass(frozen=True)
@@ -511,6 +519,8 @@ JOB_SCHEMA = Schema(
                 ),
                 Key("adhesive", Flag(), BemConfig.adhesive),
                 Key("enabled", Flag(), BemConfig.enabled),
+                Key("boundary", Choice(("periodic", "free")), BemConfig.boundary),
+                Key("coarsen", Flag(), BemConfig.coarsen),
             ),
         ),
         Section(

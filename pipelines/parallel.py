@@ -271,6 +271,19 @@ class _BorrowedDaskExecutor(DaskExecutor):
         self._executor.shutdown(wait=wait)
 
 
+def share(executor: concurrent.futures.Executor | None, value: Any) -> Any:
+    """``value`` as an argument that reaches each worker once.
+
+    On dask.distributed it is scattered to every worker (``broadcast=True``) and the returned
+    future, passed as an argument, resolves to the worker's copy, however many calls use it.
+    Elsewhere ``value`` itself (a process pool pickles it with each call: the stages send one
+    call per worker, e.g. one BEM load chain each).
+    """
+    if isinstance(executor, DaskExecutor):
+        return executor.client.scatter([value], broadcast=True)[0]
+    return value
+
+
 def run_map(
     fn: Callable[..., Any],
     jobs: list[tuple],

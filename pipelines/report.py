@@ -41,6 +41,7 @@ from matplotlib import colormaps
 from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
+from asperity.pipelines.bem_report import bem_grid_figure, bem_section
 from asperity.pipelines.figure_output import FigureOptions, FigureTable, publish
 from asperity.pipelines.verdict import mark, verdict_lines, verdict_markdown
 from asperity.plotting import DisplayUnit, display_unit, new_figure
@@ -339,36 +340,22 @@ def plot_misfit(result: Any, path: Path, options: FigureOptions | None = None) -
 
 
 def draw_bem_grid(result: Any) -> tuple[Figure, FigureTable]:
-    """Stage 3: the refinement check and the contact mask at the largest load."""
+    """Stage 3: the refinement curve, its error against the finest grid, the contact mask."""
     bem = result.bem
-    fig = new_figure(10, 4.4)
-    ax1, ax2 = fig.subplots(1, 2)
     table = FigureTable()
     pixel = np.asarray(bem.check_stride) * result.surface.dx
-    pu = display_unit(pixel, "m")
-    labels = ["non-adhesive", "adhesive"]
-    for k in range(bem.check_contact_fraction.shape[1]):
-        ax1.plot(pu(pixel), bem.check_contact_fraction[:, k], "o-", label=labels[k])
+    for k, mode in enumerate(("non-adhesive", "adhesive")[: bem.check_contact_fraction.shape[1]]):
         table.add(
-            "check",
-            labels[k],
+            "refinement",
+            mode,
             {"BEM pixel size (m)": pixel, "A_r/A_n (1)": bem.check_contact_fraction[:, k]},
         )
-    ax1.axvline(pu(bem.stride * result.surface.dx), color="k", ls="--", label="chosen")
-    ax1.set_xlabel(pu.label("BEM pixel size"))
-    pressure = display_unit(bem.check_pressure, "Pa")
-    ax1.set_ylabel(f"$A_r / A_n$ at p = {pressure(bem.check_pressure):.3g} {pressure.symbol}")
-    ax1.set_title("grid refinement check")
-    ax1.legend(fontsize=8)
-    mask = np.asarray(bem.contact_mask)
-    lengths = (mask.shape[0] * bem.dx, mask.shape[1] * bem.dy)
-    xu = display_unit(lengths, "m")
-    ax2.imshow(mask.T, origin="lower", cmap="gray_r", extent=(0, xu(lengths[0]), 0, xu(lengths[1])))
-    ax2.set_xlabel(xu.label("x"))
-    ax2.set_ylabel(xu.label("y"))
-    fu = display_unit(bem.normal_load.max(), "N")
-    ax2.set_title(f"contact at $F_z$ = {fu(bem.normal_load.max()):.3g} {fu.symbol}")
-    return fig, table
+    table.add(
+        "error",
+        "larger of the modes",
+        {"BEM pixel size (m)": pixel, "error against the finest grid (1)": bem.check_error},
+    )
+    return bem_grid_figure(result), table
 
 
 def plot_bem_grid(result: Any, path: Path, options: FigureOptions | None = None) -> Path:
@@ -691,7 +678,11 @@ def key_numbers(result: Any) -> list[tuple[str, str]]:
         rows.append(("BEM", "not run ([bem] enabled = false): calibrated on the measurement"))
     else:
         rows += [
-            ("BEM grid", f"stride {bem.stride} ({bem.dx * 1e6:.4g} um): {bem.grid_reason}"),
+            (
+                "BEM grid",
+                f"stride {bem.stride} ({bem.dx * 1e6:.4g} um), A_r {bem.grid_error:.2%} from the "
+                f"finest grid solved; {bem.boundary} boundary",
+            ),
             ("BEM solves converged", f"{int(np.sum(bem.converged))} / {bem.converged.size}"),
         ]
     rows += psd_key_numbers(result)
@@ -843,6 +834,7 @@ def write_report(result: Any, out_dir: str | Path, options: FigureOptions | None
         _md_table(header, rows),
         "",
         *surface_section(result),
+        *bem_section(result),
         "## Validity",
         "",
         f"Verdict: **{verdict.verdict}** (reasons at the top)."
@@ -869,7 +861,8 @@ def write_report(result: Any, out_dir: str | Path, options: FigureOptions | None
         "resolution": "Fig 12: summit statistics against resolution (a-c) and A_r/A_n against "
         "F_z (d).",
         "misfit": "Stage 4: misfit of the statistical model against resolution.",
-        "bem_grid": "Stage 3: BEM grid refinement check and contact at the largest load.",
+        "bem_grid": "Stage 3: BEM grid refinement (A_r/A_n and its error against the finest "
+        "grid solved) and contact at the largest load.",
         "lambda_fit": "Stage 5: lambda fit.",
         "lambda_residuals": "Stage 5: measured minus fitted A_r at each load (the points "
         "fitted: trimmed after the first static peak, repeated points merged).",
@@ -912,6 +905,8 @@ def summary_text(result: Any) -> str:
     ]
     if getattr(result, "verdict", None) is None:
         lines += [f"  WARNING: {note}" for note in result.resolution.validity]
+    for note in [] if result.bem is None else result.bem.warnings:
+        lines.append(f"  WARNING: {note}")
     problems = result.problems()
     if problems:
         lines.append("  NOT CONVERGED:")

@@ -60,3 +60,42 @@ def test_dask_local_cluster_runs_the_same_map():
     assert os.getpid() not in {o[1] for o in out}
     for _, _, settings in out:
         assert settings["OMP_NUM_THREADS"] == "1"
+
+
+def _bem_on(executor):
+    import numpy as np
+
+    from asperity import topo
+    from asperity.pipelines.bem_stage import bem_reference
+
+    surface = topo.synthetic.paper_like(n=64, pixel_size=50e-6, seed=3)
+    ref = bem_reference(
+        surface, 2.133e6, 0.04, [0.5, 1.0, 1.5, 2.0, 3.0], 40e-6, max_stride=2, executor=executor
+    )
+    return np.concatenate([ref.contact_fraction, ref.contact_fraction_adhesive]), ref
+
+
+@pytest.mark.slow
+def test_bem_load_chains_on_two_workers_equal_the_serial_run():
+    import numpy as np
+
+    serial, ref = _bem_on(None)
+    with make_executor(2, threads_per_worker=1) as ex:
+        parallel, ref2 = _bem_on(ex)
+    np.testing.assert_array_equal(parallel, serial)
+    np.testing.assert_array_equal(ref2.iterations, ref.iterations)
+    assert ref2.branch == ref.branch
+
+
+@pytest.mark.slow
+def test_bem_load_chains_on_dask_equal_the_serial_run():
+    import numpy as np
+
+    distributed = pytest.importorskip("distributed")
+    serial, _ = _bem_on(None)
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster:
+        with make_executor(scheduler=cluster.scheduler_address) as ex:
+            parallel, _ = _bem_on(ex)  # the map is scattered to the workers once
+    np.testing.assert_array_equal(parallel, serial)

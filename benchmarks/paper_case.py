@@ -1,0 +1,232 @@
+"""The paper case (``asperity run --preset paper``): the stage table and the FFT floor.
+
+Run under the shared lock, in the background for the full case (many minutes, a few GiB)::
+
+    flock /tmp/asperity-bench.lock python benchmarks/paper_case.py [--n 2000] [--workers 2]
+
+``--n N`` solves the paper preset on an N x N map at the same 2 um pixel (a 2N um square of the
+same synthetic surface; the full case is N = 5001). Prints one row per stage: wall seconds, the
+peak resident memory of the process tree (this process and its workers, sampled every 0.1 s;
+a stage's window runs from the end of the previous stage, so it includes the previous stage's
+HDF5 write), and for the BEM its solves, iterations and FFT convolutions (grid check included).
+Then the FFT floor of the BEM grid, timed in the same run: two bare real convolutions
+(rfft2, multiply, irfft2; pyFFTW with FFTW_MEASURE when installed, else scipy.fft; all cores),
+i.e. the cost of one two-convolution iteration, and the BEM stage's convolutions times the
+cost of one bare convolution. Writes ``paper_case.png`` (time per stage; for N = 5001 beside
+the asperity 0.1 measurement of issue 10) into ``--out``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import tempfile
+import threading
+import time
+from pathlib import Path
+
+# As `asperity run` does: OpenMP threads must not spin on a shared 2-core machine.
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+
+import numpy as np  # noqa: E402
+import psutil  # noqa: E402
+
+from asperity.pipelines.config import config_from_dict, preset_text  # noqa: E402
+from asperity.pipelines.job import run_job  # noqa: E402
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # pragma: no cover
+    import tomli as tomllib
+
+#: asperity 0.1 on the full case (issue 10): total 461 s, BEM 438 s at stride 4 (8 um).
+BEFORE = {"total": 461.0, "bem_reference": 438.0}
+
+#: One bare 5000^2 pyFFTW real convolution on the quiet machine of issue 10's measurement, s.
+QUIET_CONVOLUTION = 0.46
+
+
+class MemorySampler:
+    """Resident memory (bytes) of this process and its children, sampled in a thread."""
+
+    def __init__(self, interval: float = 0.1):
+        self.samples: list[tuple[float, int]] = []
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, args=(interval,), daemon=True)
+
+    def _run(self, interval: float) -> None:
+        me = psutil.Process()
+        while not self._stop.is_set():
+            total = 0
+            for p in [me, *me.children(recursive=True)]:
+                try:
+                    total += p.memory_info().rss
+                except psutil.Error:
+                    pass
+            self.samples.append((time.perf_counter(), total))
+            time.sleep(interval)
+
+    def __enter__(self) -> MemorySampler:
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._stop.set()
+        self._thread.join()
+
+    def peak(self, start: float, end: float) -> float:
+        """Peak resident bytes in [start, end] (NaN when no sample fell inside)."""
+        inside = [rss for t, rss in self.samples if start <= t <= end]
+        return float(max(inside)) if inside else float("nan")
+
+
+def paper_config(n: int, workers: int):
+    """The paper preset on an n x n map at its 2 um pixel."""
+    data = tomllib.loads(preset_text("paper"))
+    data["surface"]["synthetic"]["n"] = n
+    data["surface"]["max_stride"] = min(data["surface"]["max_stride"], max(n // 40, 2))
+    data["run"]["workers"] = workers
+    return config_from_dict(data, source=f"paper preset, n = {n}")
+
+
+def convolution_seconds(shape: tuple[int, int], repeats: int = 3) -> tuple[float, str]:
+    """Best time (s) of one bare real convolution on ``shape`` and the library used."""
+    rng = np.random.default_rng(0)
+    x = rng.random(shape)
+    kernel = rng.random((shape[0], shape[1] // 2 + 1))
+    threads = os.cpu_count() or 1
+    try:
+        import pyfftw
+
+        a = pyfftw.empty_aligned(shape, dtype="float64")
+        forward = pyfftw.builders.rfft2(a, threads=threads, planner_effort="FFTW_MEASURE")
+        backward = pyfftw.builders.irfft2(
+            forward.output_array, s=shape, threads=threads, planner_effort="FFTW_MEASURE"
+        )
+
+        def convolve() -> None:
+            a[...] = x
+            spectrum = forward()
+            spectrum *= kernel
+            backward(spectrum)
+
+        name = f"pyFFTW (FFTW_MEASURE, {threads} threads)"
+    except ImportError:
+        import scipy.fft
+
+        def convolve() -> None:
+            scipy.fft.irfft2(scipy.fft.rfft2(x, workers=threads) * kernel, s=shape, workers=threads)
+
+        name = f"scipy.fft ({threads} workers)"
+    convolve()
+    best = np.inf
+    for _ in range(repeats):
+        t = time.perf_counter()
+        convolve()
+        best = min(best, time.perf_counter() - t)
+    return float(best), name
+
+
+def stage_table(result, marks: list[float], start: float, memory: MemorySampler) -> list[list]:
+    """Rows: stage, seconds, peak GiB, solves, iterations, convolutions."""
+    rows, t0 = [], start
+    for run, t1 in zip(result.stages, marks, strict=True):
+        row = [run.name, run.seconds, memory.peak(t0, t1) / 2**30, "-", "-", "-"]
+        if run.name == "bem_reference" and result.bem is not None:
+            b = result.bem
+            row[3:] = [b.solves, b.total_iterations, b.total_convolutions]
+        rows.append(row)
+        t0 = t1
+    return rows
+
+
+def bem_rows(bem) -> list[str]:
+    """The BEM stage's own breakdown: grid check per stride, then the sweeps."""
+    lines = []
+    for i, s in enumerate(bem.check_stride):
+        lines.append(
+            f"  check stride {int(s):>2}: {bem.check_seconds[i].sum():8.1f} s, iterations "
+            f"{bem.check_iterations[i].tolist()}, convolutions {bem.check_convolutions[i].tolist()}"
+            f", A_r/A_n {np.round(bem.check_contact_fraction[i], 6).tolist()}"
+        )
+    for m, name in enumerate(("non-adhesive", "adhesive")[: bem.iterations.shape[0]]):
+        lines.append(
+            f"  {name:>12} per load: s {np.round(bem.solve_seconds[m], 1).tolist()}, iterations "
+            f"{bem.iterations[m].tolist()}, convolutions {bem.convolutions[m].tolist()}"
+        )
+    return lines
+
+
+def plot(rows: list[list], n: int, convolution: float, path: Path) -> None:
+    """Bar chart of seconds per stage; for the full case beside the asperity 0.1 measurement
+    and scaled to its quiet machine (times ``QUIET_CONVOLUTION / convolution``, the ratio of
+    the bare convolution there and in this run)."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(8, 4.5))
+    ax = fig.subplots()
+    names = [r[0] for r in rows] + ["total"]
+    after = [r[1] for r in rows] + [sum(r[1] for r in rows)]
+    x = np.arange(len(names))
+    if n == 5001:
+        before = [BEFORE.get(name, np.nan) for name in names]
+        scale = QUIET_CONVOLUTION / convolution
+        ax.bar(x - 0.27, before, 0.27, label="asperity 0.1, quiet machine (BEM at 8 um)")
+        ax.bar(x, after, 0.27, label=f"now, this run (BEM at 2 um; FFT {1 / scale:.2f}x slower)")
+        ax.bar(x + 0.27, np.multiply(after, scale), 0.27, label="now, scaled to the quiet FFT")
+    else:
+        ax.bar(x, after, 0.6, label=f"now, {n} x {n} px at 2 um")
+    ax.set_xticks(x, names, rotation=30, ha="right")
+    ax.set_ylabel("wall time (s)")
+    ax.set_title(f"asperity run --preset paper, {n} x {n} px")
+    ax.legend(loc="upper left")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--n", type=int, default=5001, help="pixels per side (5001: the paper)")
+    parser.add_argument("--workers", type=int, default=1)
+    parser.add_argument("--out", type=Path, default=Path("benchmarks"))
+    args = parser.parse_args()
+    config = paper_config(args.n, args.workers)
+    marks: list[float] = []
+    with tempfile.TemporaryDirectory() as tmp, MemorySampler() as memory:
+        start = time.perf_counter()
+        result = run_job(
+            config, tmp, force=True, log=lambda line: marks.append(time.perf_counter())
+        )
+    rows = stage_table(result, marks, start, memory)
+    print(
+        f"paper case, {args.n} x {args.n} px at 2 um, workers {args.workers}, "
+        f"BEM grid {result.bem.contact_mask.shape}, boundary {result.bem.boundary}"
+    )
+    print(
+        f"{'stage':<18} {'seconds':>9} {'peak GiB':>9} {'solves':>7} {'iterations':>11} "
+        f"{'convolutions':>13}"
+    )
+    for r in rows:
+        print(f"{r[0]:<18} {r[1]:9.1f} {r[2]:9.2f} {r[3]!s:>7} {r[4]!s:>11} {r[5]!s:>13}")
+    print(
+        f"{'total (job)':<18} {result.total_seconds:9.1f} "
+        f"{memory.peak(start, marks[-1]) / 2**30:9.2f}"
+    )
+    print("\n".join(bem_rows(result.bem)))
+    print(f"  grid: {result.bem.grid_reason}")
+    conv, lib = convolution_seconds(result.bem.contact_mask.shape)
+    bem_seconds = next(r[1] for r in rows if r[0] == "bem_reference")
+    floor = conv * result.bem.total_convolutions
+    print(
+        f"FFT floor on {result.bem.contact_mask.shape}, {lib}: one bare real convolution "
+        f"{conv:.3f} s, two (one iteration) {2 * conv:.3f} s; BEM stage {bem_seconds:.1f} s for "
+        f"{result.bem.total_convolutions} convolutions = {bem_seconds / floor:.2f} x the floor "
+        f"({floor:.1f} s)"
+    )
+    args.out.mkdir(parents=True, exist_ok=True)
+    plot(rows, args.n, conv, args.out / "paper_case.png")
+    print(f"figure: {args.out / 'paper_case.png'}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,108 @@
+"""The BEM section of report.md and the ``bem_grid.png`` figure (stage 3, Appendix B).
+
+The section states the boundary condition and the seam mismatch, the branch each number lies
+on, the refinement curve of the grid check (A_r/A_n and its error against the finest grid
+solved, per stride) and the error of the grid used; the figure draws the same curve.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from matplotlib.figure import Figure
+from matplotlib.ticker import NullFormatter, ScalarFormatter
+
+from asperity.pipelines.bem_grid import EDGE_MISMATCH_LIMIT
+
+_MODES = ("non-adhesive", "adhesive")
+
+
+def _table(header: list[str], rows: list[list[str]]) -> list[str]:
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    return lines + ["| " + " | ".join(row) + " |" for row in rows]
+
+
+def refinement_rows(bem: Any, pixel: float) -> list[list[str]]:
+    """Rows of the refinement table: stride, pixel (um), A_r/A_n per mode, error, cost."""
+    rows = []
+    for i, s in enumerate(bem.check_stride):
+        used = " (used)" if int(s) == int(bem.stride) else ""
+        rows.append(
+            [
+                f"{int(s)}{used}",
+                f"{s * pixel * 1e6:.4g}",
+                *(f"{f:.5g}" for f in bem.check_contact_fraction[i]),
+                f"{bem.check_error[i]:.2%}",
+                f"{int(bem.check_iterations[i].sum())}",
+                f"{bem.check_seconds[i].sum():.2f}",
+            ]
+        )
+    return rows
+
+
+def bem_section(result: Any) -> list[str]:
+    """Markdown lines of the report's "BEM reference" section ([] without a BEM)."""
+    bem = result.bem
+    if bem is None:
+        return []
+    modes = list(_MODES[: bem.check_contact_fraction.shape[1]])
+    branches = {m: sorted(set(row)) for m, row in zip(modes, bem.branch, strict=False)}
+    lines = [
+        "## BEM reference",
+        "",
+        f"- Boundary: **{bem.boundary}**; seam mismatch {bem.edge_mismatch:.2f} x the rms height "
+        f"(a periodic solve is warned about above {EDGE_MISMATCH_LIMIT}).",
+        "- Branch of each number: "
+        + "; ".join(f"{m}: {', '.join(b)}" for m, b in branches.items())
+        + " (adhesive: the loading branch, from the non-adhesive state at the same load).",
+        f"- Grid used: {bem.grid_reason}.",
+        f"- Error of the grid used against the finest grid solved: {bem.grid_error:.2%} "
+        f"(check load {bem.check_load:.4g} N; its solve is the sweep's solve at that load).",
+        f"- Cost: {bem.solves} solves, {bem.total_iterations} iterations, "
+        f"{bem.total_convolutions} FFT convolutions (grid check included, nothing solved twice).",
+    ]
+    lines += [f"- **Warning:** {w}" for w in bem.warnings]
+    header = ["stride", "pixel (um)", *(f"A_r/A_n {m}" for m in modes)]
+    header += ["error vs finest", "iterations", "seconds"]
+    return [*lines, "", *_table(header, refinement_rows(bem, result.surface.dx)), ""]
+
+
+def bem_grid_figure(result: Any) -> Figure:
+    """The refinement curve (A_r/A_n and error against the finest grid per pixel size) and the
+    contact mask at the largest load."""
+    bem = result.bem
+    fig = Figure(figsize=(14, 4.2))
+    ax1, ax3, ax2 = fig.subplots(1, 3)
+    pixel = bem.check_stride * result.surface.dx * 1e6
+    used = bem.stride * result.surface.dx * 1e6
+    for k in range(bem.check_contact_fraction.shape[1]):
+        ax1.plot(pixel, bem.check_contact_fraction[:, k], "o-", label=_MODES[k])
+    ax1.axvline(used, color="k", ls="--", label="used")
+    ax1.set_xlabel("BEM pixel size (um)")
+    ax1.set_ylabel(f"A_r / A_n at F_z = {bem.check_load:.3g} N")
+    ax1.set_title(f"grid refinement ({bem.boundary})")
+    ax1.legend()
+    coarse = bem.check_error > 0
+    ax3.loglog(pixel[coarse], bem.check_error[coarse] * 100, "o-", label="larger of the modes")
+    ax3.axhline(
+        result.config.bem.area_tolerance * 100, color="gray", ls=":", label="area_tolerance"
+    )
+    ax3.axvline(used, color="k", ls="--", label="used")
+    for axis in (ax3.xaxis, ax3.yaxis):
+        axis.set_major_formatter(ScalarFormatter())
+        axis.set_minor_formatter(NullFormatter())
+    ax3.legend()
+    ax3.set_xlabel("BEM pixel size (um)")
+    ax3.set_ylabel("|A_r - A_r(finest)| / A_r(finest) (%)")
+    ax3.set_title(f"error against {pixel.min():.3g} um; used grid: {bem.grid_error:.2%}")
+    mask = bem.contact_mask
+    ax2.imshow(
+        mask.T,
+        origin="lower",
+        cmap="gray_r",
+        extent=(0, mask.shape[0] * bem.dx * 1e3, 0, mask.shape[1] * bem.dy * 1e3),
+    )
+    ax2.set_xlabel("x (mm)")
+    ax2.set_ylabel("y (mm)")
+    ax2.set_title(f"contact at F_z = {bem.normal_load.max():.3g} N")
+    return fig
