@@ -84,9 +84,8 @@ def bem_grid_figure(result: Any) -> Figure:
     ax1.legend()
     coarse = bem.check_error > 0
     ax3.loglog(pixel[coarse], bem.check_error[coarse] * 100, "o-", label="larger of the modes")
-    ax3.axhline(
-        result.config.bem.area_tolerance * 100, color="gray", ls=":", label="area_tolerance"
-    )
+    if bem.area_tolerance is not None:  # stored with the stage: redrawn without the config
+        ax3.axhline(bem.area_tolerance * 100, color="gray", ls=":", label="area_tolerance")
     ax3.axvline(used, color="k", ls="--", label="used")
     for axis in (ax3.xaxis, ax3.yaxis):
         axis.set_major_formatter(ScalarFormatter())

@@ -153,6 +153,9 @@ class BemReference:
         "1", ("normal_load",), "adhesive A_r / A_n", optional=True
     )
     all_converged: bool = scalar("1", "every BEM solve converged", init=False)
+    area_tolerance: float | None = scalar(
+        "1", "relative A_r tolerance of the grid check ([bem] area_tolerance)", optional=True
+    )
 
     def __post_init__(self) -> None:
         self.all_converged = bool(np.all(self.converged))
@@ -325,6 +328,7 @@ def bem_reference(
         dy=dy,
         check_pressure=float(loads[k]) / nominal_area,
         grid_converged=bool(len(change) < 2 or change[-2] <= area_tolerance),
+        area_tolerance=float(area_tolerance),
         grid_reason=grid.reason,
         messages=_messages(loads, solves),
         convolutions=convolutions,
