@@ -9,10 +9,12 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
 from matplotlib.figure import Figure
-from matplotlib.ticker import NullFormatter, ScalarFormatter
+from matplotlib.ticker import LogLocator, NullFormatter, ScalarFormatter
 
 from asperity.pipelines.bem_grid import EDGE_MISMATCH_LIMIT
+from asperity.plotting import display_unit, new_figure
 
 _MODES = ("non-adhesive", "adhesive")
 
@@ -69,39 +71,47 @@ def bem_section(result: Any) -> list[str]:
 
 def bem_grid_figure(result: Any) -> Figure:
     """The refinement curve (A_r/A_n and error against the finest grid per pixel size) and the
-    contact mask at the largest load."""
+    contact mask at the largest load; axis units chosen from the data (um, mm, ...)."""
     bem = result.bem
-    fig = Figure(figsize=(14, 4.2))
+    fig = new_figure(14, 4.4)
     ax1, ax3, ax2 = fig.subplots(1, 3)
-    pixel = bem.check_stride * result.surface.dx * 1e6
-    used = bem.stride * result.surface.dx * 1e6
+    pixel_m = np.asarray(bem.check_stride) * result.surface.dx
+    pu = display_unit(pixel_m, "m")
+    pixel, used = pu(pixel_m), pu(bem.stride * result.surface.dx)
     for k in range(bem.check_contact_fraction.shape[1]):
         ax1.plot(pixel, bem.check_contact_fraction[:, k], "o-", label=_MODES[k])
     ax1.axvline(used, color="k", ls="--", label="used")
-    ax1.set_xlabel("BEM pixel size (um)")
-    ax1.set_ylabel(f"A_r / A_n at F_z = {bem.check_load:.3g} N")
-    ax1.set_title(f"grid refinement ({bem.boundary})")
-    ax1.legend()
+    ax1.set_xlabel(pu.label("BEM pixel size"))
+    ax1.set_ylabel(f"$A_r/A_n$ at $F_z$ = {bem.check_load:.3g} N")
+    ax1.set_title(f"grid refinement ({bem.boundary} boundary)")
+    ax1.legend(fontsize=8)
+    _draw_grid_error(ax3, bem, pixel, used, pu.symbol)
+    mask = bem.contact_mask
+    lengths = (mask.shape[0] * bem.dx, mask.shape[1] * bem.dy)
+    xu = display_unit(lengths, "m")
+    ax2.imshow(mask.T, origin="lower", cmap="gray_r", extent=(0, xu(lengths[0]), 0, xu(lengths[1])))
+    ax2.set_xlabel(xu.label("x"))
+    ax2.set_ylabel(xu.label("y"))
+    ax2.set_title(f"contact at $F_z$ = {bem.normal_load.max():.3g} N")
+    return fig
+
+
+def _draw_grid_error(ax: Any, bem: Any, pixel: np.ndarray, used: float, symbol: str) -> None:
+    """The error of each coarser grid against the finest solved, in %, on log axes."""
     coarse = bem.check_error > 0
-    ax3.loglog(pixel[coarse], bem.check_error[coarse] * 100, "o-", label="larger of the modes")
+    ax.loglog(pixel[coarse], bem.check_error[coarse] * 100, "o-", label="larger of the modes")
     if bem.area_tolerance is not None:  # stored with the stage: redrawn without the config
-        ax3.axhline(bem.area_tolerance * 100, color="gray", ls=":", label="area_tolerance")
-    ax3.axvline(used, color="k", ls="--", label="used")
-    for axis in (ax3.xaxis, ax3.yaxis):
+        ax.axhline(bem.area_tolerance * 100, color="gray", ls=":", label="area_tolerance")
+    ax.axvline(used, color="k", ls="--", label="used")
+    for axis in (ax.xaxis, ax.yaxis):
+        axis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
         axis.set_major_formatter(ScalarFormatter())
         axis.set_minor_formatter(NullFormatter())
-    ax3.legend()
-    ax3.set_xlabel("BEM pixel size (um)")
-    ax3.set_ylabel("|A_r - A_r(finest)| / A_r(finest) (%)")
-    ax3.set_title(f"error against {pixel.min():.3g} um; used grid: {bem.grid_error:.2%}")
-    mask = bem.contact_mask
-    ax2.imshow(
-        mask.T,
-        origin="lower",
-        cmap="gray_r",
-        extent=(0, mask.shape[0] * bem.dx * 1e3, 0, mask.shape[1] * bem.dy * 1e3),
-    )
-    ax2.set_xlabel("x (mm)")
-    ax2.set_ylabel("y (mm)")
-    ax2.set_title(f"contact at F_z = {bem.normal_load.max():.3g} N")
-    return fig
+    ax.legend(fontsize=8)
+    ax.set_xlabel(f"BEM pixel size ({symbol})")
+    ax.set_ylabel("$|A_r - A_r^{finest}| / A_r^{finest}$ (%)")
+    finest = float(pixel.min())
+    if used <= finest:
+        ax.set_title(f"error against {finest:.3g} {symbol}; the grid used is the finest")
+    else:
+        ax.set_title(f"error against {finest:.3g} {symbol}; grid used: {bem.grid_error:.2%}")
