@@ -367,16 +367,7 @@ def _sliding_displacement(
         return 0.0  # no adhesion: every junction slides as soon as delta_T > 0
     if n_stick[0] < 1.0:
         return float(dts[0])
-
-    def count(dt: float, d_guess: float) -> tuple[float, float]:
-        if target is None:
-            out = np.empty(_k.N_RESULTS)
-            _k.asperity_integrals(
-                separations[0], dt, prm, setup.gl_x, setup.gl_w, setup.panels, out
-            )
-            return setup.n_asperities * out[_k.N_STICK], separations[0]
-        return _n_stick_load_control(setup, prm, dt, d_guess, target, ftol)
-
+    count = _stick_counter(setup, prm, separations, target, ftol)
     below = np.flatnonzero(n_stick < 1.0)
     if below.size:
         i = int(below[0])
@@ -397,6 +388,42 @@ def _sliding_displacement(
             lo, d_lo, hi = hi, d_hi, 2.0 * hi
         else:
             return math.inf
+    return _one_sticking_root(count, lo, hi, d_lo)
+
+
+def _stick_counter(
+    setup: ModelSetup,
+    prm: np.ndarray,
+    separations: np.ndarray,
+    target: float | None,
+    ftol: float,
+) -> Callable[[float, float], tuple[float, float]]:
+    """count(delta_T m, d_guess m) -> (expected number of sticking asperities, separation m).
+
+    Load control (``target`` in N): the separation is solved from ``d_guess`` (NaN count when
+    the solve fails). Fixed grip (``target`` None): the separation is ``separations[0]``.
+    """
+
+    def count(dt: float, d_guess: float) -> tuple[float, float]:
+        if target is None:
+            out = np.empty(_k.N_RESULTS)
+            _k.asperity_integrals(
+                separations[0], dt, prm, setup.gl_x, setup.gl_w, setup.panels, out
+            )
+            return setup.n_asperities * out[_k.N_STICK], separations[0]
+        return _n_stick_load_control(setup, prm, dt, d_guess, target, ftol)
+
+    return count
+
+
+def _one_sticking_root(
+    count: Callable[[float, float], tuple[float, float]], lo: float, hi: float, d_lo: float
+) -> float:
+    """delta_T (m) in [lo, hi] where ``count`` falls to one sticking asperity (Brent, rtol 1e-10).
+
+    Each evaluation starts its separation solve from the last finite separation (m), the first
+    from ``d_lo``; NaN when Brent fails (no sign change, or a failed solve).
+    """
     state = {"d": d_lo}
 
     def f(dt: float) -> float:
