@@ -64,92 +64,18 @@ def asperity_integrals(d, delta_t, prm, gl_x, gl_w, n_panels, out):
     (lower limit delta_JKR^loading, i.e. d_min = d). Units of ``out``: N (forces), m^2 (areas),
     dimensionless (expected fraction of asperities), m (delta_1, delta_2).
     """
-    R = prm[P_R]
-    E = prm[P_E]
-    w = prm[P_W]
-    lam = prm[P_LAM]
-    tau0 = prm[P_TAU]
     sigma = prm[P_SIGMA]
-    cutoff = prm[P_CUTOFF]
-    k2 = 2.0 * math.pi * w / E
-    c = coupling_term(delta_t, lam)
-    a_f = pc_fold_radius_kernel(delta_t, R, w, E, lam)
-    delta_f = pc_fold_indentation(a_f, k2, c, R)
-    if math.isnan(prm[P_D_PRELOAD]):
-        hist = prm[P_DELTA_LOAD]
-    else:
-        hist = prm[P_D_PRELOAD] - d + prm[P_DELTA_LOAD]
-    delta_2 = max(hist, delta_f)  # E:delta_2
-    delta_1 = min(0.0, delta_2)  # E:delta_1
-    lo = -cutoff * sigma - d
-    hi = cutoff * sigma - d
+    k2, c, a_f, delta_f, delta_1, delta_2 = _limits(d, delta_t, prm)
+    lo = -prm[P_CUTOFF] * sigma - d
+    hi = prm[P_CUTOFF] * sigma - d
     for j in range(N_RESULTS):
         out[j] = 0.0
-    norm = 1.0 / (math.sqrt(2.0 * math.pi) * sigma)
-    inv2s2 = 0.5 / (sigma * sigma)
-    n_nodes = gl_x.shape[0]
-    # Stick population: PC law, delta in [delta_2, hi], integrated over a.
     if delta_2 < hi:
-        a_lo = pc_radius_from_fold(max(delta_2, lo), k2, c, R, a_f, delta_f)
-        a_hi = pc_radius_from_fold(hi, k2, c, R, a_f, delta_f)
-        fz = 0.0
-        fx = 0.0
-        ar = 0.0
-        if k2 > 0.0:
-            # u = sqrt(k^2 a - c): a = (u^2 + c)/k^2, delta = a^2/R - u,
-            # d delta = (4 a u/(R k^2) - 1) du
-            u_lo = math.sqrt(max(k2 * a_lo - c, 0.0))
-            u_hi = math.sqrt(max(k2 * a_hi - c, 0.0))
-            width = (u_hi - u_lo) / n_panels
-            for p in range(n_panels):
-                mid = u_lo + (p + 0.5) * width
-                for i in range(n_nodes):
-                    u = mid + 0.5 * width * gl_x[i]
-                    a = (u * u + c) / k2
-                    dd = 4.0 * a * u / (R * k2) - 1.0
-                    z = d + a * a / R - u
-                    f = gl_w[i] * dd * math.exp(-z * z * inv2s2)
-                    fz += f * (4.0 * E * a * a * a / (3.0 * R) - 2.0 * E * a * u)
-                    fx += f * a
-                    ar += f * a * a
-        else:
-            # w = 0 (then c = 0 here): Hertz, delta = a^2/R, d delta = 2a/R da
-            width = (a_hi - a_lo) / n_panels
-            for p in range(n_panels):
-                mid = a_lo + (p + 0.5) * width
-                for i in range(n_nodes):
-                    a = mid + 0.5 * width * gl_x[i]
-                    z = d + a * a / R
-                    f = gl_w[i] * (2.0 * a / R) * math.exp(-z * z * inv2s2)
-                    fz += f * (4.0 * E * a * a * a / (3.0 * R))
-                    fx += f * a
-                    ar += f * a * a
-        scale = 0.5 * width * norm
-        out[FZ_STICK] = fz * scale
-        out[FX_STICK] = fx * scale * (4.0 / 3.0 * E * abs(delta_t))
-        out[AR_STICK] = ar * scale * math.pi
-    # Slip population: Hertz law, delta in [max(0, lo), min(delta_2, hi)], integrated over a.
+        _stick_population(
+            d, delta_t, prm, k2, c, a_f, delta_f, delta_2, lo, hi, gl_x, gl_w, n_panels, out
+        )
     if delta_2 > 0.0:
-        d_lo = max(0.0, lo)
-        d_hi = min(delta_2, hi)
-        if d_hi > d_lo:
-            a_lo = math.sqrt(R * d_lo)
-            a_hi = math.sqrt(R * d_hi)
-            width = (a_hi - a_lo) / n_panels
-            fz = 0.0
-            ar = 0.0
-            for p in range(n_panels):
-                mid = a_lo + (p + 0.5) * width
-                for i in range(n_nodes):
-                    a = mid + 0.5 * width * gl_x[i]
-                    z = d + a * a / R
-                    f = gl_w[i] * (2.0 * a / R) * math.exp(-z * z * inv2s2)
-                    fz += f * a * a * a
-                    ar += f * a * a
-            scale = 0.5 * width * norm
-            out[FZ_SLIP] = fz * scale * (4.0 * E / (3.0 * R))
-            out[AR_SLIP] = ar * scale * math.pi
-            out[FX_SLIP] = out[AR_SLIP] * tau0
+        _slip_population(d, prm, delta_2, lo, hi, gl_x, gl_w, n_panels, out)
     root2s = math.sqrt(2.0) * sigma
     n_stick = 0.0 if math.isinf(delta_2) else 0.5 * math.erfc((d + delta_2) / root2s)
     n_all = 0.5 * math.erfc((d + delta_1) / root2s)
@@ -157,6 +83,142 @@ def asperity_integrals(d, delta_t, prm, gl_x, gl_w, n_panels, out):
     out[N_SLIP] = max(n_all - n_stick, 0.0)
     out[DELTA_1] = delta_1
     out[DELTA_2] = delta_2
+
+
+# The steps of asperity_integrals below are inlined into it (numba inline="always"): as
+# separate compiled calls they made a shear curve about 3.5 % slower.
+
+
+@njit(cache=True, inline="always")
+def _limits(d, delta_t, prm):
+    """(k^2, c, a'_min, delta_PC^min, delta_1, delta_2) at separation d (m) and delta_T (m).
+
+    k^2 = 2 pi w / E* (m), c = 4/9 lambda delta_T^2 (m^2), the fold of the PC law (m), and the
+    integral limits E:delta_2 = max(d_min - d + delta_JKR^loading, delta_PC^min), E:delta_1 =
+    min(0, delta_2) in m (d_min = d at the preload, ``prm[P_D_PRELOAD]`` NaN).
+    """
+    R = prm[P_R]
+    E = prm[P_E]
+    w = prm[P_W]
+    k2 = 2.0 * math.pi * w / E
+    c = coupling_term(delta_t, prm[P_LAM])
+    a_f = pc_fold_radius_kernel(delta_t, R, w, E, prm[P_LAM])
+    delta_f = pc_fold_indentation(a_f, k2, c, R)
+    if math.isnan(prm[P_D_PRELOAD]):
+        hist = prm[P_DELTA_LOAD]
+    else:
+        hist = prm[P_D_PRELOAD] - d + prm[P_DELTA_LOAD]
+    delta_2 = max(hist, delta_f)  # E:delta_2
+    delta_1 = min(0.0, delta_2)  # E:delta_1
+    return k2, c, a_f, delta_f, delta_1, delta_2
+
+
+@njit(cache=True, inline="always")
+def _stick_population(
+    d, delta_t, prm, k2, c, a_f, delta_f, delta_2, lo, hi, gl_x, gl_w, n_panels, out
+):
+    """Fill ``out`` with F_z (N), F_x (N), A_r (m^2) of the sticking asperities.
+
+    PC law (E:PC_indent, E:PC_P, E:PC_T) over delta in [max(delta_2, lo), hi] (m), integrated
+    over u (w > 0) or a (w = 0).
+    """
+    R = prm[P_R]
+    E = prm[P_E]
+    sigma = prm[P_SIGMA]
+    a_lo = pc_radius_from_fold(max(delta_2, lo), k2, c, R, a_f, delta_f)
+    a_hi = pc_radius_from_fold(hi, k2, c, R, a_f, delta_f)
+    inv2s2 = 0.5 / (sigma * sigma)
+    if k2 > 0.0:
+        fz, fx, ar, width = _stick_sums_pc(d, a_lo, a_hi, k2, c, R, E, inv2s2, gl_x, gl_w, n_panels)
+    else:
+        fz, fx, ar, width = _stick_sums_hertz(d, a_lo, a_hi, R, E, inv2s2, gl_x, gl_w, n_panels)
+    scale = 0.5 * width * (1.0 / (math.sqrt(2.0 * math.pi) * sigma))
+    out[FZ_STICK] = fz * scale
+    out[FX_STICK] = fx * scale * (4.0 / 3.0 * E * abs(delta_t))
+    out[AR_STICK] = ar * scale * math.pi
+
+
+@njit(cache=True, inline="always")
+def _stick_sums_pc(d, a_lo, a_hi, k2, c, R, E, inv2s2, gl_x, gl_w, n_panels):
+    """Gauss-Legendre sums over u = sqrt(k^2 a - c) of the PC law (E:PC_indent, E:PC_P).
+
+    a = (u^2 + c)/k^2, delta = a^2/R - u, d delta = (4 a u/(R k^2) - 1) du. Returns the sums
+    of P, a and a^2 times the Gaussian (without its normalisation) and the panel width in u.
+    """
+    u_lo = math.sqrt(max(k2 * a_lo - c, 0.0))
+    u_hi = math.sqrt(max(k2 * a_hi - c, 0.0))
+    width = (u_hi - u_lo) / n_panels
+    fz = 0.0
+    fx = 0.0
+    ar = 0.0
+    for p in range(n_panels):
+        mid = u_lo + (p + 0.5) * width
+        for i in range(gl_x.shape[0]):
+            u = mid + 0.5 * width * gl_x[i]
+            a = (u * u + c) / k2
+            dd = 4.0 * a * u / (R * k2) - 1.0
+            z = d + a * a / R - u
+            f = gl_w[i] * dd * math.exp(-z * z * inv2s2)
+            fz += f * (4.0 * E * a * a * a / (3.0 * R) - 2.0 * E * a * u)
+            fx += f * a
+            ar += f * a * a
+    return fz, fx, ar, width
+
+
+@njit(cache=True, inline="always")
+def _stick_sums_hertz(d, a_lo, a_hi, R, E, inv2s2, gl_x, gl_w, n_panels):
+    """Gauss-Legendre sums over a of the stick population when w = 0 (then c = 0).
+
+    Hertz, delta = a^2/R, d delta = 2a/R da. Returns the sums of P, a and a^2 times the
+    Gaussian (without its normalisation) and the panel width in a (m).
+    """
+    width = (a_hi - a_lo) / n_panels
+    fz = 0.0
+    fx = 0.0
+    ar = 0.0
+    for p in range(n_panels):
+        mid = a_lo + (p + 0.5) * width
+        for i in range(gl_x.shape[0]):
+            a = mid + 0.5 * width * gl_x[i]
+            z = d + a * a / R
+            f = gl_w[i] * (2.0 * a / R) * math.exp(-z * z * inv2s2)
+            fz += f * (4.0 * E * a * a * a / (3.0 * R))
+            fx += f * a
+            ar += f * a * a
+    return fz, fx, ar, width
+
+
+@njit(cache=True, inline="always")
+def _slip_population(d, prm, delta_2, lo, hi, gl_x, gl_w, n_panels, out):
+    """Fill ``out`` with F_z (N), F_x = tau0 A_r (N), A_r (m^2) of the sliding asperities.
+
+    Hertz law over delta in [max(0, lo), min(delta_2, hi)] (m), integrated over
+    a = sqrt(R delta) (removes the delta^(3/2) end point at delta = 0).
+    """
+    R = prm[P_R]
+    sigma = prm[P_SIGMA]
+    d_lo = max(0.0, lo)
+    d_hi = min(delta_2, hi)
+    if not d_hi > d_lo:
+        return
+    a_lo = math.sqrt(R * d_lo)
+    a_hi = math.sqrt(R * d_hi)
+    width = (a_hi - a_lo) / n_panels
+    inv2s2 = 0.5 / (sigma * sigma)
+    fz = 0.0
+    ar = 0.0
+    for p in range(n_panels):
+        mid = a_lo + (p + 0.5) * width
+        for i in range(gl_x.shape[0]):
+            a = mid + 0.5 * width * gl_x[i]
+            z = d + a * a / R
+            f = gl_w[i] * (2.0 * a / R) * math.exp(-z * z * inv2s2)
+            fz += f * a * a * a
+            ar += f * a * a
+    scale = 0.5 * width * (1.0 / (math.sqrt(2.0 * math.pi) * sigma))
+    out[FZ_SLIP] = fz * scale * (4.0 * prm[P_E] / (3.0 * R))
+    out[AR_SLIP] = ar * scale * math.pi
+    out[FX_SLIP] = out[AR_SLIP] * prm[P_TAU]
 
 
 @njit(cache=True)

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -117,66 +118,17 @@ class ReferenceModel:
 
     # --- integrals ---------------------------------------------------------------------------
     def state(self, d: float, delta_t: float, d_preload: float | None) -> ReferenceState:
-        """Reference integrals at separation d (m) and delta_T (m); d_preload None = preload."""
-        R, E, sigma = self.r.summit_radius, self.m.e_star, self.r.summit_height_rms
-        lam, w, tau0 = self.m.mode_mixity, self.m.work_of_adhesion, self.m.shear_strength
+        """Reference integrals at separation d (m) and delta_T (m); d_preload None = preload.
+
+        E:NewFormulation_Fy/Fx/Ar with the limits E:delta_2 / E:delta_1 (E:Fy_Greenwood /
+        E:Ar_Greenwood at the preload), summit heights cut at |z| = 12 sigma_s.
+        """
+        sigma = self.r.summit_height_rms
         fold = self.fold(delta_t)
-        d_f = fold[1]
-        hist = self.delta_load if d_preload is None else d_preload - d + self.delta_load
-        delta_2 = max(hist, d_f)
-        delta_1 = min(0.0, delta_2)
+        delta_1, delta_2 = self._limits(d, fold[1], d_preload)
         lo, hi = -CUTOFF_SIGMA * sigma - d, CUTOFF_SIGMA * sigma - d
-        norm = 1.0 / (math.sqrt(2.0 * math.pi) * sigma)
-
-        def phi(z: float) -> float:
-            return norm * math.exp(-0.5 * (z / sigma) ** 2)
-
-        def integrate(f, s0: float, s1: float) -> float:
-            # QUADPACK may report that round-off stops it short of epsrel = 1e-13: the result is
-            # then accurate to round-off (~1e-13), far below the 1e-6 the fast path is held to.
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", IntegrationWarning)
-                val, _ = quad(f, s0, s1, epsabs=0.0, epsrel=EPSREL, limit=LIMIT)
-            return val
-
-        fz_st = fx_st = ar_st = 0.0
-        if delta_2 < hi:
-            s0 = math.sqrt(max(max(delta_2, lo) - d_f, 0.0))
-            s1 = math.sqrt(hi - d_f)
-            cache: dict[float, float] = {}
-
-            def a_of(s: float) -> float:
-                if s not in cache:
-                    cache[s] = self.radius(d_f + s * s, delta_t, fold)
-                return cache[s]
-
-            def load(s: float) -> float:
-                a = a_of(s)
-                p = 4.0 * E * a**3 / (3.0 * R) - math.sqrt(
-                    max(
-                        8.0 * math.pi * E * a**3 * w - 16.0 / 9.0 * lam * E**2 * a**2 * delta_t**2,
-                        0.0,
-                    )
-                )
-                return p * phi(d + d_f + s * s) * 2.0 * s
-
-            def tang(s: float) -> float:
-                return 4.0 / 3.0 * E * a_of(s) * delta_t * phi(d + d_f + s * s) * 2.0 * s
-
-            def area(s: float) -> float:
-                return math.pi * a_of(s) ** 2 * phi(d + d_f + s * s) * 2.0 * s
-
-            fz_st, fx_st, ar_st = (integrate(f, s0, s1) for f in (load, tang, area))
-        fz_sl = fx_sl = ar_sl = 0.0
-        if delta_2 > 0.0:
-            d0, d1 = max(0.0, lo), min(delta_2, hi)
-            if d1 > d0:
-                s0, s1 = math.sqrt(d0), math.sqrt(d1)
-                fz_sl = integrate(
-                    lambda s: 4.0 / 3.0 * E * math.sqrt(R) * s**3 * phi(d + s * s) * 2.0 * s, s0, s1
-                )
-                ar_sl = integrate(lambda s: math.pi * R * s * s * phi(d + s * s) * 2.0 * s, s0, s1)
-                fx_sl = tau0 * ar_sl
+        fz_st, fx_st, ar_st = self._stick_integrals(d, delta_t, fold, delta_2, lo, hi)
+        fz_sl, fx_sl, ar_sl = self._slip_integrals(d, delta_2, lo, hi)
         n_stick = 0.0 if math.isinf(delta_2) else float(ndtr(-(d + delta_2) / sigma))
         n_all = float(ndtr(-(d + delta_1) / sigma))
         n = self.n_asp
@@ -193,6 +145,90 @@ class ReferenceModel:
             delta_1=delta_1,
             delta_2=delta_2,
         )
+
+    def _limits(self, d: float, delta_fold: float, d_preload: float | None) -> tuple[float, float]:
+        """(delta_1, delta_2) in m at separation d (m), E:delta_1 / E:delta_2.
+
+        delta_2 = max(d_min - d + delta_JKR^loading, delta_PC^min) with ``delta_fold`` =
+        delta_PC^min (m); at the preload (``d_preload`` None) the history term is
+        delta_JKR^loading alone. delta_1 = min(0, delta_2).
+        """
+        hist = self.delta_load if d_preload is None else d_preload - d + self.delta_load
+        delta_2 = max(hist, delta_fold)
+        return min(0.0, delta_2), delta_2
+
+    def _density(self, z: float) -> float:
+        """Gaussian summit-height density phi(z), 1/m, at height z (m)."""
+        sigma = self.r.summit_height_rms
+        norm = 1.0 / (math.sqrt(2.0 * math.pi) * sigma)
+        return norm * math.exp(-0.5 * (z / sigma) ** 2)
+
+    def _stick_integrals(
+        self,
+        d: float,
+        delta_t: float,
+        fold: tuple[float, float],
+        delta_2: float,
+        lo: float,
+        hi: float,
+    ) -> tuple[float, float, float]:
+        """Per-asperity (F_z N, F_x N, A_r m^2) of the sticking population (E:PC_P, E:PC_T).
+
+        Indentations delta in [max(delta_2, lo), hi] (m), written delta = delta_PC^min + s^2.
+        """
+        if not delta_2 < hi:
+            return 0.0, 0.0, 0.0
+        R, E = self.r.summit_radius, self.m.e_star
+        lam, w = self.m.mode_mixity, self.m.work_of_adhesion
+        phi = self._density
+        d_f = fold[1]
+        s0 = math.sqrt(max(max(delta_2, lo) - d_f, 0.0))
+        s1 = math.sqrt(hi - d_f)
+        cache: dict[float, float] = {}
+
+        def a_of(s: float) -> float:
+            if s not in cache:
+                cache[s] = self.radius(d_f + s * s, delta_t, fold)
+            return cache[s]
+
+        def load(s: float) -> float:
+            a = a_of(s)
+            p = 4.0 * E * a**3 / (3.0 * R) - math.sqrt(
+                max(
+                    8.0 * math.pi * E * a**3 * w - 16.0 / 9.0 * lam * E**2 * a**2 * delta_t**2,
+                    0.0,
+                )
+            )
+            return p * phi(d + d_f + s * s) * 2.0 * s
+
+        def tang(s: float) -> float:
+            return 4.0 / 3.0 * E * a_of(s) * delta_t * phi(d + d_f + s * s) * 2.0 * s
+
+        def area(s: float) -> float:
+            return math.pi * a_of(s) ** 2 * phi(d + d_f + s * s) * 2.0 * s
+
+        fz, fx, ar = (_integrate(f, s0, s1) for f in (load, tang, area))
+        return fz, fx, ar
+
+    def _slip_integrals(
+        self, d: float, delta_2: float, lo: float, hi: float
+    ) -> tuple[float, float, float]:
+        """Per-asperity (F_z N, F_x N, A_r m^2) of the sliding population (E:Hertz_theory, tau0).
+
+        Indentations delta in [max(0, lo), min(delta_2, hi)] (m), written delta = s^2.
+        """
+        if not delta_2 > 0.0:
+            return 0.0, 0.0, 0.0
+        d0, d1 = max(0.0, lo), min(delta_2, hi)
+        if not d1 > d0:
+            return 0.0, 0.0, 0.0
+        R, E, phi = self.r.summit_radius, self.m.e_star, self._density
+        s0, s1 = math.sqrt(d0), math.sqrt(d1)
+        fz = _integrate(
+            lambda s: 4.0 / 3.0 * E * math.sqrt(R) * s**3 * phi(d + s * s) * 2.0 * s, s0, s1
+        )
+        ar = _integrate(lambda s: math.pi * R * s * s * phi(d + s * s) * 2.0 * s, s0, s1)
+        return fz, self.m.shear_strength * ar, ar
 
     # --- separations -------------------------------------------------------------------------
     def preload_separation(self, normal_load: float) -> float:
@@ -253,3 +289,15 @@ class ReferenceModel:
             d = self.separation(normal_load, float(dt), d_pre, d)
             states.append(self.state(d, float(dt), d_pre))
         return d_pre, states
+
+
+def _integrate(f: Callable[[float], float], s0: float, s1: float) -> float:
+    """int_s0^s1 f(s) ds by ``scipy.integrate.quad`` (epsabs 0, epsrel :data:`EPSREL`).
+
+    QUADPACK may report that round-off stops it short of epsrel = 1e-13: the result is then
+    accurate to round-off (~1e-13), far below the 1e-6 the fast path is held to.
+    """
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", IntegrationWarning)
+        val, _ = quad(f, s0, s1, epsabs=0.0, epsrel=EPSREL, limit=LIMIT)
+    return val

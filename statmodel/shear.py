@@ -37,7 +37,7 @@ from asperity.errors import InputError
 from asperity.statmodel import integrals as _k
 from asperity.statmodel.options import ModelSetup, QuadratureOptions, setup_model
 from asperity.statmodel.parameters import Material, Roughness
-from asperity.statmodel.preloading import pull_off_point, solve_preload
+from asperity.statmodel.preloading import PreloadResult, pull_off_point, solve_preload
 
 
 @dataclass(frozen=True)
@@ -367,16 +367,7 @@ def _sliding_displacement(
         return 0.0  # no adhesion: every junction slides as soon as delta_T > 0
     if n_stick[0] < 1.0:
         return float(dts[0])
-
-    def count(dt: float, d_guess: float) -> tuple[float, float]:
-        if target is None:
-            out = np.empty(_k.N_RESULTS)
-            _k.asperity_integrals(
-                separations[0], dt, prm, setup.gl_x, setup.gl_w, setup.panels, out
-            )
-            return setup.n_asperities * out[_k.N_STICK], separations[0]
-        return _n_stick_load_control(setup, prm, dt, d_guess, target, ftol)
-
+    count = _stick_counter(setup, prm, separations, target, ftol)
     below = np.flatnonzero(n_stick < 1.0)
     if below.size:
         i = int(below[0])
@@ -397,6 +388,42 @@ def _sliding_displacement(
             lo, d_lo, hi = hi, d_hi, 2.0 * hi
         else:
             return math.inf
+    return _one_sticking_root(count, lo, hi, d_lo)
+
+
+def _stick_counter(
+    setup: ModelSetup,
+    prm: np.ndarray,
+    separations: np.ndarray,
+    target: float | None,
+    ftol: float,
+) -> Callable[[float, float], tuple[float, float]]:
+    """count(delta_T m, d_guess m) -> (expected number of sticking asperities, separation m).
+
+    Load control (``target`` in N): the separation is solved from ``d_guess`` (NaN count when
+    the solve fails). Fixed grip (``target`` None): the separation is ``separations[0]``.
+    """
+
+    def count(dt: float, d_guess: float) -> tuple[float, float]:
+        if target is None:
+            out = np.empty(_k.N_RESULTS)
+            _k.asperity_integrals(
+                separations[0], dt, prm, setup.gl_x, setup.gl_w, setup.panels, out
+            )
+            return setup.n_asperities * out[_k.N_STICK], separations[0]
+        return _n_stick_load_control(setup, prm, dt, d_guess, target, ftol)
+
+    return count
+
+
+def _one_sticking_root(
+    count: Callable[[float, float], tuple[float, float]], lo: float, hi: float, d_lo: float
+) -> float:
+    """delta_T (m) in [lo, hi] where ``count`` falls to one sticking asperity (Brent, rtol 1e-10).
+
+    Each evaluation starts its separation solve from the last finite separation (m), the first
+    from ``d_lo``; NaN when Brent fails (no sign change, or a failed solve).
+    """
     state = {"d": d_lo}
 
     def f(dt: float) -> float:
@@ -456,63 +483,104 @@ def shear_curve(
     target = float(normal_load)
     ftol = setup.options.load_rtol * max(abs(target), abs(pull[0]))
     prm = setup.with_preload_separation(pre.separation)
-    m = dts.size
-    results = np.full((m, _k.N_RESULTS), np.nan)
-    separations = np.full(m, np.nan)
-    nits = np.zeros(m, dtype=np.int64)
-    sigma = roughness.summit_height_rms
-    n_ok = 0
-    if pre.success:
-        n_ok = _k.shear_path(
-            dts,
-            target,
-            pre.separation,
-            ftol,
-            1e-15 * sigma,
-            setup.options.max_iter,
-            prm,
-            setup.gl_x,
-            setup.gl_w,
-            setup.panels,
-            results,
-            separations,
-            nits,
-        )
-    if not pre.success:
-        status, message = 1, pre.message
-    elif n_ok == m:
-        status, message = 0, "converged"
-    else:
-        status = 2
-        message = (
-            f"separation solve failed at step {n_ok} (delta_T = {dts[n_ok]:.6g} m): the normal "
-            f"load {target:.6g} N cannot be carried (pull-off under shear) or the solver did "
-            "not converge"
-        )
+    results, separations, nits, n_ok = _march_load_control(setup, prm, dts, pre, target, ftol)
+    status, message = _load_control_status(pre, n_ok, dts, target)
     f_slide, d_slide, _ = sliding_limit(setup, target)
-    n_stick = setup.n_asperities * results[:, _k.N_STICK]
-    slide_dt = _sliding_displacement(setup, prm, dts, n_stick, separations, target, ftol)
-    fx = setup.n_asperities * (results[:, _k.FX_STICK] + results[:, _k.FX_SLIP])
-    fx_at = _tangential_force_at(setup, prm, dts, separations, target, ftol)
-    static, static_dt = static_friction_peak(fx_at, dts, fx)
     return _assemble(
         setup,
         dts,
         results,
         separations,
         nits,
+        **_friction_measures(setup, prm, dts, results, separations, target, ftol),
         separation_preload=pre.separation,
         sliding_friction=f_slide,
         sliding_separation=d_slide,
-        sliding_displacement=slide_dt,
-        static_friction=static,
-        static_displacement=static_dt,
         normal_load=target,
         pull_off_force=pull[0],
         success=status == 0,
         status=status,
         message=message,
     )
+
+
+def _march_load_control(
+    setup: ModelSetup,
+    prm: np.ndarray,
+    dts: np.ndarray,
+    pre: PreloadResult,
+    target: float,
+    ftol: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+    """The march over delta_T (m) at the normal load ``target`` (N), from the preload state.
+
+    Returns the per-asperity integrals (one row per step, layout of :mod:`statmodel.integrals`),
+    the separations (m), the normal-load evaluations per step and the number of solved steps;
+    rows from the first failed step on (all of them after a failed preload) stay NaN.
+    """
+    m = dts.size
+    results = np.full((m, _k.N_RESULTS), np.nan)
+    separations = np.full(m, np.nan)
+    nits = np.zeros(m, dtype=np.int64)
+    if not pre.success:
+        return results, separations, nits, 0
+    n_ok = _k.shear_path(
+        dts,
+        target,
+        pre.separation,
+        ftol,
+        1e-15 * setup.roughness.summit_height_rms,
+        setup.options.max_iter,
+        prm,
+        setup.gl_x,
+        setup.gl_w,
+        setup.panels,
+        results,
+        separations,
+        nits,
+    )
+    return results, separations, nits, n_ok
+
+
+def _load_control_status(
+    pre: PreloadResult, n_ok: int, dts: np.ndarray, target: float
+) -> tuple[int, str]:
+    """(status, message) of a load-controlled curve (codes of :data:`SHEAR_STATUS`)."""
+    if not pre.success:
+        return 1, pre.message
+    if n_ok == dts.size:
+        return 0, "converged"
+    return 2, (
+        f"separation solve failed at step {n_ok} (delta_T = {dts[n_ok]:.6g} m): the normal "
+        f"load {target:.6g} N cannot be carried (pull-off under shear) or the solver did "
+        "not converge"
+    )
+
+
+def _friction_measures(
+    setup: ModelSetup,
+    prm: np.ndarray,
+    dts: np.ndarray,
+    results: np.ndarray,
+    separations: np.ndarray,
+    target: float | None,
+    ftol: float,
+) -> dict[str, float]:
+    """The static friction (N) and its delta_T (m), and the sliding displacement (m).
+
+    ``target`` is the imposed normal load (N) in load control, None in fixed grip; see
+    :func:`static_friction_peak` and :func:`_sliding_displacement`.
+    """
+    n_stick = setup.n_asperities * results[:, _k.N_STICK]
+    slide_dt = _sliding_displacement(setup, prm, dts, n_stick, separations, target, ftol)
+    fx = setup.n_asperities * (results[:, _k.FX_STICK] + results[:, _k.FX_SLIP])
+    fx_at = _tangential_force_at(setup, prm, dts, separations, target, ftol)
+    static, static_dt = static_friction_peak(fx_at, dts, fx)
+    return {
+        "sliding_displacement": slide_dt,
+        "static_friction": static,
+        "static_displacement": static_dt,
+    }
 
 
 def shear_curve_fixed_separation(
@@ -544,23 +612,16 @@ def shear_curve_fixed_separation(
     _k.fixed_separation_path(dts, d, prm, setup.gl_x, setup.gl_w, setup.panels, results)
     separations = np.full(dts.size, d)
     area = _hertz_sliding_area(setup, d)
-    n_stick = setup.n_asperities * results[:, _k.N_STICK]
-    slide_dt = _sliding_displacement(setup, prm, dts, n_stick, separations, None, 0.0)
-    fx = setup.n_asperities * (results[:, _k.FX_STICK] + results[:, _k.FX_SLIP])
-    fx_at = _tangential_force_at(setup, prm, dts, separations, None, 0.0)
-    static, static_dt = static_friction_peak(fx_at, dts, fx)
     return _assemble(
         setup,
         dts,
         results,
         separations,
         np.zeros(dts.size, dtype=np.int64),
+        **_friction_measures(setup, prm, dts, results, separations, None, 0.0),
         separation_preload=d,
         sliding_friction=material.shear_strength * area,
         sliding_separation=d,
-        sliding_displacement=slide_dt,
-        static_friction=static,
-        static_displacement=static_dt,
         normal_load=math.nan,
         pull_off_force=math.nan,
         success=True,

@@ -234,10 +234,36 @@ def read_surface(
             ) from None
 
 
+#: Readers of the single-channel formats that carry their own pixel size.
+_READERS = {
+    "x3p": read_x3p,
+    "sur": read_sur,
+    "metropro": read_metropro,
+    "hdf5": _read_hdf5,
+    "plu": read_plu,
+    "opd": read_opd,
+}
+#: Readers of the multi-channel formats (``channel=`` argument).
+_CHANNEL_READERS = {"nanoscope": read_nanoscope, "picoview": read_picoview, "gwy": read_gwy}
+
+
 def _read_checked(
     path: Path, channel: str | int | None, pixel_size: float | tuple[float, float] | None
 ) -> HeightMap | LineProfile:
     """Detect the format, check the arguments against it, and run its reader."""
+    detected = _checked_format(path)
+    _check_arguments(path, detected, channel, pixel_size)
+    if detected in _READERS:
+        return _READERS[detected](path)
+    if detected in _CHANNEL_READERS:
+        return _CHANNEL_READERS[detected](path, channel=channel)
+    if detected in ("npy", "npz"):
+        return read_numpy(path, pixel_size=pixel_size)
+    return _read_text_table(path, pixel_size)
+
+
+def _checked_format(path: Path) -> str:
+    """The format of the file's content, which its extension (if known) must announce."""
     extension = path.suffix.lower()
     announced = FORMATS_BY_EXTENSION.get(extension)
     detected = detect_format(path)
@@ -258,7 +284,17 @@ def _read_checked(
             "extension",
             f"{extension!r} announces {announced} but the content is {detected} (mislabelled file)",
         )
-    if channel is not None and detected not in ("nanoscope", "picoview", "gwy"):
+    return detected
+
+
+def _check_arguments(
+    path: Path,
+    detected: str,
+    channel: str | int | None,
+    pixel_size: float | tuple[float, float] | None,
+) -> None:
+    """Refuse a ``channel`` for a single-channel format, a ``pixel_size`` for a calibrated one."""
+    if channel is not None and detected not in _CHANNEL_READERS:
         raise InputError(
             f"{path}: channel {channel!r} given, but a {detected} file has a single channel"
         )
@@ -267,26 +303,12 @@ def _read_checked(
             f"{path}: pixel_size {pixel_size!r} given, but the {detected} format carries its "
             "own calibrated pixel size; leave pixel_size (--pixel-size) out"
         )
-    if detected == "x3p":
-        return read_x3p(path)
-    if detected == "sur":
-        return read_sur(path)
-    if detected == "metropro":
-        return read_metropro(path)
-    if detected == "hdf5":
-        return _read_hdf5(path)
-    if detected == "plu":
-        return read_plu(path)
-    if detected == "opd":
-        return read_opd(path)
-    if detected == "nanoscope":
-        return read_nanoscope(path, channel=channel)
-    if detected == "picoview":
-        return read_picoview(path, channel=channel)
-    if detected == "gwy":
-        return read_gwy(path, channel=channel)
-    if detected in ("npy", "npz"):
-        return read_numpy(path, pixel_size=pixel_size)
+
+
+def _read_text_table(
+    path: Path, pixel_size: float | tuple[float, float] | None
+) -> HeightMap | LineProfile:
+    """A text file: a Dektak CSV profile (own lateral positions) or a matrix / x y z table."""
     with open(path, "rb") as handle:
         head = handle.read(8192)
     if looks_like_dektak(head):

@@ -107,48 +107,14 @@ def read_dektak(path: str | Path) -> LineProfile:
         start = next(i for i, line in enumerate(lines) if line.strip().startswith("Scan Data"))
     except StopIteration:
         raise TopographyFileError(path, "Scan Data", "block not found; not a Dektak CSV") from None
-    declared_length = None
-    for line in lines[:start]:
-        parts = line.split(",")
-        if parts[0].strip() == "Length" and len(parts) > 1:
-            value = parts[1].split()
-            factor = length_unit_in_metres(value[1]) if len(value) > 1 else None
-            if factor is not None:
-                declared_length = parse_number(path, "Length", value[0]) * factor
-    header_line = next((i for i in range(start + 1, len(lines)) if lines[i].strip()), None)
-    if header_line is None:
-        raise TopographyFileError(path, "Scan Data", "has no column header and no data lines")
-    columns = lines[header_line].split(",")
-    if len(columns) < 2:
-        raise TopographyFileError(
-            path, "column header", f"is {lines[header_line]!r}; expected 'lateral,height' labels"
-        )
+    declared_length = _declared_length(path, lines[:start])
+    header_line, columns = _column_header(path, lines, start)
     lateral_factor = _column_unit(path, columns[0], "lateral column header")
     height_factor = _column_unit(path, columns[1], "height column header")
     lateral, heights = _data_columns(path, lines, header_line + 1)
     x = lateral * lateral_factor
     z = heights * height_factor
-    if x.size < 2:
-        raise TopographyFileError(path, "Scan Data", f"has {x.size} samples; expected at least 2")
-    if not np.all(np.abs(x) < 1e3):
-        raise TopographyFileError(
-            path, "lateral column", "holds positions beyond 1 km; expected positions in m"
-        )
-    # The positions are printed rounded (e.g. to 0.1 um for 0.156 um steps): dx and x0 are
-    # the least-squares line through them, and every sample must lie within half a step
-    # of that uniform grid, with increasing positions.
-    index = np.arange(x.size)
-    dx, x0 = np.polyfit(index, x, 1)
-    offset = np.abs(x - (x0 + dx * index))
-    if dx <= 0 or np.any(np.diff(x) <= 0) or offset.max() > 0.51 * dx:
-        worst = int(np.argmax(offset))
-        raise TopographyFileError(
-            path,
-            "lateral column",
-            f"is not a uniform, increasing grid: sample {worst + 1} is at {x[worst]:.6g} m, "
-            f"{offset[worst] / abs(dx):.2f} steps from the best uniform grid (step "
-            f"{dx:.6g} m); expected every sample within half a step of it",
-        )
+    dx = _uniform_step(path, x)
     if declared_length is not None and x[-1] - x[0] < declared_length - 2.5 * dx:
         raise TopographyFileError(
             path,
@@ -164,3 +130,57 @@ def read_dektak(path: str | Path) -> LineProfile:
         units={"lateral": columns[0].strip(), "height": columns[1].strip()},
     )
     return make_surface(path, z, (("lateral column step", dx),), provenance, profile=True)
+
+
+def _declared_length(path: Path, header_lines: list[str]) -> float | None:
+    """The scan ``Length,<value> <unit>`` of the header in m (the last one), or None."""
+    declared_length = None
+    for line in header_lines:
+        parts = line.split(",")
+        if parts[0].strip() == "Length" and len(parts) > 1:
+            value = parts[1].split()
+            factor = length_unit_in_metres(value[1]) if len(value) > 1 else None
+            if factor is not None:
+                declared_length = parse_number(path, "Length", value[0]) * factor
+    return declared_length
+
+
+def _column_header(path: Path, lines: list[str], start: int) -> tuple[int, list[str]]:
+    """(line index, labels) of the column header: the first non-blank line after ``Scan Data``."""
+    header_line = next((i for i in range(start + 1, len(lines)) if lines[i].strip()), None)
+    if header_line is None:
+        raise TopographyFileError(path, "Scan Data", "has no column header and no data lines")
+    columns = lines[header_line].split(",")
+    if len(columns) < 2:
+        raise TopographyFileError(
+            path, "column header", f"is {lines[header_line]!r}; expected 'lateral,height' labels"
+        )
+    return header_line, columns
+
+
+def _uniform_step(path: Path, x: np.ndarray) -> float:
+    """The sampling distance (m) of lateral positions ``x`` (m) that lie on a uniform grid.
+
+    The positions are printed rounded (e.g. to 0.1 um for 0.156 um steps): dx and x0 are the
+    least-squares line through them, and every sample must lie within half a step of that
+    uniform grid, with increasing positions; at least 2 samples, all within 1 km.
+    """
+    if x.size < 2:
+        raise TopographyFileError(path, "Scan Data", f"has {x.size} samples; expected at least 2")
+    if not np.all(np.abs(x) < 1e3):
+        raise TopographyFileError(
+            path, "lateral column", "holds positions beyond 1 km; expected positions in m"
+        )
+    index = np.arange(x.size)
+    dx, x0 = np.polyfit(index, x, 1)
+    offset = np.abs(x - (x0 + dx * index))
+    if dx <= 0 or np.any(np.diff(x) <= 0) or offset.max() > 0.51 * dx:
+        worst = int(np.argmax(offset))
+        raise TopographyFileError(
+            path,
+            "lateral column",
+            f"is not a uniform, increasing grid: sample {worst + 1} is at {x[worst]:.6g} m, "
+            f"{offset[worst] / abs(dx):.2f} steps from the best uniform grid (step "
+            f"{dx:.6g} m); expected every sample within half a step of it",
+        )
+    return dx

@@ -208,35 +208,8 @@ def read_gwy(path: str | Path, *, channel: str | int | None = None) -> HeightMap
     if not fields:
         raise TopographyFileError(path, "/N/data", "no GwyDataField channel in the container")
     titles = [f"{i}: {t}" for i, t, _ in fields]
-    if channel is None:
-        chosen = next(
-            (f for f in fields if length_unit_in_metres(_unit(f[2].get("si_unit_z")) or "m")), None
-        )
-        if chosen is None:
-            raise TopographyFileError(path, "si_unit_z", "no channel has a length unit")
-    else:
-        chosen = next(
-            (f for f in fields if str(channel).lower() in (str(f[0]), f[1].lower())), None
-        )
-        if chosen is None:
-            raise ChannelNotFoundError(
-                path, "channel", f"{channel!r} not found; available: {titles}"
-            )
-    index, title, field = chosen
-    xres = _component(path, field, "xres", index, int)
-    yres = _component(path, field, "yres", index, int)
-    xreal = _component(path, field, "xreal", index, float)
-    yreal = _component(path, field, "yreal", index, float)
-    values = field.get("data")
-    if xres < 1 or yres < 1 or not (xreal > 0 and yreal > 0):
-        raise TopographyFileError(path, f"/{index}/data xres/xreal", "must be positive")
-    check_map_points(path, f"/{index}/data xres x yres", xres, yres)
-    if not isinstance(values, np.ndarray) or values.size != xres * yres:
-        raise TopographyFileError(
-            path,
-            f"/{index}/data data",
-            f"has {getattr(values, 'size', 0)} values; expected {xres * yres}",
-        )
+    index, title, field = _choose_field(path, fields, titles, channel)
+    xres, yres, xreal, yreal, values = _field_grid(path, field, index)
     z_unit = _unit(field.get("si_unit_z")) or "m"
     xy_unit = _unit(field.get("si_unit_xy")) or "m"
     z_factor, xy_factor = length_unit_in_metres(z_unit), length_unit_in_metres(xy_unit)
@@ -258,3 +231,42 @@ def read_gwy(path: str | Path, *, channel: str | int | None = None) -> HeightMap
         (f"/{index}/data yreal / yres", yreal * xy_factor / yres),
     )
     return make_surface(path, heights, sizes, provenance)
+
+
+def _choose_field(
+    path: Path,
+    fields: list[tuple[int, str, dict]],
+    titles: list[str],
+    channel: str | int | None,
+) -> tuple[int, str, dict]:
+    """The (N, title, field) named by ``channel``, or the first with a length z unit."""
+    if channel is None:
+        chosen = next(
+            (f for f in fields if length_unit_in_metres(_unit(f[2].get("si_unit_z")) or "m")), None
+        )
+        if chosen is None:
+            raise TopographyFileError(path, "si_unit_z", "no channel has a length unit")
+        return chosen
+    chosen = next((f for f in fields if str(channel).lower() in (str(f[0]), f[1].lower())), None)
+    if chosen is None:
+        raise ChannelNotFoundError(path, "channel", f"{channel!r} not found; available: {titles}")
+    return chosen
+
+
+def _field_grid(path: Path, field: dict, index: int) -> tuple[int, int, float, float, np.ndarray]:
+    """(xres, yres, xreal, yreal, data) of a data field: sizes > 0, ``xres*yres`` values."""
+    xres = _component(path, field, "xres", index, int)
+    yres = _component(path, field, "yres", index, int)
+    xreal = _component(path, field, "xreal", index, float)
+    yreal = _component(path, field, "yreal", index, float)
+    values = field.get("data")
+    if xres < 1 or yres < 1 or not (xreal > 0 and yreal > 0):
+        raise TopographyFileError(path, f"/{index}/data xres/xreal", "must be positive")
+    check_map_points(path, f"/{index}/data xres x yres", xres, yres)
+    if not isinstance(values, np.ndarray) or values.size != xres * yres:
+        raise TopographyFileError(
+            path,
+            f"/{index}/data data",
+            f"has {getattr(values, 'size', 0)} values; expected {xres * yres}",
+        )
+    return xres, yres, xreal, yreal, values

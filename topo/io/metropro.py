@@ -56,6 +56,34 @@ def read_metropro(path: str | Path) -> HeightMap:
     """
     path = Path(path)
     data = read_all_bytes(path)
+    header_format, header_size = _header_size(path, data)
+    ac_bytes, cn_w, cn_h, cn_bytes = _array_sizes(path, data)
+    lateral, step, resolution, sign = _calibration(path, data)
+    start = header_size + ac_bytes
+    check_size(path, "cn_n_bytes (phase data)", start + cn_bytes, len(data))
+    raw = np.frombuffer(data, dtype=">i4", count=cn_w * cn_h, offset=start)
+    factor = check_height_step(
+        path,
+        "intf_scale_factor * obliquity_factor * wavelength_in / phase resolution",
+        step,
+    )
+    heights = _phase_heights(raw, -factor if sign else factor)
+    provenance = make_provenance(
+        path,
+        "metropro",
+        instrument="Zygo MetroPro",
+        header_format=int(header_format),
+        channel="connected phase",
+        invalid_marker=f"phase >= {_INVALID_PHASE}",
+        inverted=bool(sign),
+        units={"lateral": "m", "wavelength": "m", "phase_resolution": resolution},
+    )
+    sizes = (("lateral_res", lateral), ("lateral_res", lateral))
+    return make_surface(path, heights.reshape(cn_h, cn_w).T, sizes, provenance)
+
+
+def _header_size(path: Path, data: bytes) -> tuple[int, int]:
+    """(header format, header size in bytes): the magic and the size it implies, checked."""
     if data[:4] not in MAGICS:
         raise TopographyFileError(
             path, "magic", f"is {data[:4].hex()}; expected 881b036f, 881b0370 or 881b0371"
@@ -68,16 +96,13 @@ def read_metropro(path: str | Path) -> HeightMap:
             path, "header_size", f"is {header_size}; expected {expected_header} for this magic"
         )
     check_size(path, "header_size", header_size, len(data))
+    return header_format, header_size
+
+
+def _array_sizes(path: Path, data: bytes) -> tuple[int, int, int, int]:
+    """(intensity bytes, phase width, phase height, phase bytes), consistent with each other."""
     ac_w, ac_h, ac_buckets, _ac_range, ac_bytes = struct.unpack_from(">HHHhI", data, 52)
     cn_w, cn_h, cn_bytes = struct.unpack_from(">HHI", data, 68)
-    scale, wavelength, obliquity = (
-        struct.unpack_from(">f", data, 164)[0],
-        struct.unpack_from(">f", data, 168)[0],
-        struct.unpack_from(">f", data, 176)[0],
-    )
-    lateral = struct.unpack_from(">f", data, 184)[0]
-    (phase_res,) = struct.unpack_from(">h", data, 218)
-    (sign,) = struct.unpack_from(">h", data, 232)
     if ac_bytes != 2 * ac_w * ac_h * ac_buckets:
         raise TopographyFileError(
             path,
@@ -90,33 +115,35 @@ def read_metropro(path: str | Path) -> HeightMap:
         raise TopographyFileError(
             path, "cn_n_bytes", f"is {cn_bytes}; expected 4*width*height = {4 * cn_w * cn_h}"
         )
+    return ac_bytes, cn_w, cn_h, cn_bytes
+
+
+def _calibration(path: Path, data: bytes) -> tuple[float, float, int, int]:
+    """(pixel size m, height per phase count m, phase resolution R, sign flag).
+
+    The height per count is S * O * W / R (unchecked here: the caller bounds it); S, O, W and
+    the pixel size must be finite and > 0.
+    """
+    scale, wavelength, obliquity = (
+        struct.unpack_from(">f", data, 164)[0],
+        struct.unpack_from(">f", data, 168)[0],
+        struct.unpack_from(">f", data, 176)[0],
+    )
+    lateral = struct.unpack_from(">f", data, 184)[0]
+    (phase_res,) = struct.unpack_from(">h", data, 218)
+    (sign,) = struct.unpack_from(">h", data, 232)
     if phase_res not in _PHASE_RESOLUTION:
         raise TopographyFileError(path, "phase_res", f"is {phase_res}; expected 0, 1 or 2")
     require_positive(path, "lateral_res", lateral, " m")
     require_positive(path, "wavelength_in", wavelength, " m")
     require_positive(path, "intf_scale_factor", scale)
     require_positive(path, "obliquity_factor", obliquity)
-    start = header_size + ac_bytes
-    check_size(path, "cn_n_bytes (phase data)", start + cn_bytes, len(data))
-    raw = np.frombuffer(data, dtype=">i4", count=cn_w * cn_h, offset=start)
-    factor = check_height_step(
-        path,
-        "intf_scale_factor * obliquity_factor * wavelength_in / phase resolution",
-        scale * obliquity * wavelength / _PHASE_RESOLUTION[phase_res],
-    )
-    if sign:
-        factor = -factor
+    resolution = _PHASE_RESOLUTION[phase_res]
+    return lateral, scale * obliquity * wavelength / resolution, resolution, sign
+
+
+def _phase_heights(raw: np.ndarray, factor: float) -> np.ndarray:
+    """Heights in m (``raw * factor``), NaN where the phase is invalid (>= 2147483640)."""
     heights = raw.astype(np.float64) * factor
     heights[raw >= _INVALID_PHASE] = np.nan
-    provenance = make_provenance(
-        path,
-        "metropro",
-        instrument="Zygo MetroPro",
-        header_format=int(header_format),
-        channel="connected phase",
-        invalid_marker=f"phase >= {_INVALID_PHASE}",
-        inverted=bool(sign),
-        units={"lateral": "m", "wavelength": "m", "phase_resolution": _PHASE_RESOLUTION[phase_res]},
-    )
-    sizes = (("lateral_res", lateral), ("lateral_res", lateral))
-    return make_surface(path, heights.reshape(cn_h, cn_w).T, sizes, provenance)
+    return heights

@@ -105,106 +105,149 @@ def list_channels(path: str | Path) -> list[dict]:
 
 
 def _channels(path: Path, data: bytes) -> list[dict]:
+    """Every ``\\*Ciao image list`` section of the header, checked, as a channel dict."""
     if not data.startswith(MAGIC):
         raise TopographyFileError(path, "magic", f"is {data[:11]!r}; expected '\\*File list'")
     sections = _parse_header(path, data)
     header_end = _header_end(path, data, sections)
+    scanner = _scanner_values(sections)
+    images = [section for name, section in sections if name == "ciao image list"]
+    channels = [
+        _channel(path, section, index, header_end, len(data), scanner)
+        for index, section in enumerate(images)
+    ]
+    if not channels:
+        raise TopographyFileError(path, "'\\*Ciao image list'", "no image section found")
+    return channels
+
+
+def _scanner_values(sections: list[tuple[str, dict[str, str]]]) -> dict[str, str]:
+    """The keys of every section but the image sections (the ``@Sens.`` values live there)."""
     scanner: dict[str, str] = {}
     for name, values in sections:
         if name != "ciao image list":
             scanner.update(values)
-    channels = []
-    for name, section in sections:
-        if name != "ciao image list":
-            continue
-        index = len(channels)
-        nx = _int_field(path, section, "samps/line", index)
-        ny = _int_field(path, section, "number of lines", index)
-        offset = _int_field(path, section, "data offset", index)
-        length = _int_field(path, section, "data length", index)
-        itemsize = _int_field(path, section, "bytes/pixel", index)
-        if itemsize not in (2, 4):
-            raise TopographyFileError(
-                path, f"image {index} 'Bytes/pixel'", f"is {itemsize}; expected 2 or 4"
-            )
-        if nx < 1 or ny < 1 or length < nx * ny * itemsize:
-            raise TopographyFileError(
-                path,
-                f"image {index} 'Data length'",
-                f"is {length}; expected at least {nx}*{ny}*{itemsize} = {nx * ny * itemsize}",
-            )
-        check_map_points(path, f"image {index} 'Samps/line' x 'Number of lines'", nx, ny)
-        if offset < header_end:
-            raise CorruptFileError(
-                path,
-                f"image {index} 'Data offset'",
-                f"is {offset}, inside the header (which ends at byte {header_end}); "
-                "expected an offset past the header",
-                expected=f">= {header_end}",
-                found=offset,
-            )
-        check_size(
-            path, f"image {index} 'Data offset' + data", offset + nx * ny * itemsize, len(data)
+    return scanner
+
+
+def _channel(
+    path: Path,
+    section: dict[str, str],
+    index: int,
+    header_end: int,
+    file_size: int,
+    scanner: dict[str, str],
+) -> dict:
+    """One image section as a channel dict (see :func:`list_channels`); sizes in m."""
+    nx, ny, offset, itemsize = _image_layout(path, section, index, header_end, file_size)
+    sx, sy = _scan_size(path, section, index)
+    image = _IMAGE_DATA.match(section.get("@2:image data", ""))
+    key = image.group("key") if image else f"channel {index}"
+    label = image.group("label") if image else key
+    height_unit, height_factor, sens_key = _height_scale(path, section, index, itemsize, scanner)
+    return {
+        "index": index,
+        "key": key,
+        "label": label,
+        "nx": nx,
+        "ny": ny,
+        "itemsize": itemsize,
+        "offset": offset,
+        "dx": sx / nx,
+        "dy": sy / ny,
+        "height_unit": height_unit,
+        "height_factor": height_factor,
+        "height_factor_field": f"image {index} '@2:Z scale' x '@{sens_key}'",
+        "line_direction": section.get("line direction", ""),
+    }
+
+
+def _image_layout(
+    path: Path, section: dict[str, str], index: int, header_end: int, file_size: int
+) -> tuple[int, int, int, int]:
+    """(nx, ny, data offset, bytes per pixel) of one image, its data block checked.
+
+    The block must hold ``nx*ny`` items of 2 or 4 bytes, start past the header (never read
+    the header as heights) and end within the file of ``file_size`` bytes.
+    """
+    nx = _int_field(path, section, "samps/line", index)
+    ny = _int_field(path, section, "number of lines", index)
+    offset = _int_field(path, section, "data offset", index)
+    length = _int_field(path, section, "data length", index)
+    itemsize = _int_field(path, section, "bytes/pixel", index)
+    if itemsize not in (2, 4):
+        raise TopographyFileError(
+            path, f"image {index} 'Bytes/pixel'", f"is {itemsize}; expected 2 or 4"
         )
-        size = section.get("scan size", "").split()
-        if len(size) < 2:
-            raise TopographyFileError(
-                path,
-                f"image {index} 'Scan Size'",
-                f"is {section.get('scan size')!r}; expected 'sx sy unit'",
-            )
-        sx = parse_number(path, f"image {index} 'Scan Size' x", size[0])
-        sy = parse_number(path, f"image {index} 'Scan Size' y", size[1])
-        lateral_unit = size[2] if len(size) > 2 else "nm"
-        lateral_factor = length_unit_in_metres(lateral_unit)
-        if lateral_factor is None or sx <= 0 or sy <= 0:
-            raise TopographyFileError(
-                path,
-                f"image {index} 'Scan Size'",
-                f"is {' '.join(size)!r}; expected positive lengths",
-            )
-        image = _IMAGE_DATA.match(section.get("@2:image data", ""))
-        key = image.group("key") if image else f"channel {index}"
-        label = image.group("label") if image else key
-        scale = _Z_SCALE.match(section.get("@2:z scale", ""))
-        if scale is None:
-            raise TopographyFileError(
-                path, f"image {index} '@2:Z scale'", "is missing or malformed"
-            )
-        z_scale = parse_number(path, f"image {index} '@2:Z scale'", scale.group("value"))
-        hard = z_scale / 65536.0 / (65536.0 if itemsize == 4 else 1.0)
-        height_factor = None
-        height_unit = scale.group("unit")
-        sens_key = scale.group("key")
-        if sens_key:
-            sens = scanner.get("@" + sens_key.lower(), "").split()
-            if len(sens) >= 3 and sens[0] == "V" and "/" in sens[2]:
-                soft_unit = sens[2].split("/")[0]
-                factor = length_unit_in_metres(soft_unit)
-                height_unit = soft_unit
-                if factor is not None:
-                    sensitivity = parse_number(path, f"'@{sens_key}'", sens[1])
-                    height_factor = hard * sensitivity * factor
-        channels.append(
-            {
-                "index": index,
-                "key": key,
-                "label": label,
-                "nx": nx,
-                "ny": ny,
-                "itemsize": itemsize,
-                "offset": offset,
-                "dx": sx * lateral_factor / nx,
-                "dy": sy * lateral_factor / ny,
-                "height_unit": height_unit,
-                "height_factor": height_factor,
-                "height_factor_field": f"image {index} '@2:Z scale' x '@{sens_key}'",
-                "line_direction": section.get("line direction", ""),
-            }
+    if nx < 1 or ny < 1 or length < nx * ny * itemsize:
+        raise TopographyFileError(
+            path,
+            f"image {index} 'Data length'",
+            f"is {length}; expected at least {nx}*{ny}*{itemsize} = {nx * ny * itemsize}",
         )
-    if not channels:
-        raise TopographyFileError(path, "'\\*Ciao image list'", "no image section found")
-    return channels
+    check_map_points(path, f"image {index} 'Samps/line' x 'Number of lines'", nx, ny)
+    if offset < header_end:
+        raise CorruptFileError(
+            path,
+            f"image {index} 'Data offset'",
+            f"is {offset}, inside the header (which ends at byte {header_end}); "
+            "expected an offset past the header",
+            expected=f">= {header_end}",
+            found=offset,
+        )
+    check_size(path, f"image {index} 'Data offset' + data", offset + nx * ny * itemsize, file_size)
+    return nx, ny, offset, itemsize
+
+
+def _scan_size(path: Path, section: dict[str, str], index: int) -> tuple[float, float]:
+    """(sx, sy) in m from ``Scan Size: sx sy unit`` (unit nm when absent), both > 0."""
+    size = section.get("scan size", "").split()
+    if len(size) < 2:
+        raise TopographyFileError(
+            path,
+            f"image {index} 'Scan Size'",
+            f"is {section.get('scan size')!r}; expected 'sx sy unit'",
+        )
+    sx = parse_number(path, f"image {index} 'Scan Size' x", size[0])
+    sy = parse_number(path, f"image {index} 'Scan Size' y", size[1])
+    lateral_unit = size[2] if len(size) > 2 else "nm"
+    lateral_factor = length_unit_in_metres(lateral_unit)
+    if lateral_factor is None or sx <= 0 or sy <= 0:
+        raise TopographyFileError(
+            path,
+            f"image {index} 'Scan Size'",
+            f"is {' '.join(size)!r}; expected positive lengths",
+        )
+    return sx * lateral_factor, sy * lateral_factor
+
+
+def _height_scale(
+    path: Path, section: dict[str, str], index: int, itemsize: int, scanner: dict[str, str]
+) -> tuple[str, float | None, str | None]:
+    """(height unit, m per raw count or None, sensitivity key) of one image.
+
+    Hard scale: the ``@2:Z scale`` value / 65536 (/ 65536 again for 4-byte data); soft scale:
+    the ``@Sens. key: V s unit/V`` value of the scanner sections. The factor is None when the
+    soft scale's unit is not a length (or there is no soft scale).
+    """
+    scale = _Z_SCALE.match(section.get("@2:z scale", ""))
+    if scale is None:
+        raise TopographyFileError(path, f"image {index} '@2:Z scale'", "is missing or malformed")
+    z_scale = parse_number(path, f"image {index} '@2:Z scale'", scale.group("value"))
+    hard = z_scale / 65536.0 / (65536.0 if itemsize == 4 else 1.0)
+    height_factor = None
+    height_unit = scale.group("unit")
+    sens_key = scale.group("key")
+    if sens_key:
+        sens = scanner.get("@" + sens_key.lower(), "").split()
+        if len(sens) >= 3 and sens[0] == "V" and "/" in sens[2]:
+            soft_unit = sens[2].split("/")[0]
+            factor = length_unit_in_metres(soft_unit)
+            height_unit = soft_unit
+            if factor is not None:
+                sensitivity = parse_number(path, f"'@{sens_key}'", sens[1])
+                height_factor = hard * sensitivity * factor
+    return height_unit, height_factor, sens_key
 
 
 def choose_channel(path: Path, channels: list[dict], channel: str | int | None) -> dict:

@@ -57,6 +57,31 @@ def read_opd(path: str | Path) -> HeightMap:
     """
     path = Path(path)
     data = read_all_bytes(path)
+    blocks = _directory(path, data)
+    values = _scale_values(path, data, blocks)
+    mult = values["Mult"]
+    name, offset, nx, ny, itemsize = _data_block(path, data, blocks)
+    raw = np.frombuffer(data, dtype=_DTYPES[itemsize], count=nx * ny, offset=offset + 6)
+    step = check_height_step(path, "Wavelength / Mult", values["Wavelength"] * 1e-9 / mult)
+    heights = _heights_with_missing(raw, step)
+    pixel = values["Pixel_size"] * 1e-3
+    provenance = make_provenance(
+        path,
+        "opd",
+        instrument="Wyko Vision",
+        channel=name,
+        invalid_marker="|value| >= 1e32 or non-finite",
+        units={
+            "lateral": "mm",
+            "height": f"wavelength/{mult} (wavelength {values['Wavelength']} nm)",
+        },
+    )
+    sizes = (("Pixel_size", pixel), ("Pixel_size * Aspect", pixel * values["Aspect"]))
+    return make_surface(path, heights.reshape(nx, ny), sizes, provenance)
+
+
+def _directory(path: Path, data: bytes) -> dict[str, tuple[int, int]]:
+    """Block name -> (offset, length) in bytes, from the directory (first entry of a name wins)."""
     check_size(path, "directory entry", 2 + _ENTRY.size, len(data))
     name, _kind, dir_length, _attr = _ENTRY.unpack_from(data, 2)
     if name.split(b"\x00", 1)[0] != b"Directory":
@@ -78,6 +103,15 @@ def read_opd(path: str | Path) -> HeightMap:
         check_size(path, f"block {block_name!r} length", position + length, len(data))
         blocks.setdefault(block_name, (position, length))
         position += length
+    return blocks
+
+
+def _scale_values(path: Path, data: bytes, blocks: dict[str, tuple[int, int]]) -> dict:
+    """The scale values of their blocks, checked.
+
+    ``Wavelength`` (nm, > 0) and ``Pixel_size`` (mm, > 0) are required; ``Mult`` (>= 1)
+    defaults to 1 and ``Aspect`` (> 0) to 1.0.
+    """
     values = {}
     for key, fmt in (("Wavelength", "<f"), ("Mult", "<H"), ("Aspect", "<f"), ("Pixel_size", "<f")):
         if key in blocks:
@@ -90,11 +124,19 @@ def read_opd(path: str | Path) -> HeightMap:
             raise TopographyFileError(path, f"block {key!r}", "is missing; needed for the scale")
     require_positive(path, "Wavelength", values["Wavelength"], " nm")
     require_positive(path, "Pixel_size", values["Pixel_size"], " mm")
-    mult = values.get("Mult", 1)
-    if mult < 1:
+    values.setdefault("Mult", 1)
+    if values["Mult"] < 1:
+        mult = values["Mult"]
         raise PhysicalBoundsError(path, "block 'Mult'", f"is {mult}; expected >= 1", found=mult)
-    aspect = values.get("Aspect", 1.0)
-    require_positive(path, "Aspect", aspect)
+    values.setdefault("Aspect", 1.0)
+    require_positive(path, "Aspect", values["Aspect"])
+    return values
+
+
+def _data_block(
+    path: Path, data: bytes, blocks: dict[str, tuple[int, int]]
+) -> tuple[str, int, int, int, int]:
+    """(name, offset, nx, ny, itemsize) of the data block, its length checked."""
     name = next((candidate for candidate in _DATA_BLOCKS if candidate in blocks), None)
     if name is None:
         raise TopographyFileError(path, "data block", f"none of {_DATA_BLOCKS} found")
@@ -114,23 +156,13 @@ def read_opd(path: str | Path) -> HeightMap:
             f"block {name!r} length",
             f"is {length}; expected 6 + {nx}*{ny}*{itemsize} = {6 + nx * ny * itemsize}",
         )
-    raw = np.frombuffer(data, dtype=_DTYPES[itemsize], count=nx * ny, offset=offset + 6)
+    return name, offset, nx, ny, itemsize
+
+
+def _heights_with_missing(raw: np.ndarray, step: float) -> np.ndarray:
+    """Heights in m (``raw * step``), NaN where the raw value is undefined (|v| >= 1e32)."""
     raw = raw.astype(np.float64)
     invalid = ~np.isfinite(raw) | (np.abs(raw) >= 1e32)
-    step = check_height_step(path, "Wavelength / Mult", values["Wavelength"] * 1e-9 / mult)
     heights = raw * step
     heights[invalid] = np.nan
-    pixel = values["Pixel_size"] * 1e-3
-    provenance = make_provenance(
-        path,
-        "opd",
-        instrument="Wyko Vision",
-        channel=name,
-        invalid_marker="|value| >= 1e32 or non-finite",
-        units={
-            "lateral": "mm",
-            "height": f"wavelength/{mult} (wavelength {values['Wavelength']} nm)",
-        },
-    )
-    sizes = (("Pixel_size", pixel), ("Pixel_size * Aspect", pixel * aspect))
-    return make_surface(path, heights.reshape(nx, ny), sizes, provenance)
+    return heights

@@ -76,29 +76,8 @@ def read_picoview(path: str | Path, *, channel: str | int | None = None) -> Heig
     """
     path = Path(path)
     data = read_all_bytes(path)
-    if not data.startswith(MAGIC):
-        raise TopographyFileError(path, "magic", f"is {data[:8]!r}; expected 'fileType'")
-    header, buffers, start = _parse(path, data)
-    if header.get("fileType") != "Image":
-        raise TopographyFileError(
-            path, "fileType", f"is {header.get('fileType')!r}; expected 'Image'"
-        )
-    encoding = header.get("data", "")
-    if encoding not in ("BINARY", "BINARY_32", ""):
-        raise TopographyFileError(path, "data", f"is {encoding!r}; expected BINARY or BINARY_32")
-    itemsize, full_scale = (4, 2.0**31) if encoding == "BINARY_32" else (2, 2.0**15)
-    for key in ("xPixels", "yPixels"):
-        if not re.fullmatch(r"[+-]?\d+", header.get(key, "")):
-            raise TopographyFileError(
-                path, key, f"is {header.get(key)!r}; expected a number of pixels"
-            )
-    nx, ny = int(header["xPixels"]), int(header["yPixels"])
-    lx = parse_number(path, "xLength", header.get("xLength", ""))
-    ly = parse_number(path, "yLength", header.get("yLength", ""))
-    if nx < 1 or ny < 1 or not (lx > 0 and ly > 0):
-        raise TopographyFileError(
-            path, "xPixels/xLength", f"are {nx}, {ny}, {lx}, {ly}; expected > 0"
-        )
+    header, buffers, start, itemsize = _image_header(path, data)
+    nx, ny, lx, ly = _grid(path, header)
     if not buffers:
         raise TopographyFileError(path, "bufferLabel", "no buffer (channel) declared")
     block = nx * ny * itemsize
@@ -109,40 +88,8 @@ def read_picoview(path: str | Path, *, channel: str | int | None = None) -> Heig
         len(data),
     )
     labels = [b.get("bufferLabel", "") for b in buffers]
-    if channel is None:
-        index = next(
-            (
-                i
-                for i, b in enumerate(buffers)
-                if length_unit_in_metres(b.get("bufferUnit", "")) is not None
-            ),
-            None,
-        )
-        if index is None:
-            raise TopographyFileError(path, "bufferUnit", "no buffer has a length unit")
-    elif isinstance(channel, int) or str(channel).isdigit():
-        index = int(channel)
-        if not 0 <= index < len(buffers):
-            raise ChannelNotFoundError(path, "channel", f"{channel} not found; available: {labels}")
-    else:
-        matches = [i for i, label in enumerate(labels) if label.lower() == str(channel).lower()]
-        if not matches:
-            raise ChannelNotFoundError(
-                path, "channel", f"{channel!r} not found; available: {labels}"
-            )
-        index = matches[0]
-    chosen = buffers[index]
-    unit = chosen.get("bufferUnit", "")
-    factor = length_unit_in_metres(unit)
-    if factor is None:
-        raise TopographyFileError(
-            path,
-            f"buffer {labels[index]!r} bufferUnit",
-            f"is {unit!r}, not a length; not a height map",
-        )
-    range_field = f"buffer {labels[index]!r} bufferRange"
-    value_range = parse_number(path, range_field, chosen.get("bufferRange", ""))
-    step = check_height_step(path, range_field, value_range / full_scale * factor)
+    index = _choose_buffer(path, buffers, labels, channel)
+    unit, step = _height_step(path, buffers[index], labels[index], itemsize)
     dtype = np.dtype("<i4") if itemsize == 4 else np.dtype("<i2")
     raw = np.frombuffer(data, dtype=dtype, count=nx * ny, offset=start + index * block)
     heights = raw.astype(np.float64).reshape(ny, nx).T * step
@@ -156,3 +103,81 @@ def read_picoview(path: str | Path, *, channel: str | int | None = None) -> Heig
     )
     sizes = (("xLength / xPixels", lx / nx), ("yLength / yPixels", ly / ny))
     return make_surface(path, heights, sizes, provenance)
+
+
+def _image_header(path: Path, data: bytes) -> tuple[dict[str, str], list[dict[str, str]], int, int]:
+    """(header, buffers, first data byte, bytes per value) of an image file, binary data only."""
+    if not data.startswith(MAGIC):
+        raise TopographyFileError(path, "magic", f"is {data[:8]!r}; expected 'fileType'")
+    header, buffers, start = _parse(path, data)
+    if header.get("fileType") != "Image":
+        raise TopographyFileError(
+            path, "fileType", f"is {header.get('fileType')!r}; expected 'Image'"
+        )
+    encoding = header.get("data", "")
+    if encoding not in ("BINARY", "BINARY_32", ""):
+        raise TopographyFileError(path, "data", f"is {encoding!r}; expected BINARY or BINARY_32")
+    itemsize = 4 if encoding == "BINARY_32" else 2
+    return header, buffers, start, itemsize
+
+
+def _grid(path: Path, header: dict[str, str]) -> tuple[int, int, float, float]:
+    """(xPixels, yPixels, xLength m, yLength m), all > 0."""
+    for key in ("xPixels", "yPixels"):
+        if not re.fullmatch(r"[+-]?\d+", header.get(key, "")):
+            raise TopographyFileError(
+                path, key, f"is {header.get(key)!r}; expected a number of pixels"
+            )
+    nx, ny = int(header["xPixels"]), int(header["yPixels"])
+    lx = parse_number(path, "xLength", header.get("xLength", ""))
+    ly = parse_number(path, "yLength", header.get("yLength", ""))
+    if nx < 1 or ny < 1 or not (lx > 0 and ly > 0):
+        raise TopographyFileError(
+            path, "xPixels/xLength", f"are {nx}, {ny}, {lx}, {ly}; expected > 0"
+        )
+    return nx, ny, lx, ly
+
+
+def _choose_buffer(
+    path: Path, buffers: list[dict[str, str]], labels: list[str], channel: str | int | None
+) -> int:
+    """Index of the buffer named by ``channel`` (see :func:`read_picoview`)."""
+    if channel is None:
+        index = next(
+            (
+                i
+                for i, b in enumerate(buffers)
+                if length_unit_in_metres(b.get("bufferUnit", "")) is not None
+            ),
+            None,
+        )
+        if index is None:
+            raise TopographyFileError(path, "bufferUnit", "no buffer has a length unit")
+        return index
+    if isinstance(channel, int) or str(channel).isdigit():
+        index = int(channel)
+        if not 0 <= index < len(buffers):
+            raise ChannelNotFoundError(path, "channel", f"{channel} not found; available: {labels}")
+        return index
+    matches = [i for i, label in enumerate(labels) if label.lower() == str(channel).lower()]
+    if not matches:
+        raise ChannelNotFoundError(path, "channel", f"{channel!r} not found; available: {labels}")
+    return matches[0]
+
+
+def _height_step(
+    path: Path, buffer: dict[str, str], label: str, itemsize: int
+) -> tuple[str, float]:
+    """(bufferUnit, m per raw count): ``bufferRange / 2**15`` (``2**31`` for int32) in m."""
+    unit = buffer.get("bufferUnit", "")
+    factor = length_unit_in_metres(unit)
+    if factor is None:
+        raise TopographyFileError(
+            path,
+            f"buffer {label!r} bufferUnit",
+            f"is {unit!r}, not a length; not a height map",
+        )
+    full_scale = 2.0**31 if itemsize == 4 else 2.0**15
+    range_field = f"buffer {label!r} bufferRange"
+    value_range = parse_number(path, range_field, buffer.get("bufferRange", ""))
+    return unit, check_height_step(path, range_field, value_range / full_scale * factor)

@@ -55,8 +55,38 @@ def read_plu(path: str | Path) -> HeightMap:
     """
     path = Path(path)
     data = read_all_bytes(path)
+    nx, ny, um_x, um_y, n_layers = _layer_grid(path, data)
+    start = HEADER_SIZE + 8
+    check_size(
+        path,
+        "layer data (xres*yres float32 + 2 trailer values)",
+        start + 4 * nx * ny + 8,
+        len(data),
+    )
+    layers_end = HEADER_SIZE + n_layers * (8 + 4 * nx * ny + 8)
+    check_size(path, f"{n_layers} layer(s) and the RGB image", layers_end + 3 * nx * ny, len(data))
+    raw = np.frombuffer(data, dtype="<f4", count=nx * ny, offset=start)
+    heights = _heights_with_missing(raw)
+    provenance = make_provenance(
+        path,
+        "plu",
+        instrument="Sensofar",
+        date=data[:128].split(b"\x00", 1)[0].decode("latin-1", "replace").strip(),
+        channel="layer 0",
+        n_layers=int(n_layers),
+        invalid_marker=f"{_UNDEFINED:g} or non-finite",
+        units={"lateral": "um", "height": "um"},
+    )
+    sizes = (("micrometers per pixel x", um_x * 1e-6), ("micrometers per pixel y", um_y * 1e-6))
+    return make_surface(path, heights.reshape(ny, nx).T, sizes, provenance)
+
+
+def _layer_grid(path: Path, data: bytes) -> tuple[int, int, float, float, int]:
+    """(nx, ny, um per pixel x, um per pixel y, number of layers) of a topography, checked.
+
+    The layer's size must be the calibration block's, the pixel sizes (um) finite and > 0.
+    """
     check_size(path, "header", HEADER_SIZE + 8, len(data))
-    date = data[:128].split(b"\x00", 1)[0].decode("latin-1", "replace").strip()
     ny_cal, nx_cal, _n_tall = struct.unpack_from("<III", data, 388)
     _dy_mult, um_x, um_y = struct.unpack_from("<fff", data, 400)
     measurement_type, _algorithm, _method, _objective, _area_type = struct.unpack_from(
@@ -78,28 +108,13 @@ def read_plu(path: str | Path) -> HeightMap:
         )
     require_positive(path, "micrometers per pixel x", um_x, " um")
     require_positive(path, "micrometers per pixel y", um_y, " um")
-    start = HEADER_SIZE + 8
-    check_size(
-        path,
-        "layer data (xres*yres float32 + 2 trailer values)",
-        start + 4 * nx * ny + 8,
-        len(data),
-    )
-    layers_end = HEADER_SIZE + n_layers * (8 + 4 * nx * ny + 8)
-    check_size(path, f"{n_layers} layer(s) and the RGB image", layers_end + 3 * nx * ny, len(data))
-    raw = np.frombuffer(data, dtype="<f4", count=nx * ny, offset=start).astype(np.float64)
+    return nx, ny, um_x, um_y, n_layers
+
+
+def _heights_with_missing(raw: np.ndarray) -> np.ndarray:
+    """Heights in m from float32 um, NaN where undefined (1000001 or non-finite)."""
+    raw = raw.astype(np.float64)
     invalid = (raw == _UNDEFINED) | ~np.isfinite(raw)
     heights = raw * 1e-6
     heights[invalid] = np.nan
-    provenance = make_provenance(
-        path,
-        "plu",
-        instrument="Sensofar",
-        date=date,
-        channel="layer 0",
-        n_layers=int(n_layers),
-        invalid_marker=f"{_UNDEFINED:g} or non-finite",
-        units={"lateral": "um", "height": "um"},
-    )
-    sizes = (("micrometers per pixel x", um_x * 1e-6), ("micrometers per pixel y", um_y * 1e-6))
-    return make_surface(path, heights.reshape(ny, nx).T, sizes, provenance)
+    return heights

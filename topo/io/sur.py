@@ -35,6 +35,14 @@ from asperity.topo.io.units import length_unit_in_metres
 MAGIC = b"DIGITAL SURF"
 _HEADER = struct.Struct("<12sHHHH30s30sHHHHHIIHiiiiIfff16s16s16s16s16s16s16s16s16sfff")
 HEADER_SIZE = 512
+#: Names of the fields of :data:`_HEADER`, in order.
+_FIELDS = (
+    "magic", "format", "n_objects", "version", "type", "obj_name", "instrument", "material",
+    "acquisition", "range", "special_points", "absolute", "reserved_1", "reserved_2", "bits",
+    "zmin", "zmax", "nx", "ny", "n_points", "step_x", "step_y", "step_z", "name_x", "name_y",
+    "name_z", "unit_dx", "unit_dy", "unit_dz", "unit_x", "unit_y", "unit_z", "ratio_x",
+    "ratio_y", "ratio_z",
+)  # fmt: skip
 
 
 def _unit(path: Path, field: str, raw: bytes) -> float:
@@ -69,17 +77,42 @@ def read_sur(path: str | Path) -> HeightMap | LineProfile:
     """
     path = Path(path)
     data = read_all_bytes(path)
+    header = _read_header(path, data)
+    nx, ny, n_points = header["nx"], header["ny"], header["n_points"]
+    dtype = _point_type(path, header)
+    start = HEADER_SIZE + header["comment_size"] + header["private_size"]
+    check_size(
+        path, "point data (header point count)", start + n_points * dtype.itemsize, len(data)
+    )
+    dx = header["step_x"] * _unit(path, "x step unit", header["unit_dx"])
+    dy = header["step_y"] * _unit(path, "y step unit", header["unit_dy"])
+    dz = check_height_step(
+        path, "z spacing", header["step_z"] * _unit(path, "z step unit", header["unit_dz"])
+    )
+    raw = np.frombuffer(data, dtype=dtype, count=n_points, offset=start)
+    heights = raw.astype(np.float64) * dz
+    if header["special_points"]:
+        heights[(raw < header["zmin"]) | (raw > header["zmax"])] = np.nan
+    heights = heights.reshape(ny, nx).T
+    sizes = (("x spacing", dx), ("y spacing", dy))
+    return make_surface(
+        path, heights, sizes[: 1 if ny == 1 else 2], _provenance(path, header), profile=ny == 1
+    )
+
+
+def _read_header(path: Path, data: bytes) -> dict:
+    """The header fields by name (see :data:`_FIELDS`) and the comment/private zone sizes."""
     if not data.startswith(MAGIC):
         raise TopographyFileError(path, "magic", f"is {data[:12]!r}; expected {MAGIC!r}")
     check_size(path, "header", HEADER_SIZE, len(data))
-    fields = _HEADER.unpack_from(data, 0)
-    (
-        _magic, _fmt, n_objects, _version, _type, obj_name, instrument, _mat, _acq, _range,
-        special_points, _absolute, _r1, _r2, bits, zmin, zmax, nx, ny, n_points,
-        step_x, step_y, step_z, _name_x, _name_y, name_z, unit_dx, unit_dy, unit_dz,
-        unit_x, unit_y, unit_z, _ratio_x, _ratio_y, _ratio_z,
-    ) = fields  # fmt: skip
-    comment_size, private_size = struct.unpack_from("<HH", data, 334)
+    header = dict(zip(_FIELDS, _HEADER.unpack_from(data, 0), strict=True))
+    header["comment_size"], header["private_size"] = struct.unpack_from("<HH", data, 334)
+    return header
+
+
+def _point_type(path: Path, header: dict) -> np.dtype:
+    """The point dtype (int16 or int32), the grid and point count checked."""
+    bits, nx, ny, n_points = header["bits"], header["nx"], header["ny"], header["n_points"]
     if bits not in (16, 32):
         raise TopographyFileError(path, "bits per point", f"is {bits}; expected 16 or 32")
     if nx < 1 or ny < 1:
@@ -91,35 +124,25 @@ def read_sur(path: str | Path) -> HeightMap | LineProfile:
             path, "total points", f"is {n_points}; expected points per line * lines = {nx * ny}"
         )
     check_map_points(path, "points per line / lines", nx, ny)
-    dtype = np.dtype("<i2") if bits == 16 else np.dtype("<i4")
-    start = HEADER_SIZE + comment_size + private_size
-    check_size(
-        path, "point data (header point count)", start + n_points * dtype.itemsize, len(data)
-    )
-    dx = step_x * _unit(path, "x step unit", unit_dx)
-    dy = step_y * _unit(path, "y step unit", unit_dy)
-    dz = check_height_step(path, "z spacing", step_z * _unit(path, "z step unit", unit_dz))
-    raw = np.frombuffer(data, dtype=dtype, count=n_points, offset=start)
-    heights = raw.astype(np.float64) * dz
-    if special_points:
-        heights[(raw < zmin) | (raw > zmax)] = np.nan
-    heights = heights.reshape(ny, nx).T
-    provenance = make_provenance(
+    return np.dtype("<i2") if bits == 16 else np.dtype("<i4")
+
+
+def _provenance(path: Path, header: dict) -> dict:
+    """Provenance: instrument, object and channel names, the units as written."""
+    return make_provenance(
         path,
         "sur",
-        instrument=decode_text(instrument),
-        object_name=decode_text(obj_name),
-        channel=decode_text(name_z),
-        n_objects=int(n_objects),
-        invalid_marker="raw value outside [zmin, zmax]" if special_points else None,
+        instrument=decode_text(header["instrument"]),
+        object_name=decode_text(header["obj_name"]),
+        channel=decode_text(header["name_z"]),
+        n_objects=int(header["n_objects"]),
+        invalid_marker="raw value outside [zmin, zmax]" if header["special_points"] else None,
         units={
-            "x step": decode_text(unit_dx),
-            "y step": decode_text(unit_dy),
-            "z step": decode_text(unit_dz),
-            "x": decode_text(unit_x),
-            "y": decode_text(unit_y),
-            "z": decode_text(unit_z),
+            "x step": decode_text(header["unit_dx"]),
+            "y step": decode_text(header["unit_dy"]),
+            "z step": decode_text(header["unit_dz"]),
+            "x": decode_text(header["unit_x"]),
+            "y": decode_text(header["unit_y"]),
+            "z": decode_text(header["unit_z"]),
         },
     )
-    sizes = (("x spacing", dx), ("y spacing", dy))
-    return make_surface(path, heights, sizes[: 1 if ny == 1 else 2], provenance, profile=ny == 1)

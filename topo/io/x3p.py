@@ -121,37 +121,13 @@ def read_x3p(path: str | Path) -> HeightMap | LineProfile:
     path = Path(path)
     with open_zip(path, "X3P") as archive:
         root = _main_xml(path, archive)
-        record1, record3 = root.find("Record1"), root.find("Record3")
-        if record1 is None or record3 is None:
-            raise TopographyFileError(path, "main.xml", "lacks Record1 or Record3")
-        revision = _text(path, record1, "Revision", "Record1")
-        feature = _text(path, record1, "FeatureType", "Record1")
-        if feature not in ("SUR", "PRF"):
-            raise TopographyFileError(
-                path, "Record1/FeatureType", f"is {feature!r}; expected 'SUR' or 'PRF'"
-            )
+        record1, record3, revision, feature = _records(path, root)
         spacing, data_type, z_increment, z_offset = _axes(path, record1)
-        dims = record3.find("MatrixDimension")
-        if dims is None:
-            raise TopographyFileError(path, "Record3/MatrixDimension", "is missing")
-        nx = _number(path, dims, "SizeX", "MatrixDimension", int)
-        ny = _number(path, dims, "SizeY", "MatrixDimension", int)
-        nz = _number(path, dims, "SizeZ", "MatrixDimension", int)
-        if nx < 1 or ny < 1 or nz != 1:
-            raise TopographyFileError(
-                path,
-                "Record3/MatrixDimension",
-                f"is {nx} x {ny} x {nz}; expected SizeX, SizeY >= 1 and SizeZ == 1",
-            )
-        check_map_points(path, "Record3/MatrixDimension SizeX x SizeY", nx, ny)
-        link = record3.find("DataLink")
-        data_list = record3.find("DataList")
-        if link is None and data_list is not None:
-            values = _data_list_values(path, data_list, nx * ny)
-        else:
-            values = _point_data(path, archive, link, nx * ny, data_type)
+        nx, ny = _matrix_size(path, record3)
+        values = _point_values(path, archive, record3, nx * ny, data_type)
         if data_type in "IL":
             values = values * z_increment + z_offset
+        link = record3.find("DataLink")
         valid_member = link.findtext("ValidPointsLink") if link is not None else None
         if valid_member and valid_member.strip():
             values[~_valid_points(path, archive, valid_member.strip(), nx * ny)] = np.nan
@@ -172,6 +148,51 @@ def read_x3p(path: str | Path) -> HeightMap | LineProfile:
         )
     sizes = (("Axes/CX/Increment", spacing["CX"]), ("Axes/CY/Increment", spacing["CY"]))
     return make_surface(path, heights, sizes, provenance)
+
+
+def _records(
+    path: Path, root: ElementTree.Element
+) -> tuple[ElementTree.Element, ElementTree.Element, str, str]:
+    """(Record1, Record3, revision, feature type 'SUR' or 'PRF') of ``main.xml``."""
+    record1, record3 = root.find("Record1"), root.find("Record3")
+    if record1 is None or record3 is None:
+        raise TopographyFileError(path, "main.xml", "lacks Record1 or Record3")
+    revision = _text(path, record1, "Revision", "Record1")
+    feature = _text(path, record1, "FeatureType", "Record1")
+    if feature not in ("SUR", "PRF"):
+        raise TopographyFileError(
+            path, "Record1/FeatureType", f"is {feature!r}; expected 'SUR' or 'PRF'"
+        )
+    return record1, record3, revision, feature
+
+
+def _matrix_size(path: Path, record3: ElementTree.Element) -> tuple[int, int]:
+    """(SizeX, SizeY) of ``Record3/MatrixDimension``, within the map budget; SizeZ must be 1."""
+    dims = record3.find("MatrixDimension")
+    if dims is None:
+        raise TopographyFileError(path, "Record3/MatrixDimension", "is missing")
+    nx = _number(path, dims, "SizeX", "MatrixDimension", int)
+    ny = _number(path, dims, "SizeY", "MatrixDimension", int)
+    nz = _number(path, dims, "SizeZ", "MatrixDimension", int)
+    if nx < 1 or ny < 1 or nz != 1:
+        raise TopographyFileError(
+            path,
+            "Record3/MatrixDimension",
+            f"is {nx} x {ny} x {nz}; expected SizeX, SizeY >= 1 and SizeZ == 1",
+        )
+    check_map_points(path, "Record3/MatrixDimension SizeX x SizeY", nx, ny)
+    return nx, ny
+
+
+def _point_values(
+    path: Path, archive: zipfile.ZipFile, record3: ElementTree.Element, count: int, data_type: str
+) -> np.ndarray:
+    """The ``count`` raw values: from the inline ``DataList`` or the binary member it links."""
+    link = record3.find("DataLink")
+    data_list = record3.find("DataList")
+    if link is None and data_list is not None:
+        return _data_list_values(path, data_list, count)
+    return _point_data(path, archive, link, count, data_type)
 
 
 def _main_xml(path: Path, archive: zipfile.ZipFile) -> ElementTree.Element:
