@@ -59,7 +59,12 @@ def bem_section(result: Any) -> list[str]:
         + " (adhesive: the loading branch, from the non-adhesive state at the same load).",
         f"- Grid used: {bem.grid_reason}.",
         f"- Error of the grid used against the finest grid solved: {bem.grid_error:.2%} "
-        f"(check load {bem.check_load:.4g} N; its solve is the sweep's solve at that load).",
+        f"(check load {bem.check_load:.4g} N; its solve is the sweep's solve at that load"
+        + (
+            "; the grid used is the finest, so this says nothing of its own error)."
+            if bem.stride <= int(min(bem.check_stride))
+            else ")."
+        ),
         f"- Cost: {bem.solves} solves, {bem.total_iterations} iterations, "
         f"{bem.total_convolutions} FFT convolutions (grid check included, nothing solved twice).",
     ]

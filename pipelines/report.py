@@ -642,6 +642,13 @@ def write_figures(
     }
 
 
+def _grid_error_text(bem: Any) -> str:
+    """The grid used against the finest grid solved; the finest grid's own error is unknown."""
+    if bem.stride <= int(np.min(bem.check_stride)):
+        return "the finest grid solved (its own error is not known)"
+    return f"A_r {bem.grid_error:.2%} from the finest grid solved"
+
+
 def key_numbers(result: Any) -> list[tuple[str, str]]:
     """(quantity, value with unit) rows of the report's headline table."""
     res, fr, bem, lam = result.resolution, result.friction, result.bem, result.mode_mixity
@@ -680,8 +687,8 @@ def key_numbers(result: Any) -> list[tuple[str, str]]:
         rows += [
             (
                 "BEM grid",
-                f"stride {bem.stride} ({bem.dx * 1e6:.4g} um), A_r {bem.grid_error:.2%} from the "
-                f"finest grid solved; {bem.boundary} boundary",
+                f"stride {bem.stride} ({bem.dx * 1e6:.4g} um), {_grid_error_text(bem)}; "
+                f"{bem.boundary} boundary",
             ),
             ("BEM solves converged", f"{int(np.sum(bem.converged))} / {bem.converged.size}"),
         ]
