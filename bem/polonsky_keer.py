@@ -90,6 +90,7 @@ def solve_contact(
     fft_backend: str | None = None,
     threads: int | None = None,
     coarse_start: bool | None = None,
+    precision: str | None = None,
 ) -> ContactResult:
     """Normal contact of an elastic half-space with a rigid flat (E:BEM_eq1..E:BEM_eq4).
 
@@ -117,7 +118,8 @@ def solve_contact(
         Periodic domain (default) or finite specimen (zero-padded doubled grid).
     options : SolverOptions, optional
         Tuning knobs (tol, max_iter, precondition, stall_window, refresh, kernel, fft_backend,
-        threads, coarse_start); each may also be given as a keyword, which overrides it.
+        threads, coarse_start, precision); each may also be given as a keyword, which
+        overrides it.
 
     Returns
     -------
@@ -147,6 +149,7 @@ def solve_contact(
         fft_backend=fft_backend,
         threads=threads,
         coarse_start=coarse_start,
+        precision=precision,
     )
     loads = {"normal_force": normal_force, "mean_pressure": mean_pressure, "separation": separation}
     problem = set_up_problem(heights, dx, dy, e_star, loads, work_of_adhesion, periodic, opts)
