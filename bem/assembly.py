@@ -99,14 +99,23 @@ def _diagnostics(s: IterationState, problem: ContactProblem, counters: dict) -> 
     the single-precision phase (``precision_switched_at``: the iteration, None when the solve
     ran in double precision throughout)."""
     op = problem.op
-    other_calls, other_seconds = s.convolutions(exclude=op)
+    other_calls, other_seconds, other_transforms = s.convolutions(exclude=op)
     single = sum(
-        conv.calls - calls0 for conv, calls0, _ in s.counted.values() if conv.precision == "single"
+        conv.calls - calls0
+        for conv, calls0, _, _ in s.counted.values()
+        if conv.precision == "single"
+    )
+    single_transforms = sum(
+        conv.transforms - transforms0
+        for conv, _, _, transforms0 in s.counted.values()
+        if conv.precision == "single"
     )
     return {
         "convolutions": op.calls - counters["calls"] + other_calls,
+        "fft_transforms": op.transforms - counters["transforms"] + other_transforms,
         "fft_seconds": op.seconds - counters["seconds"] + other_seconds,
         "single_precision_convolutions": single,
+        "single_precision_transforms": single_transforms,
         "precision_switched_at": s.switched_at,
         "preconditioner_dropped_at": s.dropped_at,
         "fft_backend": op.backend,

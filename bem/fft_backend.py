@@ -301,7 +301,9 @@ class Convolution:
         if backend == "pyfftw" and "pyfftw" not in available_backends():
             raise BemInputError("fft_backend='pyfftw' requested but pyFFTW is not installed")
         self._fwd = None
-        self.calls = 0  # convolutions done (a machine-independent cost measure)
+        self.calls = 0  # convolutions started (a machine-independent cost measure)
+        self.transforms = 0  # FFTs done, forward and inverse (2 per full convolution)
+        self._pending: np.ndarray | None = None  # the product of the last forward transform
         self.seconds = 0.0  # wall time spent in them (s)
         if backend == "auto":
             backend = self._choose_backend(threads_given=bool(threads))
@@ -433,7 +435,8 @@ class Convolution:
         """Return ``irfft2(multiplier * rfft2(x))`` (written into ``out`` when given)."""
         if out is None:
             out = self.empty()
-        self._apply(x, out, False)
+        self._forward(x, False)
+        self.inverse(out)
         return out
 
     def with_energy(self, x: np.ndarray, out: np.ndarray) -> float:
@@ -442,17 +445,47 @@ class Convolution:
         The sum is evaluated in Fourier space (Parseval) during the multiplication, so it costs
         no extra pass over the real arrays.
         """
-        return self._apply(x, out, True)
-
-    def _apply(self, x: np.ndarray, out: np.ndarray, energy: bool) -> float:
-        t0 = time.perf_counter()
-        e = self._transform(x, out, energy)
-        self.calls += 1
-        self.seconds += time.perf_counter() - t0
+        e = self._forward(x, True)
+        self.inverse(out)
         return e
 
-    def _transform(self, x: np.ndarray, out: np.ndarray, energy: bool) -> float:
-        e = 0.0
+    def forward_with_energy(self, x: np.ndarray) -> float:
+        """The first half of :meth:`with_energy`: transform ``x``, multiply, return
+        ``sum(x * y)``; the product stays here until :meth:`inverse` (or the next forward
+        transform, which discards it: a caller that finds it does not need ``y`` saves the
+        inverse transform)."""
+        return self._forward(x, True)
+
+    def inverse(self, out: np.ndarray) -> np.ndarray:
+        """Write the inverse transform of the pending product (from the last forward
+        transform) into ``out`` (float64 or this operator's dtype)."""
+        if self._pending is None:
+            raise RuntimeError("Convolution.inverse: no forward transform pending")
+        t0 = time.perf_counter()
+        spec, self._pending = self._pending, None
+        if self.backend == "pyfftw":
+            target = out
+            if not self._usable(out):
+                if self._scratch is None:
+                    self._scratch = self._aligned(self.dtype)
+                target = self._scratch
+            self._inv.update_arrays(spec, target)
+            self._inv.execute()
+            if target is not out:
+                out[...] = target
+        else:
+            import scipy.fft
+
+            # norm="forward": the inverse is unnormalised, the 1/N sits in the multiplier
+            out[...] = scipy.fft.irfft2(spec, s=self.shape, norm="forward", workers=self.threads)
+        self.transforms += 1
+        self.seconds += time.perf_counter() - t0
+        return out
+
+    def _forward(self, x: np.ndarray, energy: bool) -> float:
+        """Forward transform of ``x`` times the multiplier, kept as the pending product;
+        returns the energy sum(x * y) when ``energy`` (else 0)."""
+        t0 = time.perf_counter()
         if self.backend == "pyfftw":
             if not self._usable(x):
                 if self._scratch is None:
@@ -461,28 +494,18 @@ class Convolution:
                 x = self._scratch
             self._fwd.update_arrays(x, self._spec)
             self._fwd.execute()
-            if energy:
-                e = _multiply_with_energy(self._spec, self._mult, self.shape[1])
-            else:
-                np.multiply(self._spec, self._mult, out=self._spec)
-            if self._usable(out):
-                target = out
-            else:
-                if self._scratch is None:
-                    self._scratch = self._aligned(self.dtype)
-                target = self._scratch
-            self._inv.update_arrays(self._spec, target)
-            self._inv.execute()
-            if target is not out:
-                out[...] = target
-            return e
-        import scipy.fft
+            spec = self._spec
+        else:
+            import scipy.fft
 
-        spec = scipy.fft.rfft2(np.asarray(x, dtype=self.dtype), workers=self.threads)
+            spec = scipy.fft.rfft2(np.asarray(x, dtype=self.dtype), workers=self.threads)
+        e = 0.0
         if energy:
             e = _multiply_with_energy(spec, self._mult, self.shape[1])
         else:
-            spec *= self._mult
-        # norm="forward": the inverse is unnormalised, the 1/N sits in the multiplier
-        out[...] = scipy.fft.irfft2(spec, s=self.shape, norm="forward", workers=self.threads)
+            np.multiply(spec, self._mult, out=spec)
+        self._pending = spec
+        self.calls += 1
+        self.transforms += 1
+        self.seconds += time.perf_counter() - t0
         return e

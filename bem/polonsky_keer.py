@@ -179,6 +179,10 @@ def _solve_on_loading_branch(
     extra = {
         "loading_iterations": contact.nit,
         "loading_convolutions": contact.extra["convolutions"],
+        "loading_single_precision_convolutions": contact.extra["single_precision_convolutions"],
+        "loading_fft_seconds": contact.extra["fft_seconds"],
+        "loading_fft_transforms": contact.extra["fft_transforms"],
+        "loading_single_precision_transforms": contact.extra["single_precision_transforms"],
         "loading_message": contact.message,
     }
     return _iterate_from(problem, contact, opts, started, "loading", extra)
@@ -193,7 +197,11 @@ def _iterate_from(
     extra: dict,
 ) -> ContactResult:
     """Start (warm, coarse-grid or cold), iterate and assemble one validated problem."""
-    counters = {"calls": problem.op.calls, "seconds": problem.op.seconds}
+    counters = {
+        "calls": problem.op.calls,
+        "seconds": problem.op.seconds,
+        "transforms": problem.op.transforms,
+    }
     coarse = None
     if initial is None and _coarse_start_applies(problem, opts):
         coarse, coarse_info = _coarse_start(problem, opts)
