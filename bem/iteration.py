@@ -290,8 +290,7 @@ def check_progress(
     if improved:
         s.best, s.best_it = residual, it
     if s.single and (
-        residual < single_phase_end(s, problem, options.tol)
-        or it - s.best_it >= SINGLE_PATIENCE
+        residual < single_phase_end(s, problem, options.tol) or it - s.best_it >= SINGLE_PATIENCE
     ):
         return SWITCH
     if improved:

@@ -59,8 +59,12 @@ START_FRACTION_FACTOR = 4.0
 
 def rms_slope(heights: np.ndarray, dx: float, dy: float) -> float:
     """sqrt(<|grad h|^2>) (dimensionless) from forward differences of the heights (m)."""
-    sx = float(np.mean(np.square(np.diff(heights, axis=0)))) / dx**2 if heights.shape[0] > 1 else 0.0
-    sy = float(np.mean(np.square(np.diff(heights, axis=1)))) / dy**2 if heights.shape[1] > 1 else 0.0
+    sx = (
+        float(np.mean(np.square(np.diff(heights, axis=0)))) / dx**2 if heights.shape[0] > 1 else 0.0
+    )
+    sy = (
+        float(np.mean(np.square(np.diff(heights, axis=1)))) / dy**2 if heights.shape[1] > 1 else 0.0
+    )
     return float(np.sqrt(sx + sy))
 
 

@@ -72,6 +72,7 @@ def fft_floor(shape, dx, backend, threads, precision) -> dict:
 
 def solve_row(name: str, results: list, seconds: float, floor: dict) -> dict:
     """One table row from the results of a solve or a sweep."""
+
     def total(key: str) -> float:
         # the solve, its loading-branch part and a non-adhesive start solved by the sweep
         return sum(
@@ -147,9 +148,7 @@ def main(argv=None) -> int:
     area = h.size * dx * dx
     scale = area / 1e-4  # the loads are given for the 10 mm map
     loads = [f * scale for f in LOADS]
-    floor = {
-        p: fft_floor(h.shape, dx, args.backend, args.threads, p) for p in ("double", "single")
-    }
+    floor = {p: fft_floor(h.shape, dx, args.backend, args.threads, p) for p in ("double", "single")}
     for p, f in floor.items():
         print(
             f"# FFT floor ({p}): one bare convolution {f['conv_s']:.3f} s ({f['backend']}), "
@@ -190,8 +189,12 @@ def main(argv=None) -> int:
             f"given the non-adhesive sweep: {rows[3]['seconds'] / rows[1]['seconds']:.2f} in "
             f"seconds, {rows[3]['convolutions'] / rows[1]['convolutions']:.2f} in convolutions"
         )
-        print(f"# per-load iterations, non-adhesive: {[r.nit for r in plain]}; adhesive "
-              f"(loading part + check): {[(r.extra.get('loading_iterations'), r.nit) for r in sticky]}")
+        starts = [r.extra.get("loading_start", {}).get("nit") for r in sticky]
+        checks = [r.nit for r in sticky]
+        print(
+            f"# per-load iterations, non-adhesive sweep: {[r.nit for r in plain]}; adhesive "
+            f"sweep: non-adhesive starts {starts}, adhesive checks {checks}"
+        )
     if args.json:
         args.json.write_text(json.dumps({"floor": floor, "rows": rows}, indent=1))
     return 0
