@@ -14,7 +14,8 @@ Printed, all in one process and one run (ratios only within it):
 * the cold non-adhesive solve: seconds, iterations, convolutions (single / double), seconds per
   convolution against the floor, seconds per iteration against two double convolutions;
 * the six-load non-adhesive sweep (``load_sweep``, warm-started) against six times the cold
-  solve, and the adhesive sweep (loading branch) against the non-adhesive one;
+  solve, and the adhesive sweep on the loading branch given it (``non_adhesive=``) against it
+  (``--adhesive-alone``: also the adhesive sweep that solves its loading branch itself);
 * the peak resident memory (ru_maxrss) after each stage.
 
 Run it alone, under the lock (a 5000^2 run takes minutes and ~3 GiB):
@@ -106,6 +107,29 @@ def solve_row(name: str, results: list, seconds: float, floor: dict) -> dict:
     }
 
 
+def sweep_rows(h, dx, loads, opts, floor, adhesive_alone: bool) -> list[dict]:
+    """The six-load sweeps: non-adhesive, adhesive given it (``non_adhesive=``: the loading
+    branch is the non-adhesive solution, only the adhesive checks remain) and, optionally, the
+    adhesive sweep solving its loading branch itself."""
+    from asperity.bem import load_sweep
+
+    rows = []
+    t0 = time.perf_counter()
+    plain = load_sweep(h, dx, dx, E_STAR, loads, **opts)
+    rows.append(solve_row("sweep, non-adhesive", plain, time.perf_counter() - t0, floor))
+    print(f"# non-adhesive sweep iterations per load: {[r.nit for r in plain]}")
+    t0 = time.perf_counter()
+    reused = load_sweep(
+        h, dx, dx, E_STAR, loads, work_of_adhesion=WORK_OF_ADHESION, non_adhesive=plain, **opts
+    )
+    rows.append(solve_row("sweep, adhesive from it", reused, time.perf_counter() - t0, floor))
+    if adhesive_alone:
+        t0 = time.perf_counter()
+        alone = load_sweep(h, dx, dx, E_STAR, loads, work_of_adhesion=WORK_OF_ADHESION, **opts)
+        rows.append(solve_row("sweep, adhesive alone", alone, time.perf_counter() - t0, floor))
+    return rows
+
+
 def print_rows(rows: list[dict]) -> None:
     head = (
         f"{'case':<26} {'seconds':>8} {'iters':>6} {'convs':>6} {'single':>6} {'fft s':>7} "
@@ -131,10 +155,15 @@ def main(argv=None) -> int:
     parser.add_argument("--backend", default="pyfftw", choices=("auto", "pyfftw", "scipy"))
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--no-sweeps", action="store_true", help="the cold solve only")
+    parser.add_argument(
+        "--adhesive-alone",
+        action="store_true",
+        help="also the adhesive sweep that solves its loading branch itself",
+    )
     parser.add_argument("--json", type=Path, default=None, help="also write the rows as JSON")
     args = parser.parse_args(argv)
 
-    from asperity.bem import load_sweep, solve_contact
+    from asperity.bem import solve_contact
     from asperity.topo.synthetic import paper_like
 
     print(
@@ -166,35 +195,24 @@ def main(argv=None) -> int:
     )
     print_rows(rows)
     if not args.no_sweeps:
-        t0 = time.perf_counter()
-        plain = load_sweep(h, dx, dx, E_STAR, loads, **opts)
-        rows.append(solve_row("sweep, non-adhesive", plain, time.perf_counter() - t0, floor))
-        t0 = time.perf_counter()
-        sticky = load_sweep(h, dx, dx, E_STAR, loads, work_of_adhesion=WORK_OF_ADHESION, **opts)
-        rows.append(solve_row("sweep, adhesive", sticky, time.perf_counter() - t0, floor))
-        t0 = time.perf_counter()
-        reused = load_sweep(
-            h, dx, dx, E_STAR, loads, work_of_adhesion=WORK_OF_ADHESION, non_adhesive=plain, **opts
-        )
-        rows.append(
-            solve_row("sweep, adhesive from plain", reused, time.perf_counter() - t0, floor)
-        )
+        rows += sweep_rows(h, dx, loads, opts, floor, args.adhesive_alone)
         print_rows(rows)
+        plain, reused = rows[1], rows[2]
         print(
-            f"# sweep / six cold solves (6 x the cold {COLD_LOAD} N solve): "
-            f"{rows[1]['seconds'] / (6 * rows[0]['seconds']):.2f} in seconds, "
-            f"{rows[1]['iterations'] / (6 * rows[0]['iterations']):.2f} in iterations; "
-            f"adhesive / non-adhesive sweep: {rows[2]['seconds'] / rows[1]['seconds']:.2f} in "
-            f"seconds, {rows[2]['convolutions'] / rows[1]['convolutions']:.2f} in convolutions; "
-            f"given the non-adhesive sweep: {rows[3]['seconds'] / rows[1]['seconds']:.2f} in "
-            f"seconds, {rows[3]['convolutions'] / rows[1]['convolutions']:.2f} in convolutions"
+            f"# non-adhesive sweep / six cold solves (6 x the cold {COLD_LOAD} N solve): "
+            f"{plain['seconds'] / (6 * rows[0]['seconds']):.2f} in seconds, "
+            f"{plain['iterations'] / (6 * rows[0]['iterations']):.2f} in iterations; "
+            f"adhesive sweep from it / non-adhesive sweep: "
+            f"{reused['seconds'] / plain['seconds']:.2f} in seconds, "
+            f"{reused['convolutions'] / plain['convolutions']:.2f} in convolutions"
         )
-        starts = [r.extra.get("loading_start", {}).get("nit") for r in sticky]
-        checks = [r.nit for r in sticky]
-        print(
-            f"# per-load iterations, non-adhesive sweep: {[r.nit for r in plain]}; adhesive "
-            f"sweep: non-adhesive starts {starts}, adhesive checks {checks}"
-        )
+        if args.adhesive_alone:
+            alone = rows[3]
+            print(
+                f"# adhesive sweep alone / non-adhesive sweep: "
+                f"{alone['seconds'] / plain['seconds']:.2f} in seconds, "
+                f"{alone['convolutions'] / plain['convolutions']:.2f} in convolutions"
+            )
     if args.json:
         args.json.write_text(json.dumps({"floor": floor, "rows": rows}, indent=1))
     return 0
