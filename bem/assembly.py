@@ -95,13 +95,28 @@ def _name_stall_causes(
 
 
 def _diagnostics(s: IterationState, problem: ContactProblem, counters: dict) -> dict:
-    """FFT counters since the start of the solve and the preconditioner fallback."""
-    op, pre = problem.op, s.preconditioner
-    pre_calls = pre.calls - s.pre_calls_at_start if pre is not None else 0
-    pre_seconds = pre.seconds - s.pre_seconds_at_start if pre is not None else 0.0
+    """FFT counters since the start of the solve, the preconditioner fallback and the end of
+    the single-precision phase (``precision_switched_at``: the iteration, None when the solve
+    ran in double precision throughout)."""
+    op = problem.op
+    other_calls, other_seconds, other_transforms = s.convolutions(exclude=op)
+    single = sum(
+        conv.calls - calls0
+        for conv, calls0, _, _ in s.counted.values()
+        if conv.precision == "single"
+    )
+    single_transforms = sum(
+        conv.transforms - transforms0
+        for conv, _, _, transforms0 in s.counted.values()
+        if conv.precision == "single"
+    )
     return {
-        "convolutions": op.calls - counters["calls"] + pre_calls,
-        "fft_seconds": op.seconds - counters["seconds"] + pre_seconds,
+        "convolutions": op.calls - counters["calls"] + other_calls,
+        "fft_transforms": op.transforms - counters["transforms"] + other_transforms,
+        "fft_seconds": op.seconds - counters["seconds"] + other_seconds,
+        "single_precision_convolutions": single,
+        "single_precision_transforms": single_transforms,
+        "precision_switched_at": s.switched_at,
         "preconditioner_dropped_at": s.dropped_at,
         "fft_backend": op.backend,
         "fft_threads": op.threads,

@@ -2,11 +2,20 @@
 
 Two backends:
 
-* ``"pyfftw"``: FFTW through pyFFTW, threaded, planned once per (shape, threads) with
+* ``"pyfftw"``: FFTW through pyFFTW, threaded, planned once per (shape, threads, precision) with
   ``FFTW_MEASURE`` and the wisdom cached on disk under ``~/.cache/asperity`` (or
   ``$XDG_CACHE_HOME/asperity``; override with ``$ASPERITY_CACHE_DIR``), so that a second process
-  does not re-plan.
+  does not re-plan. Grids above 2048^2 whose sizes are not products of 2, 3, 5 and 7 are planned
+  with ``FFTW_ESTIMATE`` (measuring 5001^2 = 3 x 1667 takes minutes); smooth sizes are always
+  measured: at 5000^2 a measured plan convolves in 0.73 s against 1.02 s estimated (2 threads,
+  busy machine), for 15 s of planning once per machine (the wisdom file).
 * ``"scipy"``: ``scipy.fft.rfft2``/``irfft2`` with ``workers`` threads, always available.
+
+``precision="single"`` transforms in float32 (complex64 spectra): the input (float64) is cast
+into a float32 buffer and the result cast back, so callers keep float64 arrays. Measured at
+5000^2 (pyFFTW, measured plans, 2 threads): 0.47 s per convolution against 0.73 s in double.
+The relative error of a single-precision convolution is ~1e-7 of the largest value: the
+solver uses it only while its residual is far above that (:mod:`asperity.bem.iteration`).
 
 ``"auto"`` times pyfftw (requested threads and one thread) and scipy on the grid once per process
 and shape and keeps the fastest: pyfftw when installed and measured faster.
@@ -42,9 +51,19 @@ __all__ = [
 ]
 
 _LOCK = threading.Lock()
-_MEASURE_LIMIT = 2048 * 2048  # grids larger than this are planned with FFTW_ESTIMATE
+_MEASURE_LIMIT = 2048 * 2048  # non-smooth grids larger than this are planned with FFTW_ESTIMATE
+_PLANNING_TIMELIMIT = 300.0  # s: FFTW keeps the best plan found so far beyond it
+PRECISIONS = {"double": (np.float64, np.complex128), "single": (np.float32, np.complex64)}
 _WISDOM_LOADED = False
 _AUTO_CHOICE: dict[tuple, tuple[str, int]] = {}
+
+
+def _planning_effort(shape: tuple[int, int]) -> str:
+    """FFTW_MEASURE (it times candidate algorithms by running them) unless the grid is above
+    2048^2 with a size that is not a product of 2, 3, 5 and 7, where measuring takes minutes
+    (5001^2: prime factor 1667): FFTW_ESTIMATE there."""
+    smooth = all(_is_smooth(int(n)) for n in shape)
+    return "FFTW_MEASURE" if smooth or shape[0] * shape[1] <= _MEASURE_LIMIT else "FFTW_ESTIMATE"
 
 
 def _timed(conv: Convolution, x: np.ndarray, out: np.ndarray) -> float:
@@ -257,10 +276,17 @@ class Convolution:
         *,
         backend: str = "auto",
         threads: int | None = None,
+        precision: str = "double",
     ) -> None:
         nx, ny = (int(shape[0]), int(shape[1]))
         self.shape = (nx, ny)
         self.spectral_shape = (nx, ny // 2 + 1)
+        if precision not in PRECISIONS:
+            raise BemInputError(
+                f"Convolution: precision must be 'double' or 'single', got {precision!r}"
+            )
+        self.precision = precision
+        self.dtype, self.cdtype = PRECISIONS[precision]
         multiplier = np.asarray(multiplier, dtype=np.float64)
         if multiplier.shape != self.spectral_shape:
             raise BemInputError(
@@ -275,13 +301,15 @@ class Convolution:
         if backend == "pyfftw" and "pyfftw" not in available_backends():
             raise BemInputError("fft_backend='pyfftw' requested but pyFFTW is not installed")
         self._fwd = None
-        self.calls = 0  # convolutions done (a machine-independent cost measure)
+        self.calls = 0  # convolutions started (a machine-independent cost measure)
+        self.transforms = 0  # FFTs done, forward and inverse (2 per full convolution)
+        self._pending: np.ndarray | None = None  # the product of the last forward transform
         self.seconds = 0.0  # wall time spent in them (s)
         if backend == "auto":
             backend = self._choose_backend(threads_given=bool(threads))
         self.backend = backend
         # fold the 1/N normalisation of the unnormalised inverse transform into the multiplier
-        self._mult = np.ascontiguousarray(multiplier / (nx * ny))
+        self._mult = np.ascontiguousarray(multiplier / (nx * ny), dtype=self.dtype)
         if backend == "pyfftw":
             self._setup_pyfftw()
         else:  # release plans made while measuring
@@ -297,7 +325,7 @@ class Convolution:
         remembered for this process (it depends on the machine's current load, so it is not
         written to disk; the FFTW plans are, as wisdom).
         """
-        key = (self.shape, self.threads, threads_given)
+        key = (self.shape, self.threads, threads_given, self.precision)
         with _LOCK:
             known = _AUTO_CHOICE.get(key)
         if known is not None:
@@ -313,7 +341,9 @@ class Convolution:
         reps = 5 if x.size <= 2048 * 2048 else 2
         timings = []
         for name, nthreads in candidates:
-            conv = Convolution(ones, self.shape, backend=name, threads=nthreads)
+            conv = Convolution(
+                ones, self.shape, backend=name, threads=nthreads, precision=self.precision
+            )
             buf = conv.empty()
             buf[...] = x
             out = conv.empty()
@@ -337,13 +367,11 @@ class Convolution:
         _check_omp(self.threads)
         with _LOCK:
             _load_wisdom()
-            real_in = pyfftw.empty_aligned(self.shape, dtype="float64")
-            self._spec = pyfftw.empty_aligned(self.spectral_shape, dtype="complex128")
-            real_out = pyfftw.empty_aligned(self.shape, dtype="float64")
+            real_in = pyfftw.empty_aligned(self.shape, dtype=self.dtype)
+            self._spec = pyfftw.empty_aligned(self.spectral_shape, dtype=self.cdtype)
+            real_out = pyfftw.empty_aligned(self.shape, dtype=self.dtype)
             before = pyfftw.export_wisdom()
-            # FFTW_MEASURE times candidate algorithms by running them: cheap up to ~2048^2,
-            # minutes on 5001^2 (prime factor 1667); estimate the plan there instead
-            effort = "FFTW_MEASURE" if real_in.size <= _MEASURE_LIMIT else "FFTW_ESTIMATE"
+            effort = _planning_effort(self.shape)
             self._fwd = pyfftw.FFTW(
                 real_in,
                 self._spec,
@@ -351,6 +379,7 @@ class Convolution:
                 direction="FFTW_FORWARD",
                 flags=(effort,),
                 threads=self.threads,
+                planning_timelimit=_PLANNING_TIMELIMIT,
             )
             self._inv = pyfftw.FFTW(
                 self._spec,
@@ -359,6 +388,7 @@ class Convolution:
                 direction="FFTW_BACKWARD",
                 flags=(effort, "FFTW_DESTROY_INPUT"),
                 threads=self.threads,
+                planning_timelimit=_PLANNING_TIMELIMIT,
             )
             if pyfftw.export_wisdom() != before:
                 _save_wisdom()
@@ -368,11 +398,14 @@ class Convolution:
     # -- public --------------------------------------------------------------------------
     def empty(self) -> np.ndarray:
         """A new uninitialised float64 array of the grid shape, aligned for the backend."""
+        return self._aligned(np.float64)
+
+    def _aligned(self, dtype: type) -> np.ndarray:
         if self.backend == "pyfftw":
             import pyfftw
 
-            return pyfftw.empty_aligned(self.shape, dtype="float64")
-        return np.empty(self.shape, dtype=np.float64)
+            return pyfftw.empty_aligned(self.shape, dtype=dtype)
+        return np.empty(self.shape, dtype=dtype)
 
     def zeros(self) -> np.ndarray:
         """Like :meth:`empty`, filled with zeros."""
@@ -392,7 +425,7 @@ class Convolution:
 
     def _usable(self, a: np.ndarray) -> bool:
         return (
-            a.dtype == np.float64
+            a.dtype == self.dtype
             and a.shape == self.shape
             and a.flags.c_contiguous
             and a.ctypes.data % self._align == 0
@@ -402,7 +435,8 @@ class Convolution:
         """Return ``irfft2(multiplier * rfft2(x))`` (written into ``out`` when given)."""
         if out is None:
             out = self.empty()
-        self._apply(x, out, False)
+        self._forward(x, False)
+        self.inverse(out)
         return out
 
     def with_energy(self, x: np.ndarray, out: np.ndarray) -> float:
@@ -411,47 +445,67 @@ class Convolution:
         The sum is evaluated in Fourier space (Parseval) during the multiplication, so it costs
         no extra pass over the real arrays.
         """
-        return self._apply(x, out, True)
-
-    def _apply(self, x: np.ndarray, out: np.ndarray, energy: bool) -> float:
-        t0 = time.perf_counter()
-        e = self._transform(x, out, energy)
-        self.calls += 1
-        self.seconds += time.perf_counter() - t0
+        e = self._forward(x, True)
+        self.inverse(out)
         return e
 
-    def _transform(self, x: np.ndarray, out: np.ndarray, energy: bool) -> float:
-        e = 0.0
+    def forward_with_energy(self, x: np.ndarray) -> float:
+        """The first half of :meth:`with_energy`: transform ``x``, multiply, return
+        ``sum(x * y)``; the product stays here until :meth:`inverse` (or the next forward
+        transform, which discards it: a caller that finds it does not need ``y`` saves the
+        inverse transform)."""
+        return self._forward(x, True)
+
+    def inverse(self, out: np.ndarray) -> np.ndarray:
+        """Write the inverse transform of the pending product (from the last forward
+        transform) into ``out`` (float64 or this operator's dtype)."""
+        if self._pending is None:
+            raise RuntimeError("Convolution.inverse: no forward transform pending")
+        t0 = time.perf_counter()
+        spec, self._pending = self._pending, None
         if self.backend == "pyfftw":
-            if not self._usable(x):
+            target = out
+            if not self._usable(out):
                 if self._scratch is None:
-                    self._scratch = self.empty()
-                self._scratch[...] = x
-                x = self._scratch
-            self._fwd.update_arrays(x, self._spec)
-            self._fwd.execute()
-            if energy:
-                e = _multiply_with_energy(self._spec, self._mult, self.shape[1])
-            else:
-                np.multiply(self._spec, self._mult, out=self._spec)
-            if self._usable(out):
-                target = out
-            else:
-                if self._scratch is None:
-                    self._scratch = self.empty()
+                    self._scratch = self._aligned(self.dtype)
                 target = self._scratch
-            self._inv.update_arrays(self._spec, target)
+            self._inv.update_arrays(spec, target)
             self._inv.execute()
             if target is not out:
                 out[...] = target
-            return e
-        import scipy.fft
+        else:
+            import scipy.fft
 
-        spec = scipy.fft.rfft2(x, workers=self.threads)
+            # norm="forward": the inverse is unnormalised, the 1/N sits in the multiplier
+            out[...] = scipy.fft.irfft2(spec, s=self.shape, norm="forward", workers=self.threads)
+        self.transforms += 1
+        self.seconds += time.perf_counter() - t0
+        return out
+
+    def _forward(self, x: np.ndarray, energy: bool) -> float:
+        """Forward transform of ``x`` times the multiplier, kept as the pending product;
+        returns the energy sum(x * y) when ``energy`` (else 0)."""
+        t0 = time.perf_counter()
+        if self.backend == "pyfftw":
+            if not self._usable(x):
+                if self._scratch is None:
+                    self._scratch = self._aligned(self.dtype)
+                np.copyto(self._scratch, x, casting="same_kind")
+                x = self._scratch
+            self._fwd.update_arrays(x, self._spec)
+            self._fwd.execute()
+            spec = self._spec
+        else:
+            import scipy.fft
+
+            spec = scipy.fft.rfft2(np.asarray(x, dtype=self.dtype), workers=self.threads)
+        e = 0.0
         if energy:
             e = _multiply_with_energy(spec, self._mult, self.shape[1])
         else:
-            spec *= self._mult
-        # norm="forward": the inverse is unnormalised, the 1/N sits in the multiplier
-        out[...] = scipy.fft.irfft2(spec, s=self.shape, norm="forward", workers=self.threads)
+            np.multiply(spec, self._mult, out=spec)
+        self._pending = spec
+        self.calls += 1
+        self.transforms += 1
+        self.seconds += time.perf_counter() - t0
         return e

@@ -22,12 +22,15 @@ __all__ = [
     "GapStats",
     "PressureUpdate",
     "ResidualField",
+    "PressureStep",
     "deflection_to_gap_stats",
     "dot",
+    "gap_step",
     "masked_sum",
     "residual_field",
     "scale_with_stats",
     "shift_on_contact",
+    "step_pressure",
     "update_direction",
     "update_direction_preconditioned",
     "update_pressure",
@@ -76,6 +79,17 @@ class PressureUpdate(NamedTuple):
     def gap_stats(self) -> GapStats:
         """The contact-set gap statistics of the new state."""
         return GapStats(self.n_contact, self.gap_sum, self.gap_sq)
+
+
+class PressureStep(NamedTuple):
+    """Result of :func:`step_pressure`: elements that left / entered the contact set, sum p and
+    sum p^2 (Pa, Pa^2) after the step, and the contact-set size."""
+
+    n_left: int
+    n_entered: int
+    pressure_sum: float
+    pressure_sq: float
+    n_contact: int
 
 
 @njit(inline="always")
@@ -379,3 +393,100 @@ def shift_on_contact(p, c, delta):  # pragma: no cover - compiled
             p[i] += delta
         s += p[i]
     return s
+
+
+@njit(inline="always")
+def _step_elem(p, t, w, c, i, step):  # pragma: no cover - compiled
+    tau, offset, lower, allow_change, gain = step
+    ci = c[i]
+    pi = p[i] - tau * t[i]  # t = 0 and p = 0 outside the contact set
+    g = w[i] - offset
+    leave = allow_change and ci != 0 and pi < -lower
+    enter = allow_change and ci == 0 and g < 0.0
+    pi = 0.0 if leave else pi
+    pi = -gain * g if enter else pi
+    cn = 0 if leave else ci
+    cn = 1 if enter else cn
+    c[i] = cn
+    p[i] = pi
+    return 1 if leave else 0, 1 if enter else 0, pi, cn
+
+
+@njit(cache=True, fastmath=False)
+def step_pressure(p, t, w, c, tau, offset, lower, allow_change, gain):  # pragma: no cover
+    """The pressure and contact-set half of :func:`update_pressure` (same arithmetic), without
+    the gap: p -= tau t; when ``allow_change`` elements leave where p < -lower and enter
+    (p = -gain g) where the gap g = w - offset < 0. Returns a :class:`PressureStep`; the gap
+    follows with :func:`gap_step` once r = K t is known, or from a fresh u = K p."""
+    step = (tau, offset, lower, allow_change, gain)
+    left = 0
+    entered = 0
+    n = 0
+    ps0 = ps1 = ps2 = ps3 = 0.0
+    pq0 = pq1 = pq2 = pq3 = 0.0
+    size = w.size
+    m4 = size - size % 4
+    for i in range(0, m4, 4):
+        l0, e0, p0, k0 = _step_elem(p, t, w, c, i, step)
+        l1, e1, p1, k1 = _step_elem(p, t, w, c, i + 1, step)
+        l2, e2, p2, k2 = _step_elem(p, t, w, c, i + 2, step)
+        l3, e3, p3, k3 = _step_elem(p, t, w, c, i + 3, step)
+        left += l0 + l1 + l2 + l3
+        entered += e0 + e1 + e2 + e3
+        n += k0 + k1 + k2 + k3
+        ps0 += p0
+        ps1 += p1
+        ps2 += p2
+        ps3 += p3
+        pq0 += p0 * p0
+        pq1 += p1 * p1
+        pq2 += p2 * p2
+        pq3 += p3 * p3
+    for i in range(m4, size):
+        l0, e0, p0, k0 = _step_elem(p, t, w, c, i, step)
+        left += l0
+        entered += e0
+        n += k0
+        ps0 += p0
+        pq0 += p0 * p0
+    return PressureStep(left, entered, (ps0 + ps1) + (ps2 + ps3), (pq0 + pq1) + (pq2 + pq3), n)
+
+
+@njit(inline="always")
+def _gap_step_elem(w, r, c, i, tau, shift):  # pragma: no cover - compiled
+    wi = w[i] - tau * r[i]
+    w[i] = wi
+    ci = c[i]
+    d = (wi - shift) * (1.0 if ci else 0.0)
+    return ci, d
+
+
+@njit(cache=True, fastmath=False)
+def gap_step(w, r, c, tau, shift):  # pragma: no cover - compiled
+    """The gap half of :func:`update_pressure`: w -= tau r; returns the contact-set gap
+    statistics about ``shift`` (a :class:`GapStats`)."""
+    n = 0
+    a0 = a1 = a2 = a3 = 0.0
+    b0 = b1 = b2 = b3 = 0.0
+    size = w.size
+    m4 = size - size % 4
+    for i in range(0, m4, 4):
+        k0, d0 = _gap_step_elem(w, r, c, i, tau, shift)
+        k1, d1 = _gap_step_elem(w, r, c, i + 1, tau, shift)
+        k2, d2 = _gap_step_elem(w, r, c, i + 2, tau, shift)
+        k3, d3 = _gap_step_elem(w, r, c, i + 3, tau, shift)
+        n += k0 + k1 + k2 + k3
+        a0 += d0
+        a1 += d1
+        a2 += d2
+        a3 += d3
+        b0 += d0 * d0
+        b1 += d1 * d1
+        b2 += d2 * d2
+        b3 += d3 * d3
+    for i in range(m4, size):
+        k0, d0 = _gap_step_elem(w, r, c, i, tau, shift)
+        n += k0
+        a0 += d0
+        b0 += d0 * d0
+    return GapStats(n, (a0 + a1) + (a2 + a3), (b0 + b1) + (b2 + b3))

@@ -42,15 +42,27 @@ def influence_operator(
     periodic: bool,
     fft_backend: str,
     threads: int | None,
+    precision: str = "double",
 ) -> Convolution:
     """The convolution u = K * p (m from Pa) for heights of ``shape`` with pixel sizes dx, dy
-    (m) and modulus E* (Pa): periodic, or zero-padded to the doubled grid; cached per thread."""
-    key = (shape, float(dx), float(dy), float(e_star), kernel, bool(periodic), fft_backend, threads)
+    (m) and modulus E* (Pa): periodic, or zero-padded to the doubled grid; cached per thread.
+    ``precision``: "double" or "single" transforms (:class:`Convolution`)."""
+    key = (
+        shape,
+        float(dx),
+        float(dy),
+        float(e_star),
+        kernel,
+        bool(periodic),
+        fft_backend,
+        threads,
+        precision,
+    )
     cache = _operator_cache()
     op = cache.get(key)
     if op is None:
         mult, grid = influence_multiplier(shape, dx, dy, e_star, kernel=kernel, periodic=periodic)
-        op = Convolution(mult, grid, backend=fft_backend, threads=threads)
+        op = Convolution(mult, grid, backend=fft_backend, threads=threads, precision=precision)
         cache[key] = op
         while len(cache) > _MAX_OPERATORS:
             cache.popitem(last=False)
@@ -61,8 +73,18 @@ def influence_operator(
 
 def stiffness_preconditioner(op: Convolution, dx: float, dy: float, e_star: float) -> Convolution:
     """The stiffness E* |q| / 2 (Pa/m, the inverse of the point-force kernel) on the FFT grid
-    of ``op``, q = 0 set to its smallest non-zero value; same backend and threads as ``op``."""
-    key = ("precondition", op.shape, float(dx), float(dy), float(e_star), op.backend, op.threads)
+    of ``op``, q = 0 set to its smallest non-zero value; same backend, threads and precision
+    as ``op``."""
+    key = (
+        "precondition",
+        op.shape,
+        float(dx),
+        float(dy),
+        float(e_star),
+        op.backend,
+        op.threads,
+        op.precision,
+    )
     cache = _operator_cache()
     pre = cache.get(key)
     if pre is None:
@@ -71,7 +93,13 @@ def stiffness_preconditioner(op: Convolution, dx: float, dy: float, e_star: floa
         qy = 2.0 * np.pi * np.fft.rfftfreq(gy, d=dy)
         q = np.sqrt(qx[:, None] ** 2 + qy[None, :] ** 2)
         q[0, 0] = min(2.0 * np.pi / (gx * dx), 2.0 * np.pi / (gy * dy))
-        pre = Convolution(0.5 * e_star * q, op.shape, backend=op.backend, threads=op.threads)
+        pre = Convolution(
+            0.5 * e_star * q,
+            op.shape,
+            backend=op.backend,
+            threads=op.threads,
+            precision=op.precision,
+        )
         cache[key] = pre
         while len(cache) > 2 * _MAX_OPERATORS:
             cache.popitem(last=False)

@@ -67,6 +67,10 @@ from asperity.bem.start import starting_state
 
 __all__ = ["solve_contact"]
 
+#: Tolerance of the coarse-grid solves of ``coarse_start`` (or ``tol`` if looser): their
+#: solution differs from the fine one by the discretisation anyway.
+COARSE_TOL = 1e-2
+
 
 def solve_contact(
     heights: np.ndarray,
@@ -90,6 +94,7 @@ def solve_contact(
     fft_backend: str | None = None,
     threads: int | None = None,
     coarse_start: bool | None = None,
+    precision: str | None = None,
 ) -> ContactResult:
     """Normal contact of an elastic half-space with a rigid flat (E:BEM_eq1..E:BEM_eq4).
 
@@ -117,7 +122,8 @@ def solve_contact(
         Periodic domain (default) or finite specimen (zero-padded doubled grid).
     options : SolverOptions, optional
         Tuning knobs (tol, max_iter, precondition, stall_window, refresh, kernel, fft_backend,
-        threads, coarse_start); each may also be given as a keyword, which overrides it.
+        threads, coarse_start, precision); each may also be given as a keyword, which
+        overrides it.
 
     Returns
     -------
@@ -147,6 +153,7 @@ def solve_contact(
         fft_backend=fft_backend,
         threads=threads,
         coarse_start=coarse_start,
+        precision=precision,
     )
     loads = {"normal_force": normal_force, "mean_pressure": mean_pressure, "separation": separation}
     problem = set_up_problem(heights, dx, dy, e_star, loads, work_of_adhesion, periodic, opts)
@@ -170,15 +177,42 @@ def _solve_on_loading_branch(
     previous loading-branch state), then the adhesive iteration from it as the check."""
     if problem.load_control and problem.force <= 0:
         return first_contact_result(problem, started)
-    plain = dataclasses.replace(problem, work_of_adhesion=0.0, critical_tension=0.0)
     warm = initial if isinstance(initial, ContactResult) else None
-    contact = _iterate_from(plain, warm, opts, time.perf_counter(), "unique", {})
-    extra = {
-        "loading_iterations": contact.nit,
-        "loading_convolutions": contact.extra["convolutions"],
-        "loading_message": contact.message,
-    }
+    if _is_solution_here(warm, problem, opts):
+        # the non-adhesive solution at this load was given (e.g. by load_sweep): nothing to do
+        contact, extra = warm, {"loading_iterations": 0, "loading_message": "given"}
+    else:
+        plain = dataclasses.replace(problem, work_of_adhesion=0.0, critical_tension=0.0)
+        contact = _iterate_from(plain, warm, opts, time.perf_counter(), "unique", {})
+        keys = (
+            "convolutions",
+            "single_precision_convolutions",
+            "fft_seconds",
+            "fft_transforms",
+            "single_precision_transforms",
+        )
+        extra = {
+            "loading_iterations": contact.nit,
+            "loading_message": contact.message,
+            **{f"loading_{k}": contact.extra[k] for k in keys},
+        }
     return _iterate_from(problem, contact, opts, started, "loading", extra)
+
+
+def _is_solution_here(
+    result: ContactResult | None, problem: ContactProblem, opts: SolverOptions
+) -> bool:
+    """A converged non-adhesive result at this problem's force (to round-off) and grid, within
+    this solve's tolerance: the loading-branch state itself, nothing left to iterate."""
+    return (
+        result is not None
+        and result.branch == "unique"
+        and result.converged
+        and result.residual <= opts.tol
+        and result.pressure.shape == problem.heights.shape
+        and (result.dx, result.dy) == (problem.dx, problem.dy)
+        and abs(result.normal_force - problem.force) <= 1e-9 * abs(problem.force)
+    )
 
 
 def _iterate_from(
@@ -190,7 +224,11 @@ def _iterate_from(
     extra: dict,
 ) -> ContactResult:
     """Start (warm, coarse-grid or cold), iterate and assemble one validated problem."""
-    counters = {"calls": problem.op.calls, "seconds": problem.op.seconds}
+    counters = {
+        "calls": problem.op.calls,
+        "seconds": problem.op.seconds,
+        "transforms": problem.op.transforms,
+    }
     coarse = None
     if initial is None and _coarse_start_applies(problem, opts):
         coarse, coarse_info = _coarse_start(problem, opts)
@@ -229,7 +267,7 @@ def _coarse_start(problem: ContactProblem, opts: SolverOptions) -> tuple[np.ndar
         problem.e_star,
         mean_pressure=problem.force / problem.nominal_area,
         options=SolverOptions(
-            tol=max(opts.tol, 1e-6),
+            tol=max(opts.tol, COARSE_TOL),
             max_iter=opts.max_iterations((nx, ny)),
             kernel=opts.kernel,
             fft_backend=opts.fft_backend,

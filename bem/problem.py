@@ -8,6 +8,7 @@ operator. Every refusal is a :class:`~asperity.bem.errors.BemInputError` naming 
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -82,10 +83,11 @@ class ContactProblem:
         """E*/sqrt(dx dy) (Pa/m): the stiffness of a pixel-sized wavelength."""
         return self.e_star / math.sqrt(self.pixel_area)
 
-    @property
+    @functools.cached_property
     def height_scale(self) -> float:
-        """max |h| (m): sets the round-off floor of the gaps."""
-        return float(np.abs(self.heights).max())
+        """max |h| (m): sets the round-off floor of the gaps (computed once: the iteration
+        asks for it every step)."""
+        return float(max(self.heights.max(), -self.heights.min()))
 
     @property
     def target_pressure_sum(self) -> float:

@@ -51,12 +51,48 @@ def _warm_start(p: np.ndarray, c: np.ndarray, problem: ContactProblem, initial: 
         c[...] = 0
 
 
+#: Starting contact fraction over the small-load estimate p0 / (E* h'_rms) (see
+#: :func:`start_fraction`). Measured on the paper-like surface at 1024^2 (2.8 % contact, tol
+#: 1e-6): 1 -> 38 iterations, 2 -> 34, 4 -> 32, 8 -> 32; the whole map (the former start) 46.
+START_FRACTION_FACTOR = 4.0
+
+
+def rms_slope(heights: np.ndarray, dx: float, dy: float) -> float:
+    """sqrt(<|grad h|^2>) (dimensionless) from forward differences of the heights (m)."""
+    sx = (
+        float(np.mean(np.square(np.diff(heights, axis=0)))) / dx**2 if heights.shape[0] > 1 else 0.0
+    )
+    sy = (
+        float(np.mean(np.square(np.diff(heights, axis=1)))) / dy**2 if heights.shape[1] > 1 else 0.0
+    )
+    return float(np.sqrt(sx + sy))
+
+
+def start_fraction(problem: ContactProblem) -> float:
+    """The contact fraction a cold load-controlled solve starts from: ``START_FRACTION_FACTOR``
+    times p0 / (E* h'_rms), the small-load contact fraction of a rough surface up to a factor of
+    order 1-2 (Persson 2001; Bush, Gibson & Thomas 1975), within [1/N, 1]; the whole map when
+    the slope is zero (flat or constant heights)."""
+    slope = rms_slope(problem.heights, problem.dx, problem.dy)
+    p0 = abs(problem.force) / problem.nominal_area
+    if not slope > 0:
+        return 1.0
+    return float(min(1.0, START_FRACTION_FACTOR * p0 / (problem.e_star * slope)))
+
+
 def _cold_start(p: np.ndarray, c: np.ndarray, problem: ContactProblem) -> None:
+    """Load control: a uniform pressure on the highest :func:`start_fraction` of the map (the
+    contact set then shrinks or grows to the solution in a few iterations instead of the ~15 a
+    start on the whole map takes at a few per cent contact). Displacement control: the
+    penetrating elements."""
     h0 = problem.heights
     nx, ny = h0.shape
     if problem.load_control:
-        p[:nx, :ny] = problem.force / problem.nominal_area
-        c[:nx, :ny] = 1
+        size = h0.size
+        k = int(min(size, max(1, np.ceil(start_fraction(problem) * size))))
+        top = h0 >= np.partition(h0.ravel(), size - k)[size - k]
+        p[:nx, :ny] = np.where(top, problem.force / problem.nominal_area, 0.0)
+        c[:nx, :ny] = top
     else:
         c[:nx, :ny] = (h0 - problem.separation) > 0
 

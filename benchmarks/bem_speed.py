@@ -21,6 +21,15 @@ contact fraction, errors vs the reference, ratio of the peer's time to bem's, an
 time per iteration over the time of two FFT convolutions (``t_it/2conv``) and the solve time over
 the time spent in its convolutions, timed inside the solve (``t/t_fft``: 1 would mean the vector
 work is free).
+
+Issue-10 columns, for the two bem rows ``bem`` (``precision="auto"``: float32 transforms, then
+float64, from 512^2 on) and ``bem f64`` (float64 throughout): ``conv/it`` = FFTs per iteration / 2
+(3 was the former loop: preconditioner, K t and u = K p after a contact-set change; the inverse
+of K t is now skipped when u = K p is recomputed), ``f32 %`` the share of the FFTs done in
+float32, ``2conv64 s`` the FFT floor measured in the same worker (two bare float64 convolutions
+of the solver's operator, its own backend and threads), and ``t_it/2conv`` the time per
+iteration over it. ``--paper`` adds the paper-scale row: ``asperity.topo.synthetic.paper_like``
+at 5000^2 (2 um), E* = 2.133 MPa, 2.08 N, tol 1e-6, both bem rows (minutes and ~3 GiB each).
 """
 
 from __future__ import annotations
@@ -62,22 +71,24 @@ from asperity.bem import solve_contact
 from asperity.bem.operators import influence_operator as _operator
 h = np.load({surface!r})
 n = h.shape[0]
+dx, e_star = {dx!r}, {e_star!r}
 t0 = time.perf_counter()
-op = _operator(h.shape, 1.0, 1.0, 1.0, "point", True, "auto", None)
+op = _operator(h.shape, dx, dx, e_star, "point", True, "auto", None)
 setup = time.perf_counter() - t0
 x = op.empty(); x[...] = h; y = op.empty()
 conv = []
 for _ in range(5):
     t1 = time.perf_counter(); op(x, y); conv.append(time.perf_counter() - t1)
 c0 = time.process_time()
-res = solve_contact(h, 1.0, 1.0, 1.0, mean_pressure={p}, tol={tol}, max_iter=20000,
-                    coarse_start={coarse})
+res = solve_contact(h, dx, dx, e_star, mean_pressure={p}, tol={tol}, max_iter=20000,
+                    coarse_start={coarse}, precision={precision!r})
 cpu = time.process_time() - c0
 if {save!r}:
     np.save({save!r}, res.pressure)
     np.save({save!r}.replace(".npy", "_history.npy"), res.residual_history)
-print(json.dumps(dict(nit=res.nit, seconds=res.seconds, setup=setup, conv=min(conv), cpu=cpu,
-    convolutions=res.extra["convolutions"], fft_seconds=res.extra["fft_seconds"],
+print(json.dumps(dict(nit=res.nit, seconds=res.seconds, setup=setup, conv=float(np.median(conv)),
+    cpu=cpu, convolutions=res.extra["convolutions"], fft_seconds=res.extra["fft_seconds"],
+    transforms=res.extra["fft_transforms"], f32=res.extra["single_precision_transforms"],
     dropped=res.extra["preconditioner_dropped_at"],
     backend=op.backend, threads=op.threads, converged=res.converged, message=res.message,
     contact_fraction=res.contact_fraction,
@@ -166,22 +177,48 @@ def _errors(pressure: np.ndarray, reference: np.ndarray) -> tuple[float, float]:
     return d_cf, rel
 
 
+def _bem_rows(surface, dx, e_star, p, tol, save_stem, reference, timeout, coarse, n) -> list:
+    """The two bem rows (precision auto and float64) for one surface, with the issue-10
+    columns and the errors against ``reference`` (a pressure array or None)."""
+    rows = []
+    for code, precision in (("bem", "auto"), ("bem f64", "double")):
+        save = f"{save_stem}_{precision}.npy"
+        got = _run_worker(
+            sys.executable,
+            BEM_WORKER.format(
+                root=str(ROOT),
+                surface=str(surface),
+                dx=dx,
+                e_star=e_star,
+                p=p,
+                tol=tol,
+                save=save,
+                coarse=repr(coarse),
+                precision=precision,
+            ),
+            timeout,
+        )
+        if got is None:
+            continue
+        got.update(code=code, n=n)
+        if reference is not None:
+            got["d_cf"], got["p_err"] = _errors(np.load(save), reference)
+        nit = max(got["nit"], 1)
+        got["per_iter_over_2conv"] = got["seconds"] / nit / (2 * got["conv"])
+        got["over_fft"] = got["seconds"] / got["fft_seconds"]
+        got["conv_per_it"] = got["transforms"] / 2 / nit
+        got["f32_share"] = got["f32"] / max(got["transforms"], 1)
+        rows.append(got)
+    return rows
+
+
 def run_sizes(
     sizes, peer_python, with_peers, timeout, coarse, with_reference=True, crop_fast=False
 ) -> list[dict]:
     sys.path.insert(0, str(HERE))
     from bem_surfaces import self_affine_periodic
 
-    peers = {}
-    if with_peers:
-        for name, module, worker in (
-            ("tamaas", "tamaas", TAMAAS_WORKER),
-            ("ContactMechanics", "ContactMechanics", CM_WORKER),
-        ):
-            if _peer_available(peer_python, module):
-                peers[name] = worker
-            else:
-                print(f"# peer {name}: not importable from {peer_python}; column skipped")
+    peers = _peers(peer_python, with_peers)
     rows = []
     tmp = Path(tempfile.mkdtemp(prefix="bem_speed_"))
     for n in sizes:
@@ -201,36 +238,32 @@ def run_sizes(
                 BEM_WORKER.format(
                     root=str(ROOT),
                     surface=str(surface),
+                    dx=1.0,
+                    e_star=1.0,
                     p=MEAN_PRESSURE,
                     tol=1e-12,
                     save=str(ref_path),
                     coarse=repr(coarse),
+                    precision="double",
                 ),
                 timeout,
             )
         reference = np.load(ref_path) if ref else None
-        mine_path = tmp / f"bem_{n}.npy"
-        mine = _run_worker(
-            sys.executable,
-            BEM_WORKER.format(
-                root=str(ROOT),
-                surface=str(surface),
-                p=MEAN_PRESSURE,
-                tol=TOL,
-                save=str(mine_path),
-                coarse=repr(coarse),
-            ),
+        mine = _bem_rows(
+            surface,
+            1.0,
+            1.0,
+            MEAN_PRESSURE,
+            TOL,
+            str(tmp / f"bem_{n}"),
+            reference,
             timeout,
+            coarse,
+            n,
         )
-        if mine is None:
+        if not mine:
             continue
-        mine.update(code="bem", n=n)
-        if reference is not None:
-            mine["d_cf"], mine["p_err"] = _errors(np.load(mine_path), reference)
-            mine["ref_converged"] = ref.get("converged")
-        mine["per_iter_over_2conv"] = mine["seconds"] / max(mine["nit"], 1) / (2 * mine["conv"])
-        mine["over_fft"] = mine["seconds"] / mine["fft_seconds"]
-        rows.append(mine)
+        rows.extend(mine)
         for name, worker in peers.items():
             out = tmp / f"{name}_{n}.npy"
             got = _run_worker(
@@ -240,14 +273,51 @@ def run_sizes(
             )
             if got is None:
                 continue
-            got.update(code=name, n=n, ratio=got["seconds"] / mine["seconds"])
+            got.update(code=name, n=n, ratio=got["seconds"] / mine[0]["seconds"])
             if reference is not None:
-                field = np.load(out)
-                if name == "ContactMechanics":
-                    field = field  # pixel forces = pressure x pixel area (1)
-                got["d_cf"], got["p_err"] = _errors(field, reference)
+                # ContactMechanics returns pixel forces = pressure x pixel area (1)
+                got["d_cf"], got["p_err"] = _errors(np.load(out), reference)
             rows.append(got)
         _print_rows([r for r in rows if r["n"] == n])
+    return rows
+
+
+def _peers(peer_python: str, with_peers: bool) -> dict:
+    peers = {}
+    if with_peers:
+        for name, module, worker in (
+            ("tamaas", "tamaas", TAMAAS_WORKER),
+            ("ContactMechanics", "ContactMechanics", CM_WORKER),
+        ):
+            if _peer_available(peer_python, module):
+                peers[name] = worker
+            else:
+                print(f"# peer {name}: not importable from {peer_python}; column skipped")
+    return peers
+
+
+def run_paper_scale(timeout: float) -> list[dict]:
+    """The 5000^2 row: the paper-like surface at 2.08 N, tol 1e-6 (issue 10), both bem rows."""
+    from asperity.topo.synthetic import paper_like
+
+    surface = paper_like(n=5000)
+    tmp = Path(tempfile.mkdtemp(prefix="bem_speed_paper_"))
+    path = tmp / "paper_like_5000.npy"
+    np.save(path, np.ascontiguousarray(surface.heights))
+    area = surface.heights.size * surface.dx * surface.dy
+    rows = _bem_rows(
+        path,
+        surface.dx,
+        2.133e6,
+        2.08 / area,
+        1e-6,
+        str(tmp / "bem"),
+        None,
+        timeout,
+        False,
+        5000,
+    )
+    _print_rows(rows)
     return rows
 
 
@@ -255,24 +325,27 @@ def _print_rows(rows: list[dict]) -> None:
     print(
         f"{'N':>6} {'code':>17} {'iters':>6} {'seconds':>9} {'cpu s':>8} {'peak MiB':>9} "
         f"{'contact':>9} "
-        f"{'|dcf| vs ref':>12} {'p err':>9} {'peer/bem':>9} {'t_it/2conv':>10} {'t/t_fft':>8}"
+        f"{'|dcf| vs ref':>12} {'p err':>9} {'peer/bem':>9} {'conv/it':>7} {'f32 %':>6} "
+        f"{'2conv64 s':>9} {'t_it/2conv':>10} {'t/t_fft':>8}"
     )
+    nan = float("nan")
     for r in rows:
         print(
             f"{r['n']:>6} {r['code']:>17} {r['nit']:>6} {r['seconds']:>9.2f} "
-            f"{r.get('cpu', float('nan')):>8.2f} {r['peak_mib']:>9.0f} "
+            f"{r.get('cpu', nan):>8.2f} {r['peak_mib']:>9.0f} "
             f"{r['contact_fraction']:>9.5f} "
-            f"{r.get('d_cf', float('nan')):>12.2e} {r.get('p_err', float('nan')):>9.1e} "
-            f"{r.get('ratio', float('nan')):>9.2f} "
-            f"{r.get('per_iter_over_2conv', float('nan')):>10.2f} "
-            f"{r.get('over_fft', float('nan')):>8.2f}"
+            f"{r.get('d_cf', nan):>12.2e} {r.get('p_err', nan):>9.1e} "
+            f"{r.get('ratio', nan):>9.2f} {r.get('conv_per_it', nan):>7.2f} "
+            f"{100 * r.get('f32_share', nan):>6.0f} {2 * r.get('conv', nan):>9.3f} "
+            f"{r.get('per_iter_over_2conv', nan):>10.2f} "
+            f"{r.get('over_fft', nan):>8.2f}"
         )
     for r in rows:
-        if r["code"] == "bem":
+        if r["code"].startswith("bem"):
             print(
-                f"# bem N={r['n']}: backend {r['backend']} x{r['threads']} threads, one FFT "
-                f"convolution {r['conv'] * 1e3:.2f} ms, {r['convolutions']} convolutions, "
-                f"setup {r['setup']:.2f} s, "
+                f"# {r['code']} N={r['n']}: backend {r['backend']} x{r['threads']} threads, one "
+                f"float64 FFT convolution {r['conv'] * 1e3:.2f} ms (median of 5), "
+                f"{r['transforms']} FFTs ({r['f32']} float32), setup {r['setup']:.2f} s, "
                 f"{r['message']}"
             )
     sys.stdout.flush()
@@ -349,6 +422,9 @@ def main(argv=None) -> int:
     )
     parser.add_argument("--timeout", type=float, default=1800.0, help="per worker (s)")
     parser.add_argument("--hertz-plot", type=Path, default=None, help="write the PNG here")
+    parser.add_argument(
+        "--paper", action="store_true", help="add the 5000^2 paper-like row (minutes, ~3 GiB)"
+    )
     parser.add_argument("--json", type=Path, default=None, help="also write the rows as JSON")
     args = parser.parse_args(argv)
     print(
@@ -366,6 +442,8 @@ def main(argv=None) -> int:
             not args.no_reference,
             args.crop_fast,
         )
+    if args.paper:
+        rows += run_paper_scale(args.timeout)
     if args.json:
         args.json.write_text(json.dumps(rows, indent=1))
     if args.hertz_plot:
