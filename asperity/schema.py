@@ -28,6 +28,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+from abc import ABC, abstractmethod
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -72,12 +73,12 @@ class Context:
         return ConfigError(f"{self.source}: {key}: expected {expected}, got {value!r}")
 
 
-class Kind:
+class Kind(ABC):
     """How one value is converted and bounded; subclasses implement :meth:`convert`."""
 
+    @abstractmethod
     def convert(self, value: Any, context: Context) -> Any:
         """The checked value; raise :class:`Invalid` with what was expected."""
-        raise NotImplementedError
 
     def plain(self, value: Any) -> Any:
         """The value as TOML data (None: omitted)."""

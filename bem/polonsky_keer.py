@@ -17,11 +17,13 @@ assemble_result`. One iteration is a short sequence of fused numba kernels
    to 0 after elements entered the contact set, as in Polonsky & Keer), penetration outside;
 3. ``r = K t`` (one FFT convolution) with ``sum t r`` fused into the Fourier-space
    multiplication (Parseval): step tau = sum g t / sum r t;
-4. ``update_pressure``: p -= tau t on Omega_c; elements whose pressure falls below the lower
+4. ``step_pressure``: p -= tau t on Omega_c; elements whose pressure falls below the lower
    bound (0, or -Sigma with Pohrt-Popov adhesion) leave the contact set with p = 0; elements
-   outside with g < 0 enter with p = -tau g (plain) or p = 0 (preconditioned); the gap is
-   updated as w -= tau r and the next iteration's gap statistics are accumulated in the same
-   pass.
+   outside with g < 0 enter with p = -tau g (plain) or p = 0 (preconditioned); then
+   ``gap_step`` updates the gap as w -= tau r and accumulates the next iteration's gap
+   statistics (or, when the contact set changed, u = K p is recomputed and the inverse
+   transform of K t is skipped). ``update_pressure`` is the fused form of the two, kept as the
+   reference the tests hold the split kernels to, bit for bit.
 
 Preconditioned (default): step 2 becomes ``residual_field`` (s = g on Omega_c), a convolution
 z = K^-1 s with the stiffness E*|q|/2 (sum s z fused), ``masked_sum`` (mean of z on Omega_c)
