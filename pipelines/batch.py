@@ -119,6 +119,23 @@ def summary_values(result: Any) -> dict[str, Any]:
     return values
 
 
+def _map_status(result: Any) -> str:
+    """A finished run's status: "not converged" first, then "invalid" (the verdict), else "ok"."""
+    if not result.converged:
+        return "not converged"
+    verdict = getattr(result, "verdict", None)
+    return "invalid" if getattr(verdict, "verdict", None) == "invalid" else "ok"
+
+
+def _invalid_reasons(result: Any) -> list[str]:
+    """The verdict's reasons of severity "invalid" (none for a valid run or no verdict)."""
+    verdict = getattr(result, "verdict", None)
+    if verdict is None:
+        return []
+    pairs = zip(verdict.severities, verdict.reasons, strict=True)
+    return [reason for severity, reason in pairs if severity == "invalid"]
+
+
 def run_one_map(
     data: dict[str, Any], base_dir: str, source: str, map_path: str, folder: str, force: bool
 ) -> dict[str, Any]:
@@ -127,7 +144,8 @@ def run_one_map(
     Returns
     -------
     dict
-        ``map``, ``folder``, ``status`` ("ok", "not converged" or "failed"), ``message`` and,
+        ``map``, ``folder``, ``status`` ("ok", "not converged", "invalid" or "failed"),
+        ``message`` and,
         unless failed, ``values`` (:func:`summary_values`).
     """
     record: dict[str, Any] = {"map": map_path, "folder": folder, "status": "failed"}
@@ -139,8 +157,8 @@ def run_one_map(
         result = run_job(config, folder, force=force, workers=1)
         write_report(result, folder)
         record.update(
-            status="ok" if result.converged else "not converged",
-            message="; ".join(result.problems()[:3]),
+            status=_map_status(result),
+            message="; ".join([*_invalid_reasons(result), *result.problems()][:3]),
             values=summary_values(result),
             computed=[s.name for s in result.stages if s.status == "computed"],
         )
@@ -170,10 +188,13 @@ class BatchResult:
 
     @property
     def status(self) -> int:
-        """Exit status: 0 all ok, 1 some map did not converge, 2 some map failed (bad input)
-        or raised."""
+        """Exit status: 2 some map failed (bad input) or raised, else 1 some map did not
+        converge, else 3 some map's verdict is invalid, else 0."""
         states = {r["status"] for r in self.records}
-        return 2 if "failed" in states else 1 if "not converged" in states else 0
+        for state, status in (("failed", 2), ("not converged", 1), ("invalid", 3)):
+            if state in states:
+                return status
+        return 0
 
 
 def run_batch(

@@ -62,6 +62,7 @@ def handle_batch(args: argparse.Namespace) -> int:
     ok = sum(r["status"] == "ok" for r in result.records)
     print(f"{ok} / {len(result.records)} maps ok; summary: {result.summary_csv}")
     for record in result.records:
-        if record["status"] == "failed":
-            print(f"  FAILED {record['map']}: {record['message']}", file=sys.stderr)
+        if record["status"] in ("failed", "invalid", "not converged"):
+            state = record["status"].upper()
+            print(f"  {state} {record['map']}: {record['message']}", file=sys.stderr)
     return result.status

@@ -2,8 +2,9 @@
 
 ``summary.csv``: one row per map (``map``, ``folder``, ``status``, ``message``, then the
 numbers of :func:`pipelines.batch.summary_values`, SI units in the headers), then a ``mean``
-and a ``std`` row (sample standard deviation, ddof = 1) over the maps whose run finished
-(status "ok" or "not converged"). ``summary.png``: each quantity against the map number,
+and a ``std`` row (sample standard deviation, ddof = 1) over the maps whose result the
+verdict stands behind (status "ok"): an invalid or unconverged map is listed but never
+averaged in. ``summary.png``: each quantity against the map number,
 with the mean (line) and mean +- std (band).
 """
 
@@ -48,15 +49,17 @@ def column_values(records: list[dict[str, Any]], name: str) -> np.ndarray:
 def _statistics(records: list[dict[str, Any]], columns: list[str]) -> tuple[dict, dict]:
     mean: dict[str, Any] = {"map": "mean"}
     spread: dict[str, Any] = {"map": "std"}
+    sound = [r for r in records if r["status"] == "ok"]
     for name in columns:
         if name in TEXT_COLUMNS:
             continue
-        v = column_values(records, name)
+        v = column_values(sound, name)
         v = v[np.isfinite(v)]
         mean[name] = float(v.mean()) if v.size else np.nan
         spread[name] = float(v.std(ddof=1)) if v.size > 1 else np.nan
-    finished = sum("values" in r for r in records)
-    mean["message"] = spread["message"] = f"over {finished} finished maps"
+    left_out = sum("values" in r for r in records) - len(sound)
+    note = f"; {left_out} invalid or unconverged map(s) left out" if left_out else ""
+    mean["message"] = spread["message"] = f"over {len(sound)} maps with status ok{note}"
     return mean, spread
 
 

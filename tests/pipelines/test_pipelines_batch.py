@@ -103,7 +103,7 @@ def _record(name, radius, fraction):
 
 
 def test_summary_rows_and_figure_layout(tmp_path):
-    """mean and std rows over the finished maps only; a clean summary figure."""
+    """mean and std rows over the maps with status ok only; a clean summary figure."""
     from asperity.pipelines.batch_summary import draw_summary_figure, write_summary_csv
     from asperity.plotting import layout_problems
 
@@ -118,3 +118,24 @@ def test_summary_rows_and_figure_layout(tmp_path):
     assert float(rows[3]["summit radius R (m)"]) == pytest.approx(120e-6)
     assert float(rows[4]["summit radius R (m)"]) == pytest.approx(np.std([100e-6, 140e-6], ddof=1))
     assert layout_problems(draw_summary_figure(records)) == []
+
+
+def test_invalid_maps_are_listed_never_averaged_and_set_the_exit_status(tmp_path):
+    """A map whose verdict is invalid is a row of its own, left out of the mean and std (no
+    confident average over numbers the model cannot stand behind), and the batch exits 3;
+    a failed map (2) and an unconverged one (1) take precedence, as for one run."""
+    from asperity.pipelines.batch import BatchResult
+    from asperity.pipelines.batch_summary import write_summary_csv
+
+    invalid = {**_record("c.x3p", 900e-6, 0.9), "status": "invalid"}
+    records = [_record("a.x3p", 100e-6, 0.004), invalid, _record("b.x3p", 140e-6, 0.006)]
+    rows = _summary(write_summary_csv(records, tmp_path / "summary.csv"))
+    assert float(rows[1]["summit radius R (m)"]) == pytest.approx(900e-6)  # listed as measured
+    assert float(rows[3]["summit radius R (m)"]) == pytest.approx(120e-6)  # mean of a and b
+    assert "1 invalid or unconverged map(s) left out" in rows[3]["message"]
+    result = BatchResult(records=records, summary_csv=tmp_path / "summary.csv")
+    assert result.status == 3
+    unconverged = {**_record("d.x3p", 1e-4, 0.1), "status": "not converged"}
+    assert BatchResult(records=[*records, unconverged], summary_csv=tmp_path).status == 1
+    failed = {"map": "e", "folder": "e", "status": "failed", "message": "bad input: x"}
+    assert BatchResult(records=[*records, unconverged, failed], summary_csv=tmp_path).status == 2
