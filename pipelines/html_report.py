@@ -135,7 +135,10 @@ def write_html(
         table_html(["quantity", "value"], [list(r) for r in key_numbers(result)]),
         "<h2>Per normal load</h2>",
         table_html(*load_table(result)),
-        _notes(
+        f"<h2>Validity</h2><p>Verdict: <b>{html.escape(str(verdict.verdict))}</b> (reasons at"
+        " the top).</p>"
+        if verdict is not None
+        else _notes(
             "Validity",
             "The statistical model is within its assumptions.",
             result.resolution.validity,
