@@ -47,19 +47,12 @@ from asperity.pipelines.verdict import mark, verdict_lines, verdict_markdown
 from asperity.plotting import DisplayUnit, display_unit, new_figure
 from asperity.statmodel.figures import draw_shear_curve
 
-DPI = 150
 #: Percentiles of the heights that bound the colour scale of the surface figure.
 COLOUR_PERCENTILES = (0.5, 99.5)
 #: Largest number of pixels per side drawn (and written to surface.csv).
 SURFACE_DRAWN_PIXELS = 400
 #: Data spanning at least this ratio are drawn on a log axis.
 LOG_SPAN = 10.0
-
-
-def _save(fig: Figure, path: Path) -> Path:
-    """Write a figure laid out by its constrained layout (no pyplot: nothing to close)."""
-    fig.savefig(path, dpi=DPI)
-    return path
 
 
 def figure_options(result: Any, options: FigureOptions | None = None) -> FigureOptions:
@@ -143,11 +136,6 @@ def draw_surface(result: Any) -> tuple[Figure, FigureTable]:
         {"x (m)": ix * s.dx, "y (m)": iy * s.dy, "height (m)": h},
     )
     return fig, table
-
-
-def plot_surface(result: Any, path: Path, options: FigureOptions | None = None) -> Path:
-    """Stage 1: the levelled height map over x, y (units from the data); CSV beside it."""
-    return publish(*draw_surface(result), path, figure_options(result, options))
 
 
 def _min_summits() -> int:
@@ -302,11 +290,6 @@ def draw_resolution(result: Any) -> tuple[Figure, FigureTable]:
     return fig, table
 
 
-def plot_resolution(result: Any, path: Path, options: FigureOptions | None = None) -> Path:
-    """Fig 12: R, eta, sigma_s against resolution with fits; A_r/A_n against F_z."""
-    return publish(*draw_resolution(result), path, figure_options(result, options))
-
-
 def draw_misfit(result: Any) -> tuple[Figure, FigureTable]:
     """Stage 4: the misfit curve that chose the effective resolution."""
     res = result.resolution
@@ -334,11 +317,6 @@ def draw_misfit(result: Any) -> tuple[Figure, FigureTable]:
     return fig, table
 
 
-def plot_misfit(result: Any, path: Path, options: FigureOptions | None = None) -> Path:
-    """Stage 4: the misfit curve that chose the effective resolution."""
-    return publish(*draw_misfit(result), path, figure_options(result, options))
-
-
 def draw_bem_grid(result: Any) -> tuple[Figure, FigureTable]:
     """Stage 3: the refinement curve, its error against the finest grid, the contact mask."""
     bem = result.bem
@@ -356,11 +334,6 @@ def draw_bem_grid(result: Any) -> tuple[Figure, FigureTable]:
         {"BEM pixel size (m)": pixel, "error against the finest grid (1)": bem.check_error},
     )
     return bem_grid_figure(result), table
-
-
-def plot_bem_grid(result: Any, path: Path, options: FigureOptions | None = None) -> Path:
-    """Stage 3: the refinement check and the contact mask at the largest load."""
-    return publish(*draw_bem_grid(result), path, figure_options(result, options))
 
 
 def draw_lambda_fit(result: Any) -> tuple[Figure, FigureTable]:
@@ -398,11 +371,6 @@ def draw_lambda_fit(result: Any) -> tuple[Figure, FigureTable]:
     return fig, table
 
 
-def plot_lambda_fit(result: Any, path: Path, options: FigureOptions | None = None) -> Path:
-    """Stage 5: the misfit of the coarse lambda scan and the fitted value."""
-    return publish(*draw_lambda_fit(result), path, figure_options(result, options))
-
-
 def draw_lambda_residuals(result: Any) -> tuple[Figure, FigureTable]:
     """Stage 5: measured minus fitted A_r against F_x, one panel per load (fitted points)."""
     lam = result.mode_mixity
@@ -434,11 +402,6 @@ def draw_lambda_residuals(result: Any) -> tuple[Figure, FigureTable]:
     return fig, table
 
 
-def plot_lambda_residuals(result: Any, path: Path, options: FigureOptions | None = None) -> Path:
-    """Stage 5: measured minus fitted A_r against F_x, one panel per load (fitted points)."""
-    return publish(*draw_lambda_residuals(result), path, figure_options(result, options))
-
-
 def draw_shear(result: Any) -> tuple[Figure, FigureTable]:
     """Fig 4 at the heaviest load, drawn by the one Fig-4 plotter, statmodel.draw_shear_curve."""
     from asperity.pipelines.friction_stage import CURVE_FIELDS
@@ -455,11 +418,6 @@ def draw_shear(result: Any) -> tuple[Figure, FigureTable]:
         {f"{name} ({CURVE_FIELDS[name]})": values for name, values in arrays.items()},
     )
     return fig, table
-
-
-def plot_shear(result: Any, path: Path, options: FigureOptions | None = None) -> Path:
-    """Fig 4 at the heaviest load, drawn by the one Fig-4 plotter, statmodel.draw_shear_curve."""
-    return publish(*draw_shear(result), path, figure_options(result, options))
 
 
 def _model_at_measured(lam: Any, a_n: float, table: FigureTable, x_col: str, y_col: str) -> None:
@@ -513,11 +471,6 @@ def draw_area_vs_force(result: Any) -> tuple[Figure, FigureTable]:
     return fig, table
 
 
-def plot_area_vs_force(result: Any, path: Path, options: FigureOptions | None = None) -> Path:
-    """Fig 13: A_r/A_n against F_x at each load, measured curves, and tau0 A_r."""
-    return publish(*draw_area_vs_force(result), path, figure_options(result, options))
-
-
 def draw_friction_vs_load(result: Any) -> tuple[Figure, FigureTable]:
     """Static and sliding friction against normal load."""
     fr = result.friction
@@ -538,11 +491,6 @@ def draw_friction_vs_load(result: Any) -> tuple[Figure, FigureTable]:
     ax.set_ylabel(yu.label("friction force"))
     ax.legend(fontsize=8)
     return fig, table
-
-
-def plot_friction_vs_load(result: Any, path: Path, options: FigureOptions | None = None) -> Path:
-    """Static and sliding friction against normal load."""
-    return publish(*draw_friction_vs_load(result), path, figure_options(result, options))
 
 
 def draw_psd(result: Any) -> tuple[Figure, FigureTable]:
@@ -597,11 +545,6 @@ def draw_psd(result: Any) -> tuple[Figure, FigureTable]:
     ax.set_ylabel(cu.label("PSD $C(q)$"))
     ax.legend(fontsize=7)
     return fig, table
-
-
-def plot_psd(result: Any, path: Path, options: FigureOptions | None = None) -> Path:
-    """Stage 7: the radially averaged PSD, its fits and the resolution marks."""
-    return publish(*draw_psd(result), path, figure_options(result, options))
 
 
 #: Figure name -> (file stem, drawing function, whether the result has it).
@@ -810,6 +753,41 @@ def _source(result: Any) -> str:
     return config.source if config is not None else getattr(result, "source", "results.h5")
 
 
+#: Figure name -> caption in report.md and report.html.
+CAPTIONS: dict[str, str] = {
+    "surface": "Stage 1: levelled surface.",
+    "resolution": "Fig 12: summit statistics against resolution (a-c) and A_r/A_n against "
+    "F_z (d). Persson's theory (dash-dot) is non-adhesive: a lower bound.",
+    "misfit": "Stage 4: misfit of the statistical model against resolution.",
+    "bem_grid": "Stage 3: BEM grid refinement (A_r/A_n and its error against the finest "
+    "grid solved) and contact at the largest load.",
+    "lambda_fit": "Stage 5: lambda fit.",
+    "lambda_residuals": "Stage 5: measured minus fitted A_r at each load (the points "
+    "fitted: trimmed after the first static peak, repeated points merged).",
+    "shear": "Fig 4: shear response at the heaviest load, with stick and slip parts.",
+    "area_vs_force": "Fig 13: A_r/A_n against F_x (dashed: model; dotted: constant shear "
+    "strength).",
+    "friction_vs_load": "Static and sliding friction against normal load.",
+    "psd": "Stage 7: radially averaged PSD with the roll-off, the power-law (Hurst) fit and "
+    "the Nyquist wavenumbers of the map and of the effective resolution.",
+}
+
+
+def refusals_section(result: Any) -> list[str]:
+    """Markdown lines listing the resolutions where the statistical model gave no value."""
+    messages = list(getattr(result.resolution, "messages", None) or [])
+    if not messages:
+        return []
+    return [
+        "## Statistical model refusals",
+        "",
+        "No value at these resolutions (NaN in `results.h5`, group `statistical_model`):",
+        "",
+        *(f"- {m}" for m in messages),
+        "",
+    ]
+
+
 def write_report(result: Any, out_dir: str | Path, options: FigureOptions | None = None) -> Path:
     """Write the figures, ``report.md`` and ``report.html`` (key numbers, per-load table,
     figures); ``options`` (formats, dpi) default to the job's ``[report]`` section."""
@@ -850,6 +828,7 @@ def write_report(result: Any, out_dir: str | Path, options: FigureOptions | None
         if not result.resolution.validity
         else "\n".join(f"- **Warning:** {note}" for note in result.resolution.validity),
         "",
+        *refusals_section(result),
         "## Convergence",
         "",
         "All solvers converged."
@@ -863,24 +842,7 @@ def write_report(result: Any, out_dir: str | Path, options: FigureOptions | None
         "## Figures",
         "",
     ]
-    captions = {
-        "surface": "Stage 1: levelled surface.",
-        "resolution": "Fig 12: summit statistics against resolution (a-c) and A_r/A_n against "
-        "F_z (d).",
-        "misfit": "Stage 4: misfit of the statistical model against resolution.",
-        "bem_grid": "Stage 3: BEM grid refinement (A_r/A_n and its error against the finest "
-        "grid solved) and contact at the largest load.",
-        "lambda_fit": "Stage 5: lambda fit.",
-        "lambda_residuals": "Stage 5: measured minus fitted A_r at each load (the points "
-        "fitted: trimmed after the first static peak, repeated points merged).",
-        "shear": "Fig 4: shear response at the heaviest load, with stick and slip parts.",
-        "area_vs_force": "Fig 13: A_r/A_n against F_x (dashed: model; dotted: constant shear "
-        "strength).",
-        "friction_vs_load": "Static and sliding friction against normal load.",
-        "psd": "Stage 7: radially averaged PSD with the roll-off, the power-law (Hurst) fit and "
-        "the Nyquist wavenumbers of the map and of the effective resolution.",
-    }
-    captions["resolution"] += " Persson's theory (dash-dot) is non-adhesive: a lower bound."
+    captions = dict(CAPTIONS)
     for name, path in figures.items():
         text += [f"![{captions[name]}]({path.name})", "", f"*{captions[name]}*", ""]
     report = out_dir / "report.md"

@@ -333,6 +333,7 @@ def statistical_model_scan(
             "resolution of the scan, got none: " + "; ".join(messages[:3])
         )
     index = int(np.nanargmin(np.where(np.isfinite(curve), curve, np.nan)))
+    pull_off, pull_off_refusals = pull_off_forces(material, scan, nominal_area)
     best = roughness[index]
     mu = _quiet_tabor_parameter(best, material)
     validity = validity_notes(area[index] / nominal_area, mu)
@@ -345,7 +346,7 @@ def statistical_model_scan(
         real_area=area,
         real_area_fraction=area / nominal_area,
         misfit_bem=misfit_bem,
-        pull_off=pull_off_forces(material, scan, nominal_area),
+        pull_off=pull_off,
         basis=basis,
         effective_index=index,
         effective_stride=int(scan.stride[index]),
@@ -355,7 +356,7 @@ def statistical_model_scan(
         summit_height_rms=best.summit_height_rms,
         tabor_parameter=mu,
         nominal_area=float(nominal_area),
-        messages=messages,
+        messages=messages + pull_off_refusals,
         validity=validity,
         measured_normal_load=None if measured is None else measured.normal_load,
         measured_real_area=None if measured is None else measured.real_area,
