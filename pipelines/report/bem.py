@@ -13,7 +13,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.ticker import LogLocator, NullFormatter, ScalarFormatter
 
-from asperity.pipelines.bem_grid import EDGE_MISMATCH_LIMIT
+from asperity.pipelines.stages._bem_grid import EDGE_MISMATCH_LIMIT
 from asperity.plotting import display_unit, new_figure
 
 _MODES = ("non-adhesive", "adhesive")

@@ -2,7 +2,7 @@
 ``report.html`` and the one-screen terminal summary.
 
 The data behind every figure is in ``results.h5`` (same names as the stage records) and, as
-plotted, in ``<figure>.csv`` beside it (:mod:`pipelines.figure_output`: one tidy table per
+plotted, in ``<figure>.csv`` beside it (:mod:`pipelines.report.figure_output`: one tidy table per
 figure, SI values, units in the column headers). Units on the axes are SI-prefixed from the
 data (:func:`asperity.plotting.display_unit`); an axis whose data span a decade or more is
 logarithmic. Formats and dpi come from ``[report]`` (``formats = ["png", "svg", "pdf"]``,
@@ -41,9 +41,9 @@ from matplotlib import colormaps
 from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
-from asperity.pipelines.bem_report import bem_grid_figure, bem_section
-from asperity.pipelines.figure_output import FigureOptions, FigureTable, publish
-from asperity.pipelines.verdict import mark, verdict_lines, verdict_markdown
+from asperity.pipelines.report.bem import bem_grid_figure, bem_section
+from asperity.pipelines.report.figure_output import FigureOptions, FigureTable, publish
+from asperity.pipelines.stages.verdict import mark, verdict_lines, verdict_markdown
 from asperity.plotting import DisplayUnit, display_unit, new_figure
 from asperity.statmodel.figures import draw_shear_curve
 
@@ -404,7 +404,7 @@ def draw_lambda_residuals(result: Any) -> tuple[Figure, FigureTable]:
 
 def draw_shear(result: Any) -> tuple[Figure, FigureTable]:
     """Fig 4 at the heaviest load, drawn by the one Fig-4 plotter, statmodel.draw_shear_curve."""
-    from asperity.pipelines.friction_stage import CURVE_FIELDS
+    from asperity.pipelines.stages.friction import CURVE_FIELDS
 
     fr = result.friction
     i = int(np.argmax(fr.normal_load))
@@ -791,7 +791,7 @@ def refusals_section(result: Any) -> list[str]:
 def write_report(result: Any, out_dir: str | Path, options: FigureOptions | None = None) -> Path:
     """Write the figures, ``report.md`` and ``report.html`` (key numbers, per-load table,
     figures); ``options`` (formats, dpi) default to the job's ``[report]`` section."""
-    from asperity.pipelines.html_report import write_html
+    from asperity.pipelines.report.html import write_html
 
     out_dir = Path(out_dir)
     figures = write_figures(result, out_dir, options)

@@ -1,7 +1,7 @@
 """Typed stage results: how each field is stored, declared once as dataclass field metadata.
 
 A stage result is a dataclass whose fields say their unit and, for arrays, their named
-dimensions; :mod:`pipelines.store` writes and reads every such dataclass with one generic
+dimensions; :mod:`pipelines.engine.store` writes and reads every such dataclass with one generic
 routine, and :func:`checksum` fingerprints it. Three declarations cover every field:
 
 * :func:`array` (``metadata={"units": "m^2", "dims": ("normal_load",)}``): an HDF5 dataset with
@@ -156,10 +156,10 @@ def _kind(name: str, python_type: Any, metadata: Any) -> str:
         return "array"
     if python_type in (float, int, bool):
         if "units" not in metadata:
-            raise TypeError(f"field {name!r}: a number needs its units (pipelines.fields.scalar)")
+            raise TypeError(f"field {name!r}: a number needs its units (asperity.fields.scalar)")
         return "number"
     if python_type is np.ndarray:
-        raise TypeError(f"field {name!r}: an array needs units and dims (pipelines.fields.array)")
+        raise TypeError(f"field {name!r}: an array needs units and dims (asperity.fields.array)")
     return "string" if python_type is str else "json"
 
 

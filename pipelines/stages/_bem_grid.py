@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from asperity import bem, topo
-from asperity.pipelines.bem_solves import (
+from asperity.pipelines.stages._bem_solves import (
     SolveSummary,
     solve_adhesive_loading,
     solve_plain,

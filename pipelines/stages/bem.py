@@ -4,12 +4,12 @@ The map covers only part of the experiment's nominal area A_n, so each normal lo
 to the map at equal nominal pressure, F_map = F_z A_map / A_n, and the result is reported as
 the fraction A_r / A_map (equal to A_r / A_n of the experiment). Non-adhesive and adhesive
 (Pohrt-Popov, eq:max_sigma) solves at every load; every adhesive number lies on the loading
-branch (:mod:`asperity.pipelines.bem_solves`).
+branch (:mod:`asperity.pipelines.stages._bem_solves`).
 
 The boundary condition (``[bem] boundary``) and the grid (``max_stride``, ``area_tolerance``,
-``coarsen``) are chosen and stated as :mod:`asperity.pipelines.bem_grid` explains. Nothing is
-solved twice: the grid check's solve at the chosen stride is the sweep's solve at the check
-load, and the other loads are solved in two chains outwards from it (in parallel with two
+``coarsen``) are chosen and stated as :mod:`asperity.pipelines.stages._bem_grid` explains.
+Nothing is solved twice: the grid check's solve at the chosen stride is the sweep's solve at the
+check load, and the other loads are solved in two chains outwards from it (in parallel with two
 workers; the map is shipped to each worker once).
 """
 
@@ -22,18 +22,18 @@ from dataclasses import dataclass
 import numpy as np
 
 from asperity import topo
-from asperity.pipelines.bem_grid import (
+from asperity.fields import array, scalar, text
+from asperity.pipelines.engine.parallel import run_map, share
+from asperity.pipelines.engine.stage import Stage, StageContext
+from asperity.pipelines.stages._bem_grid import (
     GridCheck,
     boundary_warning,
     check_grids,
     edge_mismatch,
     solver_grid,
 )
-from asperity.pipelines.bem_solves import SolveSummary, solve_chain
-from asperity.pipelines.fields import array, scalar, text
-from asperity.pipelines.parallel import run_map, share
-from asperity.pipelines.stages import Stage, StageContext
-from asperity.pipelines.surface_stage import SURFACE
+from asperity.pipelines.stages._bem_solves import SolveSummary, solve_chain
+from asperity.pipelines.stages.surface import SURFACE
 
 __all__ = ["BEM", "BemReference", "bem_reference", "compute_bem", "solver_grid"]
 
@@ -271,11 +271,11 @@ def bem_reference(
     tol, max_iter
         BEM solver settings (:func:`bem.solve_contact`).
     area_tolerance, max_stride, coarsen
-        The grid check (:func:`asperity.pipelines.bem_grid.check_grids`).
+        The grid check (:func:`asperity.pipelines.stages._bem_grid.check_grids`).
     adhesive : bool
         Run the adhesive solves too.
     boundary : {"periodic", "free"}
-        Boundary condition of every solve (:mod:`asperity.pipelines.bem_grid`).
+        Boundary condition of every solve (:mod:`asperity.pipelines.stages._bem_grid`).
     executor : Executor, optional
         Runs the two load chains in parallel.
     """
@@ -373,7 +373,8 @@ def compute_bem(context: StageContext) -> BemReference:
 
 BEM = Stage(
     name="bem_reference",
-    title="3 BEM reference",
+    title="BEM reference",
+    attribute="bem",
     result=BemReference,
     config=(
         "material.E_star",

@@ -46,12 +46,12 @@ from typing import Any
 import numpy as np
 
 from asperity.errors import ExitStatus
-from asperity.pipelines.bem_stage import BEM
-from asperity.pipelines.fields import text
-from asperity.pipelines.friction_stage import FRICTION, MODE_MIXITY
-from asperity.pipelines.resolution_stage import STATISTICAL_MODEL
-from asperity.pipelines.stages import Stage, StageContext
-from asperity.pipelines.surface_stage import SCAN, SURFACE
+from asperity.fields import text
+from asperity.pipelines.engine.stage import Stage, StageContext
+from asperity.pipelines.stages.bem import BEM
+from asperity.pipelines.stages.friction import FRICTION, MODE_MIXITY
+from asperity.pipelines.stages.statistical_model import STATISTICAL_MODEL
+from asperity.pipelines.stages.surface import SCAN, SURFACE
 
 #: A_r/A_n above which an independent-asperity model cannot mean anything (junctions merge).
 MAX_AREA_FRACTION = 0.15
@@ -437,7 +437,8 @@ def mark(value: str, verdict: Verdict | None) -> str:
 
 VERDICT = Stage(
     name="verdict",
-    title="8 validity verdict",
+    title="validity verdict",
+    attribute="verdict",
     result=Verdict,
     config=("measured", "loading.normal_loads", "loading.nominal_area"),
     inputs=(SURFACE, SCAN, BEM, STATISTICAL_MODEL, MODE_MIXITY, FRICTION),

@@ -15,14 +15,14 @@ Layout of ``results.h5``::
 Each group is a self-contained netCDF-4-like dataset: ``xarray.open_dataset(path,
 group=stage, engine="h5netcdf")`` opens it with named dimensions and units. Booleans are HDF5
 booleans. What goes in a group is the stage's result dataclass, field by field, as its
-metadata declares (:mod:`pipelines.fields`); the same declaration reads it back.
+metadata declares (:mod:`asperity.fields`); the same declaration reads it back.
 
 Crash safety: every write builds the new file in memory (the current file, the new group, the
 file's provenance, stale groups dropped), writes those bytes to ``.results.h5.<pid>.tmp`` in the
 same directory, flushes it to disk and renames it over ``results.h5`` (:func:`os.replace` is
 atomic on POSIX), so an interruption leaves either the old file or the new one, never a
 half-written one, and the provenance always describes the stages beside it. libhdf5 itself never
-writes to disk, so a full disk is one clean :class:`pipelines.outdir.OutputWriteError` (exit
+writes to disk, so a full disk is one clean :class:`pipelines.engine.outdir.OutputWriteError` (exit
 status 2), the previous file intact and the temporary removed, instead of an h5py error and a
 crash of libhdf5 at exit. The file is held in memory while it is written (its size: the
 stage arrays, compressed above 4096 elements).
@@ -44,8 +44,8 @@ from typing import Any, TypeVar
 import h5py
 import numpy as np
 
-from asperity.pipelines.fields import FieldSpec, canonical, checksum, field_specs
-from asperity.pipelines.outdir import write_error
+from asperity.fields import FieldSpec, canonical, checksum, field_specs
+from asperity.pipelines.engine.outdir import write_error
 
 R = TypeVar("R")
 

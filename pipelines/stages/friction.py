@@ -1,7 +1,7 @@
 """Stages 5 and 6: calibrate lambda on measured A_r(F_x), then predict friction at each load.
 
 Stage 5 (:func:`calibrate_mode_mixity`) fits the mode mixity lambda to the user's measured
-A_r(F_x) curves with :func:`pipelines.fitting.fit_mode_mixity` (Section 5, Fig 13); without
+A_r(F_x) curves with :func:`pipelines.stages.fitting.fit_mode_mixity` (Section 5, Fig 13); without
 measurements the configured lambda is used.
 
 Stage 6 (:func:`friction_prediction`) runs :func:`statmodel.shear_curve` at every normal load:
@@ -34,12 +34,12 @@ from typing import Any
 import numpy as np
 
 from asperity import statmodel
-from asperity.pipelines.fields import array, scalar, text
-from asperity.pipelines.fitting import LambdaFit, fit_mode_mixity, interpolate_area
+from asperity.fields import array, scalar, text
+from asperity.pipelines.engine.parallel import run_map
+from asperity.pipelines.engine.stage import Stage, StageContext
 from asperity.pipelines.measured import ShearAreaCurve
-from asperity.pipelines.parallel import run_map
-from asperity.pipelines.resolution_stage import STATISTICAL_MODEL
-from asperity.pipelines.stages import Stage, StageContext
+from asperity.pipelines.stages.fitting import LambdaFit, fit_mode_mixity, interpolate_area
+from asperity.pipelines.stages.statistical_model import STATISTICAL_MODEL
 from asperity.statmodel.results_io import ARRAY_UNITS, SCALAR_UNITS
 
 #: Per-step arrays and per-load scalars of :class:`statmodel.ShearCurve` kept by stage 6, with
@@ -475,7 +475,7 @@ def calibrate_mode_mixity(
     executor : Executor, optional
         Evaluates the loads in parallel.
     mode, trim
-        Fit mode and trimming of :func:`pipelines.fitting.fit_mode_mixity`.
+        Fit mode and trimming of :func:`pipelines.stages.fitting.fit_mode_mixity`.
     """
     if not curves:
         return ModeMixityChoice(mode_mixity=material.mode_mixity, fitted=False)
@@ -708,7 +708,8 @@ def compute_friction(context: StageContext) -> FrictionPrediction:
 
 MODE_MIXITY = Stage(
     name="mode_mixity",
-    title="5 lambda",
+    title="lambda",
+    attribute="mode_mixity",
     result=ModeMixityChoice,
     config=(
         "material",
@@ -724,7 +725,8 @@ MODE_MIXITY = Stage(
 
 FRICTION = Stage(
     name="friction",
-    title="6 friction prediction",
+    title="friction prediction",
+    attribute="friction",
     result=FrictionPrediction,
     config=("material", "loading", "statmodel"),
     inputs=(STATISTICAL_MODEL, MODE_MIXITY),

@@ -22,14 +22,14 @@ import numpy as np
 
 from asperity import statmodel
 from asperity.errors import InputError
-from asperity.pipelines.bem_stage import BEM, BemReference
+from asperity.fields import array, scalar, text
 from asperity.pipelines.config import ConfigError
-from asperity.pipelines.fields import array, scalar, text
+from asperity.pipelines.engine.parallel import run_map
+from asperity.pipelines.engine.stage import Stage, StageContext
 from asperity.pipelines.measured import NormalAreaCurve
-from asperity.pipelines.parallel import run_map
-from asperity.pipelines.pull_off import has_summits, pull_off_forces, roughness_from_scan
-from asperity.pipelines.stages import Stage, StageContext
-from asperity.pipelines.surface_stage import SCAN, ScanResult
+from asperity.pipelines.stages._pull_off import has_summits, pull_off_forces, roughness_from_scan
+from asperity.pipelines.stages.bem import BEM, BemReference
+from asperity.pipelines.stages.surface import SCAN, ScanResult
 
 #: Above this A_r/A_n the asperities of the statistical model would overlap: independent
 #: asperities (the Greenwood-Williamson / Fuller-Tabor picture) are no longer a fair model.
@@ -369,7 +369,7 @@ def compute_statistical_model(context: StageContext) -> ResolutionChoice:
     """Stage 4 of the job: :func:`statistical_model_scan` against the BEM and/or measurement.
 
     Its :class:`ModelValidityWarning` is not raised here: the notes stay in ``validity`` and
-    the job's verdict (:mod:`pipelines.verdict`) reports them as lines, not as a traceback.
+    the job's verdict (:mod:`pipelines.stages.verdict`) reports them as lines, not as a traceback.
     """
     config = context.config
     with warnings.catch_warnings():
@@ -377,10 +377,28 @@ def compute_statistical_model(context: StageContext) -> ResolutionChoice:
         return _statistical_model_of_job(context, config)
 
 
+def normal_contact_material(material: Any) -> statmodel.Material:
+    """The :class:`statmodel.Material` of the normal-contact model, from the keys it reads.
+
+    The preload (E:Fy_Greenwood with the JKR asperity laws, E:JKR_load) and the Tabor
+    parameter depend on E* (Pa), w (J/m^2) and epsilon (m) only; lambda and tau0 (Pa) act under
+    shear alone. They are set to 0 here, a value no normal-contact formula reads (a test holds
+    the areas and pull-off forces unchanged for other values), so that this stage declares,
+    and is keyed by, the three it uses.
+    """
+    return statmodel.Material(
+        e_star=material.e_star,
+        work_of_adhesion=material.work_of_adhesion,
+        equilibrium_distance=material.equilibrium_distance,
+        mode_mixity=0.0,
+        shear_strength=0.0,
+    )
+
+
 def _statistical_model_of_job(context: StageContext, config: Any) -> ResolutionChoice:
     return statistical_model_scan(
         context.result(SCAN),
-        config.material,
+        normal_contact_material(config.material),
         config.loading.nominal_area,
         config.loading.normal_loads,
         bem=context.result(BEM),
@@ -392,7 +410,8 @@ def _statistical_model_of_job(context: StageContext, config: Any) -> ResolutionC
 
 STATISTICAL_MODEL = Stage(
     name="statistical_model",
-    title="4 statistical model / resolution",
+    title="statistical model / resolution",
+    attribute="resolution",
     result=ResolutionChoice,
     config=(
         "material.E_star",

@@ -22,10 +22,10 @@ import numpy as np
 
 from asperity import topo
 from asperity.errors import InputError
+from asperity.fields import array, scalar, text
 from asperity.pipelines.config import ConfigError, SurfaceConfig
-from asperity.pipelines.fields import array, scalar, text
-from asperity.pipelines.pull_off import check_loads_above_pull_off
-from asperity.pipelines.stages import Stage, StageContext
+from asperity.pipelines.engine.stage import Stage, StageContext
+from asperity.pipelines.stages._pull_off import check_loads_above_pull_off
 
 #: Fewest pixels per side kept by the coarsest resolution of the scan.
 MIN_SCAN_PIXELS = 16
@@ -307,7 +307,8 @@ def check_scan_loads(context: StageContext, scan: ScanResult) -> None:
 
 SURFACE = Stage(
     name="surface",
-    title="1 read and level",
+    title="read and level",
+    attribute="surface",
     result=LevelledSurface,
     config=(
         "surface.file",
@@ -328,7 +329,8 @@ SURFACE = Stage(
 
 SCAN = Stage(
     name="resolution_scan",
-    title="2 resolution scan",
+    title="resolution scan",
+    attribute="scan",
     result=ScanResult,
     config=("surface.max_stride",),
     inputs=(SURFACE,),

@@ -22,10 +22,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from asperity import topo
-from asperity.pipelines.fields import array, scalar, text
-from asperity.pipelines.resolution_stage import STATISTICAL_MODEL, ResolutionChoice
-from asperity.pipelines.stages import Stage, StageContext
-from asperity.pipelines.surface_stage import SURFACE, LevelledSurface
+from asperity.fields import array, scalar, text
+from asperity.pipelines.engine.stage import Stage, StageContext
+from asperity.pipelines.stages.statistical_model import STATISTICAL_MODEL, ResolutionChoice
+from asperity.pipelines.stages.surface import SURFACE, LevelledSurface
 
 #: Log-spaced bins of the power-law fit of the PSD (equal weight per decade).
 FIT_BINS = 40
@@ -190,7 +190,8 @@ def compute_psd(context: StageContext) -> PsdResult:
 
 PSD = Stage(
     name="psd",
-    title="7 PSD and Persson's theory",
+    title="PSD and Persson's theory",
+    attribute="psd",
     result=PsdResult,
     config=("material.E_star", "loading.nominal_area", "loading.normal_loads"),
     inputs=(SURFACE, STATISTICAL_MODEL),

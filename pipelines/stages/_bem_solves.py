@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 
 from asperity import bem
-from asperity.pipelines.parallel import worker_threads
+from asperity.pipelines.engine.parallel import worker_threads
 
 
 @dataclass(frozen=True)
