@@ -23,6 +23,7 @@ import numpy as np
 
 from asperity import topo
 from asperity.fields import array, scalar, text
+from asperity.pipelines.config import BemConfig
 from asperity.pipelines.engine.parallel import run_map, share
 from asperity.pipelines.engine.stage import Stage, StageContext
 from asperity.pipelines.stages._bem_grid import (
@@ -237,6 +238,20 @@ def _messages(loads: np.ndarray, solves: list[list[SolveSummary]]) -> list[str]:
     ]
 
 
+#: The ``[bem]`` keys the BEM reference reads: the keyword arguments of :func:`bem_reference`,
+#: the keys the stage declares and passes (``bem.enabled`` only switches the stage on or off).
+SETTINGS: tuple[str, ...] = (
+    "tol",
+    "max_iter",
+    "area_tolerance",
+    "max_stride",
+    "adhesive",
+    "boundary",
+    "coarsen",
+)
+_DEFAULTS = BemConfig()
+
+
 def bem_reference(
     surface: topo.HeightMap,
     e_star: float,
@@ -244,13 +259,13 @@ def bem_reference(
     normal_loads: Sequence[float],
     nominal_area: float,
     *,
-    tol: float = 1e-6,
-    max_iter: int | None = None,
-    area_tolerance: float = 0.05,
-    max_stride: int = 4,
-    adhesive: bool = True,
-    boundary: str = "periodic",
-    coarsen: bool = True,
+    tol: float = _DEFAULTS.tol,
+    max_iter: int | None = _DEFAULTS.max_iter,
+    area_tolerance: float = _DEFAULTS.area_tolerance,
+    max_stride: int = _DEFAULTS.max_stride,
+    adhesive: bool = _DEFAULTS.adhesive,
+    boundary: str = _DEFAULTS.boundary,
+    coarsen: bool = _DEFAULTS.coarsen,
     executor: Executor | None = None,
     progress: bool = False,
 ) -> BemReference:
@@ -268,14 +283,14 @@ def bem_reference(
         Experiment loads F_z, N (on the nominal area).
     nominal_area : float
         A_n of the experiment, m^2.
-    tol, max_iter
-        BEM solver settings (:func:`bem.solve_contact`).
-    area_tolerance, max_stride, coarsen
-        The grid check (:func:`asperity.pipelines.stages._bem_grid.check_grids`).
-    adhesive : bool
-        Run the adhesive solves too.
-    boundary : {"periodic", "free"}
-        Boundary condition of every solve (:mod:`asperity.pipelines.stages._bem_grid`).
+    tol, max_iter, area_tolerance, max_stride, adhesive, boundary, coarsen
+        The ``[bem]`` keys of :data:`SETTINGS`, defaults from
+        :class:`~asperity.pipelines.config.BemConfig`. ``tol`` and ``max_iter`` are the
+        solver's (:func:`bem.solve_contact`).
+        ``area_tolerance``, ``max_stride`` and ``coarsen`` set the grid check
+        (:func:`asperity.pipelines.stages._bem_grid.check_grids`); ``adhesive`` runs the
+        adhesive solves too; ``boundary`` ("periodic" or "free") is every solve's
+        (:mod:`asperity.pipelines.stages._bem_grid`).
     executor : Executor, optional
         Runs the two load chains in parallel.
     """
@@ -352,20 +367,14 @@ def bem_reference(
 
 def compute_bem(context: StageContext) -> BemReference:
     """Stage 3 of the job: :func:`bem_reference` with ``[bem]``, the material and the loads."""
-    config, b = context.config, context.config.bem
+    config = context.config
     return bem_reference(
         context.result(SURFACE).height_map(),
         config.material.e_star,
         config.material.work_of_adhesion,
         config.loading.normal_loads,
         config.loading.nominal_area,
-        tol=b.tol,
-        max_iter=b.max_iter,
-        area_tolerance=b.area_tolerance,
-        max_stride=b.max_stride,
-        adhesive=b.adhesive,
-        boundary=b.boundary,
-        coarsen=b.coarsen,
+        **{name: getattr(config.bem, name) for name in SETTINGS},
         executor=context.executor,
         progress=context.progress,
     )
@@ -381,7 +390,7 @@ BEM = Stage(
         "material.work_of_adhesion",
         "loading.nominal_area",
         "loading.normal_loads",
-        "bem",
+        *(f"bem.{name}" for name in SETTINGS),
     ),
     inputs=(SURFACE,),
     compute=compute_bem,
