@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from asperity.errors import InputError
+from asperity.fields import array, document_fields, scalar, text
 
 
 def _as_float_array(values: object, ndim: int, what: str) -> np.ndarray:
@@ -43,6 +44,7 @@ def _check_spacing(value: object, name: str) -> float:
     return spacing
 
 
+@document_fields
 @dataclass(frozen=True, eq=False)
 class HeightMap:
     """A height map on a regular grid.
@@ -61,11 +63,13 @@ class HeightMap:
         Where the map came from: file, format, instrument, channel, units seen, ...
     """
 
-    heights: np.ndarray
-    dx: float
-    dy: float
-    periodic: bool = False
-    provenance: dict = field(default_factory=dict, compare=False)
+    heights: np.ndarray = array(
+        "m", ("x", "y"), "surface heights (larger = closer to the flat, NaN = missing)"
+    )
+    dx: float = scalar("m", "pixel size along x (axis 0)")
+    dy: float = scalar("m", "pixel size along y (axis 1)")
+    periodic: bool = scalar("1", "the map is one period of the surface", default=False)
+    provenance: dict = text("where the map came from", default_factory=dict, compare=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "heights", _as_float_array(self.heights, 2, "HeightMap.heights"))

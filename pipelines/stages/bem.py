@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from asperity import topo
-from asperity.fields import array, scalar, text
+from asperity.fields import array, document_fields, scalar, text
 from asperity.pipelines.config import BemConfig
 from asperity.pipelines.engine.parallel import run_map, share
 from asperity.pipelines.engine.stage import Stage, StageContext
@@ -39,6 +39,7 @@ from asperity.pipelines.stages.surface import SURFACE
 __all__ = ["BEM", "BemReference", "bem_reference", "compute_bem", "solver_grid"]
 
 
+@document_fields
 @dataclass
 class BemReference:
     """Stage-3 result: the BEM A_r(F_z) reference on the map, and the grid check behind it.

@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 
 from asperity import statmodel
-from asperity.fields import array, scalar, text
+from asperity.fields import array, document_fields, scalar, stacked, text
 from asperity.pipelines.engine.parallel import run_map
 from asperity.pipelines.engine.stage import Stage, StageContext
 from asperity.pipelines.measured import ShearAreaCurve
@@ -291,6 +291,7 @@ def choose_quadrature(
     )
 
 
+@document_fields
 @dataclass
 class ModeMixityChoice:
     """Stage-5 result: the lambda used downstream and, when fitted, the fit and its data.
@@ -501,13 +502,17 @@ def calibrate_mode_mixity(
     return choice
 
 
+@document_fields
 @dataclass
+@stacked(statmodel.ShearCurve, (*CURVE_FIELDS, *CURVE_SCALARS), "normal_load", after="normal_load")
 class FrictionPrediction:
     """Stage-6 result: the shear curve (:class:`statmodel.ShearCurve`) at every normal load.
 
     Every per-step array of a shear curve has shape (n_load, steps) and every per-curve
-    scalar shape (n_load,), SI units as in :mod:`statmodel.results_io` (the ``asperity
-    friction`` output), with stick and slip parts (E:NewFormulation_Fy..Ar).
+    scalar shape (n_load,), with the unit and description :class:`statmodel.ShearCurve`
+    declares (the fields of the ``asperity friction`` output,
+    :mod:`asperity.statmodel.results_io`; added by :func:`asperity.fields.stacked`), with
+    stick and slip parts (E:NewFormulation_Fy..Ar).
 
     Attributes
     ----------
@@ -534,39 +539,6 @@ class FrictionPrediction:
     """
 
     normal_load: np.ndarray = array("N", ("normal_load",), "normal load")
-    tangential_displacement: np.ndarray = array(
-        "m", ("normal_load", "step"), "tangential displacement delta_T"
-    )
-    tangential_force: np.ndarray = array("N", ("normal_load", "step"), "tangential force F_x")
-    normal_force: np.ndarray = array("N", ("normal_load", "step"), "normal force F_z")
-    real_area: np.ndarray = array("m^2", ("normal_load", "step"), "real contact area A_r")
-    n_contact: np.ndarray = array("1", ("normal_load", "step"), "asperities in contact")
-    n_stick: np.ndarray = array("1", ("normal_load", "step"), "sticking asperities")
-    n_slip: np.ndarray = array("1", ("normal_load", "step"), "sliding asperities")
-    separation: np.ndarray = array("m", ("normal_load", "step"), "separation d")
-    tangential_force_stick: np.ndarray = array(
-        "N", ("normal_load", "step"), "F_x of sticking asperities"
-    )
-    tangential_force_slip: np.ndarray = array(
-        "N", ("normal_load", "step"), "F_x of sliding asperities"
-    )
-    normal_force_stick: np.ndarray = array(
-        "N", ("normal_load", "step"), "F_z of sticking asperities"
-    )
-    normal_force_slip: np.ndarray = array("N", ("normal_load", "step"), "F_z of sliding asperities")
-    real_area_stick: np.ndarray = array(
-        "m^2", ("normal_load", "step"), "A_r of sticking asperities"
-    )
-    real_area_slip: np.ndarray = array("m^2", ("normal_load", "step"), "A_r of sliding asperities")
-    delta_1: np.ndarray = array("m", ("normal_load", "step"), "limit delta_1 (E:delta_1)")
-    delta_2: np.ndarray = array("m", ("normal_load", "step"), "limit delta_2 (E:delta_2)")
-    tabor_parameter: np.ndarray = array("1", ("normal_load",), "Tabor parameter mu")
-    separation_preload: np.ndarray = array("m", ("normal_load",), "separation at the preload")
-    static_friction: np.ndarray = array("N", ("normal_load",), "static friction (peak F_x)")
-    sliding_friction: np.ndarray = array("N", ("normal_load",), "sliding friction")
-    sliding_separation: np.ndarray = array("m", ("normal_load",), "separation at full sliding")
-    sliding_displacement: np.ndarray = array("m", ("normal_load",), "delta_T at full sliding")
-    pull_off_force: np.ndarray = array("N", ("normal_load",), "pull-off force")
     converged: np.ndarray = array("1", ("normal_load",), "shear curve converged")
     quadrature_relative_change: np.ndarray = array(
         "1", ("quadrature_setting",), "change of F_x, A_r to the next finer setting"

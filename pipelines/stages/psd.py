@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from asperity import topo
-from asperity.fields import array, scalar, text
+from asperity.fields import array, document_fields, scalar, text
 from asperity.pipelines.engine.stage import Stage, StageContext
 from asperity.pipelines.stages.statistical_model import STATISTICAL_MODEL, ResolutionChoice
 from asperity.pipelines.stages.surface import SURFACE, LevelledSurface
@@ -31,6 +31,7 @@ from asperity.pipelines.stages.surface import SURFACE, LevelledSurface
 FIT_BINS = 40
 
 
+@document_fields
 @dataclass
 class PsdResult:
     """Stage-7 result: PSD, roll-off, Hurst exponent and Persson's A_r(F_z) (SI).

@@ -22,7 +22,7 @@ import numpy as np
 
 from asperity import statmodel
 from asperity.errors import InputError
-from asperity.fields import array, scalar, text
+from asperity.fields import array, document_fields, scalar, text
 from asperity.pipelines.config import ConfigError
 from asperity.pipelines.engine.parallel import run_map
 from asperity.pipelines.engine.stage import Stage, StageContext
@@ -114,6 +114,7 @@ def log_misfit(model: np.ndarray, reference: np.ndarray) -> float:
     return float(np.sqrt(np.mean(np.log(model[ref_ok] / reference[ref_ok]) ** 2)))
 
 
+@document_fields
 @dataclass
 class ResolutionChoice:
     """Stage-4 result: the statistical model at every resolution and the effective one.

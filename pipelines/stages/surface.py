@@ -22,7 +22,7 @@ import numpy as np
 
 from asperity import topo
 from asperity.errors import InputError
-from asperity.fields import array, scalar, text
+from asperity.fields import array, document_fields, scalar, text
 from asperity.pipelines.config import ConfigError, SurfaceConfig
 from asperity.pipelines.engine.stage import Stage, StageContext
 from asperity.pipelines.stages._pull_off import check_loads_above_pull_off
@@ -142,6 +142,7 @@ def scan_resolutions(surface: topo.HeightMap, max_stride: int) -> topo.Resolutio
     return topo.resolution_scan(surface, usable_max_stride(surface, max_stride))
 
 
+@document_fields
 @dataclass
 class LevelledSurface:
     """Stage-1 result: the levelled height map (SI).
@@ -243,6 +244,7 @@ class LevelledSurface:
         return self.ny * self.dy
 
 
+@document_fields
 @dataclass
 class ScanResult:
     """Stage-2 result: summit statistics per decimation stride and the paper's fits (SI).

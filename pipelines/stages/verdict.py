@@ -46,7 +46,7 @@ from typing import Any
 import numpy as np
 
 from asperity.errors import ExitStatus
-from asperity.fields import text
+from asperity.fields import document_fields, text
 from asperity.pipelines.engine.stage import Stage, StageContext
 from asperity.pipelines.stages.bem import BEM
 from asperity.pipelines.stages.friction import FRICTION, MODE_MIXITY
@@ -89,6 +89,7 @@ class Reason:
     text: str
 
 
+@document_fields
 @dataclass
 class Verdict:
     """Stage-7 result: is the result one the report can stand behind?

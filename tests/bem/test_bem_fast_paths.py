@@ -1,4 +1,4 @@
-"""The fast paths of issue 10 give the answers of the reference paths on small grids.
+"""The fast paths of the paper-scale solver give the answers of the reference paths on small grids.
 
 * mixed precision (float32 transforms, then double) against double throughout: same contact
   set up to the elements at the tolerance, pressures within the tolerance;

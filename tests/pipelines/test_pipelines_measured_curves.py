@@ -1,4 +1,4 @@
-"""The lambda fit on data shaped like real measurements (issue 9): a level offset at F_x = 0,
+"""The lambda fit on data shaped like real measurements: a level offset at F_x = 0,
 stick-slip tails after the static peak, repeated points, areas in the wrong unit."""
 
 from __future__ import annotations
