@@ -39,7 +39,7 @@ try:
 except ModuleNotFoundError:  # pragma: no cover
     import tomli as tomllib
 
-#: asperity 0.1 on the full case (before the solver levers): total 461 s, BEM 438 s at stride 4 (8 um).
+#: asperity 0.1 on the full case, before the solver levers: 461 s, BEM 438 s at stride 4 (8 um).
 BEFORE = {"total": 461.0, "bem_reference": 438.0}
 
 #: One bare 5000^2 pyFFTW real convolution on the quiet machine of that measurement, s.
