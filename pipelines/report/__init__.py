@@ -10,22 +10,25 @@ logarithmic. Formats and dpi come from ``[report]`` (``formats = ["png", "svg", 
 
 Figures written in the output directory (stem; one file per format):
 
-* ``surface`` - stage 1: the levelled height map; colour limits at the 0.5th and 99.5th
-  percentiles of the heights (stated on the colour bar), so one spike does not set the scale.
-* ``fig12_resolution`` - stages 2-4: R, eta, sigma_s against resolution with the paper's
-  fits (Fig 12a-c; the effective resolution and the strides left out of the fits marked) and
-  A_r/A_n against F_z from the BEM, the statistical model, Persson's theory and the
-  measurement (Fig 12d).
-* ``fig12d_misfit`` - stage 4: misfit of the statistical model against resolution.
-* ``bem_grid`` - stage 3: the grid refinement check and the contact mask.
-* ``lambda_fit`` - stage 5 (when measured curves are given): misfit against lambda.
-* ``lambda_residuals`` - stage 5: measured minus fitted A_r against F_x, one panel per load.
-* ``fig4_shear`` - stage 6: F_z, contact counts, A_r and F_x against delta_T with their
+* ``surface`` - the read-and-level stage: the levelled height map; colour limits at the 0.5th
+  and 99.5th percentiles of the heights (stated on the colour bar), so one spike does not set
+  the scale.
+* ``fig12_resolution`` - the resolution-scan to statistical-model stages: R, eta, sigma_s against
+  resolution with the paper's fits (Fig 12a-c; the effective resolution and the strides left out of
+  the fits marked) and A_r/A_n against F_z from the BEM, the statistical model, Persson's theory and
+  the measurement (Fig 12d).
+* ``fig12d_misfit`` - the statistical-model stage: misfit of the statistical model against
+  resolution.
+* ``bem_grid`` - the BEM stage: the grid refinement check and the contact mask.
+* ``lambda_fit`` - the lambda stage (when measured curves are given): misfit against lambda.
+* ``lambda_residuals`` - the lambda stage: measured minus fitted A_r against F_x, one panel per
+  load.
+* ``fig4_shear`` - the friction stage: F_z, contact counts, A_r and F_x against delta_T with their
   stick and slip parts, at the heaviest load (Fig 4).
-* ``fig13_area_vs_force`` - stage 6: A_r/A_n against F_x at every load, the measured
+* ``fig13_area_vs_force`` - the friction stage: A_r/A_n against F_x at every load, the measured
   curves and the constant-shear-strength line F_x = tau0 A_r (Fig 13).
-* ``friction_vs_load`` - stage 6: static and sliding friction against F_z.
-* ``psd`` - stage 7: the radially averaged PSD, its roll-off and power-law (Hurst) fit, the
+* ``friction_vs_load`` - the friction stage: static and sliding friction against F_z.
+* ``psd`` - the PSD stage: the radially averaged PSD, its roll-off and power-law (Hurst) fit, the
   map's and the effective resolution's Nyquist wavenumbers (the paper's Section 5 argument).
 """
 
@@ -43,6 +46,7 @@ from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
 from asperity.pipelines.report.bem import bem_grid_figure, bem_section
 from asperity.pipelines.report.figure_output import FigureOptions, FigureTable, publish
+from asperity.pipelines.stages import stage_number
 from asperity.pipelines.stages.verdict import mark, verdict_lines, verdict_markdown
 from asperity.plotting import DisplayUnit, display_unit, new_figure
 from asperity.statmodel.figures import draw_shear_curve
@@ -99,7 +103,8 @@ def _auto_scale(ax: Any, x: Any, y: Any) -> None:
 
 
 def draw_surface(result: Any) -> tuple[Figure, FigureTable]:
-    """Stage 1: the levelled height map, robust colour limits (percentiles, stated)."""
+    """The read-and-level stage: the levelled height map, robust colour limits (percentiles,
+    stated)."""
     s = result.surface
     step = max(1, -(-max(s.nx, s.ny) // SURFACE_DRAWN_PIXELS))
     h = np.asarray(s.heights)[::step, ::step]
@@ -291,7 +296,7 @@ def draw_resolution(result: Any) -> tuple[Figure, FigureTable]:
 
 
 def draw_misfit(result: Any) -> tuple[Figure, FigureTable]:
-    """Stage 4: the misfit curve that chose the effective resolution."""
+    """The statistical-model stage: the misfit curve that chose the effective resolution."""
     res = result.resolution
     xu = display_unit(res.resolution, "m")
     fig = new_figure(6, 4)
@@ -318,7 +323,7 @@ def draw_misfit(result: Any) -> tuple[Figure, FigureTable]:
 
 
 def draw_bem_grid(result: Any) -> tuple[Figure, FigureTable]:
-    """Stage 3: the refinement curve, its error against the finest grid, the contact mask."""
+    """The BEM stage: the refinement curve, its error against the finest grid, the contact mask."""
     bem = result.bem
     table = FigureTable()
     pixel = np.asarray(bem.check_stride) * result.surface.dx
@@ -337,7 +342,7 @@ def draw_bem_grid(result: Any) -> tuple[Figure, FigureTable]:
 
 
 def draw_lambda_fit(result: Any) -> tuple[Figure, FigureTable]:
-    """Stage 5: the misfit of the coarse lambda scan and the fitted value."""
+    """The lambda stage: the misfit of the coarse lambda scan and the fitted value."""
     fit = result.mode_mixity.fit
     fig = new_figure(6, 4)
     ax = fig.subplots()
@@ -372,7 +377,8 @@ def draw_lambda_fit(result: Any) -> tuple[Figure, FigureTable]:
 
 
 def draw_lambda_residuals(result: Any) -> tuple[Figure, FigureTable]:
-    """Stage 5: measured minus fitted A_r against F_x, one panel per load (fitted points)."""
+    """The lambda stage: measured minus fitted A_r against F_x, one panel per load (fitted
+    points)."""
     lam = result.mode_mixity
     loads = np.unique(lam.fitted_normal_load)
     fig = new_figure(6, 2.2 * len(loads) + 0.6)
@@ -494,7 +500,8 @@ def draw_friction_vs_load(result: Any) -> tuple[Figure, FigureTable]:
 
 
 def draw_psd(result: Any) -> tuple[Figure, FigureTable]:
-    """Stage 7: the radial PSD with the roll-off, the Hurst fit and the Nyquist wavenumbers."""
+    """The PSD stage: the radial PSD with the roll-off, the Hurst fit and the Nyquist
+    wavenumbers."""
     psd = result.psd
     q, c = np.asarray(psd.wavenumber), np.asarray(psd.psd)
     qu = display_unit(q, "m", -1)
@@ -755,20 +762,22 @@ def _source(result: Any) -> str:
 
 #: Figure name -> caption in report.md and report.html.
 CAPTIONS: dict[str, str] = {
-    "surface": "Stage 1: levelled surface.",
+    "surface": f"Stage {stage_number('surface')}: levelled surface.",
     "resolution": "Fig 12: summit statistics against resolution (a-c) and A_r/A_n against "
     "F_z (d). Persson's theory (dash-dot) is non-adhesive: a lower bound.",
-    "misfit": "Stage 4: misfit of the statistical model against resolution.",
-    "bem_grid": "Stage 3: BEM grid refinement (A_r/A_n and its error against the finest "
-    "grid solved) and contact at the largest load.",
-    "lambda_fit": "Stage 5: lambda fit.",
-    "lambda_residuals": "Stage 5: measured minus fitted A_r at each load (the points "
-    "fitted: trimmed after the first static peak, repeated points merged).",
+    "misfit": f"Stage {stage_number('statistical_model')}: misfit of the statistical model "
+    "against resolution.",
+    "bem_grid": f"Stage {stage_number('bem_reference')}: BEM grid refinement (A_r/A_n and its "
+    "error against the finest grid solved) and contact at the largest load.",
+    "lambda_fit": f"Stage {stage_number('mode_mixity')}: lambda fit.",
+    "lambda_residuals": f"Stage {stage_number('mode_mixity')}: measured minus fitted A_r at each "
+    "load (the points fitted: trimmed after the first static peak, repeated points merged).",
     "shear": "Fig 4: shear response at the heaviest load, with stick and slip parts.",
     "area_vs_force": "Fig 13: A_r/A_n against F_x (dashed: model; dotted: constant shear "
     "strength).",
     "friction_vs_load": "Static and sliding friction against normal load.",
-    "psd": "Stage 7: radially averaged PSD with the roll-off, the power-law (Hurst) fit and "
+    "psd": f"Stage {stage_number('psd')}: radially averaged PSD with the roll-off, the power-law "
+    "(Hurst) fit and "
     "the Nyquist wavenumbers of the map and of the effective resolution.",
 }
 

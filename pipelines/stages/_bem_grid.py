@@ -1,4 +1,4 @@
-"""Stage 3's choices, stated: the boundary condition of the BEM and the grid it solves on.
+"""The BEM stage's choices, stated: the boundary condition of the BEM and the grid it solves on.
 
 Boundary (``[bem] boundary``)
     ``"periodic"`` (default): the map is one period of a periodic interface, as in the paper's

@@ -1,8 +1,8 @@
 """The statistical model's pull-off force over a resolution scan, and the check of the loads.
 
 Loads at or below the pull-off force have no equilibrium on the loading branch
-(E:Fy_Greenwood); the job refuses them right after the resolution scan (stage 2), before the
-BEM, naming ``loading.normal_loads``.
+(E:Fy_Greenwood); the job refuses them right after the resolution-scan stage, before the BEM,
+naming ``loading.normal_loads``.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Stage 3: the BEM reference A_r(F_z) on the map (Appendix B; squares of Fig 12d).
+"""The BEM stage: the BEM reference A_r(F_z) on the map (Appendix B; squares of Fig 12d).
 
 The map covers only part of the experiment's nominal area A_n, so each normal load is scaled
 to the map at equal nominal pressure, F_map = F_z A_map / A_n, and the result is reported as
@@ -270,7 +270,7 @@ def bem_reference(
     executor: Executor | None = None,
     progress: bool = False,
 ) -> BemReference:
-    """Stage 3: BEM real contact area against normal load on the map.
+    """The BEM stage: BEM real contact area against normal load on the map.
 
     Parameters
     ----------
@@ -367,7 +367,7 @@ def bem_reference(
 
 
 def compute_bem(context: StageContext) -> BemReference:
-    """Stage 3 of the job: :func:`bem_reference` with ``[bem]``, the material and the loads."""
+    """The job's BEM stage: :func:`bem_reference` with ``[bem]``, the material and the loads."""
     config = context.config
     return bem_reference(
         context.result(SURFACE).height_map(),

@@ -1,11 +1,12 @@
-"""Stages 5 and 6: calibrate lambda on measured A_r(F_x), then predict friction at each load.
+"""The lambda and friction stages: calibrate lambda on measured A_r(F_x), then predict friction at
+each load.
 
-Stage 5 (:func:`calibrate_mode_mixity`) fits the mode mixity lambda to the user's measured
+The lambda stage (:func:`calibrate_mode_mixity`) fits the mode mixity lambda to the user's measured
 A_r(F_x) curves with :func:`pipelines.stages.fitting.fit_mode_mixity` (Section 5, Fig 13); without
 measurements the configured lambda is used.
 
-Stage 6 (:func:`friction_prediction`) runs :func:`statmodel.shear_curve` at every normal load:
-F_x(delta_T), A_r(F_x) with their stick and slip parts (E:NewFormulation_Fy..Ar), static and
+The friction stage (:func:`friction_prediction`) runs :func:`statmodel.shear_curve` at every normal
+load: F_x(delta_T), A_r(F_x) with their stick and slip parts (E:NewFormulation_Fy..Ar), static and
 sliding friction (Figs 4, 13), and the constant-shear-strength line F_x = tau0 A_r of Fig 13.
 
 The shear path delta_T = 0..max is given, or found automatically ("auto"): a first curve on a
@@ -42,9 +43,9 @@ from asperity.pipelines.stages.fitting import LambdaFit, fit_mode_mixity, interp
 from asperity.pipelines.stages.statistical_model import STATISTICAL_MODEL
 from asperity.statmodel.results_io import ARRAY_UNITS, SCALAR_UNITS
 
-#: Per-step arrays and per-load scalars of :class:`statmodel.ShearCurve` kept by stage 6, with
-#: their units: the tables the ``asperity friction`` output uses, less ``normal_load``, which is
-#: the stage's dimension coordinate.
+#: Per-step arrays and per-load scalars of :class:`statmodel.ShearCurve` kept by the friction stage,
+#: with their units: the tables the ``asperity friction`` output uses, less ``normal_load``, which
+#: is the stage's dimension coordinate.
 CURVE_FIELDS: dict[str, str] = dict(ARRAY_UNITS)
 CURVE_SCALARS: dict[str, str] = {k: v for k, v in SCALAR_UNITS.items() if k != "normal_load"}
 
@@ -299,7 +300,7 @@ class ModeMixityChoice:
     Attributes
     ----------
     mode_mixity : float
-        lambda used by stage 6.
+        lambda used by the friction stage.
     fitted : bool
         Fitted to measured A_r(F_x) (else the configured value).
     lambda_grid, grid_residual_rms : ndarray or None
@@ -457,7 +458,7 @@ def calibrate_mode_mixity(
     mode: str = "shape",
     trim: bool = True,
 ) -> ModeMixityChoice:
-    """Stage 5: fit lambda to measured A_r(F_x) curves, or keep ``material.mode_mixity``.
+    """The lambda stage: fit lambda to measured A_r(F_x) curves, or keep ``material.mode_mixity``.
 
     Parameters
     ----------
@@ -580,7 +581,8 @@ def friction_prediction(
     executor: Executor | None = None,
     progress: bool = False,
 ) -> FrictionPrediction:
-    """Stage 6: F_x(delta_T), A_r(F_x) with stick/slip parts, static and sliding friction.
+    """The friction stage: F_x(delta_T), A_r(F_x) with stick/slip parts, static and sliding
+    friction.
 
     Parameters
     ----------
@@ -643,7 +645,7 @@ def friction_prediction(
 
 
 def compute_mode_mixity(context: StageContext) -> ModeMixityChoice:
-    """Stage 5 of the job: :func:`calibrate_mode_mixity` on the measured A_r(F_x) curves."""
+    """The job's lambda stage: :func:`calibrate_mode_mixity` on the measured A_r(F_x) curves."""
     config = context.config
     return calibrate_mode_mixity(
         config.material,
@@ -660,7 +662,7 @@ def compute_mode_mixity(context: StageContext) -> ModeMixityChoice:
 
 
 def compute_friction(context: StageContext) -> FrictionPrediction:
-    """Stage 6 of the job: :func:`friction_prediction` with the calibrated lambda."""
+    """The job's friction stage: :func:`friction_prediction` with the calibrated lambda."""
     config = context.config
     material = dataclasses.replace(
         config.material, mode_mixity=context.result(MODE_MIXITY).mode_mixity

@@ -1,4 +1,5 @@
-"""Stage 4: the statistical model at every resolution, and the effective resolution (Fig 12d).
+"""The statistical-model stage: the statistical model at every resolution, and the effective
+resolution (Fig 12d).
 
 For each stride of the resolution scan, the summit statistics (eta, R, sigma_s) feed
 :func:`statmodel.real_area_at_loads` (E:Ar_Greenwood with the load fixed by E:Fy_Greenwood) at
@@ -283,12 +284,13 @@ def statistical_model_scan(
     executor: Executor | None = None,
     progress: bool = False,
 ) -> ResolutionChoice:
-    """Stage 4: A_r(F_z) of the statistical model at every resolution; pick the best one.
+    """The statistical-model stage: A_r(F_z) of the statistical model at every resolution; pick the
+    best one.
 
     Parameters
     ----------
     scan : topo.ResolutionScan
-        Summit statistics per stride (stage 2).
+        Summit statistics per stride (the resolution-scan stage).
     material : statmodel.Material
         E* (Pa), w (J/m^2), ... (lambda plays no part at delta_T = 0).
     nominal_area : float
@@ -296,7 +298,7 @@ def statistical_model_scan(
     normal_loads : sequence of float
         F_z, N.
     bem : BemReference, optional
-        Stage 3 result; its A_r/A_n (adhesive when run) is a reference.
+        The BEM stage result; its A_r/A_n (adhesive when run) is a reference.
     measured : NormalAreaCurve, optional
         Measured A_r(F_z); when given it chooses the effective resolution.
     executor : Executor, optional
@@ -367,7 +369,8 @@ def statistical_model_scan(
 
 
 def compute_statistical_model(context: StageContext) -> ResolutionChoice:
-    """Stage 4 of the job: :func:`statistical_model_scan` against the BEM and/or measurement.
+    """The job's statistical-model stage: :func:`statistical_model_scan` against the BEM and/or
+    measurement.
 
     Its :class:`ModelValidityWarning` is not raised here: the notes stay in ``validity`` and
     the job's verdict (:mod:`pipelines.stages.verdict`) reports them as lines, not as a traceback.

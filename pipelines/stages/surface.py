@@ -1,12 +1,13 @@
-"""Stages 1 and 2: read and prepare the surface, then scan its summit statistics over resolution.
+"""The read-and-level and resolution-scan stages: read and prepare the surface, then scan its
+summit statistics over resolution.
 
-Stage 1 (:func:`read_and_level`) gives a prepared :class:`topo.HeightMap` from a file (any
-format :func:`topo.read_surface` reads) or from the seeded synthetic recipe, with
+The read-and-level stage (:func:`read_and_level`) gives a prepared :class:`topo.HeightMap` from
+a file (any format :func:`topo.read_surface` reads) or from the seeded synthetic recipe, with
 :func:`topo.prepare_surface`: crop, form removal (``detrend`` or ``form_order``), the outlier
 rule and the missing-pixel policy of ``[surface]``; the job stores it, with the preparation
 record, as a :class:`LevelledSurface`.
-Stage 2 (:func:`scan_resolutions`) runs :func:`topo.resolution_scan`: eta, R and sigma_s of the
-map decimated with strides 1..K (Appendix A, Fig 12a-c) and the paper's fits
+The resolution-scan stage (:func:`scan_resolutions`) runs :func:`topo.resolution_scan`: eta, R
+and sigma_s of the map decimated with strides 1..K (Appendix A, Fig 12a-c) and the paper's fits
 (:class:`ScanResult`).
 """
 
@@ -107,7 +108,8 @@ def prepare(config: SurfaceConfig) -> topo.PreparedSurface:
 
 
 def read_and_level(config: SurfaceConfig) -> topo.HeightMap:
-    """Stage 1: read (or generate) the surface and prepare it as ``[surface]`` says.
+    """The read-and-level stage: read (or generate) the surface and prepare it as ``[surface]``
+    says.
 
     Parameters
     ----------
@@ -129,7 +131,8 @@ def usable_max_stride(surface: topo.HeightMap, max_stride: int) -> int:
 
 
 def scan_resolutions(surface: topo.HeightMap, max_stride: int) -> topo.ResolutionScan:
-    """Stage 2: summit statistics at strides 1..max_stride (:func:`topo.resolution_scan`).
+    """The resolution-scan stage: summit statistics at strides 1..max_stride
+    (:func:`topo.resolution_scan`).
 
     ``max_stride`` is capped by :func:`usable_max_stride`.
 
@@ -285,19 +288,20 @@ class ScanResult:
 
 
 def compute_surface(context: StageContext) -> LevelledSurface:
-    """Stage 1 of the job: :func:`prepare` on ``[surface]``."""
+    """The job's read-and-level stage: :func:`prepare` on ``[surface]``."""
     return LevelledSurface.from_prepared(prepare(context.config.surface))
 
 
 def compute_scan(context: StageContext) -> ScanResult:
-    """Stage 2 of the job: :func:`scan_resolutions` up to ``surface.max_stride``, over the
-    measured pixels only (filled ones are missing again: eta per measured area)."""
+    """The job's resolution-scan stage: :func:`scan_resolutions` up to ``surface.max_stride``,
+    over the measured pixels only (filled ones are missing again: eta per measured area)."""
     surface = context.result(SURFACE).measured_height_map()
     return ScanResult.from_scan(scan_resolutions(surface, context.config.surface.max_stride))
 
 
 def check_scan_loads(context: StageContext, scan: ScanResult) -> None:
-    """After stage 2: every load must exceed the statistical model's pull-off force."""
+    """After the resolution-scan stage: every load must exceed the statistical model's pull-off
+    force."""
     config = context.config
     check_loads_above_pull_off(
         config.material,

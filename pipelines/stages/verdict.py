@@ -1,4 +1,4 @@
-"""Stage 7: the validity verdict of a job, "valid", "warnings" or "invalid", with reasons.
+"""The PSD stage: the validity verdict of a job, "valid", "warnings" or "invalid", with reasons.
 
 Every reason states the number, the threshold and why (:class:`Reason`). A result is
 **invalid** when the model is used where its assumptions fail, or when the data it was
@@ -368,7 +368,7 @@ def check_surface(preparation: dict | None) -> list[Reason]:
 
 
 def job_reasons(context: StageContext) -> list[Reason]:
-    """Every check on the results of stages 1-6 and the measurements."""
+    """Every check on the results of the read-and-level to friction stages and the measurements."""
     config, measured = context.config, context.measured
     res, lam = context.result(STATISTICAL_MODEL), context.result(MODE_MIXITY)
     a_n = config.loading.nominal_area
@@ -391,7 +391,7 @@ def job_reasons(context: StageContext) -> list[Reason]:
 
 
 def compute_verdict(context: StageContext) -> Verdict:
-    """Stage 7 of the job: :func:`job_reasons` summed up."""
+    """The job's PSD stage: :func:`job_reasons` summed up."""
     return Verdict.from_reasons(job_reasons(context))
 
 

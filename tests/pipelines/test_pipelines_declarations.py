@@ -165,3 +165,18 @@ def test_the_normal_contact_model_does_not_read_lambda_or_tau0():
     configured = statmodel.Material(**base, mode_mixity=0.3, shear_strength=1e5)
     used = normal_contact_material(configured)
     assert (used.e_star, used.work_of_adhesion, used.equilibrium_distance) == tuple(base.values())
+
+
+def test_the_stage_table_of_docs_pipelines_is_the_stage_list():
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[2] / "docs" / "pipelines.md").read_text()
+    section = text.split("## The stages, and the same from Python", 1)[1].split("```", 1)[0]
+    rows = [
+        [cell.strip() for cell in line.strip("|").split("|")]
+        for line in section.splitlines()
+        if line.startswith("| ") and line.split("|")[1].strip().isdigit()
+    ]
+    assert [(int(r[0]), r[-1].strip("`")) for r in rows] == [
+        (i, s.name) for i, s in enumerate(STAGES, start=1)
+    ]
