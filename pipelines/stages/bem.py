@@ -18,6 +18,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -313,22 +314,54 @@ def bem_reference(
     map_loads = loads * (h.size * dx * dy) / nominal_area
     chains = _solve_chains(grid, surface, e_star, map_loads, w, solver, executor, progress)
     solves = _per_load(loads, k, grid, chains, w > 0)
-    mask = chains.get(-1, grid.mask)  # the check's own mask when the check load is the largest
-    mismatch = edge_mismatch(h)
-    warning = boundary_warning(boundary, mismatch)
-    chosen = list(grid.strides).index(grid.stride)
-    change = grid.relative_change
-    check_fraction = grid.fractions()
-    check_iter = _field(grid.solves, "iterations", int)
-    check_conv = _field(grid.solves, "convolutions", int)
-    iterations, convolutions = (
-        _field(solves, "iterations", int),
-        _field(solves, "convolutions", int),
+    run = SimpleNamespace(
+        loads=loads, k=k, grid=grid, chains=chains, solves=solves, h=h, dx=dx, dy=dy, w=w
     )
+    return _reference(run, map_loads, nominal_area, area_tolerance, boundary)
+
+
+def _grid_fields(run: SimpleNamespace, nominal_area: float, area_tolerance: float) -> dict:
+    """The grid check's fields of :class:`BemReference` (strides tried, their solves, choice)."""
+    grid, loads, k = run.grid, run.loads, run.k
+    change = grid.relative_change
+    return {
+        "check_stride": grid.strides,
+        "check_contact_fraction": grid.fractions(),
+        "check_relative_change": change,
+        "stride": grid.stride,
+        "check_pressure": float(loads[k]) / nominal_area,
+        "grid_converged": bool(len(change) < 2 or change[-2] <= area_tolerance),
+        "area_tolerance": float(area_tolerance),
+        "grid_reason": grid.reason,
+        "check_error": grid.error,
+        "check_iterations": _field(grid.solves, "iterations", int),
+        "check_convolutions": _field(grid.solves, "convolutions", int),
+        "check_seconds": _field(grid.solves, "seconds"),
+        "check_branch": [[s.branch for s in row] for row in grid.solves],
+        "check_load": float(loads[k]),
+        "grid_error": float(grid.error[list(grid.strides).index(grid.stride)]),
+    }
+
+
+def _reference(
+    run: SimpleNamespace,
+    map_loads: np.ndarray,
+    nominal_area: float,
+    area_tolerance: float,
+    boundary: str,
+) -> BemReference:
+    """The :class:`BemReference` of the grid check and the load chains ``run`` holds."""
+    loads, k, solves, dx, dy = run.loads, run.k, run.solves, run.dx, run.dy
+    mask = run.chains.get(-1, run.grid.mask)  # the check's own mask when the check load is largest
+    mismatch = edge_mismatch(run.h)
+    warning = boundary_warning(boundary, mismatch)
+    grid = _grid_fields(run, nominal_area, area_tolerance)
+    check_iter, check_conv = grid["check_iterations"], grid["check_convolutions"]
+    iterations = _field(solves, "iterations", int)
+    convolutions = _field(solves, "convolutions", int)
     return BemReference(
         normal_load=loads,
         mode=np.arange(len(solves)),
-        check_stride=grid.strides,
         mask_x=np.arange(mask.shape[0]) * dx,
         mask_y=np.arange(mask.shape[1]) * dy,
         map_normal_load=map_loads,
@@ -336,33 +369,20 @@ def bem_reference(
         iterations=iterations,
         converged=_field(solves, "converged", bool),
         solve_seconds=_field(solves, "seconds"),
-        check_contact_fraction=check_fraction,
-        check_relative_change=change,
         contact_mask=mask,
-        stride=grid.stride,
         dx=dx,
         dy=dy,
-        check_pressure=float(loads[k]) / nominal_area,
-        grid_converged=bool(len(change) < 2 or change[-2] <= area_tolerance),
-        area_tolerance=float(area_tolerance),
-        grid_reason=grid.reason,
         messages=_messages(loads, solves),
         convolutions=convolutions,
         branch=[[s.branch for s in row] for row in solves],
-        check_error=grid.error,
-        check_iterations=check_iter,
-        check_convolutions=check_conv,
-        check_seconds=_field(grid.solves, "seconds"),
-        check_branch=[[s.branch for s in row] for row in grid.solves],
-        check_load=float(loads[k]),
-        grid_error=float(grid.error[chosen]),
         boundary=boundary,
         edge_mismatch=mismatch,
         warnings=[warning] if warning else [],
         solves=int(check_iter.size + iterations.size - iterations.shape[0]),
         total_iterations=int(check_iter.sum() + iterations.sum() - iterations[:, k].sum()),
         total_convolutions=int(check_conv.sum() + convolutions.sum() - convolutions[:, k].sum()),
-        contact_fraction_adhesive=_field(solves, "contact_fraction")[1] if w > 0 else None,
+        contact_fraction_adhesive=_field(solves, "contact_fraction")[1] if run.w > 0 else None,
+        **grid,
     )
 
 

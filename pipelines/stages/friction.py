@@ -212,6 +212,39 @@ class QuadratureChoice:
     reason: str
 
 
+def _ladder_curves(
+    case: tuple, ladder: list[dict], max_tangential_displacement: float | None, steps: int
+) -> tuple[list[statmodel.ShearCurve], np.ndarray]:
+    """The shear curve of ``case`` (material, roughness, A_n m^2, F_z N) at every setting, and
+    the seconds each took; the finest runs first and fixes the shear path of the others."""
+    curves, seconds = [], []
+    max_dt = max_tangential_displacement
+    for knobs in ladder[::-1]:
+        t0 = time.perf_counter()
+        curve = shear_curve_auto(
+            *case, max_tangential_displacement=max_dt, steps=steps, knobs=knobs
+        )
+        seconds.append(time.perf_counter() - t0)
+        if max_dt is None:
+            max_dt = float(np.asarray(curve.tangential_displacement)[-1])
+        curves.append(curve)
+    return curves[::-1], np.array(seconds[::-1])
+
+
+def _refinement_change(curves: Sequence[statmodel.ShearCurve]) -> np.ndarray:
+    """Largest relative change of F_x and A_r from each curve to the next finer (NaN last)."""
+    change = np.full(len(curves), np.nan)
+    for i in range(len(curves) - 1):
+        worst = 0.0
+        for name in ("tangential_force", "real_area"):
+            a = np.asarray(getattr(curves[i], name), float)
+            b = np.asarray(getattr(curves[i + 1], name), float)
+            scale = np.max(np.abs(b)) or 1.0
+            worst = max(worst, float(np.max(np.abs(a - b)) / scale))
+        change[i] = worst
+    return change
+
+
 def choose_quadrature(
     material: statmodel.Material,
     roughness: statmodel.Roughness,
@@ -245,33 +278,9 @@ def choose_quadrature(
             np.array([np.nan]),
             "statmodel's default quadrature (no coarser setting offered)",
         )
-    curves, seconds = [], []
-    max_dt = max_tangential_displacement
-    for knobs in ladder[::-1]:  # finest first: it fixes the shear path for the others
-        t0 = time.perf_counter()
-        curve = shear_curve_auto(
-            material,
-            roughness,
-            nominal_area,
-            normal_load,
-            max_tangential_displacement=max_dt,
-            steps=steps,
-            knobs=knobs,
-        )
-        seconds.append(time.perf_counter() - t0)
-        if max_dt is None:
-            max_dt = float(np.asarray(curve.tangential_displacement)[-1])
-        curves.append(curve)
-    curves, seconds = curves[::-1], np.array(seconds[::-1])
-    change = np.full(len(ladder), np.nan)
-    for i in range(len(ladder) - 1):
-        worst = 0.0
-        for name in ("tangential_force", "real_area"):
-            a = np.asarray(getattr(curves[i], name), float)
-            b = np.asarray(getattr(curves[i + 1], name), float)
-            scale = np.max(np.abs(b)) or 1.0
-            worst = max(worst, float(np.max(np.abs(a - b)) / scale))
-        change[i] = worst
+    case = (material, roughness, nominal_area, normal_load)
+    curves, seconds = _ladder_curves(case, ladder, max_tangential_displacement, steps)
+    change = _refinement_change(curves)
     for i in range(len(ladder) - 1):
         if change[i] <= tolerance:
             return QuadratureChoice(

@@ -273,6 +273,29 @@ def _quiet_tabor_parameter(roughness: statmodel.Roughness, material: statmodel.M
         )
 
 
+def _scan_roughness(scan: ScanResult) -> dict[int, statmodel.Roughness]:
+    """The summit statistics (eta 1/m^2, R m, sigma_s m) of every scan entry that has summits."""
+    roughness = {
+        i: roughness_from_scan(scan, i) for i in range(len(scan.stride)) if has_summits(scan, i)
+    }
+    if not roughness:
+        raise InputError(
+            "surface: expected summits at some resolution of the scan, found none (a flat or "
+            "too small map)"
+        )
+    return roughness
+
+
+def _best_index(curve: np.ndarray, messages: list[str]) -> int:
+    """The stride of least misfit; refuses the loads when the model carries them nowhere."""
+    if not np.isfinite(curve).any():
+        raise ConfigError(
+            "loading.normal_loads: expected loads the statistical model can carry at some "
+            "resolution of the scan, got none: " + "; ".join(messages[:3])
+        )
+    return int(np.nanargmin(np.where(np.isfinite(curve), curve, np.nan)))
+
+
 def statistical_model_scan(
     scan: ScanResult,
     material: statmodel.Material,
@@ -311,14 +334,7 @@ def statistical_model_scan(
     if bem is None and measured is None:
         raise InputError("statistical_model_scan: expected bem= or measured=, got neither")
     loads = np.asarray(normal_loads, dtype=float)
-    roughness = {
-        i: roughness_from_scan(scan, i) for i in range(len(scan.stride)) if has_summits(scan, i)
-    }
-    if not roughness:
-        raise InputError(
-            "surface: expected summits at some resolution of the scan, found none (a flat or "
-            "too small map)"
-        )
+    roughness = _scan_roughness(scan)
     area, at_measured, messages = _model_areas(
         scan, material, roughness, nominal_area, loads, measured, executor, progress
     )
@@ -329,13 +345,7 @@ def statistical_model_scan(
     if measured is not None:
         misfit_measured = _misfit_curve(at_measured, roughness, measured.real_area)
     basis = "measured" if measured is not None else "bem"
-    curve = misfit_measured if measured is not None else misfit_bem
-    if not np.isfinite(curve).any():
-        raise ConfigError(
-            "loading.normal_loads: expected loads the statistical model can carry at some "
-            "resolution of the scan, got none: " + "; ".join(messages[:3])
-        )
-    index = int(np.nanargmin(np.where(np.isfinite(curve), curve, np.nan)))
+    index = _best_index(misfit_measured if measured is not None else misfit_bem, messages)
     pull_off, pull_off_refusals = pull_off_forces(material, scan, nominal_area)
     best = roughness[index]
     mu = _quiet_tabor_parameter(best, material)
