@@ -44,9 +44,43 @@ def _check_spacing(value: object, name: str) -> float:
     return spacing
 
 
+class MapGeometry:
+    """Sizes of a map held as ``heights`` (axis 0 is x, axis 1 is y) and pixel sizes ``dx``,
+    ``dy`` in m: shared by :class:`HeightMap` and the job's stored surface."""
+
+    heights: np.ndarray
+    dx: float
+    dy: float
+
+    @property
+    def nx(self) -> int:
+        """Number of pixels along x (axis 0)."""
+        return int(self.heights.shape[0])
+
+    @property
+    def ny(self) -> int:
+        """Number of pixels along y (axis 1)."""
+        return int(self.heights.shape[1])
+
+    @property
+    def lx(self) -> float:
+        """Physical size along x, ``nx*dx`` (m)."""
+        return self.nx * self.dx
+
+    @property
+    def ly(self) -> float:
+        """Physical size along y, ``ny*dy`` (m)."""
+        return self.ny * self.dy
+
+    @property
+    def nominal_area(self) -> float:
+        """Nominal area ``A_n = lx*ly`` (m^2)."""
+        return self.lx * self.ly
+
+
 @document_fields
 @dataclass(frozen=True, eq=False)
-class HeightMap:
+class HeightMap(MapGeometry):
     """A height map on a regular grid.
 
     Parameters
@@ -80,31 +114,6 @@ class HeightMap:
             raise TypeError(f"HeightMap.provenance: expected a dict, got {type(self.provenance)}")
         if np.isinf(self.heights).any():
             raise InputError("HeightMap.heights: infinite heights; mark missing pixels with NaN")
-
-    @property
-    def nx(self) -> int:
-        """Number of pixels along x (axis 0)."""
-        return int(self.heights.shape[0])
-
-    @property
-    def ny(self) -> int:
-        """Number of pixels along y (axis 1)."""
-        return int(self.heights.shape[1])
-
-    @property
-    def lx(self) -> float:
-        """Physical size along x, ``nx*dx`` (m)."""
-        return self.nx * self.dx
-
-    @property
-    def ly(self) -> float:
-        """Physical size along y, ``ny*dy`` (m)."""
-        return self.ny * self.dy
-
-    @property
-    def nominal_area(self) -> float:
-        """Nominal area ``A_n = lx*ly`` (m^2)."""
-        return self.lx * self.ly
 
     @property
     def n_missing(self) -> int:

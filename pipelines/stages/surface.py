@@ -27,6 +27,7 @@ from asperity.fields import array, document_fields, scalar, text
 from asperity.pipelines.config import ConfigError, SurfaceConfig
 from asperity.pipelines.engine.stage import Stage, StageContext
 from asperity.pipelines.stages._pull_off import check_loads_above_pull_off
+from asperity.topo.heightmap import MapGeometry
 
 #: Fewest pixels per side kept by the coarsest resolution of the scan.
 MIN_SCAN_PIXELS = 16
@@ -147,7 +148,7 @@ def scan_resolutions(surface: topo.HeightMap, max_stride: int) -> topo.Resolutio
 
 @document_fields
 @dataclass
-class LevelledSurface:
+class LevelledSurface(MapGeometry):
     """Stage-1 result: the levelled height map (SI).
 
     Attributes
@@ -225,26 +226,6 @@ class LevelledSurface:
         return topo.HeightMap(
             self.heights, dx=self.dx, dy=self.dy, periodic=self.periodic, provenance=self.provenance
         )
-
-    @property
-    def nx(self) -> int:
-        """Pixels along x."""
-        return int(self.heights.shape[0])
-
-    @property
-    def ny(self) -> int:
-        """Pixels along y."""
-        return int(self.heights.shape[1])
-
-    @property
-    def lx(self) -> float:
-        """Map length along x, m."""
-        return self.nx * self.dx
-
-    @property
-    def ly(self) -> float:
-        """Map length along y, m."""
-        return self.ny * self.dy
 
 
 @document_fields
