@@ -180,3 +180,32 @@ def test_the_stage_table_of_docs_pipelines_is_the_stage_list():
     assert [(int(r[0]), r[-1].strip("`")) for r in rows] == [
         (i, s.name) for i, s in enumerate(STAGES, start=1)
     ]
+
+
+def _result_types():
+    from asperity.statmodel import ShearCurve
+    from asperity.topo import HeightMap
+    from asperity.topo.scan import ResolutionScan
+
+    return [HeightMap, ResolutionScan, ShearCurve, *(s.result for s in STAGES)]
+
+
+@pytest.mark.parametrize("cls", _result_types(), ids=lambda c: c.__name__)
+def test_every_stored_field_is_described_once_and_in_the_docstring(cls):
+    from asperity.fields import undocumented_fields
+
+    assert undocumented_fields(cls) == []
+
+
+def test_the_friction_outputs_take_their_units_from_the_shear_curve_declaration():
+    from asperity.fields import field_specs
+    from asperity.statmodel import ShearCurve
+    from asperity.statmodel.results_io import ARRAY_UNITS, SCALAR_UNITS
+
+    curve = {s.name: s for s in field_specs(ShearCurve)}
+    stage = {s.name: s for s in field_specs(STAGES[5].result)}
+    for name, units in {**ARRAY_UNITS, **SCALAR_UNITS}.items():
+        assert curve[name].units == units
+        if name != "normal_load":
+            assert (stage[name].units, stage[name].long_name) == (units, curve[name].long_name)
+            assert stage[name].dims == ("normal_load", *curve[name].dims)
