@@ -295,30 +295,47 @@ def undocumented_fields(cls: type) -> list[str]:
     ]
 
 
-def stacked(source: type, names: Sequence[str], dim: str, *, after: str) -> Callable[[type], type]:
-    """Class decorator (under ``@dataclass``): the fields ``names`` of ``source``, stacked.
+def _copy_declaration(spec: FieldSpec, dim: str | None) -> Any:
+    if dim is None and spec.kind == "number":
+        return scalar(spec.units, spec.long_name, optional=spec.optional)
+    if dim is None:
+        return array(spec.units, spec.dims, spec.long_name, optional=spec.optional)
+    dims = (dim, *spec.dims) if spec.kind == "array" else (dim,)
+    return array(spec.units, dims, spec.long_name)
 
-    Each becomes an array field of the decorated class with a leading dimension ``dim``: an
-    array over ``(dim, *its dims)``, a number an array over ``(dim,)``, with the unit and the
-    description of its declaration in ``source``; they are inserted after the field ``after``,
-    in the order of ``names``. A result that holds one ``source`` per ``dim`` entry (the shear
-    curve at every normal load) so repeats no unit or description.
+
+def _insert_fields(cls: type, added: dict[str, Any], after: str | None) -> type:
+    own = dict(cls.__dict__.get("__annotations__", {}))
+    items = list(own.items())
+    position = 0 if after is None else list(own).index(after) + 1
+    annotations = {n: ("float" if _is_scalar(d) else "np.ndarray") for n, d in added.items()}
+    cls.__annotations__ = dict(items[:position] + list(annotations.items()) + items[position:])
+    for name, declaration in added.items():
+        setattr(cls, name, declaration)
+    return cls
+
+
+def _is_scalar(declaration: Any) -> bool:
+    return "dims" not in declaration.metadata
+
+
+def stacked(
+    source: type, names: Sequence[str], dim: str | None, *, after: str | None = None
+) -> Callable[[type], type]:
+    """Class decorator (under ``@dataclass``): the fields ``names`` of ``source``, taken over.
+
+    With ``dim`` None each field is declared as in ``source`` (unit, dims, description); with
+    a dimension name each becomes an array field with that leading dimension: an array over
+    ``(dim, *its dims)``, a number an array over ``(dim,)``. They are inserted after the field
+    ``after`` (first when None), in the order of ``names``. A result that keeps fields of a
+    package's result type (the stored resolution scan), or one per ``dim`` entry (the shear
+    curve at every normal load), so repeats no unit or description. Numbers are read back as
+    float: declare an ``int`` field in the class itself.
     """
     specs = {spec.name: spec for spec in field_specs(source)}
 
     def decorate(cls: type) -> type:
-        added = {}
-        for name in names:
-            spec = specs[name]
-            dims = (dim, *spec.dims) if spec.kind == "array" else (dim,)
-            added[name] = array(spec.units, dims, spec.long_name)
-        own = dict(cls.__dict__.get("__annotations__", {}))
-        position = list(own).index(after) + 1
-        items = list(own.items())
-        annotations = dict(items[:position] + [(n, "np.ndarray") for n in added] + items[position:])
-        cls.__annotations__ = annotations
-        for name, declaration in added.items():
-            setattr(cls, name, declaration)
-        return cls
+        added = {name: _copy_declaration(specs[name], dim) for name in names}
+        return _insert_fields(cls, added, after)
 
     return decorate

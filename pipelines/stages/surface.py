@@ -23,7 +23,7 @@ import numpy as np
 
 from asperity import topo
 from asperity.errors import InputError
-from asperity.fields import array, document_fields, scalar, text
+from asperity.fields import array, document_fields, scalar, stacked, text
 from asperity.pipelines.config import ConfigError, SurfaceConfig
 from asperity.pipelines.engine.stage import Stage, StageContext
 from asperity.pipelines.stages._pull_off import check_loads_above_pull_off
@@ -228,25 +228,32 @@ class LevelledSurface(MapGeometry):
         )
 
 
+#: The fields of :class:`topo.ResolutionScan` the resolution-scan stage stores.
+SCAN_FIELDS = (
+    "stride",
+    "resolution",
+    "n_summits",
+    "asperity_density",
+    "summit_radius",
+    "summit_height_rms",
+    "radius_slope",
+    "radius_intercept",
+    "density_exponent",
+    "density_prefactor",
+)
+
+
 @document_fields
 @dataclass
+@stacked(topo.ResolutionScan, SCAN_FIELDS, None)
 class ScanResult:
     """Stage-2 result: summit statistics per decimation stride and the paper's fits (SI).
 
-    The fields of :class:`topo.ResolutionScan` the job uses: R = radius_intercept +
+    The fields of :class:`topo.ResolutionScan` the job uses (:data:`SCAN_FIELDS`, declared
+    there, taken over by :func:`asperity.fields.stacked`): R = radius_intercept +
     radius_slope * resolution, eta = density_prefactor * resolution**density_exponent.
     """
 
-    stride: np.ndarray = array("1", ("stride",), "decimation stride")
-    resolution: np.ndarray = array("m", ("stride",), "pixel size of the decimated map")
-    n_summits: np.ndarray = array("1", ("stride",), "number of summits (4 nearest neighbours)")
-    asperity_density: np.ndarray = array("1/m^2", ("stride",), "asperity density eta")
-    summit_radius: np.ndarray = array("m", ("stride",), "mean summit radius R")
-    summit_height_rms: np.ndarray = array("m", ("stride",), "rms summit height sigma_s")
-    radius_slope: float = scalar("m/m", "dR/d(resolution) of the linear fit")
-    radius_intercept: float = scalar("m", "R at zero resolution of the linear fit")
-    density_exponent: float = scalar("1", "exponent of eta ~ resolution**exponent")
-    density_prefactor: float = scalar("1/m^2", "eta at a resolution of 1 m (power law)")
     fit_units: str = text("how the fits read")
 
     @classmethod
