@@ -6,16 +6,16 @@ computes it. From that one declaration :class:`Runner` keys, stores, reuses and 
 stage, and :class:`~asperity.pipelines.job.JobResult` and
 :class:`~asperity.pipelines.results.Results` take their attributes; nothing else lists its
 fields or its dependencies. A stage's number is its place in
-:data:`asperity.pipelines.stages.STAGES`. Example (the resolution scan)::
+:data:`asperity.pipelines.stages.STAGES`. Example (the one docs/DEVELOPING.md walks through)::
 
-    SCAN = Stage(
-        name="resolution_scan",
-        title="resolution scan",
-        attribute="scan",
-        result=ScanResult,
+    ROUGHNESS = Stage(
+        name="roughness",              # its group in results.h5
+        title="roughness parameters",  # the log says "<number> roughness parameters"
+        attribute="roughness",         # JobResult.roughness, Results.roughness
+        result=RoughnessParameters,    # fields declared with asperity.fields
         config=("surface.max_stride",),
         inputs=(SURFACE,),
-        compute=compute_scan,          # (StageContext) -> ScanResult
+        compute=compute_roughness,     # (StageContext) -> RoughnessParameters
     )
 
 The key of a stage is the SHA-256 of one JSON document holding exactly the configuration

@@ -27,6 +27,7 @@ from asperity.fields import array, document_fields, scalar, stacked, text
 from asperity.pipelines.config import ConfigError, SurfaceConfig
 from asperity.pipelines.engine.stage import Stage, StageContext
 from asperity.pipelines.stages._pull_off import check_loads_above_pull_off
+from asperity.topo import scan as topo_scan
 from asperity.topo.heightmap import MapGeometry
 
 #: Fewest pixels per side kept by the coarsest resolution of the scan.
@@ -229,18 +230,7 @@ class LevelledSurface(MapGeometry):
 
 
 #: The fields of :class:`topo.ResolutionScan` the resolution-scan stage stores.
-SCAN_FIELDS = (
-    "stride",
-    "resolution",
-    "n_summits",
-    "asperity_density",
-    "summit_radius",
-    "summit_height_rms",
-    "radius_slope",
-    "radius_intercept",
-    "density_exponent",
-    "density_prefactor",
-)
+SCAN_FIELDS = (*topo_scan.ARRAY_FIELDS, *topo_scan.FIT_FIELDS[:4])  # arrays, R and eta fits
 
 
 @document_fields
