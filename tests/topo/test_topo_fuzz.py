@@ -1,4 +1,4 @@
-"""A seeded fuzz corpus of hostile variants of every sample file (issue 12, section 2).
+"""A seeded fuzz corpus of hostile variants of every sample file.
 
 Every case is a sample file (the real instrument files of tests/data and small files written
 here for the formats without one: project HDF5, NPY, NPZ, Gwyddion, X3P with a valid-points

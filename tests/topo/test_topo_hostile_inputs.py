@@ -1,5 +1,5 @@
 """Hostile and degenerate inputs: each gets a clear error naming the file/field, never a
-traceback, a huge allocation or a silently wrong number (review of issue 4)."""
+traceback, a huge allocation or a silently wrong number (found by a review of the readers)."""
 
 from __future__ import annotations
 
@@ -257,7 +257,7 @@ def test_project_hdf5_with_bad_attributes_or_a_hollow_dataset_is_refused(tmp_pat
     assert "bad.h5" in str(info.value)
 
 
-# --- issue 12: readers that refuse ---------------------------------------------------------
+# --- readers that refuse hostile files ---------------------------------------------------------
 
 
 def patched(tmp_path: Path, name: str, offset: int, fmt: str, value, suffix: str = "") -> Path:

@@ -1,4 +1,5 @@
-"""Stage 4: the statistical model at every resolution, and the effective resolution (Fig 12d).
+"""The statistical-model stage: the statistical model at every resolution, and the effective
+resolution (Fig 12d).
 
 For each stride of the resolution scan, the summit statistics (eta, R, sigma_s) feed
 :func:`statmodel.real_area_at_loads` (E:Ar_Greenwood with the load fixed by E:Fy_Greenwood) at
@@ -22,14 +23,14 @@ import numpy as np
 
 from asperity import statmodel
 from asperity.errors import InputError
-from asperity.pipelines.bem_stage import BEM, BemReference
+from asperity.fields import array, document_fields, scalar, text
 from asperity.pipelines.config import ConfigError
-from asperity.pipelines.fields import array, scalar, text
+from asperity.pipelines.engine.parallel import run_map
+from asperity.pipelines.engine.stage import Stage, StageContext
 from asperity.pipelines.measured import NormalAreaCurve
-from asperity.pipelines.parallel import run_map
-from asperity.pipelines.pull_off import has_summits, pull_off_forces, roughness_from_scan
-from asperity.pipelines.stages import Stage, StageContext
-from asperity.pipelines.surface_stage import SCAN, ScanResult
+from asperity.pipelines.stages._pull_off import has_summits, pull_off_forces, roughness_from_scan
+from asperity.pipelines.stages.bem import BEM, BemReference
+from asperity.pipelines.stages.surface import SCAN, ScanResult
 
 #: Above this A_r/A_n the asperities of the statistical model would overlap: independent
 #: asperities (the Greenwood-Williamson / Fuller-Tabor picture) are no longer a fair model.
@@ -114,6 +115,7 @@ def log_misfit(model: np.ndarray, reference: np.ndarray) -> float:
     return float(np.sqrt(np.mean(np.log(model[ref_ok] / reference[ref_ok]) ** 2)))
 
 
+@document_fields
 @dataclass
 class ResolutionChoice:
     """Stage-4 result: the statistical model at every resolution and the effective one.
@@ -271,6 +273,29 @@ def _quiet_tabor_parameter(roughness: statmodel.Roughness, material: statmodel.M
         )
 
 
+def _scan_roughness(scan: ScanResult) -> dict[int, statmodel.Roughness]:
+    """The summit statistics (eta 1/m^2, R m, sigma_s m) of every scan entry that has summits."""
+    roughness = {
+        i: roughness_from_scan(scan, i) for i in range(len(scan.stride)) if has_summits(scan, i)
+    }
+    if not roughness:
+        raise InputError(
+            "surface: expected summits at some resolution of the scan, found none (a flat or "
+            "too small map)"
+        )
+    return roughness
+
+
+def _best_index(curve: np.ndarray, messages: list[str]) -> int:
+    """The stride of least misfit; refuses the loads when the model carries them nowhere."""
+    if not np.isfinite(curve).any():
+        raise ConfigError(
+            "loading.normal_loads: expected loads the statistical model can carry at some "
+            "resolution of the scan, got none: " + "; ".join(messages[:3])
+        )
+    return int(np.nanargmin(np.where(np.isfinite(curve), curve, np.nan)))
+
+
 def statistical_model_scan(
     scan: ScanResult,
     material: statmodel.Material,
@@ -282,12 +307,13 @@ def statistical_model_scan(
     executor: Executor | None = None,
     progress: bool = False,
 ) -> ResolutionChoice:
-    """Stage 4: A_r(F_z) of the statistical model at every resolution; pick the best one.
+    """The statistical-model stage: A_r(F_z) of the statistical model at every resolution; pick the
+    best one.
 
     Parameters
     ----------
     scan : topo.ResolutionScan
-        Summit statistics per stride (stage 2).
+        Summit statistics per stride (the resolution-scan stage).
     material : statmodel.Material
         E* (Pa), w (J/m^2), ... (lambda plays no part at delta_T = 0).
     nominal_area : float
@@ -295,7 +321,7 @@ def statistical_model_scan(
     normal_loads : sequence of float
         F_z, N.
     bem : BemReference, optional
-        Stage 3 result; its A_r/A_n (adhesive when run) is a reference.
+        The BEM stage result; its A_r/A_n (adhesive when run) is a reference.
     measured : NormalAreaCurve, optional
         Measured A_r(F_z); when given it chooses the effective resolution.
     executor : Executor, optional
@@ -308,14 +334,7 @@ def statistical_model_scan(
     if bem is None and measured is None:
         raise InputError("statistical_model_scan: expected bem= or measured=, got neither")
     loads = np.asarray(normal_loads, dtype=float)
-    roughness = {
-        i: roughness_from_scan(scan, i) for i in range(len(scan.stride)) if has_summits(scan, i)
-    }
-    if not roughness:
-        raise InputError(
-            "surface: expected summits at some resolution of the scan, found none (a flat or "
-            "too small map)"
-        )
+    roughness = _scan_roughness(scan)
     area, at_measured, messages = _model_areas(
         scan, material, roughness, nominal_area, loads, measured, executor, progress
     )
@@ -326,13 +345,8 @@ def statistical_model_scan(
     if measured is not None:
         misfit_measured = _misfit_curve(at_measured, roughness, measured.real_area)
     basis = "measured" if measured is not None else "bem"
-    curve = misfit_measured if measured is not None else misfit_bem
-    if not np.isfinite(curve).any():
-        raise ConfigError(
-            "loading.normal_loads: expected loads the statistical model can carry at some "
-            "resolution of the scan, got none: " + "; ".join(messages[:3])
-        )
-    index = int(np.nanargmin(np.where(np.isfinite(curve), curve, np.nan)))
+    index = _best_index(misfit_measured if measured is not None else misfit_bem, messages)
+    pull_off, pull_off_refusals = pull_off_forces(material, scan, nominal_area)
     best = roughness[index]
     mu = _quiet_tabor_parameter(best, material)
     validity = validity_notes(area[index] / nominal_area, mu)
@@ -345,7 +359,7 @@ def statistical_model_scan(
         real_area=area,
         real_area_fraction=area / nominal_area,
         misfit_bem=misfit_bem,
-        pull_off=pull_off_forces(material, scan, nominal_area),
+        pull_off=pull_off,
         basis=basis,
         effective_index=index,
         effective_stride=int(scan.stride[index]),
@@ -355,7 +369,7 @@ def statistical_model_scan(
         summit_height_rms=best.summit_height_rms,
         tabor_parameter=mu,
         nominal_area=float(nominal_area),
-        messages=messages,
+        messages=messages + pull_off_refusals,
         validity=validity,
         measured_normal_load=None if measured is None else measured.normal_load,
         measured_real_area=None if measured is None else measured.real_area,
@@ -365,10 +379,11 @@ def statistical_model_scan(
 
 
 def compute_statistical_model(context: StageContext) -> ResolutionChoice:
-    """Stage 4 of the job: :func:`statistical_model_scan` against the BEM and/or measurement.
+    """The job's statistical-model stage: :func:`statistical_model_scan` against the BEM and/or
+    measurement.
 
     Its :class:`ModelValidityWarning` is not raised here: the notes stay in ``validity`` and
-    the job's verdict (:mod:`pipelines.verdict`) reports them as lines, not as a traceback.
+    the job's verdict (:mod:`pipelines.stages.verdict`) reports them as lines, not as a traceback.
     """
     config = context.config
     with warnings.catch_warnings():
@@ -376,10 +391,28 @@ def compute_statistical_model(context: StageContext) -> ResolutionChoice:
         return _statistical_model_of_job(context, config)
 
 
+def normal_contact_material(material: Any) -> statmodel.Material:
+    """The :class:`statmodel.Material` of the normal-contact model, from the keys it reads.
+
+    The preload (E:Fy_Greenwood with the JKR asperity laws, E:JKR_load) and the Tabor
+    parameter depend on E* (Pa), w (J/m^2) and epsilon (m) only; lambda and tau0 (Pa) act under
+    shear alone. They are set to 0 here, a value no normal-contact formula reads (a test holds
+    the areas and pull-off forces unchanged for other values), so that this stage declares,
+    and is keyed by, the three it uses.
+    """
+    return statmodel.Material(
+        e_star=material.e_star,
+        work_of_adhesion=material.work_of_adhesion,
+        equilibrium_distance=material.equilibrium_distance,
+        mode_mixity=0.0,
+        shear_strength=0.0,
+    )
+
+
 def _statistical_model_of_job(context: StageContext, config: Any) -> ResolutionChoice:
     return statistical_model_scan(
         context.result(SCAN),
-        config.material,
+        normal_contact_material(config.material),
         config.loading.nominal_area,
         config.loading.normal_loads,
         bem=context.result(BEM),
@@ -391,7 +424,8 @@ def _statistical_model_of_job(context: StageContext, config: Any) -> ResolutionC
 
 STATISTICAL_MODEL = Stage(
     name="statistical_model",
-    title="4 statistical model / resolution",
+    title="statistical model / resolution",
+    attribute="resolution",
     result=ResolutionChoice,
     config=(
         "material.E_star",

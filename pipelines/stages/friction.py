@@ -1,11 +1,12 @@
-"""Stages 5 and 6: calibrate lambda on measured A_r(F_x), then predict friction at each load.
+"""The lambda and friction stages: calibrate lambda on measured A_r(F_x), then predict friction at
+each load.
 
-Stage 5 (:func:`calibrate_mode_mixity`) fits the mode mixity lambda to the user's measured
-A_r(F_x) curves with :func:`pipelines.fitting.fit_mode_mixity` (Section 5, Fig 13); without
+The lambda stage (:func:`calibrate_mode_mixity`) fits the mode mixity lambda to the user's measured
+A_r(F_x) curves with :func:`pipelines.stages.fitting.fit_mode_mixity` (Section 5, Fig 13); without
 measurements the configured lambda is used.
 
-Stage 6 (:func:`friction_prediction`) runs :func:`statmodel.shear_curve` at every normal load:
-F_x(delta_T), A_r(F_x) with their stick and slip parts (E:NewFormulation_Fy..Ar), static and
+The friction stage (:func:`friction_prediction`) runs :func:`statmodel.shear_curve` at every normal
+load: F_x(delta_T), A_r(F_x) with their stick and slip parts (E:NewFormulation_Fy..Ar), static and
 sliding friction (Figs 4, 13), and the constant-shear-strength line F_x = tau0 A_r of Fig 13.
 
 The shear path delta_T = 0..max is given, or found automatically ("auto"): a first curve on a
@@ -34,17 +35,17 @@ from typing import Any
 import numpy as np
 
 from asperity import statmodel
-from asperity.pipelines.fields import array, scalar, text
-from asperity.pipelines.fitting import LambdaFit, fit_mode_mixity, interpolate_area
+from asperity.fields import array, document_fields, scalar, stacked, text
+from asperity.pipelines.engine.parallel import run_map
+from asperity.pipelines.engine.stage import Stage, StageContext
 from asperity.pipelines.measured import ShearAreaCurve
-from asperity.pipelines.parallel import run_map
-from asperity.pipelines.resolution_stage import STATISTICAL_MODEL
-from asperity.pipelines.stages import Stage, StageContext
+from asperity.pipelines.stages.fitting import LambdaFit, fit_mode_mixity, interpolate_area
+from asperity.pipelines.stages.statistical_model import STATISTICAL_MODEL
 from asperity.statmodel.results_io import ARRAY_UNITS, SCALAR_UNITS
 
-#: Per-step arrays and per-load scalars of :class:`statmodel.ShearCurve` kept by stage 6, with
-#: their units: the tables the ``asperity friction`` output uses, less ``normal_load``, which is
-#: the stage's dimension coordinate.
+#: Per-step arrays and per-load scalars of :class:`statmodel.ShearCurve` kept by the friction stage,
+#: with their units: the tables the ``asperity friction`` output uses, less ``normal_load``, which
+#: is the stage's dimension coordinate.
 CURVE_FIELDS: dict[str, str] = dict(ARRAY_UNITS)
 CURVE_SCALARS: dict[str, str] = {k: v for k, v in SCALAR_UNITS.items() if k != "normal_load"}
 
@@ -211,6 +212,39 @@ class QuadratureChoice:
     reason: str
 
 
+def _ladder_curves(
+    case: tuple, ladder: list[dict], max_tangential_displacement: float | None, steps: int
+) -> tuple[list[statmodel.ShearCurve], np.ndarray]:
+    """The shear curve of ``case`` (material, roughness, A_n m^2, F_z N) at every setting, and
+    the seconds each took; the finest runs first and fixes the shear path of the others."""
+    curves, seconds = [], []
+    max_dt = max_tangential_displacement
+    for knobs in ladder[::-1]:
+        t0 = time.perf_counter()
+        curve = shear_curve_auto(
+            *case, max_tangential_displacement=max_dt, steps=steps, knobs=knobs
+        )
+        seconds.append(time.perf_counter() - t0)
+        if max_dt is None:
+            max_dt = float(np.asarray(curve.tangential_displacement)[-1])
+        curves.append(curve)
+    return curves[::-1], np.array(seconds[::-1])
+
+
+def _refinement_change(curves: Sequence[statmodel.ShearCurve]) -> np.ndarray:
+    """Largest relative change of F_x and A_r from each curve to the next finer (NaN last)."""
+    change = np.full(len(curves), np.nan)
+    for i in range(len(curves) - 1):
+        worst = 0.0
+        for name in ("tangential_force", "real_area"):
+            a = np.asarray(getattr(curves[i], name), float)
+            b = np.asarray(getattr(curves[i + 1], name), float)
+            scale = np.max(np.abs(b)) or 1.0
+            worst = max(worst, float(np.max(np.abs(a - b)) / scale))
+        change[i] = worst
+    return change
+
+
 def choose_quadrature(
     material: statmodel.Material,
     roughness: statmodel.Roughness,
@@ -244,33 +278,9 @@ def choose_quadrature(
             np.array([np.nan]),
             "statmodel's default quadrature (no coarser setting offered)",
         )
-    curves, seconds = [], []
-    max_dt = max_tangential_displacement
-    for knobs in ladder[::-1]:  # finest first: it fixes the shear path for the others
-        t0 = time.perf_counter()
-        curve = shear_curve_auto(
-            material,
-            roughness,
-            nominal_area,
-            normal_load,
-            max_tangential_displacement=max_dt,
-            steps=steps,
-            knobs=knobs,
-        )
-        seconds.append(time.perf_counter() - t0)
-        if max_dt is None:
-            max_dt = float(np.asarray(curve.tangential_displacement)[-1])
-        curves.append(curve)
-    curves, seconds = curves[::-1], np.array(seconds[::-1])
-    change = np.full(len(ladder), np.nan)
-    for i in range(len(ladder) - 1):
-        worst = 0.0
-        for name in ("tangential_force", "real_area"):
-            a = np.asarray(getattr(curves[i], name), float)
-            b = np.asarray(getattr(curves[i + 1], name), float)
-            scale = np.max(np.abs(b)) or 1.0
-            worst = max(worst, float(np.max(np.abs(a - b)) / scale))
-        change[i] = worst
+    case = (material, roughness, nominal_area, normal_load)
+    curves, seconds = _ladder_curves(case, ladder, max_tangential_displacement, steps)
+    change = _refinement_change(curves)
     for i in range(len(ladder) - 1):
         if change[i] <= tolerance:
             return QuadratureChoice(
@@ -291,6 +301,7 @@ def choose_quadrature(
     )
 
 
+@document_fields
 @dataclass
 class ModeMixityChoice:
     """Stage-5 result: the lambda used downstream and, when fitted, the fit and its data.
@@ -298,7 +309,7 @@ class ModeMixityChoice:
     Attributes
     ----------
     mode_mixity : float
-        lambda used by stage 6.
+        lambda used by the friction stage.
     fitted : bool
         Fitted to measured A_r(F_x) (else the configured value).
     lambda_grid, grid_residual_rms : ndarray or None
@@ -456,7 +467,7 @@ def calibrate_mode_mixity(
     mode: str = "shape",
     trim: bool = True,
 ) -> ModeMixityChoice:
-    """Stage 5: fit lambda to measured A_r(F_x) curves, or keep ``material.mode_mixity``.
+    """The lambda stage: fit lambda to measured A_r(F_x) curves, or keep ``material.mode_mixity``.
 
     Parameters
     ----------
@@ -475,7 +486,7 @@ def calibrate_mode_mixity(
     executor : Executor, optional
         Evaluates the loads in parallel.
     mode, trim
-        Fit mode and trimming of :func:`pipelines.fitting.fit_mode_mixity`.
+        Fit mode and trimming of :func:`pipelines.stages.fitting.fit_mode_mixity`.
     """
     if not curves:
         return ModeMixityChoice(mode_mixity=material.mode_mixity, fitted=False)
@@ -501,13 +512,17 @@ def calibrate_mode_mixity(
     return choice
 
 
+@document_fields
 @dataclass
+@stacked(statmodel.ShearCurve, (*CURVE_FIELDS, *CURVE_SCALARS), "normal_load", after="normal_load")
 class FrictionPrediction:
     """Stage-6 result: the shear curve (:class:`statmodel.ShearCurve`) at every normal load.
 
     Every per-step array of a shear curve has shape (n_load, steps) and every per-curve
-    scalar shape (n_load,), SI units as in :mod:`statmodel.results_io` (the ``asperity
-    friction`` output), with stick and slip parts (E:NewFormulation_Fy..Ar).
+    scalar shape (n_load,), with the unit and description :class:`statmodel.ShearCurve`
+    declares (the fields of the ``asperity friction`` output,
+    :mod:`asperity.statmodel.results_io`; added by :func:`asperity.fields.stacked`), with
+    stick and slip parts (E:NewFormulation_Fy..Ar).
 
     Attributes
     ----------
@@ -534,39 +549,6 @@ class FrictionPrediction:
     """
 
     normal_load: np.ndarray = array("N", ("normal_load",), "normal load")
-    tangential_displacement: np.ndarray = array(
-        "m", ("normal_load", "step"), "tangential displacement delta_T"
-    )
-    tangential_force: np.ndarray = array("N", ("normal_load", "step"), "tangential force F_x")
-    normal_force: np.ndarray = array("N", ("normal_load", "step"), "normal force F_z")
-    real_area: np.ndarray = array("m^2", ("normal_load", "step"), "real contact area A_r")
-    n_contact: np.ndarray = array("1", ("normal_load", "step"), "asperities in contact")
-    n_stick: np.ndarray = array("1", ("normal_load", "step"), "sticking asperities")
-    n_slip: np.ndarray = array("1", ("normal_load", "step"), "sliding asperities")
-    separation: np.ndarray = array("m", ("normal_load", "step"), "separation d")
-    tangential_force_stick: np.ndarray = array(
-        "N", ("normal_load", "step"), "F_x of sticking asperities"
-    )
-    tangential_force_slip: np.ndarray = array(
-        "N", ("normal_load", "step"), "F_x of sliding asperities"
-    )
-    normal_force_stick: np.ndarray = array(
-        "N", ("normal_load", "step"), "F_z of sticking asperities"
-    )
-    normal_force_slip: np.ndarray = array("N", ("normal_load", "step"), "F_z of sliding asperities")
-    real_area_stick: np.ndarray = array(
-        "m^2", ("normal_load", "step"), "A_r of sticking asperities"
-    )
-    real_area_slip: np.ndarray = array("m^2", ("normal_load", "step"), "A_r of sliding asperities")
-    delta_1: np.ndarray = array("m", ("normal_load", "step"), "limit delta_1 (E:delta_1)")
-    delta_2: np.ndarray = array("m", ("normal_load", "step"), "limit delta_2 (E:delta_2)")
-    tabor_parameter: np.ndarray = array("1", ("normal_load",), "Tabor parameter mu")
-    separation_preload: np.ndarray = array("m", ("normal_load",), "separation at the preload")
-    static_friction: np.ndarray = array("N", ("normal_load",), "static friction (peak F_x)")
-    sliding_friction: np.ndarray = array("N", ("normal_load",), "sliding friction")
-    sliding_separation: np.ndarray = array("m", ("normal_load",), "separation at full sliding")
-    sliding_displacement: np.ndarray = array("m", ("normal_load",), "delta_T at full sliding")
-    pull_off_force: np.ndarray = array("N", ("normal_load",), "pull-off force")
     converged: np.ndarray = array("1", ("normal_load",), "shear curve converged")
     quadrature_relative_change: np.ndarray = array(
         "1", ("quadrature_setting",), "change of F_x, A_r to the next finer setting"
@@ -608,7 +590,8 @@ def friction_prediction(
     executor: Executor | None = None,
     progress: bool = False,
 ) -> FrictionPrediction:
-    """Stage 6: F_x(delta_T), A_r(F_x) with stick/slip parts, static and sliding friction.
+    """The friction stage: F_x(delta_T), A_r(F_x) with stick/slip parts, static and sliding
+    friction.
 
     Parameters
     ----------
@@ -671,7 +654,7 @@ def friction_prediction(
 
 
 def compute_mode_mixity(context: StageContext) -> ModeMixityChoice:
-    """Stage 5 of the job: :func:`calibrate_mode_mixity` on the measured A_r(F_x) curves."""
+    """The job's lambda stage: :func:`calibrate_mode_mixity` on the measured A_r(F_x) curves."""
     config = context.config
     return calibrate_mode_mixity(
         config.material,
@@ -688,7 +671,7 @@ def compute_mode_mixity(context: StageContext) -> ModeMixityChoice:
 
 
 def compute_friction(context: StageContext) -> FrictionPrediction:
-    """Stage 6 of the job: :func:`friction_prediction` with the calibrated lambda."""
+    """The job's friction stage: :func:`friction_prediction` with the calibrated lambda."""
     config = context.config
     material = dataclasses.replace(
         config.material, mode_mixity=context.result(MODE_MIXITY).mode_mixity
@@ -708,7 +691,8 @@ def compute_friction(context: StageContext) -> FrictionPrediction:
 
 MODE_MIXITY = Stage(
     name="mode_mixity",
-    title="5 lambda",
+    title="lambda",
+    attribute="mode_mixity",
     result=ModeMixityChoice,
     config=(
         "material",
@@ -724,7 +708,8 @@ MODE_MIXITY = Stage(
 
 FRICTION = Stage(
     name="friction",
-    title="6 friction prediction",
+    title="friction prediction",
+    attribute="friction",
     result=FrictionPrediction,
     config=("material", "loading", "statmodel"),
     inputs=(STATISTICAL_MODEL, MODE_MIXITY),

@@ -1,8 +1,8 @@
 """The statistical model's pull-off force over a resolution scan, and the check of the loads.
 
 Loads at or below the pull-off force have no equilibrium on the loading branch
-(E:Fy_Greenwood); the job refuses them right after the resolution scan (stage 2), before the
-BEM, naming ``loading.normal_loads``.
+(E:Fy_Greenwood); the job refuses them right after the resolution-scan stage, before the BEM,
+naming ``loading.normal_loads``.
 """
 
 from __future__ import annotations
@@ -36,21 +36,33 @@ def has_summits(scan: Any, index: int) -> bool:
     return all(np.isfinite(v) and v > 0 for v in values)
 
 
-def pull_off_forces(material: statmodel.Material, scan: Any, nominal_area: float) -> np.ndarray:
+def pull_off_forces(
+    material: statmodel.Material, scan: Any, nominal_area: float
+) -> tuple[np.ndarray, list[str]]:
     """Pull-off force of the statistical model at each scan resolution, N (negative).
 
-    NaN where the scan has no summits or the model has no pull-off force.
+    Returns
+    -------
+    forces : ndarray
+        N; NaN where the scan has no summits or the model refuses the roughness there.
+    reasons : list of str
+        One line per refused resolution, "pull-off at stride S (resolution m): why": the
+        model's own message (e.g. fewer than one asperity on A_n), stored with the stage's
+        messages and shown in the report.
     """
     out = np.full(len(scan.stride), np.nan)
+    reasons = []
     for i in range(len(scan.stride)):
-        if has_summits(scan, i):
-            try:
-                out[i] = statmodel.pull_off_force(
-                    material, roughness_from_scan(scan, i), nominal_area
-                )
-            except ValueError:  # e.g. fewer than one asperity on A_n at this resolution
-                pass
-    return out
+        if not has_summits(scan, i):
+            continue
+        try:
+            out[i] = statmodel.pull_off_force(material, roughness_from_scan(scan, i), nominal_area)
+        except ValueError as exc:  # the model refuses this roughness: say so, keep NaN
+            reasons.append(
+                f"pull-off at stride {int(scan.stride[i])} "
+                f"(resolution {float(scan.resolution[i]):.4g} m): {exc}"
+            )
+    return out, reasons
 
 
 def check_loads_above_pull_off(
@@ -64,7 +76,7 @@ def check_loads_above_pull_off(
     ndarray
         The pull-off force at each resolution, N.
     """
-    pull_off = pull_off_forces(material, scan, nominal_area)
+    pull_off, _ = pull_off_forces(material, scan, nominal_area)  # NaN: no bound there
     worst = np.nanmax(pull_off) if np.isfinite(pull_off).any() else -math.inf
     low = [f for f in normal_loads if f <= worst]
     if low:

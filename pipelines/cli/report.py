@@ -51,8 +51,8 @@ def stored_report_section(config_toml: str) -> dict:
 
 def handle_report(args: argparse.Namespace) -> int:
     """Redraw the report of ``args.out_dir``; 0 on success."""
-    from asperity.pipelines.figure_output import FigureOptions
     from asperity.pipelines.report import write_report
+    from asperity.pipelines.report.figure_output import FigureOptions
     from asperity.pipelines.results import open_results
 
     results = open_results(args.out_dir)

@@ -1,4 +1,5 @@
-"""Stage 7: the map's radially averaged PSD, its roll-off and Hurst exponent, and Persson's A_r.
+"""The PSD stage: the map's radially averaged PSD, its roll-off and Hurst exponent, and Persson's
+A_r.
 
 The paper (Section 5) justifies its effective resolution from the PSD: roughness of wavelength
 shorter than the roll-off carries the self-affine spectrum ``C(q) ~ q^(-2(1+H))``, and the
@@ -22,15 +23,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from asperity import topo
-from asperity.pipelines.fields import array, scalar, text
-from asperity.pipelines.resolution_stage import STATISTICAL_MODEL, ResolutionChoice
-from asperity.pipelines.stages import Stage, StageContext
-from asperity.pipelines.surface_stage import SURFACE, LevelledSurface
+from asperity.fields import array, document_fields, scalar, text
+from asperity.pipelines.engine.stage import Stage, StageContext
+from asperity.pipelines.stages.statistical_model import STATISTICAL_MODEL, ResolutionChoice
+from asperity.pipelines.stages.surface import SURFACE, LevelledSurface
 
 #: Log-spaced bins of the power-law fit of the PSD (equal weight per decade).
 FIT_BINS = 40
 
 
+@document_fields
 @dataclass
 class PsdResult:
     """Stage-7 result: PSD, roll-off, Hurst exponent and Persson's A_r(F_z) (SI).
@@ -50,7 +52,7 @@ class PsdResult:
     nyquist_wavenumber : float
         pi / max(dx, dy) of the map, rad/m.
     effective_resolution : float
-        Pixel size x chosen by stage 4, m.
+        Pixel size x chosen by the statistical-model stage, m.
     effective_nyquist_wavelength : float
         2 x: the shortest wavelength the statistical model resolves, m.
     normal_load : ndarray
@@ -76,7 +78,9 @@ class PsdResult:
     psd_fit_prefactor: float = scalar("m^4", "prefactor of the power law (q in rad/m)")
     psd_fit_exponent: float = scalar("1", "exponent of C ~ q^exponent above q_r")
     nyquist_wavenumber: float = scalar("rad/m", "pi / pixel size of the map")
-    effective_resolution: float = scalar("m", "effective resolution x (stage 4)")
+    effective_resolution: float = scalar(
+        "m", "effective resolution x (the statistical-model stage)"
+    )
     effective_nyquist_wavelength: float = scalar("m", "2 x, shortest resolved wavelength")
     normal_load: np.ndarray = array("N", ("normal_load",), "normal load")
     persson_real_area: np.ndarray = array(
@@ -130,14 +134,14 @@ def psd_and_persson(
     nominal_area: float,
     normal_loads: np.ndarray,
 ) -> PsdResult:
-    """Stage 7: PSD, roll-off, Hurst exponent and Persson's A_r at the loads.
+    """The PSD stage: PSD, roll-off, Hurst exponent and Persson's A_r at the loads.
 
     Parameters
     ----------
     surface : LevelledSurface
-        Stage 1 (heights in m).
+        The read-and-level stage (heights in m).
     resolution : ResolutionChoice
-        Stage 4 (its effective resolution, m).
+        The statistical-model stage (its effective resolution, m).
     e_star : float
         E*, Pa.
     nominal_area : float
@@ -177,7 +181,7 @@ def psd_and_persson(
 
 
 def compute_psd(context: StageContext) -> PsdResult:
-    """Stage 7 of the job: :func:`psd_and_persson` on the levelled map."""
+    """The job's PSD stage: :func:`psd_and_persson` on the levelled map."""
     config = context.config
     return psd_and_persson(
         context.result(SURFACE),
@@ -190,7 +194,8 @@ def compute_psd(context: StageContext) -> PsdResult:
 
 PSD = Stage(
     name="psd",
-    title="7 PSD and Persson's theory",
+    title="PSD and Persson's theory",
+    attribute="psd",
     result=PsdResult,
     config=("material.E_star", "loading.nominal_area", "loading.normal_loads"),
     inputs=(SURFACE, STATISTICAL_MODEL),

@@ -1,4 +1,4 @@
-"""Stage 7: the validity verdict of a job, "valid", "warnings" or "invalid", with reasons.
+"""The PSD stage: the validity verdict of a job, "valid", "warnings" or "invalid", with reasons.
 
 Every reason states the number, the threshold and why (:class:`Reason`). A result is
 **invalid** when the model is used where its assumptions fail, or when the data it was
@@ -46,12 +46,12 @@ from typing import Any
 import numpy as np
 
 from asperity.errors import ExitStatus
-from asperity.pipelines.bem_stage import BEM
-from asperity.pipelines.fields import text
-from asperity.pipelines.friction_stage import FRICTION, MODE_MIXITY
-from asperity.pipelines.resolution_stage import STATISTICAL_MODEL
-from asperity.pipelines.stages import Stage, StageContext
-from asperity.pipelines.surface_stage import SCAN, SURFACE
+from asperity.fields import document_fields, text
+from asperity.pipelines.engine.stage import Stage, StageContext
+from asperity.pipelines.stages.bem import BEM
+from asperity.pipelines.stages.friction import FRICTION, MODE_MIXITY
+from asperity.pipelines.stages.statistical_model import STATISTICAL_MODEL
+from asperity.pipelines.stages.surface import SCAN, SURFACE
 
 #: A_r/A_n above which an independent-asperity model cannot mean anything (junctions merge).
 MAX_AREA_FRACTION = 0.15
@@ -89,6 +89,7 @@ class Reason:
     text: str
 
 
+@document_fields
 @dataclass
 class Verdict:
     """Stage-7 result: is the result one the report can stand behind?
@@ -367,7 +368,7 @@ def check_surface(preparation: dict | None) -> list[Reason]:
 
 
 def job_reasons(context: StageContext) -> list[Reason]:
-    """Every check on the results of stages 1-6 and the measurements."""
+    """Every check on the results of the read-and-level to friction stages and the measurements."""
     config, measured = context.config, context.measured
     res, lam = context.result(STATISTICAL_MODEL), context.result(MODE_MIXITY)
     a_n = config.loading.nominal_area
@@ -390,7 +391,7 @@ def job_reasons(context: StageContext) -> list[Reason]:
 
 
 def compute_verdict(context: StageContext) -> Verdict:
-    """Stage 7 of the job: :func:`job_reasons` summed up."""
+    """The job's PSD stage: :func:`job_reasons` summed up."""
     return Verdict.from_reasons(job_reasons(context))
 
 
@@ -437,7 +438,8 @@ def mark(value: str, verdict: Verdict | None) -> str:
 
 VERDICT = Stage(
     name="verdict",
-    title="8 validity verdict",
+    title="validity verdict",
+    attribute="verdict",
     result=Verdict,
     config=("measured", "loading.normal_loads", "loading.nominal_area"),
     inputs=(SURFACE, SCAN, BEM, STATISTICAL_MODEL, MODE_MIXITY, FRICTION),

@@ -2,7 +2,7 @@
 ``report.html`` and the one-screen terminal summary.
 
 The data behind every figure is in ``results.h5`` (same names as the stage records) and, as
-plotted, in ``<figure>.csv`` beside it (:mod:`pipelines.figure_output`: one tidy table per
+plotted, in ``<figure>.csv`` beside it (:mod:`pipelines.report.figure_output`: one tidy table per
 figure, SI values, units in the column headers). Units on the axes are SI-prefixed from the
 data (:func:`asperity.plotting.display_unit`); an axis whose data span a decade or more is
 logarithmic. Formats and dpi come from ``[report]`` (``formats = ["png", "svg", "pdf"]``,
@@ -10,22 +10,25 @@ logarithmic. Formats and dpi come from ``[report]`` (``formats = ["png", "svg", 
 
 Figures written in the output directory (stem; one file per format):
 
-* ``surface`` - stage 1: the levelled height map; colour limits at the 0.5th and 99.5th
-  percentiles of the heights (stated on the colour bar), so one spike does not set the scale.
-* ``fig12_resolution`` - stages 2-4: R, eta, sigma_s against resolution with the paper's
-  fits (Fig 12a-c; the effective resolution and the strides left out of the fits marked) and
-  A_r/A_n against F_z from the BEM, the statistical model, Persson's theory and the
-  measurement (Fig 12d).
-* ``fig12d_misfit`` - stage 4: misfit of the statistical model against resolution.
-* ``bem_grid`` - stage 3: the grid refinement check and the contact mask.
-* ``lambda_fit`` - stage 5 (when measured curves are given): misfit against lambda.
-* ``lambda_residuals`` - stage 5: measured minus fitted A_r against F_x, one panel per load.
-* ``fig4_shear`` - stage 6: F_z, contact counts, A_r and F_x against delta_T with their
+* ``surface`` - the read-and-level stage: the levelled height map; colour limits at the 0.5th
+  and 99.5th percentiles of the heights (stated on the colour bar), so one spike does not set
+  the scale.
+* ``fig12_resolution`` - the resolution-scan to statistical-model stages: R, eta, sigma_s against
+  resolution with the paper's fits (Fig 12a-c; the effective resolution and the strides left out of
+  the fits marked) and A_r/A_n against F_z from the BEM, the statistical model, Persson's theory and
+  the measurement (Fig 12d).
+* ``fig12d_misfit`` - the statistical-model stage: misfit of the statistical model against
+  resolution.
+* ``bem_grid`` - the BEM stage: the grid refinement check and the contact mask.
+* ``lambda_fit`` - the lambda stage (when measured curves are given): misfit against lambda.
+* ``lambda_residuals`` - the lambda stage: measured minus fitted A_r against F_x, one panel per
+  load.
+* ``fig4_shear`` - the friction stage: F_z, contact counts, A_r and F_x against delta_T with their
   stick and slip parts, at the heaviest load (Fig 4).
-* ``fig13_area_vs_force`` - stage 6: A_r/A_n against F_x at every load, the measured
+* ``fig13_area_vs_force`` - the friction stage: A_r/A_n against F_x at every load, the measured
   curves and the constant-shear-strength line F_x = tau0 A_r (Fig 13).
-* ``friction_vs_load`` - stage 6: static and sliding friction against F_z.
-* ``psd`` - stage 7: the radially averaged PSD, its roll-off and power-law (Hurst) fit, the
+* ``friction_vs_load`` - the friction stage: static and sliding friction against F_z.
+* ``psd`` - the PSD stage: the radially averaged PSD, its roll-off and power-law (Hurst) fit, the
   map's and the effective resolution's Nyquist wavenumbers (the paper's Section 5 argument).
 """
 
@@ -41,25 +44,19 @@ from matplotlib import colormaps
 from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
-from asperity.pipelines.bem_report import bem_grid_figure, bem_section
-from asperity.pipelines.figure_output import FigureOptions, FigureTable, publish
-from asperity.pipelines.verdict import mark, verdict_lines, verdict_markdown
+from asperity.pipelines.report.bem import bem_grid_figure, bem_section
+from asperity.pipelines.report.figure_output import FigureOptions, FigureTable, publish
+from asperity.pipelines.stages import stage_number
+from asperity.pipelines.stages.verdict import mark, verdict_lines, verdict_markdown
 from asperity.plotting import DisplayUnit, display_unit, new_figure
 from asperity.statmodel.figures import draw_shear_curve
 
-DPI = 150
 #: Percentiles of the heights that bound the colour scale of the surface figure.
 COLOUR_PERCENTILES = (0.5, 99.5)
 #: Largest number of pixels per side drawn (and written to surface.csv).
 SURFACE_DRAWN_PIXELS = 400
 #: Data spanning at least this ratio are drawn on a log axis.
 LOG_SPAN = 10.0
-
-
-def _save(fig: Figure, path: Path) -> Path:
-    """Write a figure laid out by its constrained layout (no pyplot: nothing to close)."""
-    fig.savefig(path, dpi=DPI)
-    return path
 
 
 def figure_options(result: Any, options: FigureOptions | None = None) -> FigureOptions:
@@ -106,7 +103,8 @@ def _auto_scale(ax: Any, x: Any, y: Any) -> None:
 
 
 def draw_surface(result: Any) -> tuple[Figure, FigureTable]:
-    """Stage 1: the levelled height map, robust colour limits (percentiles, stated)."""
+    """The read-and-level stage: the levelled height map, robust colour limits (percentiles,
+    stated)."""
     s = result.surface
     step = max(1, -(-max(s.nx, s.ny) // SURFACE_DRAWN_PIXELS))
     h = np.asarray(s.heights)[::step, ::step]
@@ -143,11 +141,6 @@ def draw_surface(result: Any) -> tuple[Figure, FigureTable]:
         {"x (m)": ix * s.dx, "y (m)": iy * s.dy, "height (m)": h},
     )
     return fig, table
-
-
-def plot_surface(result: Any, path: Path, options: FigureOptions | None = None) -> Path:
-    """Stage 1: the levelled height map over x, y (units from the data); CSV beside it."""
-    return publish(*draw_surface(result), path, figure_options(result, options))
 
 
 def _min_summits() -> int:
@@ -302,13 +295,8 @@ def draw_resolution(result: Any) -> tuple[Figure, FigureTable]:
     return fig, table
 
 
-def plot_resolution(result: Any, path: Path, options: FigureOptions | None = None) -> Path:
-    """Fig 12: R, eta, sigma_s against resolution with fits; A_r/A_n against F_z."""
-    return publish(*draw_resolution(result), path, figure_options(result, options))
-
-
 def draw_misfit(result: Any) -> tuple[Figure, FigureTable]:
-    """Stage 4: the misfit curve that chose the effective resolution."""
+    """The statistical-model stage: the misfit curve that chose the effective resolution."""
     res = result.resolution
     xu = display_unit(res.resolution, "m")
     fig = new_figure(6, 4)
@@ -334,13 +322,8 @@ def draw_misfit(result: Any) -> tuple[Figure, FigureTable]:
     return fig, table
 
 
-def plot_misfit(result: Any, path: Path, options: FigureOptions | None = None) -> Path:
-    """Stage 4: the misfit curve that chose the effective resolution."""
-    return publish(*draw_misfit(result), path, figure_options(result, options))
-
-
 def draw_bem_grid(result: Any) -> tuple[Figure, FigureTable]:
-    """Stage 3: the refinement curve, its error against the finest grid, the contact mask."""
+    """The BEM stage: the refinement curve, its error against the finest grid, the contact mask."""
     bem = result.bem
     table = FigureTable()
     pixel = np.asarray(bem.check_stride) * result.surface.dx
@@ -358,13 +341,8 @@ def draw_bem_grid(result: Any) -> tuple[Figure, FigureTable]:
     return bem_grid_figure(result), table
 
 
-def plot_bem_grid(result: Any, path: Path, options: FigureOptions | None = None) -> Path:
-    """Stage 3: the refinement check and the contact mask at the largest load."""
-    return publish(*draw_bem_grid(result), path, figure_options(result, options))
-
-
 def draw_lambda_fit(result: Any) -> tuple[Figure, FigureTable]:
-    """Stage 5: the misfit of the coarse lambda scan and the fitted value."""
+    """The lambda stage: the misfit of the coarse lambda scan and the fitted value."""
     fit = result.mode_mixity.fit
     fig = new_figure(6, 4)
     ax = fig.subplots()
@@ -398,13 +376,9 @@ def draw_lambda_fit(result: Any) -> tuple[Figure, FigureTable]:
     return fig, table
 
 
-def plot_lambda_fit(result: Any, path: Path, options: FigureOptions | None = None) -> Path:
-    """Stage 5: the misfit of the coarse lambda scan and the fitted value."""
-    return publish(*draw_lambda_fit(result), path, figure_options(result, options))
-
-
 def draw_lambda_residuals(result: Any) -> tuple[Figure, FigureTable]:
-    """Stage 5: measured minus fitted A_r against F_x, one panel per load (fitted points)."""
+    """The lambda stage: measured minus fitted A_r against F_x, one panel per load (fitted
+    points)."""
     lam = result.mode_mixity
     loads = np.unique(lam.fitted_normal_load)
     fig = new_figure(6, 2.2 * len(loads) + 0.6)
@@ -434,14 +408,9 @@ def draw_lambda_residuals(result: Any) -> tuple[Figure, FigureTable]:
     return fig, table
 
 
-def plot_lambda_residuals(result: Any, path: Path, options: FigureOptions | None = None) -> Path:
-    """Stage 5: measured minus fitted A_r against F_x, one panel per load (fitted points)."""
-    return publish(*draw_lambda_residuals(result), path, figure_options(result, options))
-
-
 def draw_shear(result: Any) -> tuple[Figure, FigureTable]:
     """Fig 4 at the heaviest load, drawn by the one Fig-4 plotter, statmodel.draw_shear_curve."""
-    from asperity.pipelines.friction_stage import CURVE_FIELDS
+    from asperity.pipelines.stages.friction import CURVE_FIELDS
 
     fr = result.friction
     i = int(np.argmax(fr.normal_load))
@@ -455,11 +424,6 @@ def draw_shear(result: Any) -> tuple[Figure, FigureTable]:
         {f"{name} ({CURVE_FIELDS[name]})": values for name, values in arrays.items()},
     )
     return fig, table
-
-
-def plot_shear(result: Any, path: Path, options: FigureOptions | None = None) -> Path:
-    """Fig 4 at the heaviest load, drawn by the one Fig-4 plotter, statmodel.draw_shear_curve."""
-    return publish(*draw_shear(result), path, figure_options(result, options))
 
 
 def _model_at_measured(lam: Any, a_n: float, table: FigureTable, x_col: str, y_col: str) -> None:
@@ -513,11 +477,6 @@ def draw_area_vs_force(result: Any) -> tuple[Figure, FigureTable]:
     return fig, table
 
 
-def plot_area_vs_force(result: Any, path: Path, options: FigureOptions | None = None) -> Path:
-    """Fig 13: A_r/A_n against F_x at each load, measured curves, and tau0 A_r."""
-    return publish(*draw_area_vs_force(result), path, figure_options(result, options))
-
-
 def draw_friction_vs_load(result: Any) -> tuple[Figure, FigureTable]:
     """Static and sliding friction against normal load."""
     fr = result.friction
@@ -540,13 +499,9 @@ def draw_friction_vs_load(result: Any) -> tuple[Figure, FigureTable]:
     return fig, table
 
 
-def plot_friction_vs_load(result: Any, path: Path, options: FigureOptions | None = None) -> Path:
-    """Static and sliding friction against normal load."""
-    return publish(*draw_friction_vs_load(result), path, figure_options(result, options))
-
-
 def draw_psd(result: Any) -> tuple[Figure, FigureTable]:
-    """Stage 7: the radial PSD with the roll-off, the Hurst fit and the Nyquist wavenumbers."""
+    """The PSD stage: the radial PSD with the roll-off, the Hurst fit and the Nyquist
+    wavenumbers."""
     psd = result.psd
     q, c = np.asarray(psd.wavenumber), np.asarray(psd.psd)
     qu = display_unit(q, "m", -1)
@@ -597,11 +552,6 @@ def draw_psd(result: Any) -> tuple[Figure, FigureTable]:
     ax.set_ylabel(cu.label("PSD $C(q)$"))
     ax.legend(fontsize=7)
     return fig, table
-
-
-def plot_psd(result: Any, path: Path, options: FigureOptions | None = None) -> Path:
-    """Stage 7: the radially averaged PSD, its fits and the resolution marks."""
-    return publish(*draw_psd(result), path, figure_options(result, options))
 
 
 #: Figure name -> (file stem, drawing function, whether the result has it).
@@ -810,10 +760,47 @@ def _source(result: Any) -> str:
     return config.source if config is not None else getattr(result, "source", "results.h5")
 
 
+#: Figure name -> caption in report.md and report.html.
+CAPTIONS: dict[str, str] = {
+    "surface": f"Stage {stage_number('surface')}: levelled surface.",
+    "resolution": "Fig 12: summit statistics against resolution (a-c) and A_r/A_n against "
+    "F_z (d). Persson's theory (dash-dot) is non-adhesive: a lower bound.",
+    "misfit": f"Stage {stage_number('statistical_model')}: misfit of the statistical model "
+    "against resolution.",
+    "bem_grid": f"Stage {stage_number('bem_reference')}: BEM grid refinement (A_r/A_n and its "
+    "error against the finest grid solved) and contact at the largest load.",
+    "lambda_fit": f"Stage {stage_number('mode_mixity')}: lambda fit.",
+    "lambda_residuals": f"Stage {stage_number('mode_mixity')}: measured minus fitted A_r at each "
+    "load (the points fitted: trimmed after the first static peak, repeated points merged).",
+    "shear": "Fig 4: shear response at the heaviest load, with stick and slip parts.",
+    "area_vs_force": "Fig 13: A_r/A_n against F_x (dashed: model; dotted: constant shear "
+    "strength).",
+    "friction_vs_load": "Static and sliding friction against normal load.",
+    "psd": f"Stage {stage_number('psd')}: radially averaged PSD with the roll-off, the power-law "
+    "(Hurst) fit and "
+    "the Nyquist wavenumbers of the map and of the effective resolution.",
+}
+
+
+def refusals_section(result: Any) -> list[str]:
+    """Markdown lines listing the resolutions where the statistical model gave no value."""
+    messages = list(getattr(result.resolution, "messages", None) or [])
+    if not messages:
+        return []
+    return [
+        "## Statistical model refusals",
+        "",
+        "No value at these resolutions (NaN in `results.h5`, group `statistical_model`):",
+        "",
+        *(f"- {m}" for m in messages),
+        "",
+    ]
+
+
 def write_report(result: Any, out_dir: str | Path, options: FigureOptions | None = None) -> Path:
     """Write the figures, ``report.md`` and ``report.html`` (key numbers, per-load table,
     figures); ``options`` (formats, dpi) default to the job's ``[report]`` section."""
-    from asperity.pipelines.html_report import write_html
+    from asperity.pipelines.report.html import write_html
 
     out_dir = Path(out_dir)
     figures = write_figures(result, out_dir, options)
@@ -850,6 +837,7 @@ def write_report(result: Any, out_dir: str | Path, options: FigureOptions | None
         if not result.resolution.validity
         else "\n".join(f"- **Warning:** {note}" for note in result.resolution.validity),
         "",
+        *refusals_section(result),
         "## Convergence",
         "",
         "All solvers converged."
@@ -863,24 +851,7 @@ def write_report(result: Any, out_dir: str | Path, options: FigureOptions | None
         "## Figures",
         "",
     ]
-    captions = {
-        "surface": "Stage 1: levelled surface.",
-        "resolution": "Fig 12: summit statistics against resolution (a-c) and A_r/A_n against "
-        "F_z (d).",
-        "misfit": "Stage 4: misfit of the statistical model against resolution.",
-        "bem_grid": "Stage 3: BEM grid refinement (A_r/A_n and its error against the finest "
-        "grid solved) and contact at the largest load.",
-        "lambda_fit": "Stage 5: lambda fit.",
-        "lambda_residuals": "Stage 5: measured minus fitted A_r at each load (the points "
-        "fitted: trimmed after the first static peak, repeated points merged).",
-        "shear": "Fig 4: shear response at the heaviest load, with stick and slip parts.",
-        "area_vs_force": "Fig 13: A_r/A_n against F_x (dashed: model; dotted: constant shear "
-        "strength).",
-        "friction_vs_load": "Static and sliding friction against normal load.",
-        "psd": "Stage 7: radially averaged PSD with the roll-off, the power-law (Hurst) fit and "
-        "the Nyquist wavenumbers of the map and of the effective resolution.",
-    }
-    captions["resolution"] += " Persson's theory (dash-dot) is non-adhesive: a lower bound."
+    captions = dict(CAPTIONS)
     for name, path in figures.items():
         text += [f"![{captions[name]}]({path.name})", "", f"*{captions[name]}*", ""]
     report = out_dir / "report.md"

@@ -1,4 +1,4 @@
-"""The BEM solves of stage 3, each made once and reused: the grid check and the load chains.
+"""The BEM solves of the BEM stage, each made once and reused: the grid check and the load chains.
 
 Every solve here is :func:`bem.solve_contact` (eqs. E:BEM_eq1..E:BEM_eq4, Appendix B) in load
 control; forces in N, pressures in Pa, heights and pixel sizes in m, ``work_of_adhesion`` in
@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 
 from asperity import bem
-from asperity.pipelines.parallel import worker_threads
+from asperity.pipelines.engine.parallel import worker_threads
 
 
 @dataclass(frozen=True)

@@ -6,7 +6,7 @@
 Without a configuration the embedded ``default`` preset runs (the paper-like synthetic surface
 on a reduced grid, about a minute). The configuration is validated before any heavy work; a
 bad key exits 2 naming it. Exit status 1 when a solver did not converge (everything is still
-written), else 3 when the validity verdict is "invalid" (:mod:`pipelines.verdict`).
+written), else 3 when the validity verdict is "invalid" (:mod:`pipelines.stages.verdict`).
 """
 
 from __future__ import annotations
@@ -71,10 +71,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def register_companions(subparsers: argparse._SubParsersAction) -> None:
     """Add ``report`` (redraw from results.h5) and ``batch`` (many maps, one job)."""
-    from asperity.pipelines import batch_cli, report_cli
+    from asperity.pipelines.cli import batch, report
 
-    report_cli.register(subparsers)
-    batch_cli.register(subparsers)
+    report.register(subparsers)
+    batch.register(subparsers)
 
 
 def _log_line(line: str) -> None:
@@ -92,7 +92,7 @@ def handle_run(args: argparse.Namespace) -> int:
         if args.config is not None
         else load_preset(args.preset or "default")
     )
-    from asperity.pipelines.outdir import OutputLock
+    from asperity.pipelines.engine.outdir import OutputLock
 
     # The lock first (a second run on --out stops at once, before the heavy imports); held over
     # the job and the report.
@@ -101,7 +101,7 @@ def handle_run(args: argparse.Namespace) -> int:
     from asperity.pipelines.report import summary_text
 
     print(summary_text(result))
-    from asperity.pipelines.verdict import exit_status
+    from asperity.pipelines.stages.verdict import exit_status
 
     return int(exit_status(result.converged, result.verdict))
 
@@ -113,8 +113,8 @@ def _run_and_report(args: argparse.Namespace, config: Any) -> Any:
     # loads the OpenMP runtime, i.e. before the solvers run.
     os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
     # Heavy imports only after the configuration passed validation.
+    from asperity.pipelines.engine.outdir import write_error
     from asperity.pipelines.job import progress_enabled, run_job
-    from asperity.pipelines.outdir import write_error
     from asperity.pipelines.report import write_report
 
     result = run_job(

@@ -1,4 +1,4 @@
-"""Stage 3's choices, stated: the boundary condition of the BEM and the grid it solves on.
+"""The BEM stage's choices, stated: the boundary condition of the BEM and the grid it solves on.
 
 Boundary (``[bem] boundary``)
     ``"periodic"`` (default): the map is one period of a periodic interface, as in the paper's
@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from asperity import bem, topo
-from asperity.pipelines.bem_solves import (
+from asperity.pipelines.stages._bem_solves import (
     SolveSummary,
     solve_adhesive_loading,
     solve_plain,

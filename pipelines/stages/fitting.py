@@ -40,7 +40,7 @@ from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.optimize import least_squares
+from scipy.optimize import OptimizeResult, least_squares
 
 from asperity.errors import InputError
 from asperity.pipelines.measured import ShearAreaCurve
@@ -309,19 +309,7 @@ def fit_mode_mixity(
     q_low, q_high = math.log10(bounds[0]), math.log10(bounds[1])
     grid = np.logspace(q_low, q_high, grid_points)
     grid_rms = np.array([float(np.sqrt(np.mean(objective.residuals(g) ** 2))) for g in grid])
-    start = math.log10(grid[int(np.argmin(grid_rms))])
-    step = (q_high - q_low) / max(grid_points - 1, 1)
-    lo, hi = max(q_low, start - step), min(q_high, start + step)
-    result = least_squares(
-        lambda q: objective.residuals(10.0 ** q[0]),
-        x0=[min(max(start, lo + 1e-9), hi - 1e-9)],
-        bounds=([lo], [hi]),
-        diff_step=[1e-3],
-        x_scale=[0.1],
-        xtol=1e-10,
-        ftol=1e-12,
-        gtol=1e-12,
-    )
+    result = _refine(objective, grid, grid_rms, (q_low, q_high))
     q_best = float(result.x[0])
     lam = 10.0**q_best
     residuals, fitted, scales = objective.parts(lam)
@@ -347,12 +335,35 @@ def fit_mode_mixity(
         interval=interval,
         n_points_read=n_read,
         scale=scales,
-        points={
-            "normal_load": np.concatenate(
-                [np.full(len(c.real_area), c.normal_load) for c in prepared]
-            ),
-            "tangential_force": np.concatenate([c.tangential_force for c in prepared]),
-            "real_area": np.concatenate([c.real_area for c in prepared]),
-            "model_area": fitted,
-        },
+        points=_fitted_points(prepared, fitted),
     )
+
+
+def _refine(
+    objective: _Objective, grid: np.ndarray, grid_rms: np.ndarray, log_bounds: tuple
+) -> OptimizeResult:
+    """Least squares in log10(lambda) from the best grid point, within one grid step of it."""
+    q_low, q_high = log_bounds
+    start = math.log10(grid[int(np.argmin(grid_rms))])
+    step = (q_high - q_low) / max(len(grid) - 1, 1)
+    lo, hi = max(q_low, start - step), min(q_high, start + step)
+    return least_squares(
+        lambda q: objective.residuals(10.0 ** q[0]),
+        x0=[min(max(start, lo + 1e-9), hi - 1e-9)],
+        bounds=([lo], [hi]),
+        diff_step=[1e-3],
+        x_scale=[0.1],
+        xtol=1e-10,
+        ftol=1e-12,
+        gtol=1e-12,
+    )
+
+
+def _fitted_points(prepared: Sequence[ShearAreaCurve], fitted: np.ndarray) -> dict:
+    """The points fitted (N, N, m^2) and the model's A_r there (m^2), flattened over curves."""
+    return {
+        "normal_load": np.concatenate([np.full(len(c.real_area), c.normal_load) for c in prepared]),
+        "tangential_force": np.concatenate([c.tangential_force for c in prepared]),
+        "real_area": np.concatenate([c.real_area for c in prepared]),
+        "model_area": fitted,
+    }

@@ -87,7 +87,7 @@ def map_folders(maps: Sequence[Path], out_dir: Path) -> list[Path]:
 
 
 def _verdict_text(result: Any) -> str:
-    from asperity.pipelines.html_report import find_verdict
+    from asperity.pipelines.report.html import find_verdict
 
     verdict = find_verdict(result)
     if verdict is None:
@@ -231,7 +231,7 @@ def run_batch(
     InputError
         A bad job file or key, or a map pattern matching nothing: before any map runs.
     """
-    from asperity.pipelines.parallel import make_executor
+    from asperity.pipelines.engine.parallel import make_executor
 
     log = log or (lambda line: None)
     data, base_dir = read_job(job_path)
@@ -251,7 +251,7 @@ def run_batch(
             future.add_done_callback(lambda done, a=a: log(_log_line(done, a[3])))
             futures.append(future)
         records = [_record(future, a) for a, future in zip(args, futures, strict=True)]
-    from asperity.pipelines.batch_summary import write_summary_csv, write_summary_figure
+    from asperity.pipelines.batch.summary import write_summary_csv, write_summary_figure
 
     csv_path = write_summary_csv(records, out_dir / "summary.csv")
     figure = write_summary_figure(records, out_dir / "summary.png")

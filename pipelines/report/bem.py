@@ -1,4 +1,4 @@
-"""The BEM section of report.md and the ``bem_grid.png`` figure (stage 3, Appendix B).
+"""The BEM section of report.md and the ``bem_grid.png`` figure (the BEM stage, Appendix B).
 
 The section states the boundary condition and the seam mismatch, the branch each number lies
 on, the refinement curve of the grid check (A_r/A_n and its error against the finest grid
@@ -13,7 +13,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.ticker import LogLocator, NullFormatter, ScalarFormatter
 
-from asperity.pipelines.bem_grid import EDGE_MISMATCH_LIMIT
+from asperity.pipelines.stages._bem_grid import EDGE_MISMATCH_LIMIT
 from asperity.plotting import display_unit, new_figure
 
 _MODES = ("non-adhesive", "adhesive")

@@ -1,12 +1,13 @@
-"""Stages 1 and 2: read and prepare the surface, then scan its summit statistics over resolution.
+"""The read-and-level and resolution-scan stages: read and prepare the surface, then scan its
+summit statistics over resolution.
 
-Stage 1 (:func:`read_and_level`) gives a prepared :class:`topo.HeightMap` from a file (any
-format :func:`topo.read_surface` reads) or from the seeded synthetic recipe, with
+The read-and-level stage (:func:`read_and_level`) gives a prepared :class:`topo.HeightMap` from
+a file (any format :func:`topo.read_surface` reads) or from the seeded synthetic recipe, with
 :func:`topo.prepare_surface`: crop, form removal (``detrend`` or ``form_order``), the outlier
 rule and the missing-pixel policy of ``[surface]``; the job stores it, with the preparation
 record, as a :class:`LevelledSurface`.
-Stage 2 (:func:`scan_resolutions`) runs :func:`topo.resolution_scan`: eta, R and sigma_s of the
-map decimated with strides 1..K (Appendix A, Fig 12a-c) and the paper's fits
+The resolution-scan stage (:func:`scan_resolutions`) runs :func:`topo.resolution_scan`: eta, R
+and sigma_s of the map decimated with strides 1..K (Appendix A, Fig 12a-c) and the paper's fits
 (:class:`ScanResult`).
 """
 
@@ -22,10 +23,12 @@ import numpy as np
 
 from asperity import topo
 from asperity.errors import InputError
+from asperity.fields import array, document_fields, scalar, stacked, text
 from asperity.pipelines.config import ConfigError, SurfaceConfig
-from asperity.pipelines.fields import array, scalar, text
-from asperity.pipelines.pull_off import check_loads_above_pull_off
-from asperity.pipelines.stages import Stage, StageContext
+from asperity.pipelines.engine.stage import Stage, StageContext
+from asperity.pipelines.stages._pull_off import check_loads_above_pull_off
+from asperity.topo import scan as topo_scan
+from asperity.topo.heightmap import MapGeometry
 
 #: Fewest pixels per side kept by the coarsest resolution of the scan.
 MIN_SCAN_PIXELS = 16
@@ -107,7 +110,8 @@ def prepare(config: SurfaceConfig) -> topo.PreparedSurface:
 
 
 def read_and_level(config: SurfaceConfig) -> topo.HeightMap:
-    """Stage 1: read (or generate) the surface and prepare it as ``[surface]`` says.
+    """The read-and-level stage: read (or generate) the surface and prepare it as ``[surface]``
+    says.
 
     Parameters
     ----------
@@ -129,7 +133,8 @@ def usable_max_stride(surface: topo.HeightMap, max_stride: int) -> int:
 
 
 def scan_resolutions(surface: topo.HeightMap, max_stride: int) -> topo.ResolutionScan:
-    """Stage 2: summit statistics at strides 1..max_stride (:func:`topo.resolution_scan`).
+    """The resolution-scan stage: summit statistics at strides 1..max_stride
+    (:func:`topo.resolution_scan`).
 
     ``max_stride`` is capped by :func:`usable_max_stride`.
 
@@ -142,8 +147,9 @@ def scan_resolutions(surface: topo.HeightMap, max_stride: int) -> topo.Resolutio
     return topo.resolution_scan(surface, usable_max_stride(surface, max_stride))
 
 
+@document_fields
 @dataclass
-class LevelledSurface:
+class LevelledSurface(MapGeometry):
     """Stage-1 result: the levelled height map (SI).
 
     Attributes
@@ -222,45 +228,22 @@ class LevelledSurface:
             self.heights, dx=self.dx, dy=self.dy, periodic=self.periodic, provenance=self.provenance
         )
 
-    @property
-    def nx(self) -> int:
-        """Pixels along x."""
-        return int(self.heights.shape[0])
 
-    @property
-    def ny(self) -> int:
-        """Pixels along y."""
-        return int(self.heights.shape[1])
-
-    @property
-    def lx(self) -> float:
-        """Map length along x, m."""
-        return self.nx * self.dx
-
-    @property
-    def ly(self) -> float:
-        """Map length along y, m."""
-        return self.ny * self.dy
+#: The fields of :class:`topo.ResolutionScan` the resolution-scan stage stores.
+SCAN_FIELDS = (*topo_scan.ARRAY_FIELDS, *topo_scan.FIT_FIELDS[:4])  # arrays, R and eta fits
 
 
+@document_fields
 @dataclass
+@stacked(topo.ResolutionScan, SCAN_FIELDS, None)
 class ScanResult:
     """Stage-2 result: summit statistics per decimation stride and the paper's fits (SI).
 
-    The fields of :class:`topo.ResolutionScan` the job uses: R = radius_intercept +
+    The fields of :class:`topo.ResolutionScan` the job uses (:data:`SCAN_FIELDS`, declared
+    there, taken over by :func:`asperity.fields.stacked`): R = radius_intercept +
     radius_slope * resolution, eta = density_prefactor * resolution**density_exponent.
     """
 
-    stride: np.ndarray = array("1", ("stride",), "decimation stride")
-    resolution: np.ndarray = array("m", ("stride",), "pixel size of the decimated map")
-    n_summits: np.ndarray = array("1", ("stride",), "number of summits (4 nearest neighbours)")
-    asperity_density: np.ndarray = array("1/m^2", ("stride",), "asperity density eta")
-    summit_radius: np.ndarray = array("m", ("stride",), "mean summit radius R")
-    summit_height_rms: np.ndarray = array("m", ("stride",), "rms summit height sigma_s")
-    radius_slope: float = scalar("m/m", "dR/d(resolution) of the linear fit")
-    radius_intercept: float = scalar("m", "R at zero resolution of the linear fit")
-    density_exponent: float = scalar("1", "exponent of eta ~ resolution**exponent")
-    density_prefactor: float = scalar("1/m^2", "eta at a resolution of 1 m (power law)")
     fit_units: str = text("how the fits read")
 
     @classmethod
@@ -283,19 +266,20 @@ class ScanResult:
 
 
 def compute_surface(context: StageContext) -> LevelledSurface:
-    """Stage 1 of the job: :func:`prepare` on ``[surface]``."""
+    """The job's read-and-level stage: :func:`prepare` on ``[surface]``."""
     return LevelledSurface.from_prepared(prepare(context.config.surface))
 
 
 def compute_scan(context: StageContext) -> ScanResult:
-    """Stage 2 of the job: :func:`scan_resolutions` up to ``surface.max_stride``, over the
-    measured pixels only (filled ones are missing again: eta per measured area)."""
+    """The job's resolution-scan stage: :func:`scan_resolutions` up to ``surface.max_stride``,
+    over the measured pixels only (filled ones are missing again: eta per measured area)."""
     surface = context.result(SURFACE).measured_height_map()
     return ScanResult.from_scan(scan_resolutions(surface, context.config.surface.max_stride))
 
 
 def check_scan_loads(context: StageContext, scan: ScanResult) -> None:
-    """After stage 2: every load must exceed the statistical model's pull-off force."""
+    """After the resolution-scan stage: every load must exceed the statistical model's pull-off
+    force."""
     config = context.config
     check_loads_above_pull_off(
         config.material,
@@ -307,7 +291,8 @@ def check_scan_loads(context: StageContext, scan: ScanResult) -> None:
 
 SURFACE = Stage(
     name="surface",
-    title="1 read and level",
+    title="read and level",
+    attribute="surface",
     result=LevelledSurface,
     config=(
         "surface.file",
@@ -328,7 +313,8 @@ SURFACE = Stage(
 
 SCAN = Stage(
     name="resolution_scan",
-    title="2 resolution scan",
+    title="resolution scan",
+    attribute="scan",
     result=ScanResult,
     config=("surface.max_stride",),
     inputs=(SURFACE,),

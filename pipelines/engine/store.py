@@ -15,14 +15,14 @@ Layout of ``results.h5``::
 Each group is a self-contained netCDF-4-like dataset: ``xarray.open_dataset(path,
 group=stage, engine="h5netcdf")`` opens it with named dimensions and units. Booleans are HDF5
 booleans. What goes in a group is the stage's result dataclass, field by field, as its
-metadata declares (:mod:`pipelines.fields`); the same declaration reads it back.
+metadata declares (:mod:`asperity.fields`), written and read back by :mod:`asperity.h5`.
 
 Crash safety: every write builds the new file in memory (the current file, the new group, the
 file's provenance, stale groups dropped), writes those bytes to ``.results.h5.<pid>.tmp`` in the
 same directory, flushes it to disk and renames it over ``results.h5`` (:func:`os.replace` is
 atomic on POSIX), so an interruption leaves either the old file or the new one, never a
 half-written one, and the provenance always describes the stages beside it. libhdf5 itself never
-writes to disk, so a full disk is one clean :class:`pipelines.outdir.OutputWriteError` (exit
+writes to disk, so a full disk is one clean :class:`pipelines.engine.outdir.OutputWriteError` (exit
 status 2), the previous file intact and the temporary removed, instead of an h5py error and a
 crash of libhdf5 at exit. The file is held in memory while it is written (its size: the
 stage arrays, compressed above 4096 elements).
@@ -33,7 +33,6 @@ from __future__ import annotations
 import contextlib
 import datetime as _dt
 import io
-import json
 import os
 import warnings
 from collections.abc import Mapping, Sequence
@@ -44,21 +43,30 @@ from typing import Any, TypeVar
 import h5py
 import numpy as np
 
-from asperity.pipelines.fields import FieldSpec, canonical, checksum, field_specs
-from asperity.pipelines.outdir import write_error
+from asperity.fields import checksum
+from asperity.h5 import (
+    COMPRESS_ABOVE,
+    ResultLayoutError,
+    StoredStageError,
+    attribute_value,
+    read_result,
+    write_result,
+)
+from asperity.pipelines.engine.outdir import write_error
 
 R = TypeVar("R")
 
-#: Arrays larger than this many elements are gzip-compressed.
-COMPRESS_ABOVE = 4096
-
-
-class StoredStageError(RuntimeError):
-    """A stored stage group does not match its declaration or its checksum."""
-
-
-class ResultLayoutError(RuntimeError):
-    """A result's arrays disagree with their declared dimensions (a defect in a stage)."""
+__all__ = [
+    "COMPRESS_ABOVE",
+    "ResultLayoutError",
+    "ResultStore",
+    "StoredStage",
+    "StoredStageError",
+    "read_result",
+    "sync_directory",
+    "write_bytes_synced",
+    "write_result",
+]
 
 
 @dataclass(frozen=True)
@@ -78,101 +86,6 @@ class StoredStage:
     key: str
     checksum: str
     seconds: float
-
-
-def _attr(value: Any) -> Any:
-    return value.decode() if isinstance(value, bytes) else value
-
-
-def _dimension_lengths(specs: Sequence[FieldSpec], values: Mapping[str, Any]) -> dict[str, int]:
-    lengths: dict[str, int] = {}
-    for spec in specs:
-        data = values[spec.name]
-        if spec.kind != "array" or data is None:
-            continue
-        if data.ndim != len(spec.dims):
-            raise ResultLayoutError(f"{spec.name!r}: {data.ndim} axes but dims {spec.dims}")
-        for dim, n in zip(spec.dims, data.shape, strict=True):
-            if lengths.setdefault(dim, n) != n:
-                raise ResultLayoutError(
-                    f"{spec.name!r}: dimension {dim!r} has {n} entries here and "
-                    f"{lengths[dim]} elsewhere"
-                )
-    return lengths
-
-
-def _dataset(group: h5py.Group, name: str, data: np.ndarray, units: str, long_name: str):
-    compress = {"compression": "gzip", "compression_opts": 4} if data.size > COMPRESS_ABOVE else {}
-    ds = group.create_dataset(name, data=data, **compress)
-    ds.attrs["units"] = units
-    if long_name:
-        ds.attrs["long_name"] = long_name
-    return ds
-
-
-def write_result(group: h5py.Group, result: Any) -> None:
-    """Write a result dataclass into an empty HDF5 group, as its field metadata declares.
-
-    Raises
-    ------
-    ResultLayoutError
-        An array's axes disagree with its dims, or one dimension has two lengths.
-    """
-    specs = field_specs(type(result))
-    values = {s.name: canonical(s, getattr(result, s.name)) for s in specs}
-    lengths = _dimension_lengths(specs, values)
-    coords = {s.name: s for s in specs if s.is_coordinate and values[s.name] is not None}
-    scales = {}
-    for dim, n in lengths.items():
-        if dim in coords:
-            spec = coords[dim]
-            ds = _dataset(group, dim, values[dim], spec.units, spec.long_name)
-        else:
-            ds = _dataset(group, dim, np.arange(n), "1", f"index along {dim}")
-        ds.make_scale(dim)
-        scales[dim] = ds
-    units = {}
-    for spec in specs:
-        value = values[spec.name]
-        if value is None or spec.name in coords:
-            continue
-        if spec.kind == "array":
-            ds = _dataset(group, spec.name, value, spec.units, spec.long_name)
-            for axis, dim in enumerate(spec.dims):
-                ds.dims[axis].attach_scale(scales[dim])
-        elif spec.kind == "json":
-            group.attrs[spec.name] = json.dumps(value)
-        else:
-            group.attrs[spec.name] = value
-            if spec.kind == "number":
-                units[spec.name] = spec.units
-    group.attrs["attribute_units"] = json.dumps(units)
-
-
-def read_result(group: h5py.Group, cls: type[R]) -> R:
-    """Read a result dataclass written by :func:`write_result` (arrays loaded into memory).
-
-    Raises
-    ------
-    StoredStageError
-        A required field is missing (the group was written for another declaration).
-    """
-    kwargs, derived = {}, {}
-    for spec in field_specs(cls):
-        if spec.kind == "array":
-            value = group[spec.name][()] if spec.name in group else None
-        elif spec.name in group.attrs:
-            value = _attr(group.attrs[spec.name])
-            value = json.loads(value) if spec.kind == "json" else canonical(spec, value)
-        else:
-            value = None
-        if value is None and not spec.optional:
-            raise StoredStageError(f"group {group.name!r} has no {spec.name!r}")
-        (kwargs if spec.init else derived)[spec.name] = value
-    result = cls(**kwargs)
-    for name, value in derived.items():  # stored copies of derived values must agree
-        object.__setattr__(result, name, value)
-    return result
 
 
 class ResultStore:
@@ -215,8 +128,8 @@ class ResultStore:
                 a = group.attrs
                 if isinstance(group, h5py.Group) and a.get("finished", False):
                     out[name] = StoredStage(
-                        str(_attr(a.get("stage_key", ""))),
-                        str(_attr(a.get("checksum", ""))),
+                        str(attribute_value(a.get("stage_key", ""))),
+                        str(attribute_value(a.get("checksum", ""))),
                         float(a.get("seconds", np.nan)),
                     )
             return out
@@ -244,7 +157,7 @@ class ResultStore:
                 raise StoredStageError(
                     f"{self.path}: stage {name!r} cannot be read back ({type(exc).__name__}: {exc})"
                 ) from exc
-            expected = str(_attr(group.attrs.get("checksum", "")))
+            expected = str(attribute_value(group.attrs.get("checksum", "")))
         if checksum(result) != expected:
             raise StoredStageError(
                 f"{self.path}: stage {name!r} fails its checksum (changed after it was written)"
@@ -257,7 +170,7 @@ class ResultStore:
         if f is None:
             return {}
         with f:
-            return {k: _attr(v) for k, v in f.attrs.items()}
+            return {k: attribute_value(v) for k, v in f.attrs.items()}
 
     def write(
         self,

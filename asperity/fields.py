@@ -1,8 +1,12 @@
-"""Typed stage results: how each field is stored, declared once as dataclass field metadata.
+"""Typed results: the unit, dimensions and description of each field, declared once.
 
-A stage result is a dataclass whose fields say their unit and, for arrays, their named
-dimensions; :mod:`pipelines.store` writes and reads every such dataclass with one generic
-routine, and :func:`checksum` fingerprints it. Three declarations cover every field:
+A result type of any asperity package (``topo.HeightMap``, ``topo.ResolutionScan``,
+``statmodel.ShearCurve``, the pipeline's stage results) is a dataclass whose fields say their
+SI unit, a description and, for arrays, their named dimensions, as dataclass field metadata.
+:mod:`asperity.h5` writes and reads every such dataclass with one generic routine (the job's
+``results.h5``, :mod:`asperity.pipelines.engine.store`), :func:`checksum` fingerprints it and
+:func:`document_fields` completes its docstring from the same declarations, so a field's
+description is written once. Three declarations cover every field:
 
 * :func:`array` (``metadata={"units": "m^2", "dims": ("normal_load",)}``): an HDF5 dataset with
   a ``units`` attribute over named dimensions. A field whose only dimension is its own name is
@@ -29,9 +33,10 @@ import dataclasses
 import functools
 import hashlib
 import json
+import re
 import types
 import typing
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -70,16 +75,24 @@ def array(
     return dataclasses.field(metadata=metadata, init=init)
 
 
-def scalar(units: str, long_name: str = "", *, optional: bool = False, init: bool = True) -> Any:
+def scalar(
+    units: str,
+    long_name: str = "",
+    *,
+    optional: bool = False,
+    init: bool = True,
+    default: Any = dataclasses.MISSING,
+) -> Any:
     """A stored number or boolean (a group attribute) in SI ``units``.
 
     ``init=False`` marks a value the dataclass derives itself in ``__post_init__`` (stored for
-    readers of the file, not passed back to the constructor).
+    readers of the file, not passed back to the constructor); ``default`` is its value when not
+    given.
     """
     metadata = {"units": units, "long_name": long_name}
     if optional:
         return dataclasses.field(default=None, metadata=metadata, init=init)
-    return dataclasses.field(metadata=metadata, init=init)
+    return dataclasses.field(default=default, metadata=metadata, init=init)
 
 
 def text(
@@ -87,17 +100,21 @@ def text(
     *,
     optional: bool = False,
     default_factory: Callable[[], Any] | None = None,
+    compare: bool = True,
 ) -> Any:
     """A stored string, or a list / dict of plain values (kept as JSON text).
 
-    ``optional=True`` makes the field default to None (not stored when None).
+    ``optional=True`` makes the field default to None (not stored when None); ``compare=False``
+    leaves it out of ``==`` (a provenance record).
     """
     metadata = {"long_name": long_name}
     if optional:
-        return dataclasses.field(default=None, metadata=metadata)
+        return dataclasses.field(default=None, metadata=metadata, compare=compare)
     if default_factory is not None:
-        return dataclasses.field(default_factory=default_factory, metadata=metadata)
-    return dataclasses.field(metadata=metadata)
+        return dataclasses.field(
+            default_factory=default_factory, metadata=metadata, compare=compare
+        )
+    return dataclasses.field(metadata=metadata, compare=compare)
 
 
 @dataclass(frozen=True)
@@ -156,10 +173,10 @@ def _kind(name: str, python_type: Any, metadata: Any) -> str:
         return "array"
     if python_type in (float, int, bool):
         if "units" not in metadata:
-            raise TypeError(f"field {name!r}: a number needs its units (pipelines.fields.scalar)")
+            raise TypeError(f"field {name!r}: a number needs its units (asperity.fields.scalar)")
         return "number"
     if python_type is np.ndarray:
-        raise TypeError(f"field {name!r}: an array needs units and dims (pipelines.fields.array)")
+        raise TypeError(f"field {name!r}: an array needs units and dims (asperity.fields.array)")
     return "string" if python_type is str else "json"
 
 
@@ -231,3 +248,94 @@ def checksum(result: Any) -> str:
             digest.update(json.dumps(value, sort_keys=True).encode())
         digest.update(b"\0")
     return digest.hexdigest()
+
+
+def _mentioned(name: str, doc: str) -> bool:
+    return re.search(rf"(?<![\w.]){re.escape(name)}(?!\w)", doc) is not None
+
+
+def field_entry(spec: FieldSpec) -> str:
+    """One numpy-style attribute entry from a field's declaration (name, unit, dims, text)."""
+    if spec.kind == "array":
+        kind = f"ndarray over ({', '.join(spec.dims)}), {spec.units}"
+    elif spec.kind == "number":
+        kind = f"{getattr(spec.python_type, '__name__', spec.python_type)}, {spec.units}"
+    else:
+        kind = "str" if spec.kind == "string" else "JSON-ready value"
+    optional = " or None" if spec.optional else ""
+    return f"    {spec.name} : {kind}{optional}\n        {spec.long_name or 'no description'}."
+
+
+def document_fields(cls: type) -> type:
+    """Class decorator: append to the docstring every stored field it does not describe.
+
+    The entries are made from the field declarations (:func:`field_entry`), so a field is
+    described once, in its ``long_name``, and still appears in ``help(cls)``. Apply it after
+    ``@dataclass``.
+    """
+    doc = cls.__doc__ or ""
+    missing = [spec for spec in field_specs(cls) if not _mentioned(spec.name, doc)]
+    if missing:
+        entries = "\n".join(field_entry(spec) for spec in missing)
+        cls.__doc__ = (
+            doc.rstrip() + "\n\n    Stored fields (from their declarations)\n"
+            "    ---------------------------------------\n" + entries + "\n"
+        )
+    return cls
+
+
+def undocumented_fields(cls: type) -> list[str]:
+    """Fields of a result dataclass without a description (``long_name``) or not in its
+    docstring: what a test requires to be empty."""
+    doc = cls.__doc__ or ""
+    return [
+        spec.name
+        for spec in field_specs(cls)
+        if not spec.long_name.strip() or not _mentioned(spec.name, doc)
+    ]
+
+
+def _copy_declaration(spec: FieldSpec, dim: str | None) -> Any:
+    if dim is None and spec.kind == "number":
+        return scalar(spec.units, spec.long_name, optional=spec.optional)
+    if dim is None:
+        return array(spec.units, spec.dims, spec.long_name, optional=spec.optional)
+    dims = (dim, *spec.dims) if spec.kind == "array" else (dim,)
+    return array(spec.units, dims, spec.long_name)
+
+
+def _insert_fields(cls: type, added: dict[str, Any], after: str | None) -> type:
+    own = dict(cls.__dict__.get("__annotations__", {}))
+    items = list(own.items())
+    position = 0 if after is None else list(own).index(after) + 1
+    annotations = {n: ("float" if _is_scalar(d) else "np.ndarray") for n, d in added.items()}
+    cls.__annotations__ = dict(items[:position] + list(annotations.items()) + items[position:])
+    for name, declaration in added.items():
+        setattr(cls, name, declaration)
+    return cls
+
+
+def _is_scalar(declaration: Any) -> bool:
+    return "dims" not in declaration.metadata
+
+
+def stacked(
+    source: type, names: Sequence[str], dim: str | None, *, after: str | None = None
+) -> Callable[[type], type]:
+    """Class decorator (under ``@dataclass``): the fields ``names`` of ``source``, taken over.
+
+    With ``dim`` None each field is declared as in ``source`` (unit, dims, description); with
+    a dimension name each becomes an array field with that leading dimension: an array over
+    ``(dim, *its dims)``, a number an array over ``(dim,)``. They are inserted after the field
+    ``after`` (first when None), in the order of ``names``. A result that keeps fields of a
+    package's result type (the stored resolution scan), or one per ``dim`` entry (the shear
+    curve at every normal load), so repeats no unit or description. Numbers are read back as
+    float: declare an ``int`` field in the class itself.
+    """
+    specs = {spec.name: spec for spec in field_specs(source)}
+
+    def decorate(cls: type) -> type:
+        added = {name: _copy_declaration(specs[name], dim) for name in names}
+        return _insert_fields(cls, added, after)
+
+    return decorate

@@ -1,17 +1,21 @@
 """A stage of the job, declared once as data: what it reads, what it returns, how it is keyed.
 
 A :class:`Stage` names its HDF5 group, the configuration keys and the earlier stages it reads,
-its result dataclass (fields with units and dims, :mod:`pipelines.fields`) and the function that
+its result dataclass (fields with units and dims, :mod:`asperity.fields`) and the function that
 computes it. From that one declaration :class:`Runner` keys, stores, reuses and checks the
-stage; nothing else lists its fields or its dependencies. Example (stage 2 of the job)::
+stage, and :class:`~asperity.pipelines.job.JobResult` and
+:class:`~asperity.pipelines.results.Results` take their attributes; nothing else lists its
+fields or its dependencies. A stage's number is its place in
+:data:`asperity.pipelines.stages.STAGES`. Example (the one docs/DEVELOPING.md walks through)::
 
-    SCAN = Stage(
-        name="resolution_scan",
-        title="2 resolution scan",
-        result=ScanResult,
+    ROUGHNESS = Stage(
+        name="roughness",              # its group in results.h5
+        title="roughness parameters",  # the log says "<number> roughness parameters"
+        attribute="roughness",         # JobResult.roughness, Results.roughness
+        result=RoughnessParameters,    # fields declared with asperity.fields
         config=("surface.max_stride",),
         inputs=(SURFACE,),
-        compute=compute_scan,          # (StageContext) -> ScanResult
+        compute=compute_roughness,     # (StageContext) -> RoughnessParameters
     )
 
 The key of a stage is the SHA-256 of one JSON document holding exactly the configuration
@@ -20,6 +24,11 @@ by those keys enter by their SHA-256), the keys of its input stages and the pack
 (:data:`asperity.__version__`), so that a result of an older solver is recomputed, never
 relabelled. A disabled stage (``enabled(config)`` false) has no result (None) and its key is
 "disabled".
+
+``compute`` sees only what it declares (:mod:`~asperity.pipelines.engine.views`): its
+configuration keys, its input stages and the measured curves named by its ``measured.*`` keys;
+reading anything else raises :class:`~asperity.pipelines.engine.views.UndeclaredReadError`,
+so a key read but not declared cannot silently reuse a result stored with another value.
 """
 
 from __future__ import annotations
@@ -32,10 +41,11 @@ from concurrent.futures import Executor
 from dataclasses import dataclass, field
 from typing import Any, Generic, TypeVar
 
-from asperity.pipelines.config import JobConfig
-from asperity.pipelines.fields import field_specs
+from asperity.fields import field_specs
+from asperity.pipelines.config import JOB_SCHEMA, JobConfig
+from asperity.pipelines.engine.store import ResultStore, StoredStageError
+from asperity.pipelines.engine.views import ConfigView, DeclaredView, UndeclaredReadError
 from asperity.pipelines.measured import Measurements
-from asperity.pipelines.store import ResultStore, StoredStageError
 
 R = TypeVar("R")
 T = TypeVar("T")
@@ -54,27 +64,58 @@ class StageContext:
 
     Attributes
     ----------
-    config : JobConfig
-        The validated job configuration.
+    config : JobConfig or ConfigView
+        The validated job configuration; for ``compute``, a view of the keys it declares.
     results : dict
         Results of the stages run so far, by name (None for a disabled stage).
     executor : Executor
         Runs independent sweeps (serial, worker processes or dask).
     progress : bool
         Show progress bars.
-    measured : Measurements
-        The measured curves, read before any stage ran.
+    measured : Measurements or DeclaredView
+        The measured curves, read before any stage ran; for ``compute``, only those its
+        ``measured.*`` keys declare.
+    inputs : tuple of str or None
+        The stages ``result`` may give (None: any stage run so far).
     """
 
-    config: JobConfig
+    config: JobConfig | ConfigView
     results: dict[str, Any]
     executor: Executor
     progress: bool = False
-    measured: Measurements = field(default_factory=Measurements)
+    measured: Measurements | DeclaredView = field(default_factory=Measurements)
+    inputs: tuple[str, ...] | None = None
 
     def result(self, stage: Stage[T]) -> T:
-        """The result of an input stage (None when it was disabled)."""
+        """The result of an input stage (None when it was disabled).
+
+        Raises
+        ------
+        UndeclaredReadError
+            ``stage`` is not among the declared inputs of the stage being computed.
+        """
+        if self.inputs is not None and stage.name not in self.inputs:
+            raise UndeclaredReadError(
+                f"stage result {stage.name!r} is not a declared input (inputs: "
+                f"{', '.join(self.inputs) or 'none'})"
+            )
         return self.results[stage.name]
+
+    def for_stage(self, stage: Stage) -> StageContext:
+        """The context ``stage.compute`` sees: its declared keys, inputs and measurements."""
+        measured_keys = {k.split(".", 1)[1]: k for k in stage.config if k.startswith("measured.")}
+        measured: Any = self.measured
+        if "measured" not in stage.config:
+            where = f"stage {stage.name!r}, measured curves"
+            measured = DeclaredView(self.measured, measured_keys, where)
+        return StageContext(
+            config=ConfigView(self.config, stage.config, stage.name, JOB_SCHEMA.sections),
+            results=self.results,
+            executor=self.executor,
+            progress=self.progress,
+            measured=measured,
+            inputs=tuple(s.name for s in stage.inputs),
+        )
 
 
 @dataclass(frozen=True)
@@ -86,15 +127,19 @@ class Stage(Generic[R]):
     name : str
         HDF5 group name in ``results.h5``.
     title : str
-        How the log and the report call it ("3 BEM reference").
+        How the log and the report call it ("BEM reference"; the number comes from the
+        stage's place in the job's list, :func:`stage_label`).
+    attribute : str
+        Its attribute on ``JobResult`` and ``Results`` (``run.bem``); also reachable by
+        ``name``.
     result : type
-        The result dataclass (every field declared with :mod:`pipelines.fields`).
+        The result dataclass (every field declared with :mod:`asperity.fields`).
     config : tuple of str
         Configuration keys it reads: a section ("bem") or one key ("material.E_star").
     inputs : tuple of Stage
         Earlier stages it reads.
     compute : callable
-        ``compute(context) -> result``.
+        ``compute(context) -> result``; ``context`` holds only the declared keys and inputs.
     enabled : callable
         ``enabled(config) -> bool``; a disabled stage is skipped and its result is None.
     check : callable or None
@@ -104,6 +149,7 @@ class Stage(Generic[R]):
 
     name: str
     title: str
+    attribute: str
     result: type[R]
     config: tuple[str, ...]
     inputs: tuple[Stage, ...]
@@ -143,6 +189,11 @@ class StageRun:
     def cached(self) -> bool:
         """Taken from the store."""
         return self.status == "stored"
+
+
+def stage_label(stage: Stage, stages: Sequence[Stage]) -> str:
+    """ "<number> <title>", numbered from 1 by the stage's place in ``stages``."""
+    return f"{list(stages).index(stage) + 1} {stage.title}"
 
 
 def config_value(document: Mapping[str, Any], path: str) -> Any:
@@ -210,9 +261,11 @@ class Runner:
     documents: dict[str, str] = field(default_factory=dict)
     runs: list[StageRun] = field(default_factory=list)
     pending: list[tuple[Stage, Any, float]] = field(default_factory=list)
+    labels: dict[str, str] = field(default_factory=dict)
 
     def plan(self, stages: Sequence[Stage]) -> None:
         """Key every stage before any runs (keys depend on the configuration alone)."""
+        self.labels = {stage.name: stage_label(stage, stages) for stage in stages}
         for stage in stages:
             if not stage.enabled(self.context.config):
                 self.keys[stage.name], self.documents[stage.name] = DISABLED, ""
@@ -251,25 +304,25 @@ class Runner:
 
     def run(self, stage: Stage[R]) -> R | None:
         """Compute, or take from the store, one stage (its write waits for :meth:`flush`)."""
-        key = self.keys[stage.name]
+        key, label = self.keys[stage.name], self.labels.get(stage.name, stage.title)
         if key == DISABLED:
             self.runs.append(StageRun(stage.name, key, "disabled", 0.0))
             self.context.results[stage.name] = None
-            self.log(f"{stage.title}: disabled")
+            self.log(f"{label}: disabled")
             return None
         result, seconds, note = self.reuse(stage, key)
         if result is not None:
             self.runs.append(StageRun(stage.name, key, "stored", seconds))
-            self.log(f"{stage.title}: stored, skipped")
+            self.log(f"{label}: stored, skipped")
         else:
             if note:
-                self.log(f"{stage.title}: {note}")
+                self.log(f"{label}: {note}")
             t0 = time.perf_counter()
-            result = stage.compute(self.context)
+            result = stage.compute(self.context.for_stage(stage))
             seconds = time.perf_counter() - t0
             self.pending.append((stage, result, seconds))
             self.runs.append(StageRun(stage.name, key, "computed", seconds, note))
-            self.log(f"{stage.title}: {seconds:.2f} s")
+            self.log(f"{label}: {seconds:.2f} s")
         self.context.results[stage.name] = result
         if stage.check is not None:
             stage.check(self.context, result)

@@ -1,15 +1,15 @@
-"""Stage 3: the BEM reference A_r(F_z) on the map (Appendix B; squares of Fig 12d).
+"""The BEM stage: the BEM reference A_r(F_z) on the map (Appendix B; squares of Fig 12d).
 
 The map covers only part of the experiment's nominal area A_n, so each normal load is scaled
 to the map at equal nominal pressure, F_map = F_z A_map / A_n, and the result is reported as
 the fraction A_r / A_map (equal to A_r / A_n of the experiment). Non-adhesive and adhesive
 (Pohrt-Popov, eq:max_sigma) solves at every load; every adhesive number lies on the loading
-branch (:mod:`asperity.pipelines.bem_solves`).
+branch (:mod:`asperity.pipelines.stages._bem_solves`).
 
 The boundary condition (``[bem] boundary``) and the grid (``max_stride``, ``area_tolerance``,
-``coarsen``) are chosen and stated as :mod:`asperity.pipelines.bem_grid` explains. Nothing is
-solved twice: the grid check's solve at the chosen stride is the sweep's solve at the check
-load, and the other loads are solved in two chains outwards from it (in parallel with two
+``coarsen``) are chosen and stated as :mod:`asperity.pipelines.stages._bem_grid` explains.
+Nothing is solved twice: the grid check's solve at the chosen stride is the sweep's solve at the
+check load, and the other loads are solved in two chains outwards from it (in parallel with two
 workers; the map is shipped to each worker once).
 """
 
@@ -18,26 +18,29 @@ from __future__ import annotations
 from collections.abc import Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass
+from types import SimpleNamespace
 
 import numpy as np
 
 from asperity import topo
-from asperity.pipelines.bem_grid import (
+from asperity.fields import array, document_fields, scalar, text
+from asperity.pipelines.config import BemConfig
+from asperity.pipelines.engine.parallel import run_map, share
+from asperity.pipelines.engine.stage import Stage, StageContext
+from asperity.pipelines.stages._bem_grid import (
     GridCheck,
     boundary_warning,
     check_grids,
     edge_mismatch,
     solver_grid,
 )
-from asperity.pipelines.bem_solves import SolveSummary, solve_chain
-from asperity.pipelines.fields import array, scalar, text
-from asperity.pipelines.parallel import run_map, share
-from asperity.pipelines.stages import Stage, StageContext
-from asperity.pipelines.surface_stage import SURFACE
+from asperity.pipelines.stages._bem_solves import SolveSummary, solve_chain
+from asperity.pipelines.stages.surface import SURFACE
 
 __all__ = ["BEM", "BemReference", "bem_reference", "compute_bem", "solver_grid"]
 
 
+@document_fields
 @dataclass
 class BemReference:
     """Stage-3 result: the BEM A_r(F_z) reference on the map, and the grid check behind it.
@@ -237,6 +240,20 @@ def _messages(loads: np.ndarray, solves: list[list[SolveSummary]]) -> list[str]:
     ]
 
 
+#: The ``[bem]`` keys the BEM reference reads: the keyword arguments of :func:`bem_reference`,
+#: the keys the stage declares and passes (``bem.enabled`` only switches the stage on or off).
+SETTINGS: tuple[str, ...] = (
+    "tol",
+    "max_iter",
+    "area_tolerance",
+    "max_stride",
+    "adhesive",
+    "boundary",
+    "coarsen",
+)
+_DEFAULTS = BemConfig()
+
+
 def bem_reference(
     surface: topo.HeightMap,
     e_star: float,
@@ -244,17 +261,17 @@ def bem_reference(
     normal_loads: Sequence[float],
     nominal_area: float,
     *,
-    tol: float = 1e-6,
-    max_iter: int | None = None,
-    area_tolerance: float = 0.05,
-    max_stride: int = 4,
-    adhesive: bool = True,
-    boundary: str = "periodic",
-    coarsen: bool = True,
+    tol: float = _DEFAULTS.tol,
+    max_iter: int | None = _DEFAULTS.max_iter,
+    area_tolerance: float = _DEFAULTS.area_tolerance,
+    max_stride: int = _DEFAULTS.max_stride,
+    adhesive: bool = _DEFAULTS.adhesive,
+    boundary: str = _DEFAULTS.boundary,
+    coarsen: bool = _DEFAULTS.coarsen,
     executor: Executor | None = None,
     progress: bool = False,
 ) -> BemReference:
-    """Stage 3: BEM real contact area against normal load on the map.
+    """The BEM stage: BEM real contact area against normal load on the map.
 
     Parameters
     ----------
@@ -268,14 +285,14 @@ def bem_reference(
         Experiment loads F_z, N (on the nominal area).
     nominal_area : float
         A_n of the experiment, m^2.
-    tol, max_iter
-        BEM solver settings (:func:`bem.solve_contact`).
-    area_tolerance, max_stride, coarsen
-        The grid check (:func:`asperity.pipelines.bem_grid.check_grids`).
-    adhesive : bool
-        Run the adhesive solves too.
-    boundary : {"periodic", "free"}
-        Boundary condition of every solve (:mod:`asperity.pipelines.bem_grid`).
+    tol, max_iter, area_tolerance, max_stride, adhesive, boundary, coarsen
+        The ``[bem]`` keys of :data:`SETTINGS`, defaults from
+        :class:`~asperity.pipelines.config.BemConfig`. ``tol`` and ``max_iter`` are the
+        solver's (:func:`bem.solve_contact`).
+        ``area_tolerance``, ``max_stride`` and ``coarsen`` set the grid check
+        (:func:`asperity.pipelines.stages._bem_grid.check_grids`); ``adhesive`` runs the
+        adhesive solves too; ``boundary`` ("periodic" or "free") is every solve's
+        (:mod:`asperity.pipelines.stages._bem_grid`).
     executor : Executor, optional
         Runs the two load chains in parallel.
     """
@@ -297,22 +314,54 @@ def bem_reference(
     map_loads = loads * (h.size * dx * dy) / nominal_area
     chains = _solve_chains(grid, surface, e_star, map_loads, w, solver, executor, progress)
     solves = _per_load(loads, k, grid, chains, w > 0)
-    mask = chains.get(-1, grid.mask)  # the check's own mask when the check load is the largest
-    mismatch = edge_mismatch(h)
-    warning = boundary_warning(boundary, mismatch)
-    chosen = list(grid.strides).index(grid.stride)
-    change = grid.relative_change
-    check_fraction = grid.fractions()
-    check_iter = _field(grid.solves, "iterations", int)
-    check_conv = _field(grid.solves, "convolutions", int)
-    iterations, convolutions = (
-        _field(solves, "iterations", int),
-        _field(solves, "convolutions", int),
+    run = SimpleNamespace(
+        loads=loads, k=k, grid=grid, chains=chains, solves=solves, h=h, dx=dx, dy=dy, w=w
     )
+    return _reference(run, map_loads, nominal_area, area_tolerance, boundary)
+
+
+def _grid_fields(run: SimpleNamespace, nominal_area: float, area_tolerance: float) -> dict:
+    """The grid check's fields of :class:`BemReference` (strides tried, their solves, choice)."""
+    grid, loads, k = run.grid, run.loads, run.k
+    change = grid.relative_change
+    return {
+        "check_stride": grid.strides,
+        "check_contact_fraction": grid.fractions(),
+        "check_relative_change": change,
+        "stride": grid.stride,
+        "check_pressure": float(loads[k]) / nominal_area,
+        "grid_converged": bool(len(change) < 2 or change[-2] <= area_tolerance),
+        "area_tolerance": float(area_tolerance),
+        "grid_reason": grid.reason,
+        "check_error": grid.error,
+        "check_iterations": _field(grid.solves, "iterations", int),
+        "check_convolutions": _field(grid.solves, "convolutions", int),
+        "check_seconds": _field(grid.solves, "seconds"),
+        "check_branch": [[s.branch for s in row] for row in grid.solves],
+        "check_load": float(loads[k]),
+        "grid_error": float(grid.error[list(grid.strides).index(grid.stride)]),
+    }
+
+
+def _reference(
+    run: SimpleNamespace,
+    map_loads: np.ndarray,
+    nominal_area: float,
+    area_tolerance: float,
+    boundary: str,
+) -> BemReference:
+    """The :class:`BemReference` of the grid check and the load chains ``run`` holds."""
+    loads, k, solves, dx, dy = run.loads, run.k, run.solves, run.dx, run.dy
+    mask = run.chains.get(-1, run.grid.mask)  # the check's own mask when the check load is largest
+    mismatch = edge_mismatch(run.h)
+    warning = boundary_warning(boundary, mismatch)
+    grid = _grid_fields(run, nominal_area, area_tolerance)
+    check_iter, check_conv = grid["check_iterations"], grid["check_convolutions"]
+    iterations = _field(solves, "iterations", int)
+    convolutions = _field(solves, "convolutions", int)
     return BemReference(
         normal_load=loads,
         mode=np.arange(len(solves)),
-        check_stride=grid.strides,
         mask_x=np.arange(mask.shape[0]) * dx,
         mask_y=np.arange(mask.shape[1]) * dy,
         map_normal_load=map_loads,
@@ -320,52 +369,33 @@ def bem_reference(
         iterations=iterations,
         converged=_field(solves, "converged", bool),
         solve_seconds=_field(solves, "seconds"),
-        check_contact_fraction=check_fraction,
-        check_relative_change=change,
         contact_mask=mask,
-        stride=grid.stride,
         dx=dx,
         dy=dy,
-        check_pressure=float(loads[k]) / nominal_area,
-        grid_converged=bool(len(change) < 2 or change[-2] <= area_tolerance),
-        area_tolerance=float(area_tolerance),
-        grid_reason=grid.reason,
         messages=_messages(loads, solves),
         convolutions=convolutions,
         branch=[[s.branch for s in row] for row in solves],
-        check_error=grid.error,
-        check_iterations=check_iter,
-        check_convolutions=check_conv,
-        check_seconds=_field(grid.solves, "seconds"),
-        check_branch=[[s.branch for s in row] for row in grid.solves],
-        check_load=float(loads[k]),
-        grid_error=float(grid.error[chosen]),
         boundary=boundary,
         edge_mismatch=mismatch,
         warnings=[warning] if warning else [],
         solves=int(check_iter.size + iterations.size - iterations.shape[0]),
         total_iterations=int(check_iter.sum() + iterations.sum() - iterations[:, k].sum()),
         total_convolutions=int(check_conv.sum() + convolutions.sum() - convolutions[:, k].sum()),
-        contact_fraction_adhesive=_field(solves, "contact_fraction")[1] if w > 0 else None,
+        contact_fraction_adhesive=_field(solves, "contact_fraction")[1] if run.w > 0 else None,
+        **grid,
     )
 
 
 def compute_bem(context: StageContext) -> BemReference:
-    """Stage 3 of the job: :func:`bem_reference` with ``[bem]``, the material and the loads."""
-    config, b = context.config, context.config.bem
+    """The job's BEM stage: :func:`bem_reference` with ``[bem]``, the material and the loads."""
+    config = context.config
     return bem_reference(
         context.result(SURFACE).height_map(),
         config.material.e_star,
         config.material.work_of_adhesion,
         config.loading.normal_loads,
         config.loading.nominal_area,
-        tol=b.tol,
-        max_iter=b.max_iter,
-        area_tolerance=b.area_tolerance,
-        max_stride=b.max_stride,
-        adhesive=b.adhesive,
-        boundary=b.boundary,
-        coarsen=b.coarsen,
+        **{name: getattr(config.bem, name) for name in SETTINGS},
         executor=context.executor,
         progress=context.progress,
     )
@@ -373,14 +403,15 @@ def compute_bem(context: StageContext) -> BemReference:
 
 BEM = Stage(
     name="bem_reference",
-    title="3 BEM reference",
+    title="BEM reference",
+    attribute="bem",
     result=BemReference,
     config=(
         "material.E_star",
         "material.work_of_adhesion",
         "loading.nominal_area",
         "loading.normal_loads",
-        "bem",
+        *(f"bem.{name}" for name in SETTINGS),
     ),
     inputs=(SURFACE,),
     compute=compute_bem,

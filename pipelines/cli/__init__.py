@@ -48,7 +48,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "asperity.topo.cli",  # stats, scan, synth
     "asperity.bem.cli",  # bem
     "asperity.statmodel.cli",  # friction, figures
-    "asperity.pipelines.run_cli",  # run
+    "asperity.pipelines.cli.run",  # run
 )
 
 #: File-system errors that concern a path the user named: reported as bad input (status 2).
