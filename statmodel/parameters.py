@@ -2,9 +2,10 @@
 
 All quantities are SI: Pa, J/m^2, m, 1/m^2. The dataclasses are frozen and validate their
 fields on construction; a bad value raises :class:`asperity.errors.InputError` naming the field,
-the expected range with its reason, and the value found. The ranges (:data:`PHYSICAL_BOUNDS`) are
-physical, wide enough for every real interface and narrow enough that the model's arithmetic
-stays finite (``e_star = 1e308`` used to exhaust the memory).
+the expected range with its reason, and the value found. The ranges are written once, in
+:data:`asperity.quantities.QUANTITIES` (shared with the TOML files and the command line): physical,
+wide enough for every real interface and narrow enough that the model's arithmetic stays finite
+(``e_star = 1e308`` used to exhaust the memory).
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ import warnings
 from dataclasses import dataclass, fields
 
 from asperity.errors import InputError
+from asperity.quantities import quantity
 
 #: Below this Tabor parameter the JKR limit no longer applies (paper, Section 2).
 TABOR_JKR_LIMIT = 5.0
@@ -21,6 +23,35 @@ TABOR_JKR_LIMIT = 5.0
 
 class TaborWarning(UserWarning):
     """The Tabor parameter is below 5: the JKR-based asperity laws are outside their validity."""
+
+
+#: (class, field) -> the key of its bound in :data:`asperity.quantities.QUANTITIES`, where the
+#: range, unit and reason of each are written once (shared with the TOML files and the CLIs).
+FIELD_QUANTITIES: dict[tuple[str, str], str] = {
+    ("Material", "e_star"): "material.E_star",
+    ("Material", "work_of_adhesion"): "material.work_of_adhesion",
+    ("Material", "mode_mixity"): "material.mode_mixity",
+    ("Material", "shear_strength"): "material.shear_strength",
+    ("Material", "equilibrium_distance"): "material.equilibrium_distance",
+    ("Roughness", "asperity_density"): "roughness.asperity_density",
+    ("Roughness", "summit_radius"): "roughness.summit_radius",
+    ("Roughness", "summit_height_rms"): "roughness.summit_height_rms",
+}
+
+#: (class, field) -> (lowest, highest, unit, why the range): a view of the shared bounds.
+PHYSICAL_BOUNDS: dict[tuple[str, str], tuple[float, float, str, str]] = {
+    field: (quantity(key).low, quantity(key).high, quantity(key).unit, quantity(key).why)
+    for field, key in FIELD_QUANTITIES.items()
+}
+
+
+def _check_fields(instance: object) -> None:
+    """Check (and convert to float) every field of a frozen dataclass against its bound."""
+    owner = type(instance).__name__
+    for f in fields(instance):  # type: ignore[arg-type]
+        bound = quantity(FIELD_QUANTITIES[(owner, f.name)])
+        value = bound.check(getattr(instance, f.name), f"{owner}.{f.name}")
+        object.__setattr__(instance, f.name, value)
 
 
 def _check_finite(owner: str, name: str, value: float) -> float:
@@ -31,44 +62,6 @@ def _check_finite(owner: str, name: str, value: float) -> float:
     if not math.isfinite(value):
         raise InputError(f"{owner}.{name}: expected a finite number, got {value!r}")
     return value
-
-
-#: (class, field) -> (lowest, highest, unit, why the range). Zero is allowed where the lower bound
-#: is 0 (no adhesion, no friction); a positive-only quantity has a positive lower bound.
-PHYSICAL_BOUNDS: dict[tuple[str, str], tuple[float, float, str, str]] = {
-    ("Material", "e_star"): (
-        1e2,
-        1e13,
-        "Pa",
-        "from the softest gels (~1 kPa) to diamond (~1e12 Pa)",
-    ),
-    ("Material", "work_of_adhesion"): (0.0, 10.0, "J/m^2", "solid surface energies are < ~5 J/m^2"),
-    ("Material", "mode_mixity"): (0.0, 1.0, "1", "lambda is a fraction of the mode-II work"),
-    ("Material", "shear_strength"): (
-        0.0,
-        1e11,
-        "Pa",
-        "no solid shears above its theoretical strength, < 1e11 Pa",
-    ),
-    ("Material", "equilibrium_distance"): (1e-11, 1e-8, "m", "interatomic distances are 0.1-1 nm"),
-    ("Roughness", "asperity_density"): (
-        1e-6,
-        1e20,
-        "1/m^2",
-        "from one summit per km^2 to one per (0.1 nm)^2",
-    ),
-    ("Roughness", "summit_radius"): (1e-10, 1e2, "m", "from atomic (0.1 nm) to 100 m"),
-    ("Roughness", "summit_height_rms"): (1e-12, 1.0, "m", "from 1 pm to 1 m"),
-}
-
-
-def _check_bounds(owner: str, name: str, value: float) -> None:
-    low, high, unit, reason = PHYSICAL_BOUNDS[(owner, name)]
-    if not low <= value <= high:
-        raise InputError(
-            f"{owner}.{name}: expected a value in [{low:g}, {high:g}] {unit} ({reason}), "
-            f"got {value!r}"
-        )
 
 
 def _check_positive(owner: str, name: str, value: float, unit: str) -> None:
@@ -107,12 +100,7 @@ class Material:
     equilibrium_distance: float = 0.2e-9
 
     def __post_init__(self) -> None:
-        for f in fields(self):
-            object.__setattr__(
-                self, f.name, _check_finite("Material", f.name, getattr(self, f.name))
-            )
-        for f in fields(self):
-            _check_bounds("Material", f.name, getattr(self, f.name))
+        _check_fields(self)
 
 
 @dataclass(frozen=True)
@@ -134,12 +122,7 @@ class Roughness:
     summit_height_rms: float
 
     def __post_init__(self) -> None:
-        for f in fields(self):
-            object.__setattr__(
-                self, f.name, _check_finite("Roughness", f.name, getattr(self, f.name))
-            )
-        for f in fields(self):
-            _check_bounds("Roughness", f.name, getattr(self, f.name))
+        _check_fields(self)
 
 
 def tabor_parameter(
