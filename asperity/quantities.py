@@ -118,6 +118,19 @@ class Quantity:
         return parse
 
 
+class OneLineErrorParser(argparse.ArgumentParser):
+    """An argparse parser whose usage error is one line, ``PROG: error: OPTION: ...`` (exit 2).
+
+    The usage block argparse prints first would push the one line that matters off the
+    terminal; ``--help`` still shows it. Sub-command parsers inherit the class.
+    """
+
+    def error(self, message: str):  # noqa: ANN201 (NoReturn: argparse's signature)
+        """Print ``message`` as one line naming the option (no usage block), exit with 2."""
+        line = " ".join(message.removeprefix("argument ").split())
+        self.exit(2, f"{self.prog}: error: {line}\n")
+
+
 def _plain_number(value: Any, integer: bool) -> Any:
     """A Python int or float for the schema kinds, or the value itself (then refused)."""
     if isinstance(value, bool) or not isinstance(value, numbers.Real):

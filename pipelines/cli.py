@@ -42,6 +42,7 @@ from collections.abc import Iterator, Sequence
 
 from asperity.errors import ExitStatus, InputError
 from asperity.pipelines import __version__
+from asperity.quantities import OneLineErrorParser
 
 #: Modules that provide ``register(subparsers)``; each adds its sub-commands.
 COMMAND_MODULES: tuple[str, ...] = (
@@ -66,7 +67,7 @@ DEBUG_VARIABLE = "ASPERITY_DEBUG"
 
 def build_parser() -> argparse.ArgumentParser:
     """Build the top-level parser with every package's sub-commands."""
-    parser = argparse.ArgumentParser(
+    parser = OneLineErrorParser(
         prog="asperity",
         description="Adhesive friction of rough elastic contacts (SI units throughout).",
         epilog="Exit status: 0 ok, 1 not converged, 2 bad input, 3 outside the model's validity, "
