@@ -367,11 +367,27 @@ def quantity(key: str) -> Quantity:
         raise KeyError(f"no bounded quantity {key!r}; known: {', '.join(QUANTITIES)}") from None
 
 
-def markdown_table(prefixes: tuple[str, ...]) -> str:
-    """The bounds table of the quantities whose key starts with one of ``prefixes`` (docs)."""
+#: The keys of the ``asperity friction`` parameter file, in the order of its docs table.
+FRICTION_FILE_KEYS: tuple[str, ...] = (
+    "material.",
+    "roughness.",
+    "loading.normal_load",
+    "loading.nominal_area",
+    "loading.max_tangential_displacement",
+    "friction.loading.steps",
+    "accuracy.",
+)
+
+
+def markdown_table(keys: tuple[str, ...]) -> str:
+    """The docs' bounds table of ``keys`` (a key, or a prefix ending in "." for a table).
+
+    docs/statmodel.md holds ``markdown_table(FRICTION_FILE_KEYS)`` between the lines
+    ``<!-- bounds: asperity.quantities -->`` and ``<!-- end bounds -->`` (tested).
+    """
     rows = ["| key | range | unit | why |", "|---|---|---|---|"]
     for q in _ENTRIES:
-        if q.key.startswith(prefixes):
-            unit = q.unit or "-"
-            rows.append(f"| `{q.key}` | {q.interval} | {unit} | {q.why} |")
+        if q.key in keys or any(k.endswith(".") and q.key.startswith(k) for k in keys):
+            kind = "integer in " if q.integer else ""
+            rows.append(f"| `{q.key}` | {kind}{q.interval} | {q.unit or '-'} | {q.why} |")
     return "\n".join(rows)

@@ -5,11 +5,13 @@ entries, each with a value :class:`Kind` that converts and bounds it, and a ``bu
 that makes the library's own dataclass from the converted values (``statmodel.Material``,
 ``pipelines.config.LoadingConfig``, ...). Every error is one :class:`ConfigError` line::
 
-    job.toml: material.E_star: expected a number in (0, 1e+13] Pa (no solid is stiffer than
-    diamond, E ~ 1.2e12 Pa), got -2133000.0
+    job.toml: material.E_star: expected a number in [100, 1e+13] Pa (from the softest gels
+    (~1 kPa) to diamond (~1.2e12 Pa)), got -2133000.0
 
 A key may have other accepted spellings (``aliases``: ``e_star`` beside ``E_star``); giving two
-spellings of one key is refused. Bounds carry their reason, so a value that would exhaust
+spellings of one key is refused. The bounds of physical quantities come from
+:mod:`asperity.quantities` (one entry per quantity, shared with the dataclasses and the
+command-line options). Bounds carry their reason, so a value that would exhaust
 memory or make a solver meaningless is refused before any work. Pure Python: validating a file
 loads no numerical library.
 

@@ -11,7 +11,7 @@ and ``e_star`` both accepted). Validation happens in :func:`load_config` and
 :func:`config_from_dict` within milliseconds and loads no numerical library: an unknown key,
 a missing file, a value outside its bounds (each bound states its reason, e.g. the memory that
 ``loading.steps`` implies) raises :class:`ConfigError` as one line
-``job.toml: material.E_star: expected a number in (0, 1e+13] Pa (...), got -2133000.0``.
+``job.toml: material.E_star: expected a number in [100, 1e+13] Pa (...), got -2133000.0``.
 The check that the loads are above the statistical model's pull-off force needs the surface
 statistics; it runs right after the resolution scan (stage 2), before the BEM, and names
 ``loading.normal_loads``.
