@@ -118,6 +118,16 @@ class Quantity:
         return parse
 
 
+def add_bounded_option(
+    parser: argparse.ArgumentParser | argparse._MutuallyExclusiveGroup,
+    option: str,
+    key: str,
+    **keywords: Any,
+) -> argparse.Action:
+    """``parser.add_argument(option, ...)`` parsed and bounded by the quantity ``key``."""
+    return parser.add_argument(option, type=quantity(key).option(option), **keywords)
+
+
 class OneLineErrorParser(argparse.ArgumentParser):
     """An argparse parser whose usage error is one line, ``PROG: error: OPTION: ...`` (exit 2).
 

@@ -21,7 +21,7 @@ import re
 import sys
 
 from asperity.errors import InputError
-from asperity.quantities import quantity
+from asperity.quantities import add_bounded_option, quantity
 
 #: Keys of ``asperity bem --json``, in order (a contract with other tools: add, never rename).
 JSON_KEYS = (
@@ -78,10 +78,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     p._negative_number_matcher = _NEGATIVE_NUMBER
     p.add_argument("file", metavar="FILE", help="height map (any format topo.read_surface reads)")
-    p.add_argument(
+    add_bounded_option(
+        p,
         "--e-star",
+        "material.E_star",
         required=True,
-        type=quantity("material.E_star").option("--e-star"),
         help="reduced modulus E* = E/(1-nu^2) (Pa)",
     )
     load = p.add_mutually_exclusive_group(required=True)
@@ -95,15 +96,17 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         type=_load_list("loading.mean_pressure", "--mean-pressure"),
         help="mean pressure(s) F/A (Pa), comma-separated",
     )
-    p.add_argument(
+    add_bounded_option(
+        p,
         "--work-of-adhesion",
+        "material.work_of_adhesion",
         default="0",
-        type=quantity("material.work_of_adhesion").option("--work-of-adhesion"),
         help="w (J/m^2); 0 = no adhesion",
     )
-    p.add_argument(
+    add_bounded_option(
+        p,
         "--pixel-size",
-        type=quantity("surface.pixel_size").option("--pixel-size"),
+        "surface.pixel_size",
         help="pixel size (m) for formats without one (.npy, text)",
     )
     p.add_argument(
@@ -112,15 +115,17 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         default="plane",
         help="form removed before the solve (default plane; mean only for periodic maps)",
     )
-    p.add_argument(
+    add_bounded_option(
+        p,
         "--tol",
+        "bem.tol",
         default="1e-8",
-        type=quantity("bem.tol").option("--tol"),
         help="residual tolerance in [1e-14, 1e-2]",
     )
-    p.add_argument(
+    add_bounded_option(
+        p,
         "--max-iter",
-        type=quantity("bem.max_iter").option("--max-iter"),
+        "bem.max_iter",
         default=None,
         help="iteration cap per solve",
     )

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from asperity.errors import ExitStatus, InputError
-from asperity.quantities import quantity
+from asperity.quantities import add_bounded_option, quantity
 from asperity.topo.heightmap import HeightMap, require_height_map
 
 #: Keys of ``asperity stats --json``, in order (a contract with other tools).
@@ -310,10 +310,11 @@ def _add_input_options(parser: argparse.ArgumentParser) -> None:
         default="plane",
         help="form removed before the analysis (default: plane)",
     )
-    form.add_argument(
+    add_bounded_option(
+        form,
         "--form-order",
+        "surface.form_order",
         dest="form_order",
-        type=quantity("surface.form_order").option("--form-order"),
         default=None,
         metavar="N",
         help="remove the least-squares polynomial of order N (0 mean, 1 plane, 2 quadratic, "
@@ -468,10 +469,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         description="Resolution scan with the paper's fits (R linear, eta power law).",
     )
     _add_input_options(scan)
-    scan.add_argument(
+    add_bounded_option(
+        scan,
         "--max-stride",
+        "surface.max_stride",
         dest="max_stride",
-        type=quantity("surface.max_stride").option("--max-stride"),
         required=True,
         help="largest stride K",
     )
@@ -497,42 +499,42 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         description="Periodic self-affine surface; defaults are the paper-like preset.",
     )
     synth.add_argument("--out", required=True, help="output .h5 (project HDF5), .npy or .npz")
-    synth.add_argument(
+    add_bounded_option(
+        synth,
         "--n",
-        type=quantity("surface.synthetic.n").option("--n"),
+        "surface.synthetic.n",
         default=5000,
         help="pixels per side (5000; at most 10001)",
     )
-    synth.add_argument(
+    add_bounded_option(
+        synth,
         "--pixel-size",
+        "surface.pixel_size",
         dest="pixel_size",
-        type=quantity("surface.pixel_size").option("--pixel-size"),
         default=2e-6,
         help="pixel size in m (2e-6)",
     )
-    synth.add_argument(
-        "--seed",
-        type=quantity("surface.synthetic.seed").option("--seed"),
-        default=0,
-        help="random seed (0)",
-    )
+    add_bounded_option(synth, "--seed", "surface.synthetic.seed", default=0, help="random seed (0)")
     # defaults None: topo.synthetic.PAPER_LIKE (not imported here, to keep --help fast)
-    synth.add_argument(
+    add_bounded_option(
+        synth,
         "--hurst",
-        type=quantity("surface.synthetic.hurst").option("--hurst"),
+        "surface.synthetic.hurst",
         default=None,
         help="spectral (Hurst) exponent H (paper-like: 1.36)",
     )
-    synth.add_argument(
+    add_bounded_option(
+        synth,
         "--rms-height",
+        "surface.synthetic.rms_height",
         dest="rms_height",
-        type=quantity("surface.synthetic.rms_height").option("--rms-height"),
         default=None,
         help="rms height in m (50e-6)",
     )
-    synth.add_argument(
+    add_bounded_option(
+        synth,
         "--rolloff",
-        type=quantity("surface.synthetic.wavelength").option("--rolloff"),
+        "surface.synthetic.wavelength",
         default=None,
         help="roll-off wavelength in m (600e-6)",
     )
