@@ -175,7 +175,12 @@ def _status(value: object) -> ExitStatus:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``asperity`` command; returns the process exit status (module docstring)."""
     parser = build_parser()
-    args = parser.parse_args(argv)  # a usage error exits here with status 2 (argparse)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as stop:  # --help and --version exit 0 here; an option error is 2,
+        if stop.code != ExitStatus.BAD_INPUT:  # its one line already printed
+            raise
+        return ExitStatus.BAD_INPUT
     if getattr(args, "func", None) is None:
         parser.print_help()
         return ExitStatus.BAD_INPUT

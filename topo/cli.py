@@ -60,6 +60,8 @@ def _pixel_size(text: str | None) -> float | tuple[float, float] | None:
             raise InputError(
                 f"--pixel-size: expected DX or DX,DY in metres, got {text!r}"
             ) from None
+        if not (math.isfinite(value) and value > 0):
+            raise InputError(f"--pixel-size: expected finite lengths > 0 m, got {text!r}")
         values.append(quantity("surface.pixel_size").check(value, "--pixel-size"))
     return values[0] if len(values) == 1 else (values[0], values[1])
 
@@ -267,6 +269,7 @@ def _synth(args: argparse.Namespace) -> int:
     from asperity.topo.synthetic import check_map_size, paper_like
 
     check_map_size(args.n, args.n, "--n")  # at once, with the memory it would take
+    quantity("surface.synthetic.n").check(args.n, "--n")  # the job's bound (n >= 8)
 
     out = Path(args.out)
     if out.suffix.lower() not in (".h5", ".hdf5", ".npy", ".npz"):
@@ -499,12 +502,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         description="Periodic self-affine surface; defaults are the paper-like preset.",
     )
     synth.add_argument("--out", required=True, help="output .h5 (project HDF5), .npy or .npz")
-    add_bounded_option(
-        synth,
-        "--n",
-        "surface.synthetic.n",
-        default=5000,
-        help="pixels per side (5000; at most 10001)",
+    synth.add_argument(
+        "--n", type=_positive_int, default=5000, help="pixels per side (5000; at most 10001)"
     )
     add_bounded_option(
         synth,

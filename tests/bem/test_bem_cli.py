@@ -28,10 +28,7 @@ def npy_surface(tmp_path, rough):
 
 
 def _run(capsys, argv):
-    try:
-        status = main(argv)
-    except SystemExit as stop:  # an option refused by argparse (its bound), before the run
-        status = stop.code
+    status = main(argv)
     out, err = capsys.readouterr()
     return status, out, err
 

@@ -78,10 +78,7 @@ def test_heightmap_contract():
 
 
 def run_cli(capsys, *args):
-    try:
-        status = main([str(a) for a in args])
-    except SystemExit as stop:  # an option refused by argparse (its bound), before the run
-        status = stop.code
+    status = main([str(a) for a in args])
     out = capsys.readouterr()
     return status, out.out, out.err
 
