@@ -31,7 +31,6 @@ relative at every step of the issue's test case (see docs/statmodel.md for the m
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, fields
 
 import numpy as np
@@ -108,13 +107,9 @@ class ModelSetup:
 
 
 def check_nominal_area(roughness: Roughness, nominal_area: float) -> float:
-    """Validate A_n (m^2): finite, positive and holding at least one asperity (eta A_n >= 1)."""
-    try:
-        area = float(nominal_area)
-    except (TypeError, ValueError):
-        raise InputError(f"nominal_area: expected a number in m^2, got {nominal_area!r}") from None
-    if not (math.isfinite(area) and area > 0.0):
-        raise InputError(f"nominal_area: expected a positive area in m^2, got {nominal_area!r}")
+    """Validate A_n (m^2): within ``loading.nominal_area`` of :mod:`asperity.quantities` and
+    holding at least one asperity (eta A_n >= 1)."""
+    area = quantity("loading.nominal_area").check(nominal_area, "nominal_area")
     n = roughness.asperity_density * area
     if n < 1.0:
         raise InputError(

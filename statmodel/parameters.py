@@ -10,11 +10,9 @@ wide enough for every real interface and narrow enough that the model's arithmet
 
 from __future__ import annotations
 
-import math
 import warnings
 from dataclasses import dataclass, fields
 
-from asperity.errors import InputError
 from asperity.quantities import quantity
 
 #: Below this Tabor parameter the JKR limit no longer applies (paper, Section 2).
@@ -52,26 +50,6 @@ def _check_fields(instance: object) -> None:
         bound = quantity(FIELD_QUANTITIES[(owner, f.name)])
         value = bound.check(getattr(instance, f.name), f"{owner}.{f.name}")
         object.__setattr__(instance, f.name, value)
-
-
-def _check_finite(owner: str, name: str, value: float) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{owner}.{name}: expected a real number, got {value!r}") from None
-    if not math.isfinite(value):
-        raise InputError(f"{owner}.{name}: expected a finite number, got {value!r}")
-    return value
-
-
-def _check_positive(owner: str, name: str, value: float, unit: str) -> None:
-    if not value > 0.0:
-        raise InputError(f"{owner}.{name}: expected a positive value in {unit}, got {value!r}")
-
-
-def _check_non_negative(owner: str, name: str, value: float, unit: str) -> None:
-    if not value >= 0.0:
-        raise InputError(f"{owner}.{name}: expected a value >= 0 in {unit}, got {value!r}")
 
 
 @dataclass(frozen=True)
@@ -135,6 +113,9 @@ def tabor_parameter(
 ) -> float:
     """Tabor's parameter mu = (R w^2 / (E*^2 epsilon^3))^(1/3) (paper, Section 2; dimensionless).
 
+    Each argument is bounded as the field of :class:`Material` or :class:`Roughness` it stands
+    for (:mod:`asperity.quantities`); a value outside raises ``InputError`` naming it.
+
     Parameters
     ----------
     summit_radius : float
@@ -154,15 +135,15 @@ def tabor_parameter(
     float
         mu (dimensionless).
     """
-    for name, value in (
-        ("summit_radius", summit_radius),
-        ("e_star", e_star),
-        ("equilibrium_distance", equilibrium_distance),
-    ):
-        value = _check_finite("tabor_parameter", name, value)
-        _check_positive("tabor_parameter", name, value, "SI units")
-    w = _check_finite("tabor_parameter", "work_of_adhesion", work_of_adhesion)
-    _check_non_negative("tabor_parameter", "work_of_adhesion", w, "J/m^2")
+    summit_radius, w, e_star, equilibrium_distance = (
+        quantity(key).check(value, f"tabor_parameter: {name}")
+        for key, name, value in (
+            ("roughness.summit_radius", "summit_radius", summit_radius),
+            ("material.work_of_adhesion", "work_of_adhesion", work_of_adhesion),
+            ("material.E_star", "e_star", e_star),
+            ("material.equilibrium_distance", "equilibrium_distance", equilibrium_distance),
+        )
+    )
     mu = (summit_radius * w**2 / (e_star**2 * equilibrium_distance**3)) ** (1.0 / 3.0)
     if warn and w > 0.0 and mu < TABOR_JKR_LIMIT:
         warnings.warn(
