@@ -42,6 +42,7 @@ from collections.abc import Iterator, Sequence
 
 from asperity.errors import ExitStatus, InputError
 from asperity.pipelines import __version__
+from asperity.quantities import OneLineErrorParser
 
 #: Modules that provide ``register(subparsers)``; each adds its sub-commands.
 COMMAND_MODULES: tuple[str, ...] = (
@@ -66,7 +67,7 @@ DEBUG_VARIABLE = "ASPERITY_DEBUG"
 
 def build_parser() -> argparse.ArgumentParser:
     """Build the top-level parser with every package's sub-commands."""
-    parser = argparse.ArgumentParser(
+    parser = OneLineErrorParser(
         prog="asperity",
         description="Adhesive friction of rough elastic contacts (SI units throughout).",
         epilog="Exit status: 0 ok, 1 not converged, 2 bad input, 3 outside the model's validity, "
@@ -174,7 +175,12 @@ def _status(value: object) -> ExitStatus:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``asperity`` command; returns the process exit status (module docstring)."""
     parser = build_parser()
-    args = parser.parse_args(argv)  # a usage error exits here with status 2 (argparse)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as stop:  # --help and --version exit 0 here; an option error is 2,
+        if stop.code != ExitStatus.BAD_INPUT:  # its one line already printed
+            raise
+        return ExitStatus.BAD_INPUT
     if getattr(args, "func", None) is None:
         parser.print_help()
         return ExitStatus.BAD_INPUT

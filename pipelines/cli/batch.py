@@ -13,7 +13,7 @@ import argparse
 import os
 import sys
 
-from asperity.errors import InputError
+from asperity.quantities import quantity
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -31,7 +31,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--out", default="asperity-batch", metavar="DIR", help="output folder (asperity-batch)"
     )
     parser.add_argument(
-        "--workers", type=int, default=1, metavar="N", help="maps run at once locally (1)"
+        "--workers",
+        type=quantity("run.workers").option("--workers"),
+        default=1,
+        metavar="N",
+        help="maps run at once locally (1)",
     )
     parser.add_argument(
         "--scheduler",
@@ -45,8 +49,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def handle_batch(args: argparse.Namespace) -> int:
     """Run the batch; the exit status of :attr:`pipelines.batch.BatchResult.status`."""
-    if args.workers < 1:
-        raise InputError(f"--workers: expected an integer >= 1, got {args.workers}")
     os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
     from asperity.pipelines.batch import run_batch
 

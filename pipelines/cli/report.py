@@ -12,6 +12,7 @@ from __future__ import annotations
 import argparse
 
 from asperity.errors import InputError
+from asperity.quantities import quantity
 
 #: Stages a report needs (attributes of :class:`pipelines.results.Results`).
 REQUIRED = ("surface", "scan", "resolution", "mode_mixity", "friction")
@@ -34,7 +35,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "[report] formats, else png)",
     )
     parser.add_argument(
-        "--dpi", type=int, default=None, metavar="N", help="PNG resolution (default: 150)"
+        "--dpi",
+        type=quantity("report.dpi").option("--dpi"),
+        default=None,
+        metavar="N",
+        help="PNG resolution (default: 150)",
     )
     parser.set_defaults(func=handle_report)
 

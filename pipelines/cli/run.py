@@ -19,6 +19,7 @@ from typing import Any
 
 from asperity.errors import InputError
 from asperity.pipelines.config import PRESETS, load_config, load_preset
+from asperity.quantities import quantity
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -54,7 +55,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     parser.add_argument(
         "--workers",
-        type=int,
+        type=quantity("run.workers").option("--workers"),
         default=None,
         metavar="N",
         help="worker processes for the sweeps (default: run.workers, 1)",
@@ -85,8 +86,6 @@ def handle_run(args: argparse.Namespace) -> int:
     """Run the job; 0 ok, 1 a solver did not converge, 3 the verdict is invalid."""
     if args.config is not None and args.preset is not None:
         raise InputError("give either CONFIG.toml or --preset, not both")
-    if args.workers is not None and args.workers < 1:
-        raise InputError(f"--workers: expected an integer >= 1, got {args.workers}")
     config = (
         load_config(args.config)
         if args.config is not None

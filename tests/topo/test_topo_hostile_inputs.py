@@ -177,7 +177,7 @@ def test_cli_hostile_inputs_exit_2_with_a_clear_message(capsys, tmp_path):
         (("stats", noisy, "--pixel-size", "-1e-6"), "--pixel-size: expected finite lengths"),
         (("stats", noisy, "--pixel-size", "0"), "--pixel-size: expected finite lengths"),
         (("stats", noisy, "--pixel-size", "1e-6,2e-6,3e-6"), "expected DX or DX,DY"),
-        (("synth", "--out", tmp_path / "s.h5", "--n", 8, "--pixel-size", "-2e-6"), "pixel_size"),
+        (("synth", "--out", tmp_path / "s.h5", "--n", 8, "--pixel-size", "-2e-6"), "--pixel-size"),
     ]
     for args, message in cases:
         status, out, err = run_cli(capsys, *args)
