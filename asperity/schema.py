@@ -35,6 +35,7 @@ from pathlib import Path
 from typing import Any
 
 from asperity.errors import InputError
+from asperity.files import describe_kind
 
 #: Marks a key without a default (it must be given).
 REQUIRED: Any = object()
@@ -194,6 +195,8 @@ class ExistingFile(Kind):
         path = Path(value).expanduser()
         if not path.is_absolute():
             path = context.base_dir / path
+        if (kind := describe_kind(path)) not in (None, "a regular file"):
+            raise Invalid(f"a regular file ({path} is {kind})")
         if not path.is_file():
             raise Invalid(f"an existing file (file not found: {path})")
         return path

@@ -26,6 +26,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
+from asperity.files import MAX_CONFIG_BYTES, read_bytes_bounded
 from asperity.schema import (
     Choice,
     ConfigError,
@@ -624,7 +625,7 @@ def load_config(path: str | Path) -> JobConfig:
     """
     path = Path(path)
     try:
-        text = path.read_bytes().decode("utf-8")
+        text = read_bytes_bounded(path, "job file", MAX_CONFIG_BYTES).decode("utf-8")
     except FileNotFoundError as exc:
         raise ConfigError(f"{path}: configuration file not found") from exc
     except (OSError, UnicodeDecodeError) as exc:

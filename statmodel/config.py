@@ -36,6 +36,7 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from asperity.files import MAX_CONFIG_BYTES, read_bytes_bounded
 from asperity.schema import (
     REQUIRED,
     ConfigError,
@@ -279,7 +280,7 @@ def read_friction_parameters(path: str | Path) -> FrictionParameters:
     """
     path = Path(path)
     try:
-        text = path.read_bytes().decode("utf-8")
+        text = read_bytes_bounded(path, "parameter file", MAX_CONFIG_BYTES).decode("utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise ConfigError(
             f"{path}: cannot read the parameter file: {getattr(exc, 'strerror', None) or exc}"

@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from asperity.errors import ExitStatus, InputError
+from asperity.files import require_output_path
 from asperity.topo.heightmap import HeightMap, require_height_map
 
 #: Keys of ``asperity stats --json``, in order (a contract with other tools).
@@ -214,6 +215,8 @@ def _stats(args: argparse.Namespace) -> int:
 def _scan(args: argparse.Namespace) -> int:
     from asperity.topo.scan import plot_resolution_scan, resolution_scan, write_scan_hdf5
 
+    if args.out is not None:
+        require_output_path(args.out, "--out")
     prepared = _load_prepared(args, "scan")
     preparation = prepared.record.as_dict()
     scan = resolution_scan(prepared.surface, args.max_stride, neighbours=args.neighbours)
@@ -269,7 +272,7 @@ def _synth(args: argparse.Namespace) -> int:
 
     check_map_size(args.n, args.n, "--n")  # at once, with the memory it would take
 
-    out = Path(args.out)
+    out = require_output_path(args.out, "--out")
     if out.suffix.lower() not in (".h5", ".hdf5", ".npy", ".npz"):
         raise InputError(f"--out {out}: expected a .h5 (project HDF5), .npy or .npz file name")
     recipe = {

@@ -544,3 +544,82 @@ def test_hdf5_pixel_sizes_beyond_the_physical_bounds_are_refused(tmp_path):
 def test_directory_is_named_as_a_directory(tmp_path):
     with pytest.raises(TopographyFileError, match="is a directory"):
         topo.read_surface(tmp_path)
+
+
+# --- special files: a FIFO, a device, a directory or a link to them is named, never read ---
+
+
+@pytest.fixture
+def alarm():
+    """Fail (rather than hang) a test whose read blocks for more than 20 s."""
+    import signal
+
+    def interrupt(signum, frame):
+        raise TimeoutError("a read blocked: a special file was opened")
+
+    previous = signal.signal(signal.SIGALRM, interrupt)
+    signal.alarm(20)
+    yield
+    signal.alarm(0)
+    signal.signal(signal.SIGALRM, previous)
+
+
+def _fifo(tmp_path, name):
+    import os
+
+    path = tmp_path / name
+    os.mkfifo(path)
+    return path
+
+
+def test_fifo_device_and_links_to_them_are_refused_as_topography_files(tmp_path, alarm):
+    fifo = _fifo(tmp_path, "map.npy")
+    link = tmp_path / "link.npy"
+    link.symlink_to(fifo)
+    device_link = tmp_path / "zero.npy"
+    device_link.symlink_to("/dev/zero")
+    cases = {
+        fifo: "is a FIFO",
+        link: "is a symlink to a FIFO",
+        device_link: "is a symlink to a character device",
+        Path("/dev/zero"): "is a character device",
+    }
+    for path, kind in cases.items():
+        with pytest.raises(TopographyFileError, match=f"{kind}.*expected a regular file"):
+            topo.read_surface(path, pixel_size=1e-6)
+    from asperity.topo.io.nanoscope import list_channels
+
+    with pytest.raises(TopographyFileError, match="is a FIFO"):
+        list_channels(fifo)
+
+
+def test_special_job_file_surface_file_and_outputs_exit_2_in_one_line(tmp_path, capsys, alarm):
+    fifo = _fifo(tmp_path, "job.toml")
+    for job, kind in ((fifo, "is a FIFO"), ("/dev/zero", "is a character device")):
+        status, out, err = run_cli(capsys, "run", job, "--out", tmp_path / "o")
+        assert status == 2 and kind in err and "expected a regular file" in err
+        assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    job = tmp_path / "dir.toml"
+    job.write_text(f'[surface]\nfile = "{tmp_path}"\n')
+    status, _, err = run_cli(capsys, "run", job, "--out", tmp_path / "o")
+    assert status == 2 and "surface.file" in err and "is a directory" in err
+    link = tmp_path / "map.h5"
+    link.symlink_to(_fifo(tmp_path, "pipe"))
+    job.write_text('[surface]\nfile = "map.h5"\n')
+    status, _, err = run_cli(capsys, "run", job, "--out", tmp_path / "o")
+    assert status == 2 and "surface.file" in err and "symlink to a FIFO" in err
+    status, _, err = run_cli(capsys, "friction", fifo)
+    assert status == 2 and "is a FIFO" in err
+    for out_path, kind in ((tmp_path / "pipe", "is a FIFO"), (tmp_path, "is a directory")):
+        status, _, err = run_cli(capsys, "synth", "--n", 16, "--out", out_path)
+        assert status == 2 and "--out" in err and kind in err
+    assert not (tmp_path / "o").exists()
+
+
+def test_special_measured_csv_is_refused_at_the_open(tmp_path, alarm):
+    from asperity.errors import InputError
+    from asperity.pipelines.measured import read_normal_area
+
+    fifo = _fifo(tmp_path, "area.csv")
+    with pytest.raises(InputError, match="measured file: .*area.csv is a FIFO"):
+        read_normal_area(fifo)
