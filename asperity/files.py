@@ -152,7 +152,8 @@ def read_bytes_bounded(path: str | Path, what: str, max_bytes: int) -> bytes:
     """Read a regular file whole, refusing a special file or one over ``max_bytes`` bytes.
 
     The file is opened without blocking and its kind checked on the open descriptor, then
-    at most ``max_bytes + 1`` bytes are read, so neither a FIFO nor a device such as
+    at most ``min(size, max_bytes) + 1`` bytes are read (one more than it holds, to see a
+    file that grew), so neither a FIFO nor a device such as
     ``/dev/zero`` can hang the read or exhaust the memory.
 
     Parameters
@@ -178,11 +179,11 @@ def read_bytes_bounded(path: str | Path, what: str, max_bytes: int) -> bytes:
     path = require_regular_file(path, what)
     descriptor = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
     with os.fdopen(descriptor, "rb") as handle:
-        mode = os.fstat(handle.fileno()).st_mode
-        if not stat.S_ISREG(mode):
-            kind = _kind_of_mode(mode)
+        status = os.fstat(handle.fileno())
+        if not stat.S_ISREG(status.st_mode):
+            kind = _kind_of_mode(status.st_mode)
             raise SpecialFileError(f"{what}: {path} is {kind}, expected a regular file")
-        data = handle.read(max_bytes + 1)
+        data = handle.read(min(status.st_size, max_bytes) + 1)
     if len(data) > max_bytes:
         raise SpecialFileError(
             f"{what}: {path} holds more than {max_bytes} bytes; expected at most {max_bytes}"

@@ -308,7 +308,7 @@ def test_nanoscope_and_picoview_zero_height_scales_are_refused(tmp_path):
         tmp_path, "di-3.di", b"(0.005035400 V/LSB) 329.9950 V", b"(0.005035400 V/LSB) 0.000000 V"
     )
     with pytest.raises(PhysicalBoundsError, match=r"image 3 '@2:Z scale'.*a zero factor"):
-        topo.read_surface(zero_z)
+        topo.read_surface(zero_z, channel="Height")
     (tmp_path / "di-3.di").unlink()
     data = (DATA / "mi-1.mi").read_bytes()
     start = data.index(b"bufferRange")
@@ -334,17 +334,25 @@ def test_nanoscope_data_offset_into_the_header_is_refused(tmp_path):
 def test_nanoscope_never_falls_back_to_another_channel(tmp_path):
     from asperity.topo.errors import ChannelNotFoundError
 
-    path = edited_text(tmp_path, "di-3.di", b'[Height] "Height"', b'[Heighx] "Heighx"')
+    data = (DATA / "di-3.di").read_bytes()
+    renamed = data.replace(b'[Height] "Height"', b'[Heighx] "Heighx"', 1)
+    renamed = renamed.replace(b'[ZSensor] "Height Sensor"', b'[ZSensox] "Height Sensox"', 1)
+    path = tmp_path / "di-3.di"
+    path.write_bytes(renamed)
     with pytest.raises(
-        ChannelNotFoundError, match=r"no channel is named 'Height'.*3: Heighx"
+        ChannelNotFoundError,
+        match=r"no channel is named 'Height Sensor' \(ZSensor\) or 'Height'.*3: Heighx",
     ) as info:
         topo.read_surface(path)
-    assert "0: Height Sensor [ZSensor]" in str(info.value)
+    assert "0: Height Sensox [ZSensox]" in str(info.value)
     assert topo.read_surface(path, channel="Heighx").heights.shape == (256, 256)
-    # a Height channel whose scale is not a length is refused, not replaced by another one
+    # without the sensor channel, the default is the channel named Height
+    path.write_bytes(data.replace(b'[ZSensor] "Height Sensor"', b'[ZSensox] "Height Sensox"', 1))
+    assert topo.read_surface(path).provenance["channel"] == "Height"
+    # a sensor channel whose scale is not a length is refused, not replaced by another one
     path.unlink()
     broken = edited_text(
-        tmp_path, "di-3.di", b"@2:Z scale: V [Sens. Zsens]", b"@2:Z scale: V [Sens. Zsenx]"
+        tmp_path, "di-3.di", b"@2:Z scale: V [Sens. ZsensSens]", b"@2:Z scale: V [Sens. ZsensSenx]"
     )
     with pytest.raises(TopographyFileError, match="not a length"):
         topo.read_surface(broken)
