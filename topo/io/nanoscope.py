@@ -212,10 +212,8 @@ def _image_layout(
     return nx, ny, offset, itemsize
 
 
-def _check_valid_lengths(
-    path: Path, section: dict[str, str], index: int, nx: int, ny: int
-) -> None:
-    """``Valid data len X/Y`` (when present) must be the grid ``Samps/line`` x ``Number of lines``."""
+def _check_valid_lengths(path: Path, section: dict[str, str], index: int, nx: int, ny: int) -> None:
+    """``Valid data len X/Y`` (when present) must be the grid (``Samps/line``, lines)."""
     for key, value in (("valid data len x", nx), ("valid data len y", ny)):
         if key in section and _int_field(path, section, key, index) != value:
             raise TopographyFileError(
