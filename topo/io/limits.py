@@ -13,7 +13,11 @@ it allocates or decompresses anything, and refuses a file outside them with a
 * height scale factor of integer data (m per raw count): finite, nonzero, with magnitude in
   :data:`HEIGHT_STEP_BOUNDS_M` (1e-24 m .. 1 m); negative only where the format defines an
   inversion (MetroPro's ``sign``), refused elsewhere.
-* heights: no infinite value; finite heights within :data:`MAX_ABS_HEIGHT_M` (1 m) of zero.
+* heights: no infinite value (in every format: infinity is never a missing-point marker);
+  finite heights within :data:`MAX_ABS_HEIGHT_M` (1 m) of zero. Heights that vary, but by
+  less than :data:`MIN_HEIGHT_SPREAD_M` (1 fm), are read as stored and refused by the
+  preparation (:func:`asperity.topo.preparation.check_height_spread`) before any statistic:
+  a wrong unit or scale, whose rms no instrument resolves and whose squares underflow.
 """
 
 from __future__ import annotations
@@ -37,6 +41,9 @@ PIXEL_SIZE_BOUNDS_M = (1e-12, 1.0)
 HEIGHT_STEP_BOUNDS_M = (1e-24, 1.0)
 #: Largest magnitude of a height, m.
 MAX_ABS_HEIGHT_M = 1.0
+#: Smallest nonzero spread (max - min) of a map's heights, m: a femtometre, far below any
+#: instrument's resolution (and well above 1e-154 m, where squares underflow to zero).
+MIN_HEIGHT_SPREAD_M = 1e-15
 
 
 def check_map_points(path: str | Path, field: str, *dims: int) -> int:
