@@ -631,3 +631,69 @@ def test_special_measured_csv_is_refused_at_the_open(tmp_path, alarm):
     fifo = _fifo(tmp_path, "area.csv")
     with pytest.raises(InputError, match="measured file: .*area.csv is a FIFO"):
         read_normal_area(fifo)
+
+
+# --- size bombs: refused from the declared sizes, before reading, naming the budget -------
+
+
+def test_gzip_hdf5_map_over_the_pipeline_budget_is_refused_before_reading(tmp_path):
+    """A 16000^2 gzip map storing enough bytes to pass the deflate-ratio check (it would
+    inflate to 2 GB of heights and need about 48 GiB in the pipeline) is refused at once."""
+    import time
+
+    import h5py
+
+    from asperity.topo.errors import OverBudgetError
+
+    path = tmp_path / "bomb.h5"
+    with h5py.File(path, "w") as handle:
+        data = handle.create_dataset(
+            "heights", shape=(16000, 16000), dtype="f8", chunks=(512, 512), compression="gzip"
+        )
+        data[:512, :512] = np.random.default_rng(0).normal(size=(512, 512)) * 1e-6
+        for key, value in {"format": "asperity-heightmap", "version": 1, "units": "m"}.items():
+            handle.attrs[key] = value
+        handle.attrs.update({"periodic": False, "dx": 1e-6, "dy": 1e-6})
+    began = time.perf_counter()
+    with pytest.raises(OverBudgetError, match=r"16000 x 16000 = 256000000 points") as info:
+        topo.read_surface(path)
+    assert time.perf_counter() - began < 1.0
+    message = str(info.value)
+    assert "memory budget of 16 GiB" in message and "ASPERITY_MEMORY_BUDGET" in message
+
+
+def test_npz_bomb_is_refused_from_its_npy_header_before_inflating(tmp_path, monkeypatch):
+    import time
+
+    from asperity.topo.errors import OverBudgetError
+
+    path = tmp_path / "bomb.npz"
+    with zipfile.ZipFile(path, "w", compression=zipfile.ZIP_DEFLATED) as archive:
+        # the header declares 20000^2 float64 (3.2 GB); the member holds 1 MB of zeros
+        archive.writestr("heights.npy", npy_header((20000, 20000)) + bytes(2**20))
+    began = time.perf_counter()
+    with pytest.raises(OverBudgetError, match=r"array 'heights' shape: declare 20000 x 20000"):
+        topo.read_surface(path, pixel_size=1e-6)
+    assert time.perf_counter() - began < 1.0
+    # the knob: a larger budget lets the header through, and the member is then refused
+    # for holding less than it declares
+    monkeypatch.setenv("ASPERITY_MEMORY_BUDGET", "128GiB")
+    with pytest.raises(TopographyFileError, match="array 'heights'") as info:
+        topo.read_surface(path, pixel_size=1e-6)
+    assert not isinstance(info.value, OverBudgetError)
+
+
+def test_memory_budget_knob_scales_the_largest_map_and_refuses_nonsense(monkeypatch):
+    from asperity.errors import InputError
+    from asperity.topo.io import limits
+
+    default = limits.max_map_points()
+    assert default == limits.MAX_MAP_POINTS
+    # the paper's 5001^2 map fits the default budget; 16000^2 does not
+    assert 5001**2 < default < 16000**2
+    monkeypatch.setenv("ASPERITY_MEMORY_BUDGET", "64GiB")
+    assert limits.max_map_points() > 4 * default
+    for text in ("lots", "-1GiB", "1MiB"):
+        monkeypatch.setenv("ASPERITY_MEMORY_BUDGET", text)
+        with pytest.raises(InputError, match="ASPERITY_MEMORY_BUDGET"):
+            limits.max_map_points()
