@@ -37,7 +37,7 @@ from asperity.topo.form import check_order, subtract_polynomial
 from asperity.topo.heightmap import HeightMap, require_height_map
 from asperity.topo.io.limits import MIN_HEIGHT_SPREAD_M
 from asperity.topo.levelling import order_name
-from asperity.topo.preparation_checks import WARN_LIMITS, preparation_warnings
+from asperity.topo.preparation_checks import WARN_LIMITS, grid_warnings, preparation_warnings
 
 #: Largest fraction of the valid pixels an outlier rule may flag; above it the map is
 #: refused (a rule that flags a quarter of a map is removing roughness, not artefacts).
@@ -321,7 +321,7 @@ def prepare_surface(
         outlier_low=found.low,
         outlier_high=found.high,
     )
-    record = _with_warnings(record, found.scale)
+    record = _with_warnings(record, found.scale, grid_warnings(levelled))
     provenance = dict(surface.provenance, levelling=applied, preparation=record.as_dict())
     return PreparedSurface(
         surface=prepared.with_heights(prepared.heights, provenance=provenance),
@@ -376,7 +376,10 @@ def check_height_spread(surface: HeightMap) -> None:
         )
 
 
-def _with_warnings(record: PreparationRecord, outlier_scale: float) -> PreparationRecord:
+def _with_warnings(
+    record: PreparationRecord, outlier_scale: float, extra: list[str]
+) -> PreparationRecord:
     from dataclasses import replace
 
-    return replace(record, warnings=tuple(preparation_warnings(record, outlier_scale)))
+    warnings = preparation_warnings(record, outlier_scale) + extra
+    return replace(record, warnings=tuple(warnings))
