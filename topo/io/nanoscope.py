@@ -360,6 +360,8 @@ def read_nanoscope(path: str | Path, *, channel: str | int | None = None) -> Hei
     -------
     HeightMap
         Heights in m, pixel sizes from ``Scan Size`` in m; provenance lists the channels.
+        ``heights[ix, iy]``: ``ix`` along the scan lines, ``iy`` from the top line of the
+        image as Nanoscope and Gwyddion display it (the file stores the bottom line first).
 
     Raises
     ------
@@ -383,7 +385,8 @@ def read_nanoscope(path: str | Path, *, channel: str | int | None = None) -> Hei
     dtype = np.dtype("<i2") if chosen["itemsize"] == 2 else np.dtype("<i4")
     nx, ny = chosen["nx"], chosen["ny"]
     raw = np.frombuffer(data, dtype=dtype, count=nx * ny, offset=chosen["offset"])
-    heights = raw.astype(np.float64).reshape(ny, nx).T * factor
+    # the file stores the lines from the bottom of the image up: flip to iy 0 = top line
+    heights = np.ascontiguousarray(raw.astype(np.float64).reshape(ny, nx).T[:, ::-1]) * factor
     provenance = make_provenance(
         path,
         "nanoscope",

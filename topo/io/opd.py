@@ -46,7 +46,8 @@ def read_opd(path: str | Path) -> HeightMap:
     -------
     HeightMap
         Heights in m (NaN = undefined point), pixel sizes in m,
-        provenance (instrument, units seen).
+        provenance (instrument, units seen). ``heights[ix, iy]``: ``iy`` from the top line
+        of the image as Vision and Gwyddion display it (the file stores it last).
 
     Raises
     ------
@@ -77,7 +78,9 @@ def read_opd(path: str | Path) -> HeightMap:
         },
     )
     sizes = (("Pixel_size", pixel), ("Pixel_size * Aspect", pixel * values["Aspect"]))
-    return make_surface(path, heights.reshape(nx, ny), sizes, provenance)
+    # the columns run from the bottom of the image up: flip to iy 0 = top line
+    heights = np.ascontiguousarray(heights.reshape(nx, ny)[:, ::-1])
+    return make_surface(path, heights, sizes, provenance)
 
 
 def _directory(path: Path, data: bytes) -> dict[str, tuple[int, int]]:

@@ -65,7 +65,8 @@ def read_picoview(path: str | Path, *, channel: str | int | None = None) -> Heig
     -------
     HeightMap
         Heights in m, pixel sizes ``xLength/xPixels``, ``yLength/yPixels`` in m;
-        provenance lists the channels.
+        provenance lists the channels. ``heights[ix, iy]``: ``iy`` from the top line of the
+        image as PicoView and Gwyddion display it (the file stores the bottom line first).
 
     Raises
     ------
@@ -94,7 +95,8 @@ def read_picoview(path: str | Path, *, channel: str | int | None = None) -> Heig
     unit, step = _height_step(path, buffers[index], labels[index], itemsize)
     dtype = np.dtype("<i4") if itemsize == 4 else np.dtype("<i2")
     raw = np.frombuffer(data, dtype=dtype, count=nx * ny, offset=start + index * block)
-    heights = raw.astype(np.float64).reshape(ny, nx).T * step
+    # the buffers store the lines from the bottom of the image up: flip to iy 0 = top line
+    heights = np.ascontiguousarray(raw.astype(np.float64).reshape(ny, nx).T[:, ::-1]) * step
     provenance = make_provenance(
         path,
         "picoview",
