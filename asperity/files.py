@@ -13,6 +13,7 @@ read either.
 
 from __future__ import annotations
 
+import errno
 import os
 import stat
 from pathlib import Path
@@ -102,12 +103,12 @@ def require_regular_file(path: str | Path, what: str) -> Path:
         A FIFO, a device, a directory, a socket, a broken link:
         ``"{what}: {path} is a FIFO (named pipe), expected a regular file"``.
     FileNotFoundError
-        Nothing is there: ``"{what}: {path}: no such file"``.
+        Nothing is there (``errno.ENOENT``, as ``open`` raises it).
     """
     path = Path(path)
     kind = describe_kind(path)
     if kind is None:
-        raise FileNotFoundError(f"{what}: {path}: no such file")
+        raise FileNotFoundError(errno.ENOENT, os.strerror(errno.ENOENT), str(path))
     if kind != "a regular file":
         raise SpecialFileError(f"{what}: {path} is {kind}, expected a regular file")
     return path

@@ -192,13 +192,14 @@ def _print_preparation(record: dict) -> None:
 def _stats(args: argparse.Namespace) -> int:
     prepared = _load_prepared(args, "stats")
     record = surface_stats(prepared.surface, stride=args.stride, neighbours=args.neighbours)
+    record["channel"] = prepared.surface.provenance.get("channel")
     record["preparation"] = prepared.record.as_dict()
     if args.json:
         print(json.dumps(record, allow_nan=False))
     else:
         print(
-            f"{args.file} (detrend {prepared.record.levelling}, stride {args.stride}, "
-            f"{args.neighbours} neighbours)"
+            f"{args.file} (channel {record['channel']}, detrend {prepared.record.levelling}, "
+            f"stride {args.stride}, {args.neighbours} neighbours)"
         )
         for key in (*STATS_KEYS, "nominal_area"):
             value = record[key]

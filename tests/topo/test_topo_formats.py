@@ -312,3 +312,23 @@ def test_every_reader_has_the_instruments_orientation(
         assert top / rms == pytest.approx(top_minus_bottom, abs=2e-4)
     left = np.nanmean(heights[: nx // 4]) - np.nanmean(heights[-(nx // 4) :])
     assert left / rms == pytest.approx(left_minus_right, abs=2e-4)
+
+
+def test_stats_json_names_the_channel_read(tmp_path, capsys):
+    """Nanoscope: the calibrated Height Sensor (ZSensor) by default, as SurfaceTopography
+    reads it (rms 2.264e-7 m over the raw map); the piezo 'Height' channel on request."""
+    import json
+
+    from asperity.pipelines.cli import main
+
+    def stats(*args):
+        assert main(["stats", *map(str, args), "--json"]) == 0
+        return json.loads(capsys.readouterr().out)
+
+    assert stats(TEST_DATA / "di-3.di")["channel"] == "Height Sensor"
+    assert stats(TEST_DATA / "di-3.di", "--channel", "Height")["channel"] == "Height"
+    assert topo.read_surface(TEST_DATA / "di-3.di").provenance["channel_key"] == "ZSensor"
+    assert stats(TEST_DATA / "mi-1.mi")["channel"] == "Topography"
+    np.save(tmp_path / "map.npy", HEIGHTS)
+    record = stats(tmp_path / "map.npy", "--pixel-size", "1e-6")
+    assert record["channel"] == "array" and "rms_height" in record

@@ -193,6 +193,7 @@ def read_numpy(
     """
     path = Path(path)
     dx = dy = None
+    key = "array"
     with open(path, "rb") as handle:
         is_archive = handle.read(4) == b"PK\x03\x04"
     if path.suffix.lower() == ".npz" or is_archive:
@@ -226,7 +227,7 @@ def read_numpy(
             "(or --pixel-size DX on the command line), in metres"
         )
     provenance = make_provenance(
-        path, path.suffix.lstrip(".").lower(), units={"all": "m (assumed)"}
+        path, path.suffix.lstrip(".").lower(), channel=key, units={"all": "m (assumed)"}
     )
     source = "pixel_size" if given is not None else "array 'dx'"
     if heights.ndim == 1:
