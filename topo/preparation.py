@@ -321,7 +321,8 @@ def prepare_surface(
         outlier_low=found.low,
         outlier_high=found.high,
     )
-    record = _with_warnings(record, found.scale, grid_warnings(levelled))
+    reader_warnings = [str(w) for w in surface.provenance.get("warnings", [])]
+    record = _with_warnings(record, found.scale, reader_warnings + grid_warnings(levelled))
     provenance = dict(surface.provenance, levelling=applied, preparation=record.as_dict())
     return PreparedSurface(
         surface=prepared.with_heights(prepared.heights, provenance=provenance),
