@@ -38,21 +38,20 @@ class SpecialFileError(InputError):
     """A path names a FIFO, a device, a directory or a socket where a regular file is needed."""
 
 
+#: The kinds of file, in words, with the ``stat`` test that recognises each.
+_KINDS = (
+    (stat.S_ISREG, "a regular file"),
+    (stat.S_ISDIR, "a directory"),
+    (stat.S_ISFIFO, "a FIFO (named pipe)"),
+    (stat.S_ISCHR, "a character device"),
+    (stat.S_ISBLK, "a block device"),
+    (stat.S_ISSOCK, "a socket"),
+)
+
+
 def _kind_of_mode(mode: int) -> str:
     """What a ``st_mode`` is, in words (``"a FIFO (named pipe)"``, ``"a directory"``, ...)."""
-    if stat.S_ISREG(mode):
-        return "a regular file"
-    if stat.S_ISDIR(mode):
-        return "a directory"
-    if stat.S_ISFIFO(mode):
-        return "a FIFO (named pipe)"
-    if stat.S_ISCHR(mode):
-        return "a character device"
-    if stat.S_ISBLK(mode):
-        return "a block device"
-    if stat.S_ISSOCK(mode):
-        return "a socket"
-    return "not a regular file"
+    return next((name for test, name in _KINDS if test(mode)), "not a regular file")
 
 
 def describe_kind(path: str | Path) -> str | None:
@@ -115,24 +114,14 @@ def require_regular_file(path: str | Path, what: str) -> Path:
 
 
 def require_output_path(path: str | Path, what: str) -> Path:
-    """Return ``path`` if a file may be written there: nothing yet, or a regular file.
-
-    Parameters
-    ----------
-    path : str or Path
-        The output file the user named (``--out``).
-    what : str
-        The option or key, first in the message (``"--out"``).
-
-    Returns
-    -------
-    Path
+    """Return ``path`` (the output file named by option ``what``, e.g. ``--out``) if a file
+    may be written there: nothing yet, or a regular file to replace.
 
     Raises
     ------
     SpecialFileError (an InputError)
         An empty name, a path naming a directory, a FIFO, a device or a socket, or a
-        parent that is not an existing directory.
+        parent that is not an existing directory; ``what`` comes first in the message.
     """
     if str(path) == "":
         raise SpecialFileError(f"{what}: is empty; expected a file name")
