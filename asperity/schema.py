@@ -38,6 +38,7 @@ from pathlib import Path
 from typing import Any
 
 from asperity.errors import InputError
+from asperity.files import MAX_CONFIG_BYTES, describe_kind, read_bytes_bounded
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -207,6 +208,8 @@ class ExistingFile(Kind):
         path = Path(value).expanduser()
         if not path.is_absolute():
             path = context.base_dir / path
+        if (kind := describe_kind(path)) not in (None, "a regular file"):
+            raise Invalid(f"a regular file ({path} is {kind})")
         if not path.is_file():
             raise Invalid(f"an existing file (file not found: {path})")
         return path
@@ -440,7 +443,7 @@ def read_toml(path: str | Path, what: str) -> dict[str, Any]:
     """
     path = Path(path)
     try:
-        text = path.read_bytes().decode("utf-8")
+        text = read_bytes_bounded(path, f"{what} file", MAX_CONFIG_BYTES).decode("utf-8")
     except FileNotFoundError:
         raise ConfigError(
             f"{path}: cannot read the {what}: No such file or directory ({what} file not found)"

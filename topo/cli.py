@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from asperity.errors import ExitStatus, InputError
+from asperity.files import require_output_path
 from asperity.quantities import add_bounded_option, quantity
 from asperity.topo.heightmap import HeightMap, require_height_map
 
@@ -192,13 +193,14 @@ def _print_preparation(record: dict) -> None:
 def _stats(args: argparse.Namespace) -> int:
     prepared = _load_prepared(args, "stats")
     record = surface_stats(prepared.surface, stride=args.stride, neighbours=args.neighbours)
+    record["channel"] = prepared.surface.provenance.get("channel")
     record["preparation"] = prepared.record.as_dict()
     if args.json:
         print(json.dumps(record, allow_nan=False))
     else:
         print(
-            f"{args.file} (detrend {prepared.record.levelling}, stride {args.stride}, "
-            f"{args.neighbours} neighbours)"
+            f"{args.file} (channel {record['channel']}, detrend {prepared.record.levelling}, "
+            f"stride {args.stride}, {args.neighbours} neighbours)"
         )
         for key in (*STATS_KEYS, "nominal_area"):
             value = record[key]
@@ -215,6 +217,8 @@ def _stats(args: argparse.Namespace) -> int:
 def _scan(args: argparse.Namespace) -> int:
     from asperity.topo.scan import plot_resolution_scan, resolution_scan, write_scan_hdf5
 
+    if args.out is not None:
+        require_output_path(args.out, "--out")
     prepared = _load_prepared(args, "scan")
     preparation = prepared.record.as_dict()
     scan = resolution_scan(prepared.surface, args.max_stride, neighbours=args.neighbours)
@@ -271,7 +275,7 @@ def _synth(args: argparse.Namespace) -> int:
     check_map_size(args.n, args.n, "--n")  # at once, with the memory it would take
     quantity("surface.synthetic.n").check(args.n, "--n")  # the job's bound (n >= 8)
 
-    out = Path(args.out)
+    out = require_output_path(args.out, "--out")
     if out.suffix.lower() not in (".h5", ".hdf5", ".npy", ".npz"):
         raise InputError(f"--out {out}: expected a .h5 (project HDF5), .npy or .npz file name")
     recipe = {

@@ -32,6 +32,7 @@ from asperity.topo.errors import (
     UnsupportedContentError,
 )
 from asperity.topo.heightmap import HeightMap, LineProfile
+from asperity.topo.io._common import require_topography_file
 from asperity.topo.io.datx import is_datx, read_datx
 from asperity.topo.io.dektak import looks_like_dektak, read_dektak
 from asperity.topo.io.gwy import read_gwy
@@ -211,10 +212,7 @@ def read_surface(
         If ``path`` does not exist.
     """
     path = Path(path)
-    if path.is_dir():
-        raise TopographyFileError(path, "file", "is a directory; expected a topography file")
-    if not path.is_file():
-        raise FileNotFoundError(f"{path}: no such file")
+    require_topography_file(path)
     if path.stat().st_size == 0:
         raise TopographyFileError(path, "file", "is empty (0 bytes)")
     with np.errstate(all="ignore"):

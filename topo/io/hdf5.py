@@ -343,6 +343,7 @@ def read_project_hdf5(path: str | Path, handle: h5py.File) -> HeightMap:
     heights = read_dataset(path, dataset, "/heights")
     provenance = {**provenance, "file": str(path), "stored_format": FORMAT_NAME}
     provenance.setdefault("format", FORMAT_NAME)
+    provenance.setdefault("channel", "/heights")
     sizes = (("attribute 'dx'", spacing["dx"]), ("attribute 'dy'", spacing["dy"]))
     surface = make_surface(path, heights, sizes, provenance)
     return HeightMap(surface.heights, surface.dx, surface.dy, periodic, surface.provenance)
