@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from asperity.errors import ExitStatus, InputError
-from asperity.topo.heightmap import HeightMap, require_height_map
+from asperity.topo.heightmap import HeightMap, LineProfile, require_height_map
 
 #: Keys of ``asperity stats --json``, in order (a contract with other tools).
 STATS_KEYS = (
@@ -90,14 +90,19 @@ def preparation_options(args: argparse.Namespace):
     )
 
 
-def _load_prepared(args: argparse.Namespace, what: str):
-    """Read the file and prepare it as the options say; warnings go to stderr."""
+def _read(args: argparse.Namespace):
+    """The file as a HeightMap or a LineProfile."""
     from asperity.topo.io import read_surface
+
+    return read_surface(args.file, channel=args.channel, pixel_size=_pixel_size(args.pixel_size))
+
+
+def _load_prepared(args: argparse.Namespace, what: str, surface=None):
+    """Read the file and prepare it as the options say; warnings go to stderr."""
     from asperity.topo.preparation import prepare_surface
 
     options = preparation_options(args)
-    surface = read_surface(args.file, channel=args.channel, pixel_size=_pixel_size(args.pixel_size))
-    surface = require_height_map(surface, f"asperity {what}")
+    surface = require_height_map(surface or _read(args), f"asperity {what}")
     prepared = prepare_surface(surface, options)
     if args.json:  # the text output shows them in its surface block
         for warning in prepared.record.warnings:
@@ -189,7 +194,12 @@ def _print_preparation(record: dict) -> None:
 
 
 def _stats(args: argparse.Namespace) -> int:
-    prepared = _load_prepared(args, "stats")
+    surface = _read(args)
+    if isinstance(surface, LineProfile):  # Nayak's theory: asperity.topo.profile_cli
+        from asperity.topo.profile_cli import profile_stats
+
+        return profile_stats(args, surface)
+    prepared = _load_prepared(args, "stats", surface)
     record = surface_stats(prepared.surface, stride=args.stride, neighbours=args.neighbours)
     record["preparation"] = prepared.record.as_dict()
     if args.json:
@@ -214,7 +224,12 @@ def _stats(args: argparse.Namespace) -> int:
 def _scan(args: argparse.Namespace) -> int:
     from asperity.topo.scan import plot_resolution_scan, resolution_scan, write_scan_hdf5
 
-    prepared = _load_prepared(args, "scan")
+    surface = _read(args)
+    if isinstance(surface, LineProfile):  # Nayak's theory: asperity.topo.profile_cli
+        from asperity.topo.profile_cli import profile_scan
+
+        return profile_scan(args, surface)
+    prepared = _load_prepared(args, "scan", surface)
     preparation = prepared.record.as_dict()
     scan = resolution_scan(prepared.surface, args.max_stride, neighbours=args.neighbours)
     figure = args.figure
