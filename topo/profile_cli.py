@@ -25,7 +25,12 @@ def _prepared(args: argparse.Namespace, profile: LineProfile, what: str):
     from asperity.topo.cli import preparation_options
     from asperity.topo.profile_preparation import prepare_profile
 
-    prepared, record = prepare_profile(profile, preparation_options(args))
+    options = argparse.Namespace(**vars(args))
+    for name in ("crop", "crop_m"):  # a profile's window may be X0:X1 alone
+        text = getattr(options, name)
+        if text is not None and "," not in text:
+            setattr(options, name, f"{text},:")
+    prepared, record = prepare_profile(profile, preparation_options(options))
     if args.json:
         for warning in record["warnings"]:
             print(f"asperity {what}: warning: {warning}", file=sys.stderr)
