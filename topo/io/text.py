@@ -125,8 +125,8 @@ def _refuse_header(path: Path, number: int, line: str) -> None:
         f"line {number}",
         f"is {line[:60]!r}, a header asperity does not read: unsupported format (text files "
         "are read as a height matrix, x y z columns, an x z profile or a Gwyddion text "
-        "export, with '#' comment lines; for other formats install the SurfaceTopography "
-        'readers: pip install "asperity[formats]")',
+        "export, with '#' comment lines; SurfaceTopography reads more text layouts: "
+        '"asperity[formats]", then asperity.topo.io.surfacetopography.read_with_extra)',
     )
 
 
