@@ -166,19 +166,21 @@ def read_with_extra(
     if path.stat().st_size > MAX_FILE_BYTES:
         raise TopographyFileError(path, "file", f"is larger than {MAX_FILE_BYTES} bytes")
     reader = _open(path)
-    index = _channel_index(path, reader, channel)
-    info = reader.channels[index]
-    check_map_points(path, f"channel {info.name!r} grid", *info.nb_grid_pts)
-    options = _caller_sizes(path, info, pixel_size)
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
+            index = _channel_index(path, reader, channel)
+            info = reader.channels[index]
+            check_map_points(path, f"channel {info.name!r} grid", *info.nb_grid_pts)
+            options = _caller_sizes(path, info, pixel_size)
             topography = reader.topography(channel_index=index, **options)
             heights = np.ma.filled(np.ma.asarray(topography.heights(), dtype=np.float64), np.nan)
+    except InputError:
+        raise
     except Exception as exc:  # a third-party reader: any failure is a bad file
         raise TopographyFileError(
             path,
-            f"channel {info.name!r}",
+            f"channel {channel if channel is not None else 'default'}",
             f"cannot be read by SurfaceTopography's {type(reader).__name__} "
             f"({type(exc).__name__}: {_one_line(exc)})",
         ) from None
