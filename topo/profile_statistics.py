@@ -32,9 +32,9 @@ profile.
 
 The summits are the true ones (a maximum in every direction): the continuum limit of the
 8-nearest-neighbour rule of :func:`asperity.topo.summit_statistics`. On isotropic synthetic
-maps whose spectrum the sampling resolves (alpha >= 13), profile and 8-neighbour map agree on
-eta within 1 %, on R within 2 %, on sigma_s within 3 %; the paper's 4-neighbour rule also
-counts diagonal saddles and finds about 1.3 times more summits, with R about 15 % larger
+maps whose shortest wavelength spans at least 4 samples, profile and 8-neighbour map agree on
+eta within 1 %, on R within 2.1 %, on sigma_s within 4.1 %; the paper's 4-neighbour rule also
+counts diagonal saddles and finds 1.30-1.36 times more summits, with R 15-21 % larger
 (measured; see docs/topo.md).
 
 The moments are those of the sampled profile at the analysed sampling interval
@@ -73,7 +73,7 @@ ISOTROPY_WARNING = (
 #: What the profile's summits compare with (stated in each result).
 NEIGHBOUR_RULE_NOTE = (
     "profile summits are true maxima (the 8-neighbour rule of a map); the paper's 4-neighbour "
-    "rule counts about 1.3 times more summits on isotropic maps, with R about 15 % larger"
+    "rule counts about 1.3 times more summits on isotropic maps, with R 15-20 % larger"
 )
 _METHOD = "nayak-profile"
 _SUMMIT_KEYS = (
