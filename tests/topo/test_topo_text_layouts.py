@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from asperity import topo
 from asperity.errors import InputError
@@ -105,3 +107,38 @@ def test_a_bad_number_on_the_first_line_is_still_a_number_error(tmp_path):
     path.write_text("1,5 2,5\n3,5 4,5\n")
     with pytest.raises(NumberFormatError, match="decimal comma"):
         topo.read_surface(path, pixel_size=1e-6)
+
+
+finite = st.floats(min_value=-1e-3, max_value=1e-3, allow_nan=False, allow_subnormal=False)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=list(HealthCheck))
+@given(
+    heights=st.lists(finite, min_size=8, max_size=40),
+    step=st.floats(min_value=1e-9, max_value=1e-3),
+    origin=st.floats(min_value=-1e-2, max_value=1e-2),
+)
+def test_any_uniform_xz_profile_reads_back_its_heights_and_step(
+    tmp_path_factory, heights, step, origin
+):
+    x = origin + step * np.arange(len(heights))
+    path = tmp_path_factory.mktemp("xz") / "profile.txt"
+    path.write_text("".join(f"{float(a)!r} {b!r}\n" for a, b in zip(x, heights, strict=True)))
+    profile = topo.read_surface(path)
+    assert isinstance(profile, topo.LineProfile)
+    np.testing.assert_array_equal(profile.heights, heights)
+    assert profile.dx == pytest.approx(step, rel=1e-6)
+
+
+@settings(max_examples=80, deadline=None, suppress_health_check=list(HealthCheck))
+@given(columns=st.lists(st.tuples(finite, finite), min_size=8, max_size=30))
+def test_any_two_column_text_is_a_profile_a_matrix_or_a_typed_error(tmp_path_factory, columns):
+    path = tmp_path_factory.mktemp("xz") / "two.txt"
+    path.write_text("".join(f"{a!r}\t{b!r}\n" for a, b in columns))
+    try:
+        surface = topo.read_surface(path)
+    except InputError as exc:  # TopographyFileError included
+        assert str(path) in str(exc) and "\n" not in str(exc)
+        return
+    assert isinstance(surface, topo.LineProfile)  # two columns are never a map
+    assert surface.nx == len(columns)
