@@ -248,34 +248,45 @@ def _scan(args: argparse.Namespace) -> int:
         data["preparation"] = preparation
         print(json.dumps(data, allow_nan=False))
     else:
-        print(
-            f"{'stride':>6s} {'resolution (m)':>15s} {'N':>9s} {'eta (1/m^2)':>12s} "
-            f"{'R (m)':>11s} {'sigma_s (m)':>12s}"
-        )
-        for row in zip(
-            scan.stride,
-            scan.resolution,
-            scan.n_summits,
-            scan.asperity_density,
-            scan.summit_radius,
-            scan.summit_height_rms,
-            strict=True,
-        ):
-            print(
-                f"{row[0]:6d} {row[1]:15.4e} {row[2]:9d} {row[3]:12.4e} {row[4]:11.4e} "
-                f"{row[5]:12.4e}"
-            )
-        print(
-            f"R = {scan.radius_slope:.4g} * resolution + {scan.radius_intercept:.4g} m; "
-            f"eta = {scan.density_prefactor:.4g} * resolution^{scan.density_exponent:.4g} 1/m^2; "
-            f"sigma_s = {scan.height_rms_mean:.4g} m "
-            f"(spread {100 * scan.height_rms_relative_spread:.2f} %)"
-        )
+        print_scan_table(scan)
         _print_preparation(preparation)
         for target in (args.out, figure):
             if target:
                 print(f"wrote {target}")
     return ExitStatus.OK
+
+
+def print_scan_table(scan, count: str = "N", extra: tuple[str, object] | None = None) -> None:
+    """The text table of a resolution scan (SI units) and its fits line.
+
+    ``count`` labels the ``n_summits`` column; ``extra`` is an optional (label, values)
+    column printed last (e.g. the bandwidth of a profile scan).
+    """
+    label, values = extra if extra is not None else ("", [None] * len(scan.stride))
+    print(
+        f"{'stride':>6s} {'resolution (m)':>15s} {count:>9s} {'eta (1/m^2)':>12s} "
+        f"{'R (m)':>11s} {'sigma_s (m)':>12s}" + (f" {label:>9s}" if extra else "")
+    )
+    for row in zip(
+        scan.stride,
+        scan.resolution,
+        scan.n_summits,
+        scan.asperity_density,
+        scan.summit_radius,
+        scan.summit_height_rms,
+        values,
+        strict=True,
+    ):
+        print(
+            f"{row[0]:6d} {row[1]:15.4e} {row[2]:9d} {row[3]:12.4e} {row[4]:11.4e} "
+            f"{row[5]:12.4e}" + (f" {row[6]:9.3g}" if extra else "")
+        )
+    print(
+        f"R = {scan.radius_slope:.4g} * resolution + {scan.radius_intercept:.4g} m; "
+        f"eta = {scan.density_prefactor:.4g} * resolution^{scan.density_exponent:.4g} 1/m^2; "
+        f"sigma_s = {scan.height_rms_mean:.4g} m "
+        f"(spread {100 * scan.height_rms_relative_spread:.2f} %)"
+    )
 
 
 def _synth(args: argparse.Namespace) -> int:

@@ -118,7 +118,7 @@ def profile_stats(args: argparse.Namespace, profile: LineProfile) -> int:
 
 def profile_scan(args: argparse.Namespace, profile: LineProfile) -> int:
     """``asperity scan`` of a line profile (Nayak's statistics against the sampling interval)."""
-    from asperity.topo.cli import _json_number
+    from asperity.topo.cli import _json_number, print_scan_table
     from asperity.topo.profile_scan import profile_resolution_scan
     from asperity.topo.scan import plot_resolution_scan, write_scan_hdf5
 
@@ -138,33 +138,9 @@ def profile_scan(args: argparse.Namespace, profile: LineProfile) -> int:
     if args.json:
         print(json.dumps(data | {"preparation": preparation}, allow_nan=False))
     else:
-        _print_scan(scan)
+        print_scan_table(scan, "peaks", ("alpha", scan.bandwidth))
         _print_preparation(preparation, list(scan.warnings))
         for target in (args.out, figure):
             if target:
                 print(f"wrote {target}")
     return ExitStatus.OK
-
-
-def _print_scan(scan) -> None:
-    print(
-        f"{'stride':>6s} {'resolution (m)':>15s} {'peaks':>9s} {'eta (1/m^2)':>12s} "
-        f"{'R (m)':>11s} {'sigma_s (m)':>12s} {'alpha':>9s}"
-    )
-    for k, res, n, eta, r, s, a in zip(
-        scan.stride,
-        scan.resolution,
-        scan.n_summits,
-        scan.asperity_density,
-        scan.summit_radius,
-        scan.summit_height_rms,
-        scan.bandwidth,
-        strict=True,
-    ):
-        print(f"{k:6d} {res:15.4e} {n:9d} {eta:12.4e} {r:11.4e} {s:12.4e} {a:9.3g}")
-    print(
-        f"R = {scan.radius_slope:.4g} * resolution + {scan.radius_intercept:.4g} m; "
-        f"eta = {scan.density_prefactor:.4g} * resolution^{scan.density_exponent:.4g} 1/m^2; "
-        f"sigma_s = {scan.height_rms_mean:.4g} m "
-        f"(spread {100 * scan.height_rms_relative_spread:.2f} %)"
-    )

@@ -145,6 +145,7 @@ def read_with_extra(
     Returns
     -------
     HeightMap or LineProfile
+        Heights and pixel sizes in m; the provenance names the reader and the channel.
 
     Raises
     ------
