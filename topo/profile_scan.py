@@ -92,6 +92,11 @@ def profile_resolution_scan(
     """
     if isinstance(max_stride, bool) or int(max_stride) != max_stride or max_stride < 1:
         raise InputError(f"max_stride: expected an integer >= 1, got {max_stride!r}")
+    if 2 * int(max_stride) >= profile.nx:
+        raise InputError(
+            f"max_stride {max_stride} leaves fewer than 3 points on a profile of {profile.nx} "
+            f"points; use at most {max((profile.nx - 1) // 2, 1)}"
+        )
     strides = np.arange(1, int(max_stride) + 1)
     rows = [profile_statistics(profile, stride=int(k)) for k in strides]
     resolution = strides * profile.dx
