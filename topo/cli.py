@@ -19,7 +19,7 @@ import numpy as np
 from asperity.errors import ExitStatus, InputError
 from asperity.files import require_output_path
 from asperity.quantities import add_bounded_option, quantity
-from asperity.topo.heightmap import HeightMap, require_height_map
+from asperity.topo.heightmap import HeightMap, LineProfile, require_height_map
 
 #: Keys of ``asperity stats --json``, in order (a contract with other tools).
 STATS_KEYS = (
@@ -92,14 +92,19 @@ def preparation_options(args: argparse.Namespace):
     )
 
 
-def _load_prepared(args: argparse.Namespace, what: str):
-    """Read the file and prepare it as the options say; warnings go to stderr."""
+def _read(args: argparse.Namespace):
+    """The file as a HeightMap or a LineProfile."""
     from asperity.topo.io import read_surface
+
+    return read_surface(args.file, channel=args.channel, pixel_size=_pixel_size(args.pixel_size))
+
+
+def _load_prepared(args: argparse.Namespace, what: str, surface=None):
+    """Read the file and prepare it as the options say; warnings go to stderr."""
     from asperity.topo.preparation import prepare_surface
 
     options = preparation_options(args)
-    surface = read_surface(args.file, channel=args.channel, pixel_size=_pixel_size(args.pixel_size))
-    surface = require_height_map(surface, f"asperity {what}")
+    surface = require_height_map(surface or _read(args), f"asperity {what}")
     prepared = prepare_surface(surface, options)
     if args.json:  # the text output shows them in its surface block
         for warning in prepared.record.warnings:
@@ -191,7 +196,12 @@ def _print_preparation(record: dict) -> None:
 
 
 def _stats(args: argparse.Namespace) -> int:
-    prepared = _load_prepared(args, "stats")
+    surface = _read(args)
+    if isinstance(surface, LineProfile):  # Nayak's theory: asperity.topo.profile_cli
+        from asperity.topo.profile_cli import profile_stats
+
+        return profile_stats(args, surface)
+    prepared = _load_prepared(args, "stats", surface)
     record = surface_stats(prepared.surface, stride=args.stride, neighbours=args.neighbours)
     record["channel"] = prepared.surface.provenance.get("channel")
     record["preparation"] = prepared.record.as_dict()
@@ -219,7 +229,12 @@ def _scan(args: argparse.Namespace) -> int:
 
     if args.out is not None:
         require_output_path(args.out, "--out")
-    prepared = _load_prepared(args, "scan")
+    surface = _read(args)
+    if isinstance(surface, LineProfile):  # Nayak's theory: asperity.topo.profile_cli
+        from asperity.topo.profile_cli import profile_scan
+
+        return profile_scan(args, surface)
+    prepared = _load_prepared(args, "scan", surface)
     preparation = prepared.record.as_dict()
     scan = resolution_scan(prepared.surface, args.max_stride, neighbours=args.neighbours)
     figure = args.figure
@@ -238,34 +253,45 @@ def _scan(args: argparse.Namespace) -> int:
         data["preparation"] = preparation
         print(json.dumps(data, allow_nan=False))
     else:
-        print(
-            f"{'stride':>6s} {'resolution (m)':>15s} {'N':>9s} {'eta (1/m^2)':>12s} "
-            f"{'R (m)':>11s} {'sigma_s (m)':>12s}"
-        )
-        for row in zip(
-            scan.stride,
-            scan.resolution,
-            scan.n_summits,
-            scan.asperity_density,
-            scan.summit_radius,
-            scan.summit_height_rms,
-            strict=True,
-        ):
-            print(
-                f"{row[0]:6d} {row[1]:15.4e} {row[2]:9d} {row[3]:12.4e} {row[4]:11.4e} "
-                f"{row[5]:12.4e}"
-            )
-        print(
-            f"R = {scan.radius_slope:.4g} * resolution + {scan.radius_intercept:.4g} m; "
-            f"eta = {scan.density_prefactor:.4g} * resolution^{scan.density_exponent:.4g} 1/m^2; "
-            f"sigma_s = {scan.height_rms_mean:.4g} m "
-            f"(spread {100 * scan.height_rms_relative_spread:.2f} %)"
-        )
+        print_scan_table(scan)
         _print_preparation(preparation)
         for target in (args.out, figure):
             if target:
                 print(f"wrote {target}")
     return ExitStatus.OK
+
+
+def print_scan_table(scan, count: str = "N", extra: tuple[str, object] | None = None) -> None:
+    """The text table of a resolution scan (SI units) and its fits line.
+
+    ``count`` labels the ``n_summits`` column; ``extra`` is an optional (label, values)
+    column printed last (e.g. the bandwidth of a profile scan).
+    """
+    label, values = extra if extra is not None else ("", [None] * len(scan.stride))
+    print(
+        f"{'stride':>6s} {'resolution (m)':>15s} {count:>9s} {'eta (1/m^2)':>12s} "
+        f"{'R (m)':>11s} {'sigma_s (m)':>12s}" + (f" {label:>9s}" if extra else "")
+    )
+    for row in zip(
+        scan.stride,
+        scan.resolution,
+        scan.n_summits,
+        scan.asperity_density,
+        scan.summit_radius,
+        scan.summit_height_rms,
+        values,
+        strict=True,
+    ):
+        print(
+            f"{row[0]:6d} {row[1]:15.4e} {row[2]:9d} {row[3]:12.4e} {row[4]:11.4e} "
+            f"{row[5]:12.4e}" + (f" {row[6]:9.3g}" if extra else "")
+        )
+    print(
+        f"R = {scan.radius_slope:.4g} * resolution + {scan.radius_intercept:.4g} m; "
+        f"eta = {scan.density_prefactor:.4g} * resolution^{scan.density_exponent:.4g} 1/m^2; "
+        f"sigma_s = {scan.height_rms_mean:.4g} m "
+        f"(spread {100 * scan.height_rms_relative_spread:.2f} %)"
+    )
 
 
 def _synth(args: argparse.Namespace) -> int:
