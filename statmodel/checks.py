@@ -9,12 +9,13 @@ number, threshold and message. Units are those of the quantity checked (stated p
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Literal
 
 from asperity.statmodel.parameters import _check_finite, _check_positive
 
-__all__ = ["Check", "Level", "grade", "positive_number"]
+__all__ = ["Check", "Level", "grade", "positive_number", "positive_numbers", "upward_check"]
 
 Level = Literal["ok", "warning", "invalid"]
 
@@ -96,3 +97,59 @@ def positive_number(owner: str, name: str, value: object, unit: str) -> float:
     number = _check_finite(owner, name, value)  # type: ignore[arg-type]
     _check_positive(owner, name, number, unit)
     return number
+
+
+def positive_numbers(owner: str, *named: tuple[str, object, str]) -> tuple[float, ...]:
+    """:func:`positive_number` of each ``(name, value, unit)``, in order."""
+    return tuple(positive_number(owner, name, value, unit) for name, value, unit in named)
+
+
+def upward_check(
+    code: str,
+    value: float,
+    warning_threshold: float,
+    invalid_threshold: float,
+    message: str | Callable[[Level], str],
+    *,
+    advice: str,
+    parameters: tuple[str, ...],
+    reference: str,
+) -> Check:
+    """A :class:`Check` whose value is bad above its thresholds, graded by :func:`grade`.
+
+    Parameters
+    ----------
+    code : str
+        The reason code.
+    value : float
+        The quantity checked.
+    warning_threshold, invalid_threshold : float
+        As in :func:`grade` (``inf``: no such level).
+    message : str or callable
+        What the value means, or a function of the level that says it.
+    advice : str
+        Appended to the message when the level is not "ok" (the parameters to check).
+    parameters : tuple of str
+        The keys to check, kept only when the level is not "ok".
+    reference : str
+        The source of the formula and thresholds.
+
+    Returns
+    -------
+    Check
+    """
+    level, threshold = grade(value, warning_threshold, invalid_threshold)
+    text = message(level) if callable(message) else message
+    bad = level != "ok"
+    return Check(
+        code=code,
+        bad_when="above",
+        value=value,
+        threshold=threshold,
+        warning_threshold=warning_threshold,
+        invalid_threshold=invalid_threshold,
+        level=level,
+        message=text + (advice if bad else ""),
+        parameters=parameters if bad else (),
+        reference=reference,
+    )

@@ -46,7 +46,7 @@ import math
 import numpy as np
 
 from asperity.errors import InputError
-from asperity.statmodel.checks import Check, grade, positive_number
+from asperity.statmodel.checks import Check, Level, positive_number, positive_numbers, upward_check
 
 __all__ = [
     "FRICTION_RATIO_LIMIT",
@@ -103,11 +103,13 @@ def plasticity_index(
     float
         psi (dimensionless).
     """
-    where = "plasticity_index"
-    e = positive_number(where, "e_star", e_star, "Pa")
-    h = positive_number(where, "hardness", hardness, "Pa")
-    sigma = positive_number(where, "summit_height_rms", summit_height_rms, "m")
-    radius = positive_number(where, "summit_radius", summit_radius, "m")
+    e, h, sigma, radius = positive_numbers(
+        "plasticity_index",
+        ("e_star", e_star, "Pa"),
+        ("hardness", hardness, "Pa"),
+        ("summit_height_rms", summit_height_rms, "m"),
+        ("summit_radius", summit_radius, "m"),
+    )
     return e / h * math.sqrt(sigma / radius)
 
 
@@ -124,45 +126,57 @@ def plasticity_index_check(
         Code ``"plastic_asperities"``.
     """
     psi = plasticity_index(e_star, hardness, summit_height_rms, summit_radius)
-    level, threshold = grade(psi, PLASTICITY_ELASTIC_LIMIT, PLASTICITY_PLASTIC_LIMIT)
-    meaning = {
-        "ok": "the asperities deform elastically",
-        "warning": "between elastic and plastic asperity contact: the elastic model is marginal",
-        "invalid": "the asperities flow plastically at trivial loads: the elastic model does "
-        "not apply",
-    }[level]
-    message = f"plasticity index psi = (E*/H) sqrt(sigma_s/R) = {psi:.3g}: {meaning}"
-    if level != "ok":
-        message += "; check material.hardness, material.E_star and the resolution (sigma_s, R)"
-    return Check(
-        code="plastic_asperities",
-        bad_when="above",
-        value=psi,
-        threshold=threshold,
-        warning_threshold=PLASTICITY_ELASTIC_LIMIT,
-        invalid_threshold=PLASTICITY_PLASTIC_LIMIT,
-        level=level,
-        message=message,
-        parameters=() if level == "ok" else ("material.hardness", "material.E_star"),
+
+    def meaning(level: Level) -> str:
+        return (
+            f"plasticity index psi = (E*/H) sqrt(sigma_s/R) = {psi:.3g}: "
+            + {
+                "ok": "the asperities deform elastically",
+                "warning": "between elastic and plastic asperity contact: the elastic model is "
+                "marginal",
+                "invalid": "the asperities flow plastically at trivial loads: the elastic model "
+                "does not apply",
+            }[level]
+        )
+
+    return upward_check(
+        "plastic_asperities",
+        psi,
+        PLASTICITY_ELASTIC_LIMIT,
+        PLASTICITY_PLASTIC_LIMIT,
+        meaning,
+        advice="; check material.hardness, material.E_star and the resolution (sigma_s, R)",
+        parameters=("material.hardness", "material.E_star"),
         reference=GREENWOOD_WILLIAMSON,
     )
 
 
 def _positive_array(where: str, name: str, values: object, unit: str) -> np.ndarray:
+    """A 1D float array whose values are > 0 and finite, or NaN (not computed at that load)."""
     try:
         array = np.atleast_1d(np.asarray(values, dtype=np.float64))
     except (TypeError, ValueError):
         raise InputError(f"{where}: {name} must be numbers in {unit}, got {values!r}") from None
-    if array.ndim != 1 or array.size == 0 or not np.all(np.isfinite(array) & (array > 0)):
+    bad = ~(np.isnan(array) | (np.isfinite(array) & (array > 0)))
+    if array.ndim != 1 or array.size == 0 or np.any(bad):
         raise InputError(
-            f"{where}: {name} must be a non-empty 1D sequence of finite values > 0 {unit}, "
-            f"got {values!r}"
+            f"{where}: {name} must be a non-empty 1D sequence of finite values > 0 {unit} "
+            f"(NaN: not computed), got {values!r}"
         )
     return array
 
 
+def _where(index: int) -> str:
+    """Which load a largest ratio comes from; -1: computed at none."""
+    return f"at load index {index}" if index >= 0 else "(not computed at any load)"
+
+
 def _largest_ratio(where: str, numerator: object, denominator: object, names, units):
-    """Largest element-wise ratio of two positive arrays of one length, and its index."""
+    """Largest element-wise ratio of two positive arrays of one length, and its index.
+
+    Loads where either value is NaN (not computed) are left out; with none left the ratio is
+    NaN (index -1), which :func:`grade` turns into a warning.
+    """
     top = _positive_array(where, names[0], numerator, units[0])
     bottom = _positive_array(where, names[1], denominator, units[1])
     if top.shape != bottom.shape:
@@ -171,7 +185,9 @@ def _largest_ratio(where: str, numerator: object, denominator: object, names, un
             f"{top.size} and {bottom.size}"
         )
     ratio = top / bottom
-    index = int(np.argmax(ratio))
+    if np.all(np.isnan(ratio)):
+        return math.nan, -1
+    index = int(np.nanargmax(ratio))
     return float(ratio[index]), index
 
 
@@ -200,46 +216,35 @@ def contact_pressure_check(normal_load: object, real_area: object, hardness: flo
         where, normal_load, real_area, ("normal_load", "real_area"), ("N", "m^2")
     )
     value = pressure / h
-    level, threshold = grade(value, YIELD_ONSET_PRESSURE_FRACTION, 1.0)
     message = (
-        f"mean contact pressure F_z/A_r = {pressure:.3g} Pa at load index {index} is "
+        f"mean contact pressure F_z/A_r = {pressure:.3g} Pa {_where(index)} is "
         f"{value:.3g} H (H = {h:.3g} Pa; yield starts at {YIELD_ONSET_PRESSURE_FRACTION:.2f} H, "
         "fully plastic at H)"
     )
-    if level != "ok":
-        message += "; check material.hardness, material.E_star and the loads"
-    return Check(
-        code="contact_pressure_above_yield",
-        bad_when="above",
-        value=value,
-        threshold=threshold,
-        warning_threshold=YIELD_ONSET_PRESSURE_FRACTION,
-        invalid_threshold=1.0,
-        level=level,
-        message=message,
-        parameters=() if level == "ok" else ("material.hardness", "material.E_star"),
+    return upward_check(
+        "contact_pressure_above_yield",
+        value,
+        YIELD_ONSET_PRESSURE_FRACTION,
+        1.0,
+        message,
+        advice="; check material.hardness, material.E_star and the loads",
+        parameters=("material.hardness", "material.E_star"),
         reference=JOHNSON_TABOR,
     )
 
 
 def _friction_check(code: str, value: float, what: str, limit: float, index: int) -> Check:
-    level, threshold = grade(value, limit, math.inf)
-    message = f"{what} = {value:.3g} at load index {index} (warning above {limit:g})"
-    if level != "ok":
-        message += (
-            ": far beyond adhesive friction experiments; check material.shear_strength (tau_0) "
-            "and material.mode_mixity (lambda)"
-        )
-    return Check(
-        code=code,
-        bad_when="above",
-        value=value,
-        threshold=threshold,
-        warning_threshold=limit,
-        invalid_threshold=math.inf,
-        level=level,
-        message=message,
-        parameters=() if level == "ok" else FRICTION_PARAMETERS,
+    return upward_check(
+        code,
+        value,
+        limit,
+        math.inf,
+        f"{what} = {value:.3g} {_where(index)} (warning above {limit:g})",
+        advice=": not computed, so its plausibility is unknown"
+        if math.isnan(value)
+        else ": far beyond adhesive friction experiments; check material.shear_strength "
+        "(tau_0) and material.mode_mixity (lambda)",
+        parameters=FRICTION_PARAMETERS,
         reference=FRICTION_EXPERIMENTS,
     )
 

@@ -30,7 +30,9 @@ non-periodic map is multiplied by a separable Hann window scaled to keep ``<h^2>
 ``q^-2`` tail (without the window the energy is 1.2 times larger on ``x3p-2``, 1.7 on
 ``di-3`` and ``metropro-1``, 2.0 on ``mi-1``).
 **From a radial PSD** (:func:`asperity.topo.radial_psd`, the job's ``psd`` stage) the integral
-runs over its rings, the spectrum a power law between neighbouring rings.
+runs over its rings as whole circles, the spectrum a power law between neighbouring rings: to
+the Nyquist wavenumber (``q_cutoff = pi / dx``) it equals the mode sum within 1 %; to the
+corners of the spectrum it counts the partial outer rings in full (+3 % on a self-affine map).
 
 **Stickiness.** L. Pastewka and M.O. Robbins, PNAS 111, 3298 (2014), "Contact between rough
 surfaces and a criterion for macroscopic adhesion", Eq. 10 with ``kappa_rep = 2`` and the
@@ -57,7 +59,7 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 
 from asperity.errors import InputError
-from asperity.statmodel.checks import Check, positive_number
+from asperity.statmodel.checks import Check, positive_number, positive_numbers
 from asperity.statmodel.parameters import tabor_parameter
 from asperity.statmodel.persson import MIN_PSD_POINTS, _hann_windowed
 from asperity.statmodel.spectral_moments import isotropic_moment, validate_spectrum
@@ -261,13 +263,15 @@ def pastewka_robbins_stickiness(
     float
         S_PR (dimensionless).
     """
-    where = "pastewka_robbins_stickiness"
-    slope = positive_number(where, "rms_slope", rms_slope, "m/m")
-    curvature = positive_number(where, "rms_curvature", rms_curvature, "1/m")
-    e = positive_number(where, "e_star", e_star, "Pa")
-    w = positive_number(where, "work_of_adhesion", work_of_adhesion, "J/m^2")
-    dr = positive_number(where, "interaction_range", interaction_range, "m")
-    kappa = positive_number(where, "kappa_rep", kappa_rep, "(dimensionless)")
+    slope, curvature, e, w, dr, kappa = positive_numbers(
+        "pastewka_robbins_stickiness",
+        ("rms_slope", rms_slope, "m/m"),
+        ("rms_curvature", rms_curvature, "1/m"),
+        ("e_star", e_star, "Pa"),
+        ("work_of_adhesion", work_of_adhesion, "J/m^2"),
+        ("interaction_range", interaction_range, "m"),
+        ("kappa_rep", kappa_rep, "(dimensionless)"),
+    )
     return e * slope * dr / (kappa * w) * (slope**2 / (curvature * dr)) ** (2.0 / 3.0)
 
 
@@ -292,10 +296,12 @@ def pastewka_robbins_range_ratio(
     float
         dr / g0 (dimensionless).
     """
-    where = "pastewka_robbins_range_ratio"
-    slope = positive_number(where, "rms_slope", rms_slope, "m/m")
-    curvature = positive_number(where, "rms_curvature", rms_curvature, "1/m")
-    dr = positive_number(where, "interaction_range", interaction_range, "m")
+    slope, curvature, dr = positive_numbers(
+        "pastewka_robbins_range_ratio",
+        ("rms_slope", rms_slope, "m/m"),
+        ("rms_curvature", rms_curvature, "1/m"),
+        ("interaction_range", interaction_range, "m"),
+    )
     return dr / (16.0 / 3.0 * slope**2 / curvature)
 
 

@@ -84,13 +84,22 @@ def test_junctions_in_full_sliding_carry_exactly_tau_0():
     assert glassy.level == "warning" and glassy.value == pytest.approx(600.0)
 
 
+def test_loads_not_computed_are_left_out_and_none_computed_is_a_warning():
+    partial = static_to_sliding_check([1.0, math.nan, 3.0], [0.5, 0.2, math.nan])
+    assert partial.level == "ok" and partial.value == pytest.approx(2.0)
+    nothing = junction_shear_check([math.nan], [1e-6], 0.13e6)
+    assert math.isnan(nothing.value) and nothing.level == "warning"
+    assert "not computed" in nothing.message and "far beyond" not in nothing.message
+
+
 @pytest.mark.parametrize(
     ("call", "named"),
     [
         (lambda: plasticity_index(2e6, 0.0, 1e-6, 1e-4), "hardness"),
         (lambda: contact_pressure_check([1.0, 2.0], [1e-5], 1e6), "same length"),
         (lambda: contact_pressure_check([1.0], [0.0], 1e6), "real_area"),
-        (lambda: static_to_sliding_check([1.0], [math.nan]), "sliding_friction"),
+        (lambda: static_to_sliding_check([1.0], [math.inf]), "sliding_friction"),
+        (lambda: static_to_sliding_check([-1.0], [1.0]), "static_friction"),
         (lambda: junction_shear_check([1.0], [1e-6], -1.0), "shear_strength"),
     ],
 )
