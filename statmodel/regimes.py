@@ -40,7 +40,9 @@ repulsive contact diameter ``d_rep = 4 h'_rms / h''_rms``:
 
     S_PR = (E* h'_rms dr / (kappa_rep w)) (h'_rms^2 / (h''_rms dr))^(2/3),
 
-sticky (a finite pull-off force) when ``S_PR < 1``. ``dr`` is the range of the adhesive
+sticky (a finite pull-off force) when ``S_PR < 1``. The theory describes the approach to that
+threshold from the non-sticky (DMT-like) side: far below 1, ``S_PR`` says "sticky", not how
+sticky. ``dr`` is the range of the adhesive
 interaction (m); ``h'_rms`` the rms slope and ``h''_rms`` the rms mean curvature
 ``sqrt(<(laplacian h / 2)^2>)`` of the surface, both from the same spectrum as the energy. The
 theory assumes a range short against the gaps near the contact edges, ``dr / g0 < 0.1`` with
