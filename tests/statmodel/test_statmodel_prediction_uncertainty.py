@@ -8,7 +8,6 @@ import math
 import numpy as np
 import pytest
 
-from asperity import statmodel
 from asperity.errors import InputError
 from asperity.statmodel.uncertainty import (
     PREDICTIONS,
@@ -16,23 +15,11 @@ from asperity.statmodel.uncertainty import (
     propagate_to_predictions,
 )
 
-MATERIAL = statmodel.Material(
-    e_star=2.133e6,
-    work_of_adhesion=0.040,
-    mode_mixity=0.03,
-    shear_strength=0.13e6,
-    equilibrium_distance=0.2e-9,
-)
-NOMINAL_AREA = 700e-6  # m^2
+from .test_statmodel_resolution_uncertainty import MATERIAL, NOMINAL_AREA
+from .test_statmodel_resolution_uncertainty import paper_roughness as _roughness
+
 LOADS = [0.56, 1.58, 3.12]  # N
 PATH = np.linspace(0.0, 80e-6, 241)  # m, past full sliding at every load here
-
-
-def _roughness(resolution: float) -> statmodel.Roughness:
-    """The paper's Fig 12 laws (eta ~ Delta^-1.12, R linear in Delta) at a resolution (m)."""
-    return statmodel.Roughness(
-        652.1e6 * (resolution / 2e-6) ** -1.12, 0.041e-3 + 4.4 * (resolution - 2e-6), 0.032e-3
-    )
 
 
 def _propagate(half_width: float, lambda_half_width: float):

@@ -26,14 +26,18 @@ STRIDES = np.arange(1, 9) * 10e-6  # m, a scan of strides 1..8 at 10 um
 TRUE = 25e-6  # m, between strides 2 and 3
 
 
-@functools.cache
-def _areas(resolution: float) -> np.ndarray:
-    """Model A_r (m^2) with the paper's Fig 12 laws: eta = 652.1 mm^-2 (Delta/2 um)^-1.12,
+def paper_roughness(resolution: float) -> statmodel.Roughness:
+    """The paper's Fig 12 laws at a resolution (m): eta = 652.1 mm^-2 (Delta/2 um)^-1.12,
     R = 0.041 mm + 4.4 (Delta - 2 um), sigma_s = 0.032 mm."""
-    rough = statmodel.Roughness(
+    return statmodel.Roughness(
         652.1e6 * (resolution / 2e-6) ** -1.12, 0.041e-3 + 4.4 * (resolution - 2e-6), 0.032e-3
     )
-    return statmodel.real_area_at_loads(MATERIAL, rough, NOMINAL_AREA, LOADS)
+
+
+@functools.cache
+def _areas(resolution: float) -> np.ndarray:
+    """Model A_r (m^2) at the loads with :func:`paper_roughness`."""
+    return statmodel.real_area_at_loads(MATERIAL, paper_roughness(resolution), NOMINAL_AREA, LOADS)
 
 
 def _located(reference: np.ndarray, refine: bool):
