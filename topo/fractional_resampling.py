@@ -9,11 +9,13 @@ interpolant of the measured samples:
 ``"fourier"`` (default)
     The trigonometric (band-limited) interpolant of the map, axis by axis; a map that is not
     periodic is mirrored first (a cosine series), so its opposite edges do not ring. Exact at
-    an integer s (to round-off, 1e-13 relative in R), and the statistics vary smoothly between
-    integer steps: on a 400^2 paper-like map, steps 1..4 by 1/8, ln eta deviates from a smooth
-    (quadratic in ln s) trend by 2.2 % rms, ln R by 3.7 %, about the summit-count noise. No
-    missing pixel allowed. Costs ``O(n_new n^2)`` per axis (about 0.1 s for 400^2, a few
-    seconds for 1000^2).
+    an integer s (to round-off: 1e-13 of the rms height at 64 pixels, 1e-9 at 5000), and the
+    statistics vary smoothly between integer steps: on a 400^2 paper-like map, steps 1..4 by
+    1/8, ln eta deviates from a smooth (quadratic in ln s) trend by 2.2 % rms, ln R by 3.7 %,
+    about the summit-count noise (a cubic spline interpolant, also exact at integer steps,
+    gives 3.0 % and 12 %: its curvature is piecewise linear). No missing pixel allowed. A
+    chirp z-transform per axis, ``O(n log n)`` per row (1 s for a periodic 2000^2 map, 2 s
+    mirrored).
 ``"bilinear"``
     Linear along x, then along y. At an integer s every new point is an old one, so the map
     *is* :func:`topo.decimate`'s (bit for bit, missing pixels included), and a missing pixel
@@ -32,10 +34,15 @@ import math
 
 import numpy as np
 import scipy.fft
+from scipy.signal import czt
 
 from asperity.errors import InputError
 from asperity.topo.heightmap import HeightMap, require_height_map
 from asperity.topo.summits import SummitStatistics, summit_statistics
+
+#: Columns transformed at once by the fourier interpolation (bounds its memory: about
+#: 50 MB per block for a 5000-pixel axis).
+COLUMN_BLOCK = 256
 
 #: Interpolations of :func:`fractional_resample`; the first is the default.
 INTERPOLATIONS: tuple[str, ...] = ("fourier", "bilinear")
@@ -79,17 +86,26 @@ def _linear_along_first_axis(values: np.ndarray, positions: np.ndarray) -> np.nd
 def _trigonometric_along_first_axis(
     values: np.ndarray, positions: np.ndarray, periodic: bool
 ) -> np.ndarray:
-    """The band-limited (DFT) interpolant of the rows of ``values`` at fractional positions.
+    """The band-limited (DFT) interpolant of the rows of ``values`` at the evenly spaced
+    fractional positions ``i * step`` (``positions``, from 0).
 
     A non-periodic axis is first mirrored (rows 0..n-1, then n-1..0: a cosine series), so
-    that the interpolant meets no jump between the last row and the first.
+    that the interpolant meets no jump between the last row and the first. The sum
+    ``sum_k c_k exp(2 pi i k u / n)`` at ``u = i * step`` is a chirp z-transform (Bluestein,
+    :func:`scipy.signal.czt`): ``O((n + n_new) log)`` per column, done in blocks of
+    :data:`COLUMN_BLOCK` columns to bound the memory.
     """
-    extended = values if periodic else np.concatenate([values, values[::-1]], axis=0)
-    n = extended.shape[0]
-    spectrum = scipy.fft.fft(extended, axis=0)
-    wavenumber = np.fft.fftfreq(n, 1.0 / n)
-    phase = np.exp(2j * np.pi * np.outer(positions, wavenumber) / n)
-    return (phase @ spectrum).real / n
+    step = float(positions[1] - positions[0]) if positions.size > 1 else 1.0
+    out = np.empty((positions.size, values.shape[1]))
+    for first in range(0, values.shape[1], COLUMN_BLOCK):
+        block = values[:, first : first + COLUMN_BLOCK]
+        extended = block if periodic else np.concatenate([block, block[::-1]], axis=0)
+        n = extended.shape[0]
+        spectrum = scipy.fft.fftshift(scipy.fft.fft(extended, axis=0), axes=0)
+        sums = czt(spectrum, m=positions.size, w=np.exp(2j * np.pi * step / n), a=1.0, axis=0)
+        lowest = np.exp(-2j * np.pi * (n // 2) * positions / n)[:, None]  # k from -(n // 2)
+        out[:, first : first + COLUMN_BLOCK] = (lowest * sums).real / n
+    return out
 
 
 def fractional_resample(
