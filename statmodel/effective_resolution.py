@@ -13,20 +13,22 @@ between them by these rules:
 2. **Refinement** (when ``misfit_at`` is given): m is evaluated at :data:`REFINE_POINTS` more
    resolutions spaced evenly in x between those neighbours (summit statistics of the map
    resampled at non-integer steps, :mod:`topo.fractional_resampling`), and step 1 is repeated
-   on all the points.
+   on all the points. When the least sampled misfit is at an end of the scan, the points go
+   between that end and its neighbour: the optimum may lie between the first two strides
+   (the default job's mean log ratio changes sign between 10 and 20 um).
 3. **Interval** (the profile rule of the lambda fit, :mod:`pipelines.fitting`): with
    S = n m^2 the residual sum of squares and s^2 = S_min/(n - 1) its one-parameter estimate of
    the residual variance, the one-sigma interval is where S <= S_min + s^2, i.e.
    ``m^2 <= m_min^2 (1 + 1/(n - 1))``. Its ends are where the sampled m^2, interpolated
    linearly in x, first crosses that threshold on each side of the optimum. It assumes
    independent residuals across loads; a perfect match (m_min = 0) gives a zero-width interval.
-4. **Open sides.** An optimum at the finest (coarsest) resolution scanned cannot be placed
-   between neighbours: the optimum is that end, the interval is open on that side
-   (``open_finer`` / ``open_coarser``) and ``direction`` says where the data point: ``"finer"``
-   (a finer measurement might fit better) or ``"coarser"`` (scan coarser strides). An interval
-   whose threshold is not crossed before an end of the scan is open on that side too; its end
-   is then the scanned end, a lower bound on its width. One load gives no residual variance:
-   no interval (NaN, status 2).
+4. **Open sides.** An optimum still at the finest (coarsest) resolution scanned after the
+   refinement cannot be placed between neighbours: the optimum is that end, the interval is
+   open on that side (``open_finer`` / ``open_coarser``) and ``direction`` says where the
+   data point: ``"finer"`` (a finer measurement might fit better) or ``"coarser"`` (scan
+   coarser strides). An interval whose threshold is not crossed before an end of the scan is
+   open on that side too; its end is then the scanned end, a lower bound on its width. One
+   load gives no residual variance: no interval (NaN, status 2).
 """
 
 from __future__ import annotations
@@ -144,11 +146,12 @@ def parabola_vertex(x: np.ndarray, y: np.ndarray) -> tuple[float, float]:
 
 
 def _refine(
-    x: np.ndarray, y: np.ndarray, i: int, misfit_at: Callable[[float], float]
+    x: np.ndarray, y: np.ndarray, low: int, high: int, misfit_at: Callable[[float], float]
 ) -> tuple[np.ndarray, np.ndarray]:
-    """The curve (ln resolution, misfit^2) with REFINE_POINTS more points around index i."""
-    fine = np.linspace(x[i - 1], x[i + 1], REFINE_POINTS + 3)[1:-1]
-    fine = fine[~np.isclose(fine, x[i], rtol=0, atol=1e-9)]
+    """The curve (ln resolution, misfit^2) with REFINE_POINTS more points, evenly spaced in
+    ln resolution, strictly between indices ``low`` and ``high``."""
+    fine = np.linspace(x[low], x[high], REFINE_POINTS + 2)[1:-1]
+    fine = fine[~np.isin(np.round(fine, 12), np.round(x, 12))]
     values = np.array([float(misfit_at(float(np.exp(v)))) ** 2 for v in fine])
     ok = np.isfinite(values)
     xs, ys = np.concatenate([x, fine[ok]]), np.concatenate([y, values[ok]])
@@ -195,13 +198,16 @@ def _optimum(
     x: np.ndarray, y2: np.ndarray, misfit_at: Callable[[float], float] | None
 ) -> tuple[np.ndarray, np.ndarray, tuple[float, float], str, bool]:
     """(ln resolutions, m^2, vertex (x*, m*^2), direction, refined) of rules 1, 2 and 4."""
-    i = int(np.argmin(y2))
-    if x.size < 3 or i in (0, x.size - 1):
-        return x, y2, (float(x[i]), float(y2[i])), "finer" if i == 0 else "coarser", False
-    refined = misfit_at is not None
+    i, last = int(np.argmin(y2)), x.size - 1
+    refined = misfit_at is not None and x.size >= 2
     if refined:
-        x, y2 = _refine(x, y2, i, misfit_at)
-        i = min(max(int(np.argmin(y2)), 1), x.size - 2)
+        if i in (0, last):  # the optimum may lie between the end and its neighbour
+            x, y2 = _refine(x, y2, i, 1 if i == 0 else last - 1, misfit_at)
+        else:
+            x, y2 = _refine(x, y2, i - 1, i + 1, misfit_at)
+        i, last = int(np.argmin(y2)), x.size - 1
+    if x.size < 3 or i in (0, last):
+        return x, y2, (float(x[i]), float(y2[i])), "finer" if i == 0 else "coarser", refined
     return x, y2, parabola_vertex(x[i - 1 : i + 2], y2[i - 1 : i + 2]), "", refined
 
 
