@@ -17,6 +17,14 @@ J. Fluids Eng. 116:405; Celik et al. 2008, J. Fluids Eng. 130:078001):
 * Two grids: p = 1 assumed, Fs = 3 (Roache's factor for an order that was not observed).
 * One grid: no estimate (NaN value and uncertainty, status 2).
 
+Why the formal order: the pixel count of a contact converges at first order with a sawtooth
+(its edge crosses pixel centres), so an order observed from three grids is often a
+coincidence. On a Hertz sphere (16 box sizes, three levels of grids up to 64 px per contact
+radius) trusting any monotone observed order with Fs = 1.25 covered the exact area in 34 of 48
+cases (71 %, for a nominal 95 %); these rules cover it in 46 of 48. On the default job's map
+the orders observed from strides (16, 8, 4), (8, 4, 2), (4, 2, 1) are 1.66, 0.76, 1.44: not
+asymptotic either.
+
 The extrapolated value is ``f_0 = f_1 + (f_1 - f_2)/(r_21^p - 1)`` and the uncertainty is the
 fine-grid GCI, ``u = Fs |f_1 - f_2| / (r_21^p - 1)`` (Roache's band, about 95 % confidence
 for the error of f_1). The result states f_0 +- u: the band holds both f_0 and the finest
