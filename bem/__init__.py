@@ -24,6 +24,11 @@ _EXPORTS: dict[str, str] = {
     "SolverStatus": "asperity.bem.result",
     "BemInputError": "asperity.bem.errors",
     "load_sweep": "asperity.bem.sweep",
+    "GridExtrapolation": "asperity.bem.discretisation",
+    "UncertaintyBudget": "asperity.bem.discretisation",
+    "combine_in_quadrature": "asperity.bem.discretisation",
+    "half_spread": "asperity.bem.discretisation",
+    "richardson_extrapolation": "asperity.bem.discretisation",
 }
 
 __all__ = [
@@ -38,6 +43,11 @@ __all__ = [
     "load_sweep",
     "pull_off_force",
     "solve_contact",
+    "GridExtrapolation",
+    "UncertaintyBudget",
+    "combine_in_quadrature",
+    "half_spread",
+    "richardson_extrapolation",
 ]
 
 

@@ -78,6 +78,11 @@ _EXPORTS: dict[str, str] = {
     "STICK": "asperity.statmodel.status_map",
     "asperity_status": "asperity.statmodel.status_map",
     "dimensionless_unstable_boundary": "asperity.statmodel.status_map",
+    "EffectiveResolution": "asperity.statmodel.effective_resolution",
+    "locate_least_misfit": "asperity.statmodel.effective_resolution",
+    "roughness_at_resolution": "asperity.statmodel.effective_resolution",
+    "PredictionUncertainty": "asperity.statmodel.uncertainty",
+    "propagate_to_predictions": "asperity.statmodel.uncertainty",
 }
 
 __all__ = [
@@ -137,6 +142,11 @@ __all__ = [
     "static_to_sliding_check",
     "tabor_parameter",
     "unloading_pull_off_force",
+    "EffectiveResolution",
+    "locate_least_misfit",
+    "roughness_at_resolution",
+    "PredictionUncertainty",
+    "propagate_to_predictions",
 ]
 
 

@@ -66,6 +66,8 @@ _EXPORTS: dict[str, str] = {
     "SummitStatistics": "asperity.topo.summits",
     "summit_mask": "asperity.topo.summits",
     "summit_statistics": "asperity.topo.summits",
+    "fractional_resample": "asperity.topo.fractional_resampling",
+    "fractional_summit_statistics": "asperity.topo.fractional_resampling",
 }
 
 __all__ = [
@@ -110,6 +112,8 @@ __all__ = [
     "synthetic",
     "write_hdf5",
     "write_scan_hdf5",
+    "fractional_resample",
+    "fractional_summit_statistics",
 ]
 
 
