@@ -13,7 +13,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Literal
 
-from asperity.statmodel.parameters import _check_finite, _check_positive
+from asperity.quantities import Quantity
 
 __all__ = ["Check", "Level", "grade", "positive_number", "positive_numbers", "upward_check"]
 
@@ -93,10 +93,21 @@ def grade(value: float, warning_threshold: float, invalid_threshold: float) -> t
 
 
 def positive_number(owner: str, name: str, value: object, unit: str) -> float:
-    """``value`` as a finite float > 0, or :class:`asperity.errors.InputError` naming it."""
-    number = _check_finite(owner, name, value)  # type: ignore[arg-type]
-    _check_positive(owner, name, number, unit)
-    return number
+    """``value`` as a finite float > 0, or :class:`asperity.errors.InputError` naming it.
+
+    The check is the bounds registry's own (:class:`asperity.quantities.Quantity`), over the
+    open interval (0, inf) in ``unit``.
+    """
+    positive = Quantity(
+        f"{owner}.{name}",
+        unit,
+        0.0,
+        math.inf,
+        "a positive finite number",
+        open_low=True,
+        open_high=True,
+    )
+    return positive.check(value, f"{owner}.{name}")
 
 
 def positive_numbers(owner: str, *named: tuple[str, object, str]) -> tuple[float, ...]:

@@ -225,7 +225,7 @@ def test_bad_surfaces_are_refused():
 
 #: energy ratio U_el / (A0 w) with the PDMS material, as in docs/statmodel.md (2 % tolerance).
 PDMS_RATIOS = {
-    "di-3.di": 0.0680,
+    "di-3.di": 0.0408,  # the Height Sensor (ZSensor) channel, the Nanoscope default
     "metropro-1.dat": 2.61e-5,
     "mi-1.mi": 3.24e-4,
     "opd-1.opd": 1.10e-3,
