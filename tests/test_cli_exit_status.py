@@ -188,7 +188,7 @@ def test_no_command_is_2(capsys):
         ),
         (["friction", "{tmp}"], "{tmp}"),  # a directory where a file was expected
         (["figures", "--out", "{tmp}/a_file.txt"], "a_file.txt"),  # a file where a folder was
-        (["scan", str(DATA / "dektak-1.csv"), "--max-stride", "5000"], "leaves fewer than 3"),
+        (["scan", str(DATA / "dektak-1.csv"), "--max-stride", "5000"], "--max-stride"),
         (["stats", "{tmp}/m.npy", "--pixel-size", "-1e-6"], "--pixel-size"),  # InputError (CLI)
         (["stats", "{tmp}/m.npy"], "--pixel-size"),  # a file without a pixel size
         (["synth", "--n", "32", "--pixel-size", "1e-5", "--out", "{tmp}/s.png"], "--out"),

@@ -131,7 +131,7 @@ def profile_scan(args: argparse.Namespace, profile: LineProfile) -> int:
         write_scan_hdf5(scan, args.out, source=source)
         figure = figure or str(Path(args.out).with_suffix(".png"))
     if figure:
-        plot_resolution_scan(scan, figure, title=f"{args.file} (line profile, Nayak)")
+        figure = plot_resolution_scan(scan, figure, title=f"{args.file} (line profile, Nayak)")
     data = {
         key: (_json_number(v) if not isinstance(v, list) else [_json_number(x) for x in v])
         for key, v in scan.as_dict().items()

@@ -14,6 +14,7 @@ statistics are undefined (status 2), are left out of the fits.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -65,6 +66,34 @@ def _power_fits(resolution: np.ndarray, radius: np.ndarray, density: np.ndarray)
     return float(slope), float(intercept), float(exponent), math.exp(log_prefactor)
 
 
+def _stride_ranges(strides: list[int]) -> str:
+    """``[1, 2, 3, 7, 9, 10]`` as ``"1-3, 7, 9-10"``."""
+    runs: list[list[int]] = []
+    for k in strides:
+        if runs and k == runs[-1][-1] + 1:
+            runs[-1].append(k)
+        else:
+            runs.append([k])
+    return ", ".join(f"{r[0]}-{r[-1]}" if len(r) > 1 else f"{r[0]}" for r in runs)
+
+
+def _failed_strides(rows: list) -> list[str]:
+    """One warning per kind of failure, naming the strides it hit (not one line per stride).
+
+    The kind is the message with its numbers taken out (the bandwidth differs at every stride;
+    the thresholds do not); the first stride's full message is quoted.
+    """
+    kinds: dict[str, tuple[str, list[int]]] = {}
+    for r in rows:
+        if r.status:
+            kind = re.sub(r"= [-+0-9.e]+", "=", r.message)
+            kinds.setdefault(kind, (r.message, []))[1].append(int(r.stride))
+    return [
+        f"strides {_stride_ranges(strides)} ({len(strides)}): {first} (at stride {strides[0]})"
+        for first, strides in kinds.values()
+    ]
+
+
 def profile_resolution_scan(
     profile: LineProfile, max_stride: int, *, min_peaks: int = 10
 ) -> ProfileResolutionScan:
@@ -109,9 +138,7 @@ def profile_resolution_scan(
     slope, intercept, exponent, prefactor = _power_fits(resolution[use], radius[use], density[use])
     rms_mean = float(np.mean(height_rms[use])) if use.any() else math.nan
     warnings = dict.fromkeys(w for r in rows for w in r.warnings[:2])
-    for r in rows:
-        if r.status:
-            warnings[f"stride {r.stride}: {r.message}"] = None
+    warnings.update(dict.fromkeys(_failed_strides(rows)))
     return ProfileResolutionScan(
         stride=strides,
         resolution=resolution,

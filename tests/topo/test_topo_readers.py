@@ -139,7 +139,9 @@ def test_unknown_and_empty_files_are_refused(tmp_path):
         topo.read_surface(empty)
     junk = tmp_path / "junk.bin"
     junk.write_bytes(bytes(range(256)) * 4)
-    with pytest.raises(TopographyFileError, match="no supported format"):
+    with pytest.raises(
+        TopographyFileError, match=r"not one asperity reads natively.*asperity\[formats\]"
+    ):
         topo.read_surface(junk)
     with pytest.raises(FileNotFoundError):
         topo.read_surface(tmp_path / "missing.x3p")
