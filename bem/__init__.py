@@ -24,6 +24,9 @@ _EXPORTS: dict[str, str] = {
     "SolverStatus": "asperity.bem.result",
     "BemInputError": "asperity.bem.errors",
     "load_sweep": "asperity.bem.sweep",
+    "MaugisLaw": "asperity.bem.maugis",
+    "cohesive_zone_width": "asperity.bem.maugis",
+    "resolving_range": "asperity.bem.maugis",
 }
 
 __all__ = [
@@ -35,8 +38,11 @@ __all__ = [
     "critical_tension",
     "crop_to_fast_size",
     "fast_size",
+    "MaugisLaw",
+    "cohesive_zone_width",
     "load_sweep",
     "pull_off_force",
+    "resolving_range",
     "solve_contact",
 ]
 

@@ -1,8 +1,9 @@
 """The ``asperity bem`` sub-command, a thin shell over :func:`bem.solve_contact` and
 :func:`bem.load_sweep`.
 
-``asperity bem FILE --e-star E (--load F | --mean-pressure P) [--work-of-adhesion W]
-[--pixel-size DX] [--detrend none|mean|plane] [--tol T] [--json]``
+``asperity bem FILE --e-star E (--load F | --mean-pressure P) [--work-of-adhesion W
+[--adhesion maugis --adhesion-range H0]] [--pixel-size DX] [--detrend none|mean|plane]
+[--tol T] [--json]``
 
 Several loads (``--load 0.5,1,2``) give a warm-started sweep. ``--json`` prints
 ``contact_fraction``, ``real_area`` (m^2), ``normal_force`` (N), ``mean_gap`` (m), ``iterations``,
@@ -89,6 +90,16 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     load.add_argument("--load", help="total normal force(s) F (N), e.g. 0.5,1,2 for a sweep")
     load.add_argument("--mean-pressure", help="mean pressure(s) F/A (Pa), comma-separated")
     p.add_argument("--work-of-adhesion", default="0", help="w (J/m^2); 0 = no adhesion")
+    p.add_argument(
+        "--adhesion",
+        choices=("pohrt-popov", "maugis"),
+        default="pohrt-popov",
+        help=(
+            "how w acts: pohrt-popov (default, the paper's Appendix B) or maugis "
+            "(Maugis-Dugdale: tension w/H0 wherever the gap is below --adhesion-range)"
+        ),
+    )
+    p.add_argument("--adhesion-range", help="Maugis-Dugdale range H0 (m), with --adhesion maugis")
     p.add_argument("--pixel-size", help="pixel size (m) for formats without one (.npy, text)")
     p.add_argument(
         "--detrend",
@@ -136,6 +147,24 @@ def _adhesion(text: str) -> float:
     if not (math.isfinite(w) and w >= 0):
         raise _bad(f"--work-of-adhesion: expected a finite value >= 0, got {w}")
     return w
+
+
+def _adhesion_law(args: argparse.Namespace) -> dict:
+    """The ``adhesion`` and ``adhesion_range`` keywords of the command line (none for the
+    default Pohrt-Popov criterion)."""
+    if args.adhesion != "maugis":
+        if args.adhesion_range is not None:
+            raise _bad(
+                f"--adhesion-range: applies to --adhesion maugis only, got {args.adhesion_range!r} "
+                f"with --adhesion {args.adhesion}"
+            )
+        return {}
+    if args.adhesion_range is None:
+        raise _bad("--adhesion maugis: needs --adhesion-range H0 (m), got none")
+    return {
+        "adhesion": "maugis",
+        "adhesion_range": _positive("--adhesion-range", args.adhesion_range),
+    }
 
 
 def _loads(args: argparse.Namespace, adhesive: bool) -> tuple[str, list[float]]:
@@ -206,6 +235,7 @@ def handler(args: argparse.Namespace) -> int:
     nominal = heights.size * dx * dy
     forces = [v if kind == "normal_force" else v * nominal for v in loads]
     common = dict(work_of_adhesion=w, options=options, periodic=not args.free_boundary)
+    common.update(_adhesion_law(args))
     if len(forces) == 1:
         results = [solve_contact(heights, dx, dy, e_star, normal_force=forces[0], **common)]
     else:
@@ -216,6 +246,12 @@ def handler(args: argparse.Namespace) -> int:
         print(json.dumps({k: pick(k) for k in JSON_KEYS}))
     else:
         _print_table(args, heights, dx, dy, e_star, w, rows)
+    for r in results:
+        for warning in r.extra.get("warnings", []):
+            print(
+                f"asperity bem: warning at F = {r.normal_force + 0.0:.6g} N: {warning}",
+                file=sys.stderr,
+            )
     failed = [r for r in results if not r.converged]
     for r in failed:
         print(
