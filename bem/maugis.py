@@ -146,8 +146,8 @@ def _attraction_lift(
 
 def _starting_set(
     h: np.ndarray, law: MaugisLaw, initial: object, load_control: bool, force: float
-) -> tuple[np.ndarray, ContactResult | None, str]:
-    """The attractive set, warm start and branch of a solve: from a previous result (its gap),
+) -> tuple[np.ndarray, ContactResult | None]:
+    """The attractive set and warm start of a solve: from a previous result (its gap),
     or empty (the first inner solve is then the non-adhesive solution), or, for a load <= 0
     from scratch, the elements within h_0 of the highest point (first contact)."""
     if isinstance(initial, ContactResult):
@@ -157,17 +157,20 @@ def _starting_set(
                 f"{h.shape}"
             )
         attractive = initial.gap <= law.adhesion_range
-        q = initial.pressure + law.cohesive_stress * attractive * _is_maugis(initial)
+        q = initial.pressure
+        if _is_maugis(initial):  # its own law's attraction taken off: the contact pressure
+            own = initial.gap <= initial.extra["adhesion_range"]
+            q = q + initial.extra["cohesive_stress"] * own
         inner = dataclasses.replace(initial, pressure=np.maximum(q, 0.0), branch="unique")
-        return attractive, inner, "warm"
+        return attractive, inner
     if initial is not None:
         raise BemInputError(
             "solve_contact: with adhesion='maugis', initial must be a ContactResult (its gap "
             "defines the attractive set)"
         )
     if load_control and force <= 0:
-        return h >= h.max() - law.adhesion_range, None, "first contact"
-    return np.zeros(h.shape, dtype=bool), None, "non-adhesive"
+        return h >= h.max() - law.adhesion_range, None
+    return np.zeros(h.shape, dtype=bool), None
 
 
 def _is_maugis(result: ContactResult) -> bool:
@@ -426,7 +429,7 @@ def solve_maugis_problem(
     h = problem.heights
     grid = (problem.dx, problem.dy, problem.e_star, problem.periodic)
     loads = (problem.load_control, problem.force, problem.separation)
-    attractive, inner, _ = _starting_set(h, law, initial, problem.load_control, problem.force)
+    attractive, inner = _starting_set(h, law, initial, problem.load_control, problem.force)
     it = _SetIteration(attractive, inner, max(options.tol, LOOSE_TOL))
     stop = _iterate_set(h, grid, law, loads, it, options)
     if it.inner is None:

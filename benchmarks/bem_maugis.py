@@ -19,7 +19,8 @@ Printed per size, all in one process and one run (ratios only within a run):
   seconds, the ratio, and the agreement (mean pressure, contact fraction, relative L2
   difference of the tractions). Tamaas runs in a subprocess of its own venv
   (``--tamaas-python``, default /work/venv-tamaas/bin/python; skipped when absent, and above
-  ``--tamaas-max-n`` where it takes many minutes).
+  ``--tamaas-max-n`` where it takes many minutes; the displacement-controlled solve is then
+  skipped too).
 
     flock /tmp/asperity-bench.lock .venv/bin/python benchmarks/bem_maugis.py --sizes 512,1024
 """
@@ -138,7 +139,9 @@ def measure(n: int, h0: float, tol: float, threads: int, tamaas: dict | None) ->
         "attr_frac": maugis.extra["attractive_fraction"],
         "zone": maugis.extra["cohesive_zone_elements"], "status": maugis.status,
     }  # fmt: skip
-    row.update(versus_tamaas(h, dx, h0, maugis.separation - float(h.mean()), tol, threads, tamaas))
+    if tamaas is not None:
+        gap = maugis.separation - float(h.mean())
+        row.update(versus_tamaas(h, dx, h0, gap, tol, threads, tamaas))
     return row
 
 
@@ -179,6 +182,7 @@ def print_table(rows: list[dict]) -> None:
     for r in rows:
         tam = r.get("tamaas_s")
         vs = f"{'-':>9} {'-':>8} {'-':>8} {'-':>7}"
+        disp = f"{r['disp_s']:7.2f}" if "disp_s" in r else f"{'-':>7}"
         if r.get("tamaas_timed_out"):
             vs = f"{'>' + format(tam, '.0f'):>9} {'<' + format(r['disp_s'] / tam, '.3f'):>8}"
         elif tam is not None:
@@ -189,7 +193,7 @@ def print_table(rows: list[dict]) -> None:
             f"{r['maugis_nit']:5d} {r['solves']:6d} {r['maugis_s'] / r['plain_s']:7.2f} "
             f"{r['warm_s']:7.2f} {r['warm_s'] / r['plain_s']:7.2f} {r['plain_frac']:10.4f} "
             f"{r['maugis_frac']:11.4f} {r['attr_frac']:7.4f} {r['zone'] or 0:7.2f} | "
-            f"{r['disp_s']:7.2f} {vs}"
+            f"{disp} {vs}"
         )
 
 
