@@ -25,6 +25,7 @@ import dataclasses
 import math
 import time
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -111,6 +112,16 @@ def resolving_range(
     return math.sqrt(4.0 * work_of_adhesion * elements * dx / (math.pi * e_star))
 
 
+class _Case(NamedTuple):
+    """One Maugis problem: heights (m), (dx, dy, E*, periodic), the law, and
+    (load_control, force N, separation m)."""
+
+    heights: np.ndarray
+    grid: tuple
+    law: MaugisLaw
+    loads: tuple
+
+
 @dataclass
 class _SetIteration:
     """What the attractive-set iteration carries from one inner solve to the next."""
@@ -192,23 +203,16 @@ def _branch(initial: object, loads: tuple[bool, float, float]) -> str:
     return "unloading"
 
 
-def _inner_solve(
-    h: np.ndarray,
-    grid: tuple,
-    law: MaugisLaw,
-    loads: tuple,
-    it: _SetIteration,
-    opts: SolverOptions,
-) -> ContactResult | None:
+def _inner_solve(case: _Case, it: _SetIteration, opts: SolverOptions) -> ContactResult | None:
     """The non-adhesive solve for the contact pressure q with the attraction on the current S
     as an external traction; None when a load-controlled S carries the whole force in
     tension (no compressive contact force left)."""
     from asperity.bem.polonsky_keer import solve_contact
 
-    dx, dy, e_star, periodic = grid
-    load_control, force, separation = loads
-    sigma0 = law.cohesive_stress
-    lifted = h + _attraction_lift(it.attractive, sigma0, dx, dy, e_star, periodic, opts)
+    dx, dy, e_star, periodic = case.grid
+    load_control, force, separation = case.loads
+    sigma0 = case.law.cohesive_stress
+    lifted = case.heights + _attraction_lift(it.attractive, sigma0, dx, dy, e_star, periodic, opts)
     if load_control:
         contact_force = force + sigma0 * float(np.count_nonzero(it.attractive)) * dx * dy
         if not contact_force > 0:
@@ -228,28 +232,21 @@ def _inner_solve(
     )
 
 
-def _iterate_set(
-    h: np.ndarray,
-    grid: tuple,
-    law: MaugisLaw,
-    loads: tuple,
-    it: _SetIteration,
-    opts: SolverOptions,
-) -> tuple[SolverStatus, str]:
+def _iterate_set(case: _Case, it: _SetIteration, opts: SolverOptions) -> tuple[SolverStatus, str]:
     """Inner solves until S = {gap <= h_0} is unchanged by a solve at ``tol``."""
     seen: set[bytes] = set()
     while it.solves < MAX_SET_SOLVES:
-        inner = _inner_solve(h, grid, law, loads, it, opts)
+        inner = _inner_solve(case, it, opts)
         if inner is None:
             return SolverStatus.CONTACT_LOST, (
-                f"contact lost: the imposed force {loads[1]:.6g} N is beyond what the "
+                f"contact lost: the imposed force {case.loads[1]:.6g} N is beyond what the "
                 "attraction can hold (no compressive contact force is left)"
             )
         _count(it, inner)
         it.inner = inner
         if not inner.converged:
             return SolverStatus(inner.status), inner.message
-        new = inner.gap <= law.adhesion_range
+        new = inner.gap <= case.law.adhesion_range
         if np.array_equal(new, it.attractive):
             if it.tol <= opts.tol:
                 return SolverStatus.CONVERGED, (
@@ -431,7 +428,7 @@ def solve_maugis_problem(
     loads = (problem.load_control, problem.force, problem.separation)
     attractive, inner = _starting_set(h, law, initial, problem.load_control, problem.force)
     it = _SetIteration(attractive, inner, max(options.tol, LOOSE_TOL))
-    stop = _iterate_set(h, grid, law, loads, it, options)
+    stop = _iterate_set(_Case(h, grid, law, loads), it, options)
     if it.inner is None:
         return _empty_result(h, grid, law, stop, started)
     return _assemble(it, law, grid, stop, _branch(initial, loads), started)
