@@ -14,7 +14,10 @@ The four sub-packages load on first use, so ``import asperity`` is cheap:
 - :mod:`asperity.pipelines`: the main job, from a measured map to a calibrated prediction.
 
 ``asperity.open_results(path)`` reopens a run's ``results.h5`` as typed stage results
-(:mod:`asperity.pipelines.results`).
+(:mod:`asperity.pipelines.results`). Shared by the packages: :mod:`asperity.errors` (input errors,
+exit statuses), :mod:`asperity.fields` (the unit, dims and description of every result field),
+:mod:`asperity.h5` (every HDF5 file written), :mod:`asperity.schema` (TOML schemas) and
+:mod:`asperity.plotting` (figures).
 """
 
 from __future__ import annotations

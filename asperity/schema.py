@@ -5,11 +5,13 @@ entries, each with a value :class:`Kind` that converts and bounds it, and a ``bu
 that makes the library's own dataclass from the converted values (``statmodel.Material``,
 ``pipelines.config.LoadingConfig``, ...). Every error is one :class:`ConfigError` line::
 
-    job.toml: material.E_star: expected a number in (0, 1e+13] Pa (no solid is stiffer than
-    diamond, E ~ 1.2e12 Pa), got -2133000.0
+    job.toml: material.E_star: expected a number in [100, 1e+13] Pa (from the softest gels
+    (~1 kPa) to diamond (~1.2e12 Pa)), got -2133000.0
 
 A key may have other accepted spellings (``aliases``: ``e_star`` beside ``E_star``); giving two
-spellings of one key is refused. Bounds carry their reason, so a value that would exhaust
+spellings of one key is refused. The bounds of physical quantities come from
+:mod:`asperity.quantities` (one entry per quantity, shared with the dataclasses and the
+command-line options). Bounds carry their reason, so a value that would exhaust
 memory or make a solver meaningless is refused before any work. Pure Python: validating a file
 loads no numerical library.
 
@@ -28,6 +30,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import sys
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
@@ -35,6 +38,12 @@ from pathlib import Path
 from typing import Any
 
 from asperity.errors import InputError
+from asperity.files import MAX_CONFIG_BYTES, describe_kind, read_bytes_bounded
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - exercised on Python 3.10 only
+    import tomli as tomllib
 
 #: Marks a key without a default (it must be given).
 REQUIRED: Any = object()
@@ -101,7 +110,8 @@ def _is_number(value: Any) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
-def _interval(low: float, high: float, open_low: bool, open_high: bool) -> str:
+def interval_text(low: float, high: float, open_low: bool = False, open_high: bool = False) -> str:
+    """``[low, high]`` with parentheses at the open ends (numbers as ``%g``)."""
     return f"{'(' if open_low else '['}{low:g}, {high:g}{')' if open_high else ']'}"
 
 
@@ -120,7 +130,7 @@ class Real(Kind):
         """What a valid value is, in words."""
         unit = f" {self.unit}" if self.unit else ""
         why = f" ({self.why})" if self.why else ""
-        interval = _interval(self.low, self.high, self.open_low, self.open_high)
+        interval = interval_text(self.low, self.high, self.open_low, self.open_high)
         return f"a number in {interval}{unit}{why}"
 
     def convert(self, value: Any, context: Context) -> float:
@@ -141,14 +151,18 @@ class Integer(Kind):
     high: int
     why: str = ""
 
+    def expected(self) -> str:
+        """What a valid value is, in words."""
+        why = f" ({self.why})" if self.why else ""
+        return f"an integer in [{self.low}, {self.high}]{why}"
+
     def convert(self, value: Any, context: Context) -> int:
         if (
             isinstance(value, bool)
             or not isinstance(value, int)
             or not (self.low <= value <= self.high)
         ):
-            why = f" ({self.why})" if self.why else ""
-            raise Invalid(f"an integer in [{self.low}, {self.high}]{why}")
+            raise Invalid(self.expected())
         return int(value)
 
 
@@ -194,6 +208,8 @@ class ExistingFile(Kind):
         path = Path(value).expanduser()
         if not path.is_absolute():
             path = context.base_dir / path
+        if (kind := describe_kind(path)) not in (None, "a regular file"):
+            raise Invalid(f"a regular file ({path} is {kind})")
         if not path.is_file():
             raise Invalid(f"an existing file (file not found: {path})")
         return path
@@ -414,6 +430,31 @@ class Schema:
     def document(self, values: Mapping[str, Any]) -> dict[str, Any]:
         """Built sections as hashable plain data (:meth:`Section.document`)."""
         return {s.name: s.document(values[s.name]) for s in self.sections}
+
+
+def read_toml(path: str | Path, what: str) -> dict[str, Any]:
+    """The parsed TOML document of the file ``path`` (``what`` it is, for the messages).
+
+    Raises
+    ------
+    ConfigError
+        ``path: <what> file not found``, ``path: cannot read the <what>: <reason>`` or
+        ``path: not valid TOML: <where and why>``.
+    """
+    path = Path(path)
+    try:
+        text = read_bytes_bounded(path, f"{what} file", MAX_CONFIG_BYTES).decode("utf-8")
+    except FileNotFoundError:
+        raise ConfigError(
+            f"{path}: cannot read the {what}: No such file or directory ({what} file not found)"
+        ) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        reason = getattr(exc, "strerror", None) or exc
+        raise ConfigError(f"{path}: cannot read the {what}: {reason}") from None
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"{path}: not valid TOML: {exc}") from None
 
 
 def _toml_value(value: Any) -> str:

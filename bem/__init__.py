@@ -27,6 +27,11 @@ _EXPORTS: dict[str, str] = {
     "MaugisLaw": "asperity.bem.maugis",
     "cohesive_zone_width": "asperity.bem.maugis",
     "resolving_range": "asperity.bem.maugis",
+    "GridExtrapolation": "asperity.bem.discretisation",
+    "UncertaintyBudget": "asperity.bem.discretisation",
+    "combine_in_quadrature": "asperity.bem.discretisation",
+    "half_spread": "asperity.bem.discretisation",
+    "richardson_extrapolation": "asperity.bem.discretisation",
 }
 
 __all__ = [
@@ -44,6 +49,11 @@ __all__ = [
     "pull_off_force",
     "resolving_range",
     "solve_contact",
+    "GridExtrapolation",
+    "UncertaintyBudget",
+    "combine_in_quadrature",
+    "half_spread",
+    "richardson_extrapolation",
 ]
 
 

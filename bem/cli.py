@@ -22,6 +22,9 @@ import os
 import re
 import sys
 
+from asperity.errors import InputError
+from asperity.quantities import add_bounded_option, quantity
+
 #: Keys of ``asperity bem --json``, in order (a contract with other tools: add, never rename).
 JSON_KEYS = (
     "contact_fraction",
@@ -46,30 +49,22 @@ def _bad(message: str) -> Exception:
     return BemInputError(message)
 
 
-def _positive(name: str, text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise _bad(f"{name}: expected a number, got {text!r}") from None
-    if not (math.isfinite(value) and value > 0):
-        raise _bad(f"{name}: expected a finite value > 0, got {text!r}")
-    return value
+def _load_list(key: str, option: str):
+    """An argparse ``type=``: comma-separated loads of ``option``, each bounded by ``key``."""
+    bound = quantity(key)
 
+    def parse(text: str) -> list[float]:
+        values = []
+        for part in text.split(","):
+            if not part.strip():
+                raise argparse.ArgumentTypeError(f"empty entry in {text!r} (expected e.g. 0.5,1,2)")
+            try:
+                values.append(bound.parse(part.strip(), option))
+            except InputError as exc:
+                raise argparse.ArgumentTypeError(str(exc).removeprefix(f"{option}: ")) from None
+        return values
 
-def _load_list(name: str, text: str) -> list[float]:
-    values = []
-    for part in text.split(","):
-        part = part.strip()
-        if not part:
-            raise _bad(f"{name}: empty entry in {text!r} (expected e.g. 0.5,1,2)")
-        try:
-            value = float(part)
-        except ValueError:
-            raise _bad(f"{name}: expected numbers separated by commas, got {text!r}") from None
-        if not math.isfinite(value):
-            raise _bad(f"{name}: expected finite numbers, got {text!r}")
-        values.append(value)
-    return values
+    return parse
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -85,11 +80,31 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     p._negative_number_matcher = _NEGATIVE_NUMBER
     p.add_argument("file", metavar="FILE", help="height map (any format topo.read_surface reads)")
-    p.add_argument("--e-star", required=True, help="reduced modulus E* = E/(1-nu^2) (Pa)")
+    add_bounded_option(
+        p,
+        "--e-star",
+        "material.E_star",
+        required=True,
+        help="reduced modulus E* = E/(1-nu^2) (Pa)",
+    )
     load = p.add_mutually_exclusive_group(required=True)
-    load.add_argument("--load", help="total normal force(s) F (N), e.g. 0.5,1,2 for a sweep")
-    load.add_argument("--mean-pressure", help="mean pressure(s) F/A (Pa), comma-separated")
-    p.add_argument("--work-of-adhesion", default="0", help="w (J/m^2); 0 = no adhesion")
+    load.add_argument(
+        "--load",
+        type=_load_list("loading.normal_load", "--load"),
+        help="total normal force(s) F (N), e.g. 0.5,1,2 for a sweep",
+    )
+    load.add_argument(
+        "--mean-pressure",
+        type=_load_list("loading.mean_pressure", "--mean-pressure"),
+        help="mean pressure(s) F/A (Pa), comma-separated",
+    )
+    add_bounded_option(
+        p,
+        "--work-of-adhesion",
+        "material.work_of_adhesion",
+        default="0",
+        help="w (J/m^2); 0 = no adhesion",
+    )
     p.add_argument(
         "--adhesion",
         choices=("pohrt-popov", "maugis"),
@@ -100,15 +115,32 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         ),
     )
     p.add_argument("--adhesion-range", help="Maugis-Dugdale range H0 (m), with --adhesion maugis")
-    p.add_argument("--pixel-size", help="pixel size (m) for formats without one (.npy, text)")
+    add_bounded_option(
+        p,
+        "--pixel-size",
+        "surface.pixel_size",
+        help="pixel size (m) for formats without one (.npy, text)",
+    )
     p.add_argument(
         "--detrend",
         choices=("none", "mean", "plane"),
         default="plane",
         help="form removed before the solve (default plane; mean only for periodic maps)",
     )
-    p.add_argument("--tol", default="1e-8", help="residual tolerance in [1e-14, 1e-2]")
-    p.add_argument("--max-iter", type=int, default=None, help="iteration cap per solve")
+    add_bounded_option(
+        p,
+        "--tol",
+        "bem.tol",
+        default="1e-8",
+        help="residual tolerance in [1e-14, 1e-2]",
+    )
+    add_bounded_option(
+        p,
+        "--max-iter",
+        "bem.max_iter",
+        default=None,
+        help="iteration cap per solve",
+    )
     p.add_argument(
         "--free-boundary",
         action="store_true",
@@ -124,29 +156,21 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _solver_options(args: argparse.Namespace):
-    """The SolverOptions of the command line, each refusal naming its option."""
-    from asperity.bem.errors import BemInputError
+    """The SolverOptions of the command line (each option bounded by argparse already)."""
     from asperity.bem.options import SolverOptions
 
-    tol = _positive("--tol", args.tol)
-    try:
-        SolverOptions(tol=tol)
-    except BemInputError as exc:
-        raise _bad(f"--tol: {exc}".replace("solve_contact: tol ", "")) from None
-    try:
-        return SolverOptions(tol=tol, max_iter=args.max_iter)
-    except BemInputError as exc:
-        raise _bad(f"--max-iter: {exc}".replace("solve_contact: max_iter ", "")) from None
+    return SolverOptions(tol=args.tol, max_iter=args.max_iter)
 
 
-def _adhesion(text: str) -> float:
+def _adhesion_range(text: str) -> float:
+    """``--adhesion-range``: a positive finite length (m)."""
     try:
-        w = float(text)
+        value = float(text)
     except ValueError:
-        raise _bad(f"--work-of-adhesion: expected a number, got {text!r}") from None
-    if not (math.isfinite(w) and w >= 0):
-        raise _bad(f"--work-of-adhesion: expected a finite value >= 0, got {w}")
-    return w
+        raise _bad(f"--adhesion-range: expected a length in m, got {text!r}") from None
+    if not (math.isfinite(value) and value > 0):
+        raise _bad(f"--adhesion-range: expected a finite length > 0 (m), got {text!r}")
+    return value
 
 
 def _adhesion_law(args: argparse.Namespace) -> dict:
@@ -163,21 +187,38 @@ def _adhesion_law(args: argparse.Namespace) -> dict:
         raise _bad("--adhesion maugis: needs --adhesion-range H0 (m), got none")
     return {
         "adhesion": "maugis",
-        "adhesion_range": _positive("--adhesion-range", args.adhesion_range),
+        "adhesion_range": _adhesion_range(args.adhesion_range),
     }
 
 
 def _loads(args: argparse.Namespace, adhesive: bool) -> tuple[str, list[float]]:
-    if args.load is not None:
-        kind, values = "normal_force", _load_list("--load", args.load)
-    else:
-        kind, values = "mean_pressure", _load_list("--mean-pressure", args.mean_pressure)
+    """Which load is imposed and its values; a pull needs adhesion and a loaded start."""
+    kind = "normal_force" if args.load is not None else "mean_pressure"
+    values = args.load if args.load is not None else args.mean_pressure
+    option = "--load" if kind == "normal_force" else "--mean-pressure"
     if not adhesive and any(v <= 0 for v in values):
         raise _bad(
-            f"--{kind.replace('_', '-')}: loads must be > 0 without adhesion (a rigid flat "
+            f"{option}: loads must be > 0 without adhesion (a rigid flat "
             f"cannot pull on a non-adhesive surface), got {min(values):g}"
         )
+    if values[0] < 0:
+        raise _bad(
+            f"{option}: the first load must be >= 0 (a pull needs a loaded adhesive contact to "
+            f"pull on: sweep from a compressive load, e.g. 1e-3,{values[0]:g}), got {values[0]:g}"
+        )
     return kind, values
+
+
+def _check_mean_pressure(option: str, forces: list[float], nominal: float) -> None:
+    """Refuse a force whose mean pressure on the map is beyond the bound of any contact."""
+    bound = quantity("loading.mean_pressure")
+    for force in forces:
+        try:
+            bound.check(float(f"{force / nominal:.6g}"), "mean pressure")
+        except InputError as exc:
+            raise _bad(
+                f"{option}: {force:g} N on the map's {nominal:.4g} m^2 gives a {exc}"
+            ) from None
 
 
 def _read_heights(args: argparse.Namespace):
@@ -187,8 +228,7 @@ def _read_heights(args: argparse.Namespace):
     from asperity import topo
     from asperity.bem import crop_to_fast_size
 
-    pixel_size = _positive("--pixel-size", args.pixel_size) if args.pixel_size else None
-    surface = topo.read_surface(args.file, pixel_size=pixel_size)
+    surface = topo.read_surface(args.file, pixel_size=args.pixel_size)
     if not isinstance(surface, topo.HeightMap):
         raise _bad(f"{args.file}: bem needs a 2D height map, the file holds a line profile")
     surface = topo.level(surface, method=args.detrend)
@@ -227,13 +267,15 @@ def handler(args: argparse.Namespace) -> int:
     os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
     from asperity.bem import load_sweep, solve_contact
 
-    e_star = _positive("--e-star", args.e_star)
+    e_star = args.e_star
     options = _solver_options(args)
-    w = _adhesion(args.work_of_adhesion)
+    w = args.work_of_adhesion
     kind, loads = _loads(args, w > 0)
     heights, dx, dy = _read_heights(args)
     nominal = heights.size * dx * dy
     forces = [v if kind == "normal_force" else v * nominal for v in loads]
+    if kind == "normal_force":
+        _check_mean_pressure("--load", forces, nominal)
     common = dict(work_of_adhesion=w, options=options, periodic=not args.free_boundary)
     common.update(_adhesion_law(args))
     if len(forces) == 1:

@@ -20,7 +20,6 @@ from numba import njit
 __all__ = [
     "DirectionUpdate",
     "GapStats",
-    "PressureUpdate",
     "ResidualField",
     "PressureStep",
     "deflection_to_gap_stats",
@@ -33,7 +32,6 @@ __all__ = [
     "step_pressure",
     "update_direction",
     "update_direction_preconditioned",
-    "update_pressure",
 ]
 
 
@@ -61,24 +59,6 @@ class ResidualField(NamedTuple):
 
     penetration_sq: float
     n_penetrating: int
-
-
-class PressureUpdate(NamedTuple):
-    """Result of :func:`update_pressure`: elements that left / entered the contact set, sum p
-    and sum p^2 (Pa, Pa^2) after the step, and the new state's contact-set gap statistics (as
-    :class:`GapStats`)."""
-
-    n_left: int
-    n_entered: int
-    pressure_sum: float
-    pressure_sq: float
-    n_contact: int
-    gap_sum: float
-    gap_sq: float
-
-    def gap_stats(self) -> GapStats:
-        """The contact-set gap statistics of the new state."""
-        return GapStats(self.n_contact, self.gap_sum, self.gap_sq)
 
 
 class PressureStep(NamedTuple):
@@ -250,82 +230,6 @@ def update_direction_preconditioned(w, c, t, z, offset, zbar, beta):  # pragma: 
     return (a0 + a1) + (a2 + a3)
 
 
-@njit(inline="always")
-def _pressure_elem(p, t, w, r, c, i, step):  # pragma: no cover - compiled
-    tau, offset, lower, shift, allow_change, gain = step
-    ci = c[i]
-    wi = w[i]
-    pi = p[i] - tau * t[i]  # t = 0 and p = 0 outside the contact set
-    g = wi - offset
-    leave = allow_change and ci != 0 and pi < -lower
-    enter = allow_change and ci == 0 and g < 0.0
-    pi = 0.0 if leave else pi
-    pi = -gain * g if enter else pi
-    cn = 0 if leave else ci
-    cn = 1 if enter else cn
-    c[i] = cn
-    p[i] = pi
-    wi -= tau * r[i]
-    w[i] = wi
-    d = (wi - shift) * (1.0 if cn else 0.0)
-    return 1 if leave else 0, 1 if enter else 0, pi, cn, d
-
-
-@njit(cache=True, fastmath=False)
-def update_pressure(p, t, w, r, c, tau, offset, lower, shift, allow_change, gain):  # noqa
-    """Pressure step, contact-set update (Pohrt-Popov rule), incremental gap, next statistics.
-
-    p -= tau t and w -= tau r everywhere (t = 0 outside the set). When ``allow_change``:
-    elements in contact leave where p < -lower (p -> 0), elements outside with gap g < 0 enter
-    with p = -gain g (``gain`` in Pa/m). Returns a :class:`PressureUpdate`.
-    """  # pragma: no cover - compiled
-    step = (tau, offset, lower, shift, allow_change, gain)
-    left = 0
-    entered = 0
-    n = 0
-    ps0 = ps1 = ps2 = ps3 = 0.0
-    pq0 = pq1 = pq2 = pq3 = 0.0
-    a0 = a1 = a2 = a3 = 0.0
-    b0 = b1 = b2 = b3 = 0.0
-    size = w.size
-    m4 = size - size % 4
-    for i in range(0, m4, 4):
-        l0, e0, p0, k0, d0 = _pressure_elem(p, t, w, r, c, i, step)
-        l1, e1, p1, k1, d1 = _pressure_elem(p, t, w, r, c, i + 1, step)
-        l2, e2, p2, k2, d2 = _pressure_elem(p, t, w, r, c, i + 2, step)
-        l3, e3, p3, k3, d3 = _pressure_elem(p, t, w, r, c, i + 3, step)
-        left += l0 + l1 + l2 + l3
-        entered += e0 + e1 + e2 + e3
-        n += k0 + k1 + k2 + k3
-        ps0 += p0
-        ps1 += p1
-        ps2 += p2
-        ps3 += p3
-        pq0 += p0 * p0
-        pq1 += p1 * p1
-        pq2 += p2 * p2
-        pq3 += p3 * p3
-        a0 += d0
-        a1 += d1
-        a2 += d2
-        a3 += d3
-        b0 += d0 * d0
-        b1 += d1 * d1
-        b2 += d2 * d2
-        b3 += d3 * d3
-    for i in range(m4, size):
-        l0, e0, p0, k0, d0 = _pressure_elem(p, t, w, r, c, i, step)
-        left += l0
-        entered += e0
-        n += k0
-        ps0 += p0
-        pq0 += p0 * p0
-        a0 += d0
-        b0 += d0 * d0
-    psum, psq = (ps0 + ps1) + (ps2 + ps3), (pq0 + pq1) + (pq2 + pq3)
-    return PressureUpdate(left, entered, psum, psq, n, (a0 + a1) + (a2 + a3), (b0 + b1) + (b2 + b3))
-
-
 @njit(cache=True, fastmath=False)
 def dot(a, b):  # pragma: no cover - compiled
     s0 = s1 = s2 = s3 = 0.0
@@ -414,10 +318,11 @@ def _step_elem(p, t, w, c, i, step):  # pragma: no cover - compiled
 
 @njit(cache=True, fastmath=False)
 def step_pressure(p, t, w, c, tau, offset, lower, allow_change, gain):  # pragma: no cover
-    """The pressure and contact-set half of :func:`update_pressure` (same arithmetic), without
-    the gap: p -= tau t; when ``allow_change`` elements leave where p < -lower and enter
-    (p = -gain g) where the gap g = w - offset < 0. Returns a :class:`PressureStep`; the gap
-    follows with :func:`gap_step` once r = K t is known, or from a fresh u = K p."""
+    """The pressure and contact-set update of a Polonsky-Keer step, without the gap.
+
+    p -= tau t; when ``allow_change`` elements leave where p < -lower and enter (p = -gain g)
+    where the gap g = w - offset < 0. Returns a :class:`PressureStep`; the gap follows with
+    :func:`gap_step` once r = K t is known, or from a fresh u = K p."""
     step = (tau, offset, lower, allow_change, gain)
     left = 0
     entered = 0
@@ -463,8 +368,9 @@ def _gap_step_elem(w, r, c, i, tau, shift):  # pragma: no cover - compiled
 
 @njit(cache=True, fastmath=False)
 def gap_step(w, r, c, tau, shift):  # pragma: no cover - compiled
-    """The gap half of :func:`update_pressure`: w -= tau r; returns the contact-set gap
-    statistics about ``shift`` (a :class:`GapStats`)."""
+    """The gap update of a Polonsky-Keer step (after :func:`step_pressure`): w -= tau r.
+
+    Returns the contact-set gap statistics about ``shift`` (a :class:`GapStats`)."""
     n = 0
     a0 = a1 = a2 = a3 = 0.0
     b0 = b1 = b2 = b3 = 0.0

@@ -1,28 +1,33 @@
 """The tuning options of :func:`asperity.bem.solve_contact`, one validated frozen dataclass.
 
-Every knob is bounded here, with the reason in the message: a tolerance outside
-[1e-14, 1e-2] either cannot be reached in double precision or accepts pressures wrong by more
-than a per cent as "converged"; iteration counts are positive and capped at 10^6.
+Every knob is bounded by its ``bem.<knob>`` entry of :data:`asperity.quantities.QUANTITIES`
+(the same bound as the job's ``[bem]`` table and the ``asperity bem`` options), with the reason in
+the message: a tolerance outside [1e-14, 1e-2] either cannot be reached in double precision or
+accepts pressures wrong by more than a per cent as "converged"; iteration counts are positive
+and capped at 10^6.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from asperity.bem.errors import BemInputError
+from asperity.quantities import quantity
 
 __all__ = ["SolverOptions", "resolve_options"]
 
 #: Bounds of ``tol`` (see :class:`SolverOptions`).
-TOL_RANGE = (1e-14, 1e-2)
+TOL_RANGE = (quantity("bem.tol").low, quantity("bem.tol").high)
 #: Upper bound of ``max_iter``, ``stall_window`` and ``refresh``.
-MAX_COUNT = 1_000_000
+MAX_COUNT = int(quantity("bem.max_iter").high)
 #: Upper bound of ``threads``.
-MAX_THREADS = 1024
+MAX_THREADS = int(quantity("bem.threads").high)
+#: The bounded numeric knobs; None is allowed for the optional ones.
+_NUMBERS = ("tol", "max_iter", "stall_window", "refresh", "threads")
+_OPTIONAL = ("max_iter", "threads")
 KERNELS = ("point", "love")
 FFT_BACKENDS = ("auto", "pyfftw", "scipy")
 PRECISIONS = ("auto", "mixed", "double")
@@ -86,17 +91,13 @@ class SolverOptions:
     precision: str = "auto"
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "tol", _check_tol(self.tol))
-        for name, upper in (
-            ("max_iter", MAX_COUNT),
-            ("stall_window", MAX_COUNT),
-            ("refresh", MAX_COUNT),
-            ("threads", MAX_THREADS),
-        ):
+        for name in _NUMBERS:
             value = getattr(self, name)
-            if value is None and name in ("max_iter", "threads"):
+            if value is None and name in _OPTIONAL:
                 continue
-            object.__setattr__(self, name, _check_count(name, value, upper))
+            bound = quantity(f"bem.{name}")
+            checked = bound.check(value, f"solve_contact: {name}", BemInputError)
+            object.__setattr__(self, name, checked)
         for name in ("precondition", "coarse_start"):
             if not isinstance(getattr(self, name), (bool, np.bool_)):
                 raise BemInputError(
@@ -115,38 +116,6 @@ class SolverOptions:
         if self.precision == "auto":
             return shape[0] * shape[1] >= MIXED_MIN_POINTS
         return self.precision == "mixed"
-
-
-def _check_tol(tol: object) -> float:
-    lo, hi = TOL_RANGE
-    if isinstance(tol, (bool, np.bool_, str, bytes)) or np.ndim(tol) != 0:
-        raise BemInputError(
-            f"solve_contact: tol must be a real number in [{lo}, {hi}], got {tol!r}"
-        )
-    try:
-        value = float(tol)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        raise BemInputError(f"solve_contact: tol must be a real number, got {tol!r}") from None
-    if not (math.isfinite(value) and lo <= value <= hi):
-        raise BemInputError(
-            f"solve_contact: tol must be within [{lo:g}, {hi:g}], got {tol!r}: the residual is "
-            "an estimate of the relative rms pressure error; below 1e-14 it is under the "
-            "round-off of double precision, above 1e-2 a 'converged' pressure may be wrong by "
-            "more than a per cent"
-        )
-    return value
-
-
-def _check_count(name: str, value: object, upper: int) -> int:
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
-        raise BemInputError(f"solve_contact: {name} must be an integer, got {value!r}")
-    if not 1 <= value <= upper:
-        raise BemInputError(
-            f"solve_contact: {name} must be within [1, {upper}], got {value} (a count of "
-            "iterations, steps or threads: at least one, and bounded so that a typo cannot "
-            "run for days or exhaust memory)"
-        )
-    return int(value)
 
 
 def _check_choice(name: str, value: object, choices: tuple[str, ...]) -> None:

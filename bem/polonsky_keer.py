@@ -22,8 +22,7 @@ assemble_result`. One iteration is a short sequence of fused numba kernels
    outside with g < 0 enter with p = -tau g (plain) or p = 0 (preconditioned); then
    ``gap_step`` updates the gap as w -= tau r and accumulates the next iteration's gap
    statistics (or, when the contact set changed, u = K p is recomputed and the inverse
-   transform of K t is skipped). ``update_pressure`` is the fused form of the two, kept as the
-   reference the tests hold the split kernels to, bit for bit.
+   transform of K t is skipped). The tests hold the two to a plain numpy reference of the step.
 
 Preconditioned (default): step 2 becomes ``residual_field`` (s = g on Omega_c), a convolution
 z = K^-1 s with the stiffness E*|q|/2 (sum s z fused), ``masked_sum`` (mean of z on Omega_c)

@@ -19,6 +19,7 @@ from asperity.bem.fft_backend import Convolution
 from asperity.bem.operators import influence_operator
 from asperity.bem.options import SolverOptions
 from asperity.bem.pohrt_popov import critical_tension
+from asperity.quantities import quantity
 
 __all__ = ["ContactProblem", "set_up_problem"]
 
@@ -127,11 +128,9 @@ def checked_heights(heights: object) -> np.ndarray:
     return h
 
 
-def _positive(name: str, val: object) -> float:
-    v = real_scalar(name, val)
-    if not (math.isfinite(v) and v > 0):
-        raise BemInputError(f"solve_contact: {name} must be a positive finite number, got {val!r}")
-    return v
+def _bounded(key: str, name: str, val: object) -> float:
+    """``val`` checked against the quantity ``solve_contact.<key>`` (message names ``name``)."""
+    return quantity(f"solve_contact.{key}").check(val, f"solve_contact: {name}", BemInputError)
 
 
 def _the_load(loads: dict[str, object]) -> tuple[str, float]:
@@ -203,13 +202,10 @@ def set_up_problem(
     values, exactly one not None.
     """
     h = checked_heights(heights)
-    dx_, dy_, e_ = (_positive(n, v) for n, v in (("dx", dx), ("dy", dy), ("e_star", e_star)))
+    dx_, dy_ = _bounded("dx", "dx", dx), _bounded("dx", "dy", dy)
+    e_ = _bounded("e_star", "e_star", e_star)
     name, value = _the_load(loads)
-    w = real_scalar("work_of_adhesion", work_of_adhesion)
-    if not (math.isfinite(w) and w >= 0):
-        raise BemInputError(
-            f"solve_contact: work_of_adhesion must be >= 0 (J/m^2), got {work_of_adhesion}"
-        )
+    w = _bounded("work_of_adhesion", "work_of_adhesion", work_of_adhesion)
     if not isinstance(periodic, (bool, np.bool_)):
         raise BemInputError(f"solve_contact: periodic must be True or False, got {periodic!r}")
     force, separation = math.nan, math.nan

@@ -1,4 +1,4 @@
-"""The paper's BEM at the paper's resolution (issue 10): one cold 5000^2 solve and six-load sweeps.
+"""The paper's BEM at the paper's resolution: one cold 5000^2 solve and six-load sweeps.
 
 Surface: ``asperity.topo.synthetic.paper_like(n)`` (2 um pixels, 10 mm at n = 5000, the
 paper's 5001^2 map cropped to a fast FFT size), E* = 2.133 MPa, w = 0.040 J/m^2 (the paper

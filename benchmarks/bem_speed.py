@@ -1,4 +1,4 @@
-"""Speed and accuracy of bem.solve_contact against Tamaas and ContactMechanics (issue 5 setup).
+"""Speed and accuracy of bem.solve_contact against Tamaas and ContactMechanics.
 
 One periodic self-affine surface per size (H = 0.8, wavelengths from the box down to 8 px, rms
 slope 1, pixel 1, E* = 1), mean pressure 0.04 (about 8 % contact), every code at tolerance 1e-8.
@@ -297,7 +297,7 @@ def _peers(peer_python: str, with_peers: bool) -> dict:
 
 
 def run_paper_scale(timeout: float) -> list[dict]:
-    """The 5000^2 row: the paper-like surface at 2.08 N, tol 1e-6 (issue 10), both bem rows."""
+    """The 5000^2 row: the paper-like surface at 2.08 N, tol 1e-6, both bem rows."""
     from asperity.topo.synthetic import paper_like
 
     surface = paper_like(n=5000)

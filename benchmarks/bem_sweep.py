@@ -1,4 +1,4 @@
-"""Warm-started load sweeps vs independent cold solves (issue 5).
+"""Warm-started load sweeps vs independent cold solves.
 
 One periodic self-affine surface (H = 0.8, wavelengths down to 8 px, rms slope 1, E* = 1,
 pixel 1), 10 loads from a mean pressure of 0.02 (about 4 % contact) in geometric steps of

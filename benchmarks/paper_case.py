@@ -13,7 +13,7 @@ Then the FFT floor of the BEM grid, timed in the same run: two bare real convolu
 (rfft2, multiply, irfft2; pyFFTW with FFTW_MEASURE when installed, else scipy.fft; all cores),
 i.e. the cost of one two-convolution iteration, and the BEM stage's convolutions times the
 cost of one bare convolution. Writes ``paper_case.png`` (time per stage; for N = 5001 beside
-the asperity 0.1 measurement of issue 10) into ``--out``.
+the asperity 0.1 measurement, before the solver levers) into ``--out``.
 """
 
 from __future__ import annotations
@@ -39,10 +39,10 @@ try:
 except ModuleNotFoundError:  # pragma: no cover
     import tomli as tomllib
 
-#: asperity 0.1 on the full case (issue 10): total 461 s, BEM 438 s at stride 4 (8 um).
+#: asperity 0.1 on the full case, before the solver levers: 461 s, BEM 438 s at stride 4 (8 um).
 BEFORE = {"total": 461.0, "bem_reference": 438.0}
 
-#: One bare 5000^2 pyFFTW real convolution on the quiet machine of issue 10's measurement, s.
+#: One bare 5000^2 pyFFTW real convolution on the quiet machine of that measurement, s.
 QUIET_CONVOLUTION = 0.46
 
 

@@ -1,4 +1,4 @@
-"""Persson's theory against our boundary-element method on periodic self-affine surfaces (issue 11).
+"""Persson's theory against our boundary-element method on periodic self-affine surfaces.
 
 Non-adhesive contact, E* = 1 MPa, H = 0.8, rms height 1 um, pixel 1 um on the finest grid.
 Loads are chosen so that the BEM contact fraction is about 1, 2, 5, 10 and 20 %

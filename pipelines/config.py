@@ -11,7 +11,7 @@ and ``e_star`` both accepted). Validation happens in :func:`load_config` and
 :func:`config_from_dict` within milliseconds and loads no numerical library: an unknown key,
 a missing file, a value outside its bounds (each bound states its reason, e.g. the memory that
 ``loading.steps`` implies) raises :class:`ConfigError` as one line
-``job.toml: material.E_star: expected a number in (0, 1e+13] Pa (...), got -2133000.0``.
+``job.toml: material.E_star: expected a number in [100, 1e+13] Pa (...), got -2133000.0``.
 The check that the loads are above the statistical model's pull-off force needs the surface
 statistics; it runs right after the resolution scan (stage 2), before the BEM, and names
 ``loading.normal_loads``.
@@ -26,6 +26,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
+from asperity.quantities import quantity
 from asperity.schema import (
     Choice,
     ConfigError,
@@ -38,11 +39,11 @@ from asperity.schema import (
     Kind,
     ListOf,
     OrAuto,
-    Real,
     Schema,
     Section,
     Text,
     dump_toml,
+    read_toml,
 )
 from asperity.statmodel.config import material_section
 from asperity.statmodel.parameters import Material
@@ -374,9 +375,14 @@ class CropPixels(Kind):
 
 
 #: One normal load, N.
-LOAD = Real("N", -1e6, 1e6, why="a laboratory or machine contact")
+LOAD = quantity("loading.normal_load").kind
 #: A pixel size, m.
-PIXEL = Real("m", 1e-10, 1e-2, why="from an atomic-resolution map to a 1 cm pixel")
+PIXEL = quantity("surface.pixel_size").kind
+
+
+def _bounded(key: str, default: Any) -> Key:
+    """The key ``table.name`` of ``key``, bounded by its entry of the shared quantities."""
+    return Key(key.rsplit(".", 1)[1], quantity(key).kind, default)
 
 
 def _one_surface_source(values: dict[str, Any]) -> None:
@@ -409,13 +415,9 @@ SYNTHETIC = Section(
     SyntheticRecipe,
     (
         Key("recipe", Choice(SYNTHETIC_RECIPES), "paper_like"),
-        Key(
-            "n",
-            Integer(8, 10001, why="an n x n map takes 8 n^2 bytes and the BEM ~30 times that"),
-            SyntheticRecipe.n,
-        ),
+        _bounded("surface.synthetic.n", SyntheticRecipe.n),
         Key("pixel_size", PIXEL, SyntheticRecipe.pixel_size),
-        Key("seed", Integer(0, 2**32 - 1, why="a numpy random seed"), 0),
+        _bounded("surface.synthetic.seed", 0),
     ),
 )
 
@@ -430,11 +432,7 @@ JOB_SCHEMA = Schema(
                 Key("pixel_size", PIXEL, None),
                 Key("synthetic", SYNTHETIC, None),
                 Key("detrend", Choice(DETREND_METHODS), "plane"),
-                Key(
-                    "max_stride",
-                    Integer(1, 1000, why="strides 1..max_stride of the resolution scan"),
-                    SurfaceConfig.max_stride,
-                ),
+                _bounded("surface.max_stride", SurfaceConfig.max_stride),
                 Key(
                     "crop",
                     CropPixels(),
@@ -442,19 +440,9 @@ JOB_SCHEMA = Schema(
                 ),
                 Key("missing", Choice(MISSING_POLICIES), SurfaceConfig.missing),
                 Key("outliers", Choice(OUTLIER_RULES), SurfaceConfig.outliers),
-                Key(
-                    "outlier_threshold",
-                    Real(
-                        "",
-                        0,
-                        1000,
-                        open_low=True,
-                        why="k of the k x MAD rule, or a percentile p < 50",
-                    ),
-                    SurfaceConfig.outlier_threshold,
-                ),
+                _bounded("surface.outlier_threshold", SurfaceConfig.outlier_threshold),
                 Key("outlier_action", Choice(("mask", "clip")), SurfaceConfig.outlier_action),
-                Key("form_order", Integer(0, 8, why="polynomial order of the form"), None),
+                _bounded("surface.form_order", None),
             ),
             required=True,
             check=_surface_checks,
@@ -464,11 +452,7 @@ JOB_SCHEMA = Schema(
             "loading",
             LoadingConfig,
             (
-                Key(
-                    "nominal_area",
-                    Real("m^2", 0, 100, open_low=True, why="up to 10 m x 10 m"),
-                    LoadingConfig.nominal_area,
-                ),
+                _bounded("loading.nominal_area", LoadingConfig.nominal_area),
                 Key(
                     "normal_loads",
                     ListOf(LOAD, 1, 100, why="each load is a BEM solve and a shear curve"),
@@ -476,47 +460,20 @@ JOB_SCHEMA = Schema(
                 ),
                 Key(
                     "max_tangential_displacement",
-                    OrAuto(Real("m", 0, 1, open_low=True, why="a shear path up to 1 m")),
+                    OrAuto(quantity("loading.max_tangential_displacement").kind),
                     None,
                 ),
-                Key(
-                    "steps",
-                    Integer(
-                        3,
-                        100_000,
-                        why="each step stores 17 float64 values per load: 100000 steps x "
-                        "100 loads take 1.4 GB",
-                    ),
-                    LoadingConfig.steps,
-                ),
+                _bounded("loading.steps", LoadingConfig.steps),
             ),
         ),
         Section(
             "bem",
             BemConfig,
             (
-                Key(
-                    "tol",
-                    Real(
-                        "",
-                        1e-14,
-                        1e-2,
-                        why="relative residual of the BEM: below 1e-14 double precision "
-                        "cannot reach it, above 1e-2 the area is not converged",
-                    ),
-                    BemConfig.tol,
-                ),
-                Key("max_iter", Integer(1, 1_000_000, why="solver iterations"), None),
-                Key(
-                    "area_tolerance",
-                    Real("", 0, 1, open_low=True, why="a relative change of A_r"),
-                    BemConfig.area_tolerance,
-                ),
-                Key(
-                    "max_stride",
-                    Integer(1, 64, why="coarsest decimation of the grid check"),
-                    BemConfig.max_stride,
-                ),
+                _bounded("bem.tol", BemConfig.tol),
+                _bounded("bem.max_iter", None),
+                _bounded("bem.area_tolerance", BemConfig.area_tolerance),
+                _bounded("bem.max_stride", BemConfig.max_stride),
                 Key("adhesive", Flag(), BemConfig.adhesive),
                 Key("enabled", Flag(), BemConfig.enabled),
                 Key("boundary", Choice(("periodic", "free")), BemConfig.boundary),
@@ -526,19 +483,7 @@ JOB_SCHEMA = Schema(
         Section(
             "statmodel",
             StatmodelConfig,
-            (
-                Key(
-                    "area_tolerance",
-                    Real(
-                        "",
-                        1e-10,
-                        0.5,
-                        why="relative change between quadrature settings: no setting "
-                        "reaches less than 1e-10",
-                    ),
-                    StatmodelConfig.area_tolerance,
-                ),
-            ),
+            (_bounded("statmodel.area_tolerance", StatmodelConfig.area_tolerance),),
         ),
         Section(
             "measured",
@@ -554,7 +499,7 @@ JOB_SCHEMA = Schema(
             (
                 Key(
                     "mode_mixity_bounds",
-                    ListOf(Real("", 0, 1, open_low=True, why="lambda"), 2, 2),
+                    ListOf(quantity("fit.mode_mixity_bounds").kind, 2, 2),
                     FitConfig.mode_mixity_bounds,
                 ),
                 Key("mode", Choice(FIT_MODES), FitConfig.mode),
@@ -565,13 +510,7 @@ JOB_SCHEMA = Schema(
         Section(
             "run",
             RunConfig,
-            (
-                Key(
-                    "workers",
-                    Integer(1, 256, why="worker processes on this machine"),
-                    RunConfig.workers,
-                ),
-            ),
+            (_bounded("run.workers", RunConfig.workers),),
         ),
         Section(
             "report",
@@ -582,11 +521,7 @@ JOB_SCHEMA = Schema(
                     ListOf(Choice(FIGURE_FORMATS), 1, len(FIGURE_FORMATS)),
                     ReportConfig.formats,
                 ),
-                Key(
-                    "dpi",
-                    Integer(30, 2400, why="dots per inch of PNG figures"),
-                    ReportConfig.dpi,
-                ),
+                _bounded("report.dpi", ReportConfig.dpi),
             ),
         ),
     )
@@ -623,18 +558,7 @@ def load_config(path: str | Path) -> JobConfig:
         missing file.
     """
     path = Path(path)
-    try:
-        text = path.read_bytes().decode("utf-8")
-    except FileNotFoundError as exc:
-        raise ConfigError(f"{path}: configuration file not found") from exc
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ConfigError(
-            f"{path}: cannot read the configuration: {getattr(exc, 'strerror', None) or exc}"
-        ) from exc
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"{path}: not valid TOML: {exc}") from exc
+    data = read_toml(path, "configuration")
     return config_from_dict(data, source=str(path), base_dir=path.resolve().parent)
 
 

@@ -1,7 +1,7 @@
-"""The whole job: eight declared stages run in order, each stored in ``results.h5``.
+"""The whole job: the declared stages of :data:`STAGES` run in order, each stored in results.h5.
 
-The stages are declared in their modules (:class:`pipelines.stages.Stage`): what configuration
-keys and earlier stages each reads, and its typed result. A stage is skipped when
+The stages are declared in their modules (:class:`~asperity.pipelines.engine.stage.Stage`):
+what configuration keys and earlier stages each reads, and its typed result. A stage is skipped when
 ``results.h5`` already holds it with the same key (the hash of exactly what it reads, the keys
 of its inputs and the package version) and its stored values pass their checksum: changing the
 loads recomputes the BEM and everything after it, but not the surface or its resolution scan.
@@ -20,68 +20,56 @@ from __future__ import annotations
 import sys
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import field
 from pathlib import Path
 from typing import Any
 
 import asperity
 from asperity.errors import InputError
-from asperity.pipelines.bem_stage import BEM, BemReference
 from asperity.pipelines.config import ConfigError, JobConfig
-from asperity.pipelines.friction_stage import (
-    FRICTION,
-    MODE_MIXITY,
-    FrictionPrediction,
-    ModeMixityChoice,
-)
+from asperity.pipelines.engine.outdir import OutputLock, OutputWriteError
+from asperity.pipelines.engine.parallel import make_executor
+from asperity.pipelines.engine.stage import Runner, StageContext, StageRun
+from asperity.pipelines.engine.store import ResultStore
 from asperity.pipelines.measured import read_measurements
-from asperity.pipelines.outdir import OutputLock, OutputWriteError
-from asperity.pipelines.parallel import make_executor
-from asperity.pipelines.psd_stage import PSD, PsdResult
-from asperity.pipelines.resolution_stage import STATISTICAL_MODEL, ResolutionChoice
-from asperity.pipelines.stages import Runner, StageContext, StageRun
-from asperity.pipelines.store import ResultStore
-from asperity.pipelines.surface_stage import (
-    SCAN,
-    SURFACE,
-    LevelledSurface,
-    ScanResult,
-    input_sha256,
-)
-from asperity.pipelines.verdict import VERDICT, Verdict
+from asperity.pipelines.results import StageAttributes, stage_dataclass
+from asperity.pipelines.stages import STAGE_NAMES, STAGES, stage_label
+from asperity.pipelines.stages.surface import input_sha256
 
-#: The stages of the job, in order (each one's ``name`` is its group in results.h5).
-STAGES = (SURFACE, SCAN, BEM, STATISTICAL_MODEL, MODE_MIXITY, FRICTION, PSD, VERDICT)
-#: Their group names.
-STAGE_NAMES: tuple[str, ...] = tuple(stage.name for stage in STAGES)
+__all__ = ["STAGES", "STAGE_NAMES", "JobResult", "run_job", "provenance", "progress_enabled"]
 
 
-@dataclass
-class JobResult:
+@stage_dataclass
+class JobResult(StageAttributes):
     """Everything the job produced (the same data as results.h5).
 
-    ``bem`` is None when ``[bem] enabled = false``. ``verdict`` (stage 7,
-    :mod:`pipelines.verdict`) says whether the report stands behind the numbers.
+    Each stage's result is a field named by its declaration
+    (:class:`~asperity.pipelines.engine.stage.Stage` ``attribute``; also reachable by its
+    group name): ``surface``, ``scan``, ``bem``, ``resolution``, ``mode_mixity``,
+    ``friction``, ``psd``, ``verdict``, in the order of :data:`STAGES`
+    (:func:`~asperity.pipelines.results.stage_dataclass` adds them). ``bem`` is None when
+    ``[bem] enabled = false``; ``verdict`` (:mod:`asperity.pipelines.stages.verdict`) says
+    whether the report stands behind the numbers.
+
+    Attributes
+    ----------
+    config : JobConfig
+        The configuration run.
+    out_dir : Path
+        The output folder.
+    stages : list of StageRun
+        How each stage went (computed, stored, disabled) and its seconds.
+    total_seconds : float
+        Wall time of the job, s.
+    input_sha256 : str
+        SHA-256 of the input map (or of the synthetic recipe).
     """
 
     config: JobConfig
     out_dir: Path
-    surface: LevelledSurface
-    scan: ScanResult
-    bem: BemReference | None
-    resolution: ResolutionChoice
-    mode_mixity: ModeMixityChoice
-    friction: FrictionPrediction
     stages: list[StageRun] = field(default_factory=list)
     total_seconds: float = 0.0
     input_sha256: str = ""
-    psd: PsdResult | None = None
-    verdict: Verdict | None = None
-
-    @property
-    def results_path(self) -> Path:
-        """The HDF5 result file."""
-        return self.out_dir / "results.h5"
 
     @property
     def converged(self) -> bool:
@@ -90,22 +78,25 @@ class JobResult:
 
     def problems(self) -> list[str]:
         """One line per solver that did not converge."""
-        lines = [] if self.bem is None else list(self.bem.messages)
-        if self.bem is not None and not self.bem.all_converged and not lines:
-            lines.append("BEM: a solve did not converge")
-        lines += [
-            f"shear curve F_z={f:.4g} N: {m}"
-            for f, ok, m in zip(
-                self.friction.normal_load,
-                self.friction.converged,
-                self.friction.messages,
-                strict=True,
-            )
-            if not ok
-        ]
-        if self.mode_mixity.fitted and not self.mode_mixity.success:
-            lines.append(f"lambda fit: {self.mode_mixity.message}")
-        return lines
+        return solver_problems(self)
+
+
+def solver_problems(result: Any) -> list[str]:
+    """One line per solver that did not converge, from a job's or a reopened run's results."""
+    bem, friction, mode_mixity = result.bem, result.friction, result.mode_mixity
+    lines = [] if bem is None else list(bem.messages)
+    if bem is not None and not bem.all_converged and not lines:
+        lines.append("BEM: a solve did not converge")
+    lines += [
+        f"shear curve F_z={f:.4g} N: {m}"
+        for f, ok, m in zip(
+            friction.normal_load, friction.converged, friction.messages, strict=True
+        )
+        if not ok
+    ]
+    if mode_mixity.fitted and not mode_mixity.success:
+        lines.append(f"lambda fit: {mode_mixity.message}")
+    return lines
 
 
 def provenance(config: JobConfig, input_hash: str) -> dict[str, Any]:
@@ -130,7 +121,7 @@ def run_job(
     progress: bool = False,
     log: Callable[[str], None] | None = None,
 ) -> JobResult:
-    """Run (or resume) the eight stages and write ``results.h5`` in ``out_dir``.
+    """Run (or resume) the stages of :data:`STAGES` and write ``results.h5`` in ``out_dir``.
 
     Parameters
     ----------
@@ -156,9 +147,9 @@ def run_job(
 
     Raises
     ------
-    pipelines.outdir.OutputLockedError
+    pipelines.engine.outdir.OutputLockedError
         Another run holds ``out_dir`` (its lock file ``.asperity.lock``).
-    pipelines.outdir.OutputDirError, pipelines.outdir.OutputWriteError
+    pipelines.engine.outdir.OutputDirError, pipelines.engine.outdir.OutputWriteError
         ``out_dir`` cannot be written, or the disk is full: ``results.h5`` keeps what it held.
     """
     t_job = time.perf_counter()
@@ -183,21 +174,13 @@ def run_job(
             log=log,
         )
         run_stages(runner)
-    results = runner.context.results
     return JobResult(
         config=config,
         out_dir=out_dir,
-        surface=results[SURFACE.name],
-        scan=results[SCAN.name],
-        bem=results[BEM.name],
-        resolution=results[STATISTICAL_MODEL.name],
-        mode_mixity=results[MODE_MIXITY.name],
-        friction=results[FRICTION.name],
+        **{stage.attribute: runner.context.results[stage.name] for stage in STAGES},
         stages=runner.runs,
         total_seconds=time.perf_counter() - t_job,
         input_sha256=input_hash,
-        psd=results[PSD.name],
-        verdict=results[VERDICT.name],
     )
 
 
@@ -216,7 +199,7 @@ def run_stages(runner: Runner) -> None:
         stage = STAGES[min(len(runner.runs), len(STAGES) - 1)]
         keys = ", ".join(stage.config) or "none"
         raise ConfigError(
-            f"stage {stage.title} (configuration keys it reads: {keys}): {exc}"
+            f"stage {stage_label(stage, STAGES)} (configuration keys it reads: {keys}): {exc}"
         ) from exc
 
 

@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from asperity.errors import InputError
+from asperity.files import require_regular_file
 
 
 class MeasuredFileError(InputError):
@@ -123,6 +124,7 @@ def parse_header_cell(path: Path, cell: str) -> tuple[str, float]:
 
 def _data_lines(path: Path) -> list[tuple[int, str]]:
     """(line number in the file, text) of every line that is not blank or a ``#`` comment."""
+    require_regular_file(path, "measured file")
     with open(path, newline="", encoding="utf-8") as handle:
         return [
             (number, line)

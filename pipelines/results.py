@@ -1,10 +1,10 @@
 """Reopen a run: ``asperity.open_results("out/results.h5")`` gives back the typed stage results.
 
-Every stage of :data:`pipelines.job.STAGES` stored in the file is read through the generic
-store (:meth:`pipelines.store.ResultStore.read`, checksum checked) into its result dataclass,
-exactly as the job returned it; a stage that is not stored is None. Nothing is recomputed, so
-:func:`pipelines.report.write_report` can redraw every figure and the report from the file
-(``asperity report OUT_DIR``). Example::
+Every stage of :data:`asperity.pipelines.stages.STAGES` stored in the file is read through the
+generic store (:meth:`~asperity.pipelines.engine.store.ResultStore.read`, checksum checked) into
+its result dataclass, exactly as the job returned it; a stage that is not stored is None.
+Nothing is recomputed, so :func:`pipelines.report.write_report` can redraw every figure and
+the report from the file (``asperity report OUT_DIR``). Example::
 
     import asperity
     run = asperity.open_results("asperity-out")        # the folder or results.h5
@@ -24,22 +24,41 @@ from typing import Any
 
 import asperity
 from asperity.errors import InputError
+from asperity.pipelines.stages import STAGES
 
-#: Group name -> attribute of :class:`Results` (and of ``job.JobResult``) for the job's stages.
-ATTRIBUTES: dict[str, str] = {
-    "surface": "surface",
-    "resolution_scan": "scan",
-    "bem_reference": "bem",
-    "statistical_model": "resolution",
-    "mode_mixity": "mode_mixity",
-    "friction": "friction",
-    "psd": "psd",
-    "verdict": "verdict",
-}
+#: Group name -> attribute of :class:`Results` (and of ``job.JobResult``), from the stages.
+ATTRIBUTES: dict[str, str] = {stage.name: stage.attribute for stage in STAGES}
 
 
-@dataclass
-class Results:
+class StageAttributes:
+    """Mixin: a stage's result is also reachable by its group name (``run.bem_reference``)."""
+
+    def __getattr__(self, name: str) -> Any:
+        # only called for names that are not fields: the group names
+        if name in ATTRIBUTES and ATTRIBUTES[name] != name:
+            return getattr(self, ATTRIBUTES[name])
+        raise AttributeError(f"{type(self).__name__} has no attribute or stage {name!r}")
+
+
+def stage_dataclass(cls: type) -> type:
+    """``cls`` as a dataclass with one field per stage of :data:`STAGES` (default None).
+
+    The stage fields, named by each stage's ``attribute``, come after the fields of ``cls``
+    without a default and before those with one, in the order of the stage list: the stage
+    declarations are the only list of them.
+    """
+    own = dict(cls.__dict__.get("__annotations__", {}))
+    required = {k: v for k, v in own.items() if k not in cls.__dict__}
+    optional = {k: v for k, v in own.items() if k in cls.__dict__}
+    stage_fields = {stage.attribute: "Any" for stage in STAGES}
+    cls.__annotations__ = {**required, **stage_fields, **optional}
+    for name in stage_fields:
+        setattr(cls, name, None)
+    return dataclass(cls)
+
+
+@stage_dataclass
+class Results(StageAttributes):
     """The stage results stored in one ``results.h5`` (None where a stage is absent).
 
     Attributes
@@ -47,11 +66,9 @@ class Results:
     path : Path
         The file read.
     surface, scan, bem, resolution, mode_mixity, friction, psd, verdict
-        The results of stages 1-8 (see ``docs/pipelines.md``); also reachable by their group
+        One field per stage of :data:`asperity.pipelines.stages.STAGES`, named by its
+        declaration, in its order (see ``docs/pipelines.md``); also reachable by the group
         names (``results.resolution_scan``, ``results.statistical_model``, ...).
-    extra : dict
-        Results of any other stage of ``job.STAGES``, by group name, also
-        reachable as attributes.
     stages : list of StageRun
         One "stored" row per stage read, with the seconds it took to compute.
     source, config_toml, input_sha256, asperity_version : str
@@ -60,29 +77,11 @@ class Results:
     """
 
     path: Path
-    surface: Any = None
-    scan: Any = None
-    bem: Any = None
-    resolution: Any = None
-    mode_mixity: Any = None
-    friction: Any = None
-    psd: Any = None
-    verdict: Any = None
-    extra: dict[str, Any] = field(default_factory=dict)
     stages: list[Any] = field(default_factory=list)
     source: str = ""
     config_toml: str = ""
     input_sha256: str = ""
     asperity_version: str = ""
-
-    def __getattr__(self, name: str) -> Any:
-        # only called for names that are not fields: group names and extra stages
-        if name in ATTRIBUTES:
-            return getattr(self, ATTRIBUTES[name])
-        extra = self.__dict__.get("extra", {})
-        if name in extra:
-            return extra[name]
-        raise AttributeError(f"{type(self).__name__} has no attribute or stored stage {name!r}")
 
     @property
     def out_dir(self) -> Path:
@@ -96,9 +95,9 @@ class Results:
 
     def problems(self) -> list[str]:
         """One line per solver that did not converge (as ``job.JobResult.problems``)."""
-        from asperity.pipelines.job import JobResult
+        from asperity.pipelines.job import solver_problems
 
-        return JobResult.problems(self)  # reads only bem, friction and mode_mixity
+        return solver_problems(self)
 
     @property
     def converged(self) -> bool:
@@ -171,9 +170,8 @@ def open_results(path: str | Path) -> Results:
         was written, or written by an incompatible version): the message names the file and
         the stage.
     """
-    from asperity.pipelines.job import STAGES
-    from asperity.pipelines.stages import StageRun
-    from asperity.pipelines.store import ResultStore, StoredStageError
+    from asperity.pipelines.engine.stage import StageRun
+    from asperity.pipelines.engine.store import ResultStore, StoredStageError
 
     path = results_file(path)
     store = ResultStore(path)
@@ -197,10 +195,7 @@ def open_results(path: str | Path) -> Results:
                 f"by asperity {results.asperity_version or '?'}, this is {asperity.__version__}: "
                 "run `asperity run` with the same configuration to recompute it"
             ) from exc
-        if stage.name in ATTRIBUTES:
-            setattr(results, ATTRIBUTES[stage.name], value)
-        else:
-            results.extra[stage.name] = value
+        setattr(results, stage.attribute, value)
         info = stored[stage.name]
         results.stages.append(StageRun(stage.name, info.key, "stored", info.seconds))
     return results

@@ -1,16 +1,17 @@
 """The ``asperity friction`` parameter file (TOML, SI units): its schema, reading and validation.
 
-Schema (every key required unless marked optional; bounds in brackets)::
+Schema (every key required unless marked optional; bounds in brackets, each written once in
+:data:`asperity.quantities.QUANTITIES` with its reason)::
 
     [material]
-    E_star = 2.133e6               # Pa, (0, 1e13]; also spelled e_star
+    E_star = 2.133e6               # Pa, [1e2, 1e13]; also spelled e_star
     work_of_adhesion = 0.040       # J/m^2, [0, 10]
     mode_mixity = 0.2              # lambda, [0, 1]
     shear_strength = 0.13e6        # tau0, Pa, [0, 1e11]
     equilibrium_distance = 0.2e-9  # epsilon, m, [1e-11, 1e-8] (optional, default 0.2e-9)
     [roughness]
-    asperity_density = 652.1e6     # eta, 1/m^2, (0, 1e20]
-    summit_radius = 0.041e-3       # R, m, [1e-10, 10]
+    asperity_density = 652.1e6     # eta, 1/m^2, [1e-6, 1e20]
+    summit_radius = 0.041e-3       # R, m, [1e-10, 100]
     summit_height_rms = 0.032e-3   # sigma_s, m, [1e-12, 1]
     [loading]
     normal_load = 3.1              # N, [-1e6, 1e6]
@@ -19,10 +20,11 @@ Schema (every key required unless marked optional; bounds in brackets)::
     steps = 281                    # integer in [1, 100000]; delta_T = linspace(0, max, steps)
                                    # (steps = 1: the preload state delta_T = 0 only)
     [accuracy]                     # optional table: knobs of statmodel.options
-    nodes = 16                     # [1, 64]
+    nodes = 16                     # [1, 128]
     panels = 4                     # [1, 64]
-    cutoff_sigma = 10.0            # [3, 40]
-    load_rtol = 1e-12              # [1e-15, 1e-3]
+    cutoff_sigma = 10.0            # [8, 40]
+    load_rtol = 1e-12              # [1e-14, 1e-6]
+    max_iter = 200                 # [1, 10000]
 
 The ``[material]`` table is the one the job configuration (``asperity run``) reads too
 (:func:`material_section`). Every error is one :class:`asperity.schema.ConfigError` line
@@ -31,30 +33,16 @@ The ``[material]`` table is the one the job configuration (``asperity run``) rea
 
 from __future__ import annotations
 
-import sys
 from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from asperity.schema import (
-    REQUIRED,
-    ConfigError,
-    Context,
-    Integer,
-    Key,
-    Real,
-    Schema,
-    Section,
-)
+from asperity.quantities import quantity
+from asperity.schema import REQUIRED, Context, Key, Schema, Section, read_toml
 from asperity.statmodel.parameters import Material, Roughness
 
 if TYPE_CHECKING:
     from asperity.statmodel.options import QuadratureOptions
-
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover
-    import tomli as tomllib
 
 #: Default of ``[material] equilibrium_distance``, m.
 EQUILIBRIUM_DISTANCE = 0.2e-9
@@ -78,29 +66,18 @@ def material_section(defaults: Material | None = None) -> Section:
         (
             Key(
                 "E_star",
-                Real("Pa", 0, 1e13, open_low=True, why="no solid is stiffer than diamond"),
+                quantity("material.E_star").kind,
                 default("e_star"),
                 aliases=("e_star",),
                 attr="e_star",
             ),
-            Key(
-                "work_of_adhesion",
-                Real("J/m^2", 0, 10, why="twice the surface energy of the strongest solids"),
-                default("work_of_adhesion"),
-            ),
-            Key(
-                "mode_mixity",
-                Real("", 0, 1, why="lambda: 0 pure JKR, 1 Savkoor-Briggs (E:failure_locus)"),
-                default("mode_mixity"),
-            ),
-            Key(
-                "shear_strength",
-                Real("Pa", 0, 1e11, why="the theoretical shear strength of solids, ~G/10"),
-                default("shear_strength"),
+            *(
+                Key(name, quantity(f"material.{name}").kind, default(name))
+                for name in ("work_of_adhesion", "mode_mixity", "shear_strength")
             ),
             Key(
                 "equilibrium_distance",
-                Real("m", 1e-11, 1e-8, why="an interatomic distance"),
+                quantity("material.equilibrium_distance").kind,
                 EQUILIBRIUM_DISTANCE if defaults is None else defaults.equilibrium_distance,
             ),
         ),
@@ -108,17 +85,15 @@ def material_section(defaults: Material | None = None) -> Section:
     )
 
 
+def _keys(table: str, names: tuple[str, ...], default: Any = REQUIRED) -> tuple[Key, ...]:
+    """Keys ``names`` of ``table`` bounded by their ``table.name`` quantity."""
+    return tuple(Key(name, quantity(f"{table}.{name}").kind, default) for name in names)
+
+
 ROUGHNESS = Section(
     "roughness",
     Roughness,
-    (
-        Key(
-            "asperity_density",
-            Real("1/m^2", 0, 1e20, open_low=True, why="at most one summit per 0.1 nm square"),
-        ),
-        Key("summit_radius", Real("m", 1e-10, 10, why="from an atom to a 10 m sphere")),
-        Key("summit_height_rms", Real("m", 1e-12, 1, why="from a picometre to a metre")),
-    ),
+    _keys("roughness", ("asperity_density", "summit_radius", "summit_height_rms")),
     required=True,
 )
 
@@ -149,16 +124,8 @@ LOADING = Section(
     "loading",
     FrictionLoading,
     (
-        Key("normal_load", Real("N", -1e6, 1e6, why="a laboratory or machine contact")),
-        Key("nominal_area", Real("m^2", 0, 100, open_low=True, why="up to 10 m x 10 m")),
-        Key(
-            "max_tangential_displacement",
-            Real("m", 0, 1, open_low=True, why="a shear path up to 1 m"),
-        ),
-        Key(
-            "steps",
-            Integer(1, 100_000, why="one separation solve and 17 stored values per step"),
-        ),
+        *_keys("loading", ("normal_load", "nominal_area", "max_tangential_displacement")),
+        Key("steps", quantity("friction.loading.steps").kind),
     ),
     required=True,
 )
@@ -173,31 +140,7 @@ def _quadrature_options(**knobs: Any) -> QuadratureOptions:
 ACCURACY = Section(
     "accuracy",
     _quadrature_options,
-    (
-        Key("nodes", Integer(1, 64, why="Gauss-Legendre nodes per panel"), None),
-        Key("panels", Integer(1, 64, why="panels per population range"), None),
-        Key(
-            "cutoff_sigma",
-            Real(
-                "",
-                3,
-                40,
-                why="summits beyond cutoff_sigma * sigma_s are ignored: below 3 a visible "
-                "share is dropped, beyond 40 the Gaussian weight underflows",
-            ),
-            None,
-        ),
-        Key(
-            "load_rtol",
-            Real(
-                "",
-                1e-15,
-                1e-3,
-                why="relative load error of each separation solve: double precision to 0.1 %",
-            ),
-            None,
-        ),
-    ),
+    _keys("accuracy", ("nodes", "panels", "cutoff_sigma", "load_rtol", "max_iter"), None),
 )
 
 #: The whole friction parameter file.
@@ -277,15 +220,4 @@ def read_friction_parameters(path: str | Path) -> FrictionParameters:
     ConfigError
         Missing or unreadable file, invalid TOML, or a key outside the schema.
     """
-    path = Path(path)
-    try:
-        text = path.read_bytes().decode("utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ConfigError(
-            f"{path}: cannot read the parameter file: {getattr(exc, 'strerror', None) or exc}"
-        ) from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"{path}: not valid TOML: {exc}") from None
-    return parse_friction_parameters(data, str(path))
+    return parse_friction_parameters(read_toml(path, "parameter file"), str(path))

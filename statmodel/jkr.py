@@ -22,6 +22,7 @@ import numpy as np
 from numba import njit, vectorize
 from numpy.typing import ArrayLike
 
+from asperity.statmodel.newton import newton_solver
 from asperity.statmodel.parameters import TABOR_JKR_LIMIT, TaborWarning
 
 _SIG3 = ["float64(float64, float64, float64, float64)"]
@@ -53,6 +54,16 @@ def jkr_jump_off_kernel(summit_radius: float, work_of_adhesion: float, e_star: f
 
 
 @njit(cache=True)
+def _jkr_indentation(t: float, params: tuple) -> tuple[float, float]:
+    """E:JKR_indent in t = sqrt(a): t^4/R - k t - delta and its derivative; params (k, R, delta)."""
+    k, R, delta = params
+    return t**4 / R - k * t - delta, 4.0 * t**3 / R - k
+
+
+_solve_jkr_indentation = newton_solver(_jkr_indentation)
+
+
+@njit(cache=True)
 def jkr_radius_kernel(
     delta: float, summit_radius: float, work_of_adhesion: float, e_star: float
 ) -> float:
@@ -69,19 +80,8 @@ def jkr_radius_kernel(
         return t_c * t_c
     if math.isinf(delta):
         return math.inf
-    t = (R * abs(delta)) ** 0.25 + (k * R) ** (1.0 / 3.0)
-    for _ in range(200):
-        f = t**4 / R - k * t - delta
-        if f <= 0.0:
-            break
-        fp = 4.0 * t**3 / R - k
-        t_new = t - f / fp
-        if t_new < t_c:
-            t_new = t_c
-        if t - t_new <= 4.0e-16 * t:
-            t = t_new
-            break
-        t = t_new
+    start = (R * abs(delta)) ** 0.25 + (k * R) ** (1.0 / 3.0)
+    t, _, _ = _solve_jkr_indentation(start, t_c, (k, R, delta))
     return t * t
 
 

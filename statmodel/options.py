@@ -1,8 +1,9 @@
 """Accuracy knobs of the fast statistical model and the assembly of the compiled-kernel inputs.
 
 Knobs (keyword arguments of :func:`statmodel.shear_curve` and friends), each bounded at
-construction (:class:`QuadratureOptions`); a value outside its range raises
-:class:`asperity.errors.InputError` with the reason:
+construction (:class:`QuadratureOptions`) by its ``accuracy.<knob>`` entry of
+:data:`asperity.quantities.QUANTITIES` (the same bound as the ``[accuracy]`` table of a parameter
+file); a value outside its range raises :class:`asperity.errors.InputError` with the reason:
 
 ``nodes`` (default 16, 1 to 128)
     Gauss-Legendre nodes per panel. 16 already reach 1e-8 relative; more than 128 gain nothing in
@@ -30,65 +31,29 @@ relative at every step of the issue's test case (see docs/statmodel.md for the m
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, fields
 
 import numpy as np
 
 from asperity.errors import InputError
+from asperity.quantities import quantity
 from asperity.statmodel import integrals as _k
 from asperity.statmodel.jkr import jkr_jump_in_kernel
 from asperity.statmodel.parameters import Material, Roughness, material_tabor_parameter
 
-#: knob -> (lowest, highest, why the range); see the module docstring.
+#: The accuracy knobs, in the order of :class:`QuadratureOptions`; each is bounded by
+#: ``accuracy.<knob>`` of :data:`asperity.quantities.QUANTITIES` (shared with ``[accuracy]``).
+KNOBS: tuple[str, ...] = ("nodes", "panels", "cutoff_sigma", "load_rtol", "max_iter")
+
+#: knob -> (lowest, highest, why the range): a view of the shared bounds.
 KNOB_BOUNDS: dict[str, tuple[float, float, str]] = {
-    "nodes": (
-        1,
-        128,
-        "more than 128 Gauss-Legendre nodes per panel gain nothing in double precision",
-    ),
-    "panels": (1, 64, "more than 64 panels per population gain nothing in double precision"),
-    "cutoff_sigma": (
-        8.0,
-        40.0,
-        "below 8 sigma_s the truncated Gaussian tail exceeds the model's 1e-6 accuracy; beyond 40 "
-        "it underflows and the quadrature panels spread over empty heights (wrong friction)",
-    ),
-    "load_rtol": (
-        1e-14,
-        1e-6,
-        "looser than 1e-6 the normal load is not resolved to the model's accuracy; tighter than "
-        "1e-14 is below the round-off of the load integral",
-    ),
-    "max_iter": (1, 10_000, "a separation solve needs about 10-40 Brent iterations"),
+    knob: (
+        quantity(f"accuracy.{knob}").low,
+        quantity(f"accuracy.{knob}").high,
+        quantity(f"accuracy.{knob}").why,
+    )
+    for knob in KNOBS
 }
-_INTEGER_KNOBS = ("nodes", "panels", "max_iter")
-
-
-def _check_integer(name: str, value: object, low: float, high: float, reason: str) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise InputError(f"{name}: expected an integer in [{low}, {high}], got {value!r}")
-    if not (math.isfinite(value) and int(value) == value):
-        raise InputError(f"{name}: expected an integer in [{low}, {high}], got {value!r}")
-    if not low <= value <= high:
-        raise InputError(
-            f"{name}: expected an integer in [{low}, {high}] ({reason}), got {value!r}"
-        )
-    return int(value)
-
-
-def _check_real(name: str, value: object, low: float, high: float, reason: str) -> float:
-    try:
-        number = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        raise InputError(
-            f"{name}: expected a number in [{low:g}, {high:g}], got {value!r}"
-        ) from None
-    if not low <= number <= high:  # also refuses NaN
-        raise InputError(
-            f"{name}: expected a number in [{low:g}, {high:g}] ({reason}), got {value!r}"
-        )
-    return number
 
 
 @dataclass(frozen=True)
@@ -102,13 +67,9 @@ class QuadratureOptions:
     max_iter: int = 200
 
     def __post_init__(self) -> None:
-        for name, (low, high, reason) in KNOB_BOUNDS.items():
-            value = getattr(self, name)
-            if name in _INTEGER_KNOBS:
-                value = _check_integer(name, value, low, high, reason)
-            else:
-                value = _check_real(name, value, low, high, reason)
-            object.__setattr__(self, name, value)
+        for knob in KNOBS:
+            value = quantity(f"accuracy.{knob}").check(getattr(self, knob), knob)
+            object.__setattr__(self, knob, value)
 
     @classmethod
     def from_knobs(cls, **knobs: float) -> QuadratureOptions:
@@ -146,13 +107,9 @@ class ModelSetup:
 
 
 def check_nominal_area(roughness: Roughness, nominal_area: float) -> float:
-    """Validate A_n (m^2): finite, positive and holding at least one asperity (eta A_n >= 1)."""
-    try:
-        area = float(nominal_area)
-    except (TypeError, ValueError):
-        raise InputError(f"nominal_area: expected a number in m^2, got {nominal_area!r}") from None
-    if not (math.isfinite(area) and area > 0.0):
-        raise InputError(f"nominal_area: expected a positive area in m^2, got {nominal_area!r}")
+    """Validate A_n (m^2): within ``loading.nominal_area`` of :mod:`asperity.quantities` and
+    holding at least one asperity (eta A_n >= 1)."""
+    area = quantity("loading.nominal_area").check(nominal_area, "nominal_area")
     n = roughness.asperity_density * area
     if n < 1.0:
         raise InputError(

@@ -28,6 +28,8 @@ import numpy as np
 from numba import njit, vectorize
 from numpy.typing import ArrayLike
 
+from asperity.statmodel.newton import newton_solver
+
 _SIG5 = ["float64(float64, float64, float64, float64, float64, float64)"]
 
 
@@ -55,6 +57,40 @@ def coupling_term(delta_t: float, mode_mixity: float) -> float:
 
 
 @njit(cache=True)
+def _fold_cubic(a: float, params: tuple) -> tuple[float, float]:
+    """E:Instable_boundary k^2 a^3 - c a^2 - (k^2 R / 4)^2 and its derivative; params (k2, c, q)."""
+    k2, c, q = params
+    return k2 * a**3 - c * a * a - q, 3.0 * k2 * a * a - 2.0 * c * a
+
+
+_solve_fold_cubic = newton_solver(_fold_cubic)
+
+
+@njit(cache=True)
+def _pc_indentation(a: float, params: tuple) -> tuple[float, float]:
+    """E:PC_indent a^2/R - sqrt(k^2 a - c) - delta and its derivative; params (k2, c, R, delta)."""
+    k2, c, R, delta = params
+    s = math.sqrt(max(k2 * a - c, 0.0))
+    slope = 2.0 * a / R
+    if s > 0.0:
+        slope -= 0.5 * k2 / s
+    return a * a / R - s - delta, slope
+
+
+_solve_pc_indentation = newton_solver(_pc_indentation)
+
+
+@njit(cache=True)
+def _fixed_indentation_fold(a: float, params: tuple) -> tuple[float, float]:
+    """E:PC_a_min_1 a^3 - delta R a - pi w R^2 / (2 E*) and its derivative; params (delta R, q)."""
+    delta_r, q = params
+    return a**3 - delta_r * a - q, 3.0 * a * a - delta_r
+
+
+_solve_fixed_indentation_fold = newton_solver(_fixed_indentation_fold)
+
+
+@njit(cache=True)
 def pc_fold_radius_kernel(
     delta_t: float, summit_radius: float, work_of_adhesion: float, e_star: float, mode_mixity: float
 ) -> float:
@@ -77,20 +113,7 @@ def pc_fold_radius_kernel(
         t_c = (math.sqrt(k2) * R / 4.0) ** (1.0 / 3.0)
         return t_c * t_c
     q = (k2 * R / 4.0) ** 2
-    a = c / k2 + (q / k2) ** (1.0 / 3.0)
-    lower = c / k2
-    for _ in range(200):
-        h = k2 * a**3 - c * a * a - q
-        if h <= 0.0:
-            break
-        hp = 3.0 * k2 * a * a - 2.0 * c * a
-        a_new = a - h / hp
-        if a_new < lower:
-            a_new = lower
-        if a - a_new <= 4.0e-16 * a:
-            a = a_new
-            break
-        a = a_new
+    a, _, _ = _solve_fold_cubic(c / k2 + (q / k2) ** (1.0 / 3.0), c / k2, (k2, c, q))
     return a
 
 
@@ -140,21 +163,7 @@ def pc_radius_from_fold(
     a = t * t
     if a < a_f:
         a = a_f
-    for _ in range(200):
-        s = math.sqrt(max(k2 * a - c, 0.0))
-        g = a * a / R - s - delta
-        if g <= 0.0:
-            break
-        gp = 2.0 * a / R
-        if s > 0.0:
-            gp -= 0.5 * k2 / s
-        a_new = a - g / gp
-        if a_new < a_f:
-            a_new = a_f
-        if a - a_new <= 4.0e-16 * a:
-            a = a_new
-            break
-        a = a_new
+    a, _, _ = _solve_pc_indentation(a, a_f, (k2, c, R, delta))
     return a
 
 
@@ -219,17 +228,8 @@ def pc_max_tangential_displacement_kernel(
     if mode_mixity == 0.0 or math.isinf(delta):
         return math.inf
     q = k2 * R * R / 4.0  # pi w R^2 / (2 E*)
-    a = math.sqrt(max(delta, 0.0) * R) + q ** (1.0 / 3.0)
-    for _ in range(200):
-        h = a**3 - delta * R * a - q
-        if h <= 0.0:
-            break
-        hp = 3.0 * a * a - delta * R
-        a_new = a - h / hp
-        if a - a_new <= 4.0e-16 * a:
-            a = a_new
-            break
-        a = a_new
+    start = math.sqrt(max(delta, 0.0) * R) + q ** (1.0 / 3.0)
+    a, _, _ = _solve_fixed_indentation_fold(start, -math.inf, (delta * R, q))
     gap = a * a / R - delta
     bracket = k2 * a - gap * gap
     if bracket <= 0.0:

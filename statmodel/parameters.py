@@ -2,18 +2,18 @@
 
 All quantities are SI: Pa, J/m^2, m, 1/m^2. The dataclasses are frozen and validate their
 fields on construction; a bad value raises :class:`asperity.errors.InputError` naming the field,
-the expected range with its reason, and the value found. The ranges (:data:`PHYSICAL_BOUNDS`) are
-physical, wide enough for every real interface and narrow enough that the model's arithmetic
-stays finite (``e_star = 1e308`` used to exhaust the memory).
+the expected range with its reason, and the value found. The ranges are written once, in
+:data:`asperity.quantities.QUANTITIES` (shared with the TOML files and the command line): physical,
+wide enough for every real interface and narrow enough that the model's arithmetic stays finite
+(``e_star = 1e308`` used to exhaust the memory).
 """
 
 from __future__ import annotations
 
-import math
 import warnings
 from dataclasses import dataclass, fields
 
-from asperity.errors import InputError
+from asperity.quantities import quantity
 
 #: Below this Tabor parameter the JKR limit no longer applies (paper, Section 2).
 TABOR_JKR_LIMIT = 5.0
@@ -23,62 +23,33 @@ class TaborWarning(UserWarning):
     """The Tabor parameter is below 5: the JKR-based asperity laws are outside their validity."""
 
 
-def _check_finite(owner: str, name: str, value: float) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{owner}.{name}: expected a real number, got {value!r}") from None
-    if not math.isfinite(value):
-        raise InputError(f"{owner}.{name}: expected a finite number, got {value!r}")
-    return value
+#: (class, field) -> the key of its bound in :data:`asperity.quantities.QUANTITIES`, where the
+#: range, unit and reason of each are written once (shared with the TOML files and the CLIs).
+FIELD_QUANTITIES: dict[tuple[str, str], str] = {
+    ("Material", "e_star"): "material.E_star",
+    ("Material", "work_of_adhesion"): "material.work_of_adhesion",
+    ("Material", "mode_mixity"): "material.mode_mixity",
+    ("Material", "shear_strength"): "material.shear_strength",
+    ("Material", "equilibrium_distance"): "material.equilibrium_distance",
+    ("Roughness", "asperity_density"): "roughness.asperity_density",
+    ("Roughness", "summit_radius"): "roughness.summit_radius",
+    ("Roughness", "summit_height_rms"): "roughness.summit_height_rms",
+}
 
-
-#: (class, field) -> (lowest, highest, unit, why the range). Zero is allowed where the lower bound
-#: is 0 (no adhesion, no friction); a positive-only quantity has a positive lower bound.
+#: (class, field) -> (lowest, highest, unit, why the range): a view of the shared bounds.
 PHYSICAL_BOUNDS: dict[tuple[str, str], tuple[float, float, str, str]] = {
-    ("Material", "e_star"): (
-        1e2,
-        1e13,
-        "Pa",
-        "from the softest gels (~1 kPa) to diamond (~1e12 Pa)",
-    ),
-    ("Material", "work_of_adhesion"): (0.0, 10.0, "J/m^2", "solid surface energies are < ~5 J/m^2"),
-    ("Material", "mode_mixity"): (0.0, 1.0, "1", "lambda is a fraction of the mode-II work"),
-    ("Material", "shear_strength"): (
-        0.0,
-        1e11,
-        "Pa",
-        "no solid shears above its theoretical strength, < 1e11 Pa",
-    ),
-    ("Material", "equilibrium_distance"): (1e-11, 1e-8, "m", "interatomic distances are 0.1-1 nm"),
-    ("Roughness", "asperity_density"): (
-        1e-6,
-        1e20,
-        "1/m^2",
-        "from one summit per km^2 to one per (0.1 nm)^2",
-    ),
-    ("Roughness", "summit_radius"): (1e-10, 1e2, "m", "from atomic (0.1 nm) to 100 m"),
-    ("Roughness", "summit_height_rms"): (1e-12, 1.0, "m", "from 1 pm to 1 m"),
+    field: (quantity(key).low, quantity(key).high, quantity(key).unit, quantity(key).why)
+    for field, key in FIELD_QUANTITIES.items()
 }
 
 
-def _check_bounds(owner: str, name: str, value: float) -> None:
-    low, high, unit, reason = PHYSICAL_BOUNDS[(owner, name)]
-    if not low <= value <= high:
-        raise InputError(
-            f"{owner}.{name}: expected a value in [{low:g}, {high:g}] {unit} ({reason}), "
-            f"got {value!r}"
-        )
-
-
-def _check_positive(owner: str, name: str, value: float, unit: str) -> None:
-    if not value > 0.0:
-        raise InputError(f"{owner}.{name}: expected a positive value in {unit}, got {value!r}")
-
-
-def _check_non_negative(owner: str, name: str, value: float, unit: str) -> None:
-    if not value >= 0.0:
-        raise InputError(f"{owner}.{name}: expected a value >= 0 in {unit}, got {value!r}")
+def _check_fields(instance: object) -> None:
+    """Check (and convert to float) every field of a frozen dataclass against its bound."""
+    owner = type(instance).__name__
+    for f in fields(instance):  # type: ignore[arg-type]
+        bound = quantity(FIELD_QUANTITIES[(owner, f.name)])
+        value = bound.check(getattr(instance, f.name), f"{owner}.{f.name}")
+        object.__setattr__(instance, f.name, value)
 
 
 @dataclass(frozen=True)
@@ -107,12 +78,7 @@ class Material:
     equilibrium_distance: float = 0.2e-9
 
     def __post_init__(self) -> None:
-        for f in fields(self):
-            object.__setattr__(
-                self, f.name, _check_finite("Material", f.name, getattr(self, f.name))
-            )
-        for f in fields(self):
-            _check_bounds("Material", f.name, getattr(self, f.name))
+        _check_fields(self)
 
 
 @dataclass(frozen=True)
@@ -134,12 +100,7 @@ class Roughness:
     summit_height_rms: float
 
     def __post_init__(self) -> None:
-        for f in fields(self):
-            object.__setattr__(
-                self, f.name, _check_finite("Roughness", f.name, getattr(self, f.name))
-            )
-        for f in fields(self):
-            _check_bounds("Roughness", f.name, getattr(self, f.name))
+        _check_fields(self)
 
 
 def tabor_parameter(
@@ -151,6 +112,9 @@ def tabor_parameter(
     warn: bool = True,
 ) -> float:
     """Tabor's parameter mu = (R w^2 / (E*^2 epsilon^3))^(1/3) (paper, Section 2; dimensionless).
+
+    Each argument is bounded as the field of :class:`Material` or :class:`Roughness` it stands
+    for (:mod:`asperity.quantities`); a value outside raises ``InputError`` naming it.
 
     Parameters
     ----------
@@ -171,15 +135,15 @@ def tabor_parameter(
     float
         mu (dimensionless).
     """
-    for name, value in (
-        ("summit_radius", summit_radius),
-        ("e_star", e_star),
-        ("equilibrium_distance", equilibrium_distance),
-    ):
-        value = _check_finite("tabor_parameter", name, value)
-        _check_positive("tabor_parameter", name, value, "SI units")
-    w = _check_finite("tabor_parameter", "work_of_adhesion", work_of_adhesion)
-    _check_non_negative("tabor_parameter", "work_of_adhesion", w, "J/m^2")
+    summit_radius, w, e_star, equilibrium_distance = (
+        quantity(key).check(value, f"tabor_parameter: {name}")
+        for key, name, value in (
+            ("roughness.summit_radius", "summit_radius", summit_radius),
+            ("material.work_of_adhesion", "work_of_adhesion", work_of_adhesion),
+            ("material.E_star", "e_star", e_star),
+            ("material.equilibrium_distance", "equilibrium_distance", equilibrium_distance),
+        )
+    )
     mu = (summit_radius * w**2 / (e_star**2 * equilibrium_distance**3)) ** (1.0 / 3.0)
     if warn and w > 0.0 and mu < TABOR_JKR_LIMIT:
         warnings.warn(

@@ -10,39 +10,26 @@ import math
 from pathlib import Path
 
 import h5py
-import numpy as np
 
+from asperity import h5
+from asperity.fields import field_specs
 from asperity.statmodel.shear import ShearCurve
 
-#: ShearCurve array fields and their units.
-ARRAY_UNITS = {
-    "tangential_displacement": "m",
-    "tangential_force": "N",
-    "normal_force": "N",
-    "real_area": "m^2",
-    "n_contact": "1",
-    "n_stick": "1",
-    "n_slip": "1",
-    "separation": "m",
-    "tangential_force_stick": "N",
-    "tangential_force_slip": "N",
-    "normal_force_stick": "N",
-    "normal_force_slip": "N",
-    "real_area_stick": "m^2",
-    "real_area_slip": "m^2",
-    "delta_1": "m",
-    "delta_2": "m",
+#: ShearCurve fields the ``asperity friction`` outputs leave out: the solver's evaluation
+#: counts, the displacement at the static peak and the status code (``converged`` and
+#: ``message`` are written instead).
+NOT_WRITTEN = frozenset({"nit", "static_displacement", "success", "status", "message"})
+#: ShearCurve array fields written, and their units (from the ShearCurve declaration).
+ARRAY_UNITS: dict[str, str] = {
+    s.name: s.units
+    for s in field_specs(ShearCurve)
+    if s.kind == "array" and s.name not in NOT_WRITTEN
 }
-#: ShearCurve scalar fields and their units.
-SCALAR_UNITS = {
-    "tabor_parameter": "1",
-    "separation_preload": "m",
-    "static_friction": "N",
-    "sliding_friction": "N",
-    "sliding_separation": "m",
-    "sliding_displacement": "m",
-    "normal_load": "N",
-    "pull_off_force": "N",
+#: ShearCurve scalar fields written, and their units (from the ShearCurve declaration).
+SCALAR_UNITS: dict[str, str] = {
+    s.name: s.units
+    for s in field_specs(ShearCurve)
+    if s.kind == "number" and s.name not in NOT_WRITTEN
 }
 
 
@@ -70,9 +57,8 @@ def curve_to_json(curve: ShearCurve) -> str:
 
 
 def write_dataset(group: h5py.Group, name: str, data, units: str) -> None:
-    """Create dataset ``name`` in ``group`` with its ``units`` attribute."""
-    ds = group.create_dataset(name, data=np.asarray(data))
-    ds.attrs["units"] = units
+    """Create dataset ``name`` in ``group`` with its ``units`` attribute (uncompressed)."""
+    h5.write_dataset(group, name, data, units, compression=None)
 
 
 def write_curve_hdf5(curve: ShearCurve, path: str | Path, attrs: dict | None = None) -> None:
@@ -82,7 +68,5 @@ def write_curve_hdf5(curve: ShearCurve, path: str | Path, attrs: dict | None = N
             write_dataset(fh, name, getattr(curve, name), unit)
         for name, unit in SCALAR_UNITS.items():
             write_dataset(fh, name, float(getattr(curve, name)), unit)
-        fh.attrs["converged"] = bool(curve.converged)
-        fh.attrs["message"] = curve.message
-        for key, value in (attrs or {}).items():
-            fh.attrs[key] = value
+        h5.write_attributes(fh, {"converged": bool(curve.converged), "message": curve.message})
+        h5.write_attributes(fh, attrs or {})

@@ -34,15 +34,21 @@ from scipy.optimize import brentq, minimize_scalar
 from scipy.special import gamma, ndtr, pbdv
 
 from asperity.errors import InputError
+from asperity.fields import array, document_fields, scalar, text
 from asperity.statmodel import integrals as _k
 from asperity.statmodel.options import ModelSetup, QuadratureOptions, setup_model
 from asperity.statmodel.parameters import Material, Roughness
 from asperity.statmodel.preloading import PreloadResult, pull_off_point, solve_preload
 
 
+@document_fields
 @dataclass(frozen=True)
 class ShearCurve:
     """Response of the rough contact to a tangential displacement history (SI units).
+
+    Each field declares its unit, its dimension (``step`` for the arrays) and a description
+    (:mod:`asperity.fields`), from which the ``asperity friction`` outputs
+    (:mod:`asperity.statmodel.results_io`) and the job's friction stage take theirs.
 
     Arrays (one entry per step): ``tangential_displacement`` delta_T (m), ``tangential_force``
     F_x (N), ``normal_force`` F_z (N), ``real_area`` A_r (m^2), ``n_contact``, ``n_stick``,
@@ -62,35 +68,35 @@ class ShearCurve:
     ``converged`` is an alias of ``success``.
     """
 
-    tangential_displacement: np.ndarray
-    tangential_force: np.ndarray
-    normal_force: np.ndarray
-    real_area: np.ndarray
-    n_contact: np.ndarray
-    n_stick: np.ndarray
-    n_slip: np.ndarray
-    separation: np.ndarray
-    tangential_force_stick: np.ndarray
-    tangential_force_slip: np.ndarray
-    normal_force_stick: np.ndarray
-    normal_force_slip: np.ndarray
-    real_area_stick: np.ndarray
-    real_area_slip: np.ndarray
-    delta_1: np.ndarray
-    delta_2: np.ndarray
-    nit: np.ndarray
-    tabor_parameter: float
-    separation_preload: float
-    static_friction: float
-    static_displacement: float
-    sliding_friction: float
-    sliding_separation: float
-    sliding_displacement: float
-    normal_load: float
-    pull_off_force: float
-    success: bool
-    status: int
-    message: str
+    tangential_displacement: np.ndarray = array("m", ("step",), "tangential displacement delta_T")
+    tangential_force: np.ndarray = array("N", ("step",), "tangential force F_x")
+    normal_force: np.ndarray = array("N", ("step",), "normal force F_z")
+    real_area: np.ndarray = array("m^2", ("step",), "real contact area A_r")
+    n_contact: np.ndarray = array("1", ("step",), "asperities in contact")
+    n_stick: np.ndarray = array("1", ("step",), "sticking asperities")
+    n_slip: np.ndarray = array("1", ("step",), "sliding asperities")
+    separation: np.ndarray = array("m", ("step",), "separation d")
+    tangential_force_stick: np.ndarray = array("N", ("step",), "F_x of sticking asperities")
+    tangential_force_slip: np.ndarray = array("N", ("step",), "F_x of sliding asperities")
+    normal_force_stick: np.ndarray = array("N", ("step",), "F_z of sticking asperities")
+    normal_force_slip: np.ndarray = array("N", ("step",), "F_z of sliding asperities")
+    real_area_stick: np.ndarray = array("m^2", ("step",), "A_r of sticking asperities")
+    real_area_slip: np.ndarray = array("m^2", ("step",), "A_r of sliding asperities")
+    delta_1: np.ndarray = array("m", ("step",), "limit delta_1 (E:delta_1)")
+    delta_2: np.ndarray = array("m", ("step",), "limit delta_2 (E:delta_2)")
+    nit: np.ndarray = array("1", ("step",), "normal-load evaluations per step")
+    tabor_parameter: float = scalar("1", "Tabor parameter mu")
+    separation_preload: float = scalar("m", "separation at the preload")
+    static_friction: float = scalar("N", "static friction (peak F_x)")
+    static_displacement: float = scalar("m", "delta_T at the static friction peak")
+    sliding_friction: float = scalar("N", "sliding friction")
+    sliding_separation: float = scalar("m", "separation at full sliding")
+    sliding_displacement: float = scalar("m", "delta_T at full sliding")
+    normal_load: float = scalar("N", "imposed normal load (NaN in fixed grip)")
+    pull_off_force: float = scalar("N", "pull-off force")
+    success: bool = scalar("1", "every step solved")
+    status: int = scalar("1", "status code (SHEAR_STATUS)")
+    message: str = text("solver message")
 
     @property
     def converged(self) -> bool:

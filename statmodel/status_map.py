@@ -25,6 +25,7 @@ from numba import njit, vectorize
 from numpy.typing import ArrayLike
 
 from asperity.errors import InputError
+from asperity.statmodel.newton import newton_solver
 
 #: Status codes returned by :func:`asperity_status`.
 OUT_OF_CONTACT = 0
@@ -36,6 +37,16 @@ JUMP_OFF_DIMENSIONLESS = -0.75 * math.pi ** (2.0 / 3.0)
 
 
 @njit(cache=True)
+def _fold_cubic_dimensionless(a: float, params: tuple) -> tuple[float, float]:
+    """a~^2 (a~ - b) - pi/8 (E:Instable_boundary, dimensionless) and its slope; params (b, q)."""
+    b, q = params
+    return a * a * (a - b) - q, 3.0 * a * a - 2.0 * b * a
+
+
+_solve_fold_dimensionless = newton_solver(_fold_cubic_dimensionless)
+
+
+@njit(cache=True)
 def _fold_radius_dimensionless(delta_t_tilde: float, mode_mixity: float) -> float:
     if math.isnan(delta_t_tilde) or not 0.0 <= mode_mixity <= 1.0:
         return math.nan
@@ -44,17 +55,7 @@ def _fold_radius_dimensionless(delta_t_tilde: float, mode_mixity: float) -> floa
     if b > 1.0e100:
         return math.inf  # a~ > b > 1e100: no stick state at any finite indentation
     q = math.pi / 8.0
-    a = b + q ** (1.0 / 3.0)
-    for _ in range(200):
-        h = a * a * (a - b) - q
-        if h <= 0.0:
-            break
-        hp = 3.0 * a * a - 2.0 * b * a
-        a_new = a - h / hp
-        if a - a_new <= 4.0e-16 * a:
-            a = a_new
-            break
-        a = a_new
+    a, _, _ = _solve_fold_dimensionless(b + q ** (1.0 / 3.0), -math.inf, (b, q))
     return a
 
 

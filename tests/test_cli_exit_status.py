@@ -86,12 +86,91 @@ def test_a_solve_that_fails_is_1_with_its_results(capsys, tmp_path):
 # ------------------------------------------------------------------------------ 2
 
 
-def test_usage_errors_are_2_from_argparse(capsys):
+def test_usage_errors_are_2_in_one_line_without_the_usage_block(capsys):
     for argv in (["stats"], ["stats", "x.npy", "--neighbours", "5"], ["no-such-command"]):
-        with pytest.raises(SystemExit) as stop:
-            main(argv)
-        assert stop.value.code == ExitStatus.BAD_INPUT
-        assert "usage: asperity" in capsys.readouterr().err
+        assert main(argv) == ExitStatus.BAD_INPUT
+        err = capsys.readouterr().err
+        assert len(err.splitlines()) == 1 and "usage:" not in err
+        assert err.startswith("asperity") and ": error: " in err
+
+
+def _bump_map(tmp_path: Path) -> Path:
+    """A 16 x 16 paraboloid bump (heights in m), as .npy (no pixel size stored)."""
+    x = np.linspace(-1.0, 1.0, 16)
+    path = tmp_path / "bump.npy"
+    np.save(path, -1e-6 * (x[:, None] ** 2 + x[None, :] ** 2))
+    return path
+
+
+BUMP = ["bem", "{map}", "--pixel-size", "1e-5"]
+
+
+@pytest.mark.parametrize(
+    "argv, line",
+    [
+        # each of these used to run: exit 1 with a residual of 7e278, a NaN force, 1.6e294 N
+        (
+            [*BUMP, "--e-star", "1e300", "--load", "1"],
+            "asperity bem: error: --e-star: expected a number in [100, 1e+13] Pa (",
+        ),
+        ([*BUMP, "--e-star", "1e6", "--load", "1e300"], "--load: expected a number in [-1e+06,"),
+        (
+            [*BUMP, "--e-star", "1e6", "--mean-pressure", "1e300"],
+            "--mean-pressure: expected a number in [-1e+11, 1e+11] Pa",
+        ),
+        ([*BUMP, "--e-star", "1e6", "--load", "1e5"], "--load: 100000 N on the map's"),
+        # a pull from a cold start has nothing to pull on: bad input, not "not converged"
+        (
+            [*BUMP, "--e-star", "1e6", "--load", "-1e-3", "--work-of-adhesion", "0.05"],
+            "--load: the first load must be >= 0",
+        ),
+        ([*BUMP, "--e-star", "1e6", "--load", "1", "--tol", "1"], "--tol: expected a number in"),
+        (["synth", "--out", "{tmp}/s.npy", "--pixel-size", "1e300"], "--pixel-size: expected"),
+        (["synth", "--out", "{tmp}/s.npy", "--rms-height", "1e300"], "--rms-height: expected"),
+        (["synth", "--out", "{tmp}/s.npy", "--seed", "-1"], "--seed: expected an integer in [0,"),
+        (["stats", "{map}", "--pixel-size", "1e-5", "--outliers", "mad:"], "--outliers: mad:''"),
+        (["stats", "{map}", "--pixel-size", "1e300"], "--pixel-size: expected a number in"),
+        (["batch", "job.toml", "m.npy", "--workers", "1000000000"], "--workers: expected an"),
+        (["run", "--workers", "0"], "--workers: expected an integer in [1, 256]"),
+        (["report", "{tmp}", "--dpi", "1"], "--dpi: expected an integer in [30, 2400]"),
+    ],
+)
+def test_options_share_the_jobs_bounds_exit_2_in_one_line(capsys, tmp_path, argv, line):
+    argv = [
+        a.replace("{map}", str(_bump_map(tmp_path))).replace("{tmp}", str(tmp_path)) for a in argv
+    ]
+    status = main(argv)  # refused by argparse (the option) or the handler (the value's use)
+    err = capsys.readouterr().err
+    assert status == ExitStatus.BAD_INPUT, err
+    assert len(err.splitlines()) == 1 and "usage:" not in err and "Traceback" not in err
+    assert err.startswith(f"asperity {argv[0]}: error: ") and line in err, err
+    assert not (tmp_path / "s.npy").exists()
+
+
+def test_an_option_and_the_job_key_give_the_same_bound(capsys, tmp_path):
+    from asperity.pipelines.config import config_from_dict
+    from asperity.schema import ConfigError
+
+    assert main(["synth", "--out", str(tmp_path / "s.npy"), "--pixel-size", "1"]) == 2
+    option = capsys.readouterr().err.split("--pixel-size: ", 1)[1].rsplit(", got", 1)[0]
+    with pytest.raises(ConfigError) as info:
+        config_from_dict({"surface": {"synthetic": {"pixel_size": 1.0}}}, source="job.toml")
+    key = str(info.value).split("surface.synthetic.pixel_size: ", 1)[1].rsplit(", got", 1)[0]
+    assert option == key
+
+
+def test_scan_figure_into_a_folder_writes_inside_it_and_says_where(capsys, tmp_path):
+    folder = tmp_path / "figures"
+    folder.mkdir()
+    status = main(
+        ["scan", str(_bump_map(tmp_path)), "--pixel-size", "1e-5", "--max-stride", "2"]
+        + ["--figure", str(folder)]
+    )
+    out = capsys.readouterr().out
+    assert status == ExitStatus.OK
+    assert (folder / "resolution_scan.png").is_file()
+    assert f"wrote {folder / 'resolution_scan.png'}" in out
+    assert not (tmp_path / "figures.png").exists()
 
 
 def test_no_command_is_2(capsys):
@@ -109,7 +188,7 @@ def test_no_command_is_2(capsys):
         ),
         (["friction", "{tmp}"], "{tmp}"),  # a directory where a file was expected
         (["figures", "--out", "{tmp}/a_file.txt"], "a_file.txt"),  # a file where a folder was
-        (["stats", str(DATA / "dektak-1.csv")], "1D line profile"),  # InputError (reader)
+        (["scan", str(DATA / "dektak-1.csv"), "--max-stride", "5000"], "leaves fewer than 3"),
         (["stats", "{tmp}/m.npy", "--pixel-size", "-1e-6"], "--pixel-size"),  # InputError (CLI)
         (["stats", "{tmp}/m.npy"], "--pixel-size"),  # a file without a pixel size
         (["synth", "--n", "32", "--pixel-size", "1e-5", "--out", "{tmp}/s.png"], "--out"),

@@ -169,3 +169,46 @@ def test_library_source_never_forces_a_matplotlib_backend() -> None:
             if FORCES_BACKEND.search(text):
                 offenders.append(name)
     assert offenders == []
+
+
+#: Import paths of asperity 0.2 (README, docs, users' scripts) -> the module now behind them.
+OLD_PATHS = {
+    "asperity.pipelines.surface_stage": "asperity.pipelines.stages.surface",
+    "asperity.pipelines.bem_stage": "asperity.pipelines.stages.bem",
+    "asperity.pipelines.resolution_stage": "asperity.pipelines.stages.statistical_model",
+    "asperity.pipelines.friction_stage": "asperity.pipelines.stages.friction",
+    "asperity.pipelines.psd_stage": "asperity.pipelines.stages.psd",
+    "asperity.pipelines.verdict": "asperity.pipelines.stages.verdict",
+    "asperity.pipelines.fitting": "asperity.pipelines.stages.fitting",
+    "asperity.pipelines.store": "asperity.pipelines.engine.store",
+    "asperity.pipelines.outdir": "asperity.pipelines.engine.outdir",
+    "asperity.pipelines.parallel": "asperity.pipelines.engine.parallel",
+    "asperity.pipelines.fields": "asperity.fields",
+    "asperity.pipelines.html_report": "asperity.pipelines.report.html",
+    "asperity.pipelines.figure_output": "asperity.pipelines.report.figure_output",
+    "asperity.pipelines.run_cli": "asperity.pipelines.cli.run",
+    "asperity.pipelines.batch_summary": "asperity.pipelines.batch.summary",
+}
+
+
+@pytest.mark.parametrize("old", sorted(OLD_PATHS))
+def test_old_import_paths_give_the_module_at_its_new_path(old: str) -> None:
+    """``import`` and ``from ... import`` of a 0.2 path give the same module object (so that
+    attributes, isinstance and monkeypatching act on the one module)."""
+    new = importlib.import_module(OLD_PATHS[old])
+    assert importlib.import_module(old) is new
+    package, _, name = old.rpartition(".")
+    assert getattr(importlib.import_module(package), name) is new
+    assert new.__spec__.name == OLD_PATHS[old]
+
+
+def test_documented_entry_points_still_resolve() -> None:
+    import asperity
+    from asperity.pipelines import config, job
+    from asperity.pipelines.stages import Runner, Stage, StageContext
+
+    assert callable(job.run_job) and callable(config.load_preset)
+    assert callable(asperity.open_results)
+    assert Stage.__module__ == "asperity.pipelines.engine.stage"
+    assert Runner and StageContext
+    assert [s.name for s in job.STAGES] == list(job.STAGE_NAMES)

@@ -4,12 +4,16 @@ Public API (SI units: m, m^2, 1/m^2):
 
 * containers: :class:`HeightMap`, :class:`LineProfile`;
 * reading: :func:`read_surface` (X3P, SUR, MetroPro DAT/DATX, PLU, OPD, Nanoscope, PicoView,
-  Gwyddion, Dektak CSV, text, NumPy, project HDF5), :func:`write_hdf5`;
+  Gwyddion, Dektak CSV, text, NumPy, project HDF5; some forty more through the ``formats``
+  extra), :func:`write_hdf5`;
 * preparation :func:`prepare_surface` (crop, form removal, outliers, missing pixels, with a
   record and warnings; the steps separately: :func:`crop_surface`, :func:`find_outliers`,
   :func:`fill_missing`, :func:`harmonic_fill`); form removal :func:`level`;
   resampling :func:`decimate`, :func:`block_mean`, :func:`fourier_resample`;
 * :func:`summit_statistics` (eta, R, sigma_s), :func:`resolution_scan` (Fig 12a-c);
+* line profiles (Nayak's theory, isotropy assumed): :func:`prepare_profile`,
+  :func:`profile_statistics`, :func:`profile_resolution_scan`; isotropic maps from a profile's
+  spectrum: :func:`synthesise_from_profile`, :func:`realisation_spread`;
 * spectra and rms values in :mod:`topo.psd`; synthetic maps in :mod:`topo.synthetic`.
 """
 
@@ -51,9 +55,19 @@ _EXPORTS: dict[str, str] = {
     "plot_resolution_scan": "asperity.topo.scan",
     "resolution_scan": "asperity.topo.scan",
     "write_scan_hdf5": "asperity.topo.scan",
+    "ProfileStatistics": "asperity.topo.profile_statistics",
+    "profile_statistics": "asperity.topo.profile_statistics",
+    "ProfileResolutionScan": "asperity.topo.profile_scan",
+    "profile_resolution_scan": "asperity.topo.profile_scan",
+    "prepare_profile": "asperity.topo.profile_preparation",
+    "RealisationSpread": "asperity.topo.profile_synthesis",
+    "realisation_spread": "asperity.topo.profile_synthesis",
+    "synthesise_from_profile": "asperity.topo.profile_synthesis",
     "SummitStatistics": "asperity.topo.summits",
     "summit_mask": "asperity.topo.summits",
     "summit_statistics": "asperity.topo.summits",
+    "fractional_resample": "asperity.topo.fractional_resampling",
+    "fractional_summit_statistics": "asperity.topo.fractional_resampling",
 }
 
 __all__ = [
@@ -64,6 +78,9 @@ __all__ = [
     "PreparationOptions",
     "PreparationRecord",
     "PreparedSurface",
+    "ProfileResolutionScan",
+    "ProfileStatistics",
+    "RealisationSpread",
     "ResolutionScan",
     "SummitStatistics",
     "TopographyFileError",
@@ -77,9 +94,13 @@ __all__ = [
     "harmonic_fill",
     "level",
     "plot_resolution_scan",
+    "prepare_profile",
     "prepare_surface",
+    "profile_resolution_scan",
+    "profile_statistics",
     "radial_psd",
     "read_surface",
+    "realisation_spread",
     "resolution_scan",
     "rms_curvature",
     "rms_height",
@@ -87,9 +108,12 @@ __all__ = [
     "rolloff_wavelength",
     "summit_mask",
     "summit_statistics",
+    "synthesise_from_profile",
     "synthetic",
     "write_hdf5",
     "write_scan_hdf5",
+    "fractional_resample",
+    "fractional_summit_statistics",
 ]
 
 

@@ -17,7 +17,9 @@ from pathlib import Path
 import numpy as np
 
 from asperity.errors import ExitStatus, InputError
-from asperity.topo.heightmap import HeightMap, require_height_map
+from asperity.files import require_output_path
+from asperity.quantities import add_bounded_option, quantity
+from asperity.topo.heightmap import HeightMap, LineProfile, require_height_map
 
 #: Keys of ``asperity stats --json``, in order (a contract with other tools).
 STATS_KEYS = (
@@ -61,7 +63,7 @@ def _pixel_size(text: str | None) -> float | tuple[float, float] | None:
             ) from None
         if not (math.isfinite(value) and value > 0):
             raise InputError(f"--pixel-size: expected finite lengths > 0 m, got {text!r}")
-        values.append(value)
+        values.append(quantity("surface.pixel_size").check(value, "--pixel-size"))
     return values[0] if len(values) == 1 else (values[0], values[1])
 
 
@@ -90,14 +92,19 @@ def preparation_options(args: argparse.Namespace):
     )
 
 
-def _load_prepared(args: argparse.Namespace, what: str):
-    """Read the file and prepare it as the options say; warnings go to stderr."""
+def _read(args: argparse.Namespace):
+    """The file as a HeightMap or a LineProfile."""
     from asperity.topo.io import read_surface
+
+    return read_surface(args.file, channel=args.channel, pixel_size=_pixel_size(args.pixel_size))
+
+
+def _load_prepared(args: argparse.Namespace, what: str, surface=None):
+    """Read the file and prepare it as the options say; warnings go to stderr."""
     from asperity.topo.preparation import prepare_surface
 
     options = preparation_options(args)
-    surface = read_surface(args.file, channel=args.channel, pixel_size=_pixel_size(args.pixel_size))
-    surface = require_height_map(surface, f"asperity {what}")
+    surface = require_height_map(surface or _read(args), f"asperity {what}")
     prepared = prepare_surface(surface, options)
     if args.json:  # the text output shows them in its surface block
         for warning in prepared.record.warnings:
@@ -189,15 +196,21 @@ def _print_preparation(record: dict) -> None:
 
 
 def _stats(args: argparse.Namespace) -> int:
-    prepared = _load_prepared(args, "stats")
+    surface = _read(args)
+    if isinstance(surface, LineProfile):  # Nayak's theory: asperity.topo.profile_cli
+        from asperity.topo.profile_cli import profile_stats
+
+        return profile_stats(args, surface)
+    prepared = _load_prepared(args, "stats", surface)
     record = surface_stats(prepared.surface, stride=args.stride, neighbours=args.neighbours)
+    record["channel"] = prepared.surface.provenance.get("channel")
     record["preparation"] = prepared.record.as_dict()
     if args.json:
         print(json.dumps(record, allow_nan=False))
     else:
         print(
-            f"{args.file} (detrend {prepared.record.levelling}, stride {args.stride}, "
-            f"{args.neighbours} neighbours)"
+            f"{args.file} (channel {record['channel']}, detrend {prepared.record.levelling}, "
+            f"stride {args.stride}, {args.neighbours} neighbours)"
         )
         for key in (*STATS_KEYS, "nominal_area"):
             value = record[key]
@@ -214,7 +227,14 @@ def _stats(args: argparse.Namespace) -> int:
 def _scan(args: argparse.Namespace) -> int:
     from asperity.topo.scan import plot_resolution_scan, resolution_scan, write_scan_hdf5
 
-    prepared = _load_prepared(args, "scan")
+    if args.out is not None:
+        require_output_path(args.out, "--out")
+    surface = _read(args)
+    if isinstance(surface, LineProfile):  # Nayak's theory: asperity.topo.profile_cli
+        from asperity.topo.profile_cli import profile_scan
+
+        return profile_scan(args, surface)
+    prepared = _load_prepared(args, "scan", surface)
     preparation = prepared.record.as_dict()
     scan = resolution_scan(prepared.surface, args.max_stride, neighbours=args.neighbours)
     figure = args.figure
@@ -224,7 +244,7 @@ def _scan(args: argparse.Namespace) -> int:
         if figure is None:
             figure = str(Path(args.out).with_suffix(".png"))
     if figure:
-        plot_resolution_scan(scan, figure, title=str(args.file))
+        figure = plot_resolution_scan(scan, figure, title=str(args.file))
     if args.json:
         data = {
             key: (_json_number(v) if not isinstance(v, list) else [_json_number(x) for x in v])
@@ -233,29 +253,7 @@ def _scan(args: argparse.Namespace) -> int:
         data["preparation"] = preparation
         print(json.dumps(data, allow_nan=False))
     else:
-        print(
-            f"{'stride':>6s} {'resolution (m)':>15s} {'N':>9s} {'eta (1/m^2)':>12s} "
-            f"{'R (m)':>11s} {'sigma_s (m)':>12s}"
-        )
-        for row in zip(
-            scan.stride,
-            scan.resolution,
-            scan.n_summits,
-            scan.asperity_density,
-            scan.summit_radius,
-            scan.summit_height_rms,
-            strict=True,
-        ):
-            print(
-                f"{row[0]:6d} {row[1]:15.4e} {row[2]:9d} {row[3]:12.4e} {row[4]:11.4e} "
-                f"{row[5]:12.4e}"
-            )
-        print(
-            f"R = {scan.radius_slope:.4g} * resolution + {scan.radius_intercept:.4g} m; "
-            f"eta = {scan.density_prefactor:.4g} * resolution^{scan.density_exponent:.4g} 1/m^2; "
-            f"sigma_s = {scan.height_rms_mean:.4g} m "
-            f"(spread {100 * scan.height_rms_relative_spread:.2f} %)"
-        )
+        print_scan_table(scan)
         _print_preparation(preparation)
         for target in (args.out, figure):
             if target:
@@ -263,13 +261,47 @@ def _scan(args: argparse.Namespace) -> int:
     return ExitStatus.OK
 
 
+def print_scan_table(scan, count: str = "N", extra: tuple[str, object] | None = None) -> None:
+    """The text table of a resolution scan (SI units) and its fits line.
+
+    ``count`` labels the ``n_summits`` column; ``extra`` is an optional (label, values)
+    column printed last (e.g. the bandwidth of a profile scan).
+    """
+    label, values = extra if extra is not None else ("", [None] * len(scan.stride))
+    print(
+        f"{'stride':>6s} {'resolution (m)':>15s} {count:>9s} {'eta (1/m^2)':>12s} "
+        f"{'R (m)':>11s} {'sigma_s (m)':>12s}" + (f" {label:>9s}" if extra else "")
+    )
+    for row in zip(
+        scan.stride,
+        scan.resolution,
+        scan.n_summits,
+        scan.asperity_density,
+        scan.summit_radius,
+        scan.summit_height_rms,
+        values,
+        strict=True,
+    ):
+        print(
+            f"{row[0]:6d} {row[1]:15.4e} {row[2]:9d} {row[3]:12.4e} {row[4]:11.4e} "
+            f"{row[5]:12.4e}" + (f" {row[6]:9.3g}" if extra else "")
+        )
+    print(
+        f"R = {scan.radius_slope:.4g} * resolution + {scan.radius_intercept:.4g} m; "
+        f"eta = {scan.density_prefactor:.4g} * resolution^{scan.density_exponent:.4g} 1/m^2; "
+        f"sigma_s = {scan.height_rms_mean:.4g} m "
+        f"(spread {100 * scan.height_rms_relative_spread:.2f} %)"
+    )
+
+
 def _synth(args: argparse.Namespace) -> int:
     from asperity.topo.io import write_hdf5
     from asperity.topo.synthetic import check_map_size, paper_like
 
     check_map_size(args.n, args.n, "--n")  # at once, with the memory it would take
+    quantity("surface.synthetic.n").check(args.n, "--n")  # the job's bound (n >= 8)
 
-    out = Path(args.out)
+    out = require_output_path(args.out, "--out")
     if out.suffix.lower() not in (".h5", ".hdf5", ".npy", ".npz"):
         raise InputError(f"--out {out}: expected a .h5 (project HDF5), .npy or .npz file name")
     recipe = {
@@ -311,10 +343,11 @@ def _add_input_options(parser: argparse.ArgumentParser) -> None:
         default="plane",
         help="form removed before the analysis (default: plane)",
     )
-    form.add_argument(
+    add_bounded_option(
+        form,
         "--form-order",
+        "surface.form_order",
         dest="form_order",
-        type=_form_order,
         default=None,
         metavar="N",
         help="remove the least-squares polynomial of order N (0 mean, 1 plane, 2 quadratic, "
@@ -344,6 +377,7 @@ def _add_input_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--outliers",
         default="mad:10",
+        type=_outlier_rule,
         metavar="RULE",
         help="outlier rule on the levelled heights: mad:K (beyond K x 1.4826 MAD of the "
         "median; default mad:10), percentile:P (below P or above 100-P percent), or none",
@@ -377,14 +411,14 @@ def _add_input_options(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def _form_order(text: str) -> int:
+def _short_cutoff(text: str) -> float:
+    """``--short-cutoff``: 0 (none) or a wavelength within the shared bound."""
     try:
-        value = int(text)
+        if float(text) == 0:
+            return 0.0
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an integer 0..8, got {text!r}") from None
-    if not 0 <= value <= 8:
-        raise argparse.ArgumentTypeError(f"expected an integer 0..8, got {text!r}")
-    return value
+        pass
+    return quantity("surface.synthetic.wavelength").option("--short-cutoff")(text)
 
 
 def _positive_int(text: str) -> int:
@@ -395,6 +429,45 @@ def _positive_int(text: str) -> int:
     if value < 1:
         raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {text!r}")
     return value
+
+
+#: Figure formats ``scan --figure`` writes (the suffix picks the format).
+FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
+
+
+def _figure_path(text: str) -> Path | str:
+    """``--figure``: a .png/.svg/.pdf file, a name without suffix (.png added), a folder
+    (``resolution_scan.png`` inside it) or "" (no figure); the path returned is the file
+    written."""
+    if not text:
+        return text  # "": no figure
+    path = Path(text)
+    if path.is_dir():
+        return path / "resolution_scan.png"
+    if not path.suffix:
+        return path.with_suffix(".png")
+    if path.suffix.lower() not in FIGURE_SUFFIXES:
+        raise argparse.ArgumentTypeError(
+            f"expected a file name ending in {', '.join(FIGURE_SUFFIXES)} or a folder, got {text!r}"
+        )
+    return path
+
+
+def _outlier_rule(text: str) -> str:
+    """``--outliers``: none, mad, mad:K or percentile:P with K and P given and bounded."""
+    method, colon, parameter = text.partition(":")
+    if not colon or method not in ("mad", "percentile"):
+        return text  # "none", "mad" or a wrong method: OutlierRule.parse names the mistake
+    bound = quantity("surface.outlier_threshold")
+    try:
+        value = bound.parse(parameter, "--outliers")
+    except InputError as exc:
+        raise argparse.ArgumentTypeError(
+            f"{method}:{parameter!r}: " + str(exc).removeprefix("--outliers: ")
+        ) from None
+    if method == "percentile" and not value < 50:
+        raise argparse.ArgumentTypeError(f"expected a percentile P < 50, got {text!r}")
+    return text
 
 
 def _accept_negative_numbers(parser: argparse.ArgumentParser) -> None:
@@ -429,10 +502,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         description="Resolution scan with the paper's fits (R linear, eta power law).",
     )
     _add_input_options(scan)
-    scan.add_argument(
+    add_bounded_option(
+        scan,
         "--max-stride",
+        "surface.max_stride",
         dest="max_stride",
-        type=_positive_int,
         required=True,
         help="largest stride K",
     )
@@ -441,7 +515,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         default=None,
         help="write the scan to this HDF5 file (and the figure beside it as .png)",
     )
-    scan.add_argument("--figure", default=None, help="write the figure (PNG, 150 dpi) here")
+    scan.add_argument(
+        "--figure",
+        default=None,
+        type=_figure_path,
+        help="write the figure (PNG, 150 dpi) to this file, or into this folder "
+        "(resolution_scan.png)",
+    )
     scan.add_argument("--json", action="store_true", help="print the scan as one JSON object")
     _accept_negative_numbers(scan)
     scan.set_defaults(func=_scan)
@@ -455,24 +535,42 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     synth.add_argument(
         "--n", type=_positive_int, default=5000, help="pixels per side (5000; at most 10001)"
     )
-    synth.add_argument(
-        "--pixel-size", dest="pixel_size", type=float, default=2e-6, help="pixel size in m (2e-6)"
+    add_bounded_option(
+        synth,
+        "--pixel-size",
+        "surface.pixel_size",
+        dest="pixel_size",
+        default=2e-6,
+        help="pixel size in m (2e-6)",
     )
-    synth.add_argument("--seed", type=int, default=0, help="random seed (0)")
+    add_bounded_option(synth, "--seed", "surface.synthetic.seed", default=0, help="random seed (0)")
     # defaults None: topo.synthetic.PAPER_LIKE (not imported here, to keep --help fast)
-    synth.add_argument(
-        "--hurst", type=float, default=None, help="spectral (Hurst) exponent H (paper-like: 1.36)"
+    add_bounded_option(
+        synth,
+        "--hurst",
+        "surface.synthetic.hurst",
+        default=None,
+        help="spectral (Hurst) exponent H (paper-like: 1.36)",
     )
-    synth.add_argument(
-        "--rms-height", dest="rms_height", type=float, default=None, help="rms height in m (50e-6)"
+    add_bounded_option(
+        synth,
+        "--rms-height",
+        "surface.synthetic.rms_height",
+        dest="rms_height",
+        default=None,
+        help="rms height in m (50e-6)",
     )
-    synth.add_argument(
-        "--rolloff", type=float, default=None, help="roll-off wavelength in m (600e-6)"
+    add_bounded_option(
+        synth,
+        "--rolloff",
+        "surface.synthetic.wavelength",
+        default=None,
+        help="roll-off wavelength in m (600e-6)",
     )
     synth.add_argument(
         "--short-cutoff",
         dest="short_cutoff",
-        type=float,
+        type=_short_cutoff,
         default=None,
         help="shortest wavelength in m (4e-6; 0 for none)",
     )

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from asperity.errors import InputError
+from asperity.fields import array, document_fields, scalar, text
 
 
 def _as_float_array(values: object, ndim: int, what: str) -> np.ndarray:
@@ -43,39 +44,13 @@ def _check_spacing(value: object, name: str) -> float:
     return spacing
 
 
-@dataclass(frozen=True, eq=False)
-class HeightMap:
-    """A height map on a regular grid.
-
-    Parameters
-    ----------
-    heights : array_like, shape (nx, ny)
-        Heights in m (converted to a read-only float64 array); NaN marks a missing pixel.
-        Axis 0 is x, axis 1 is y. A float64 array is not copied: the map holds a read-only
-        view of it (copy it with ``np.array`` first if you will change the original).
-    dx, dy : float
-        Pixel sizes in m along axis 0 and axis 1 (finite, > 0; they may differ).
-    periodic : bool
-        Whether the map repeats itself (synthetic maps); measured maps are not periodic.
-    provenance : dict
-        Where the map came from: file, format, instrument, channel, units seen, ...
-    """
+class MapGeometry:
+    """Sizes of a map held as ``heights`` (axis 0 is x, axis 1 is y) and pixel sizes ``dx``,
+    ``dy`` in m: shared by :class:`HeightMap` and the job's stored surface."""
 
     heights: np.ndarray
     dx: float
     dy: float
-    periodic: bool = False
-    provenance: dict = field(default_factory=dict, compare=False)
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "heights", _as_float_array(self.heights, 2, "HeightMap.heights"))
-        object.__setattr__(self, "dx", _check_spacing(self.dx, "HeightMap.dx"))
-        object.__setattr__(self, "dy", _check_spacing(self.dy, "HeightMap.dy"))
-        object.__setattr__(self, "periodic", bool(self.periodic))
-        if not isinstance(self.provenance, dict):
-            raise TypeError(f"HeightMap.provenance: expected a dict, got {type(self.provenance)}")
-        if np.isinf(self.heights).any():
-            raise InputError("HeightMap.heights: infinite heights; mark missing pixels with NaN")
 
     @property
     def nx(self) -> int:
@@ -101,6 +76,44 @@ class HeightMap:
     def nominal_area(self) -> float:
         """Nominal area ``A_n = lx*ly`` (m^2)."""
         return self.lx * self.ly
+
+
+@document_fields
+@dataclass(frozen=True, eq=False)
+class HeightMap(MapGeometry):
+    """A height map on a regular grid.
+
+    Parameters
+    ----------
+    heights : array_like, shape (nx, ny)
+        Heights in m (converted to a read-only float64 array); NaN marks a missing pixel.
+        Axis 0 is x, axis 1 is y. A float64 array is not copied: the map holds a read-only
+        view of it (copy it with ``np.array`` first if you will change the original).
+    dx, dy : float
+        Pixel sizes in m along axis 0 and axis 1 (finite, > 0; they may differ).
+    periodic : bool
+        Whether the map repeats itself (synthetic maps); measured maps are not periodic.
+    provenance : dict
+        Where the map came from: file, format, instrument, channel, units seen, ...
+    """
+
+    heights: np.ndarray = array(
+        "m", ("x", "y"), "surface heights (larger = closer to the flat, NaN = missing)"
+    )
+    dx: float = scalar("m", "pixel size along x (axis 0)")
+    dy: float = scalar("m", "pixel size along y (axis 1)")
+    periodic: bool = scalar("1", "the map is one period of the surface", default=False)
+    provenance: dict = text("where the map came from", default_factory=dict, compare=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "heights", _as_float_array(self.heights, 2, "HeightMap.heights"))
+        object.__setattr__(self, "dx", _check_spacing(self.dx, "HeightMap.dx"))
+        object.__setattr__(self, "dy", _check_spacing(self.dy, "HeightMap.dy"))
+        object.__setattr__(self, "periodic", bool(self.periodic))
+        if not isinstance(self.provenance, dict):
+            raise TypeError(f"HeightMap.provenance: expected a dict, got {type(self.provenance)}")
+        if np.isinf(self.heights).any():
+            raise InputError("HeightMap.heights: infinite heights; mark missing pixels with NaN")
 
     @property
     def n_missing(self) -> int:

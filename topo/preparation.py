@@ -35,8 +35,13 @@ from asperity.topo.cleaning import (
 )
 from asperity.topo.form import check_order, subtract_polynomial
 from asperity.topo.heightmap import HeightMap, require_height_map
+from asperity.topo.io.limits import MIN_HEIGHT_SPREAD_M
 from asperity.topo.levelling import order_name
-from asperity.topo.preparation_checks import WARN_LIMITS, preparation_warnings
+from asperity.topo.preparation_checks import WARN_LIMITS, grid_warnings, preparation_warnings
+
+#: Largest fraction of the valid pixels an outlier rule may flag; above it the map is
+#: refused (a rule that flags a quarter of a map is removing roughness, not artefacts).
+MAX_OUTLIER_FRACTION = 0.25
 
 __all__ = ["WARN_LIMITS", "PreparationOptions", "PreparationRecord", "PreparedSurface"]
 
@@ -263,6 +268,7 @@ def prepare_surface(
     measured_shape = (surface.nx, surface.ny)
     if options.crop is not None:
         surface = crop_surface(surface, options.crop)
+    check_height_spread(surface)
     measured_missing = np.isnan(surface.heights)
     n_missing = int(measured_missing.sum())
     if options.missing == "refuse" and n_missing:
@@ -271,6 +277,7 @@ def prepare_surface(
     _check_enough_pixels(surface, order)
     levelled, form_rms = _level(surface.heights, order)
     found = find_outliers(levelled, options.outliers)
+    check_outlier_fraction(surface, found.count, n_missing, options.outliers.describe())
     raw = surface.heights
     if found.count and options.outliers.action == "mask":
         if options.missing == "refuse":
@@ -314,7 +321,8 @@ def prepare_surface(
         outlier_low=found.low,
         outlier_high=found.high,
     )
-    record = _with_warnings(record, found.scale)
+    reader_warnings = [str(w) for w in surface.provenance.get("warnings", [])]
+    record = _with_warnings(record, found.scale, reader_warnings + grid_warnings(levelled))
     provenance = dict(surface.provenance, levelling=applied, preparation=record.as_dict())
     return PreparedSurface(
         surface=prepared.with_heights(prepared.heights, provenance=provenance),
@@ -324,7 +332,55 @@ def prepare_surface(
     )
 
 
-def _with_warnings(record: PreparationRecord, outlier_scale: float) -> PreparationRecord:
+def check_outlier_fraction(surface: HeightMap, n_outliers: int, n_missing: int, rule: str) -> None:
+    """Refuse an outlier rule that flags more than :data:`MAX_OUTLIER_FRACTION` of the pixels.
+
+    Such a rule removes the surface, not artefacts: masking half a map can leave a flat
+    remainder whose rms is 0 m, a confident wrong answer.
+
+    Raises
+    ------
+    InputError
+        Naming the map, the rule, the count and the limit.
+    """
+    n_valid = surface.nx * surface.ny - n_missing
+    if n_valid and n_outliers > MAX_OUTLIER_FRACTION * n_valid:
+        raise InputError(
+            f"{surface.provenance.get('file', 'the map')}: outliers: the rule ({rule}) flags "
+            f"{n_outliers} of {n_valid} valid pixels ({100 * n_outliers / n_valid:.3g} %), "
+            f"more than {100 * MAX_OUTLIER_FRACTION:g} %: it would remove the surface, not "
+            "artefacts; use a larger threshold or no outlier rule"
+        )
+
+
+def check_height_spread(surface: HeightMap) -> None:
+    """Refuse heights (m) that vary, but by less than ``MIN_HEIGHT_SPREAD_M`` (1 fm).
+
+    Their rms is below what any instrument resolves, and their squares underflow in floating
+    point (heights of 1e-300 m would give an rms of 0 and summit radii of 1e293 m).
+
+    Raises
+    ------
+    InputError
+        Naming the map and the spread found.
+    """
+    valid = surface.heights[~np.isnan(surface.heights)]
+    if valid.size < 2:
+        return
+    spread = float(valid.max() - valid.min())
+    if 0.0 < spread < MIN_HEIGHT_SPREAD_M:
+        raise InputError(
+            f"{surface.provenance.get('file', 'the map')}: heights: vary by only "
+            f"{spread:.3g} m (max - min); expected a spread of at least "
+            f"{MIN_HEIGHT_SPREAD_M:g} m: no instrument resolves less, and the rms of such "
+            "heights is not resolved in floating point (a wrong unit or scale?)"
+        )
+
+
+def _with_warnings(
+    record: PreparationRecord, outlier_scale: float, extra: list[str]
+) -> PreparationRecord:
     from dataclasses import replace
 
-    return replace(record, warnings=tuple(preparation_warnings(record, outlier_scale)))
+    warnings = preparation_warnings(record, outlier_scale) + extra
+    return replace(record, warnings=tuple(warnings))

@@ -5,6 +5,8 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from asperity.topo.levelling import order_name
 
 if TYPE_CHECKING:
@@ -22,7 +24,73 @@ WARN_LIMITS = {
     "pixel_aspect": 0.01,
     # the next polynomial order leaves less than half the rms: form taken as roughness
     "next_order_rms_ratio": 0.5,
+    # neighbour decorrelation along one axis above this while the other is smooth: the
+    # lines do not continue each other (a grid declared with the wrong line length)
+    "line_decorrelation": 0.5,
+    # ... and the other axis below this fraction of it
+    "smooth_axis_ratio": 0.05,
 }
+
+
+def neighbour_decorrelation(heights: np.ndarray) -> tuple[float, float]:
+    """Mean squared neighbour difference over twice the variance, along x and along y.
+
+    0 for a smooth map, about 1 when neighbours are unrelated (white noise), per axis.
+
+    Parameters
+    ----------
+    heights : ndarray
+        Levelled heights in m, shape (nx, ny); NaN pixels are ignored.
+
+    Returns
+    -------
+    (float, float)
+        Along axis 0 (x) and axis 1 (y); NaN when undefined (a flat map, a single line).
+    """
+    if min(heights.shape) < 2:
+        return math.nan, math.nan
+    variance = float(np.nanvar(heights))
+    if not variance > 0:
+        return math.nan, math.nan
+    with np.errstate(invalid="ignore"):
+        along_x = float(np.nanmean(np.diff(heights, axis=0) ** 2)) / (2 * variance)
+        along_y = float(np.nanmean(np.diff(heights, axis=1) ** 2)) / (2 * variance)
+    return along_x, along_y
+
+
+def grid_warnings(heights: np.ndarray) -> list[str]:
+    """A warning when the lines of the map do not continue each other.
+
+    A file whose header declares the wrong line length (e.g. 256 x 1024 for a 512 x 512
+    map: same number of points) puts unrelated points side by side along one axis: their
+    differences are as large as between random points, while along the other axis the map
+    stays smooth. Refusing is left to the user (a strongly anisotropic surface sampled
+    coarsely across its lay can look alike); the warning names the grid fields to check.
+
+    Parameters
+    ----------
+    heights : ndarray
+        Levelled heights in m, shape (nx, ny).
+
+    Returns
+    -------
+    list of str
+    """
+    along_x, along_y = neighbour_decorrelation(heights)
+    if not (math.isfinite(along_x) and math.isfinite(along_y)):
+        return []
+    rough, smooth = max(along_x, along_y), min(along_x, along_y)
+    limit, ratio = WARN_LIMITS["line_decorrelation"], WARN_LIMITS["smooth_axis_ratio"]
+    if rough <= limit or smooth >= ratio * rough:
+        return []
+    axis = "y (between lines)" if along_y > along_x else "x (along the lines)"
+    return [
+        f"neighbouring pixels along {axis} differ as much as unrelated points "
+        f"(mean squared difference / 2 variance = {rough:.3g}, above {limit:g}) while the "
+        f"other axis is smooth ({smooth:.3g}): the grid (points per line, number of lines) "
+        "declared by the file may be wrong; check the map's image before trusting its "
+        "statistics"
+    ]
 
 
 def _missing(record: PreparationRecord) -> list[str]:

@@ -22,7 +22,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from asperity import h5
 from asperity.errors import InputError
+from asperity.fields import array, document_fields, field_specs, scalar
 from asperity.topo.heightmap import HeightMap, require_height_map
 from asperity.topo.summits import summit_statistics
 
@@ -48,6 +50,7 @@ FIT_FIELDS = (
 )
 
 
+@document_fields
 @dataclass(frozen=True, eq=False)
 class ResolutionScan:
     """Summit statistics against resolution, with the paper's fits (SI units).
@@ -81,21 +84,23 @@ class ResolutionScan:
         nominal_area; see :func:`asperity.topo.summit_statistics`).
     """
 
-    stride: np.ndarray
-    resolution: np.ndarray
-    n_summits: np.ndarray
-    asperity_density: np.ndarray
-    summit_radius: np.ndarray
-    summit_height_rms: np.ndarray
-    radius_slope: float
-    radius_intercept: float
-    density_exponent: float
-    density_prefactor: float
-    height_rms_mean: float
-    height_rms_relative_spread: float
-    n_fitted: int
-    neighbours: int = 4
-    nominal_area: np.ndarray | None = None
+    stride: np.ndarray = array("1", ("stride",), "decimation stride")
+    resolution: np.ndarray = array("m", ("stride",), "pixel size of the decimated map")
+    n_summits: np.ndarray = array("1", ("stride",), "number of summits N (neighbours rule)")
+    asperity_density: np.ndarray = array("1/m^2", ("stride",), "asperity density eta")
+    summit_radius: np.ndarray = array("m", ("stride",), "mean summit radius R")
+    summit_height_rms: np.ndarray = array("m", ("stride",), "rms summit height sigma_s")
+    radius_slope: float = scalar("m/m", "dR/d(resolution) of the linear fit")
+    radius_intercept: float = scalar("m", "R at zero resolution of the linear fit")
+    density_exponent: float = scalar("1", "exponent of eta ~ resolution**exponent")
+    density_prefactor: float = scalar("1/m^2", "eta at a resolution of 1 m (power law)")
+    height_rms_mean: float = scalar("m", "mean sigma_s over the fitted strides")
+    height_rms_relative_spread: float = scalar("1", "std / mean of sigma_s over the fits")
+    n_fitted: int = scalar("1", "number of strides used by the fits")
+    neighbours: int = scalar("1", "summit rule (4 or 8 neighbours)", default=4)
+    nominal_area: np.ndarray | None = array(
+        "m^2", ("stride",), "valid area over which the summits are counted", optional=True
+    )
 
     def fits(self) -> dict:
         """The fitted parameters as a dict of Python numbers."""
@@ -214,25 +219,24 @@ def write_scan_hdf5(scan: ResolutionScan, path: str | Path, *, source: dict | No
     import h5py
 
     path = Path(path)
+    units = {spec.name: spec.units for spec in field_specs(ResolutionScan)}
     with h5py.File(path, "w") as handle:
-        units = {
-            "resolution": "m",
-            "asperity_density": "1/m^2",
-            "summit_radius": "m",
-            "summit_height_rms": "m",
-            "stride": "1",
-            "n_summits": "1",
-        }
         for name in ARRAY_FIELDS:
-            dataset = handle.create_dataset(name, data=getattr(scan, name))
-            dataset.attrs["units"] = units[name]
+            h5.write_dataset(handle, name, getattr(scan, name), units[name], compression=None)
         if scan.nominal_area is not None:
-            handle.create_dataset("nominal_area", data=scan.nominal_area).attrs["units"] = "m^2"
-        for name, value in scan.fits().items():
-            handle.attrs[name] = np.nan if value is None else value
-        handle.attrs["neighbours"] = scan.neighbours
-        handle.attrs["format"] = "asperity-resolution-scan"
-        handle.attrs["source"] = json.dumps(source or {}, default=str)
+            h5.write_dataset(
+                handle, "nominal_area", scan.nominal_area, units["nominal_area"], compression=None
+            )
+        fits = {name: np.nan if value is None else value for name, value in scan.fits().items()}
+        h5.write_attributes(handle, fits)
+        h5.write_attributes(
+            handle,
+            {
+                "neighbours": scan.neighbours,
+                "format": "asperity-resolution-scan",
+                "source": json.dumps(source or {}, default=str),
+            },
+        )
     return path
 
 

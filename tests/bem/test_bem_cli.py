@@ -195,16 +195,15 @@ def test_nan_pixels_are_refused(capsys, tmp_path):
     assert status == 2 and "holes.npy" in err and "missing" in err
 
 
-def test_negative_mean_pressure_is_a_tensile_load(capsys, npy_surface):
-    """ "-1e6" is parsed as a number; with adhesion a pull from scratch is not on the loading
-    branch: status 4, exit 1, and the message says what to do."""
+def test_negative_mean_pressure_from_a_cold_start_is_bad_input(capsys, npy_surface):
+    """ "-1e6" is parsed as a number; with adhesion a pull from scratch has no loaded contact to
+    pull on: exit 2 in one line saying what to do (a sweep from a compressive load)."""
     argv = ["bem", str(npy_surface), "--pixel-size", "1e-6", "--e-star", "1e9", "--json"]
     argv += ["--mean-pressure", "-1e6", "--work-of-adhesion", "0.05"]
     status, out, err = _run(capsys, argv)
-    assert status == 1
-    data = json.loads(out)
-    assert data["status"] == 4 and data["converged"] is False and data["branch"] == "loading"
-    assert "loading branch" in err and "status 4" in err
+    assert status == 2 and out == ""
+    assert len(err.splitlines()) == 1
+    assert "--mean-pressure: the first load must be >= 0" in err and "e.g. 1e-3,-1e+06" in err
 
 
 def test_zero_adhesive_load_prints_no_negative_zero(capsys, npy_surface):

@@ -1,4 +1,4 @@
-"""The fast paths of issue 10 give the answers of the reference paths on small grids.
+"""The fast paths of the paper-scale solver give the answers of the reference paths on small grids.
 
 * mixed precision (float32 transforms, then double) against double throughout: same contact
   set up to the elements at the tolerance, pressures within the tolerance;
@@ -111,37 +111,3 @@ def test_non_adhesive_results_are_checked(rough):
         load_sweep(h, 1.0, 1.0, 1.0, forces, work_of_adhesion=W, non_adhesive=plain[:1])
     with pytest.raises(BemInputError, match="order of normal_forces"):
         load_sweep(h, 1.0, 1.0, 1.0, forces, work_of_adhesion=W, non_adhesive=plain[::-1])
-
-
-@pytest.mark.parametrize("allow_change", [True, False])
-def test_split_pressure_and_gap_steps_are_bit_identical_to_the_fused_update(allow_change):
-    """The iteration now steps the pressure first and the gap after (so that the inverse FFT of
-    K t can be skipped when u = K p is recomputed): same arithmetic as the fused kernel."""
-    from asperity.bem import kernels as kr
-
-    rng = np.random.default_rng(3)
-    n = 1001  # not a multiple of the four lanes
-    p = np.abs(rng.standard_normal(n))
-    c = (rng.random(n) < 0.5).astype(np.int8)
-    p[c == 0] = 0.0
-    t = rng.standard_normal(n) * c
-    w, r = rng.standard_normal(n), rng.standard_normal(n)
-    args = (0.3, 0.1, 0.05, 0.02, allow_change, 1.5)  # tau, offset, lower, shift, allow, gain
-    tau, offset, lower, shift, allow, gain = args
-    p1, c1, w1 = p.copy(), c.copy(), w.copy()
-    fused = kr.update_pressure(p1, t, w1, r, c1, tau, offset, lower, shift, allow, gain)
-    p2, c2, w2 = p.copy(), c.copy(), w.copy()
-    step = kr.step_pressure(p2, t, w2, c2, tau, offset, lower, allow, gain)
-    gap = kr.gap_step(w2, r, c2, tau, shift)
-    np.testing.assert_array_equal(p1, p2)
-    np.testing.assert_array_equal(c1, c2)
-    np.testing.assert_array_equal(w1, w2)
-    assert (fused.n_left, fused.n_entered, fused.n_contact) == (
-        step.n_left,
-        step.n_entered,
-        step.n_contact,
-    )
-    assert (fused.pressure_sum, fused.pressure_sq) == (step.pressure_sum, step.pressure_sq)
-    assert fused.gap_stats() == gap
-    if allow_change:
-        assert step.n_left > 0 and step.n_entered > 0  # both rules exercised

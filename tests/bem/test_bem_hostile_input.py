@@ -216,7 +216,7 @@ def test_cli_line_profile_and_bad_lists(capsys, tmp_path, rough):
     ):
         status, out, err = _cli(capsys, base + extra)
         assert status == 2, (extra, err)
-        assert name in err and out == ""
+        assert name in err and out == "" and len(err.splitlines()) == 1
 
 
 def test_cli_sweep_with_a_non_converged_step_exits_1(capsys, tmp_path, rough):

@@ -148,32 +148,77 @@ def test_fused_kernels_match_numpy(arr, offset):
     assert sgt == pytest.approx((g[m] * t_ref[m]).sum(), abs=1e-9)
     assert pen == pytest.approx((np.minimum(g[~m], 0) ** 2).sum(), abs=1e-9)
     assert npen == int((g[~m] < 0).sum())
-    # pressure update with lower bound 0.1
+    # pressure step then gap step, with lower bound 0.1, against the numpy reference
     p2, w2, c2 = p.copy(), w.copy(), c.copy()
     tau = 0.3
-    upd = kr.update_pressure(p2, t2, w2, r, c2, tau, offset, 0.1, offset, True, 2.0 * tau)
-    left, entered, psum, psq, n2, s1b, s2b = upd
-    assert (upd.n_left, upd.n_entered, upd.gap_stats()) == (left, entered, (n2, s1b, s2b))
-    p_try = p - tau * t2
-    leave = m & (p_try < -0.1)
-    enter = ~m & (g < 0)
-    assert left == leave.sum() and entered == enter.sum()
-    p_ref = np.where(m & ~leave, p_try, 0.0) + np.where(enter, -2.0 * tau * g, 0.0)
-    np.testing.assert_allclose(p2, p_ref, rtol=1e-14, atol=1e-14)
-    np.testing.assert_allclose(w2, w - tau * r, rtol=1e-14, atol=1e-14)
-    assert psum == pytest.approx(p_ref.sum(), abs=1e-9)
-    assert psq == pytest.approx((p_ref**2).sum(), abs=1e-9)
-    assert kr.dot(p_ref, r) == pytest.approx(float(p_ref @ r), abs=1e-9)
-    m2 = (m & ~leave) | enter
-    np.testing.assert_array_equal(c2.astype(bool), m2)
-    g2 = w2 - offset
-    assert n2 == m2.sum() and s1b == pytest.approx(g2[m2].sum(), abs=1e-9)
-    assert s2b == pytest.approx((g2[m2] ** 2).sum(), abs=1e-9)
+    step = kr.step_pressure(p2, t2, w2, c2, tau, offset, 0.1, True, 2.0 * tau)
+    gap = kr.gap_step(w2, r, c2, tau, offset)
+    ref = reference_pressure_and_gap_step(p, t2, w, r, m, (tau, offset, 0.1, offset, True, 2 * tau))
+    np.testing.assert_allclose(p2, ref["p"], rtol=1e-14, atol=1e-14)
+    np.testing.assert_allclose(w2, ref["w"], rtol=1e-14, atol=1e-14)
+    np.testing.assert_array_equal(c2.astype(bool), ref["c"])
+    assert (step.n_left, step.n_entered, step.n_contact) == (ref["left"], ref["entered"], gap[0])
+    assert step.pressure_sum == pytest.approx(ref["p"].sum(), abs=1e-9)
+    assert step.pressure_sq == pytest.approx((ref["p"] ** 2).sum(), abs=1e-9)
+    assert kr.dot(ref["p"], r) == pytest.approx(float(ref["p"] @ r), abs=1e-9)
+    g2 = ref["w"] - offset
+    assert gap.n_contact == ref["c"].sum()
+    assert gap.gap_sum == pytest.approx(g2[ref["c"]].sum(), abs=1e-9)
+    assert gap.gap_sq == pytest.approx((g2[ref["c"]] ** 2).sum(), abs=1e-9)
     # rescaling p rescales the deflection w + h
     p3, w3 = p2.copy(), w2.copy()
     kr.scale_with_stats(p3, w3, h, c2, 1.5, 0.0)
     np.testing.assert_allclose(p3, 1.5 * p2, rtol=1e-15)
     np.testing.assert_allclose(w3 + h, 1.5 * (w2 + h), rtol=1e-12, atol=1e-12)
+
+
+def reference_pressure_and_gap_step(p, t, w, r, in_contact, step):
+    """One Polonsky-Keer step with the Pohrt-Popov contact-set rule, in plain numpy.
+
+    ``step`` = (tau, offset, lower, shift, allow_change, gain): p -= tau t, elements in contact
+    leave where p < -lower (p -> 0), elements outside with gap g = w - offset < 0 enter with
+    p = -gain g; then w -= tau r. The reference the split numba kernels must match.
+    """
+    tau, offset, lower, _shift, allow_change, gain = step
+    g = w - offset
+    p_try = p - tau * t
+    leave = allow_change & in_contact & (p_try < -lower)
+    enter = allow_change & ~in_contact & (g < 0)
+    p_new = np.where(in_contact & ~leave, p_try, 0.0) + np.where(enter, -gain * g, 0.0)
+    return {
+        "p": p_new,
+        "w": w - tau * r,
+        "c": (in_contact & ~leave) | enter,
+        "left": int(leave.sum()),
+        "entered": int(enter.sum()),
+    }
+
+
+@pytest.mark.parametrize("allow_change", [True, False])
+def test_split_pressure_and_gap_steps_match_the_numpy_reference(allow_change):
+    """Both contact-set rules exercised on 1001 elements (not a multiple of the four lanes)."""
+    rng = np.random.default_rng(3)
+    n = 1001
+    c = (rng.random(n) < 0.5).astype(np.int8)
+    p = np.abs(rng.standard_normal(n)) * c
+    t = rng.standard_normal(n) * c
+    w, r = rng.standard_normal(n), rng.standard_normal(n)
+    tau, offset, lower, shift, gain = 0.3, 0.1, 0.05, 0.02, 1.5
+    ref = reference_pressure_and_gap_step(
+        p, t, w, r, c.astype(bool), (tau, offset, lower, shift, allow_change, gain)
+    )
+    step = kr.step_pressure(p, t, w, c, tau, offset, lower, allow_change, gain)
+    gap = kr.gap_step(w, r, c, tau, shift)
+    np.testing.assert_array_equal(p, ref["p"])  # same operations in the same order: bit-equal
+    np.testing.assert_array_equal(w, ref["w"])
+    np.testing.assert_array_equal(c.astype(bool), ref["c"])
+    assert (step.n_left, step.n_entered) == (ref["left"], ref["entered"])
+    assert step.n_contact == gap.n_contact == ref["c"].sum()
+    d = (ref["w"] - shift)[ref["c"]]
+    assert gap.gap_sum == pytest.approx(d.sum(), rel=1e-12, abs=1e-12)
+    assert gap.gap_sq == pytest.approx((d**2).sum(), rel=1e-12)
+    if allow_change:
+        assert step.n_left > 0 and step.n_entered > 0
 
 
 def test_convolution_energy_is_parseval():

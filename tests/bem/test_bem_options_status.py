@@ -15,10 +15,10 @@ from asperity.errors import InputError
 @pytest.mark.parametrize(
     "knob, value, words",
     [
-        ("tol", 1e300, "within [1e-14, 0.01]"),
+        ("tol", 1e300, "a number in [1e-14, 0.01] ("),
         ("tol", 1e-20, "round-off"),
         ("tol", float("nan"), "tol"),
-        ("max_iter", 10**9, "within [1, 1000000]"),
+        ("max_iter", 10**9, "an integer in [1, 1000000] ("),
         ("max_iter", 0, "max_iter"),
         ("stall_window", 2.5, "integer"),
         ("refresh", -1, "refresh"),

@@ -1,4 +1,4 @@
-"""Warm-started load sweeps (issue 5): fewer iterations than cold solves, same answers."""
+"""Warm-started load sweeps: fewer iterations than cold solves, same answers."""
 
 from __future__ import annotations
 

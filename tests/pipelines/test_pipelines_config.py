@@ -59,7 +59,7 @@ def _base() -> dict:
 @pytest.mark.parametrize(
     ("edit", "key", "expected"),
     [
-        (lambda d: d["material"].update(E_star=-1.0), "material.E_star", "a number in (0, "),
+        (lambda d: d["material"].update(E_star=-1.0), "material.E_star", "a number in [100, "),
         (lambda d: d["material"].update(E_star=1e308), "material.E_star", "diamond"),
         (lambda d: d["material"].update(youngs_modulus=1.0), "material.youngs_modulus", "one of"),
         (lambda d: d["material"].update(mode_mixity=1.5), "material.mode_mixity", "[0, 1]"),
@@ -79,7 +79,7 @@ def _base() -> dict:
             '"auto" or a number',
         ),
         (lambda d: d["bem"].update(tol=0.0), "bem.tol", "double precision"),
-        (lambda d: d["bem"].update(tol=1e300), "bem.tol", "not converged"),
+        (lambda d: d["bem"].update(tol=1e300), "bem.tol", "wrong by more than a per cent"),
         (lambda d: d["bem"].update(enabled="no"), "bem.enabled", "true or false"),
         (lambda d: d["statmodel"].update(area_tolerance=1.0), "statmodel.area_tolerance", "0.5"),
         (lambda d: d["surface"].update(detrend="cubic"), "surface.detrend", "'plane'"),
@@ -153,7 +153,7 @@ def test_the_job_and_the_friction_file_share_the_material_table():
             parse()
         messages.append(str(info.value))
     assert messages[0] == messages[1]
-    assert messages[0].startswith("f.toml: material.e_star: expected a number in (0, 1e+13] Pa")
+    assert messages[0].startswith("f.toml: material.e_star: expected a number in [100, 1e+13] Pa")
 
 
 def test_bem_disabled_needs_a_measured_normal_area(tmp_path):

@@ -1,4 +1,4 @@
-"""The lambda fit on data shaped like real measurements (issue 9): a level offset at F_x = 0,
+"""The lambda fit on data shaped like real measurements: a level offset at F_x = 0,
 stick-slip tails after the static peak, repeated points, areas in the wrong unit."""
 
 from __future__ import annotations
@@ -124,8 +124,9 @@ def test_fit_points_stored_and_residual_plot_per_load(tmp_path, model):
     the report draws one residual panel per load."""
     from types import SimpleNamespace
 
+    from asperity.pipelines.figure_output import FigureOptions, publish
     from asperity.pipelines.friction_stage import ModeMixityChoice
-    from asperity.pipelines.report import plot_lambda_residuals
+    from asperity.pipelines.report import draw_lambda_residuals
 
     curves = _measured(model, repeat=3)
     fit = fit_mode_mixity(curves, model, bounds=(1e-3, 1.0), grid_points=7)
@@ -134,7 +135,9 @@ def test_fit_points_stored_and_residual_plot_per_load(tmp_path, model):
     assert sorted(np.unique(choice.fitted_normal_load)) == list(LOADS)
     residual = choice.fitted_real_area - choice.fitted_model_area
     assert np.sqrt(np.mean((residual / choice.fitted_real_area.max()) ** 2)) < 0.02
-    path = plot_lambda_residuals(SimpleNamespace(mode_mixity=choice), tmp_path / "res.png")
+    fig, table = draw_lambda_residuals(SimpleNamespace(mode_mixity=choice))
+    assert len([ax for ax in fig.axes if ax.has_data()]) == len(LOADS)
+    path = publish(fig, table, tmp_path / "res.png", FigureOptions())
     assert path.stat().st_size > 10_000
 
 
@@ -143,11 +146,13 @@ def test_lambda_plot_with_an_unbounded_uncertainty(tmp_path, model):
     lambda plot still draws (no band), it does not crash the report."""
     from types import SimpleNamespace
 
+    from asperity.pipelines.figure_output import FigureOptions, publish
     from asperity.pipelines.friction_stage import ModeMixityChoice
-    from asperity.pipelines.report import plot_lambda_fit
+    from asperity.pipelines.report import draw_lambda_fit
 
     curves = _measured(model, tail=False)
     fit = fit_mode_mixity(curves, model, bounds=(1e-4, 1.0), grid_points=5, mode="absolute")
     assert fit.at_bound and not np.isfinite(fit.mode_mixity_std)
     choice = ModeMixityChoice.from_fit(fit, curves)
-    assert plot_lambda_fit(SimpleNamespace(mode_mixity=choice), tmp_path / "l.png").exists()
+    fig, table = draw_lambda_fit(SimpleNamespace(mode_mixity=choice))
+    assert publish(fig, table, tmp_path / "l.png", FigureOptions()).exists()

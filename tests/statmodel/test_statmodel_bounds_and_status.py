@@ -77,7 +77,7 @@ def test_the_knob_range_ends_give_the_same_friction():
     ],
 )
 def test_unphysical_parameters_are_refused_naming_the_field_and_range(build, field):
-    with pytest.raises(InputError, match=rf"{field}: expected a value in \[.*\] .* \(.+\), got"):
+    with pytest.raises(InputError, match=rf"{field}: expected a number in \[.*\] .* \(.+\), got"):
         build()
 
 

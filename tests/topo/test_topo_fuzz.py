@@ -1,4 +1,4 @@
-"""A seeded fuzz corpus of hostile variants of every sample file (issue 12, section 2).
+"""A seeded fuzz corpus of hostile variants of every sample file.
 
 Every case is a sample file (the real instrument files of tests/data and small files written
 here for the formats without one: project HDF5, NPY, NPZ, Gwyddion, X3P with a valid-points
@@ -430,3 +430,117 @@ def test_corpus_is_deterministic(samples):
     assert first == again and len(first) > 100
     case = first and _cases_for("sur-3.sur", samples["sur-3.sur"])[30]
     assert mutate(case, samples["sur-3.sur"]) == mutate(case, samples["sur-3.sur"])
+
+
+# --- headers that lie: mutations that once read without a word, each refused or warned ----
+
+
+def _replace_once(data: bytes, old: bytes, new: bytes, after: bytes = b"") -> bytes:
+    start = data.index(after) if after else 0
+    at = data.index(old, start)
+    return data[:at] + new + data[at + len(old) :]
+
+
+def _pack(data: bytes, offset: int, fmt: str, value) -> bytes:
+    out = bytearray(data)
+    struct.pack_into(fmt, out, offset, value)
+    return bytes(out)
+
+
+def _scaled_float(data: bytes, offset: int, fmt: str, factor: float) -> bytes:
+    return _pack(data, offset, fmt, struct.unpack_from(fmt, data, offset)[0] * factor)
+
+
+def _sur_grid(data: bytes) -> bytes:
+    return _pack(_pack(data, 108, "<i", 256), 112, "<i", 1024)  # 512 x 512 as 256 x 1024
+
+
+def _plu_infinite(data: bytes) -> bytes:
+    return _pack(data, 508 + 4 * 1000, "<f", float("inf"))  # one height of layer 0
+
+
+# (sample, mutation, refused: error message pattern | warned: preparation warning pattern)
+LYING_HEADERS = [
+    ("mi-1.mi", lambda d: _replace_once(d, b"BINARY_32", b"BINARY   "),
+     "refused", r"data: .*exactly twice: the values look like int32"),
+    ("di-3.di", lambda d: _replace_once(d, b"Data offset: 434176", b"Data offset: 303104"),
+     "refused", r"image 3 'Data offset': is 303104, inside the data of image 2"),
+    ("di-3.di", lambda d: _replace_once(d, b"Samps/line: 256", b"Samps/line: 128",
+                                        after=b"Ciao image list"),
+     "refused", r"image 0 'Data length': is 131072; expected 'Samps/line'"),
+    ("di-3.di", lambda d: _replace_once(d, b"Valid data len X: 256", b"Valid data len X: 128"),
+     "refused", r"image 0 'Valid data len x': is 128"),
+    ("sur-3.sur", _sur_grid, "warned", r"along y \(between lines\) differ as much as unrelated"),
+    ("metropro-1.dat", lambda d: _scaled_float(d, 184, ">f", 0.25),
+     "warned", r"lateral_res is 2.746e-07 m .* 0.371 times"),
+    ("metropro-1.dat", lambda d: _scaled_float(d, 168, ">f", 1.44),
+     "refused", r"wavelength_in: is 8.208e-07 m but wavelength_in_1 is 5.7e-07 m"),
+    ("metropro-1.dat", lambda d: _pack(d, 168, ">f", 5.7e-5),
+     "refused", r"wavelength_in: is 5.7e-05; expected 1.5e-07 .. 2e-06"),
+    ("metropro-1.dat", lambda d: _pack(d, 176, ">f", 3.0),
+     "refused", r"obliquity_factor: is 3; expected 0.9 .. 2"),
+    ("metropro-1.dat", lambda d: _pack(d, 164, ">f", 4.0),
+     "refused", r"intf_scale_factor: is 4; expected 0.001 .. 1"),
+    ("plu-1.plu", _plu_infinite, "refused", r"heights: hold 1 infinite values"),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize(("name", "mutate", "outcome", "pattern"), LYING_HEADERS)
+def test_a_header_that_lies_is_refused_or_warned_naming_the_field(
+    tmp_path, name, mutate, outcome, pattern
+):
+    path = tmp_path / name
+    path.write_bytes(mutate((DATA / name).read_bytes()))
+    if outcome == "refused":
+        with pytest.raises(TopographyFileError, match=pattern):
+            topo.read_surface(path)
+        return
+    warnings = topo.prepare_surface(topo.read_surface(path)).record.warnings
+    assert any(re.search(pattern, w) for w in warnings), warnings
+    # the unmutated sample carries no such warning
+    clean = topo.prepare_surface(topo.read_surface(DATA / name)).record.warnings
+    assert not any(re.search(pattern, w) for w in clean)
+
+
+def test_heights_below_floating_point_resolution_are_refused(tmp_path):
+    from asperity.errors import InputError
+
+    heights = np.random.default_rng(3).normal(size=(32, 32)) * 1e-300
+    np.save(tmp_path / "tiny.npy", heights)
+    surface = topo.read_surface(tmp_path / "tiny.npy", pixel_size=1e-6)
+    with pytest.raises(InputError, match=r"tiny\.npy: heights: vary by only .* 1e-15 m"):
+        topo.prepare_surface(surface)
+    # the same map in its right unit is prepared
+    np.save(tmp_path / "fine.npy", heights * 1e294)
+    topo.prepare_surface(topo.read_surface(tmp_path / "fine.npy", pixel_size=1e-6))
+
+
+def test_an_outlier_rule_that_masks_half_the_map_is_refused(tmp_path):
+    from asperity.errors import InputError
+    from asperity.topo.cleaning import OutlierRule
+    from asperity.topo.preparation import PreparationOptions
+
+    rng = np.random.default_rng(4)
+    heights = np.where(np.arange(64)[:, None] < 32, 0.0, 1e-6) + rng.normal(size=(64, 64)) * 1e-9
+    np.save(tmp_path / "steps.npy", heights)
+    surface = topo.read_surface(tmp_path / "steps.npy", pixel_size=1e-6)
+    options = PreparationOptions(form_order=None, outliers=OutlierRule("percentile", 25.0))
+    with pytest.raises(InputError, match=r"steps\.npy: outliers: the rule .* more than 25 %"):
+        topo.prepare_surface(surface, options)
+
+
+def test_infinity_is_refused_by_every_reader_that_stores_floats(tmp_path):
+    """+inf is never a missing-point marker: plu (above) and opd refuse it as npy does."""
+    from asperity.topo.io.opd import _data_block, _directory
+
+    data = bytearray((DATA / "opd-1.opd").read_bytes())
+    _name, offset, _nx, _ny, itemsize = _data_block(
+        Path("opd-1.opd"), data, _directory(Path("opd-1.opd"), bytes(data))
+    )
+    assert itemsize == 4
+    struct.pack_into("<f", data, offset + 6 + 4 * 100, float("inf"))
+    (tmp_path / "inf.opd").write_bytes(bytes(data))
+    np.save(tmp_path / "inf.npy", np.array([[0.0, np.inf], [1e-6, 2e-6]]))
+    for path, kwargs in ((tmp_path / "inf.opd", {}), (tmp_path / "inf.npy", {"pixel_size": 1e-6})):
+        with pytest.raises(TopographyFileError, match="heights: hold 1 infinite values"):
+            topo.read_surface(path, **kwargs)

@@ -1,5 +1,5 @@
 """Hostile and degenerate inputs: each gets a clear error naming the file/field, never a
-traceback, a huge allocation or a silently wrong number (review of issue 4)."""
+traceback, a huge allocation or a silently wrong number (found by a review of the readers)."""
 
 from __future__ import annotations
 
@@ -177,7 +177,7 @@ def test_cli_hostile_inputs_exit_2_with_a_clear_message(capsys, tmp_path):
         (("stats", noisy, "--pixel-size", "-1e-6"), "--pixel-size: expected finite lengths"),
         (("stats", noisy, "--pixel-size", "0"), "--pixel-size: expected finite lengths"),
         (("stats", noisy, "--pixel-size", "1e-6,2e-6,3e-6"), "expected DX or DX,DY"),
-        (("synth", "--out", tmp_path / "s.h5", "--n", 8, "--pixel-size", "-2e-6"), "pixel_size"),
+        (("synth", "--out", tmp_path / "s.h5", "--n", 8, "--pixel-size", "-2e-6"), "--pixel-size"),
     ]
     for args, message in cases:
         status, out, err = run_cli(capsys, *args)
@@ -257,7 +257,7 @@ def test_project_hdf5_with_bad_attributes_or_a_hollow_dataset_is_refused(tmp_pat
     assert "bad.h5" in str(info.value)
 
 
-# --- issue 12: readers that refuse ---------------------------------------------------------
+# --- readers that refuse hostile files ---------------------------------------------------------
 
 
 def patched(tmp_path: Path, name: str, offset: int, fmt: str, value, suffix: str = "") -> Path:
@@ -308,7 +308,7 @@ def test_nanoscope_and_picoview_zero_height_scales_are_refused(tmp_path):
         tmp_path, "di-3.di", b"(0.005035400 V/LSB) 329.9950 V", b"(0.005035400 V/LSB) 0.000000 V"
     )
     with pytest.raises(PhysicalBoundsError, match=r"image 3 '@2:Z scale'.*a zero factor"):
-        topo.read_surface(zero_z)
+        topo.read_surface(zero_z, channel="Height")
     (tmp_path / "di-3.di").unlink()
     data = (DATA / "mi-1.mi").read_bytes()
     start = data.index(b"bufferRange")
@@ -334,17 +334,25 @@ def test_nanoscope_data_offset_into_the_header_is_refused(tmp_path):
 def test_nanoscope_never_falls_back_to_another_channel(tmp_path):
     from asperity.topo.errors import ChannelNotFoundError
 
-    path = edited_text(tmp_path, "di-3.di", b'[Height] "Height"', b'[Heighx] "Heighx"')
+    data = (DATA / "di-3.di").read_bytes()
+    renamed = data.replace(b'[Height] "Height"', b'[Heighx] "Heighx"', 1)
+    renamed = renamed.replace(b'[ZSensor] "Height Sensor"', b'[ZSensox] "Height Sensox"', 1)
+    path = tmp_path / "di-3.di"
+    path.write_bytes(renamed)
     with pytest.raises(
-        ChannelNotFoundError, match=r"no channel is named 'Height'.*3: Heighx"
+        ChannelNotFoundError,
+        match=r"no channel is named 'Height Sensor' \(ZSensor\) or 'Height'.*3: Heighx",
     ) as info:
         topo.read_surface(path)
-    assert "0: Height Sensor [ZSensor]" in str(info.value)
+    assert "0: Height Sensox [ZSensox]" in str(info.value)
     assert topo.read_surface(path, channel="Heighx").heights.shape == (256, 256)
-    # a Height channel whose scale is not a length is refused, not replaced by another one
+    # without the sensor channel, the default is the channel named Height
+    path.write_bytes(data.replace(b'[ZSensor] "Height Sensor"', b'[ZSensox] "Height Sensox"', 1))
+    assert topo.read_surface(path).provenance["channel"] == "Height"
+    # a sensor channel whose scale is not a length is refused, not replaced by another one
     path.unlink()
     broken = edited_text(
-        tmp_path, "di-3.di", b"@2:Z scale: V [Sens. Zsens]", b"@2:Z scale: V [Sens. Zsenx]"
+        tmp_path, "di-3.di", b"@2:Z scale: V [Sens. ZsensSens]", b"@2:Z scale: V [Sens. ZsensSenx]"
     )
     with pytest.raises(TopographyFileError, match="not a length"):
         topo.read_surface(broken)
@@ -544,3 +552,148 @@ def test_hdf5_pixel_sizes_beyond_the_physical_bounds_are_refused(tmp_path):
 def test_directory_is_named_as_a_directory(tmp_path):
     with pytest.raises(TopographyFileError, match="is a directory"):
         topo.read_surface(tmp_path)
+
+
+# --- special files: a FIFO, a device, a directory or a link to them is named, never read ---
+
+
+@pytest.fixture
+def alarm():
+    """Fail (rather than hang) a test whose read blocks for more than 20 s."""
+    import signal
+
+    def interrupt(signum, frame):
+        raise TimeoutError("a read blocked: a special file was opened")
+
+    previous = signal.signal(signal.SIGALRM, interrupt)
+    signal.alarm(20)
+    yield
+    signal.alarm(0)
+    signal.signal(signal.SIGALRM, previous)
+
+
+def _fifo(tmp_path, name):
+    import os
+
+    path = tmp_path / name
+    os.mkfifo(path)
+    return path
+
+
+def test_fifo_device_and_links_to_them_are_refused_as_topography_files(tmp_path, alarm):
+    fifo = _fifo(tmp_path, "map.npy")
+    link = tmp_path / "link.npy"
+    link.symlink_to(fifo)
+    device_link = tmp_path / "zero.npy"
+    device_link.symlink_to("/dev/zero")
+    cases = {
+        fifo: "is a FIFO",
+        link: "is a symlink to a FIFO",
+        device_link: "is a symlink to a character device",
+        Path("/dev/zero"): "is a character device",
+    }
+    for path, kind in cases.items():
+        with pytest.raises(TopographyFileError, match=f"{kind}.*expected a regular file"):
+            topo.read_surface(path, pixel_size=1e-6)
+    from asperity.topo.io.nanoscope import list_channels
+
+    with pytest.raises(TopographyFileError, match="is a FIFO"):
+        list_channels(fifo)
+
+
+def test_special_job_file_surface_file_and_outputs_exit_2_in_one_line(tmp_path, capsys, alarm):
+    fifo = _fifo(tmp_path, "job.toml")
+    for job, kind in ((fifo, "is a FIFO"), ("/dev/zero", "is a character device")):
+        status, out, err = run_cli(capsys, "run", job, "--out", tmp_path / "o")
+        assert status == 2 and kind in err and "expected a regular file" in err
+        assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    job = tmp_path / "dir.toml"
+    job.write_text(f'[surface]\nfile = "{tmp_path}"\n')
+    status, _, err = run_cli(capsys, "run", job, "--out", tmp_path / "o")
+    assert status == 2 and "surface.file" in err and "is a directory" in err
+    link = tmp_path / "map.h5"
+    link.symlink_to(_fifo(tmp_path, "pipe"))
+    job.write_text('[surface]\nfile = "map.h5"\n')
+    status, _, err = run_cli(capsys, "run", job, "--out", tmp_path / "o")
+    assert status == 2 and "surface.file" in err and "symlink to a FIFO" in err
+    status, _, err = run_cli(capsys, "friction", fifo)
+    assert status == 2 and "is a FIFO" in err
+    for out_path, kind in ((tmp_path / "pipe", "is a FIFO"), (tmp_path, "is a directory")):
+        status, _, err = run_cli(capsys, "synth", "--n", 16, "--out", out_path)
+        assert status == 2 and "--out" in err and kind in err
+    assert not (tmp_path / "o").exists()
+
+
+def test_special_measured_csv_is_refused_at_the_open(tmp_path, alarm):
+    from asperity.errors import InputError
+    from asperity.pipelines.measured import read_normal_area
+
+    fifo = _fifo(tmp_path, "area.csv")
+    with pytest.raises(InputError, match="measured file: .*area.csv is a FIFO"):
+        read_normal_area(fifo)
+
+
+# --- size bombs: refused from the declared sizes, before reading, naming the budget -------
+
+
+def test_gzip_hdf5_map_over_the_pipeline_budget_is_refused_before_reading(tmp_path):
+    """A 16000^2 gzip map storing enough bytes to pass the deflate-ratio check (it would
+    inflate to 2 GB of heights and need about 48 GiB in the pipeline) is refused at once."""
+    import time
+
+    import h5py
+
+    from asperity.topo.errors import OverBudgetError
+
+    path = tmp_path / "bomb.h5"
+    with h5py.File(path, "w") as handle:
+        data = handle.create_dataset(
+            "heights", shape=(16000, 16000), dtype="f8", chunks=(512, 512), compression="gzip"
+        )
+        data[:512, :512] = np.random.default_rng(0).normal(size=(512, 512)) * 1e-6
+        for key, value in {"format": "asperity-heightmap", "version": 1, "units": "m"}.items():
+            handle.attrs[key] = value
+        handle.attrs.update({"periodic": False, "dx": 1e-6, "dy": 1e-6})
+    began = time.perf_counter()
+    with pytest.raises(OverBudgetError, match=r"16000 x 16000 = 256000000 points") as info:
+        topo.read_surface(path)
+    assert time.perf_counter() - began < 1.0
+    message = str(info.value)
+    assert "memory budget of 16 GiB" in message and "ASPERITY_MEMORY_BUDGET" in message
+
+
+def test_npz_bomb_is_refused_from_its_npy_header_before_inflating(tmp_path, monkeypatch):
+    import time
+
+    from asperity.topo.errors import OverBudgetError
+
+    path = tmp_path / "bomb.npz"
+    with zipfile.ZipFile(path, "w", compression=zipfile.ZIP_DEFLATED) as archive:
+        # the header declares 20000^2 float64 (3.2 GB); the member holds 1 MB of zeros
+        archive.writestr("heights.npy", npy_header((20000, 20000)) + bytes(2**20))
+    began = time.perf_counter()
+    with pytest.raises(OverBudgetError, match=r"array 'heights' shape: declare 20000 x 20000"):
+        topo.read_surface(path, pixel_size=1e-6)
+    assert time.perf_counter() - began < 1.0
+    # the knob: a larger budget lets the header through, and the member is then refused
+    # for holding less than it declares
+    monkeypatch.setenv("ASPERITY_MEMORY_BUDGET", "128GiB")
+    with pytest.raises(TopographyFileError, match="array 'heights'") as info:
+        topo.read_surface(path, pixel_size=1e-6)
+    assert not isinstance(info.value, OverBudgetError)
+
+
+def test_memory_budget_knob_scales_the_largest_map_and_refuses_nonsense(monkeypatch):
+    from asperity.errors import InputError
+    from asperity.topo.io import limits
+
+    default = limits.max_map_points()
+    assert default == limits.MAX_MAP_POINTS
+    # the paper's 5001^2 map fits the default budget; 16000^2 does not
+    assert 5001**2 < default < 16000**2
+    monkeypatch.setenv("ASPERITY_MEMORY_BUDGET", "64GiB")
+    assert limits.max_map_points() > 4 * default
+    for text in ("lots", "-1GiB", "1MiB"):
+        monkeypatch.setenv("ASPERITY_MEMORY_BUDGET", text)
+        with pytest.raises(InputError, match="ASPERITY_MEMORY_BUDGET"):
+            limits.max_map_points()

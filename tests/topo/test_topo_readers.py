@@ -31,8 +31,8 @@ REFERENCE = [
      2.834390987634884e-06, 0),
     ("opd-1.opd", None, (640, 480), (0.0001259091403335333, 9.443185525014996e-05),
      8.356451162720974e-09, 116),
-    ("di-3.di", None, (256, 256), (1e-05, 1e-05), 2.640028527620316e-07, 0),
-    ("di-3.di", "ZSensor", (256, 256), (1e-05, 1e-05), 2.264253966845741e-07, 0),
+    ("di-3.di", "Height", (256, 256), (1e-05, 1e-05), 2.640028527620316e-07, 0),
+    ("di-3.di", None, (256, 256), (1e-05, 1e-05), 2.264253966845741e-07, 0),
     ("mi-1.mi", None, (256, 256), (2e-05, 2e-05), 3.3215426493512656e-08, 0),
 ]  # fmt: skip
 
@@ -76,8 +76,9 @@ def test_dektak_csv_is_a_line_profile_refused_by_2d_analyses():
 
 def test_nanoscope_channels_by_name_and_non_height_channel_refused():
     default = topo.read_surface(DATA / "di-3.di")
-    assert default.provenance["channel"] == "Height"
-    by_index = topo.read_surface(DATA / "di-3.di", channel=3)
+    assert default.provenance["channel"] == "Height Sensor"
+    assert default.provenance["channel_key"] == "ZSensor"
+    by_index = topo.read_surface(DATA / "di-3.di", channel=0)
     np.testing.assert_array_equal(default.heights, by_index.heights)
     with pytest.raises(TopographyFileError, match="not a length"):
         topo.read_surface(DATA / "di-3.di", channel="Phase")

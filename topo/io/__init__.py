@@ -32,6 +32,7 @@ from asperity.topo.errors import (
     UnsupportedContentError,
 )
 from asperity.topo.heightmap import HeightMap, LineProfile
+from asperity.topo.io._common import require_topography_file
 from asperity.topo.io.datx import is_datx, read_datx
 from asperity.topo.io.dektak import looks_like_dektak, read_dektak
 from asperity.topo.io.gwy import read_gwy
@@ -44,6 +45,7 @@ from asperity.topo.io.opd import read_opd
 from asperity.topo.io.picoview import read_picoview
 from asperity.topo.io.plu import read_plu
 from asperity.topo.io.sur import read_sur
+from asperity.topo.io.surfacetopography import read_with_extra
 from asperity.topo.io.text import read_text
 from asperity.topo.io.x3p import read_x3p
 
@@ -211,10 +213,7 @@ def read_surface(
         If ``path`` does not exist.
     """
     path = Path(path)
-    if path.is_dir():
-        raise TopographyFileError(path, "file", "is a directory; expected a topography file")
-    if not path.is_file():
-        raise FileNotFoundError(f"{path}: no such file")
+    require_topography_file(path)
     if path.stat().st_size == 0:
         raise TopographyFileError(path, "file", "is empty (0 bytes)")
     with np.errstate(all="ignore"):
@@ -250,9 +249,37 @@ _CHANNEL_READERS = {"nanoscope": read_nanoscope, "picoview": read_picoview, "gwy
 def _read_checked(
     path: Path, channel: str | int | None, pixel_size: float | tuple[float, float] | None
 ) -> HeightMap | LineProfile:
-    """Detect the format, check the arguments against it, and run its reader."""
+    """Detect the format, check the arguments against it, and run its reader.
+
+    A file asperity does not read natively (content it does not recognise, or text with a
+    header it does not know, under an extension that announces no native format: .vk4,
+    .ibw, .nid, .al3d, .sdf, ...) goes to
+    SurfaceTopography's readers (the ``formats`` extra), or is refused with one line naming
+    the extra when it is not installed. A file under a native extension (.txt, .csv, .dat,
+    .h5, ...) stays with the native reader, which refuses what it cannot read (a damaged
+    file is never handed to readers that are not hardened against hostile input); read
+    such a file with :func:`asperity.topo.io.surfacetopography.read_with_extra` directly.
+    """
     detected = _checked_format(path)
+    if detected is None:
+        return read_with_extra(path, channel=channel, pixel_size=pixel_size)
+    if detected == "text" and path.suffix.lower() not in FORMATS_BY_EXTENSION:
+        try:  # text under a foreign extension (.sdf, .nid, .asc exports, ...)
+            return _read_text_table(path, pixel_size)
+        except UnsupportedContentError as exc:
+            if "unsupported format" not in exc.problem:
+                raise
+            return read_with_extra(path, channel=channel, pixel_size=pixel_size)
     _check_arguments(path, detected, channel, pixel_size)
+    return _read_native(path, detected, channel, pixel_size)
+
+
+def _read_native(
+    path: Path,
+    detected: str,
+    channel: str | int | None,
+    pixel_size: float | tuple[float, float] | None,
+) -> HeightMap | LineProfile:
     if detected in _READERS:
         return _READERS[detected](path)
     if detected in _CHANNEL_READERS:
@@ -262,8 +289,12 @@ def _read_checked(
     return _read_text_table(path, pixel_size)
 
 
-def _checked_format(path: Path) -> str:
-    """The format of the file's content, which its extension (if known) must announce."""
+def _checked_format(path: Path) -> str | None:
+    """The format of the file's content, which its extension (if known) must announce.
+
+    None: content asperity does not recognise under an extension that announces no native
+    format (a file for the ``formats`` extra).
+    """
     extension = path.suffix.lower()
     announced = FORMATS_BY_EXTENSION.get(extension)
     detected = detect_format(path)
@@ -271,6 +302,8 @@ def _checked_format(path: Path) -> str:
         detected = "plu"
     if extension == ".dat" and detected == "text":
         announced = "text"  # '.dat' is also a common name for plain text tables
+    if (detected is None or detected == "zip") and announced is None:
+        return None  # for the formats extra
     if detected is None or detected == "zip":
         raise TopographyFileError(
             path,

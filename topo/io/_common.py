@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from asperity.files import describe_kind, read_bytes_bounded
 from asperity.topo.errors import (
     CorruptFileError,
     NumberFormatError,
@@ -36,14 +37,48 @@ NUMBER = re.compile(r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?")
 NAN_WORDS = frozenset({"nan", "NaN", "NAN", "-nan", "+nan"})
 
 
+def require_topography_file(path: str | Path) -> Path:
+    """Return ``path`` if it is a regular file; refuse a FIFO, device, directory or socket.
+
+    Parameters
+    ----------
+    path : str or Path
+        The topography file the user named (a symbolic link is followed).
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    TopographyFileError
+        Not a regular file, saying what it is (``"is a FIFO (named pipe)"``).
+    FileNotFoundError
+        Nothing is there.
+    """
+    path = Path(path)
+    kind = describe_kind(path)
+    if kind is None:
+        raise FileNotFoundError(f"{path}: no such file")
+    if kind != "a regular file":
+        raise TopographyFileError(
+            path, "file", f"is {kind}; expected a regular file (a topography file)"
+        )
+    return path
+
+
 def read_all_bytes(path: str | Path) -> bytes:
-    """Return the whole file; refuse an empty file or one over :data:`MAX_FILE_BYTES`."""
-    size = Path(path).stat().st_size
+    """Return the whole file; refuse a special file, an empty one or one over the limit.
+
+    The size limit is :data:`MAX_FILE_BYTES`; the read is bounded by it (a device such as
+    ``/dev/zero`` cannot exhaust the memory) and never blocks (a FIFO is refused).
+    """
+    size = require_topography_file(path).stat().st_size
     if size > MAX_FILE_BYTES:
         raise OverBudgetError(
             path, "file", f"has {size} bytes; the readers read at most {MAX_FILE_BYTES} bytes"
         )
-    data = Path(path).read_bytes()
+    data = read_bytes_bounded(path, str(path), MAX_FILE_BYTES)
     if not data:
         raise TopographyFileError(path, "file", "is empty (0 bytes); expected a topography file")
     return data

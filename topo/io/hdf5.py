@@ -1,8 +1,9 @@
 """The project's own HDF5 height-map file (write and read).
 
-Layout: dataset ``/heights`` (float64, shape ``(nx, ny)``, m, NaN = missing); root
-attributes ``format = "asperity-heightmap"``, ``version = 1``, ``dx``, ``dy`` (m),
-``periodic`` (bool), ``units = "m"`` and ``provenance`` (JSON text).
+Layout: dataset ``/heights`` (float64, shape ``(nx, ny)``, m, NaN = missing; its ``units``
+attribute "m", written by :func:`asperity.h5.write_dataset`); root attributes ``format =
+"asperity-heightmap"``, ``version = 1``, ``dx``, ``dy`` (m), ``periodic`` (bool), ``units =
+"m"`` and ``provenance`` (JSON text).
 
 Reading never opens a file the user did not name and never loads code: datasets with
 external raw storage, virtual datasets, external (and user-defined) links and filters other
@@ -20,6 +21,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 
+from asperity import h5
 from asperity.topo.errors import CorruptFileError, TopographyFileError, UnsupportedContentError
 from asperity.topo.heightmap import HeightMap, require_height_map
 from asperity.topo.io._common import make_surface, require_positive
@@ -53,21 +55,21 @@ def write_hdf5(surface: HeightMap, path: str | Path) -> Path:
     """
     surface = require_height_map(surface, "write_hdf5")
     path = Path(path)
+    compression = {"compression": "gzip", "compression_opts": 1, "shuffle": True}
     with h5py.File(path, "w") as handle:
-        handle.create_dataset(
-            "heights",
-            data=np.asarray(surface.heights),
-            compression="gzip",
-            compression_opts=1,
-            shuffle=True,
+        h5.write_dataset(handle, "heights", surface.heights, "m", compression=compression)
+        h5.write_attributes(
+            handle,
+            {
+                "format": FORMAT_NAME,
+                "version": FORMAT_VERSION,
+                "dx": surface.dx,
+                "dy": surface.dy,
+                "periodic": surface.periodic,
+                "units": "m",
+                "provenance": json.dumps(surface.provenance, default=str),
+            },
         )
-        handle.attrs["format"] = FORMAT_NAME
-        handle.attrs["version"] = FORMAT_VERSION
-        handle.attrs["dx"] = surface.dx
-        handle.attrs["dy"] = surface.dy
-        handle.attrs["periodic"] = surface.periodic
-        handle.attrs["units"] = "m"
-        handle.attrs["provenance"] = json.dumps(surface.provenance, default=str)
     return path
 
 
@@ -341,6 +343,7 @@ def read_project_hdf5(path: str | Path, handle: h5py.File) -> HeightMap:
     heights = read_dataset(path, dataset, "/heights")
     provenance = {**provenance, "file": str(path), "stored_format": FORMAT_NAME}
     provenance.setdefault("format", FORMAT_NAME)
+    provenance.setdefault("channel", "/heights")
     sizes = (("attribute 'dx'", spacing["dx"]), ("attribute 'dy'", spacing["dy"]))
     surface = make_surface(path, heights, sizes, provenance)
     return HeightMap(surface.heights, surface.dx, surface.dy, periodic, surface.provenance)

@@ -4,29 +4,65 @@ Every reader checks a file's declared sizes and scale factors against these limi
 it allocates or decompresses anything, and refuses a file outside them with a
 :class:`~asperity.topo.errors.TopographyFileError` subclass naming the file and field:
 
-* memory: one map holds at most :data:`MAX_MAP_BYTES` (2 GiB) of float64 heights, i.e.
-  :data:`MAX_MAP_POINTS` points (:class:`~asperity.topo.errors.OverBudgetError`); a file is
-  read whole only up to :data:`MAX_FILE_BYTES`; a compressed member (zip, HDF5 chunk) may
-  not claim more than :data:`MAX_DEFLATE_RATIO` bytes per stored byte (deflate's limit).
+* memory: a map is refused (:class:`~asperity.topo.errors.OverBudgetError`) from its
+  declared grid, before anything is read or decompressed, when what the pipeline does with
+  it would not fit the memory budget: :data:`PIPELINE_BYTES_PER_PIXEL` (200) bytes a pixel
+  plus :data:`PIPELINE_BASE_BYTES` (0.5 GiB) must fit in the budget, 16 GiB unless the
+  environment variable ``ASPERITY_MEMORY_BUDGET`` says otherwise (bytes, or a number with
+  ``KiB``/``MiB``/``GiB``/``TiB`` or ``kB``/``MB``/``GB``/``TB``), i.e. at most
+  :func:`max_map_points` points (about 9100^2 by default). The bytes a pixel were measured:
+  the peak resident memory of ``asperity run`` (the default job: resolution scan, BEM,
+  calibration, PSD) on maps of 500^2 .. 3000^2 pixels, measured with ``/usr/bin/time -v``,
+  fits 171 bytes a pixel + 0.48 GiB (scatter 8 %), rounded up to 200. A file is read whole
+  only up to :data:`MAX_FILE_BYTES`; a compressed member (zip, HDF5 chunk) may not claim
+  more than :data:`MAX_DEFLATE_RATIO` bytes per stored byte (deflate's limit).
 * lateral pixel size: finite, in :data:`PIXEL_SIZE_BOUNDS_M` (1 pm .. 1 m)
   (:class:`~asperity.topo.errors.PhysicalBoundsError`).
 * height scale factor of integer data (m per raw count): finite, nonzero, with magnitude in
   :data:`HEIGHT_STEP_BOUNDS_M` (1e-24 m .. 1 m); negative only where the format defines an
   inversion (MetroPro's ``sign``), refused elsewhere.
-* heights: no infinite value; finite heights within :data:`MAX_ABS_HEIGHT_M` (1 m) of zero.
+* heights: no infinite value (in every format: infinity is never a missing-point marker);
+  finite heights within :data:`MAX_ABS_HEIGHT_M` (1 m) of zero. Heights that vary, but by
+  less than :data:`MIN_HEIGHT_SPREAD_M` (1 fm), are read as stored and refused by the
+  preparation (:func:`asperity.topo.preparation.check_height_spread`) before any statistic:
+  a wrong unit or scale, whose rms no instrument resolves and whose squares underflow.
 """
 
 from __future__ import annotations
 
 import math
+import os
+import re
 from pathlib import Path
 
+from asperity.errors import InputError
 from asperity.topo.errors import OverBudgetError, PhysicalBoundsError
 
-#: Largest map a reader builds: float64 heights, bytes (2 GiB).
-MAX_MAP_BYTES = 2 * 1024**3
-#: Largest number of points of one map (``MAX_MAP_BYTES / 8``).
-MAX_MAP_POINTS = MAX_MAP_BYTES // 8
+_BYTE_UNITS = {
+    "": 1,
+    "b": 1,
+    "kib": 1024,
+    "mib": 1024**2,
+    "gib": 1024**3,
+    "tib": 1024**4,
+    "kb": 1000,
+    "mb": 1000**2,
+    "gb": 1000**3,
+    "tb": 1000**4,
+}
+
+#: Peak memory of the pipeline per pixel of the map, bytes (measured: see the module notes).
+PIPELINE_BYTES_PER_PIXEL = 200
+#: Memory of the pipeline that does not grow with the map (interpreter, libraries), bytes.
+PIPELINE_BASE_BYTES = 512 * 1024**2
+#: Memory budget when ``ASPERITY_MEMORY_BUDGET`` is not set, bytes (16 GiB).
+DEFAULT_MEMORY_BUDGET_BYTES = 16 * 1024**3
+#: The environment variable that sets the memory budget.
+MEMORY_BUDGET_ENV = "ASPERITY_MEMORY_BUDGET"
+#: Largest number of points of one map under the default budget.
+MAX_MAP_POINTS = (DEFAULT_MEMORY_BUDGET_BYTES - PIPELINE_BASE_BYTES) // PIPELINE_BYTES_PER_PIXEL
+#: float64 bytes of the largest map under the default budget (``MAX_MAP_POINTS * 8``).
+MAX_MAP_BYTES = MAX_MAP_POINTS * 8
 #: Largest file read whole into memory, bytes (4 GiB).
 MAX_FILE_BYTES = 4 * 1024**3
 #: Deflate cannot expand more than about 1032 bytes per compressed byte.
@@ -37,10 +73,49 @@ PIXEL_SIZE_BOUNDS_M = (1e-12, 1.0)
 HEIGHT_STEP_BOUNDS_M = (1e-24, 1.0)
 #: Largest magnitude of a height, m.
 MAX_ABS_HEIGHT_M = 1.0
+#: Smallest nonzero spread (max - min) of a map's heights, m: a femtometre, far below any
+#: instrument's resolution (and well above 1e-154 m, where squares underflow to zero).
+MIN_HEIGHT_SPREAD_M = 1e-15
+
+
+def memory_budget_bytes() -> int:
+    """The memory budget of one map's pipeline, bytes: ``ASPERITY_MEMORY_BUDGET`` or 16 GiB.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    InputError
+        ``ASPERITY_MEMORY_BUDGET`` set to something other than a positive size (``64GiB``,
+        ``8e9``), or one too small for the pipeline's base memory.
+    """
+    text = os.environ.get(MEMORY_BUDGET_ENV, "").strip()
+    if not text:
+        return DEFAULT_MEMORY_BUDGET_BYTES
+    match = re.fullmatch(r"(\d+(?:\.\d*)?(?:[eE]\d+)?)\s*([A-Za-z]*)", text)
+    unit = match.group(2).lower() if match else ""
+    if match is None or unit not in _BYTE_UNITS:
+        raise InputError(
+            f"{MEMORY_BUDGET_ENV}: is {text!r}; expected a size such as 64GiB, 8GB or 8e9 (bytes)"
+        )
+    budget = int(float(match.group(1)) * _BYTE_UNITS[unit])
+    if budget <= PIPELINE_BASE_BYTES:
+        raise InputError(
+            f"{MEMORY_BUDGET_ENV}: is {text!r}; expected more than the pipeline's base "
+            f"memory of {PIPELINE_BASE_BYTES / 1024**3:g} GiB"
+        )
+    return budget
+
+
+def max_map_points() -> int:
+    """Largest number of points of one map under the memory budget (:func:`memory_budget_bytes`)."""
+    return (memory_budget_bytes() - PIPELINE_BASE_BYTES) // PIPELINE_BYTES_PER_PIXEL
 
 
 def check_map_points(path: str | Path, field: str, *dims: int) -> int:
-    """Refuse a map whose declared dimensions exceed the memory budget.
+    """Refuse a map whose declared dimensions need more memory than the budget.
 
     Parameters
     ----------
@@ -59,17 +134,24 @@ def check_map_points(path: str | Path, field: str, *dims: int) -> int:
     Raises
     ------
     OverBudgetError
-        If ``prod(dims) * 8 bytes > MAX_MAP_BYTES``.
+        If the pipeline's peak memory for ``prod(dims)`` points
+        (``PIPELINE_BYTES_PER_PIXEL`` bytes a point + ``PIPELINE_BASE_BYTES``) exceeds the
+        budget; the message names the size, the budget and how to raise it.
     """
     count = math.prod(int(d) for d in dims)
-    if count > MAX_MAP_POINTS:
+    limit = max_map_points()
+    if count > limit:
+        need = count * PIPELINE_BYTES_PER_PIXEL + PIPELINE_BASE_BYTES
+        budget = memory_budget_bytes()
         raise OverBudgetError(
             path,
             field,
-            f"declare {' x '.join(str(d) for d in dims)} = {count} points "
-            f"({count * 8} bytes of float64); the readers' memory budget is "
-            f"{MAX_MAP_BYTES} bytes per map",
-            expected=MAX_MAP_POINTS,
+            f"declare {' x '.join(str(d) for d in dims)} = {count} points; the pipeline "
+            f"needs about {PIPELINE_BYTES_PER_PIXEL} bytes a point ({need / 1024**3:.3g} GiB "
+            f"for this map), over the memory budget of {budget / 1024**3:.3g} GiB "
+            f"(at most {limit} points); crop or resample the map, or raise the budget with "
+            f"the environment variable {MEMORY_BUDGET_ENV} (e.g. {MEMORY_BUDGET_ENV}=64GiB)",
+            expected=limit,
             found=count,
         )
     return count

@@ -12,9 +12,14 @@ by 65536 (and by another 65536 for 4-byte data), and the soft scale is the value
 Checks: every image's ``Data offset`` must lie past the header (the ``Data length`` of the
 ``\\*File list`` section, and the ``\\*File list end`` line), so the header is never read as
 heights; the height factor (Z scale times sensitivity) must be > 0 and finite (1e-24 .. 1 m
-per count) and the pixel size ``Scan Size / Samps/line`` 1 pm .. 1 m. The default channel is
-the one named ``Height`` (label or key); a file without one (unless it has a single channel)
-is refused with the list of channels, never read from another channel silently.
+per count) and the pixel size ``Scan Size / Samps/line`` 1 pm .. 1 m; ``Data length`` must be
+exactly ``Samps/line * Number of lines * Bytes/pixel`` and ``Valid data len X/Y`` (when
+present) the grid, and no two images' data blocks may overlap (an offset pointing into
+another image is refused). The default channel is the calibrated ``Height Sensor``
+(``ZSensor``), else the one named ``Height`` (label or key); a file without either (unless
+it has a single channel) is refused with the list of channels, never read from another
+channel silently. Orientation: the file stores the lines from the bottom of the image up;
+see :func:`read_nanoscope`.
 """
 
 from __future__ import annotations
@@ -43,6 +48,11 @@ _Z_SCALE = re.compile(
 _IMAGE_DATA = re.compile(r'^S\s*\[(?P<key>[^\]]*)\]\s*"(?P<label>[^"]*)"')
 _INTEGER = re.compile(r"[+-]?\d+")
 _END = b"\\*File list end"
+#: The default channel, in order of preference (label or key, case-insensitive): the
+#: calibrated Z sensor ("Height Sensor", key ZSensor) measures the height with the
+#: closed-loop sensor, free of piezo creep and hysteresis; the "Height" channel (the piezo
+#: drive signal) only when the file has no sensor channel.
+DEFAULT_CHANNELS = ("zsensor", "height sensor", "height")
 
 
 def _parse_header(path: Path, data: bytes) -> list[tuple[str, dict[str, str]]]:
@@ -118,6 +128,7 @@ def _channels(path: Path, data: bytes) -> list[dict]:
     ]
     if not channels:
         raise TopographyFileError(path, "'\\*Ciao image list'", "no image section found")
+    _check_blocks_apart(path, channels)
     return channels
 
 
@@ -179,12 +190,14 @@ def _image_layout(
         raise TopographyFileError(
             path, f"image {index} 'Bytes/pixel'", f"is {itemsize}; expected 2 or 4"
         )
-    if nx < 1 or ny < 1 or length < nx * ny * itemsize:
+    if nx < 1 or ny < 1 or length != nx * ny * itemsize:
         raise TopographyFileError(
             path,
             f"image {index} 'Data length'",
-            f"is {length}; expected at least {nx}*{ny}*{itemsize} = {nx * ny * itemsize}",
+            f"is {length}; expected 'Samps/line' * 'Number of lines' * 'Bytes/pixel' = "
+            f"{nx}*{ny}*{itemsize} = {nx * ny * itemsize} (a grid or length field is wrong)",
         )
+    _check_valid_lengths(path, section, index, nx, ny)
     check_map_points(path, f"image {index} 'Samps/line' x 'Number of lines'", nx, ny)
     if offset < header_end:
         raise CorruptFileError(
@@ -197,6 +210,34 @@ def _image_layout(
         )
     check_size(path, f"image {index} 'Data offset' + data", offset + nx * ny * itemsize, file_size)
     return nx, ny, offset, itemsize
+
+
+def _check_valid_lengths(path: Path, section: dict[str, str], index: int, nx: int, ny: int) -> None:
+    """``Valid data len X/Y`` (when present) must be the grid (``Samps/line``, lines)."""
+    for key, value in (("valid data len x", nx), ("valid data len y", ny)):
+        if key in section and _int_field(path, section, key, index) != value:
+            raise TopographyFileError(
+                path,
+                f"image {index} '{key.capitalize()}'",
+                f"is {section[key]}; the grid ('Samps/line' x 'Number of lines') is "
+                f"{nx} x {ny}: the header contradicts itself",
+            )
+
+
+def _check_blocks_apart(path: Path, channels: list[dict]) -> None:
+    """Refuse two images whose data blocks overlap (an offset pointing into another image)."""
+    blocks = sorted(
+        (c["offset"], c["offset"] + c["nx"] * c["ny"] * c["itemsize"], c["index"]) for c in channels
+    )
+    for (_, end, first), (start, _, second) in zip(blocks, blocks[1:], strict=False):
+        if start < end:
+            raise CorruptFileError(
+                path,
+                f"image {second} 'Data offset'",
+                f"is {start}, inside the data of image {first} (bytes up to {end}); "
+                "expected each image's data in its own block",
+                found=start,
+            )
 
 
 def _scan_size(path: Path, section: dict[str, str], index: int) -> tuple[float, float]:
@@ -260,8 +301,9 @@ def choose_channel(path: Path, channels: list[dict], channel: str | int | None) 
     channels : list of dict
         As returned by :func:`list_channels`.
     channel : str or int or None
-        Index, label or key; None picks the channel named ``Height`` (label or key), or the
-        only channel of a single-channel file. There is no other fallback.
+        Index, label or key; None picks the calibrated ``Height Sensor`` (``ZSensor``)
+        channel, else the channel named ``Height`` (label or key), else the only channel of
+        a single-channel file (:data:`DEFAULT_CHANNELS`). There is no other fallback.
 
     Returns
     -------
@@ -276,15 +318,17 @@ def choose_channel(path: Path, channels: list[dict], channel: str | int | None) 
     """
     names = ", ".join(f"{c['index']}: {c['label']} [{c['key']}]" for c in channels)
     if channel is None:
-        for candidate in channels:
-            if "height" in (candidate["label"].lower(), candidate["key"].lower()):
-                return candidate
+        for wanted in DEFAULT_CHANNELS:
+            for candidate in channels:
+                if wanted in (candidate["label"].lower(), candidate["key"].lower()):
+                    return candidate
         if len(channels) == 1:
             return channels[0]
         raise ChannelNotFoundError(
             path,
             "channel",
-            f"no channel is named 'Height'; choose one by name (channel=, --channel); "
+            "no channel is named 'Height Sensor' (ZSensor) or 'Height'; choose one by name "
+            "(channel=, --channel); "
             f"available channels: {names}",
         )
     if isinstance(channel, int) or str(channel).isdigit():
@@ -309,12 +353,15 @@ def read_nanoscope(path: str | Path, *, channel: str | int | None = None) -> Hei
         The file.
     channel : str or int, optional
         Index, label (e.g. ``"Height Sensor"``) or key (e.g. ``"ZSensor"``). Default: the
-        channel named ``Height`` (or the only channel of a single-channel file).
+        calibrated ``Height Sensor`` (``ZSensor``) channel, else ``Height``, else the only
+        channel of a single-channel file.
 
     Returns
     -------
     HeightMap
         Heights in m, pixel sizes from ``Scan Size`` in m; provenance lists the channels.
+        ``heights[ix, iy]``: ``ix`` along the scan lines, ``iy`` from the top line of the
+        image as Nanoscope and Gwyddion display it (the file stores the bottom line first).
 
     Raises
     ------
@@ -338,12 +385,14 @@ def read_nanoscope(path: str | Path, *, channel: str | int | None = None) -> Hei
     dtype = np.dtype("<i2") if chosen["itemsize"] == 2 else np.dtype("<i4")
     nx, ny = chosen["nx"], chosen["ny"]
     raw = np.frombuffer(data, dtype=dtype, count=nx * ny, offset=chosen["offset"])
-    heights = raw.astype(np.float64).reshape(ny, nx).T * factor
+    # the file stores the lines from the bottom of the image up: flip to iy 0 = top line
+    heights = np.ascontiguousarray(raw.astype(np.float64).reshape(ny, nx).T[:, ::-1]) * factor
     provenance = make_provenance(
         path,
         "nanoscope",
         instrument="Bruker/Veeco Nanoscope",
         channel=chosen["label"],
+        channel_key=chosen["key"],
         channels=[c["label"] for c in channels],
         units={"height": chosen["height_unit"], "lateral": "m"},
     )

@@ -10,7 +10,9 @@ size), so a corrupt header cannot make the reader allocate memory the file does 
 the data must fill the rest of the file or member exactly (trailing bytes are refused) and
 every archive member is read to its end, so its CRC-32 is checked. Encrypted members and
 compression methods other than stored and deflate are refused, and so are object (pickled)
-arrays, negative dimensions and arrays over the memory budget.
+arrays, negative dimensions and arrays over the memory budget. An archive member's header is
+read (inflating a few hundred bytes) and its shape checked against the budget before the
+member is decompressed, so a compressed bomb is refused at once.
 """
 
 from __future__ import annotations
@@ -18,6 +20,8 @@ from __future__ import annotations
 import io
 import math
 import tokenize
+import zipfile
+import zlib
 from pathlib import Path
 from typing import IO
 
@@ -50,8 +54,12 @@ _HEADER_ERRORS = (
 )
 
 
-def _read_npy(path: Path, handle: IO[bytes], available: int, where: str) -> np.ndarray:
-    """Parse one NPY stream of ``available`` bytes; check its header before reading data."""
+#: What reading the start of an archive member can raise on a corrupt archive.
+_ZIP_STREAM_ERRORS = (zipfile.BadZipFile, zlib.error, EOFError, OSError, RuntimeError, ValueError)
+
+
+def _npy_header(path: Path, handle: IO[bytes], where: str) -> tuple[tuple, bool, np.dtype]:
+    """(shape, Fortran order, dtype) of one NPY stream's header, the type and rank checked."""
     try:
         version = np.lib.format.read_magic(handle)
         if version == (1, 0):
@@ -74,6 +82,12 @@ def _read_npy(path: Path, handle: IO[bytes], available: int, where: str) -> np.n
         raise TopographyFileError(path, f"{where} shape", f"is {shape}; expected 1D or 2D")
     if any(dim < 0 for dim in shape):
         raise CorruptFileError(path, f"{where} shape", f"is {shape}; negative dimension")
+    return shape, fortran, dtype
+
+
+def _read_npy(path: Path, handle: IO[bytes], available: int, where: str) -> np.ndarray:
+    """Parse one NPY stream of ``available`` bytes; check its header before reading data."""
+    shape, fortran, dtype = _npy_header(path, handle, where)
     count = math.prod(shape)
     needed = count * dtype.itemsize
     remaining = available - handle.tell()
@@ -101,6 +115,27 @@ def _read_npy(path: Path, handle: IO[bytes], available: int, where: str) -> np.n
     return values.reshape(shape, order="F" if fortran else "C")
 
 
+def _check_member_grid(
+    path: Path, archive: zipfile.ZipFile, info: zipfile.ZipInfo, where: str
+) -> None:
+    """Check an archive member's declared NPY shape against the memory budget, reading (and
+    inflating) only its header, so a compressed bomb is refused before it is decompressed.
+
+    An encrypted member or another compression is left to :func:`read_zip_member`, which
+    refuses it naming the flag or the method.
+    """
+    if info.flag_bits & 0x1 or info.compress_type not in (zipfile.ZIP_STORED, zipfile.ZIP_DEFLATED):
+        return
+    try:
+        with archive.open(info) as stream:
+            shape, _, _ = _npy_header(path, stream, where)
+    except _ZIP_STREAM_ERRORS as exc:
+        raise CorruptFileError(
+            path, f"{where} NPY header", f"cannot be extracted ({exc}); corrupt archive"
+        ) from None
+    check_map_points(path, f"{where} shape", *shape)
+
+
 def _read_npz(path: Path) -> dict[str, np.ndarray]:
     arrays: dict[str, np.ndarray] = {}
     budget = 2 * MAX_MAP_BYTES
@@ -109,6 +144,7 @@ def _read_npz(path: Path) -> dict[str, np.ndarray]:
             if not info.filename.endswith(".npy"):
                 continue
             key = info.filename[: -len(".npy")]
+            _check_member_grid(path, archive, info, f"array {key!r}")
             data = read_zip_member(path, archive, info, budget)
             budget -= len(data)
             arrays[key] = _read_npy(path, io.BytesIO(data), len(data), f"array {key!r}")
@@ -157,6 +193,7 @@ def read_numpy(
     """
     path = Path(path)
     dx = dy = None
+    key = "array"
     with open(path, "rb") as handle:
         is_archive = handle.read(4) == b"PK\x03\x04"
     if path.suffix.lower() == ".npz" or is_archive:
@@ -190,7 +227,7 @@ def read_numpy(
             "(or --pixel-size DX on the command line), in metres"
         )
     provenance = make_provenance(
-        path, path.suffix.lstrip(".").lower(), units={"all": "m (assumed)"}
+        path, path.suffix.lstrip(".").lower(), channel=key, units={"all": "m (assumed)"}
     )
     source = "pixel_size" if given is not None else "array 'dx'"
     if heights.ndim == 1:

@@ -8,8 +8,8 @@ follow the directory back to back, in directory order, for entries of length > 0
 data block (``RAW DATA``, ``RAW_DATA``, ``OPD`` or ``Raw``) starts with ``nx``, ``ny``,
 item size (uint16) and holds ``nx*ny`` items with the x index varying slowest. Heights
 are in units of ``Wavelength`` (nm) / ``Mult``; ``Pixel_size`` is in mm, ``Aspect`` scales y.
-Undefined points are stored as huge values (|v| >= 1e32) or non-finite floats; they become
-NaN, counted in ``provenance["missing_pixels"]``.
+Undefined points are stored as huge finite values (|v| >= 1e32) or NaN; they become NaN,
+counted in ``provenance["missing_pixels"]``. An infinite value is refused, as in every reader.
 """
 
 from __future__ import annotations
@@ -46,7 +46,8 @@ def read_opd(path: str | Path) -> HeightMap:
     -------
     HeightMap
         Heights in m (NaN = undefined point), pixel sizes in m,
-        provenance (instrument, units seen).
+        provenance (instrument, units seen). ``heights[ix, iy]``: ``iy`` from the top line
+        of the image as Vision and Gwyddion display it (the file stores it last).
 
     Raises
     ------
@@ -70,14 +71,16 @@ def read_opd(path: str | Path) -> HeightMap:
         "opd",
         instrument="Wyko Vision",
         channel=name,
-        invalid_marker="|value| >= 1e32 or non-finite",
+        invalid_marker="finite |value| >= 1e32 or NaN",
         units={
             "lateral": "mm",
             "height": f"wavelength/{mult} (wavelength {values['Wavelength']} nm)",
         },
     )
     sizes = (("Pixel_size", pixel), ("Pixel_size * Aspect", pixel * values["Aspect"]))
-    return make_surface(path, heights.reshape(nx, ny), sizes, provenance)
+    # the columns run from the bottom of the image up: flip to iy 0 = top line
+    heights = np.ascontiguousarray(heights.reshape(nx, ny)[:, ::-1])
+    return make_surface(path, heights, sizes, provenance)
 
 
 def _directory(path: Path, data: bytes) -> dict[str, tuple[int, int]]:
@@ -160,9 +163,13 @@ def _data_block(
 
 
 def _heights_with_missing(raw: np.ndarray, step: float) -> np.ndarray:
-    """Heights in m (``raw * step``), NaN where the raw value is undefined (|v| >= 1e32)."""
+    """Heights in m (``raw * step``), NaN where undefined (finite |v| >= 1e32, or NaN).
+
+    An infinite value is not the format's marker: it is kept, and refused by
+    :func:`make_surface` as in every reader.
+    """
     raw = raw.astype(np.float64)
-    invalid = ~np.isfinite(raw) | (np.abs(raw) >= 1e32)
+    invalid = np.isnan(raw) | (np.isfinite(raw) & (np.abs(raw) >= 1e32))
     heights = raw * step
     heights[invalid] = np.nan
     return heights

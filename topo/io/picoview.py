@@ -7,7 +7,8 @@ column, starting with ``fileType Image``; ``xPixels``/``yPixels``, ``xLength``/`
 or ``data BINARY_32`` (int32); the buffers follow back to back, line by line (x fastest),
 and a value is ``raw / 2**15`` (or ``/ 2**31``) times ``bufferRange`` in ``bufferUnit``.
 ``bufferRange`` must be > 0 (a zero range would flatten the map) and the pixel sizes
-``xLength/xPixels``, ``yLength/yPixels`` 1 pm .. 1 m.
+``xLength/xPixels``, ``yLength/yPixels`` 1 pm .. 1 m. The bytes after the header must be
+exactly the declared buffers (a type or grid that does not match the data is refused).
 """
 
 from __future__ import annotations
@@ -64,7 +65,8 @@ def read_picoview(path: str | Path, *, channel: str | int | None = None) -> Heig
     -------
     HeightMap
         Heights in m, pixel sizes ``xLength/xPixels``, ``yLength/yPixels`` in m;
-        provenance lists the channels.
+        provenance lists the channels. ``heights[ix, iy]``: ``iy`` from the top line of the
+        image as PicoView and Gwyddion display it (the file stores the bottom line first).
 
     Raises
     ------
@@ -87,12 +89,14 @@ def read_picoview(path: str | Path, *, channel: str | int | None = None) -> Heig
         start + len(buffers) * block,
         len(data),
     )
+    _check_data_length(path, header, len(data) - start, len(buffers) * block)
     labels = [b.get("bufferLabel", "") for b in buffers]
     index = _choose_buffer(path, buffers, labels, channel)
     unit, step = _height_step(path, buffers[index], labels[index], itemsize)
     dtype = np.dtype("<i4") if itemsize == 4 else np.dtype("<i2")
     raw = np.frombuffer(data, dtype=dtype, count=nx * ny, offset=start + index * block)
-    heights = raw.astype(np.float64).reshape(ny, nx).T * step
+    # the buffers store the lines from the bottom of the image up: flip to iy 0 = top line
+    heights = np.ascontiguousarray(raw.astype(np.float64).reshape(ny, nx).T[:, ::-1]) * step
     provenance = make_provenance(
         path,
         "picoview",
@@ -119,6 +123,24 @@ def _image_header(path: Path, data: bytes) -> tuple[dict[str, str], list[dict[st
         raise TopographyFileError(path, "data", f"is {encoding!r}; expected BINARY or BINARY_32")
     itemsize = 4 if encoding == "BINARY_32" else 2
     return header, buffers, start, itemsize
+
+
+def _check_data_length(path: Path, header: dict[str, str], found: int, declared: int) -> None:
+    """The data after the header must be exactly the declared buffers (type x grid)."""
+    if found == declared:
+        return
+    hint = ""
+    if found == 2 * declared and header.get("data") != "BINARY_32":
+        hint = " (exactly twice: the values look like int32, 'BINARY_32', not int16)"
+    raise TopographyFileError(
+        path,
+        "data",
+        f"is {header.get('data')!r} and the header declares {declared} bytes of data "
+        f"(buffers x xPixels x yPixels x bytes per value) but {found} bytes follow the "
+        f"header{hint}; the type or the grid is wrong",
+        expected=declared,
+        found=found,
+    )
 
 
 def _grid(path: Path, header: dict[str, str]) -> tuple[int, int, float, float]:

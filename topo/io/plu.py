@@ -7,7 +7,8 @@ x/y offsets, um per pixel in z, z offset as float32), measurement configuration 
 (type: 1 profile, 3 topography; area type), scan settings, then ``num_layers`` at byte
 489. Each layer is ``yres``, ``xres`` (uint32) followed by ``xres*yres`` float32 heights in
 um (x fastest) and two float32 trailer values. The value 1000001 marks an undefined point
-(NaN, counted in ``provenance["missing_pixels"]``).
+(NaN, counted in ``provenance["missing_pixels"]``); an infinite height is refused, as in
+every reader.
 After the layers comes the colour (RGB) image, ``3*xres*yres`` bytes, which must be
 present in full; the metadata trailer after it has no documented size and is not checked.
 """
@@ -74,7 +75,7 @@ def read_plu(path: str | Path) -> HeightMap:
         date=data[:128].split(b"\x00", 1)[0].decode("latin-1", "replace").strip(),
         channel="layer 0",
         n_layers=int(n_layers),
-        invalid_marker=f"{_UNDEFINED:g} or non-finite",
+        invalid_marker=f"{_UNDEFINED:g} or NaN",
         units={"lateral": "um", "height": "um"},
     )
     sizes = (("micrometers per pixel x", um_x * 1e-6), ("micrometers per pixel y", um_y * 1e-6))
@@ -112,9 +113,13 @@ def _layer_grid(path: Path, data: bytes) -> tuple[int, int, float, float, int]:
 
 
 def _heights_with_missing(raw: np.ndarray) -> np.ndarray:
-    """Heights in m from float32 um, NaN where undefined (1000001 or non-finite)."""
+    """Heights in m from float32 um, NaN where undefined (1000001 or NaN).
+
+    An infinite value is not a missing-point marker of the format: it is kept, so that
+    :func:`make_surface` refuses it as every reader does.
+    """
     raw = raw.astype(np.float64)
-    invalid = (raw == _UNDEFINED) | ~np.isfinite(raw)
+    invalid = (raw == _UNDEFINED) | np.isnan(raw)
     heights = raw * 1e-6
     heights[invalid] = np.nan
     return heights

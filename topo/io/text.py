@@ -1,6 +1,10 @@
-"""Plain-text height data: a matrix of heights, or ``x y z`` columns on a regular grid.
+"""Plain-text height data: a matrix of heights, ``x y z`` columns on a regular grid, an
+``x z`` line profile, or a Gwyddion text export (the last two in
+:mod:`asperity.topo.io.text_layouts`).
 
-Both are in metres (SI); lines starting with ``#`` or ``%`` are comments.
+All are in metres (SI) unless a Gwyddion header states the units; lines starting with ``#``
+or ``%`` are comments. A line of words before the first number (a header asperity does not
+know) is refused as an unsupported format, not as a badly written number.
 
 The one number format (stated, never guessed): ``[+-]digits[.digits][(e|E)[+-]digits]``
 with ``.`` as the decimal point, or ``nan`` (a missing pixel). Decimal commas, digit
@@ -10,6 +14,10 @@ the file, line and column. Separators: the first data line fixes one for the who
 around ``,``/``;`` and one trailing separator per line are allowed. So ``1,5;2,5`` and
 ``1,5 2,5`` (decimal commas) are refused, never read as four numbers.
 
+* Gwyddion text export (``# Width:``, ``# Height:``, ``# Value units:`` comment lines): the
+  pixel sizes are Width / columns and Height / rows; the file rows run along x, so the map
+  is the transposed matrix (axis 0 = x).
+* ``x z`` profile: two columns, at least 8 rows, x strictly increasing and uniform.
 * Matrix: read as written, ``heights[i, j]`` is row ``i``, column ``j`` of the file, so the
   row index is axis 0 (x). The pixel size must come from the caller (``pixel_size``).
 * ``x y z`` columns (three columns whose first two repeat like grid coordinates): the grid
@@ -27,7 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from asperity.errors import InputError
-from asperity.topo.errors import CorruptFileError, TopographyFileError
+from asperity.topo.errors import CorruptFileError, TopographyFileError, UnsupportedContentError
 from asperity.topo.heightmap import HeightMap, LineProfile
 from asperity.topo.io._common import (
     NAN_WORDS,
@@ -39,6 +47,14 @@ from asperity.topo.io._common import (
     read_all_bytes,
 )
 from asperity.topo.io.limits import check_map_points
+from asperity.topo.io.text_layouts import (
+    MIN_PROFILE_POINTS,
+    comment_header,
+    gwyddion_grid,
+    is_gwyddion_header,
+    is_xz_profile,
+    profile_step,
+)
 
 #: Largest relative deviation of an x or y step from the mean step of an x-y-z grid.
 _STEP_TOLERANCE = 1e-4
@@ -52,6 +68,8 @@ _LINE_PATTERNS = {
 }
 
 
+#: A first data line that starts with neither a digit, a sign nor a point: a header.
+_HEADER_WORDS = re.compile(r"[^0-9+\-.]")
 _DECIMAL_COMMA = re.compile(r"[+-]?\d*,\d+(?:[eE][+-]?\d+)?")
 
 
@@ -91,17 +109,42 @@ def _refuse_line(path: Path, number: int, line: str, separator: str | None) -> N
     raise CorruptFileError(path, f"line {number}", f"is {line[:60]!r}; expected numbers only")
 
 
-def _rows(path: Path) -> list[np.ndarray]:
-    """The numeric lines of the file, each an array of float64, in the stated format."""
+def _decoded(path: Path) -> str:
+    """The file's text: UTF-8 where it decodes as such (Gwyddion writes 'µm' so), else latin-1."""
+    raw = read_all_bytes(path)
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError:
+        return raw.decode("latin-1")
+
+
+def _refuse_header(path: Path, number: int, line: str) -> None:
+    """A line of words before the first number: a header asperity does not know."""
+    raise UnsupportedContentError(
+        path,
+        f"line {number}",
+        f"is {line[:60]!r}, a header asperity does not read: unsupported format (text files "
+        "are read as a height matrix, x y z columns, an x z profile or a Gwyddion text "
+        "export, with '#' comment lines; SurfaceTopography reads more text layouts: "
+        '"asperity[formats]", then asperity.topo.io.surfacetopography.read_with_extra)',
+    )
+
+
+def _rows(path: Path) -> tuple[list[np.ndarray], list[str]]:
+    """The numeric lines of the file (float64 arrays) and the comment lines before them."""
     rows: list[np.ndarray] = []
-    text = read_all_bytes(path).decode("latin-1")
+    comments: list[str] = []
     separator: str | None = None
     values = 0
-    for number, line in enumerate(text.splitlines(), start=1):
+    for number, line in enumerate(_decoded(path).splitlines(), start=1):
         stripped = line.strip()
         if not stripped or stripped[0] in "#%":
+            if not rows and stripped:
+                comments.append(stripped)
             continue
         if not rows:
+            if _HEADER_WORDS.match(stripped) and stripped.split()[0] not in NAN_WORDS:
+                _refuse_header(path, number, stripped)
             separator = _separator(stripped)
         if not _LINE_PATTERNS[separator].fullmatch(stripped):
             _refuse_line(path, number, stripped, separator)
@@ -112,15 +155,24 @@ def _rows(path: Path) -> list[np.ndarray]:
         rows.append(row)
     if not rows:
         raise TopographyFileError(path, "data", "no numeric lines found")
-    return rows
+    return rows, comments
 
 
-def _pixel_sizes(path: Path, pixel_size: float | tuple[float, float] | None) -> tuple[float, float]:
+def _pixel_sizes(
+    path: Path, pixel_size: float | tuple[float, float] | None, shape: tuple[int, ...]
+) -> tuple[float, float]:
     sizes = caller_pixel_size(path, pixel_size)
     if sizes is None:
+        two_columns = (
+            f" (two columns are read as an x z profile only from {MIN_PROFILE_POINTS} rows on, "
+            "with x strictly increasing)"
+            if shape[1] == 2
+            else ""
+        )
         raise InputError(
-            f"{path}: a plain height matrix carries no pixel size; give pixel_size= "
-            "(or --pixel-size DX on the command line), in metres"
+            f"{path}: a plain height matrix ({shape[0]} x {shape[1]} values, no '# Width:' / "
+            "'# Height:' header) carries no pixel size; give pixel_size= (or --pixel-size DX "
+            f"on the command line), in metres{two_columns}"
         )
     return sizes
 
@@ -185,19 +237,76 @@ def _read_xyz(path: Path, rows: list[np.ndarray]) -> HeightMap:
     return make_surface(path, heights, (("x column step", dx), ("y column step", dy)), provenance)
 
 
+def _refuse_pixel_size(path: Path, pixel_size: object, layout: str) -> None:
+    if pixel_size is not None:
+        raise InputError(
+            f"{path}: pixel_size {pixel_size!r} given, but {layout} carry their own "
+            "coordinates (lateral calibration); leave pixel_size (--pixel-size) out"
+        )
+
+
+def _read_xz_profile(path: Path, rows: list[np.ndarray]) -> LineProfile:
+    """Two columns ``x z`` (m) with uniform, increasing x -> LineProfile."""
+    array = np.vstack(rows)
+    if np.isnan(array[:, 0]).any():
+        line = int(np.flatnonzero(np.isnan(array[:, 0]))[0]) + 1
+        raise TopographyFileError(
+            path, "x column", f"data row {line} has a nan position; expected x in m"
+        )
+    dx = profile_step(path, array[:, 0])
+    provenance = make_provenance(path, "xz-profile-text", channel="z", units={"all": "m (assumed)"})
+    return make_surface(path, array[:, 1], (("x column step", dx),), provenance, profile=True)
+
+
+def _read_gwyddion(path: Path, rows: list[np.ndarray], header: dict) -> HeightMap | LineProfile:
+    """A Gwyddion text export: the matrix (file rows along x) with Width/Height/units."""
+    matrix = _matrix(path, rows)
+    heights, dx, dy, units = gwyddion_grid(path, header, matrix)
+    provenance = make_provenance(
+        path, "gwyddion-text", channel=header.get("channel", "heights"), units=units
+    )
+    sizes = (("# Width / columns", dx), ("# Height / rows", dy))
+    profile = min(heights.shape) == 1
+    return make_surface(path, heights, sizes, provenance, profile=profile)
+
+
+def _matrix(path: Path, rows: list[np.ndarray]) -> np.ndarray:
+    """The rows as one matrix, or refuse ragged rows naming the first one."""
+    lengths = [len(row) for row in rows]
+    if len(set(lengths)) != 1:
+        bad = next(i for i, n in enumerate(lengths) if n != lengths[0])
+        raise TopographyFileError(
+            path,
+            f"data row {bad + 1}",
+            f"has {lengths[bad]} values; expected {lengths[0]} like the first row "
+            "(ragged or truncated matrix)",
+        )
+    return np.vstack(rows)
+
+
 def read_text(
     path: str | Path, *, pixel_size: float | tuple[float, float] | None = None
 ) -> HeightMap | LineProfile:
-    """Read a text height matrix (needs ``pixel_size`` in m) or ``x y z`` columns (m).
+    """Read a text height matrix, ``x y z`` columns, an ``x z`` profile or a Gwyddion export.
 
-    A single column (or single row) of numbers is returned as a :class:`LineProfile`.
+    Layouts (all in m; the rules in this module's docstring and in
+    :mod:`asperity.topo.io.text_layouts`):
+
+    * a Gwyddion text export (``# Width:``/``# Height:`` header): a map whose pixel sizes
+      come from the header, file rows along x;
+    * ``x y z`` columns of a regular grid: a map;
+    * two columns, at least 8 rows, the first strictly increasing: an ``x z`` profile
+      (uniform positions required);
+    * any other matrix: ``heights[i, j]`` = row i, column j (needs ``pixel_size``); a single
+      row or column is a :class:`LineProfile`.
 
     Parameters
     ----------
     path : str or Path
         The text file (heights and coordinates in m).
     pixel_size : float or (float, float), optional
-        ``dx`` or ``(dx, dy)`` in m for a matrix; refused for x-y-z columns.
+        ``dx`` or ``(dx, dy)`` in m for a plain matrix; refused for the layouts that carry
+        their own calibration.
 
     Returns
     -------
@@ -207,21 +316,25 @@ def read_text(
     ------
     TopographyFileError
         Text not in the stated number format (:class:`NumberFormatError`, naming line and
-        column), ragged rows (e.g. a truncated file), a non-uniform x-y grid or
-        a node given twice.
+        column), a header asperity does not know (:class:`UnsupportedContentError`,
+        "unsupported format"), ragged rows (e.g. a truncated file), a non-uniform x-y grid
+        or profile, a node given twice.
     InputError
         A matrix without ``pixel_size``, an invalid ``pixel_size``, or ``pixel_size``
-        given for x-y-z columns.
+        given for a layout with its own calibration.
     """
     path = Path(path)
-    rows = _rows(path)
+    rows, comments = _rows(path)
+    header = comment_header(comments)
+    if is_gwyddion_header(header):
+        _refuse_pixel_size(path, pixel_size, "the Gwyddion header lines (# Width, # Height)")
+        return _read_gwyddion(path, rows, header)
     if _looks_like_xyz(rows):
-        if pixel_size is not None:
-            raise InputError(
-                f"{path}: pixel_size given, but x y z columns carry their own coordinates "
-                "(the pixel sizes are their steps); leave pixel_size out"
-            )
+        _refuse_pixel_size(path, pixel_size, "x y z columns (the pixel sizes are their steps)")
         return _read_xyz(path, rows)
+    if is_xz_profile(rows):
+        _refuse_pixel_size(path, pixel_size, "the x positions of an x z profile")
+        return _read_xz_profile(path, rows)
     if path.suffix.lower() == ".xyz":
         raise TopographyFileError(
             path,
@@ -229,18 +342,8 @@ def read_text(
             f"hold {len(rows)} rows of {len(rows[0])} values; a .xyz file must hold x y z "
             "columns of a regular grid (at least 2 x 2 nodes)",
         )
-    widths = {len(row) for row in rows}
-    if len(widths) != 1:
-        lengths = [len(row) for row in rows]
-        bad = next(i for i, n in enumerate(lengths) if n != lengths[0])
-        raise TopographyFileError(
-            path,
-            f"data row {bad + 1}",
-            f"has {lengths[bad]} values; expected {lengths[0]} like the first row "
-            "(ragged or truncated matrix)",
-        )
-    heights = np.vstack(rows)
-    dx, dy = _pixel_sizes(path, pixel_size)
+    heights = _matrix(path, rows)
+    dx, dy = _pixel_sizes(path, pixel_size, heights.shape)
     provenance = make_provenance(
         path, "matrix-text", channel="heights", units={"all": "m (assumed)"}
     )

@@ -1,0 +1,274 @@
+"""Batch mode: every height map through the same job, one folder each, one summary across maps.
+
+``run_batch("job.toml", ["maps/*.x3p"], "batch-out")`` runs :func:`pipelines.job.run_job` and
+:func:`pipelines.report.write_report` once per map, with ``[surface] file`` replaced by the map
+(every other key of the job as written), in ``batch-out/<map stem>/``. Each folder is an
+ordinary, resumable run: running the batch again skips the stored stages. Maps run one per
+task: in this process, in ``workers`` processes, or one per task on a dask.distributed
+cluster. A map that fails (an unreadable file, loads below its pull-off force, any error) is
+recorded with its message and does not stop the others.
+
+Outputs: ``summary.csv`` (one row per map: effective resolution, eta, R, sigma_s, lambda, and
+at each load A_r/A_n, static and sliding friction, the verdict when the job has one; then a
+``mean`` and a ``std`` row over the maps that succeeded; SI units in the headers) and
+``summary.png`` (those quantities against the map, mean +- one standard deviation shaded).
+"""
+
+from __future__ import annotations
+
+import glob
+import traceback
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from asperity.errors import InputError
+from asperity.pipelines.config import JobConfig, config_from_dict
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # pragma: no cover
+    import tomli as tomllib
+
+#: Characters that make a MAP argument a glob pattern.
+GLOB_CHARS = "*?["
+
+
+def expand_maps(patterns: Sequence[str]) -> list[Path]:
+    """The map files named by ``patterns`` (globs expanded, sorted; duplicates dropped).
+
+    Raises
+    ------
+    InputError
+        A pattern that matches no file, or a named file that does not exist.
+    """
+    maps: list[Path] = []
+    for pattern in patterns:
+        if any(c in pattern for c in GLOB_CHARS):
+            found = sorted(Path(p) for p in glob.glob(pattern, recursive=True) if Path(p).is_file())
+            if not found:
+                raise InputError(f"MAP {pattern!r}: expected a glob matching files, got none")
+        else:
+            found = [Path(pattern)]
+            if not found[0].is_file():
+                raise InputError(f"MAP {pattern}: file not found")
+        maps += [p for p in found if p.resolve() not in {m.resolve() for m in maps}]
+    if not maps:
+        raise InputError("MAP: expected at least one height-map file")
+    return maps
+
+
+def read_job(path: str | Path) -> tuple[dict[str, Any], Path]:
+    """The job file's TOML data and its folder (relative names are taken from there)."""
+    path = Path(path)
+    try:
+        data = tomllib.loads(path.read_bytes().decode("utf-8"))
+    except FileNotFoundError as exc:
+        raise InputError(f"{path}: job file not found") from exc
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise InputError(f"{path}: cannot read the job: {exc}") from exc
+    return data, path.resolve().parent
+
+
+def map_config(data: dict[str, Any], base_dir: Path, source: str, map_path: Path) -> JobConfig:
+    """The job with ``[surface] file`` set to ``map_path`` (any synthetic recipe dropped)."""
+    surface = {k: v for k, v in data.get("surface", {}).items() if k != "synthetic"}
+    surface["file"] = str(Path(map_path).resolve())
+    return config_from_dict(
+        {**data, "surface": surface}, source=f"{source} [{map_path}]", base_dir=base_dir
+    )
+
+
+def map_folders(maps: Sequence[Path], out_dir: Path) -> list[Path]:
+    """One output folder per map: its stem, numbered when two maps share a stem."""
+    stems = [m.stem for m in maps]
+    return [out_dir / (s if stems.count(s) == 1 else f"{s}-{i + 1}") for i, s in enumerate(stems)]
+
+
+def _verdict_text(result: Any) -> str:
+    from asperity.pipelines.report.html import find_verdict
+
+    verdict = find_verdict(result)
+    if verdict is None:
+        return ""
+    for name in ("verdict", "status", "summary"):
+        value = getattr(verdict, name, None)
+        if isinstance(value, str | int | bool):
+            return str(value)
+    return ""
+
+
+def summary_values(result: Any) -> dict[str, Any]:
+    """The summary numbers of one run (SI; column names carry the units)."""
+    res, fr = result.resolution, result.friction
+    values: dict[str, Any] = {
+        "effective resolution (m)": res.effective_resolution,
+        "asperity density eta (1/m^2)": res.asperity_density,
+        "summit radius R (m)": res.summit_radius,
+        "rms summit height sigma_s (m)": res.summit_height_rms,
+        "mode mixity lambda (1)": result.mode_mixity.mode_mixity,
+    }
+    for i, load in enumerate(fr.normal_load):
+        at = f"at F_z={load:.6g} N"
+        values[f"A_r/A_n {at} (1)"] = float(res.real_area[res.index, i] / res.nominal_area)
+        values[f"static friction {at} (N)"] = float(fr.static_friction[i])
+        values[f"sliding friction {at} (N)"] = float(fr.sliding_friction[i])
+    values["verdict"] = _verdict_text(result)
+    values["validity"] = "; ".join(res.validity) or "within the model's assumptions"
+    return values
+
+
+def _map_status(result: Any) -> str:
+    """A finished run's status: "not converged" first, then "invalid" (the verdict), else "ok"."""
+    if not result.converged:
+        return "not converged"
+    verdict = getattr(result, "verdict", None)
+    return "invalid" if getattr(verdict, "verdict", None) == "invalid" else "ok"
+
+
+def _invalid_reasons(result: Any) -> list[str]:
+    """The verdict's reasons of severity "invalid" (none for a valid run or no verdict)."""
+    verdict = getattr(result, "verdict", None)
+    if verdict is None:
+        return []
+    pairs = zip(verdict.severities, verdict.reasons, strict=True)
+    return [reason for severity, reason in pairs if severity == "invalid"]
+
+
+def run_one_map(
+    data: dict[str, Any], base_dir: str, source: str, map_path: str, folder: str, force: bool
+) -> dict[str, Any]:
+    """Run (or resume) the job on one map; never raises: failures come back as a record.
+
+    Returns
+    -------
+    dict
+        ``map``, ``folder``, ``status`` ("ok", "not converged", "invalid" or "failed"),
+        ``message`` and,
+        unless failed, ``values`` (:func:`summary_values`).
+    """
+    record: dict[str, Any] = {"map": map_path, "folder": folder, "status": "failed"}
+    try:
+        from asperity.pipelines.job import run_job
+        from asperity.pipelines.report import write_report
+
+        config = map_config(data, Path(base_dir), source, Path(map_path))
+        result = run_job(config, folder, force=force, workers=1)
+        write_report(result, folder)
+        record.update(
+            status=_map_status(result),
+            message="; ".join([*_invalid_reasons(result), *result.problems()][:3]),
+            values=summary_values(result),
+            computed=[s.name for s in result.stages if s.status == "computed"],
+        )
+    except Exception as exc:  # noqa: BLE001 (one map's failure must not stop the batch)
+        kind = "bad input" if isinstance(exc, InputError) else type(exc).__name__
+        record["message"] = f"{kind}: {' '.join(str(exc).split())}"
+        record["traceback"] = traceback.format_exc(limit=5)
+    return record
+
+
+@dataclass
+class BatchResult:
+    """What a batch produced.
+
+    Attributes
+    ----------
+    records : list of dict
+        One per map, in the order of the maps (:func:`run_one_map`).
+    summary_csv, summary_figure : Path
+        ``summary.csv`` and ``summary.png``.
+    """
+
+    records: list[dict[str, Any]]
+    summary_csv: Path
+    summary_figure: Path | None = None
+    failed: list[str] = field(default_factory=list)
+
+    @property
+    def status(self) -> int:
+        """Exit status: 2 some map failed (bad input) or raised, else 1 some map did not
+        converge, else 3 some map's verdict is invalid, else 0."""
+        states = {r["status"] for r in self.records}
+        for state, status in (("failed", 2), ("not converged", 1), ("invalid", 3)):
+            if state in states:
+                return status
+        return 0
+
+
+def run_batch(
+    job_path: str | Path,
+    patterns: Sequence[str],
+    out_dir: str | Path,
+    *,
+    workers: int = 1,
+    scheduler: Any = None,
+    force: bool = False,
+    log: Callable[[str], None] | None = None,
+) -> BatchResult:
+    """Run the job of ``job_path`` on every map of ``patterns``; write the summary.
+
+    Parameters
+    ----------
+    job_path : path
+        The job TOML; its ``[surface] file`` (or recipe) is replaced by each map.
+    patterns : sequence of str
+        Map files or glob patterns.
+    out_dir : path
+        Output folder: one sub-folder per map, ``summary.csv``, ``summary.png``.
+    workers : int
+        Maps run at once in worker processes (1: one after the other here).
+    scheduler : str or distributed.Client, optional
+        Run one map per task on this dask.distributed cluster instead.
+    force : bool
+        Recompute every stage of every map.
+    log : callable, optional
+        Receives one line per finished map.
+
+    Raises
+    ------
+    InputError
+        A bad job file or key, or a map pattern matching nothing: before any map runs.
+    """
+    from asperity.pipelines.engine.parallel import make_executor
+
+    log = log or (lambda line: None)
+    data, base_dir = read_job(job_path)
+    maps = expand_maps(patterns)
+    map_config(data, base_dir, str(job_path), maps[0])  # a bad job key stops here, exit 2
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    folders = map_folders(maps, out_dir)
+    args = [
+        (data, str(base_dir), str(job_path), str(m), str(f), force)
+        for m, f in zip(maps, folders, strict=True)
+    ]
+    with make_executor(workers, scheduler=scheduler) as executor:
+        futures = []
+        for a in args:
+            future = executor.submit(run_one_map, *a)
+            future.add_done_callback(lambda done, a=a: log(_log_line(done, a[3])))
+            futures.append(future)
+        records = [_record(future, a) for a, future in zip(args, futures, strict=True)]
+    from asperity.pipelines.batch.summary import write_summary_csv, write_summary_figure
+
+    csv_path = write_summary_csv(records, out_dir / "summary.csv")
+    figure = write_summary_figure(records, out_dir / "summary.png")
+    failed = [r["map"] for r in records if r["status"] == "failed"]
+    return BatchResult(records, csv_path, figure, failed)
+
+
+def _record(future: Any, args: tuple) -> dict[str, Any]:
+    """A map's record; a lost worker (the task itself raised) is a failed map."""
+    try:
+        return future.result()
+    except Exception as exc:  # noqa: BLE001 (a worker lost: the map failed)
+        return {"map": args[3], "folder": args[4], "status": "failed", "message": str(exc)}
+
+
+def _log_line(future: Any, map_path: str) -> str:
+    """One line as a map finishes (completion order)."""
+    record = _record(future, (None, None, None, map_path, ""))
+    reason = f" ({record['message']})" if record.get("message") else ""
+    return f"{map_path}: {record['status']}{reason}"

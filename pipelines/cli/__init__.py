@@ -1,0 +1,198 @@
+"""The ``asperity`` command line: a thin shell over the package's functions.
+
+Each package contributes its own sub-commands through a ``register(subparsers)`` function in its
+``cli`` module; this module assembles them, runs the chosen handler and turns what comes out of
+it into one line on stderr and an exit status (:class:`asperity.errors.ExitStatus`).
+
+Exit statuses (one meaning each):
+
+====  ==============  ===========================================================================
+code  name            when
+====  ==============  ===========================================================================
+0     OK              success
+1     NOT_CONVERGED   a solver did not converge; the results are still printed / written
+2     BAD_INPUT       bad input: a usage error (unknown option, missing argument: argparse's
+                      message), an :class:`asperity.errors.InputError` (a bad file, configuration
+                      key, option or value: the message names it), or a file-system error on a
+                      path the user named (not found, a directory, no permission, exists)
+3     INVALID_RESULT  computed, but outside the model's validity (the report says why)
+70    INTERNAL_ERROR  any other exception: a defect in asperity, not in the input
+130   INTERRUPTED     interrupted (Ctrl-C); a job's finished stages are kept
+====  ==============  ===========================================================================
+
+What reaches stderr: ``asperity CMD: error: MESSAGE`` (status 2); ``asperity CMD: internal
+error: TYPE: MESSAGE (please report this; ...)`` (status 70), with the traceback above it when the
+environment variable ``ASPERITY_DEBUG`` is set to anything but ``0`` or empty (for any error);
+``asperity CMD: interrupted`` (status 130). Python warnings raised while a command runs (e.g.
+:class:`asperity.statmodel.TaborWarning`, numpy's RuntimeWarnings) are printed as one line each,
+``asperity CMD: warning: MESSAGE``, once per distinct message; the usual warning filters
+(``python -W``, ``PYTHONWARNINGS``) still decide which are shown.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import importlib
+import os
+import sys
+import traceback
+import warnings
+from collections.abc import Iterator, Sequence
+
+from asperity.errors import ExitStatus, InputError
+from asperity.pipelines import __version__
+from asperity.quantities import OneLineErrorParser
+
+#: Modules that provide ``register(subparsers)``; each adds its sub-commands.
+COMMAND_MODULES: tuple[str, ...] = (
+    "asperity.topo.cli",  # stats, scan, synth
+    "asperity.bem.cli",  # bem
+    "asperity.statmodel.cli",  # friction, figures
+    "asperity.pipelines.cli.run",  # run
+)
+
+#: File-system errors that concern a path the user named: reported as bad input (status 2).
+PATH_ERRORS: tuple[type[OSError], ...] = (
+    FileNotFoundError,
+    FileExistsError,
+    IsADirectoryError,
+    NotADirectoryError,
+    PermissionError,
+)
+
+#: Environment variable that adds the traceback to an error line.
+DEBUG_VARIABLE = "ASPERITY_DEBUG"
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """Build the top-level parser with every package's sub-commands."""
+    parser = OneLineErrorParser(
+        prog="asperity",
+        description="Adhesive friction of rough elastic contacts (SI units throughout).",
+        epilog="Exit status: 0 ok, 1 not converged, 2 bad input, 3 outside the model's validity, "
+        "70 internal error, 130 interrupted.",
+    )
+    parser.add_argument("--version", action="version", version=f"asperity {__version__}")
+    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name in COMMAND_MODULES:
+        module = importlib.import_module(name)
+        module.register(subparsers)
+    return parser
+
+
+def _debugging() -> bool:
+    return os.environ.get(DEBUG_VARIABLE, "") not in ("", "0")
+
+
+def _one_line(text: str) -> str:
+    return " ".join(str(text).split())
+
+
+def _warning_text(message: Warning | str, category: type[Warning]) -> str:
+    """The warning's message; foreign categories (numpy's RuntimeWarning, ...) are named."""
+    text = _one_line(message)
+    return text if _own_category(category) else f"{category.__name__}: {text}"
+
+
+def _own_category(category: type[Warning]) -> bool:
+    """asperity's warnings and plain UserWarnings (not numpy's RuntimeWarning, ...)."""
+    return category.__module__.startswith("asperity") or category is UserWarning
+
+
+@contextlib.contextmanager
+def warnings_as_lines(command: str, stream=None) -> Iterator[list[str]]:  # noqa: ANN001
+    """Print each warning raised inside the block as ``asperity COMMAND: warning: ...``.
+
+    One line per distinct message, on ``stream`` (default: ``sys.stderr`` at the time of the
+    warning); the active warning filters still decide which warnings are shown. asperity's own
+    warnings (and UserWarning) are printed at once; foreign ones (numpy's RuntimeWarning, ...)
+    wait until the next own warning or the end of the block, and are dropped when the block
+    ends by an exception: a command that fails prints its one error line, not the numerical
+    noise of the computation it abandoned (``ASPERITY_DEBUG=1`` prints them).
+    """
+    shown: set[str] = set()
+    waiting: list[str] = []
+
+    def emit(text: str) -> None:
+        print(f"asperity {command}: warning: {text}", file=stream or sys.stderr)
+
+    def show(message, category, filename, lineno, file=None, line=None) -> None:  # noqa: ANN001
+        text = _warning_text(message, category)
+        if text in shown:
+            return
+        shown.add(text)
+        if not _own_category(category):
+            waiting.append(text)
+            return
+        while waiting:
+            emit(waiting.pop(0))
+        emit(text)
+
+    with warnings.catch_warnings():
+        warnings.showwarning = show
+        try:
+            yield waiting
+        except BaseException:
+            if not _debugging():
+                waiting.clear()
+            raise
+        finally:
+            while waiting:
+                emit(waiting.pop(0))
+
+
+def _path_error_text(exc: OSError) -> str:
+    if exc.filename is not None and exc.strerror:
+        return f"{exc.filename}: {exc.strerror}"
+    return str(exc)
+
+
+def _report_exception(command: str, exc: BaseException) -> ExitStatus:
+    """Print the one-line report of ``exc`` (and its traceback when debugging); its status."""
+    if _debugging():
+        traceback.print_exception(exc, file=sys.stderr)
+    if isinstance(exc, InputError):
+        print(f"asperity {command}: error: {exc}", file=sys.stderr)
+        return ExitStatus.BAD_INPUT
+    if isinstance(exc, PATH_ERRORS):
+        print(f"asperity {command}: error: {_path_error_text(exc)}", file=sys.stderr)
+        return ExitStatus.BAD_INPUT
+    print(
+        f"asperity {command}: internal error: {type(exc).__name__}: {_one_line(exc)} "
+        f"(please report this; run with {DEBUG_VARIABLE}=1 for the traceback)",
+        file=sys.stderr,
+    )
+    return ExitStatus.INTERNAL_ERROR
+
+
+def _status(value: object) -> ExitStatus:
+    """A handler's return value as an exit status (None means success; an undocumented code
+    raises ValueError, reported as an internal error)."""
+    return ExitStatus.OK if value is None else ExitStatus(int(value))
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the ``asperity`` command; returns the process exit status (module docstring)."""
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as stop:  # --help and --version exit 0 here; an option error is 2,
+        if stop.code != ExitStatus.BAD_INPUT:  # its one line already printed
+            raise
+        return ExitStatus.BAD_INPUT
+    if getattr(args, "func", None) is None:
+        parser.print_help()
+        return ExitStatus.BAD_INPUT
+    try:
+        with warnings_as_lines(args.command):
+            return _status(args.func(args))
+    except KeyboardInterrupt:
+        print(f"asperity {args.command}: interrupted; finished stages are kept", file=sys.stderr)
+        return ExitStatus.INTERRUPTED
+    except Exception as exc:  # noqa: BLE001 (every exception gets a status of its own)
+        return _report_exception(args.command, exc)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,76 @@
+"""The stages of the job, one module each, and their order (:data:`STAGES`).
+
+=====  ======================  ====================================================
+ no.   group in results.h5     module
+=====  ======================  ====================================================
+ 1     surface                 :mod:`~asperity.pipelines.stages.surface`
+ 2     resolution_scan         :mod:`~asperity.pipelines.stages.surface`
+ 3     bem_reference           :mod:`~asperity.pipelines.stages.bem`
+ 4     statistical_model       :mod:`~asperity.pipelines.stages.statistical_model`
+ 5     mode_mixity             :mod:`~asperity.pipelines.stages.friction`
+ 6     friction                :mod:`~asperity.pipelines.stages.friction`
+ 7     psd                     :mod:`~asperity.pipelines.stages.psd`
+ 8     verdict                 :mod:`~asperity.pipelines.stages.verdict`
+=====  ======================  ====================================================
+
+(a test holds this table to :data:`STAGES`.) Each module declares its stages with
+:class:`~asperity.pipelines.engine.stage.Stage`; a stage's number is its place in
+:data:`STAGES`. The declaration API is re-exported here, as ``asperity.pipelines.stages``
+offered it in asperity 0.2.
+"""
+
+from asperity.pipelines.engine.stage import (
+    DISABLED,
+    Runner,
+    Stage,
+    StageContext,
+    StageRun,
+    config_value,
+    hash_document,
+    key_document,
+    stage_label,
+)
+from asperity.pipelines.stages.bem import BEM
+from asperity.pipelines.stages.friction import FRICTION, MODE_MIXITY
+from asperity.pipelines.stages.psd import PSD
+from asperity.pipelines.stages.statistical_model import STATISTICAL_MODEL
+from asperity.pipelines.stages.surface import SCAN, SURFACE
+from asperity.pipelines.stages.verdict import VERDICT
+
+#: The stages of the job, in the order they run; a stage's number is its place here, from 1.
+STAGES: tuple[Stage, ...] = (
+    SURFACE,
+    SCAN,
+    BEM,
+    STATISTICAL_MODEL,
+    MODE_MIXITY,
+    FRICTION,
+    PSD,
+    VERDICT,
+)
+#: Their group names in results.h5.
+STAGE_NAMES: tuple[str, ...] = tuple(stage.name for stage in STAGES)
+
+
+def stage_number(name: str) -> int:
+    """The number of the stage with group or attribute ``name`` (1 for "surface")."""
+    for i, stage in enumerate(STAGES, start=1):
+        if name in (stage.name, stage.attribute):
+            return i
+    raise KeyError(f"no stage named {name!r} (stages: {', '.join(STAGE_NAMES)})")
+
+
+__all__ = [
+    "DISABLED",
+    "STAGES",
+    "STAGE_NAMES",
+    "Runner",
+    "Stage",
+    "StageContext",
+    "StageRun",
+    "config_value",
+    "hash_document",
+    "key_document",
+    "stage_label",
+    "stage_number",
+]

@@ -1,0 +1,419 @@
+"""The BEM stage: the BEM reference A_r(F_z) on the map (Appendix B; squares of Fig 12d).
+
+The map covers only part of the experiment's nominal area A_n, so each normal load is scaled
+to the map at equal nominal pressure, F_map = F_z A_map / A_n, and the result is reported as
+the fraction A_r / A_map (equal to A_r / A_n of the experiment). Non-adhesive and adhesive
+(Pohrt-Popov, eq:max_sigma) solves at every load; every adhesive number lies on the loading
+branch (:mod:`asperity.pipelines.stages._bem_solves`).
+
+The boundary condition (``[bem] boundary``) and the grid (``max_stride``, ``area_tolerance``,
+``coarsen``) are chosen and stated as :mod:`asperity.pipelines.stages._bem_grid` explains.
+Nothing is solved twice: the grid check's solve at the chosen stride is the sweep's solve at the
+check load, and the other loads are solved in two chains outwards from it (in parallel with two
+workers; the map is shipped to each worker once).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from concurrent.futures import Executor
+from dataclasses import dataclass
+from types import SimpleNamespace
+
+import numpy as np
+
+from asperity import topo
+from asperity.fields import array, document_fields, scalar, text
+from asperity.pipelines.config import BemConfig
+from asperity.pipelines.engine.parallel import run_map, share
+from asperity.pipelines.engine.stage import Stage, StageContext
+from asperity.pipelines.stages._bem_grid import (
+    GridCheck,
+    boundary_warning,
+    check_grids,
+    edge_mismatch,
+    solver_grid,
+)
+from asperity.pipelines.stages._bem_solves import SolveSummary, solve_chain
+from asperity.pipelines.stages.surface import SURFACE
+
+__all__ = ["BEM", "BemReference", "bem_reference", "compute_bem", "solver_grid"]
+
+
+@document_fields
+@dataclass
+class BemReference:
+    """Stage-3 result: the BEM A_r(F_z) reference on the map, and the grid check behind it.
+
+    Attributes
+    ----------
+    normal_load : ndarray
+        Experiment loads F_z, N.
+    mode : ndarray
+        0 non-adhesive, 1 adhesive (Pohrt-Popov, when run).
+    check_stride : ndarray
+        Strides solved by the grid refinement check, coarse to fine.
+    mask_x, mask_y : ndarray
+        Pixel positions of the solved grid, m.
+    map_normal_load : ndarray
+        Loads on the solved map, F_z A_map / A_n, N.
+    contact_fraction : ndarray
+        Non-adhesive A_r/A_map (= A_r/A_n of the experiment).
+    contact_fraction_adhesive : ndarray or None
+        Adhesive (Pohrt-Popov) A_r/A_map; None when not run.
+    iterations, converged, solve_seconds : ndarray, shape (n_mode, n_load)
+        Per solve: iterations, convergence, wall time (s).
+    check_contact_fraction : ndarray, shape (n_check_stride, n_mode)
+        A_r/A_map at the check pressure per stride and mode.
+    check_relative_change : ndarray
+        Largest relative change to the next finer stride (NaN for the finest).
+    contact_mask : ndarray of bool
+        Contact at the largest load (adhesive when run).
+    stride : int
+        Chosen decimation of the map for the sweeps.
+    dx, dy : float
+        Pixel sizes of the solved grid, m.
+    check_pressure : float
+        Nominal pressure of the check, Pa.
+    grid_converged : bool
+        The two finest grids solved agree within ``bem.area_tolerance`` (the finest grid's
+        area looks converged); True when a single grid was solved.
+    grid_reason : str
+        One sentence for the report.
+    messages : list of str
+        Solver messages of runs that did not converge.
+    convolutions : ndarray, shape (n_mode, n_load)
+        FFT convolutions per solve (an adhesive solve's non-adhesive start included).
+    branch : list of list of str
+        Per mode and load: the branch of the solve (``"unique"`` non-adhesive, ``"loading"``).
+    check_error : ndarray
+        Per check stride: largest relative A_r/A_n difference from the finest grid solved.
+    check_iterations, check_convolutions, check_seconds : ndarray, (n_check_stride, n_mode)
+        Per check solve: iterations, convolutions, wall time (s).
+    check_branch : list of list of str
+        Per check stride and mode: the branch of the solve.
+    check_load : float
+        Experiment load of the check, N (one of ``normal_load``: its solve at the chosen
+        stride is the sweep's).
+    grid_error : float
+        Error of the grid used against the finest grid solved (0 when it is the finest).
+    boundary : str
+        ``"periodic"`` or ``"free"``.
+    edge_mismatch : float
+        Rms height jump across opposite edges of the solved grid over its rms height.
+    warnings : list of str
+        Report lines (a periodic solve of a map whose edges do not meet).
+    solves, total_iterations, total_convolutions : int
+        BEM solves made by the stage (each once), their iterations and convolutions.
+    all_converged : bool
+        Every solve converged (derived).
+    """
+
+    normal_load: np.ndarray = array("N", ("normal_load",), "normal load on the nominal area")
+    mode: np.ndarray = array("1", ("mode",), "0 non-adhesive, 1 adhesive (Pohrt-Popov)")
+    check_stride: np.ndarray = array("1", ("check_stride",), "strides of the grid refinement check")
+    mask_x: np.ndarray = array("m", ("mask_x",), "x")
+    mask_y: np.ndarray = array("m", ("mask_y",), "y")
+    map_normal_load: np.ndarray = array("N", ("normal_load",), "load on the map, F_z A_map / A_n")
+    contact_fraction: np.ndarray = array("1", ("normal_load",), "non-adhesive A_r / A_n")
+    iterations: np.ndarray = array("1", ("mode", "normal_load"), "solver iterations")
+    converged: np.ndarray = array("1", ("mode", "normal_load"), "solver converged")
+    solve_seconds: np.ndarray = array("s", ("mode", "normal_load"), "wall time of each solve")
+    check_contact_fraction: np.ndarray = array(
+        "1", ("check_stride", "mode"), "A_r / A_map at the check pressure"
+    )
+    check_relative_change: np.ndarray = array(
+        "1", ("check_stride",), "relative change to the next finer stride"
+    )
+    contact_mask: np.ndarray = array("1", ("mask_x", "mask_y"), "contact at the largest load")
+    stride: int = scalar("1", "decimation of the map used by the sweeps")
+    dx: float = scalar("m", "pixel size of the solved grid along x")
+    dy: float = scalar("m", "pixel size of the solved grid along y")
+    check_pressure: float = scalar("Pa", "nominal pressure of the grid check")
+    grid_converged: bool = scalar("1", "the grid check found a converged stride")
+    grid_reason: str = text("why this grid")
+    messages: list[str] = text("messages of solves that did not converge")
+    convolutions: np.ndarray = array("1", ("mode", "normal_load"), "FFT convolutions per solve")
+    branch: list[list[str]] = text("branch of each solve, per mode and load")
+    check_error: np.ndarray = array(
+        "1", ("check_stride",), "relative A_r/A_n difference from the finest grid solved"
+    )
+    check_iterations: np.ndarray = array("1", ("check_stride", "mode"), "check solve iterations")
+    check_convolutions: np.ndarray = array(
+        "1", ("check_stride", "mode"), "check solve FFT convolutions"
+    )
+    check_seconds: np.ndarray = array("s", ("check_stride", "mode"), "check solve wall time")
+    check_branch: list[list[str]] = text("branch of each check solve, per stride and mode")
+    check_load: float = scalar("N", "experiment load of the grid check")
+    grid_error: float = scalar("1", "error of the grid used against the finest grid solved")
+    boundary: str = text("periodic or free")
+    edge_mismatch: float = scalar("1", "rms seam height jump over rms height")
+    warnings: list[str] = text("report lines about the BEM")
+    solves: int = scalar("1", "BEM solves made by the stage")
+    total_iterations: int = scalar("1", "iterations of all solves of the stage")
+    total_convolutions: int = scalar("1", "FFT convolutions of all solves of the stage")
+    contact_fraction_adhesive: np.ndarray | None = array(
+        "1", ("normal_load",), "adhesive A_r / A_n", optional=True
+    )
+    all_converged: bool = scalar("1", "every BEM solve converged", init=False)
+    area_tolerance: float | None = scalar(
+        "1", "relative A_r tolerance of the grid check ([bem] area_tolerance)", optional=True
+    )
+
+    def __post_init__(self) -> None:
+        self.all_converged = bool(np.all(self.converged))
+
+    def reference_fraction(self) -> np.ndarray:
+        """The A_r/A_n the statistical model is compared with: adhesive when run."""
+        if self.contact_fraction_adhesive is not None:
+            return self.contact_fraction_adhesive
+        return self.contact_fraction
+
+
+def check_load_index(loads: np.ndarray) -> int:
+    """Index of the check load in ``loads``: the middle one, ``sorted(loads)[n // 2]``."""
+    return int(np.argsort(loads, kind="stable")[len(loads) // 2])
+
+
+def load_chains(loads: np.ndarray) -> list[list[int]]:
+    """Indices of the loads other than the check load, in two chains solved outwards from it:
+    increasing above it, decreasing below it (empty chains left out)."""
+    order = list(np.argsort(loads, kind="stable"))
+    k = len(loads) // 2
+    chains = [order[k + 1 :], order[:k][::-1]]
+    return [[int(i) for i in c] for c in chains if c]
+
+
+def _solve_chains(
+    grid: GridCheck,
+    surface: topo.HeightMap,
+    e_star: float,
+    map_loads: np.ndarray,
+    w: float,
+    solver: dict,
+    executor: Executor | None,
+    progress: bool,
+) -> dict[int, tuple[SolveSummary, SolveSummary | None]]:
+    """The sweeps' solves at every load but the check load, per load index; and the contact
+    mask of the largest load under key -1 when a chain reaches it."""
+    chains = load_chains(map_loads)
+    if not chains:
+        return {}
+    h, dx, dy = solver_grid(surface, grid.stride)
+    heights, start = share(executor, h), share(executor, grid.start)
+    largest = int(np.argmax(map_loads))
+    jobs = [
+        (heights, dx, dy, e_star, [float(map_loads[i]) for i in c], w, solver, start, largest in c)
+        for c in chains
+    ]
+    out: dict = {}
+    for chain, (summaries, mask) in zip(
+        chains,
+        run_map(solve_chain, jobs, executor, desc="BEM sweeps", progress=progress),
+        strict=True,
+    ):
+        out.update(zip(chain, summaries, strict=True))
+        if mask is not None:
+            out[-1] = mask
+    return out
+
+
+def _per_load(
+    loads: np.ndarray, k: int, grid: GridCheck, chains: dict, adhesive: bool
+) -> list[list[SolveSummary]]:
+    """Summaries per mode and load: the check solve at the chosen stride at load ``k``."""
+    check = grid.solves[list(grid.strides).index(grid.stride)]
+    modes = range(2 if adhesive else 1)
+    return [[check[m] if i == k else chains[i][m] for i in range(len(loads))] for m in modes]
+
+
+def _field(solves: list[list[SolveSummary]], name: str, dtype: type = float) -> np.ndarray:
+    return np.array([[getattr(s, name) for s in row] for row in solves], dtype=dtype)
+
+
+def _messages(loads: np.ndarray, solves: list[list[SolveSummary]]) -> list[str]:
+    return [
+        f"{'adhesive' if m else 'non-adhesive'} F_z={loads[i]:.4g} N: {s.message}"
+        for m, row in enumerate(solves)
+        for i, s in enumerate(row)
+        if not s.converged
+    ]
+
+
+#: The ``[bem]`` keys the BEM reference reads: the keyword arguments of :func:`bem_reference`,
+#: the keys the stage declares and passes (``bem.enabled`` only switches the stage on or off).
+SETTINGS: tuple[str, ...] = (
+    "tol",
+    "max_iter",
+    "area_tolerance",
+    "max_stride",
+    "adhesive",
+    "boundary",
+    "coarsen",
+)
+_DEFAULTS = BemConfig()
+
+
+def bem_reference(
+    surface: topo.HeightMap,
+    e_star: float,
+    work_of_adhesion: float,
+    normal_loads: Sequence[float],
+    nominal_area: float,
+    *,
+    tol: float = _DEFAULTS.tol,
+    max_iter: int | None = _DEFAULTS.max_iter,
+    area_tolerance: float = _DEFAULTS.area_tolerance,
+    max_stride: int = _DEFAULTS.max_stride,
+    adhesive: bool = _DEFAULTS.adhesive,
+    boundary: str = _DEFAULTS.boundary,
+    coarsen: bool = _DEFAULTS.coarsen,
+    executor: Executor | None = None,
+    progress: bool = False,
+) -> BemReference:
+    """The BEM stage: BEM real contact area against normal load on the map.
+
+    Parameters
+    ----------
+    surface : topo.HeightMap
+        Levelled map, heights in m (larger = closer to the flat).
+    e_star : float
+        E*, Pa.
+    work_of_adhesion : float
+        w, J/m^2 (adhesive solves, Pohrt-Popov, on the loading branch).
+    normal_loads : sequence of float
+        Experiment loads F_z, N (on the nominal area).
+    nominal_area : float
+        A_n of the experiment, m^2.
+    tol, max_iter, area_tolerance, max_stride, adhesive, boundary, coarsen
+        The ``[bem]`` keys of :data:`SETTINGS`, defaults from
+        :class:`~asperity.pipelines.config.BemConfig`. ``tol`` and ``max_iter`` are the
+        solver's (:func:`bem.solve_contact`).
+        ``area_tolerance``, ``max_stride`` and ``coarsen`` set the grid check
+        (:func:`asperity.pipelines.stages._bem_grid.check_grids`); ``adhesive`` runs the
+        adhesive solves too; ``boundary`` ("periodic" or "free") is every solve's
+        (:mod:`asperity.pipelines.stages._bem_grid`).
+    executor : Executor, optional
+        Runs the two load chains in parallel.
+    """
+    loads = np.asarray(normal_loads, dtype=float)
+    w = work_of_adhesion if adhesive and work_of_adhesion > 0 else 0.0
+    solver = {"tol": tol, "max_iter": max_iter, "periodic": boundary == "periodic"}
+    k = check_load_index(loads)
+    grid = check_grids(
+        surface,
+        e_star,
+        w,
+        float(loads[k]) / nominal_area,
+        max_stride=max_stride,
+        area_tolerance=area_tolerance,
+        coarsen=coarsen,
+        solver=solver,
+    )
+    h, dx, dy = solver_grid(surface, grid.stride)
+    map_loads = loads * (h.size * dx * dy) / nominal_area
+    chains = _solve_chains(grid, surface, e_star, map_loads, w, solver, executor, progress)
+    solves = _per_load(loads, k, grid, chains, w > 0)
+    run = SimpleNamespace(
+        loads=loads, k=k, grid=grid, chains=chains, solves=solves, h=h, dx=dx, dy=dy, w=w
+    )
+    return _reference(run, map_loads, nominal_area, area_tolerance, boundary)
+
+
+def _grid_fields(run: SimpleNamespace, nominal_area: float, area_tolerance: float) -> dict:
+    """The grid check's fields of :class:`BemReference` (strides tried, their solves, choice)."""
+    grid, loads, k = run.grid, run.loads, run.k
+    change = grid.relative_change
+    return {
+        "check_stride": grid.strides,
+        "check_contact_fraction": grid.fractions(),
+        "check_relative_change": change,
+        "stride": grid.stride,
+        "check_pressure": float(loads[k]) / nominal_area,
+        "grid_converged": bool(len(change) < 2 or change[-2] <= area_tolerance),
+        "area_tolerance": float(area_tolerance),
+        "grid_reason": grid.reason,
+        "check_error": grid.error,
+        "check_iterations": _field(grid.solves, "iterations", int),
+        "check_convolutions": _field(grid.solves, "convolutions", int),
+        "check_seconds": _field(grid.solves, "seconds"),
+        "check_branch": [[s.branch for s in row] for row in grid.solves],
+        "check_load": float(loads[k]),
+        "grid_error": float(grid.error[list(grid.strides).index(grid.stride)]),
+    }
+
+
+def _reference(
+    run: SimpleNamespace,
+    map_loads: np.ndarray,
+    nominal_area: float,
+    area_tolerance: float,
+    boundary: str,
+) -> BemReference:
+    """The :class:`BemReference` of the grid check and the load chains ``run`` holds."""
+    loads, k, solves, dx, dy = run.loads, run.k, run.solves, run.dx, run.dy
+    mask = run.chains.get(-1, run.grid.mask)  # the check's own mask when the check load is largest
+    mismatch = edge_mismatch(run.h)
+    warning = boundary_warning(boundary, mismatch)
+    grid = _grid_fields(run, nominal_area, area_tolerance)
+    check_iter, check_conv = grid["check_iterations"], grid["check_convolutions"]
+    iterations = _field(solves, "iterations", int)
+    convolutions = _field(solves, "convolutions", int)
+    return BemReference(
+        normal_load=loads,
+        mode=np.arange(len(solves)),
+        mask_x=np.arange(mask.shape[0]) * dx,
+        mask_y=np.arange(mask.shape[1]) * dy,
+        map_normal_load=map_loads,
+        contact_fraction=_field(solves, "contact_fraction")[0],
+        iterations=iterations,
+        converged=_field(solves, "converged", bool),
+        solve_seconds=_field(solves, "seconds"),
+        contact_mask=mask,
+        dx=dx,
+        dy=dy,
+        messages=_messages(loads, solves),
+        convolutions=convolutions,
+        branch=[[s.branch for s in row] for row in solves],
+        boundary=boundary,
+        edge_mismatch=mismatch,
+        warnings=[warning] if warning else [],
+        solves=int(check_iter.size + iterations.size - iterations.shape[0]),
+        total_iterations=int(check_iter.sum() + iterations.sum() - iterations[:, k].sum()),
+        total_convolutions=int(check_conv.sum() + convolutions.sum() - convolutions[:, k].sum()),
+        contact_fraction_adhesive=_field(solves, "contact_fraction")[1] if run.w > 0 else None,
+        **grid,
+    )
+
+
+def compute_bem(context: StageContext) -> BemReference:
+    """The job's BEM stage: :func:`bem_reference` with ``[bem]``, the material and the loads."""
+    config = context.config
+    return bem_reference(
+        context.result(SURFACE).height_map(),
+        config.material.e_star,
+        config.material.work_of_adhesion,
+        config.loading.normal_loads,
+        config.loading.nominal_area,
+        **{name: getattr(config.bem, name) for name in SETTINGS},
+        executor=context.executor,
+        progress=context.progress,
+    )
+
+
+BEM = Stage(
+    name="bem_reference",
+    title="BEM reference",
+    attribute="bem",
+    result=BemReference,
+    config=(
+        "material.E_star",
+        "material.work_of_adhesion",
+        "loading.nominal_area",
+        "loading.normal_loads",
+        *(f"bem.{name}" for name in SETTINGS),
+    ),
+    inputs=(SURFACE,),
+    compute=compute_bem,
+    enabled=lambda config: config.bem.enabled,
+)

@@ -1,0 +1,717 @@
+"""The lambda and friction stages: calibrate lambda on measured A_r(F_x), then predict friction at
+each load.
+
+The lambda stage (:func:`calibrate_mode_mixity`) fits the mode mixity lambda to the user's measured
+A_r(F_x) curves with :func:`pipelines.stages.fitting.fit_mode_mixity` (Section 5, Fig 13); without
+measurements the configured lambda is used.
+
+The friction stage (:func:`friction_prediction`) runs :func:`statmodel.shear_curve` at every normal
+load: F_x(delta_T), A_r(F_x) with their stick and slip parts (E:NewFormulation_Fy..Ar), static and
+sliding friction (Figs 4, 13), and the constant-shear-strength line F_x = tau0 A_r of Fig 13.
+
+The shear path delta_T = 0..max is given, or found automatically ("auto"): a first curve on a
+guessed path gives the model's sliding displacement (the statistical model finds it even
+beyond the path), and the path is then set to 1.25 times it, so that the steps resolve the
+stick part, the static peak and the start of full sliding. When sliding never completes
+(lambda = 0) the guessed path is kept.
+
+Quadrature ("model no more than a scene needs"): :func:`choose_quadrature` evaluates the
+heaviest load's curve with each setting of :data:`QUADRATURE_LADDER` (coarse to fine) and keeps
+the coarsest whose F_x and A_r differ from the next finer one by less than the requested
+relative tolerance (relative to the curve's maximum).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import math
+import time
+from collections.abc import Mapping, Sequence
+from concurrent.futures import Executor
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from asperity import statmodel
+from asperity.fields import array, document_fields, scalar, stacked, text
+from asperity.pipelines.engine.parallel import run_map
+from asperity.pipelines.engine.stage import Stage, StageContext
+from asperity.pipelines.measured import ShearAreaCurve
+from asperity.pipelines.stages.fitting import LambdaFit, fit_mode_mixity, interpolate_area
+from asperity.pipelines.stages.statistical_model import STATISTICAL_MODEL
+from asperity.statmodel.results_io import ARRAY_UNITS, SCALAR_UNITS
+
+#: Per-step arrays and per-load scalars of :class:`statmodel.ShearCurve` kept by the friction stage,
+#: with their units: the tables the ``asperity friction`` output uses, less ``normal_load``, which
+#: is the stage's dimension coordinate.
+CURVE_FIELDS: dict[str, str] = dict(ARRAY_UNITS)
+CURVE_SCALARS: dict[str, str] = {k: v for k, v in SCALAR_UNITS.items() if k != "normal_load"}
+
+#: Quadrature settings of :func:`statmodel.shear_curve` (its ``nodes`` Gauss-Legendre nodes per
+#: panel and ``panels`` per population range), coarse to fine; the fourth is the model's default.
+QUADRATURE_LADDER: tuple[dict[str, Any], ...] = (
+    {"nodes": 4, "panels": 1},
+    {"nodes": 6, "panels": 2},
+    {"nodes": 8, "panels": 4},
+    {"nodes": 16, "panels": 4},
+    {"nodes": 24, "panels": 8},
+)
+
+#: Fewest delta_T steps of the model curves the lambda fit interpolates (their discretisation
+#: must not bias the fit).
+MIN_FIT_STEPS = 201
+
+#: The automatic shear path ends at this multiple of the sliding displacement.
+SLIDING_MARGIN = 1.25
+
+
+def initial_displacement_guess(
+    material: statmodel.Material, roughness: statmodel.Roughness
+) -> float:
+    """A first guess of the shear path length, m.
+
+    Four times tau0 a0 / E*, with a0 = (9 pi w R^2 / (2 E*))^(1/3) the JKR contact radius at
+    zero load (E:JKR_indent, E:JKR_load); at least 1e-7 m. Only a starting point: the path is
+    then extended or trimmed by :func:`shear_curve_auto`.
+    """
+    r, w, e = roughness.summit_radius, material.work_of_adhesion, material.e_star
+    a0 = (9 * math.pi * max(w, 1e-6) * r**2 / (2 * e)) ** (1 / 3)
+    tau = max(material.shear_strength, 1e-3 * e)
+    return max(4 * tau * a0 / e, 1e-7)
+
+
+def shear_curve_auto(
+    material: statmodel.Material,
+    roughness: statmodel.Roughness,
+    nominal_area: float,
+    normal_load: float,
+    *,
+    max_tangential_displacement: float | None = None,
+    steps: int = 201,
+    knobs: Mapping[str, Any] | None = None,
+) -> Any:
+    """:func:`statmodel.shear_curve` on a given or automatically found shear path.
+
+    Parameters
+    ----------
+    material, roughness : statmodel.Material, statmodel.Roughness
+        Model inputs (SI).
+    nominal_area : float
+        A_n, m^2.
+    normal_load : float
+        F_z, N.
+    max_tangential_displacement : float or None
+        Largest delta_T, m; None finds it (see module docstring).
+    steps : int
+        Number of delta_T steps, the first at delta_T = 0.
+    knobs : mapping, optional
+        Accuracy knobs passed to :func:`statmodel.shear_curve`.
+
+    Returns
+    -------
+    statmodel.ShearCurve
+    """
+    knobs = dict(knobs or {})
+
+    def run(max_dt: float) -> Any:
+        path = np.linspace(0.0, max_dt, steps)
+        return statmodel.shear_curve(material, roughness, nominal_area, normal_load, path, **knobs)
+
+    if max_tangential_displacement is not None:
+        return run(float(max_tangential_displacement))
+    max_dt = initial_displacement_guess(material, roughness)
+    curve = run(max_dt)
+    sliding = float(curve.sliding_displacement)  # found by the model even beyond the path
+    if math.isfinite(sliding) and sliding > 0 and not 0.6 * max_dt <= sliding <= max_dt:
+        curve = run(SLIDING_MARGIN * sliding)
+    return curve
+
+
+def curve_summary(curve: Any) -> dict[str, Any]:
+    """Arrays and scalars of a shear curve as a picklable dict (SI)."""
+    out: dict[str, Any] = {
+        name: np.asarray(getattr(curve, name), dtype=float) for name in CURVE_FIELDS
+    }
+    for name in CURVE_SCALARS:
+        out[name] = float(getattr(curve, name))
+    out["converged"] = bool(curve.converged)
+    out["message"] = str(curve.message)
+    return out
+
+
+def _curve_job(
+    material: statmodel.Material,
+    roughness: statmodel.Roughness,
+    nominal_area: float,
+    normal_load: float,
+    max_dt: float | None,
+    steps: int,
+    knobs: Mapping[str, Any],
+) -> dict[str, Any]:
+    return curve_summary(
+        shear_curve_auto(
+            material,
+            roughness,
+            nominal_area,
+            normal_load,
+            max_tangential_displacement=max_dt,
+            steps=steps,
+            knobs=knobs,
+        )
+    )
+
+
+def model_shear_area(
+    mode_mixity: float,
+    normal_load: float,
+    *,
+    material: statmodel.Material,
+    roughness: statmodel.Roughness,
+    nominal_area: float,
+    max_tangential_displacement: float | None,
+    steps: int,
+    knobs: Mapping[str, Any],
+) -> tuple[np.ndarray, np.ndarray]:
+    """Model A_r(F_x) along the shear path for one lambda and load: (F_x N, A_r m^2)."""
+    curve = shear_curve_auto(
+        dataclasses.replace(material, mode_mixity=float(mode_mixity)),
+        roughness,
+        nominal_area,
+        normal_load,
+        max_tangential_displacement=max_tangential_displacement,
+        steps=steps,
+        knobs=knobs,
+    )
+    return np.asarray(curve.tangential_force, float), np.asarray(curve.real_area, float)
+
+
+@dataclass
+class QuadratureChoice:
+    """Outcome of the statistical model's refinement check.
+
+    Attributes
+    ----------
+    knobs : dict
+        The chosen accuracy knobs of :func:`statmodel.shear_curve`.
+    ladder : list of dict
+        Settings tried, coarse to fine.
+    relative_change : ndarray
+        Largest relative change of F_x and A_r from each setting to the next finer one.
+    seconds : ndarray
+        Time of each setting's curve, s.
+    reason : str
+        One sentence for the report.
+    """
+
+    knobs: dict[str, Any]
+    ladder: list[dict[str, Any]]
+    relative_change: np.ndarray
+    seconds: np.ndarray
+    reason: str
+
+
+def _ladder_curves(
+    case: tuple, ladder: list[dict], max_tangential_displacement: float | None, steps: int
+) -> tuple[list[statmodel.ShearCurve], np.ndarray]:
+    """The shear curve of ``case`` (material, roughness, A_n m^2, F_z N) at every setting, and
+    the seconds each took; the finest runs first and fixes the shear path of the others."""
+    curves, seconds = [], []
+    max_dt = max_tangential_displacement
+    for knobs in ladder[::-1]:
+        t0 = time.perf_counter()
+        curve = shear_curve_auto(
+            *case, max_tangential_displacement=max_dt, steps=steps, knobs=knobs
+        )
+        seconds.append(time.perf_counter() - t0)
+        if max_dt is None:
+            max_dt = float(np.asarray(curve.tangential_displacement)[-1])
+        curves.append(curve)
+    return curves[::-1], np.array(seconds[::-1])
+
+
+def _refinement_change(curves: Sequence[statmodel.ShearCurve]) -> np.ndarray:
+    """Largest relative change of F_x and A_r from each curve to the next finer (NaN last)."""
+    change = np.full(len(curves), np.nan)
+    for i in range(len(curves) - 1):
+        worst = 0.0
+        for name in ("tangential_force", "real_area"):
+            a = np.asarray(getattr(curves[i], name), float)
+            b = np.asarray(getattr(curves[i + 1], name), float)
+            scale = np.max(np.abs(b)) or 1.0
+            worst = max(worst, float(np.max(np.abs(a - b)) / scale))
+        change[i] = worst
+    return change
+
+
+def choose_quadrature(
+    material: statmodel.Material,
+    roughness: statmodel.Roughness,
+    nominal_area: float,
+    normal_load: float,
+    *,
+    tolerance: float,
+    max_tangential_displacement: float | None,
+    steps: int,
+    ladder: Sequence[Mapping[str, Any]] = QUADRATURE_LADDER,
+) -> QuadratureChoice:
+    """The coarsest quadrature setting whose curve agrees with the next finer one.
+
+    Parameters
+    ----------
+    material, roughness, nominal_area, normal_load
+        The heaviest case of the job (SI).
+    tolerance : float
+        Allowed relative change of F_x and A_r (relative to each curve's maximum).
+    max_tangential_displacement, steps
+        The shear path (see :func:`shear_curve_auto`).
+    ladder : sequence of dict
+        Knob settings, coarse to fine.
+    """
+    ladder = [dict(k) for k in ladder]
+    if len(ladder) == 1:
+        return QuadratureChoice(
+            ladder[0],
+            ladder,
+            np.array([np.nan]),
+            np.array([np.nan]),
+            "statmodel's default quadrature (no coarser setting offered)",
+        )
+    case = (material, roughness, nominal_area, normal_load)
+    curves, seconds = _ladder_curves(case, ladder, max_tangential_displacement, steps)
+    change = _refinement_change(curves)
+    for i in range(len(ladder) - 1):
+        if change[i] <= tolerance:
+            return QuadratureChoice(
+                ladder[i],
+                ladder,
+                change,
+                seconds,
+                f"setting {ladder[i] or 'default'}: F_x and A_r change by "
+                f"{change[i]:.2g} (relative) on refinement, within "
+                f"{tolerance:.2g}; {seconds[i]:.3g} s per curve",
+            )
+    return QuadratureChoice(
+        ladder[-1],
+        ladder,
+        change,
+        seconds,
+        f"no coarser setting met {tolerance:.2g}: the finest ({ladder[-1] or 'default'}) is used",
+    )
+
+
+@document_fields
+@dataclass
+class ModeMixityChoice:
+    """Stage-5 result: the lambda used downstream and, when fitted, the fit and its data.
+
+    Attributes
+    ----------
+    mode_mixity : float
+        lambda used by the friction stage.
+    fitted : bool
+        Fitted to measured A_r(F_x) (else the configured value).
+    lambda_grid, grid_residual_rms : ndarray or None
+        The fit's coarse scan: lambda and the rms relative residual.
+    measured_normal_load, measured_tangential_force, measured_real_area : ndarray or None
+        The measured points (N, N, m^2).
+    mode_mixity_std, residual_rms : float or None
+        One-sigma uncertainty of lambda; rms relative residual at the optimum.
+    n_points, nfev : int or None
+        Points fitted; model evaluations of the optimiser.
+    success : bool or None
+        The optimiser reported success.
+    message : str or None
+        The optimiser's message.
+    model_real_area_at_measured : ndarray or None
+        The model's A_r (m^2) at each measured (F_z, F_x) point with the fitted lambda
+        (beside ``measured_real_area``).
+    """
+
+    mode_mixity: float = scalar("1", "mode mixity lambda used downstream")
+    fitted: bool = scalar("1", "lambda fitted to measured A_r(F_x)")
+    lambda_grid: np.ndarray | None = array(
+        "1", ("lambda_grid",), "lambda of the coarse scan", optional=True
+    )
+    grid_residual_rms: np.ndarray | None = array(
+        "1",
+        ("lambda_grid",),
+        "rms of (A_model - A_measured) / max(A_measured)",
+        optional=True,
+    )
+    measured_normal_load: np.ndarray | None = array("N", ("point",), "normal load", optional=True)
+    measured_tangential_force: np.ndarray | None = array(
+        "N", ("point",), "measured tangential force", optional=True
+    )
+    measured_real_area: np.ndarray | None = array(
+        "m^2", ("point",), "measured real contact area", optional=True
+    )
+    mode_mixity_std: float | None = scalar("1", "one-sigma uncertainty of lambda", optional=True)
+    residual_rms: float | None = scalar("1", "rms relative residual", optional=True)
+    n_points: int | None = scalar("1", "measured points fitted", optional=True)
+    nfev: int | None = scalar("1", "model evaluations of the optimiser", optional=True)
+    success: bool | None = scalar("1", "the optimiser reported success", optional=True)
+    message: str | None = text("the optimiser's message", optional=True)
+    model_real_area_at_measured: np.ndarray | None = array(
+        "m^2", ("point",), "model A_r at the measured points, fitted lambda", optional=True
+    )
+    fit_mode: str | None = text("shape (A_r/A_r(F_x=0)) or absolute", optional=True)
+    at_bound: bool | None = scalar("1", "lambda on a bound of the search interval", optional=True)
+    interval_low: float | None = scalar("1", "one-sigma profile interval, low end", optional=True)
+    interval_high: float | None = scalar("1", "one-sigma profile interval, high end", optional=True)
+    n_points_read: int | None = scalar("1", "measured points before trim/merge", optional=True)
+    fitted_normal_load: np.ndarray | None = array(
+        "N", ("fitted_point",), "normal load of the fitted points", optional=True
+    )
+    fitted_tangential_force: np.ndarray | None = array(
+        "N", ("fitted_point",), "F_x of the fitted (trimmed, merged) points", optional=True
+    )
+    fitted_real_area: np.ndarray | None = array(
+        "m^2", ("fitted_point",), "measured A_r of the fitted points", optional=True
+    )
+    fitted_model_area: np.ndarray | None = array(
+        "m^2", ("fitted_point",), "model A_r (times the curve's factor) there", optional=True
+    )
+
+    @classmethod
+    def from_fit(cls, fit: LambdaFit, curves: Sequence[ShearAreaCurve]) -> ModeMixityChoice:
+        """A fitted lambda with its fit and the measured curves."""
+        return cls(
+            mode_mixity=fit.mode_mixity,
+            fitted=True,
+            lambda_grid=np.asarray(fit.grid_mode_mixity, dtype=float),
+            grid_residual_rms=np.asarray(fit.grid_residual_rms, dtype=float),
+            measured_normal_load=np.concatenate(
+                [np.full(len(c.real_area), c.normal_load) for c in curves]
+            ),
+            measured_tangential_force=np.concatenate([c.tangential_force for c in curves]),
+            measured_real_area=np.concatenate([c.real_area for c in curves]),
+            mode_mixity_std=fit.mode_mixity_std,
+            residual_rms=fit.residual_rms,
+            n_points=fit.n_points,
+            nfev=fit.nfev,
+            success=fit.success,
+            message=fit.message,
+            fit_mode=fit.mode,
+            at_bound=fit.at_bound,
+            interval_low=float(fit.interval[0]),
+            interval_high=float(fit.interval[1]),
+            n_points_read=fit.n_points_read,
+            fitted_normal_load=fit.points.get("normal_load"),
+            fitted_tangential_force=fit.points.get("tangential_force"),
+            fitted_real_area=fit.points.get("real_area"),
+            fitted_model_area=fit.points.get("model_area"),
+        )
+
+    @property
+    def fit(self) -> LambdaFit | None:
+        """The lambda fit, when fitted."""
+        if not self.fitted:
+            return None
+        return LambdaFit(
+            self.mode_mixity,
+            self.mode_mixity_std,
+            self.residual_rms,
+            self.n_points,
+            self.lambda_grid,
+            self.grid_residual_rms,
+            self.success,
+            self.message,
+            self.nfev,
+            mode=self.fit_mode or "absolute",
+            at_bound=bool(self.at_bound),
+            interval=(
+                math.nan if self.interval_low is None else self.interval_low,
+                math.nan if self.interval_high is None else self.interval_high,
+            ),
+            n_points_read=self.n_points_read or self.n_points,
+            points={}
+            if self.fitted_model_area is None
+            else {
+                "normal_load": self.fitted_normal_load,
+                "tangential_force": self.fitted_tangential_force,
+                "real_area": self.fitted_real_area,
+                "model_area": self.fitted_model_area,
+            },
+        )
+
+    @property
+    def curves(self) -> list[ShearAreaCurve]:
+        """The measured A_r(F_x) curves fitted (empty when not fitted)."""
+        if not self.fitted:
+            return []
+        loads = self.measured_normal_load
+        return [
+            ShearAreaCurve(
+                float(f),
+                self.measured_tangential_force[loads == f],
+                self.measured_real_area[loads == f],
+                "stored",
+            )
+            for f in np.unique(loads)
+        ]
+
+
+def calibrate_mode_mixity(
+    material: statmodel.Material,
+    roughness: statmodel.Roughness,
+    nominal_area: float,
+    curves: Sequence[ShearAreaCurve],
+    *,
+    bounds: tuple[float, float] = (1e-4, 1.0),
+    max_tangential_displacement: float | None = None,
+    steps: int = 201,
+    knobs: Mapping[str, Any] | None = None,
+    executor: Executor | None = None,
+    mode: str = "shape",
+    trim: bool = True,
+) -> ModeMixityChoice:
+    """The lambda stage: fit lambda to measured A_r(F_x) curves, or keep ``material.mode_mixity``.
+
+    Parameters
+    ----------
+    material : statmodel.Material
+        Its ``mode_mixity`` is used when ``curves`` is empty.
+    roughness : statmodel.Roughness
+        At the effective resolution.
+    nominal_area : float
+        A_n, m^2.
+    curves : sequence of ShearAreaCurve
+        Measured A_r(F_x), F_x in N, A_r in m^2.
+    bounds : (float, float)
+        Search interval of lambda.
+    max_tangential_displacement, steps, knobs
+        Shear path and quadrature of the model curves (at least :data:`MIN_FIT_STEPS` steps).
+    executor : Executor, optional
+        Evaluates the loads in parallel.
+    mode, trim
+        Fit mode and trimming of :func:`pipelines.stages.fitting.fit_mode_mixity`.
+    """
+    if not curves:
+        return ModeMixityChoice(mode_mixity=material.mode_mixity, fitted=False)
+    model = functools.partial(
+        model_shear_area,
+        material=material,
+        roughness=roughness,
+        nominal_area=nominal_area,
+        max_tangential_displacement=max_tangential_displacement,
+        steps=max(steps, MIN_FIT_STEPS),
+        knobs=dict(knobs or {}),
+    )
+    map_fn = map if executor is None else executor.map
+    fit = fit_mode_mixity(list(curves), model, bounds=bounds, map_fn=map_fn, mode=mode, trim=trim)
+    choice = ModeMixityChoice.from_fit(fit, curves)
+    outputs = map_fn(model, [fit.mode_mixity] * len(curves), [c.normal_load for c in curves])
+    choice.model_real_area_at_measured = np.concatenate(
+        [
+            interpolate_area(fx, ar, c.tangential_force)
+            for c, (fx, ar) in zip(curves, outputs, strict=True)
+        ]
+    )
+    return choice
+
+
+@document_fields
+@dataclass
+@stacked(statmodel.ShearCurve, (*CURVE_FIELDS, *CURVE_SCALARS), "normal_load", after="normal_load")
+class FrictionPrediction:
+    """Stage-6 result: the shear curve (:class:`statmodel.ShearCurve`) at every normal load.
+
+    Every per-step array of a shear curve has shape (n_load, steps) and every per-curve
+    scalar shape (n_load,), with the unit and description :class:`statmodel.ShearCurve`
+    declares (the fields of the ``asperity friction`` output,
+    :mod:`asperity.statmodel.results_io`; added by :func:`asperity.fields.stacked`), with
+    stick and slip parts (E:NewFormulation_Fy..Ar).
+
+    Attributes
+    ----------
+    normal_load : ndarray
+        F_z, N.
+    converged : ndarray of bool
+        Per load.
+    quadrature_relative_change, quadrature_seconds : ndarray
+        The quadrature refinement check per setting (relative change, s per curve).
+    mode_mixity, shear_strength, nominal_area : float
+        lambda, tau0 (Pa) and A_n (m^2) used.
+    messages : list of str
+        Per load.
+    quadrature_knobs : dict
+        The chosen knobs of :func:`statmodel.shear_curve`.
+    quadrature_ladder : list of dict
+        The settings tried, coarse to fine.
+    quadrature_reason : str
+        One sentence for the report.
+    constant_shear_strength_force : ndarray
+        tau0 A_r, N: the constant-shear-strength model of Fig 13 (derived).
+    all_converged : bool
+        Every shear curve converged (derived).
+    """
+
+    normal_load: np.ndarray = array("N", ("normal_load",), "normal load")
+    converged: np.ndarray = array("1", ("normal_load",), "shear curve converged")
+    quadrature_relative_change: np.ndarray = array(
+        "1", ("quadrature_setting",), "change of F_x, A_r to the next finer setting"
+    )
+    quadrature_seconds: np.ndarray = array("s", ("quadrature_setting",), "time per curve")
+    mode_mixity: float = scalar("1", "mode mixity lambda used")
+    shear_strength: float = scalar("Pa", "shear strength tau0 used")
+    nominal_area: float = scalar("m^2", "nominal contact area A_n")
+    messages: list[str] = text("solver message per load")
+    quadrature_knobs: dict[str, int] = text("chosen knobs of statmodel.shear_curve")
+    quadrature_ladder: list[dict[str, int]] = text("quadrature settings tried, coarse to fine")
+    quadrature_reason: str = text("why this quadrature")
+    constant_shear_strength_force: np.ndarray = array(
+        "N",
+        ("normal_load", "step"),
+        "tau0 A_r: the constant-shear-strength model of Fig 13",
+        init=False,
+    )
+    all_converged: bool = scalar("1", "every shear curve converged", init=False)
+
+    def __post_init__(self) -> None:
+        self.constant_shear_strength_force = self.shear_strength * np.asarray(self.real_area)
+        self.all_converged = bool(np.all(self.converged))
+
+    def curve_arrays(self, index: int) -> dict[str, np.ndarray]:
+        """The per-step arrays of the shear curve at load ``index``, by name (SI)."""
+        return {name: getattr(self, name)[index] for name in CURVE_FIELDS}
+
+
+def friction_prediction(
+    material: statmodel.Material,
+    roughness: statmodel.Roughness,
+    nominal_area: float,
+    normal_loads: Sequence[float],
+    *,
+    max_tangential_displacement: float | None = None,
+    steps: int = 201,
+    quadrature_tolerance: float = 1e-4,
+    executor: Executor | None = None,
+    progress: bool = False,
+) -> FrictionPrediction:
+    """The friction stage: F_x(delta_T), A_r(F_x) with stick/slip parts, static and sliding
+    friction.
+
+    Parameters
+    ----------
+    material : statmodel.Material
+        With the calibrated lambda.
+    roughness : statmodel.Roughness
+        At the effective resolution.
+    nominal_area : float
+        A_n, m^2.
+    normal_loads : sequence of float
+        F_z, N.
+    max_tangential_displacement : float or None
+        Largest delta_T, m (None: automatic, per load).
+    steps : int
+        delta_T steps.
+    quadrature_tolerance : float
+        Relative accuracy asked of the quadrature (:func:`choose_quadrature`).
+    executor : Executor, optional
+        Runs the loads in parallel.
+    """
+    loads = np.asarray(normal_loads, dtype=float)
+    quad = choose_quadrature(
+        material,
+        roughness,
+        nominal_area,
+        float(loads.max()),
+        tolerance=quadrature_tolerance,
+        max_tangential_displacement=max_tangential_displacement,
+        steps=steps,
+    )
+    jobs = [
+        (
+            material,
+            roughness,
+            nominal_area,
+            float(f),
+            max_tangential_displacement,
+            steps,
+            quad.knobs,
+        )
+        for f in loads
+    ]
+    results = run_map(_curve_job, jobs, executor, desc="shear curves", progress=progress)
+    names = (*CURVE_FIELDS, *CURVE_SCALARS)
+    per_load = {name: np.array([r[name] for r in results]) for name in names}
+    return FrictionPrediction(
+        normal_load=loads,
+        converged=np.array([r["converged"] for r in results], dtype=bool),
+        quadrature_relative_change=quad.relative_change,
+        quadrature_seconds=quad.seconds,
+        mode_mixity=material.mode_mixity,
+        shear_strength=material.shear_strength,
+        nominal_area=float(nominal_area),
+        messages=[r["message"] for r in results],
+        quadrature_knobs=quad.knobs,
+        quadrature_ladder=quad.ladder,
+        quadrature_reason=quad.reason,
+        **per_load,
+    )
+
+
+def compute_mode_mixity(context: StageContext) -> ModeMixityChoice:
+    """The job's lambda stage: :func:`calibrate_mode_mixity` on the measured A_r(F_x) curves."""
+    config = context.config
+    return calibrate_mode_mixity(
+        config.material,
+        context.result(STATISTICAL_MODEL).roughness,
+        config.loading.nominal_area,
+        context.measured.shear_area,
+        bounds=config.fit.mode_mixity_bounds,
+        max_tangential_displacement=config.loading.max_tangential_displacement,
+        steps=config.loading.steps,
+        executor=context.executor,
+        mode=config.fit.mode,
+        trim=config.fit.trim_after_first_peak,
+    )
+
+
+def compute_friction(context: StageContext) -> FrictionPrediction:
+    """The job's friction stage: :func:`friction_prediction` with the calibrated lambda."""
+    config = context.config
+    material = dataclasses.replace(
+        config.material, mode_mixity=context.result(MODE_MIXITY).mode_mixity
+    )
+    return friction_prediction(
+        material,
+        context.result(STATISTICAL_MODEL).roughness,
+        config.loading.nominal_area,
+        config.loading.normal_loads,
+        max_tangential_displacement=config.loading.max_tangential_displacement,
+        steps=config.loading.steps,
+        quadrature_tolerance=config.statmodel.area_tolerance,
+        executor=context.executor,
+        progress=context.progress,
+    )
+
+
+MODE_MIXITY = Stage(
+    name="mode_mixity",
+    title="lambda",
+    attribute="mode_mixity",
+    result=ModeMixityChoice,
+    config=(
+        "material",
+        "loading.nominal_area",
+        "loading.max_tangential_displacement",
+        "loading.steps",
+        "measured.shear_area",
+        "fit",
+    ),
+    inputs=(STATISTICAL_MODEL,),
+    compute=compute_mode_mixity,
+)
+
+FRICTION = Stage(
+    name="friction",
+    title="friction prediction",
+    attribute="friction",
+    result=FrictionPrediction,
+    config=("material", "loading", "statmodel"),
+    inputs=(STATISTICAL_MODEL, MODE_MIXITY),
+    compute=compute_friction,
+)

@@ -1,0 +1,440 @@
+"""The statistical-model stage: the statistical model at every resolution, and the effective
+resolution (Fig 12d).
+
+For each stride of the resolution scan, the summit statistics (eta, R, sigma_s) feed
+:func:`statmodel.real_area_at_loads` (E:Ar_Greenwood with the load fixed by E:Fy_Greenwood) at
+the job's normal loads. The misfit of a resolution is the root mean square over loads of
+ln(A_model / A_reference): a relative error, so light and heavy loads weigh the same. The
+reference is the user's measured A_r(F_z) when given (the paper's choice, Section 5), otherwise
+the BEM on the map (adhesive when run). The effective resolution is the one of least misfit.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import warnings
+from collections.abc import Sequence
+from concurrent.futures import Executor
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from asperity import statmodel
+from asperity.errors import InputError
+from asperity.fields import array, document_fields, scalar, text
+from asperity.pipelines.config import ConfigError
+from asperity.pipelines.engine.parallel import run_map
+from asperity.pipelines.engine.stage import Stage, StageContext
+from asperity.pipelines.measured import NormalAreaCurve
+from asperity.pipelines.stages._pull_off import has_summits, pull_off_forces, roughness_from_scan
+from asperity.pipelines.stages.bem import BEM, BemReference
+from asperity.pipelines.stages.surface import SCAN, ScanResult
+
+#: Above this A_r/A_n the asperities of the statistical model would overlap: independent
+#: asperities (the Greenwood-Williamson / Fuller-Tabor picture) are no longer a fair model.
+MAX_AREA_FRACTION = 0.1
+#: Below this Tabor parameter the JKR asperity laws do not apply (paper, Section 2).
+MIN_TABOR_PARAMETER = 5.0
+
+
+class ModelValidityWarning(UserWarning):
+    """The statistical model is used outside the range where its assumptions hold."""
+
+
+def validity_notes(real_area_fraction: np.ndarray, tabor_parameter: float) -> list[str]:
+    """Sentences saying where the model is outside its validity (empty when all is well).
+
+    Parameters
+    ----------
+    real_area_fraction : ndarray
+        Model A_r/A_n at the effective resolution, one per load.
+    tabor_parameter : float
+        mu at the effective resolution.
+    """
+    notes = []
+    top = float(np.nanmax(real_area_fraction)) if np.size(real_area_fraction) else math.nan
+    if top > MAX_AREA_FRACTION:
+        notes.append(
+            f"the statistical model gives A_r/A_n up to {top:.3g} (> "
+            f"{MAX_AREA_FRACTION:g}): its asperities overlap, so the independent-"
+            "asperity model is outside its validity at these loads"
+        )
+    if tabor_parameter < MIN_TABOR_PARAMETER:
+        notes.append(
+            f"Tabor parameter mu = {tabor_parameter:.3g} < {MIN_TABOR_PARAMETER:g}: "
+            "the JKR asperity laws (E:JKR_indent, E:PC_indent) do not apply"
+        )
+    return notes
+
+
+def material_from_config(
+    material: statmodel.Material, mode_mixity: float | None = None
+) -> statmodel.Material:
+    """The configured :class:`statmodel.Material` (``config.material``), optionally with
+    another lambda."""
+    if mode_mixity is None:
+        return material
+    return dataclasses.replace(material, mode_mixity=mode_mixity)
+
+
+def areas_at_loads(
+    material: statmodel.Material,
+    roughness: statmodel.Roughness,
+    nominal_area: float,
+    normal_loads: Sequence[float],
+) -> tuple[np.ndarray, str]:
+    """A_r (m^2) at the loads, or NaNs and the error message when the model refuses them."""
+    try:
+        return (
+            np.asarray(
+                statmodel.real_area_at_loads(
+                    material, roughness, nominal_area, np.asarray(normal_loads, dtype=float)
+                ),
+                dtype=float,
+            ),
+            "",
+        )
+    except (ValueError, ArithmeticError) as exc:
+        return np.full(len(normal_loads), np.nan), str(exc)
+
+
+def log_misfit(model: np.ndarray, reference: np.ndarray) -> float:
+    """Root mean square of ln(model / reference) over entries where both are positive.
+
+    Returns inf when the model gives no positive area where the reference has one.
+    """
+    model = np.asarray(model, dtype=float)
+    reference = np.asarray(reference, dtype=float)
+    ref_ok = reference > 0
+    if not ref_ok.any():
+        return math.nan
+    if not np.all(model[ref_ok] > 0):
+        return math.inf
+    return float(np.sqrt(np.mean(np.log(model[ref_ok] / reference[ref_ok]) ** 2)))
+
+
+@document_fields
+@dataclass
+class ResolutionChoice:
+    """Stage-4 result: the statistical model at every resolution and the effective one.
+
+    Attributes
+    ----------
+    stride, resolution : ndarray
+        The scan's strides and pixel sizes (m).
+    normal_load : ndarray
+        F_z, N.
+    real_area, real_area_fraction : ndarray, shape (n_stride, n_load)
+        Model A_r (m^2) and A_r/A_n.
+    misfit_bem : ndarray
+        RMS ln-ratio misfit against the BEM fraction at each stride (NaN without BEM).
+    pull_off : ndarray
+        Pull-off force at each stride, N.
+    basis : str
+        What chose the effective resolution: "measured" or "bem".
+    effective_index, effective_stride : int
+        Index and stride of the effective resolution.
+    effective_resolution : float
+        Its pixel size, m.
+    asperity_density, summit_radius, summit_height_rms : float
+        eta (1/m^2), R (m), sigma_s (m) at the effective resolution.
+    tabor_parameter : float
+        mu at the effective resolution.
+    nominal_area : float
+        A_n, m^2.
+    messages : list of str
+        Model refusals per stride.
+    validity : list of str
+        Where the model is outside its validity at the effective resolution
+        (:func:`validity_notes`); empty when it is not.
+    measured_normal_load, measured_real_area : ndarray or None
+        The measured A_r(F_z) (N, m^2) when given.
+    model_real_area_at_measured : ndarray or None
+        Model A_r (m^2) at the measured loads, shape (n_stride, n_measured).
+    misfit_measured : ndarray or None
+        RMS ln-ratio misfit against the measured A_r(F_z).
+    """
+
+    stride: np.ndarray = array("1", ("stride",), "decimation stride")
+    normal_load: np.ndarray = array("N", ("normal_load",), "normal load")
+    resolution: np.ndarray = array("m", ("stride",), "pixel size")
+    real_area: np.ndarray = array(
+        "m^2", ("stride", "normal_load"), "statistical-model real contact area"
+    )
+    real_area_fraction: np.ndarray = array("1", ("stride", "normal_load"), "A_r / A_n")
+    misfit_bem: np.ndarray = array("1", ("stride",), "rms ln(A_model / A_bem) over loads")
+    pull_off: np.ndarray = array("N", ("stride",), "pull-off force")
+    basis: str = text("what chose the effective resolution: measured or bem")
+    effective_index: int = scalar("1", "index of the effective resolution")
+    effective_stride: int = scalar("1", "stride of the effective resolution")
+    effective_resolution: float = scalar("m", "pixel size of the effective resolution")
+    asperity_density: float = scalar("1/m^2", "eta at the effective resolution")
+    summit_radius: float = scalar("m", "R at the effective resolution")
+    summit_height_rms: float = scalar("m", "sigma_s at the effective resolution")
+    tabor_parameter: float = scalar("1", "Tabor parameter at the effective resolution")
+    nominal_area: float = scalar("m^2", "nominal contact area A_n")
+    messages: list[str] = text("model refusals per stride")
+    validity: list[str] = text("where the model is outside its validity")
+    measured_normal_load: np.ndarray | None = array(
+        "N", ("measured_normal_load",), "measured normal load", optional=True
+    )
+    measured_real_area: np.ndarray | None = array(
+        "m^2", ("measured_normal_load",), "measured A_r", optional=True
+    )
+    model_real_area_at_measured: np.ndarray | None = array(
+        "m^2",
+        ("stride", "measured_normal_load"),
+        "model A_r at the measured loads",
+        optional=True,
+    )
+    misfit_measured: np.ndarray | None = array(
+        "1", ("stride",), "rms ln(A_model / A_measured) over loads", optional=True
+    )
+
+    @property
+    def index(self) -> int:
+        """Index of the effective resolution (same as ``effective_index``)."""
+        return self.effective_index
+
+    @property
+    def roughness(self) -> statmodel.Roughness:
+        """eta, R, sigma_s at the effective resolution."""
+        return statmodel.Roughness(
+            self.asperity_density, self.summit_radius, self.summit_height_rms
+        )
+
+    @property
+    def measured(self) -> NormalAreaCurve | None:
+        """The measured A_r(F_z) when given."""
+        if self.measured_normal_load is None or self.measured_real_area is None:
+            return None
+        return NormalAreaCurve(self.measured_normal_load, self.measured_real_area, "stored")
+
+    @property
+    def misfit(self) -> np.ndarray:
+        """The misfit curve that chose the resolution."""
+        if self.basis == "measured" and self.misfit_measured is not None:
+            return self.misfit_measured
+        return self.misfit_bem
+
+
+def _model_areas(
+    scan: ScanResult,
+    material: statmodel.Material,
+    roughness: dict[int, statmodel.Roughness],
+    nominal_area: float,
+    loads: np.ndarray,
+    measured: NormalAreaCurve | None,
+    executor: Executor | None,
+    progress: bool,
+) -> tuple[np.ndarray, np.ndarray | None, list[str]]:
+    """Model A_r (m^2) at the loads and at the measured loads, per stride; refusals."""
+    n = len(scan.stride)
+    load_sets = [loads] if measured is None else [loads, measured.normal_load]
+    jobs = [(material, roughness[i], nominal_area, ls) for i in roughness for ls in load_sets]
+    results = iter(
+        run_map(areas_at_loads, jobs, executor, desc="statistical model", progress=progress)
+    )
+    tables = [np.full((n, len(ls)), np.nan) for ls in load_sets]
+    messages = []
+    for i in roughness:
+        for table in tables:
+            values, message = next(results)
+            if message:
+                messages.append(f"stride {int(scan.stride[i])}: {message}")
+            table[i] = values
+    return tables[0], (tables[1] if measured is not None else None), messages
+
+
+def _misfit_curve(
+    area: np.ndarray, roughness: dict[int, statmodel.Roughness], reference: np.ndarray | None
+) -> np.ndarray:
+    """:func:`log_misfit` per stride (NaN without summits or without a reference)."""
+    misfit = np.full(area.shape[0], np.nan)
+    if reference is not None:
+        for i in roughness:
+            misfit[i] = log_misfit(area[i], reference)
+    return misfit
+
+
+def _quiet_tabor_parameter(roughness: statmodel.Roughness, material: statmodel.Material) -> float:
+    """mu (dimensionless); its warning is reported with the validity notes instead."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return float(
+            statmodel.tabor_parameter(
+                roughness.summit_radius,
+                material.work_of_adhesion,
+                material.e_star,
+                material.equilibrium_distance,
+            )
+        )
+
+
+def _scan_roughness(scan: ScanResult) -> dict[int, statmodel.Roughness]:
+    """The summit statistics (eta 1/m^2, R m, sigma_s m) of every scan entry that has summits."""
+    roughness = {
+        i: roughness_from_scan(scan, i) for i in range(len(scan.stride)) if has_summits(scan, i)
+    }
+    if not roughness:
+        raise InputError(
+            "surface: expected summits at some resolution of the scan, found none (a flat or "
+            "too small map)"
+        )
+    return roughness
+
+
+def _best_index(curve: np.ndarray, messages: list[str]) -> int:
+    """The stride of least misfit; refuses the loads when the model carries them nowhere."""
+    if not np.isfinite(curve).any():
+        raise ConfigError(
+            "loading.normal_loads: expected loads the statistical model can carry at some "
+            "resolution of the scan, got none: " + "; ".join(messages[:3])
+        )
+    return int(np.nanargmin(np.where(np.isfinite(curve), curve, np.nan)))
+
+
+def statistical_model_scan(
+    scan: ScanResult,
+    material: statmodel.Material,
+    nominal_area: float,
+    normal_loads: Sequence[float],
+    *,
+    bem: BemReference | None = None,
+    measured: NormalAreaCurve | None = None,
+    executor: Executor | None = None,
+    progress: bool = False,
+) -> ResolutionChoice:
+    """The statistical-model stage: A_r(F_z) of the statistical model at every resolution; pick the
+    best one.
+
+    Parameters
+    ----------
+    scan : topo.ResolutionScan
+        Summit statistics per stride (the resolution-scan stage).
+    material : statmodel.Material
+        E* (Pa), w (J/m^2), ... (lambda plays no part at delta_T = 0).
+    nominal_area : float
+        A_n, m^2.
+    normal_loads : sequence of float
+        F_z, N.
+    bem : BemReference, optional
+        The BEM stage result; its A_r/A_n (adhesive when run) is a reference.
+    measured : NormalAreaCurve, optional
+        Measured A_r(F_z); when given it chooses the effective resolution.
+    executor : Executor, optional
+        Runs the strides in parallel.
+
+    Returns
+    -------
+    ResolutionChoice
+    """
+    if bem is None and measured is None:
+        raise InputError("statistical_model_scan: expected bem= or measured=, got neither")
+    loads = np.asarray(normal_loads, dtype=float)
+    roughness = _scan_roughness(scan)
+    area, at_measured, messages = _model_areas(
+        scan, material, roughness, nominal_area, loads, measured, executor, progress
+    )
+    misfit_bem = _misfit_curve(
+        area, roughness, None if bem is None else bem.reference_fraction() * nominal_area
+    )
+    misfit_measured = None
+    if measured is not None:
+        misfit_measured = _misfit_curve(at_measured, roughness, measured.real_area)
+    basis = "measured" if measured is not None else "bem"
+    index = _best_index(misfit_measured if measured is not None else misfit_bem, messages)
+    pull_off, pull_off_refusals = pull_off_forces(material, scan, nominal_area)
+    best = roughness[index]
+    mu = _quiet_tabor_parameter(best, material)
+    validity = validity_notes(area[index] / nominal_area, mu)
+    for note in validity:
+        warnings.warn(note, ModelValidityWarning, stacklevel=2)
+    return ResolutionChoice(
+        stride=np.asarray(scan.stride),
+        normal_load=loads,
+        resolution=np.asarray(scan.resolution, dtype=float),
+        real_area=area,
+        real_area_fraction=area / nominal_area,
+        misfit_bem=misfit_bem,
+        pull_off=pull_off,
+        basis=basis,
+        effective_index=index,
+        effective_stride=int(scan.stride[index]),
+        effective_resolution=float(scan.resolution[index]),
+        asperity_density=best.asperity_density,
+        summit_radius=best.summit_radius,
+        summit_height_rms=best.summit_height_rms,
+        tabor_parameter=mu,
+        nominal_area=float(nominal_area),
+        messages=messages + pull_off_refusals,
+        validity=validity,
+        measured_normal_load=None if measured is None else measured.normal_load,
+        measured_real_area=None if measured is None else measured.real_area,
+        model_real_area_at_measured=at_measured,
+        misfit_measured=misfit_measured,
+    )
+
+
+def compute_statistical_model(context: StageContext) -> ResolutionChoice:
+    """The job's statistical-model stage: :func:`statistical_model_scan` against the BEM and/or
+    measurement.
+
+    Its :class:`ModelValidityWarning` is not raised here: the notes stay in ``validity`` and
+    the job's verdict (:mod:`pipelines.stages.verdict`) reports them as lines, not as a traceback.
+    """
+    config = context.config
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelValidityWarning)
+        return _statistical_model_of_job(context, config)
+
+
+def normal_contact_material(material: Any) -> statmodel.Material:
+    """The :class:`statmodel.Material` of the normal-contact model, from the keys it reads.
+
+    The preload (E:Fy_Greenwood with the JKR asperity laws, E:JKR_load) and the Tabor
+    parameter depend on E* (Pa), w (J/m^2) and epsilon (m) only; lambda and tau0 (Pa) act under
+    shear alone. They are set to 0 here, a value no normal-contact formula reads (a test holds
+    the areas and pull-off forces unchanged for other values), so that this stage declares,
+    and is keyed by, the three it uses.
+    """
+    return statmodel.Material(
+        e_star=material.e_star,
+        work_of_adhesion=material.work_of_adhesion,
+        equilibrium_distance=material.equilibrium_distance,
+        mode_mixity=0.0,
+        shear_strength=0.0,
+    )
+
+
+def _statistical_model_of_job(context: StageContext, config: Any) -> ResolutionChoice:
+    return statistical_model_scan(
+        context.result(SCAN),
+        normal_contact_material(config.material),
+        config.loading.nominal_area,
+        config.loading.normal_loads,
+        bem=context.result(BEM),
+        measured=context.measured.normal_area,
+        executor=context.executor,
+        progress=context.progress,
+    )
+
+
+STATISTICAL_MODEL = Stage(
+    name="statistical_model",
+    title="statistical model / resolution",
+    attribute="resolution",
+    result=ResolutionChoice,
+    config=(
+        "material.E_star",
+        "material.work_of_adhesion",
+        "material.equilibrium_distance",
+        "loading.nominal_area",
+        "loading.normal_loads",
+        "measured.normal_area",
+    ),
+    inputs=(SCAN, BEM),
+    compute=compute_statistical_model,
+)

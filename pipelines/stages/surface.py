@@ -1,0 +1,323 @@
+"""The read-and-level and resolution-scan stages: read and prepare the surface, then scan its
+summit statistics over resolution.
+
+The read-and-level stage (:func:`read_and_level`) gives a prepared :class:`topo.HeightMap` from
+a file (any format :func:`topo.read_surface` reads) or from the seeded synthetic recipe, with
+:func:`topo.prepare_surface`: crop, form removal (``detrend`` or ``form_order``), the outlier
+rule and the missing-pixel policy of ``[surface]``; the job stores it, with the preparation
+record, as a :class:`LevelledSurface`.
+The resolution-scan stage (:func:`scan_resolutions`) runs :func:`topo.resolution_scan`: eta, R
+and sigma_s of the map decimated with strides 1..K (Appendix A, Fig 12a-c) and the paper's fits
+(:class:`ScanResult`).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from asperity import topo
+from asperity.errors import InputError
+from asperity.fields import array, document_fields, scalar, stacked, text
+from asperity.pipelines.config import ConfigError, SurfaceConfig
+from asperity.pipelines.engine.stage import Stage, StageContext
+from asperity.pipelines.stages._pull_off import check_loads_above_pull_off
+from asperity.topo import scan as topo_scan
+from asperity.topo.heightmap import MapGeometry
+
+#: Fewest pixels per side kept by the coarsest resolution of the scan.
+MIN_SCAN_PIXELS = 16
+
+
+def file_sha256(path: str | Path, chunk: int = 1 << 20) -> str:
+    """SHA-256 hex digest of a file's bytes."""
+    digest = hashlib.sha256()
+    with open(path, "rb") as handle:
+        while block := handle.read(chunk):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def input_sha256(config: SurfaceConfig) -> str:
+    """Provenance hash of the input: the file's SHA-256, or that of the synthetic recipe."""
+    if config.file is not None:
+        return file_sha256(config.file)
+    recipe = json.dumps(config.synthetic.__dict__, sort_keys=True)
+    return hashlib.sha256(("synthetic:" + recipe).encode()).hexdigest()
+
+
+def load_surface(config: SurfaceConfig) -> topo.HeightMap:
+    """The raw surface of the configuration (file or synthetic recipe), heights in m."""
+    if config.file is not None:
+        surface = topo.read_surface(
+            config.file, channel=config.channel, pixel_size=config.pixel_size
+        )
+        if not isinstance(surface, topo.HeightMap):
+            raise ConfigError(
+                f"surface.file: expected a 2D height map (summit statistics and the BEM are "
+                f"2D), got a 1D line profile ({config.file})"
+            )
+        return surface
+    recipe = config.synthetic
+    generator = getattr(topo.synthetic, recipe.recipe)
+    return generator(n=recipe.n, pixel_size=recipe.pixel_size, seed=recipe.seed)
+
+
+def preparation_options(config: SurfaceConfig) -> topo.PreparationOptions:
+    """The :class:`topo.PreparationOptions` of ``[surface]``: crop, form, outliers, missing.
+
+    ``form_order`` wins over ``detrend`` when given; ``detrend`` names the order otherwise
+    (none, mean 0, plane 1, quadratic 2).
+    """
+    crop = None
+    if config.crop is not None:
+        x0, x1, y0, y1 = config.crop
+        crop = topo.CropWindow((x0, x1), (y0, y1), "px")
+    order = (
+        config.form_order
+        if config.form_order is not None
+        else topo.PreparationOptions.order_of(config.detrend)
+    )
+    return topo.PreparationOptions(
+        crop=crop,
+        missing=config.missing,
+        outliers=topo.OutlierRule(config.outliers, config.outlier_threshold, config.outlier_action),
+        form_order=order,
+    )
+
+
+def prepare(config: SurfaceConfig) -> topo.PreparedSurface:
+    """Read (or generate) the surface and prepare it (:func:`topo.prepare_surface`).
+
+    Raises
+    ------
+    ConfigError
+        Naming the ``surface.*`` key: a crop outside the map, missing pixels with
+        ``missing = "refuse"``, too few valid pixels for the form.
+    """
+    surface = load_surface(config)
+    try:
+        return topo.prepare_surface(surface, preparation_options(config))
+    except InputError as exc:
+        key = "surface.crop" if config.crop is not None and "window" in str(exc) else None
+        key = key or ("surface.missing" if config.missing == "refuse" else "surface")
+        raise ConfigError(f"{key}: {exc}") from exc
+
+
+def read_and_level(config: SurfaceConfig) -> topo.HeightMap:
+    """The read-and-level stage: read (or generate) the surface and prepare it as ``[surface]``
+    says.
+
+    Parameters
+    ----------
+    config : SurfaceConfig
+        ``file`` or ``synthetic`` recipe, crop, form (``detrend`` / ``form_order``), outlier
+        rule and missing-pixel policy.
+
+    Returns
+    -------
+    topo.HeightMap
+        Heights in m (axis 0 is x), prepared; ``provenance["preparation"]`` holds the record.
+    """
+    return prepare(config).surface
+
+
+def usable_max_stride(surface: topo.HeightMap, max_stride: int) -> int:
+    """``max_stride`` capped so the coarsest decimated map keeps MIN_SCAN_PIXELS per side."""
+    return max(1, min(int(max_stride), min(surface.nx, surface.ny) // MIN_SCAN_PIXELS))
+
+
+def scan_resolutions(surface: topo.HeightMap, max_stride: int) -> topo.ResolutionScan:
+    """The resolution-scan stage: summit statistics at strides 1..max_stride
+    (:func:`topo.resolution_scan`).
+
+    ``max_stride`` is capped by :func:`usable_max_stride`.
+
+    Returns
+    -------
+    topo.ResolutionScan
+        ``stride``, ``resolution`` (m), ``n_summits``, ``asperity_density`` (1/m^2),
+        ``summit_radius`` (m), ``summit_height_rms`` (m) and the fits.
+    """
+    return topo.resolution_scan(surface, usable_max_stride(surface, max_stride))
+
+
+@document_fields
+@dataclass
+class LevelledSurface(MapGeometry):
+    """Stage-1 result: the levelled height map (SI).
+
+    Attributes
+    ----------
+    x, y : ndarray
+        Pixel positions, m.
+    heights : ndarray, shape (nx, ny)
+        Levelled heights, m (NaN: missing pixel).
+    dx, dy : float
+        Pixel sizes, m.
+    periodic : bool
+        The map is one period of a periodic surface.
+    n_missing : int
+        Missing pixels.
+    rms_height : float
+        Root mean square of the valid heights about their mean, m.
+    provenance : dict
+        Where the map came from (reader, file, levelling).
+    preparation : dict or None
+        The :class:`topo.PreparationRecord` (crop, levelling, form-to-roughness ratio,
+        missing fraction and policy, outliers changed, dx and dy, warnings), SI units.
+    filled : ndarray of bool or None
+        Pixels whose height the missing-pixel policy filled (measured holes and masked
+        outliers); the resolution scan leaves them out, so eta is per measured area.
+    """
+
+    x: np.ndarray = array("m", ("x",), "position along x")
+    y: np.ndarray = array("m", ("y",), "position along y")
+    heights: np.ndarray = array("m", ("x", "y"), "levelled height")
+    dx: float = scalar("m", "pixel size along x")
+    dy: float = scalar("m", "pixel size along y")
+    periodic: bool = scalar("1", "the map is one period of a periodic surface")
+    n_missing: int = scalar("1", "missing pixels")
+    rms_height: float = scalar("m", "rms of the valid heights")
+    provenance: dict[str, Any] = text("reader, file and levelling (JSON)")
+    preparation: dict[str, Any] | None = text("surface preparation record (JSON)", optional=True)
+    filled: np.ndarray | None = array(
+        "1", ("x", "y"), "height filled by the missing-pixel policy, not measured", optional=True
+    )
+
+    @classmethod
+    def from_prepared(cls, prepared: topo.PreparedSurface) -> LevelledSurface:
+        """Wrap a :class:`topo.PreparedSurface`, keeping which pixels were filled."""
+        stored = cls.from_height_map(prepared.surface)
+        if prepared.filled_mask.any():
+            stored.filled = np.asarray(prepared.filled_mask, dtype=bool)
+        return stored
+
+    def measured_height_map(self) -> topo.HeightMap:
+        """The map with filled pixels missing again (NaN): what summit statistics count."""
+        surface = self.height_map()
+        if self.filled is None or not np.any(self.filled):
+            return surface
+        return surface.with_heights(np.where(self.filled, np.nan, self.heights))
+
+    @classmethod
+    def from_height_map(cls, surface: topo.HeightMap) -> LevelledSurface:
+        """Wrap a levelled :class:`topo.HeightMap` (heights in m)."""
+        valid = surface.heights[~np.isnan(surface.heights)]
+        return cls(
+            x=np.arange(surface.nx) * surface.dx,
+            y=np.arange(surface.ny) * surface.dy,
+            heights=np.asarray(surface.heights, dtype=float),
+            dx=float(surface.dx),
+            dy=float(surface.dy),
+            periodic=bool(surface.periodic),
+            n_missing=int(surface.n_missing),
+            rms_height=float(np.sqrt(np.mean((valid - valid.mean()) ** 2))),
+            provenance=json.loads(json.dumps(surface.provenance, default=str)),
+            preparation=json.loads(json.dumps(surface.provenance.get("preparation"), default=str)),
+        )
+
+    def height_map(self) -> topo.HeightMap:
+        """The map as a :class:`topo.HeightMap` (heights in m)."""
+        return topo.HeightMap(
+            self.heights, dx=self.dx, dy=self.dy, periodic=self.periodic, provenance=self.provenance
+        )
+
+
+#: The fields of :class:`topo.ResolutionScan` the resolution-scan stage stores.
+SCAN_FIELDS = (*topo_scan.ARRAY_FIELDS, *topo_scan.FIT_FIELDS[:4])  # arrays, R and eta fits
+
+
+@document_fields
+@dataclass
+@stacked(topo.ResolutionScan, SCAN_FIELDS, None)
+class ScanResult:
+    """Stage-2 result: summit statistics per decimation stride and the paper's fits (SI).
+
+    The fields of :class:`topo.ResolutionScan` the job uses (:data:`SCAN_FIELDS`, declared
+    there, taken over by :func:`asperity.fields.stacked`): R = radius_intercept +
+    radius_slope * resolution, eta = density_prefactor * resolution**density_exponent.
+    """
+
+    fit_units: str = text("how the fits read")
+
+    @classmethod
+    def from_scan(cls, scan: topo.ResolutionScan) -> ScanResult:
+        """Keep the arrays and fits of a :class:`topo.ResolutionScan`."""
+        return cls(
+            stride=np.asarray(scan.stride),
+            resolution=np.asarray(scan.resolution, dtype=float),
+            n_summits=np.asarray(scan.n_summits),
+            asperity_density=np.asarray(scan.asperity_density, dtype=float),
+            summit_radius=np.asarray(scan.summit_radius, dtype=float),
+            summit_height_rms=np.asarray(scan.summit_height_rms, dtype=float),
+            radius_slope=float(scan.radius_slope),
+            radius_intercept=float(scan.radius_intercept),
+            density_exponent=float(scan.density_exponent),
+            density_prefactor=float(scan.density_prefactor),
+            fit_units="R = radius_intercept (m) + radius_slope (m/m) * resolution; "
+            "eta = density_prefactor * resolution**density_exponent (SI)",
+        )
+
+
+def compute_surface(context: StageContext) -> LevelledSurface:
+    """The job's read-and-level stage: :func:`prepare` on ``[surface]``."""
+    return LevelledSurface.from_prepared(prepare(context.config.surface))
+
+
+def compute_scan(context: StageContext) -> ScanResult:
+    """The job's resolution-scan stage: :func:`scan_resolutions` up to ``surface.max_stride``,
+    over the measured pixels only (filled ones are missing again: eta per measured area)."""
+    surface = context.result(SURFACE).measured_height_map()
+    return ScanResult.from_scan(scan_resolutions(surface, context.config.surface.max_stride))
+
+
+def check_scan_loads(context: StageContext, scan: ScanResult) -> None:
+    """After the resolution-scan stage: every load must exceed the statistical model's pull-off
+    force."""
+    config = context.config
+    check_loads_above_pull_off(
+        config.material,
+        scan,
+        config.loading.nominal_area,
+        config.loading.normal_loads,
+    )
+
+
+SURFACE = Stage(
+    name="surface",
+    title="read and level",
+    attribute="surface",
+    result=LevelledSurface,
+    config=(
+        "surface.file",
+        "surface.channel",
+        "surface.pixel_size",
+        "surface.synthetic",
+        "surface.detrend",
+        "surface.crop",
+        "surface.missing",
+        "surface.outliers",
+        "surface.outlier_threshold",
+        "surface.outlier_action",
+        "surface.form_order",
+    ),
+    inputs=(),
+    compute=compute_surface,
+)
+
+SCAN = Stage(
+    name="resolution_scan",
+    title="resolution scan",
+    attribute="scan",
+    result=ScanResult,
+    config=("surface.max_stride",),
+    inputs=(SURFACE,),
+    compute=compute_scan,
+    check=check_scan_loads,
+)

@@ -1,0 +1,447 @@
+"""The PSD stage: the validity verdict of a job, "valid", "warnings" or "invalid", with reasons.
+
+Every reason states the number, the threshold and why (:class:`Reason`). A result is
+**invalid** when the model is used where its assumptions fail, or when the data it was
+calibrated on cannot be right:
+
+* ``area_fraction`` (model or measured A_r/A_n above :data:`MAX_AREA_FRACTION` = 0.15;
+  a warning above :data:`WARN_AREA_FRACTION` = 0.10): the model is one of independent
+  asperities (Fuller-Tabor / Greenwood, E:Ar_Greenwood), "neglecting the coalescence and
+  interaction of neighboring asperities" (paper, Section 3); Section 5 shows that even at the
+  few-percent A_r/A_n of Fig 12d such a model underestimates the area because of junction
+  coalescence, which the effective resolution absorbs only while junctions stay apart. Beyond
+  10-15 % contact the junctions merge into clusters (the BEM picture of Appendix B), and no
+  resolution of independent spheres describes them.
+* ``tabor`` (mu < 5): the JKR asperity laws (E:JKR_indent, E:PC_indent) hold for
+  Tabor parameters above 5 (paper, Section 2).
+* ``misfit`` (rms ln(A_model / A_reference) above :data:`MAX_MISFIT` = 0.7, a factor 2;
+  a warning above :data:`WARN_MISFIT` = 0.2), and ``resolution_at_edge`` (the least misfit
+  at the first or last stride of the scan: a warning alone, invalid with a misfit above
+  :data:`WARN_MISFIT`: no resolution of the scan fits, the optimum is not bracketed).
+* ``lambda_at_bound`` / ``lambda_uncertainty``: the fitted lambda lies on a bound of the
+  search interval (the bound chose it, not the data) or its uncertainty is not finite.
+* ``measured_area_above_nominal``: a measured A_r > A_n.
+* ``no_full_sliding``: a shear curve did not reach full sliding (its sliding friction is
+  not a result).
+* ``bem_stall``: a BEM solve did not converge (read from the BEM stage's convergence fields).
+
+Warnings: ``measured_load_unmatched`` (a measured curve at a load more than
+:data:`LOAD_MATCH` from every configured load), ``bem_grid`` (the grid check found no
+converged stride), ``lambda_fit`` (the optimiser did not report success),
+``surface_preparation`` (the preparation record's warnings).
+
+The exit status (:func:`exit_status`): 1 (:attr:`ExitStatus.NOT_CONVERGED`) when a solver
+did not converge, else 3 (:attr:`ExitStatus.INVALID_RESULT`) when the verdict is invalid,
+else 0. Non-convergence takes precedence: it is the first thing to fix (more iterations, a
+cleaner map), and the verdict lists it among its reasons anyway.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from asperity.errors import ExitStatus
+from asperity.fields import document_fields, text
+from asperity.pipelines.engine.stage import Stage, StageContext
+from asperity.pipelines.stages.bem import BEM
+from asperity.pipelines.stages.friction import FRICTION, MODE_MIXITY
+from asperity.pipelines.stages.statistical_model import STATISTICAL_MODEL
+from asperity.pipelines.stages.surface import SCAN, SURFACE
+
+#: A_r/A_n above which an independent-asperity model cannot mean anything (junctions merge).
+MAX_AREA_FRACTION = 0.15
+#: A_r/A_n above which junction coalescence starts to matter (a warning).
+WARN_AREA_FRACTION = 0.10
+#: Tabor parameter below which the JKR asperity laws do not apply (paper, Section 2).
+MIN_TABOR_PARAMETER = 5.0
+#: rms ln(A_model/A_reference) above which the model misses the reference by a factor > 2.
+MAX_MISFIT = 0.7
+#: rms ln ratio above which the fit is poor (22 %): a warning.
+WARN_MISFIT = 0.2
+#: Relative difference within which a measured normal load matches a configured one.
+LOAD_MATCH = 0.02
+
+#: Verdicts, best first.
+VERDICTS: tuple[str, ...] = ("valid", "warnings", "invalid")
+
+
+@dataclass(frozen=True)
+class Reason:
+    """One reason of a verdict.
+
+    Attributes
+    ----------
+    code : str
+        Short name (module docstring).
+    severity : str
+        "invalid" or "warning".
+    text : str
+        The number, the threshold and why.
+    """
+
+    code: str
+    severity: str
+    text: str
+
+
+@document_fields
+@dataclass
+class Verdict:
+    """Stage-7 result: is the result one the report can stand behind?
+
+    Attributes
+    ----------
+    verdict : str
+        "valid", "warnings" or "invalid".
+    reasons : list of str
+        One sentence per reason (the number, the threshold and why), invalid ones first.
+    codes : list of str
+        The code of each reason (module docstring).
+    severities : list of str
+        "invalid" or "warning", per reason.
+    """
+
+    verdict: str = text("valid, warnings or invalid")
+    reasons: list[str] = text("the number, the threshold and why, per reason")
+    codes: list[str] = text("code per reason")
+    severities: list[str] = text("invalid or warning, per reason")
+
+    @classmethod
+    def from_reasons(cls, reasons: Sequence[Reason]) -> Verdict:
+        """The verdict of a list of reasons (invalid ones listed first)."""
+        ordered = sorted(reasons, key=lambda r: r.severity != "invalid")
+        if any(r.severity == "invalid" for r in ordered):
+            verdict = "invalid"
+        else:
+            verdict = "warnings" if ordered else "valid"
+        return cls(
+            verdict,
+            [r.text for r in ordered],
+            [r.code for r in ordered],
+            [r.severity for r in ordered],
+        )
+
+    @property
+    def invalid(self) -> bool:
+        """The verdict is "invalid"."""
+        return self.verdict == "invalid"
+
+
+# ------------------------------------------------------------------------------------------
+# the checks: plain numbers in, reasons out
+# ------------------------------------------------------------------------------------------
+
+
+def check_area_fraction(fraction: np.ndarray, what: str) -> list[Reason]:
+    """A_r/A_n (model or measured) against the independent-asperity limits."""
+    values = np.asarray(fraction, dtype=float)
+    values = values[np.isfinite(values)]
+    if not values.size:
+        return []
+    top = float(values.max())
+    why = (
+        "an independent-asperity model (E:Ar_Greenwood) neglects the coalescence of "
+        "junctions, which dominates beyond 10-15 % contact (paper, Section 5)"
+    )
+    if top > MAX_AREA_FRACTION:
+        return [
+            Reason(
+                "area_fraction",
+                "invalid",
+                f"{what} A_r/A_n reaches {top:.3g} > {MAX_AREA_FRACTION:g}: {why}",
+            )
+        ]
+    if top > WARN_AREA_FRACTION:
+        return [
+            Reason(
+                "area_fraction",
+                "warning",
+                f"{what} A_r/A_n reaches {top:.3g} > {WARN_AREA_FRACTION:g}: {why}",
+            )
+        ]
+    return []
+
+
+def check_tabor(tabor_parameter: float) -> list[Reason]:
+    """Tabor parameter mu against the JKR limit (paper, Section 2)."""
+    if tabor_parameter >= MIN_TABOR_PARAMETER:
+        return []
+    return [
+        Reason(
+            "tabor",
+            "invalid",
+            f"Tabor parameter mu = {tabor_parameter:.3g} < {MIN_TABOR_PARAMETER:g}: the JKR "
+            "asperity laws (E:JKR_indent, E:PC_indent) hold for mu > 5 (paper, Section 2)",
+        )
+    ]
+
+
+def check_resolution(misfit_curve: np.ndarray, index: int, basis: str) -> list[Reason]:
+    """The effective resolution: misfit level, and the optimum at an end of the scan.
+
+    Parameters
+    ----------
+    misfit_curve : ndarray
+        rms ln ratio per stride of the scan (NaN where the model has no value, inf where it
+        gives no area at a load where the reference has one).
+    index : int
+        Index of the effective resolution.
+    basis : str
+        "measured" or "bem".
+    """
+    curve = np.asarray(misfit_curve, dtype=float)
+    misfit = float(curve[index])
+    basis = {"bem": "BEM"}.get(basis, basis)
+    scored = np.flatnonzero(~np.isnan(curve))  # inf: evaluated, and no area where needed
+    n_strides = len(curve)
+    reasons = []
+    at_edge = scored.size > 0 and index in (int(scored[0]), int(scored[-1]))
+    if not math.isfinite(misfit) or misfit > MAX_MISFIT:
+        reasons.append(
+            Reason(
+                "misfit",
+                "invalid",
+                f"the statistical model misses the {basis} A_r(F_z) by an rms ln ratio of "
+                f"{misfit:.3g} (> {MAX_MISFIT:g}, a factor e^{MAX_MISFIT:g} = "
+                f"{math.exp(MAX_MISFIT):.2g}) even at its best resolution",
+            )
+        )
+    elif misfit > WARN_MISFIT:
+        reasons.append(
+            Reason(
+                "misfit",
+                "warning",
+                f"the statistical model misses the {basis} A_r(F_z) by an rms ln ratio of "
+                f"{misfit:.3g} (> {WARN_MISFIT:g}) at its best resolution",
+            )
+        )
+    if at_edge:
+        end = "finest" if index == int(scored[0]) else "coarsest"
+        if scored.size == 1:
+            end = "only scored resolution"
+        severity = "invalid" if not math.isfinite(misfit) or misfit > WARN_MISFIT else "warning"
+        reasons.append(
+            Reason(
+                "resolution_at_edge",
+                severity,
+                f"the effective resolution is the {end} of the scan (stride {index + 1} of "
+                f"{n_strides}): the least misfit is not bracketed"
+                + (
+                    f", and its misfit {misfit:.3g} > {WARN_MISFIT:g}: no resolution of the "
+                    "scan fits"
+                    if severity == "invalid"
+                    else (
+                        "; a finer measurement may fit better"
+                        if end == "finest"
+                        else "; a wider scan (surface.max_stride) may fit better"
+                    )
+                ),
+            )
+        )
+    return reasons
+
+
+def check_lambda(choice: Any) -> list[Reason]:
+    """The fitted lambda: at a bound, non-finite uncertainty, optimiser failure."""
+    if choice is None or not choice.fitted:
+        return []
+    reasons = []
+    if choice.at_bound:
+        reasons.append(
+            Reason(
+                "lambda_at_bound",
+                "invalid",
+                f"the fitted lambda = {choice.mode_mixity:.3g} lies on a bound of the search "
+                "interval (fit.mode_mixity_bounds): the bound, not the data, chose it",
+            )
+        )
+    std = choice.mode_mixity_std
+    if std is None or not math.isfinite(std):
+        reasons.append(
+            Reason(
+                "lambda_uncertainty",
+                "invalid",
+                f"the uncertainty of lambda = {choice.mode_mixity:.3g} is not finite: the "
+                "residual does not rise by one sigma^2 within the bounds, so the measured "
+                "curves do not determine lambda",
+            )
+        )
+    if choice.success is False:
+        reasons.append(Reason("lambda_fit", "warning", f"the lambda fit reports: {choice.message}"))
+    return reasons
+
+
+def check_measured_area(area: np.ndarray, nominal_area: float, what: str) -> list[Reason]:
+    """A measured A_r above A_n is impossible."""
+    values = np.asarray(area, dtype=float)
+    if not values.size or float(values.max()) <= nominal_area:
+        return []
+    return [
+        Reason(
+            "measured_area_above_nominal",
+            "invalid",
+            f"{what}: measured A_r = {float(values.max()):.3g} m^2 > A_n = {nominal_area:.3g} "
+            "m^2 (loading.nominal_area), physically impossible (units?)",
+        )
+    ]
+
+
+def check_measured_loads(measured: Sequence[float], configured: Sequence[float]) -> list[Reason]:
+    """Measured curves at loads that match no configured load (within :data:`LOAD_MATCH`)."""
+    loads = np.asarray(configured, dtype=float)
+    reasons = []
+    for load in measured:
+        nearest = float(loads[np.argmin(np.abs(loads - load))])
+        if abs(nearest - load) > LOAD_MATCH * abs(load):
+            reasons.append(
+                Reason(
+                    "measured_load_unmatched",
+                    "warning",
+                    f"a measured A_r(F_x) curve at F_z = {load:.4g} N matches no configured "
+                    f"load (nearest {nearest:.4g} N, more than {100 * LOAD_MATCH:g} % away): "
+                    "it calibrates lambda, but no prediction is compared with it",
+                )
+            )
+    return reasons
+
+
+def check_sliding(friction: Any) -> list[Reason]:
+    """Shear curves that did not reach full sliding."""
+    missed = [
+        float(f)
+        for f, ok, slide in zip(
+            friction.normal_load, friction.converged, friction.sliding_friction, strict=True
+        )
+        if not ok or not math.isfinite(float(slide))
+    ]
+    if not missed:
+        return []
+    loads = ", ".join(f"{f:.4g}" for f in missed)
+    return [
+        Reason(
+            "no_full_sliding",
+            "invalid",
+            f"full sliding not reached at F_z = {loads} N: the sliding friction there is not a "
+            "result (loading.max_tangential_displacement too short, or the solver stopped)",
+        )
+    ]
+
+
+def check_bem(bem: Any) -> list[Reason]:
+    """The BEM stage's convergence fields: stalls and the grid check."""
+    if bem is None:
+        return []
+    reasons = []
+    failed = int(np.size(bem.converged) - np.sum(bem.converged))
+    if failed:
+        first = f": {bem.messages[0]}" if bem.messages else ""
+        reasons.append(
+            Reason(
+                "bem_stall",
+                "invalid",
+                f"{failed} of {np.size(bem.converged)} BEM solves did not converge{first}",
+            )
+        )
+    if not bem.grid_converged:
+        reasons.append(Reason("bem_grid", "warning", f"BEM grid check: {bem.grid_reason}"))
+    return reasons
+
+
+def check_surface(preparation: dict | None) -> list[Reason]:
+    """The surface preparation record's warnings."""
+    if not preparation:
+        return []
+    return [
+        Reason("surface_preparation", "warning", f"surface: {w}")
+        for w in preparation.get("warnings") or []
+    ]
+
+
+# ------------------------------------------------------------------------------------------
+# the stage
+# ------------------------------------------------------------------------------------------
+
+
+def job_reasons(context: StageContext) -> list[Reason]:
+    """Every check on the results of the read-and-level to friction stages and the measurements."""
+    config, measured = context.config, context.measured
+    res, lam = context.result(STATISTICAL_MODEL), context.result(MODE_MIXITY)
+    a_n = config.loading.nominal_area
+    reasons = check_surface(context.result(SURFACE).preparation)
+    reasons += check_bem(context.result(BEM))
+    reasons += check_area_fraction(res.real_area[res.index] / a_n, "the statistical model's")
+    if measured.normal_area is not None:
+        reasons += check_measured_area(measured.normal_area.real_area, a_n, "A_r(F_z)")
+        reasons += check_area_fraction(measured.normal_area.real_area / a_n, "the measured")
+    for curve in measured.shear_area:
+        reasons += check_measured_area(curve.real_area, a_n, f"A_r(F_x) at {curve.normal_load} N")
+    reasons += check_tabor(res.tabor_parameter)
+    reasons += check_resolution(res.misfit, res.index, res.basis)
+    reasons += check_measured_loads(
+        sorted({c.normal_load for c in measured.shear_area}), config.loading.normal_loads
+    )
+    reasons += check_lambda(lam)
+    reasons += check_sliding(context.result(FRICTION))
+    return reasons
+
+
+def compute_verdict(context: StageContext) -> Verdict:
+    """The job's PSD stage: :func:`job_reasons` summed up."""
+    return Verdict.from_reasons(job_reasons(context))
+
+
+def exit_status(converged: bool, verdict: Verdict | None) -> ExitStatus:
+    """1 when a solver did not converge, else 3 when the verdict is invalid, else 0."""
+    if not converged:
+        return ExitStatus.NOT_CONVERGED
+    if verdict is not None and verdict.invalid:
+        return ExitStatus.INVALID_RESULT
+    return ExitStatus.OK
+
+
+def verdict_lines(verdict: Verdict) -> list[str]:
+    """The verdict as lines of text (the terminal summary; never truncated)."""
+    lines = [f"VERDICT: {verdict.verdict.upper()}"]
+    for severity, reason in zip(verdict.severities, verdict.reasons, strict=True):
+        lines.append(f"  - {'INVALID' if severity == 'invalid' else 'warning'}: {reason}")
+    return lines
+
+
+def verdict_markdown(verdict: Verdict) -> list[str]:
+    """The verdict block at the top of report.md."""
+    headline = {
+        "valid": "**Verdict: valid.** Every check passed.",
+        "warnings": "**Verdict: valid, with warnings.**",
+        "invalid": "**Verdict: INVALID.** The numbers below are outside the model's validity; "
+        "they are marked *invalid* and are not results.",
+    }[verdict.verdict]
+    lines = [headline, ""]
+    for severity, code, reason in zip(
+        verdict.severities, verdict.codes, verdict.reasons, strict=True
+    ):
+        label = "invalid" if severity == "invalid" else "warning"
+        lines.append(f"- **{label}** (`{code}`): {reason}")
+    return [*lines, ""] if verdict.reasons else lines
+
+
+def mark(value: str, verdict: Verdict | None) -> str:
+    """A table cell: ``invalid: <value>`` when the verdict is invalid, else the value."""
+    if getattr(verdict, "verdict", None) != "invalid" or value in ("-", ""):
+        return value
+    return f"invalid: {value}"
+
+
+VERDICT = Stage(
+    name="verdict",
+    title="validity verdict",
+    attribute="verdict",
+    result=Verdict,
+    config=("measured", "loading.normal_loads", "loading.nominal_area"),
+    inputs=(SURFACE, SCAN, BEM, STATISTICAL_MODEL, MODE_MIXITY, FRICTION),
+    compute=compute_verdict,
+)
