@@ -49,7 +49,9 @@ def approach_retract(
         Separations d (m) on the retraction (unloading) branch, applied after the last loading
         step (increasing); default: ``separations_in`` reversed.
     **options
-        Passed to :func:`bem.solve_contact` (``tol``, ``max_iter``, ``periodic``, ...).
+        Passed to :func:`bem.solve_contact` (``tol``, ``max_iter``, ``periodic``, ...;
+        ``adhesion="maugis"`` with ``adhesion_range`` (m) follows the same path with the
+        Maugis-Dugdale law, :mod:`asperity.bem.maugis`).
 
     Returns
     -------

@@ -1,8 +1,9 @@
 """The ``asperity bem`` sub-command, a thin shell over :func:`bem.solve_contact` and
 :func:`bem.load_sweep`.
 
-``asperity bem FILE --e-star E (--load F | --mean-pressure P) [--work-of-adhesion W]
-[--pixel-size DX] [--detrend none|mean|plane] [--tol T] [--json]``
+``asperity bem FILE --e-star E (--load F | --mean-pressure P) [--work-of-adhesion W
+[--adhesion maugis --adhesion-range H0]] [--pixel-size DX] [--detrend none|mean|plane]
+[--tol T] [--json]``
 
 Several loads (``--load 0.5,1,2``) give a warm-started sweep. ``--json`` prints
 ``contact_fraction``, ``real_area`` (m^2), ``normal_force`` (N), ``mean_gap`` (m), ``iterations``,
@@ -16,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import re
 import sys
@@ -103,6 +105,16 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         default="0",
         help="w (J/m^2); 0 = no adhesion",
     )
+    p.add_argument(
+        "--adhesion",
+        choices=("pohrt-popov", "maugis"),
+        default="pohrt-popov",
+        help=(
+            "how w acts: pohrt-popov (default, the paper's Appendix B) or maugis "
+            "(Maugis-Dugdale: tension w/H0 wherever the gap is below --adhesion-range)"
+        ),
+    )
+    p.add_argument("--adhesion-range", help="Maugis-Dugdale range H0 (m), with --adhesion maugis")
     add_bounded_option(
         p,
         "--pixel-size",
@@ -148,6 +160,35 @@ def _solver_options(args: argparse.Namespace):
     from asperity.bem.options import SolverOptions
 
     return SolverOptions(tol=args.tol, max_iter=args.max_iter)
+
+
+def _adhesion_range(text: str) -> float:
+    """``--adhesion-range``: a positive finite length (m)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise _bad(f"--adhesion-range: expected a length in m, got {text!r}") from None
+    if not (math.isfinite(value) and value > 0):
+        raise _bad(f"--adhesion-range: expected a finite length > 0 (m), got {text!r}")
+    return value
+
+
+def _adhesion_law(args: argparse.Namespace) -> dict:
+    """The ``adhesion`` and ``adhesion_range`` keywords of the command line (none for the
+    default Pohrt-Popov criterion)."""
+    if args.adhesion != "maugis":
+        if args.adhesion_range is not None:
+            raise _bad(
+                f"--adhesion-range: applies to --adhesion maugis only, got {args.adhesion_range!r} "
+                f"with --adhesion {args.adhesion}"
+            )
+        return {}
+    if args.adhesion_range is None:
+        raise _bad("--adhesion maugis: needs --adhesion-range H0 (m), got none")
+    return {
+        "adhesion": "maugis",
+        "adhesion_range": _adhesion_range(args.adhesion_range),
+    }
 
 
 def _loads(args: argparse.Namespace, adhesive: bool) -> tuple[str, list[float]]:
@@ -236,6 +277,7 @@ def handler(args: argparse.Namespace) -> int:
     if kind == "normal_force":
         _check_mean_pressure("--load", forces, nominal)
     common = dict(work_of_adhesion=w, options=options, periodic=not args.free_boundary)
+    common.update(_adhesion_law(args))
     if len(forces) == 1:
         results = [solve_contact(heights, dx, dy, e_star, normal_force=forces[0], **common)]
     else:
@@ -246,6 +288,12 @@ def handler(args: argparse.Namespace) -> int:
         print(json.dumps({k: pick(k) for k in JSON_KEYS}))
     else:
         _print_table(args, heights, dx, dy, e_star, w, rows)
+    for r in results:
+        for warning in r.extra.get("warnings", []):
+            print(
+                f"asperity bem: warning at F = {r.normal_force + 0.0:.6g} N: {warning}",
+                file=sys.stderr,
+            )
     failed = [r for r in results if not r.converged]
     for r in failed:
         print(

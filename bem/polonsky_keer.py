@@ -61,6 +61,7 @@ import numpy as np
 from asperity.bem.assembly import assemble_result, first_contact_result
 from asperity.bem.branch import solve_branch
 from asperity.bem.iteration import iterate, new_state
+from asperity.bem.maugis import check_adhesion, solve_maugis_problem
 from asperity.bem.options import SolverOptions, resolve_options
 from asperity.bem.problem import ContactProblem, set_up_problem
 from asperity.bem.result import ContactResult
@@ -96,6 +97,8 @@ def solve_contact(
     threads: int | None = None,
     coarse_start: bool | None = None,
     precision: str | None = None,
+    adhesion: str = "pohrt-popov",
+    adhesion_range: float | None = None,
 ) -> ContactResult:
     """Normal contact of an elastic half-space with a rigid flat (E:BEM_eq1..E:BEM_eq4).
 
@@ -121,6 +124,13 @@ def solve_contact(
         Warm start: a previous result (its pressure and contact set) or a pressure field (Pa).
     periodic : bool
         Periodic domain (default) or finite specimen (zero-padded doubled grid).
+    adhesion : {"pohrt-popov", "maugis"}
+        How ``work_of_adhesion`` acts: the paper's Pohrt-Popov criterion (default, Appendix
+        B), or the Maugis-Dugdale cohesive law, a tension w / adhesion_range wherever the gap
+        is within ``adhesion_range`` (:mod:`asperity.bem.maugis`; loading with jump-in from
+        scratch, unloading from ``initial``; a force <= 0 is allowed).
+    adhesion_range : float, optional
+        The Maugis-Dugdale range h_0 (m), required with ``adhesion="maugis"`` only.
     options : SolverOptions, optional
         Tuning knobs (tol, max_iter, precondition, stall_window, refresh, kernel, fft_backend,
         threads, coarse_start, precision); each may also be given as a keyword, which
@@ -157,7 +167,10 @@ def solve_contact(
         precision=precision,
     )
     loads = {"normal_force": normal_force, "mean_pressure": mean_pressure, "separation": separation}
+    law = check_adhesion(adhesion, work_of_adhesion, adhesion_range)
     problem = set_up_problem(heights, dx, dy, e_star, loads, work_of_adhesion, periodic, opts)
+    if law is not None:
+        return solve_maugis_problem(problem, law, initial, opts)
     return _solve(problem, initial, opts, started)
 
 

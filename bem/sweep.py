@@ -70,6 +70,10 @@ def load_sweep(
     list of ContactResult
         One per force, in the given order.
 
+    With ``adhesion="maugis"`` (and ``adhesion_range``) every solve starts from the previous
+    result: its gap gives the attractive set, which grows on loading and shrinks on
+    unloading (:mod:`asperity.bem.maugis`); ``non_adhesive`` is not used.
+
     Notes
     -----
     Each solve starts from the secant prediction of the two previous solutions (see the
@@ -96,6 +100,8 @@ def load_sweep(
         start = previous
         if not adhesive and len(results) >= 2:
             start = _secant_prediction(results[-2], results[-1], f)
+        elif adhesive and options.get("adhesion") == "maugis":
+            pass  # Maugis-Dugdale: the attractive set continues from the previous state
         elif adhesive and _on_loading_branch(previous, f):
             if given is not None:
                 start = given[k]
