@@ -132,6 +132,15 @@ class SurfaceConfig:
     form_order : int or None
         Polynomial order of the form removed (0 mean, 1 plane, 2 quadratic, ... 8); None
         uses ``detrend``.
+    profile_synthesis_n : int
+        For a line profile as ``file``: pixels per side of the isotropic maps synthesised
+        from its spectrum (pixel size: the profile's sampling interval, m).
+    profile_seed : int
+        For a line profile: the seed of the first synthesised map (the BEM's); realisation
+        ``i`` uses ``profile_seed + i``.
+    profile_realisations : int
+        For a line profile with the BEM: maps synthesised and solved at the job's loads (the
+        first is the BEM stage's; the spread of A_r over all of them is reported).
     """
 
     file: Path | None = None
@@ -146,6 +155,9 @@ class SurfaceConfig:
     outlier_threshold: float = 10.0
     outlier_action: str = "mask"
     form_order: int | None = None
+    profile_synthesis_n: int = 512
+    profile_seed: int = 0
+    profile_realisations: int = 3
 
 
 @dataclass(frozen=True)
@@ -303,6 +315,9 @@ class JobConfig:
     run: RunConfig
     report: ReportConfig = ReportConfig()
     source: str = "<dict>"
+    #: The ``section.key`` names the file gave (the rest are defaults): a line profile has no
+    #: area, so its job must give ``loading.nominal_area`` itself.
+    given_keys: frozenset[str] = frozenset()
 
     def sections(self) -> dict[str, Any]:
         """The built sections by table name."""
@@ -443,6 +458,9 @@ JOB_SCHEMA = Schema(
                 _bounded("surface.outlier_threshold", SurfaceConfig.outlier_threshold),
                 Key("outlier_action", Choice(("mask", "clip")), SurfaceConfig.outlier_action),
                 _bounded("surface.form_order", None),
+                _bounded("surface.profile_synthesis_n", SurfaceConfig.profile_synthesis_n),
+                _bounded("surface.profile_seed", SurfaceConfig.profile_seed),
+                _bounded("surface.profile_realisations", SurfaceConfig.profile_realisations),
             ),
             required=True,
             check=_surface_checks,
@@ -588,4 +606,14 @@ def config_from_dict(
             "true unless measured.normal_area gives a measured A_r(F_z) to calibrate against",
             False,
         )
-    return JobConfig(**sections, source=source)
+    return JobConfig(**sections, source=source, given_keys=given_keys(data))
+
+
+def given_keys(data: Mapping[str, Any]) -> frozenset[str]:
+    """The ``section.key`` names present in parsed TOML data (top-level tables only)."""
+    return frozenset(
+        f"{section}.{key}"
+        for section, table in data.items()
+        if isinstance(table, Mapping)
+        for key in table
+    )

@@ -28,7 +28,9 @@ calibrated on cannot be right:
 Warnings: ``measured_load_unmatched`` (a measured curve at a load more than
 :data:`LOAD_MATCH` from every configured load), ``bem_grid`` (the grid check found no
 converged stride), ``lambda_fit`` (the optimiser did not report success),
-``surface_preparation`` (the preparation record's warnings).
+``surface_preparation`` (the preparation record's warnings), ``profile_isotropy`` (always
+for a line profile as input: its statistics and the maps synthesised from it assume an
+isotropic surface, which one line cannot check).
 
 The exit status (:func:`exit_status`): 1 (:attr:`ExitStatus.NOT_CONVERGED`) when a solver
 did not converge, else 3 (:attr:`ExitStatus.INVALID_RESULT`) when the verdict is invalid,
@@ -362,6 +364,24 @@ def check_surface(preparation: dict | None) -> list[Reason]:
     ]
 
 
+def check_profile_isotropy(surface: Any) -> list[Reason]:
+    """For a line profile as input, the isotropy assumption (always a warning)."""
+    if getattr(surface, "profile_heights", None) is None:
+        return []
+    synthesis = (surface.provenance or {}).get("profile_synthesis") or {}
+    size = synthesis.get("map_size")
+    maps = f" and the {size:.3g} m maps synthesised from its spectrum" if size else ""
+    return [
+        Reason(
+            "profile_isotropy",
+            "warning",
+            f"the input is a line profile of {np.size(surface.profile_heights)} points: its "
+            f"Nayak statistics{maps} assume an isotropic Gaussian surface, which one line "
+            "cannot check (measure profiles in two directions, or a map, to test it)",
+        )
+    ]
+
+
 # ------------------------------------------------------------------------------------------
 # the stage
 # ------------------------------------------------------------------------------------------
@@ -387,6 +407,7 @@ def job_reasons(context: StageContext) -> list[Reason]:
     )
     reasons += check_lambda(lam)
     reasons += check_sliding(context.result(FRICTION))
+    reasons += check_profile_isotropy(context.result(SURFACE))
     return reasons
 
 
