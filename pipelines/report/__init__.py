@@ -46,6 +46,7 @@ from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
 from asperity.pipelines.report.bem import bem_grid_figure, bem_section
 from asperity.pipelines.report.figure_output import FigureOptions, FigureTable, publish
+from asperity.pipelines.report.profile import profile_key_numbers, profile_section
 from asperity.pipelines.stages import stage_number
 from asperity.pipelines.stages.verdict import mark, verdict_lines, verdict_markdown
 from asperity.plotting import DisplayUnit, display_unit, new_figure
@@ -643,6 +644,7 @@ def key_numbers(result: Any) -> list[tuple[str, str]]:
             ("BEM solves converged", f"{int(np.sum(bem.converged))} / {bem.converged.size}"),
         ]
     rows += psd_key_numbers(result)
+    rows += profile_key_numbers(result)
     rows += [
         ("statmodel quadrature", fr.quadrature_reason),
         ("shear curves converged", f"{int(np.sum(fr.converged))} / {fr.converged.size}"),
@@ -828,6 +830,7 @@ def write_report(result: Any, out_dir: str | Path, options: FigureOptions | None
         _md_table(header, rows),
         "",
         *surface_section(result),
+        *profile_section(result),
         *bem_section(result),
         "## Validity",
         "",
