@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import sys
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -317,7 +317,7 @@ class JobConfig:
     source: str = "<dict>"
     #: The ``section.key`` names the file gave (the rest are defaults): a line profile has no
     #: area, so its job must give ``loading.nominal_area`` itself.
-    given_keys: frozenset[str] = frozenset()
+    given_keys: frozenset[str] = field(default_factory=frozenset, compare=False)
 
     def sections(self) -> dict[str, Any]:
         """The built sections by table name."""

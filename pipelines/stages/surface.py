@@ -110,8 +110,10 @@ def preparation_options(config: SurfaceConfig) -> topo.PreparationOptions:
     )
 
 
-def prepare(config: SurfaceConfig) -> topo.PreparedSurface:
+def prepare(config: SurfaceConfig, surface: topo.HeightMap | None = None) -> topo.PreparedSurface:
     """Read (or generate) the surface and prepare it (:func:`topo.prepare_surface`).
+
+    ``surface``, when given, is the map already read from ``config`` (heights in m).
 
     Raises
     ------
@@ -119,12 +121,7 @@ def prepare(config: SurfaceConfig) -> topo.PreparedSurface:
         Naming the ``surface.*`` key: a crop outside the map, missing pixels with
         ``missing = "refuse"``, too few valid pixels for the form.
     """
-    return prepare_map(load_surface(config), config)
-
-
-def prepare_map(surface: topo.HeightMap, config: SurfaceConfig) -> topo.PreparedSurface:
-    """Prepare a read map as ``[surface]`` says (:func:`topo.prepare_surface`); raises
-    :class:`ConfigError` naming the key, as :func:`prepare`."""
+    surface = load_surface(config) if surface is None else surface
     try:
         return topo.prepare_surface(surface, preparation_options(config))
     except InputError as exc:
@@ -339,7 +336,7 @@ def compute_surface(context: StageContext) -> LevelledSurface:
     raw = read_input(config)
     if isinstance(raw, topo.LineProfile):
         return profile_surface(raw, config)
-    return LevelledSurface.from_prepared(prepare_map(raw, config))
+    return LevelledSurface.from_prepared(prepare(config, raw))
 
 
 def profile_surface(profile: topo.LineProfile, config: SurfaceConfig) -> LevelledSurface:

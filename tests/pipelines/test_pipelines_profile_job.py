@@ -4,6 +4,7 @@ of the BEM's A_r, the isotropy warning, and the [surface] profile keys."""
 
 from __future__ import annotations
 
+import copy
 import math
 from pathlib import Path
 
@@ -12,8 +13,13 @@ import pytest
 
 from asperity import topo
 from asperity.pipelines.config import ConfigError, config_from_dict
+from asperity.pipelines.engine.parallel import SerialExecutor
+from asperity.pipelines.engine.stage import DISABLED, Runner, StageContext
+from asperity.pipelines.engine.store import ResultStore
 from asperity.pipelines.job import run_job
 from asperity.pipelines.report.profile import profile_section
+from asperity.pipelines.stages import STAGES
+from asperity.pipelines.stages.realisations import REALISATIONS
 from asperity.pipelines.stages.verdict import verdict_markdown
 
 DATA = Path(__file__).resolve().parents[1] / "data"
@@ -162,3 +168,38 @@ def test_a_profile_crop_with_a_y_range_is_refused(tmp_path):
     config = config_from_dict(data, source="p.toml", base_dir=tmp_path)
     with pytest.raises(ConfigError, match=r"surface\.crop: expected \[x0, x1, 0, 1\]"):
         run_job(config, tmp_path / "out")
+
+
+def _planned_keys(config, document):
+    runner = Runner(
+        store=ResultStore("unused.h5"),
+        context=StageContext(config, {}, SerialExecutor()),
+        config_document=document,
+        version="1.0",
+        root_attrs={},
+    )
+    runner.plan(STAGES)
+    return runner.keys
+
+
+@pytest.mark.parametrize("key", REALISATIONS.config)
+def test_every_key_the_realisations_read_recomputes_them(tmp_path, key):
+    """On a profile job the realisations stage is enabled, and each key it declares keys it."""
+    config = config_from_dict(_data(tmp_path), source="p.toml", base_dir=tmp_path)
+    before = _planned_keys(config, config.key_document())
+    document = copy.deepcopy(config.key_document())
+    section, name = key.split(".")
+    document[section][name] = {"changed": True}
+    after = _planned_keys(config, document)
+    assert before["realisations"] != DISABLED
+    assert after["realisations"] != before["realisations"]
+
+
+def test_the_realisations_are_off_for_a_map_one_realisation_or_no_bem(tmp_path):
+    profile = config_from_dict(_data(tmp_path), source="p.toml", base_dir=tmp_path)
+    assert REALISATIONS.enabled(profile)
+    one = _data(tmp_path, profile_realisations=1)
+    assert not REALISATIONS.enabled(config_from_dict(one, base_dir=tmp_path))
+    a_map = _data(tmp_path)
+    a_map["surface"] = {"file": str(DATA / "mi-1.mi")}
+    assert not REALISATIONS.enabled(config_from_dict(a_map, base_dir=tmp_path))
