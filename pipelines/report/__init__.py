@@ -46,7 +46,12 @@ from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
 from asperity.pipelines.report.bem import bem_grid_figure, bem_section
 from asperity.pipelines.report.figure_output import FigureOptions, FigureTable, publish
-from asperity.pipelines.report.profile import profile_key_numbers, profile_section
+from asperity.pipelines.report.profile import (
+    profile_key_numbers,
+    profile_section,
+    scan_label,
+    surface_title,
+)
 from asperity.pipelines.stages import stage_number
 from asperity.pipelines.stages.verdict import mark, verdict_lines, verdict_markdown
 from asperity.plotting import DisplayUnit, display_unit, new_figure
@@ -133,7 +138,7 @@ def draw_surface(result: Any) -> tuple[Figure, FigureTable]:
     ax.set_ylabel(xu.label("y"))
     pixel = display_unit([s.dx, s.dy], "m")
     size = f"{pixel(s.dx):.3g}" if s.dx == s.dy else f"{pixel(s.dx):.3g} x {pixel(s.dy):.3g}"
-    ax.set_title(f"levelled surface, {s.nx} x {s.ny} px of {size} {pixel.symbol}")
+    ax.set_title(f"{surface_title(s)}, {s.nx} x {s.ny} px of {size} {pixel.symbol}")
     ix, iy = np.meshgrid(np.arange(h.shape[0]) * step, np.arange(h.shape[1]) * step, indexing="ij")
     table = FigureTable()
     table.add(
@@ -176,7 +181,7 @@ def _draw_scan_panel(ax: Any, xu: DisplayUnit, result: Any, spec: dict[str, Any]
     scan = result.scan
     yu = spec["unit"]
     values = np.asarray(spec["values"], dtype=float)
-    ax.plot(xu(scan.resolution), yu(values), "o", ms=4, label="map")
+    ax.plot(xu(scan.resolution), yu(values), "o", ms=4, label=scan_label(scan))
     if spec.get("fit") is not None:
         ax.plot(xu(spec["fit_x"]), yu(spec["fit"]), "-", label=spec["fit_label"])
     _mark_resolution(ax, xu, result.resolution, scan, yu(values))

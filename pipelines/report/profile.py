@@ -10,6 +10,20 @@ from __future__ import annotations
 from typing import Any
 
 
+def surface_title(surface: Any) -> str:
+    """The surface figure's title: the levelled map, or the map synthesised from a profile."""
+    if getattr(surface, "profile_heights", None) is None:
+        return "levelled surface"
+    seed = ((surface.provenance or {}).get("profile_synthesis") or {}).get("seed", "?")
+    return f"map from the profile's PSD, seed {seed}"
+
+
+def scan_label(scan: Any) -> str:
+    """The legend of the scan's points (Fig 12a-c): the map's summits or the profile's Nayak
+    statistics."""
+    return "profile (Nayak)" if getattr(scan, "method", None) == "nayak-profile" else "map"
+
+
 def _synthesis(result: Any) -> dict | None:
     """The synthesis record of a profile input (None for a map)."""
     surface = result.surface

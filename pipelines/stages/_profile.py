@@ -53,41 +53,30 @@ def input_is_profile(config: SurfaceConfig) -> bool:
         return False
 
 
-def profile_preparation_options(config: SurfaceConfig) -> topo.PreparationOptions:
-    """The ``[surface]`` preparation of a profile: crop ``[x0, x1, 0, 1]`` (points along the
-    profile), form (``detrend`` / ``form_order``, a polynomial in x), outliers, missing.
+def profile_crop(config: SurfaceConfig) -> topo.CropWindow | None:
+    """The crop of a profile: ``[x0, x1, 0, 1]`` keeps points x0..x1-1 (a profile has one row).
 
     Raises
     ------
     ConfigError
-        A crop whose y range is not ``0, 1`` (a profile has one row).
+        A crop whose y range is not ``0, 1``.
     """
-    crop = None
-    if config.crop is not None:
-        x0, x1, y0, y1 = config.crop
-        if (y0, y1) != (0, 1):
-            raise ConfigError(
-                f"surface.crop: expected [x0, x1, 0, 1] for a line profile (one row), "
-                f"got {list(config.crop)}"
-            )
-        crop = topo.CropWindow((x0, x1), (None, None), "px")
-    order = (
-        config.form_order
-        if config.form_order is not None
-        else topo.PreparationOptions.order_of(config.detrend)
-    )
-    return topo.PreparationOptions(
-        crop=crop,
-        missing=config.missing,
-        outliers=topo.OutlierRule(config.outliers, config.outlier_threshold, config.outlier_action),
-        form_order=order,
-    )
+    if config.crop is None:
+        return None
+    x0, x1, y0, y1 = config.crop
+    if (y0, y1) != (0, 1):
+        raise ConfigError(
+            f"surface.crop: expected [x0, x1, 0, 1] for a line profile (one row), "
+            f"got {list(config.crop)}"
+        )
+    return topo.CropWindow((x0, x1), (None, None), "px")
 
 
 def prepare_line_profile(
-    profile: topo.LineProfile, config: SurfaceConfig
+    profile: topo.LineProfile, config: SurfaceConfig, options: topo.PreparationOptions
 ) -> tuple[topo.LineProfile, dict]:
-    """Prepare a profile as ``[surface]`` says (:func:`topo.prepare_profile`).
+    """Prepare a profile as ``[surface]`` says (:func:`topo.prepare_profile`): ``options`` are
+    the map's (form, outliers, missing) with the profile's crop (:func:`profile_crop`).
 
     Returns
     -------
@@ -100,7 +89,6 @@ def prepare_line_profile(
         Naming the ``surface.*`` key: a crop outside the profile, missing points with
         ``missing = "refuse"``, too few valid points for the form.
     """
-    options = profile_preparation_options(config)
     try:
         prepared, record = topo.prepare_profile(profile, options)
     except InputError as exc:

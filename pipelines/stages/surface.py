@@ -18,6 +18,7 @@ is the profile's Nayak scan (:func:`topo.profile_resolution_scan`, ``method`` "n
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import json
 from dataclasses import dataclass
@@ -34,6 +35,7 @@ from asperity.pipelines.engine.stage import Stage, StageContext
 from asperity.pipelines.stages._profile import (
     PROFILE_METHOD,
     prepare_line_profile,
+    profile_crop,
     require_nominal_area,
     synthesis_record,
     synthesised_map,
@@ -342,7 +344,8 @@ def compute_surface(context: StageContext) -> LevelledSurface:
 def profile_surface(profile: topo.LineProfile, config: SurfaceConfig) -> LevelledSurface:
     """A line profile prepared as ``[surface]`` says, with realisation 0 of the isotropic map
     synthesised from its spectrum (``profile_synthesis_n`` pixels, seed ``profile_seed``)."""
-    prepared, record = prepare_line_profile(profile, config)
+    options = dataclasses.replace(preparation_options(config), crop=profile_crop(config))
+    prepared, record = prepare_line_profile(profile, config, options)
     surface = synthesised_map(prepared, config, 0)
     synthesis = synthesis_record(prepared, config)
     return LevelledSurface.from_profile(prepared, record, surface, synthesis)

@@ -13,9 +13,7 @@ import pytest
 
 from asperity import topo
 from asperity.pipelines.config import ConfigError, config_from_dict
-from asperity.pipelines.engine.parallel import SerialExecutor
-from asperity.pipelines.engine.stage import DISABLED, Runner, StageContext
-from asperity.pipelines.engine.store import ResultStore
+from asperity.pipelines.engine.stage import DISABLED, hash_document, key_document
 from asperity.pipelines.job import run_job
 from asperity.pipelines.report.profile import profile_section
 from asperity.pipelines.stages import STAGES
@@ -171,15 +169,14 @@ def test_a_profile_crop_with_a_y_range_is_refused(tmp_path):
 
 
 def _planned_keys(config, document):
-    runner = Runner(
-        store=ResultStore("unused.h5"),
-        context=StageContext(config, {}, SerialExecutor()),
-        config_document=document,
-        version="1.0",
-        root_attrs={},
-    )
-    runner.plan(STAGES)
-    return runner.keys
+    """Every stage's key for this configuration document, as the job plans them."""
+    keys = {}
+    for stage in STAGES:
+        enabled = stage.enabled(config)
+        keys[stage.name] = (
+            hash_document(key_document(stage, document, keys, "1.0")) if enabled else DISABLED
+        )
+    return keys
 
 
 @pytest.mark.parametrize("key", REALISATIONS.config)
