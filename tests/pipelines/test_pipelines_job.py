@@ -151,6 +151,7 @@ def test_resume_after_interruption_skips_finished_stages(tmp_path, monkeypatch, 
         False,
         False,
         False,
+        False,  # the line-profile realisations: disabled on a map
         False,
     ]
 
@@ -175,6 +176,7 @@ def test_resume_after_interruption_skips_finished_stages(tmp_path, monkeypatch, 
         False,
         False,
         False,
+        False,  # the line-profile realisations: disabled on a map
         False,
     ]
     assert calls == {"surface": 1, "bem": 2}
