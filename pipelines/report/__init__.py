@@ -56,6 +56,7 @@ from asperity.pipelines.report.uncertainty import (
     misfit_text,
     model_cells,
     resolution_text,
+    uncertainty_rows,
 )
 from asperity.pipelines.stages import stage_number
 from asperity.pipelines.stages.verdict import mark, verdict_lines, verdict_markdown
@@ -669,6 +670,7 @@ def key_numbers(result: Any) -> list[tuple[str, str]]:
             ("BEM solves converged", f"{int(np.sum(bem.converged))} / {bem.converged.size}"),
         ]
     rows += psd_key_numbers(result)
+    rows += uncertainty_rows(result)
     rows += [
         ("statmodel quadrature", fr.quadrature_reason),
         ("shear curves converged", f"{int(np.sum(fr.converged))} / {fr.converged.size}"),

@@ -100,6 +100,21 @@ def misfit_text(res: Any) -> str:
     return f"{res.optimum_misfit:.3g} between strides ({at_stride}; rms ln ratio)"
 
 
+def uncertainty_rows(result: Any) -> list[tuple[str, str]]:
+    """Key-number rows saying what the +- u of the load table are and what limits them."""
+    fr = result.friction
+    message = getattr(fr, "uncertainty_message", None)
+    if message is None:
+        return []
+    return [
+        (
+            "error bars (+- u)",
+            f"model, one sigma: {message}; BEM: grid convergence index of the grid check "
+            "(Richardson extrapolation, about 95 %)",
+        )
+    ]
+
+
 def draw_resolution_interval(ax: Any, xu: DisplayUnit, res: Any, table: Any) -> None:
     """The misfit figure: the located optimum, its interval (band) and the refined samples."""
     if getattr(res, "optimum_resolution", None) is None:
@@ -143,7 +158,8 @@ def draw_model_band(ax: Any, fu: DisplayUnit, result: Any, table: Any, columns: 
     u = np.asarray(fr.model_real_area_uncertainty, dtype=float) / a_n
     at = result.resolution.optimum_resolution
     ru = display_unit(at, "m")
-    name = f"model +- u, {ru(at):.3g} {ru.symbol} (located optimum)"
+    bound = ", u a lower bound" if getattr(fr, "uncertainty_lower_bound", False) else ""
+    name = f"model +- u{bound}, {ru(at):.3g} {ru.symbol} (located optimum)"
     (line,) = ax.plot(fu(fr.normal_load), value, "-", color="C3", label=name)
     ax.fill_between(fu(fr.normal_load), value - u, value + u, color=line.get_color(), alpha=0.25)
     table.add("d", name, {x_col: fr.normal_load, y_col: value, "A_r/A_n uncertainty (1)": u})
