@@ -46,6 +46,18 @@ from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
 from asperity.pipelines.report.bem import bem_grid_figure, bem_section
 from asperity.pipelines.report.figure_output import FigureOptions, FigureTable, publish
+from asperity.pipelines.report.uncertainty import (
+    bem_cells,
+    bem_error_bars,
+    draw_fig13_error_bars,
+    draw_model_band,
+    draw_resolution_interval,
+    friction_error_bars,
+    misfit_text,
+    model_cells,
+    resolution_text,
+    uncertainty_rows,
+)
 from asperity.pipelines.stages import stage_number
 from asperity.pipelines.stages.verdict import mark, verdict_lines, verdict_markdown
 from asperity.plotting import DisplayUnit, display_unit, new_figure
@@ -240,21 +252,30 @@ def _draw_area_vs_load(ax: Any, result: Any, table: FigureTable) -> None:
     x_col, y_col = "normal load F_z (N)", "A_r/A_n (1)"
     plotted: list[np.ndarray] = []
 
-    def series(name: str, f: Any, fraction: Any, style: str, **kw: Any) -> None:
+    def series(name: str, f: Any, fraction: Any, style: str, u: Any = None, **kw: Any) -> None:
         fraction = np.asarray(fraction, dtype=float)
-        ax.plot(fu(f), fraction, style, label=name, **kw)
-        table.add("d", name, {x_col: f, y_col: fraction})
+        columns = {x_col: f, y_col: fraction}
+        if u is None:
+            ax.plot(fu(f), fraction, style, label=name, **kw)
+        else:
+            ax.errorbar(fu(f), fraction, yerr=u, fmt=style, label=name, capsize=3, **kw)
+            columns["A_r/A_n uncertainty (1)"] = u
+            # the bars count in the choice of a log axis (none when a bar reaches 0)
+            plotted.append(np.concatenate([fraction - u, fraction + u]))
+        table.add("d", name, columns)
         plotted.append(fraction)
 
     if bem is not None:
-        series("BEM, non-adhesive", bem.normal_load, bem.contact_fraction, "s", mfc="none")
+        bars = bem_error_bars(bem)
+        series("BEM, non-adhesive", bem.normal_load, bem.contact_fraction, "s", bars[0], mfc="none")
         if bem.contact_fraction_adhesive is not None:
-            series("BEM, adhesive", bem.normal_load, bem.contact_fraction_adhesive, "s")
+            series("BEM, adhesive", bem.normal_load, bem.contact_fraction_adhesive, "s", bars[1])
+    draw_model_band(ax, fu, result, table, (x_col, y_col))
     for i in sorted({0, res.index, len(res.stride) - 1}):
         if np.all(np.isfinite(res.real_area[i])):
             ru = display_unit(res.resolution[i], "m")
             name = f"model, {ru(res.resolution[i]):.3g} {ru.symbol}"
-            name += " (effective)" if i == res.index else ""
+            name += " (stride of least misfit)" if i == res.index else ""
             series(name, loads, res.real_area[i] / a_n, "-" if i == res.index else ":")
     persson = _persson_fraction(result)
     if persson is not None:
@@ -313,8 +334,9 @@ def draw_misfit(result: Any) -> tuple[Figure, FigureTable]:
         xu(res.effective_resolution),
         color="k",
         ls="--",
-        label=f"effective {xu(res.effective_resolution):.3g} {xu.symbol}",
+        label=f"stride of least misfit {xu(res.effective_resolution):.3g} {xu.symbol}",
     )
+    draw_resolution_interval(ax, xu, res, table)
     ax.set_xlabel(xu.label("resolution"))
     ax.set_ylabel("rms of ln($A_{model}$ / $A_{reference}$)")
     log_axis(ax, "y", [m for _, m, _ in curves])
@@ -465,6 +487,7 @@ def draw_area_vs_force(result: Any) -> tuple[Figure, FigureTable]:
         )
     if result.mode_mixity.curves:
         ax.plot([], [], "k-", lw=1, label="measured")
+    draw_fig13_error_bars(ax, fu, fr, colors, table)
     _model_at_measured(result.mode_mixity, a_n, table, x_col, y_col)
     line = np.linspace(0, np.nanmax(fr.tangential_force), 50)
     tau_line = line / max(fr.shear_strength, 1e-300) / a_n
@@ -486,12 +509,20 @@ def draw_friction_vs_load(result: Any) -> tuple[Figure, FigureTable]:
     ax = fig.subplots()
     table = FigureTable()
     x_col = "normal load F_z (N)"
+    bars = friction_error_bars(fr)
     for name, values, style in (
         ("static (peak)", fr.static_friction, "o-"),
         ("sliding", fr.sliding_friction, "s--"),
     ):
-        ax.plot(fu(fr.normal_load), yu(values), style, label=name)
-        table.add("all", name, {x_col: fr.normal_load, "friction force (N)": values})
+        columns = {x_col: fr.normal_load, "friction force (N)": values}
+        u = bars[name]
+        if u is None:
+            ax.plot(fu(fr.normal_load), yu(values), style, label=name)
+        else:
+            x = fu(fr.normal_load)
+            ax.errorbar(x, yu(values), yerr=yu(u), fmt=style, capsize=3, label=name)
+            columns["friction force uncertainty (N)"] = u
+        table.add("all", name, columns)
     _auto_scale(ax, fr.normal_load, [fr.static_friction, fr.sliding_friction])
     ax.set_xlabel(fu.label("normal load $F_z$"))
     ax.set_ylabel(yu.label("friction force"))
@@ -609,16 +640,12 @@ def key_numbers(result: Any) -> list[tuple[str, str]]:
             f"{result.surface.nx} x {result.surface.ny} px, "
             f"{result.surface.dx * 1e6:.4g} um pixels",
         ),
-        (
-            "effective resolution",
-            f"{res.effective_resolution * 1e6:.4g} um "
-            f"(stride {res.effective_stride}, chosen against {res.basis})",
-        ),
+        ("effective resolution", f"{resolution_text(res)}; chosen against {res.basis}"),
         ("summit radius R", f"{r.summit_radius * 1e3:.4g} mm"),
         ("asperity density eta", f"{r.asperity_density * 1e-6:.4g} 1/mm^2"),
         ("rms summit height sigma_s", f"{r.summit_height_rms * 1e3:.4g} mm"),
         ("Tabor parameter mu", f"{res.tabor_parameter:.4g}"),
-        ("misfit at effective resolution", f"{res.misfit[res.index]:.3g} (rms ln ratio)"),
+        ("misfit at effective resolution", misfit_text(res)),
     ]
     if lam.fitted:
         rows.append(
@@ -643,6 +670,7 @@ def key_numbers(result: Any) -> list[tuple[str, str]]:
             ("BEM solves converged", f"{int(np.sum(bem.converged))} / {bem.converged.size}"),
         ]
     rows += psd_key_numbers(result)
+    rows += uncertainty_rows(result)
     rows += [
         ("statmodel quadrature", fr.quadrature_reason),
         ("shear curves converged", f"{int(np.sum(fr.converged))} / {fr.converged.size}"),
@@ -678,8 +706,7 @@ def psd_key_numbers(result: Any) -> list[tuple[str, str]]:
 
 def load_table(result: Any) -> tuple[list[str], list[list[str]]]:
     """Header and rows of the per-load table."""
-    fr, bem, res = result.friction, result.bem, result.resolution
-    a_n = fr.nominal_area
+    fr, bem = result.friction, result.bem
     header = [
         "F_z (N)",
         "A_r/A_n BEM",
@@ -693,20 +720,8 @@ def load_table(result: Any) -> tuple[list[str], list[list[str]]]:
     if persson is not None:
         header.append("A_r/A_n Persson")
     rows = []
-    plain = None if bem is None else bem.contact_fraction
-    adh = None if bem is None else bem.contact_fraction_adhesive
     for i, f in enumerate(fr.normal_load):
-        rows.append(
-            [
-                f"{f:.4g}",
-                "-" if plain is None else f"{plain[i]:.4g}",
-                "-" if adh is None else f"{adh[i]:.4g}",
-                f"{res.real_area[res.index, i] / a_n:.4g}",
-                f"{fr.static_friction[i]:.4g}",
-                f"{fr.sliding_friction[i]:.4g}",
-                f"{fr.sliding_displacement[i] * 1e6:.4g}",
-            ]
-        )
+        rows.append([f"{f:.4g}", *bem_cells(bem, i), *model_cells(result, i)])
         if persson is not None:
             rows[-1].append(f"{persson[i]:.4g}")
     verdict = getattr(result, "verdict", None)
