@@ -620,7 +620,9 @@ def draw_psd(result: Any) -> tuple[Figure, FigureTable]:
             "Hurst exponent (1)": psd.hurst_exponent,
         },
     )
-    table.add("all", "Nyquist lines drawn", {"wavenumber q (rad/m)": list(marks.values())})
+    for name, wavenumber in marks.items():  # each line drawn, named as in the legend
+        plain = name.replace("$", "").replace("\\pi", "pi").replace("\\,", " ")
+        table.add("all", f"line: {plain}", {q_col: wavenumber})
     ax.xaxis.set_minor_formatter(NullFormatter())
     ax.yaxis.set_minor_formatter(NullFormatter())
     ax.set_xlabel(f"wavenumber $q$ (rad {qu.symbol})")

@@ -400,17 +400,19 @@ def check_sliding(friction: Any) -> list[Reason]:
         )
         if not ok or not math.isfinite(float(slide))
     ]
+    return _no_full_sliding(
+        missed,
+        "full sliding not reached at F_z = {loads} N: the sliding friction there is not a "
+        "result (loading.max_tangential_displacement too short, or the solver stopped)",
+    )
+
+
+def _no_full_sliding(missed: list[float], template: str) -> list[Reason]:
+    """The ``no_full_sliding`` reason naming the loads (N) in ``template``'s ``{loads}``."""
     if not missed:
         return []
     loads = ", ".join(f"{f:.4g}" for f in missed)
-    return [
-        Reason(
-            "no_full_sliding",
-            "invalid",
-            f"full sliding not reached at F_z = {loads} N: the sliding friction there is not a "
-            "result (loading.max_tangential_displacement too short, or the solver stopped)",
-        )
-    ]
+    return [Reason("no_full_sliding", "invalid", template.format(loads=loads))]
 
 
 def check_sliding_displacement(friction: Any) -> list[Reason]:
@@ -432,18 +434,12 @@ def check_sliding_displacement(friction: Any) -> list[Reason]:
         )
         if ok and math.isfinite(float(slide)) and not math.isfinite(float(shift))
     ]
-    if not missed:
-        return []
-    loads = ", ".join(f"{f:.4g}" for f in missed)
-    return [
-        Reason(
-            "no_full_sliding",
-            "invalid",
-            f"no finite sliding displacement at F_z = {loads} N ({len(missed)} of "
-            f"{np.size(friction.normal_load)} loads): full sliding is not reached within the "
-            "shear path, so the sliding friction and delta_T there are not results",
-        )
-    ]
+    return _no_full_sliding(
+        missed,
+        f"no finite sliding displacement at F_z = {{loads}} N ({len(missed)} of "
+        f"{np.size(friction.normal_load)} loads): full sliding is not reached within the "
+        "shear path, so the sliding friction and delta_T there are not results",
+    )
 
 
 def check_edge_mismatch(bem: Any) -> list[Reason]:
