@@ -62,7 +62,7 @@ def reasons_html(verdict: Any) -> str:
         for sev, code, text in zip(verdict.severities, verdict.codes, verdict.reasons, strict=True)
     )
     return (
-        f'<section class="verdict verdict-{html.escape(word)}"><h2>Validity verdict</h2>'
+        f'<section class="verdict" data-verdict="{html.escape(word)}"><h2>Validity verdict</h2>'
         f'<p class="verdict-word">{html.escape(verdict_wording(word))}</p>'
         + (f'<ul class="reasons">{items}</ul>' if items else "<p>Every check passed.</p>")
         + "</section>"
@@ -130,9 +130,10 @@ STYLE = (
     "text-align:left}th{background:#eee}figure{margin:2em 0}figure img,figure svg{max-width:"
     "100%;height:auto}.verdict{border:2px solid #446;padding:0 1em;background:#f4f6ff}"
     ".warning{color:#a40}.verdict-word{font-size:1.3em;font-weight:bold}"
-    ".verdict-invalid{border-color:#b00000;background:#fff2f2}.verdict-invalid .verdict-word"
-    "{color:#b00000}.verdict-warnings{border-color:#b35900;background:#fff8ee}"
-    ".verdict-warnings .verdict-word{color:#b35900}.severity-invalid{color:#b00000}"
+    ".verdict[data-verdict=invalid]{border-color:#b00000;background:#fff2f2}"
+    ".verdict[data-verdict=invalid] .verdict-word{color:#b00000}"
+    ".verdict[data-verdict=warnings]{border-color:#b35900;background:#fff8ee}"
+    ".verdict[data-verdict=warnings] .verdict-word{color:#b35900}.severity-invalid{color:#b00000}"
     ".severity-warning{color:#b35900}"
 )
 
