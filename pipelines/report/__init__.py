@@ -44,15 +44,9 @@ from matplotlib import colormaps
 from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
+from asperity.pipelines.report import verdict_marks
 from asperity.pipelines.report.bem import bem_grid_figure, bem_section
 from asperity.pipelines.report.figure_output import FigureOptions, FigureTable, publish
-from asperity.pipelines.report.verdict_marks import (
-    AREA_FRACTION_THRESHOLDS,
-    MISFIT_THRESHOLDS,
-    csv_header,
-    stamp_verdict,
-    threshold_lines,
-)
 from asperity.pipelines.stages import stage_number
 from asperity.pipelines.stages.verdict import (
     mark,
@@ -270,19 +264,10 @@ def _draw_area_vs_load(ax: Any, result: Any, table: FigureTable) -> None:
         table.add("d", name, {x_col: f, y_col: fraction})
         plotted.append(fraction)
 
-    if bem is not None:  # adhesive filled and small, non-adhesive open, larger and on top
+    if bem is not None:
+        series("BEM, non-adhesive", bem.normal_load, bem.contact_fraction, "s", mfc="none")
         if bem.contact_fraction_adhesive is not None:
-            series("BEM, adhesive", bem.normal_load, bem.contact_fraction_adhesive, "s", ms=4)
-        series(
-            "BEM, non-adhesive",
-            bem.normal_load,
-            bem.contact_fraction,
-            "o",
-            mfc="none",
-            ms=8,
-            mew=1.2,
-            zorder=3,
-        )
+            series("BEM, adhesive", bem.normal_load, bem.contact_fraction_adhesive, "s")
     for i in sorted({0, res.index, len(res.stride) - 1}):
         if np.all(np.isfinite(res.real_area[i])):
             ru = display_unit(res.resolution[i], "m")
@@ -294,11 +279,12 @@ def _draw_area_vs_load(ax: Any, result: Any, table: FigureTable) -> None:
         series("Persson, non-adhesive", result.psd.normal_load, persson, "-.", color="C4")
     if res.measured is not None:
         series("measured", res.measured.normal_load, res.measured.real_area / a_n, "o", color="k")
+    verdict_marks.separate_bem_markers(ax)
     _auto_scale(ax, loads, np.concatenate(plotted))
     ax.set_xlabel(fu.label("normal load $F_z$"))
     ax.set_ylabel("$A_r / A_n$")
     ax.set_title("(d)")
-    threshold_lines(ax, "A_r/A_n", AREA_FRACTION_THRESHOLDS)
+    verdict_marks.threshold_lines(ax, "A_r/A_n", verdict_marks.AREA_FRACTION_THRESHOLDS)
     ax.legend(fontsize=7)
 
 
@@ -352,7 +338,7 @@ def draw_misfit(result: Any) -> tuple[Figure, FigureTable]:
     ax.set_xlabel(xu.label("resolution"))
     ax.set_ylabel("rms of ln($A_{model}$ / $A_{reference}$)")
     log_axis(ax, "y", [m for _, m, _ in curves])
-    threshold_lines(ax, "misfit", MISFIT_THRESHOLDS)
+    verdict_marks.threshold_lines(ax, "misfit", verdict_marks.MISFIT_THRESHOLDS)
     ax.legend(fontsize=8)
     return fig, table
 
@@ -508,7 +494,7 @@ def draw_area_vs_force(result: Any) -> tuple[Figure, FigureTable]:
     ax.set_ylim(0, 1.15 * np.nanmax(fr.real_area) / a_n)
     ax.set_xlabel(fu.label("tangential load $F_x$"))
     ax.set_ylabel("$A_r / A_n$")
-    threshold_lines(ax, "A_r/A_n", AREA_FRACTION_THRESHOLDS)
+    verdict_marks.threshold_lines(ax, "A_r/A_n", verdict_marks.AREA_FRACTION_THRESHOLDS)
     ax.legend(fontsize=7)
     return fig, table
 
@@ -655,8 +641,8 @@ def draw_figure(result: Any, name: str) -> tuple[Figure, FigureTable]:
     its table headed by the verdict (:mod:`pipelines.report.verdict_marks`)."""
     fig, table = FIGURES[name][1](result)
     verdict = getattr(result, "verdict", None)
-    stamp_verdict(fig, verdict)
-    table.header = csv_header(verdict)
+    verdict_marks.stamp_verdict(fig, verdict)
+    table.header = verdict_marks.csv_header(verdict)
     return fig, table
 
 

@@ -12,7 +12,8 @@ report.md and report.html. The verdict is the last stage of the job and is store
 :func:`threshold_lines` draws the verdict's limits (A_r/A_n 0.10 warning and 0.15 invalid,
 misfit 0.2 and 0.7) as horizontal lines where they fall inside the axis, and names in the
 axis title those that lie outside it (the axis is not stretched to show them, which would
-squash the data).
+squash the data). :func:`separate_bem_markers` keeps the non-adhesive BEM points visible
+beside the adhesive ones where the two coincide.
 """
 
 from __future__ import annotations
@@ -122,3 +123,25 @@ def threshold_lines(ax: Any, quantity: str, thresholds: Sequence[tuple[float, st
         title = ax.get_title()
         ax.set_title(f"{title} {note}" if title else note, fontsize=8)
     return drawn
+
+
+#: Marker styles of the BEM modes where both are drawn: the non-adhesive open, larger and on
+#: top, the adhesive filled and small inside it.
+BEM_MARKERS: dict[str, dict[str, Any]] = {
+    "plain": {"marker": "o", "markerfacecolor": "none", "markersize": 8, "zorder": 3},
+    "adhesive": {"marker": "s", "markersize": 4, "zorder": 2.5},
+}
+
+
+def separate_bem_markers(
+    ax: Any, labels: tuple[str, str] = ("BEM, non-adhesive", "BEM, adhesive")
+) -> None:
+    """Restyle the two BEM series of ``ax`` (plain lines, or error bars) by their labels
+    (non-adhesive, adhesive) with :data:`BEM_MARKERS`, so neither hides the other."""
+    lines = {line.get_label(): line for line in ax.get_lines()}
+    for container in getattr(ax, "containers", []):
+        if container.get_label() in labels and getattr(container, "lines", None):
+            lines[container.get_label()] = container.lines[0]
+    for label, style in zip(labels, BEM_MARKERS.values(), strict=True):
+        if label in lines:
+            lines[label].set(**style)

@@ -503,6 +503,7 @@ def job_reasons(context: StageContext) -> list[Reason]:
     a_n = config.loading.nominal_area
     reasons = check_surface(context.result(SURFACE).preparation)
     reasons += check_bem(context.result(BEM))
+    reasons += check_edge_mismatch(context.result(BEM))
     reasons += check_area_fraction(res.real_area[res.index] / a_n, "the statistical model's")
     if measured.normal_area is not None:
         reasons += check_measured_area(measured.normal_area.real_area, a_n, "A_r(F_z)")
@@ -517,15 +518,14 @@ def job_reasons(context: StageContext) -> list[Reason]:
         sorted({c.normal_load for c in measured.shear_area}), config.loading.normal_loads
     )
     reasons += check_lambda(lam)
-    reasons += check_sliding(context.result(FRICTION))
     reasons += check_sliding_displacement(context.result(FRICTION))
-    reasons += check_edge_mismatch(context.result(BEM))
+    reasons += check_sliding(context.result(FRICTION))
     return reasons
 
 
 #: Fields a statistical-model result may store with the direction of its least misfit
 #: ("finer", "coarser", or "" when it lies between strides).
-DIRECTION_FIELDS: tuple[str, ...] = ("resolution_direction", "direction")
+DIRECTION_FIELDS: tuple[str, ...] = ("optimum_direction", "resolution_direction", "direction")
 
 
 def resolution_direction(res: Any, bem: Any) -> str:
