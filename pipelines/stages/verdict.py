@@ -30,10 +30,7 @@ calibrated on cannot be right:
   sliding it reports.
 * ``bem_stall``: a BEM solve did not converge (read from the BEM stage's convergence fields).
 
-Warnings: ``bem_edge_mismatch`` (a periodic BEM solve of a map whose opposite edges do not
-meet: the seam's rms height jump over the rms height above
-:data:`~asperity.pipelines.stages._bem_grid.EDGE_MISMATCH_LIMIT` = 0.5 adds a cliff along two
-edges of the reference contact), ``measured_load_unmatched`` (a measured curve at a load more than
+Warnings: ``measured_load_unmatched`` (a measured curve at a load more than
 :data:`LOAD_MATCH` from every configured load), ``bem_grid`` (the grid check found no
 converged stride), ``lambda_fit`` (the optimiser did not report success),
 ``surface_preparation`` (the preparation record's warnings).
@@ -42,6 +39,11 @@ The exit status (:func:`exit_status`): 1 (:attr:`ExitStatus.NOT_CONVERGED`) when
 did not converge, else 3 (:attr:`ExitStatus.INVALID_RESULT`) when the verdict is invalid,
 else 0. Non-convergence takes precedence: it is the first thing to fix (more iterations, a
 cleaner map), and the verdict lists it among its reasons anyway.
+
+A warning of the BEM reference's boundary: ``bem_edge_mismatch``, a periodic BEM solve of a
+map whose opposite edges do not meet (the seam's rms height jump over the rms height above
+:data:`~asperity.pipelines.stages._bem_grid.EDGE_MISMATCH_LIMIT` = 0.5 adds a cliff along two
+edges of the reference contact; :func:`check_edge_mismatch`).
 """
 
 from __future__ import annotations
