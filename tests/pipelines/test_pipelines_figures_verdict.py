@@ -115,14 +115,22 @@ def test_radius_fit_is_drawn_where_r_is_positive_with_its_unit():
     assert whole["fit"].size == 60 and "R > 0" not in whole["fit_label"]
 
 
+def _series_line(ax, label):
+    """The data line of a series drawn as a plain line or with error bars."""
+    for container in ax.containers:
+        if container.get_label() == label:
+            return container.lines[0]
+    (line,) = [line for line in ax.get_lines() if line.get_label() == label]
+    return line
+
+
 def test_fig12a_line_and_fig12d_markers_read_back(small_run):
     _, _, result = small_run
     fig, _ = draw_resolution(result)
     ax_a, ax_d = fig.axes[0], fig.axes[3]
     (fit,) = [line for line in ax_a.get_lines() if "linear fit" in line.get_label()]
     assert "m/m" in fit.get_label() and np.all(fit.get_ydata() > 0)
-    lines = {line.get_label(): line for line in ax_d.get_lines()}
-    plain, adhesive = lines["BEM, non-adhesive"], lines["BEM, adhesive"]
+    plain, adhesive = _series_line(ax_d, "BEM, non-adhesive"), _series_line(ax_d, "BEM, adhesive")
     assert plain.get_markerfacecolor() == "none" and adhesive.get_markerfacecolor() != "none"
     assert plain.get_markersize() > adhesive.get_markersize()
     assert plain.get_zorder() > adhesive.get_zorder()  # open markers drawn over the filled ones
