@@ -13,6 +13,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.ticker import LogLocator, NullFormatter, ScalarFormatter
 
+from asperity.pipelines.report.verdict_marks import separate_bem_markers
 from asperity.pipelines.stages._bem_grid import EDGE_MISMATCH_LIMIT
 from asperity.plotting import display_unit, new_figure
 
@@ -127,6 +128,7 @@ def bem_grid_figure(result: Any) -> Figure:
         ax1.plot(pixel, bem.check_contact_fraction[:, k], "o-", label=_MODES[k])
     _draw_extrapolation(ax1, bem)
     ax1.axvline(used, color="k", ls="--", label="used")
+    separate_bem_markers(ax1, ("non-adhesive", "adhesive"))
     ax1.set_xlabel(pu.label("BEM pixel size"))
     ax1.set_ylabel(f"$A_r/A_n$ at $F_z$ = {bem.check_load:.3g} N")
     ax1.set_title(f"grid refinement ({bem.boundary} boundary)")
