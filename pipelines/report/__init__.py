@@ -46,6 +46,7 @@ from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
 from asperity.pipelines.report.bem import bem_grid_figure, bem_section
 from asperity.pipelines.report.figure_output import FigureOptions, FigureTable, publish
+from asperity.pipelines.report.measured import shape_scale_key_numbers
 from asperity.pipelines.stages import stage_number
 from asperity.pipelines.stages.verdict import mark, verdict_lines, verdict_markdown
 from asperity.plotting import DisplayUnit, display_unit, new_figure
@@ -631,6 +632,7 @@ def key_numbers(result: Any) -> list[tuple[str, str]]:
         )
     else:
         rows.append(("mode mixity lambda (configured)", f"{lam.mode_mixity:.4g}"))
+    rows += shape_scale_key_numbers(result)
     if bem is None:
         rows.append(("BEM", "not run ([bem] enabled = false): calibrated on the measurement"))
     else:
