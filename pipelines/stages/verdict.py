@@ -24,11 +24,20 @@ calibrated on cannot be right:
 * ``no_full_sliding``: a shear curve did not reach full sliding (its sliding friction is
   not a result).
 * ``bem_stall``: a BEM solve did not converge (read from the BEM stage's convergence fields).
+* ``shape_scale``: the shape fit's factor c of a measured curve outside [0.50, 2.01]
+  (|ln c| > :data:`MAX_MISFIT`; a warning beyond :data:`WARN_MISFIT`, [0.82, 1.22]):
+  :func:`check_shape_scale`.
+* ``plastic_asperities`` / ``contact_pressure_above_yield`` (with ``material.hardness``): the
+  plasticity index above 1 (a warning above 0.6), the mean contact pressure above H (a warning
+  above 0.39 H): :func:`check_hardness`, thresholds in :mod:`asperity.statmodel.plausibility`.
 
 Warnings: ``measured_load_unmatched`` (a measured curve at a load more than
-:data:`LOAD_MATCH` from every configured load), ``bem_grid`` (the grid check found no
+:data:`LOAD_MATCH` from every configured load; the job refuses such a curve before any stage,
+:func:`asperity.pipelines.measured.check_curve_loads`), ``bem_grid`` (the grid check found no
 converged stride), ``lambda_fit`` (the optimiser did not report success),
-``surface_preparation`` (the preparation record's warnings).
+``surface_preparation`` (the preparation record's warnings), ``static_friction_ratio`` and
+``junction_shear_at_peak`` (F_s/F_d or the junction shear at the peak over tau_0 above 10,
+naming tau_0 and lambda: :func:`check_friction_plausibility`).
 
 The exit status (:func:`exit_status`): 1 (:attr:`ExitStatus.NOT_CONVERGED`) when a solver
 did not converge, else 3 (:attr:`ExitStatus.INVALID_RESULT`) when the verdict is invalid,
@@ -47,6 +56,7 @@ import numpy as np
 
 from asperity.errors import ExitStatus
 from asperity.fields import document_fields, text
+from asperity.pipelines import measured
 from asperity.pipelines.engine.stage import Stage, StageContext
 from asperity.pipelines.stages.bem import BEM
 from asperity.pipelines.stages.friction import FRICTION, MODE_MIXITY
@@ -65,7 +75,7 @@ MAX_MISFIT = 0.7
 #: rms ln ratio above which the fit is poor (22 %): a warning.
 WARN_MISFIT = 0.2
 #: Relative difference within which a measured normal load matches a configured one.
-LOAD_MATCH = 0.02
+LOAD_MATCH = measured.LOAD_MATCH
 
 #: Verdicts, best first.
 VERDICTS: tuple[str, ...] = ("valid", "warnings", "invalid")
