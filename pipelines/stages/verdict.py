@@ -437,7 +437,7 @@ def check_friction_plausibility(friction: Any) -> list[Reason]:
     sliding = _positive_or_nan(friction.sliding_friction)
     forces = np.asarray(friction.tangential_force, dtype=float)
     areas = np.asarray(friction.real_area, dtype=float)
-    peak = np.array(
+    area_at_peak = np.array(
         [
             areas[i, int(np.nanargmax(f))] if np.isfinite(f).any() else np.nan
             for i, f in enumerate(forces)
@@ -446,14 +446,21 @@ def check_friction_plausibility(friction: Any) -> list[Reason]:
     checks = []
     if np.isfinite(static / sliding).any():
         checks.append(plausibility.static_to_sliding_check(static, sliding))
-    shear = _positive_or_nan(peak)
-    if friction.shear_strength > 0 and np.isfinite(static / shear).any():
-        checks.append(plausibility.junction_shear_check(static, shear, friction.shear_strength))
+    area_at_peak = _positive_or_nan(area_at_peak)
+    if friction.shear_strength > 0 and np.isfinite(static / area_at_peak).any():
+        checks.append(
+            plausibility.junction_shear_check(static, area_at_peak, friction.shear_strength)
+        )
     return _reasons_from_checks(checks)
 
 
-def check_hardness(hardness: float | None, e_star: float, roughness: Any, friction: Any):
-    """With ``material.hardness`` (Pa): the plasticity index and the mean contact pressure.
+def check_hardness(
+    hardness: float | None, e_star: float, roughness: Any, friction: Any
+) -> list[Reason]:
+    """With ``material.hardness`` H (Pa): the plasticity index and the mean contact pressure.
+
+    ``e_star`` is E* (Pa), ``roughness`` the summit statistics at the effective resolution
+    (sigma_s and R in m), ``friction`` the friction stage's result (F_z in N, A_r in m^2).
 
     psi = (E*/H) sqrt(sigma_s/R) at the effective resolution (Greenwood-Williamson; warning
     above 0.6, invalid above 1) and max F_z/A_r at rest against H (warning above 0.39 H,
