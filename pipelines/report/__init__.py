@@ -47,6 +47,7 @@ from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 from asperity.pipelines.report import verdict_marks
 from asperity.pipelines.report.bem import bem_grid_figure, bem_section
 from asperity.pipelines.report.figure_output import FigureOptions, FigureTable, publish
+from asperity.pipelines.report.measured import shape_scale_key_numbers
 from asperity.pipelines.report.uncertainty import (
     bem_cells,
     bem_error_bars,
@@ -741,6 +742,7 @@ def key_numbers(result: Any) -> list[tuple[str, str]]:
         )
     else:
         rows.append(("mode mixity lambda (configured)", f"{lam.mode_mixity:.4g}"))
+    rows += shape_scale_key_numbers(result)
     if bem is None:
         rows.append(("BEM", "not run ([bem] enabled = false): calibrated on the measurement"))
     else:

@@ -328,6 +328,11 @@ class ModeMixityChoice:
     model_real_area_at_measured : ndarray or None
         The model's A_r (m^2) at each measured (F_z, F_x) point with the fitted lambda
         (beside ``measured_real_area``).
+    shape_scale, shape_scale_normal_load : ndarray or None
+        The shape fit's least-squares factor c of each measured curve (A_measured ~ c
+        A_model, dimensionless; 1 in mode ``absolute``) and that curve's F_z (N). A factor
+        far from 1 means the measured level disagrees with the model at that load (a wrong
+        unit, another load): the verdict's ``shape_scale`` reason.
     """
 
     mode_mixity: float = scalar("1", "mode mixity lambda used downstream")
@@ -374,6 +379,15 @@ class ModeMixityChoice:
     fitted_model_area: np.ndarray | None = array(
         "m^2", ("fitted_point",), "model A_r (times the curve's factor) there", optional=True
     )
+    shape_scale: np.ndarray | None = array(
+        "1",
+        ("measured_curve",),
+        "shape fit's factor c per measured curve (A_measured ~ c A_model; 1 in mode absolute)",
+        optional=True,
+    )
+    shape_scale_normal_load: np.ndarray | None = array(
+        "N", ("measured_curve",), "normal load of each measured curve", optional=True
+    )
 
     @classmethod
     def from_fit(cls, fit: LambdaFit, curves: Sequence[ShearAreaCurve]) -> ModeMixityChoice:
@@ -403,6 +417,8 @@ class ModeMixityChoice:
             fitted_tangential_force=fit.points.get("tangential_force"),
             fitted_real_area=fit.points.get("real_area"),
             fitted_model_area=fit.points.get("model_area"),
+            shape_scale=np.asarray(fit.scale, dtype=float),
+            shape_scale_normal_load=np.array([c.normal_load for c in curves], dtype=float),
         )
 
     @property
@@ -427,6 +443,7 @@ class ModeMixityChoice:
                 math.nan if self.interval_high is None else self.interval_high,
             ),
             n_points_read=self.n_points_read or self.n_points,
+            scale=np.ones(0) if self.shape_scale is None else self.shape_scale,
             points={}
             if self.fitted_model_area is None
             else {

@@ -29,11 +29,20 @@ calibrated on cannot be right:
   solve stopped before full sliding, or junctions never slide): the curve does not show the
   sliding it reports.
 * ``bem_stall``: a BEM solve did not converge (read from the BEM stage's convergence fields).
+* ``shape_scale``: the shape fit's factor c of a measured curve outside [0.50, 2.01]
+  (|ln c| > :data:`MAX_MISFIT`; a warning beyond :data:`WARN_MISFIT`, [0.82, 1.22]):
+  :func:`check_shape_scale`.
+* ``plastic_asperities`` / ``contact_pressure_above_yield`` (with ``material.hardness``): the
+  plasticity index above 1 (a warning above 0.6), the mean contact pressure above H (a warning
+  above 0.39 H): :func:`check_hardness`, thresholds in :mod:`asperity.statmodel.plausibility`.
 
 Warnings: ``measured_load_unmatched`` (a measured curve at a load more than
-:data:`LOAD_MATCH` from every configured load), ``bem_grid`` (the grid check found no
+:data:`LOAD_MATCH` from every configured load; the job refuses such a curve before any stage,
+:func:`asperity.pipelines.measured.check_curve_loads`), ``bem_grid`` (the grid check found no
 converged stride), ``lambda_fit`` (the optimiser did not report success),
-``surface_preparation`` (the preparation record's warnings).
+``surface_preparation`` (the preparation record's warnings), ``static_friction_ratio`` and
+``junction_shear_at_peak`` (F_s/F_d or the junction shear at the peak over tau_0 above 10,
+naming tau_0 and lambda: :func:`check_friction_plausibility`).
 
 The exit status (:func:`exit_status`): 1 (:attr:`ExitStatus.NOT_CONVERGED`) when a solver
 did not converge, else 3 (:attr:`ExitStatus.INVALID_RESULT`) when the verdict is invalid,
@@ -57,12 +66,14 @@ import numpy as np
 
 from asperity.errors import ExitStatus
 from asperity.fields import document_fields, text
+from asperity.pipelines import measured
 from asperity.pipelines.engine.stage import Stage, StageContext
 from asperity.pipelines.stages._bem_grid import EDGE_MISMATCH_LIMIT
 from asperity.pipelines.stages.bem import BEM
 from asperity.pipelines.stages.friction import FRICTION, MODE_MIXITY
 from asperity.pipelines.stages.statistical_model import STATISTICAL_MODEL
 from asperity.pipelines.stages.surface import SCAN, SURFACE
+from asperity.statmodel import plausibility
 
 #: A_r/A_n above which an independent-asperity model cannot mean anything (junctions merge).
 MAX_AREA_FRACTION = 0.15
@@ -75,7 +86,7 @@ MAX_MISFIT = 0.7
 #: rms ln ratio above which the fit is poor (22 %): a warning.
 WARN_MISFIT = 0.2
 #: Relative difference within which a measured normal load matches a configured one.
-LOAD_MATCH = 0.02
+LOAD_MATCH = measured.LOAD_MATCH
 
 #: Verdicts, best first.
 VERDICTS: tuple[str, ...] = ("valid", "warnings", "invalid")
@@ -493,6 +504,113 @@ def check_surface(preparation: dict | None) -> list[Reason]:
     ]
 
 
+def check_shape_scale(choice: Any) -> list[Reason]:
+    """The shape fit's factor c per measured A_r(F_x) curve against 1.
+
+    In mode ``shape`` each measured curve is compared with the model curve at its own load
+    times a free factor c (:mod:`pipelines.stages.fitting`). The effective resolution already
+    makes the model's A_r(F_z) agree with its reference; a measured level off by more than
+    the misfit the verdict accepts on A_r(F_z) means the curve is not what the model at that
+    load describes (areas or loads in another unit, the curve of another load or specimen),
+    and lambda fitted to it is not a result. Invalid when ``|ln c| >`` :data:`MAX_MISFIT`
+    (c outside [0.50, 2.01]), a warning when ``|ln c| >`` :data:`WARN_MISFIT` (outside
+    [0.82, 1.22]): the same bounds as the rms ln misfit of A_r(F_z).
+    """
+    scales = getattr(choice, "shape_scale", None)
+    if choice is None or not choice.fitted or scales is None or choice.fit_mode == "absolute":
+        return []
+    scales = np.asarray(scales, dtype=float)
+    loads = np.asarray(choice.shape_scale_normal_load, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        distance = np.abs(np.log(scales))
+    distance = np.where(np.isfinite(distance), distance, math.inf)
+    worst = int(np.argmax(distance))
+    if distance[worst] <= WARN_MISFIT:
+        return []
+    severity = "invalid" if distance[worst] > MAX_MISFIT else "warning"
+    limit = MAX_MISFIT if severity == "invalid" else WARN_MISFIT
+    listed = ", ".join(f"{c:.3g} at {f:.4g} N" for c, f in zip(scales, loads, strict=True))
+    return [
+        Reason(
+            "shape_scale",
+            severity,
+            f"the shape fit scales the model's A_r(F_x) by c = {scales[worst]:.3g} at F_z = "
+            f"{loads[worst]:.4g} N (outside [{math.exp(-limit):.2f}, {math.exp(limit):.2f}], "
+            f"|ln c| > {limit:g}, the misfit bound of A_r(F_z); all: {listed}): the measured "
+            "level disagrees with the model at that load, so the curve is not what the model "
+            "describes there (units of real_area or normal_load? another load?)",
+        )
+    ]
+
+
+def _reasons_from_checks(checks: Sequence[Any]) -> list[Reason]:
+    """A reason per :class:`statmodel.checks.Check` whose level is not "ok" (its source cited)."""
+    return [Reason(c.code, c.level, f"{c.message} ({c.reference})") for c in checks if not c.ok]
+
+
+def _positive_or_nan(values: Any) -> np.ndarray:
+    """Values > 0 and finite kept, every other one NaN (not a result at that load)."""
+    array = np.asarray(values, dtype=float)
+    return np.where(np.isfinite(array) & (array > 0), array, np.nan)
+
+
+def check_friction_plausibility(friction: Any) -> list[Reason]:
+    """Static over sliding friction and the junction shear at the peak over tau_0 (warnings).
+
+    F_s/F_d and (F_s / A_r at the peak) / tau_0 per load
+    (:func:`statmodel.plausibility.static_to_sliding_check`,
+    :func:`statmodel.plausibility.junction_shear_check`: warning above 10, an order of
+    magnitude beyond the adhesive friction experiments the model is built on; they name
+    ``material.shear_strength`` (tau_0) and ``material.mode_mixity`` (lambda)). Nothing is
+    said where no load has a static or sliding friction (``no_full_sliding`` covers that).
+    """
+    static = _positive_or_nan(friction.static_friction)
+    sliding = _positive_or_nan(friction.sliding_friction)
+    forces = np.asarray(friction.tangential_force, dtype=float)
+    areas = np.asarray(friction.real_area, dtype=float)
+    area_at_peak = np.array(
+        [
+            areas[i, int(np.nanargmax(f))] if np.isfinite(f).any() else np.nan
+            for i, f in enumerate(forces)
+        ]
+    )
+    checks = []
+    if np.isfinite(static / sliding).any():
+        checks.append(plausibility.static_to_sliding_check(static, sliding))
+    area_at_peak = _positive_or_nan(area_at_peak)
+    if friction.shear_strength > 0 and np.isfinite(static / area_at_peak).any():
+        checks.append(
+            plausibility.junction_shear_check(static, area_at_peak, friction.shear_strength)
+        )
+    return _reasons_from_checks(checks)
+
+
+def check_hardness(
+    hardness: float | None, e_star: float, roughness: Any, friction: Any
+) -> list[Reason]:
+    """With ``material.hardness`` H (Pa): the plasticity index and the mean contact pressure.
+
+    ``e_star`` is E* (Pa), ``roughness`` the summit statistics at the effective resolution
+    (sigma_s and R in m), ``friction`` the friction stage's result (F_z in N, A_r in m^2).
+
+    psi = (E*/H) sqrt(sigma_s/R) at the effective resolution (Greenwood-Williamson; warning
+    above 0.6, invalid above 1) and max F_z/A_r at rest against H (warning above 0.39 H,
+    first yield; invalid above H): :mod:`statmodel.plausibility`. Nothing without a hardness.
+    """
+    if hardness is None:
+        return []
+    checks = [
+        plausibility.plasticity_index_check(
+            e_star, hardness, roughness.summit_height_rms, roughness.summit_radius
+        )
+    ]
+    area = _positive_or_nan(np.asarray(friction.real_area, dtype=float)[:, 0])
+    load = _positive_or_nan(friction.normal_load)
+    if np.isfinite(load / area).any():
+        checks.append(plausibility.contact_pressure_check(load, area, hardness))
+    return _reasons_from_checks(checks)
+
+
 # ------------------------------------------------------------------------------------------
 # the stage
 # ------------------------------------------------------------------------------------------
@@ -522,6 +640,11 @@ def job_reasons(context: StageContext) -> list[Reason]:
     reasons += check_lambda(lam)
     reasons += check_sliding_displacement(context.result(FRICTION))
     reasons += check_sliding(context.result(FRICTION))
+    reasons += check_shape_scale(lam)
+    reasons += check_friction_plausibility(context.result(FRICTION))
+    reasons += check_hardness(
+        config.material.hardness, config.material.e_star, res.roughness, context.result(FRICTION)
+    )
     return reasons
 
 
@@ -639,7 +762,13 @@ VERDICT = Stage(
     title="validity verdict",
     attribute="verdict",
     result=Verdict,
-    config=("measured", "loading.normal_loads", "loading.nominal_area"),
+    config=(
+        "measured",
+        "loading.normal_loads",
+        "loading.nominal_area",
+        "material.hardness",
+        "material.E_star",
+    ),
     inputs=(SURFACE, SCAN, BEM, STATISTICAL_MODEL, MODE_MIXITY, FRICTION),
     compute=compute_verdict,
 )
