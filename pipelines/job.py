@@ -155,8 +155,8 @@ def run_job(
     t_job = time.perf_counter()
     out_dir = Path(out_dir)
     measured = read_measurements(
-        config.measured, config.loading.nominal_area
-    )  # a malformed CSV fails before any work
+        config.measured, config.loading.nominal_area, config.loading.normal_loads
+    )  # a malformed CSV, or a curve at a load not configured, fails before any work
     input_hash = input_sha256(config.surface)
     workers = config.run.workers if workers is None else workers
     log = log or (lambda line: None)

@@ -274,7 +274,11 @@ def draw_resolution_scan(fig: Figure, scan: ResolutionScan, *, title: str = "") 
     ax_r.plot(res, u_r(scan.summit_radius), "o", ms=3, label="data")
     if math.isfinite(scan.radius_slope):
         fit = scan.radius_slope * scan.resolution + scan.radius_intercept
-        ax_r.plot(res, u_r(fit), "-", label=f"linear fit, slope {scan.radius_slope:.3g}")
+        positive = fit > 0  # a radius is positive: the line is drawn where it is
+        label = f"linear fit, dR/d$\\Delta$ = {scan.radius_slope:.3g} m/m"
+        if positive.any():
+            clipped = "" if positive.all() else " (drawn where R > 0)"
+            ax_r.plot(res[positive], u_r(fit[positive]), "-", label=label + clipped)
     ax_r.set_ylabel(u_r.label("mean summit radius $R$"))
     positive = scan.asperity_density > 0
     u_eta = display_unit(scan.asperity_density[positive], "m", -2)

@@ -342,8 +342,13 @@ def test_a_rejected_config_leaves_results_h5_byte_identical(small, small_run, tm
     config.write_text(text)
     assert main(["run", str(config), "--out", str(out)]) == 2
     assert "material.shear_strength" in capsys.readouterr().err
-    # refused after the resolution scan: loads below the pull-off force
-    below = small(tmp_path, small.data(normal_loads=[-1e4, 1.0]))
+    # refused after the resolution scan: loads below the pull-off force (without the BEM; with
+    # it a load <= 0 is refused at validation)
+    (tmp_path / "area.csv").write_text("normal_load,real_area\n1.0,1e-6\n2.0,2e-6\n")
+    data = small.data(normal_loads=[-1e4, 1.0])
+    data["bem"]["enabled"] = False
+    data["measured"] = {"normal_area": "area.csv"}
+    below = small(tmp_path, data)
     with pytest.raises(asperity.errors.InputError, match="normal_loads"):
         run_job(below, out)
     assert (out / "results.h5").read_bytes() == before
