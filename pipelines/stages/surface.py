@@ -258,6 +258,13 @@ class LevelledSurface(MapGeometry):
         source = self.provenance.get("input") or {}
         return topo.LineProfile(self.profile_heights, self.profile_dx, dict(source))
 
+    def scanned_height_map(self) -> topo.HeightMap | None:
+        """The map the resolution scan analysed (:meth:`measured_height_map`), which a
+        statistic between strides may resample; None for a line profile, whose scan is
+        Nayak's on the profile (the synthesised map's summits are another statistic, of a map
+        without the profile's longest wavelengths)."""
+        return None if self.profile_heights is not None else self.measured_height_map()
+
     def measured_height_map(self) -> topo.HeightMap:
         """The map with filled pixels missing again (NaN): what summit statistics count."""
         surface = self.height_map()

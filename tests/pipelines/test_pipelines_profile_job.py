@@ -97,9 +97,14 @@ def test_profile_scan_is_nayaks_density_from_the_profile_moments(measured_run):
         eta = m4 / (6 * math.pi * math.sqrt(3) * m2)
         assert scan.asperity_density[i] == pytest.approx(eta, rel=1e-6)
         assert scan.resolution[i] == pytest.approx(h)
-    # the statistical model ran on those statistics, against the measurement
-    assert result.resolution.basis == "measured"
-    assert np.all(np.isfinite(result.resolution.real_area[result.resolution.index]))
+    # the statistical model ran on those statistics, against the measurement, at one of the
+    # scan's strides (no resampling of the synthesised map between strides: another statistic)
+    res = result.resolution
+    assert res.basis == "measured"
+    assert np.all(np.isfinite(res.real_area[res.index]))
+    assert res.roughness.asperity_density == pytest.approx(scan.asperity_density[res.index])
+    assert res.roughness.summit_height_rms == pytest.approx(scan.summit_height_rms[res.index])
+    assert getattr(res, "optimum_status", None) is None
 
 
 def test_profile_job_stores_the_realisations_spread(synthesis_run):
