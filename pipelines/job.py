@@ -27,6 +27,7 @@ from typing import Any
 import asperity
 from asperity.errors import InputError
 from asperity.pipelines.config import ConfigError, JobConfig
+from asperity.pipelines.engine.interrupts import InterruptGuard
 from asperity.pipelines.engine.outdir import OutputLock, OutputWriteError
 from asperity.pipelines.engine.parallel import make_executor
 from asperity.pipelines.engine.stage import Runner, StageContext, StageRun
@@ -151,6 +152,9 @@ def run_job(
         Another run holds ``out_dir`` (its lock file ``.asperity.lock``).
     pipelines.engine.outdir.OutputDirError, pipelines.engine.outdir.OutputWriteError
         ``out_dir`` cannot be written, or the disk is full: ``results.h5`` keeps what it held.
+    KeyboardInterrupt
+        Ctrl-C (SIGINT), always, even when it first landed in a finaliser that cannot raise
+        (:mod:`pipelines.engine.interrupts`); ``results.h5`` keeps every stage written before.
     """
     t_job = time.perf_counter()
     out_dir = Path(out_dir)
@@ -161,6 +165,7 @@ def run_job(
     workers = config.run.workers if workers is None else workers
     log = log or (lambda line: None)
     with (
+        InterruptGuard() as interrupts,  # a Ctrl-C swallowed in a finaliser is raised again
         OutputLock(out_dir, log=log),  # one run per directory; stale temporaries removed
         make_executor(workers, scheduler=scheduler) as executor,
     ):
@@ -173,7 +178,11 @@ def run_job(
             force=force,
             log=log,
         )
-        run_stages(runner)
+        try:
+            run_stages(runner)
+        except KeyboardInterrupt:
+            interrupts.acknowledge()  # seen: the lock and the executor are released undisturbed
+            raise
     return JobResult(
         config=config,
         out_dir=out_dir,

@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from asperity.atomic import open_atomic
 from asperity.plotting import DEFAULT_DPI, save_figure
 
 if TYPE_CHECKING:
@@ -92,8 +93,8 @@ class FigureTable:
         )
 
     def write_csv(self, path: Path) -> Path:
-        """Write the table (empty cells where a row has no such quantity)."""
-        with open(path, "w", newline="", encoding="utf-8") as handle:
+        """Write the table (empty cells where a row has no such quantity), atomically."""
+        with open_atomic(path, "w", newline="", encoding="utf-8") as handle:
             writer = csv.writer(handle)
             writer.writerow(self.columns)
             for row in self.rows:
