@@ -141,8 +141,8 @@ def require_output_path(path: str | Path, what: str) -> Path:
 
 
 def require_output_dir(path: str | Path, what: str, *, probe: bool = True) -> Path:
-    """Return the output folder ``path`` (option ``what``, e.g. ``--out``), created if missing,
-    once a file can be written in it.
+    """Return the output folder ``path`` (option ``what``, e.g. ``--out``) once a file can be
+    written in it, or, when it does not exist yet, in the folder it would be created in.
 
     Parameters
     ----------
@@ -151,9 +151,10 @@ def require_output_dir(path: str | Path, what: str, *, probe: bool = True) -> Pa
     what : str
         The option, first in the message.
     probe : bool
-        Create and remove a temporary file in the folder, so that a read-only folder or file
-        system, or one without permission, is refused before any work (False: only the name
-        and the kind of path are checked, nothing is created).
+        Create and remove a temporary file in the folder (or its nearest existing parent;
+        nothing else is created), so that a read-only folder or file system, or one without
+        permission, is refused before any work (False: only the name and the kind of path
+        are checked).
 
     Raises
     ------
@@ -169,14 +170,14 @@ def require_output_dir(path: str | Path, what: str, *, probe: bool = True) -> Pa
         raise SpecialFileError(f"{what} {path}: is {kind}, expected a directory")
     if not probe:
         return path
+    existing = next(p for p in (path, *path.absolute().parents) if p.exists())
     try:
-        path.mkdir(parents=True, exist_ok=True)
-        descriptor, name = tempfile.mkstemp(prefix=".asperity-probe-", dir=path)
+        descriptor, name = tempfile.mkstemp(prefix=".asperity-probe-", dir=existing)
         os.close(descriptor)
         os.unlink(name)
     except OSError as exc:
         raise SpecialFileError(
-            f"{what} {path}: cannot write in this folder ({exc.strerror or exc})"
+            f"{what} {path}: cannot write in {existing} ({exc.strerror or exc})"
         ) from exc
     return path
 

@@ -27,7 +27,7 @@ from typing import Any
 import asperity
 from asperity.errors import InputError
 from asperity.pipelines.config import ConfigError, JobConfig
-from asperity.pipelines.engine.interrupts import InterruptGuard
+from asperity.pipelines.engine.interrupts import InterruptGuard, checkpoint
 from asperity.pipelines.engine.outdir import OutputLock, OutputWriteError
 from asperity.pipelines.engine.parallel import make_executor
 from asperity.pipelines.engine.stage import Runner, StageContext, StageRun
@@ -169,7 +169,7 @@ def run_job(
         OutputLock(out_dir, log=log),  # one run per directory; stale temporaries removed
         make_executor(workers, scheduler=scheduler) as executor,
     ):
-        runner = Runner(
+        runner = InterruptibleRunner(
             store=ResultStore(out_dir / "results.h5"),
             context=StageContext(config, {}, executor, progress, measured),
             config_document=config.key_document(),
@@ -191,6 +191,17 @@ def run_job(
         total_seconds=time.perf_counter() - t_job,
         input_sha256=input_hash,
     )
+
+
+class InterruptibleRunner(Runner):
+    """The job's :class:`Runner`, with a safe point after each write of ``results.h5``: a
+    Ctrl-C that a finaliser swallowed (:mod:`pipelines.engine.interrupts`) ends the run
+    there, every finished stage written."""
+
+    def flush(self) -> None:
+        """Write the computed results held so far, then raise a Ctrl-C not yet seen."""
+        super().flush()
+        checkpoint()
 
 
 def run_stages(runner: Runner) -> None:

@@ -508,7 +508,7 @@ def test_batch_out_read_only_is_2_before_any_map_runs(
     job.write_text(f'[surface]\nfile = "{small_map}"\n')
     status, _, err = run(capsys, "batch", job, small_map, "--out", read_only_folder / "batch")
     assert status == ExitStatus.BAD_INPUT
-    _one_error_line(err, "--out", "cannot write in this folder")
+    _one_error_line(err, "--out", f"cannot write in {read_only_folder} (")
     status, _, err = run(capsys, "batch", job, small_map, "--out", "")
     assert status == ExitStatus.BAD_INPUT
     _one_error_line(err, "--out", "empty")

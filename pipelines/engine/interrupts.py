@@ -13,8 +13,8 @@ the code that catches it calls :meth:`InterruptGuard.acknowledge`, the request i
 
 * by a watchdog thread, every :data:`RETRY_SECONDS`, through :func:`_thread.interrupt_main`
   (the same handler, so a re-raise swallowed in another finaliser is raised once more);
-* at each safe point, :func:`checkpoint`: after every write of ``results.h5`` (a stage is
-  kept, then the run ends);
+* at each safe point, :func:`checkpoint`: after every write of ``results.h5`` (the finished
+  stages are kept, then the run ends; ``pipelines.job.InterruptibleRunner``);
 * when the guarded block ends normally (the request is raised then, at the latest).
 
 A KeyboardInterrupt that a finaliser could not raise is not printed as "Exception ignored in"
@@ -32,7 +32,7 @@ import _thread
 import signal
 import sys
 import threading
-from types import FrameType, TracebackType
+from types import FrameType
 from typing import Any
 
 __all__ = ["RETRY_SECONDS", "InterruptGuard", "active_guard", "checkpoint"]
@@ -89,12 +89,7 @@ class InterruptGuard:
         _active = self
         return self
 
-    def __exit__(
-        self,
-        exc_type: type[BaseException] | None,
-        exc: BaseException | None,
-        tb: TracebackType | None,
-    ) -> None:
+    def __exit__(self, exc_type: type[BaseException] | None, *details: object) -> None:
         global _active
         if exc_type is not None:
             self._guard.acknowledge()  # an exception (KeyboardInterrupt or other) ends the run

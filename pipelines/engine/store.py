@@ -53,7 +53,6 @@ from asperity.h5 import (
     read_result,
     write_result,
 )
-from asperity.pipelines.engine.interrupts import checkpoint
 
 R = TypeVar("R")
 
@@ -200,16 +199,9 @@ class ResultStore:
             File-level attributes to set (provenance of the whole run).
         drop : sequence of str
             Groups to delete (stages of another configuration).
-
-        Raises
-        ------
-        KeyboardInterrupt
-            After the write, when a Ctrl-C arrived that a finaliser swallowed
-            (:mod:`pipelines.engine.interrupts`): the run ends with this stage kept.
         """
         image = self._new_image(name, result, key, key_inputs, seconds, root_attrs, drop)
         self._replace_with(image)
-        checkpoint()  # a safe point: a Ctrl-C swallowed by a finaliser ends the run here
 
     def _new_image(
         self,

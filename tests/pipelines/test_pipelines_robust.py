@@ -556,6 +556,7 @@ def _report_fails_half_way_at(name, small_run, tmp_path, monkeypatch, capsys):
     return out
 
 
+@pytest.mark.slow  # a report redraw, about 5 s
 def test_a_report_html_write_failing_half_way_keeps_the_old_file(
     small_run, tmp_path, monkeypatch, capsys
 ):
@@ -701,6 +702,7 @@ def _assert_interrupted_keeping_stages(status, err, out):
     assert not list(out.glob(".*.tmp"))
 
 
+@pytest.mark.slow  # a real process, about 6 s
 def test_ctrl_c_early_in_stage_2_is_130_in_a_real_process(small, tmp_path):
     config = _write_config(tmp_path, small)
     status, err = _sigint_into_stage_2(config, tmp_path / "out", 0.2)
