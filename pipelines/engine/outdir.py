@@ -146,6 +146,8 @@ class OutputLock:
         The output directory (created when missing).
     log : callable, optional
         Receives one line when a stale lock record or temporary file is taken over / removed.
+    option : str
+        How the user named the directory, first in every message (``--out``, ``OUT_DIR``).
 
     Raises
     ------
@@ -158,8 +160,14 @@ class OutputLock:
     _held: dict[Path, tuple[OutputLock, int]] = {}
     _guard = threading.Lock()
 
-    def __init__(self, directory: str | Path, log: Callable[[str], None] | None = None):
+    def __init__(
+        self,
+        directory: str | Path,
+        log: Callable[[str], None] | None = None,
+        option: str = "--out",
+    ):
         self.directory = Path(directory)
+        self.option = option
         self.path = self.directory / LOCK_NAME
         self.log = log or (lambda line: None)
         self._handle = None
@@ -183,7 +191,7 @@ class OutputLock:
             self.directory.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
             raise OutputDirError(
-                f"--out {self.directory}: cannot create the output directory "
+                f"{self.option} {self.directory}: cannot create the output directory "
                 f"({exc.strerror or exc})"
             ) from exc
         key = self.directory.resolve()
@@ -203,7 +211,7 @@ class OutputLock:
             handle = open(self.path, "a+b")  # noqa: SIM115 (held until release)
         except OSError as exc:
             raise OutputDirError(
-                f"--out {self.directory}: cannot write in the output directory "
+                f"{self.option} {self.directory}: cannot write in the output directory "
                 f"({exc.strerror or exc}: {self.path})"
             ) from exc
         try:
@@ -252,8 +260,8 @@ class OutputLock:
     def _locked_message(self, holder: dict) -> str:
         pid, host = holder.get("pid", "?"), holder.get("host", "?")
         return (
-            f"--out {self.directory}: in use by another asperity run (pid {pid} on host {host}, "
-            f"started {holder.get('started', '?')}; lock file {self.path}). Wait for it to "
+            f"{self.option} {self.directory}: in use by another asperity run (pid {pid} on host "
+            f"{host}, started {holder.get('started', '?')}; lock file {self.path}). Wait for it to "
             "finish or choose another --out. A run that ended on this host releases the lock "
             "by itself (a dead pid is taken over); delete the lock file only if that run is "
             "gone and the directory is shared with another host"

@@ -546,9 +546,13 @@ def _report_fails_half_way_at(name, small_run, tmp_path, monkeypatch, capsys):
     out = tmp_path / "out"
     shutil.copytree(reference_out, out)
     before = (out / name).read_bytes()
+    stale = out / f".{name}.{_dead_pid()}.tmp"  # left by a report killed with kill -9
+    stale.write_bytes(b"half")
     _fail_half_way(monkeypatch, name)
     assert main(["report", str(out)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
+    assert err[0].startswith(f"removed {stale}: temporary file of an interrupted run"), err
+    err = err[1:]
     assert len(err) == 1 and f"{name}: No space left on device while writing" in err[0], err
     assert f"{name} is unchanged" in err[0]
     assert (out / name).read_bytes() == before  # the old file, whole
@@ -715,3 +719,29 @@ def test_ctrl_c_at_any_moment_of_stage_2_is_always_130(small, tmp_path, delay):
     config = _write_config(tmp_path, small)
     status, err = _sigint_into_stage_2(config, tmp_path / "out", delay)
     _assert_interrupted_keeping_stages(status, err, tmp_path / "out")
+
+
+@pytest.mark.slow  # a report redraw
+def test_report_on_a_read_only_folder_is_2_in_one_line_and_writes_nothing(
+    small_run, tmp_path, capsys
+):
+    _, reference_out, _ = small_run
+    folder = tmp_path / "ro"
+    folder.mkdir()
+    shutil.copy(reference_out / "results.h5", folder)
+    if os.geteuid() == 0:  # root writes into mode-0o500 folders: a read-only bind mount
+        command = ["mount", "--bind", "-o", "ro", str(folder), str(folder)]
+        done = subprocess.run(command, check=False, capture_output=True)
+        if done.returncode != 0:
+            pytest.skip("root, and no read-only mount possible here")
+    else:
+        folder.chmod(0o500)
+    try:
+        assert main(["report", str(folder)]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and err[0].startswith(f"asperity report: error: OUT_DIR {folder}:")
+        assert sorted(p.name for p in folder.iterdir()) == ["results.h5"]
+    finally:
+        if os.geteuid() == 0:
+            subprocess.run(["umount", str(folder)], check=False)
+        folder.chmod(0o700)
