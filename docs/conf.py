@@ -38,6 +38,7 @@ from __future__ import annotations
 import importlib
 import inspect
 import sys
+import warnings
 from pathlib import Path
 
 import asperity
@@ -67,6 +68,7 @@ root_doc = "index"
 templates_path = ["api/_templates"]
 exclude_patterns = [
     "_build",
+    "README-docs-paragraph.md",  # text for the coordinator to paste into README.md
     "**/README.txt",  # gallery headers, read by sphinx-gallery itself
     "**.ipynb",
     "**.py.md5",
@@ -90,6 +92,11 @@ numpydoc_show_class_members = False  # autodoc lists the members; no second auto
 numpydoc_class_members_toctree = False
 numpydoc_xref_param_type = False
 numpydoc_validation_checks: set[str] = set()
+# ``python -m asperity.pipelines`` runs the command line: never import it while documenting.
+autodoc_mock_imports = ["asperity.__main__", "asperity.pipelines.__main__"]
+# numpydoc parses the docstrings of imported third-party helpers too (numba's ``vectorize``,
+# Google style); its complaints about those are not about asperity's pages.
+warnings.filterwarnings("ignore", message=r"(?s).*in the docstring of \S+ in \S*site-packages")
 
 
 def public_names(package: str) -> list[str]:

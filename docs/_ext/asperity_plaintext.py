@@ -82,7 +82,9 @@ def _in_literal_block(lines: list[str]) -> list[bool]:
 def escape_docstring(app: Any, what: str, name: str, obj: Any, options: Any, lines: list) -> None:
     """``autodoc-process-docstring`` handler: escape plain-text ``|`` and ``*`` in place."""
     literal = _in_literal_block(lines)
-    lines[:] = [line if keep else escape_line(line) for line, keep in zip(lines, literal, strict=True)]
+    lines[:] = [
+        line if keep else escape_line(line) for line, keep in zip(lines, literal, strict=True)
+    ]
 
 
 def setup(app: Any) -> dict[str, Any]:
