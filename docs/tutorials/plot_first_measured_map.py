@@ -67,32 +67,39 @@ fig_raw = height_image(raw.heights, raw.dx, raw.dy, "metropro-1.dat as read: a t
 # 10 scaled MADs from the median) and fills missing pixels (``"interpolate"``: a harmonic fill,
 # which the BEM needs). It returns the prepared surface and a *record* of what it did, with a
 # warning wherever the choice matters.
-plane = topo.prepare_surface(raw, topo.PreparationOptions(form_order=1, missing="interpolate"))
-rec = plane.record
-print(f"form removed: rms {rec.form_rms * 1e9:.1f} nm")
-print(f"roughness left: rms {rec.roughness_rms * 1e9:.2f} nm")
-print(f"outliers masked: {rec.n_outliers}; missing pixels filled: {rec.n_filled}")
-for warning in rec.warnings:
-    print("WARNING:", warning)
+
+
+def prepare(form_order):
+    """Prepare the raw map with one form order and print what the record says."""
+    options = topo.PreparationOptions(form_order=form_order, missing="interpolate")
+    prepared = topo.prepare_surface(raw, options)
+    rec = prepared.record
+    print(f"form removed: rms {rec.form_rms * 1e9:.1f} nm")
+    print(
+        f"roughness left: rms {rec.roughness_rms * 1e9:.2f} nm (form / roughness "
+        f"{rec.form_to_roughness:.1f})"
+    )
+    print(f"outliers masked: {rec.n_outliers}; missing pixels filled: {rec.n_filled}")
+    for warning in rec.warnings:
+        print("WARNING:", warning)
+    return prepared
+
+
+plane = prepare(form_order=1)
 
 # %%
 # The warning says that a plane leaves a curvature behind which a quadratic would remove:
 # that curvature is the part's shape (or the interferometer's reference), not roughness.
 # Following it:
-prepared = topo.prepare_surface(raw, topo.PreparationOptions(form_order=2, missing="interpolate"))
-rec = prepared.record
-print(f"form removed: rms {rec.form_rms * 1e9:.1f} nm")
-print(f"roughness left: rms {rec.roughness_rms * 1e9:.2f} nm")
-print(f"form / roughness = {rec.form_to_roughness:.1f}")
-for warning in rec.warnings:
-    print("WARNING:", warning)
+prepared = prepare(form_order=2)
 surface = prepared.surface
 fig_prepared = height_image(surface.heights, surface.dx, surface.dy, "after the quadratic form")
 
 # %%
 # The roughness is now a few nanometres, 20 times smaller than the form that was removed: the
 # remaining warning is right that the statistics depend on that choice. Keep it in mind when
-# the verdict comes.
+# the verdict comes. Against a 3 nm roughness the outlier rule (10 scaled MADs) now catches a
+# few dozen pixels, the isolated specks of the image above; they are filled like the holes.
 #
 # 3. Asperity statistics
 # ----------------------
