@@ -99,7 +99,8 @@ fig_prepared = height_image(surface.heights, surface.dx, surface.dy, "after the 
 # The roughness is now a few nanometres, 20 times smaller than the form that was removed: the
 # remaining warning is right that the statistics depend on that choice. Keep it in mind when
 # the verdict comes. Against a 3 nm roughness the outlier rule (10 scaled MADs) now catches a
-# few dozen pixels, the isolated specks of the image above; they are filled like the holes.
+# few dozen isolated pixels (dust, or phase-unwrapping errors); they are masked and filled like
+# the holes.
 #
 # 3. Asperity statistics
 # ----------------------
