@@ -17,7 +17,11 @@ ROOT = Path(__file__).resolve().parents[1]
 #: The import names of the ``docs`` extra's packages.
 DOCS_TOOLS = ("sphinx", "numpydoc", "myst_parser", "sphinx_gallery")
 #: Gallery scripts (docs/examples) and tutorials (docs/tutorials): each must draw a figure.
-EXAMPLES = sorted(p.stem for p in (ROOT / "docs").glob("*/plot_*.py"))
+EXAMPLES = sorted(
+    path.stem
+    for folder in ("examples", "tutorials")
+    for path in (ROOT / "docs" / folder).glob("plot_*.py")
+)
 
 
 def _missing_tools() -> list[str]:
