@@ -67,6 +67,7 @@ extensions = [
     "sphinx_gallery.gen_gallery",
     "asperity_plaintext",  # docs/_ext: plain-text |x| and * in docstrings are not markup
     "asperity_xref",  # docs/_ext: `statmodel.shear_curve` links to where it is documented
+    "asperity_fields",  # docs/_ext: the stored fields appended to docstrings, as Attributes
 ]
 
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
@@ -103,6 +104,9 @@ autodoc_mock_imports = ["asperity.__main__", "asperity.pipelines.__main__"]
 # numpydoc parses the docstrings of imported third-party helpers too (numba's ``vectorize``,
 # Google style); its complaints about those are not about asperity's pages.
 warnings.filterwarnings("ignore", message=r"(?s).*in the docstring of \S+ in \S*site-packages")
+# numpydoc also parses raw docstrings for signatures; the stored-fields block it does not know
+# is shown on the page by _ext/asperity_fields.py, so that complaint is not about a page.
+warnings.filterwarnings("ignore", message=r"Unknown section Stored Fields")
 
 
 def public_names(package: str) -> list[str]:

@@ -41,22 +41,29 @@ print(summary_text(result))
 # %%
 # Reading the effective resolution
 # --------------------------------
-# ``result.resolution`` holds the model's misfit against the BEM at every stride; the
-# effective resolution is where it is smallest. The summit statistics there are the ones the
-# friction prediction uses (SI units: m, 1/m^2).
+# ``result.resolution`` holds the model's misfit against the BEM at every stride. The stride of
+# least misfit is one of the decimated grids; between strides, the job locates the optimum on
+# a continuous resolution axis with a one-sigma interval (that interval gives the model's error
+# bars). The statistics at the located optimum (``choice.roughness``) are the ones the friction
+# prediction uses (SI units: m, 1/m^2).
 choice = result.resolution
 print(
-    f"effective resolution {choice.effective_resolution * 1e6:.0f} um "
-    f"(stride {choice.effective_stride}, chosen against {choice.basis})"
+    f"stride of least misfit: {choice.effective_stride} "
+    f"({choice.effective_resolution * 1e6:.0f} um, misfit {choice.misfit_bem.min():.3f}), "
+    f"chosen against {choice.basis}"
 )
+if choice.optimum_resolution is not None:
+    low, high = choice.optimum_interval
+    print(
+        f"located optimum: {choice.optimum_resolution * 1e6:.1f} um "
+        f"(interval {low * 1e6:.1f}..{high * 1e6:.1f} um), misfit {choice.optimum_misfit:.3f}"
+    )
+rough = choice.roughness
 print(
-    f"eta = {choice.asperity_density * 1e-6:.1f} 1/mm^2, R = {choice.summit_radius * 1e6:.1f} um, "
-    f"sigma_s = {choice.summit_height_rms * 1e6:.2f} um"
+    f"eta = {rough.asperity_density * 1e-6:.1f} 1/mm^2, R = {rough.summit_radius * 1e6:.1f} um, "
+    f"sigma_s = {rough.summit_height_rms * 1e6:.2f} um"
 )
-print(
-    f"misfit (rms of ln A_model/A_BEM) from {choice.misfit_bem.min():.3f} "
-    f"to {choice.misfit_bem.max():.3f} over the strides"
-)
+print(f"misfit over the strides: {choice.misfit_bem.min():.3f} .. {choice.misfit_bem.max():.3f}")
 assert result.verdict is not None and result.verdict.verdict in ("valid", "warnings", "invalid")
 
 # %%

@@ -191,6 +191,10 @@ print(summary_text(result))
 # * the table, per normal load: the real contact area fraction from the BEM (without and with
 #   adhesion), from the statistical model and from Persson's theory; the static (peak) and
 #   sliding friction; the tangential displacement at full sliding.
+# * ``+- u``: each number's error bar (the line "error bars" says how each is computed). The
+#   BEM's comes from its grid check: here the coarser grid moved the area by more than half,
+#   so the BEM's own error bar is as large as its value. The model's comes from the interval
+#   of the effective resolution; ``+- >`` marks a lower bound, where that interval is open.
 #
 # 6. The verdict
 # --------------
