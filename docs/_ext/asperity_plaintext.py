@@ -9,7 +9,9 @@ tables:
 
 * every ``|`` (asperity's docstrings define no substitutions);
 * every ``*`` that does not open or close a well-formed ``*emphasis*`` or ``**strong**`` on
-  its line (``*args``, ``*.toml``, ``p *= alpha``).
+  its line (``*args``, ``*.toml``, ``p *= alpha``);
+* an inline literal ending in a space (the comment marker "# " in double back-quotes), which
+  reST cannot end: it is shown with quotes, ``'# '``.
 
 Intentional markup (``*valid*``, ``**invalid**``, ````literals````, ``:func:`...```) is kept.
 """
@@ -23,6 +25,8 @@ from typing import Any
 _PROTECTED = re.compile(r"``.+?``|:[\w:.-]+:`[^`]*`|`[^`]+`_{0,2}")
 #: Well-formed emphasis or strong emphasis: opening star(s) before a non-space, closing after.
 _EMPHASIS = re.compile(r"(?<![\w*\\])(\*\*?)(?=\S)(?!\*)(.+?)(?<=\S)(?<!\\)\1(?![\w*])")
+#: An inline literal whose text ends in a space (``# ``): invalid reST, shown quoted instead.
+_TRAILING_SPACE_LITERAL = re.compile(r"``(\S[^`]*?\s+)``")
 #: A table row or border, or a line block: their bars and stars are markup.
 _TABLE_LINE = re.compile(r"^\s*(\+[-=+]+\+\s*$|\|.*\|\s*$|\|\s)")
 #: A bullet-list item's star (kept as the list marker).
@@ -47,6 +51,7 @@ def _escape_stars(text: str) -> str:
 
 def escape_line(line: str) -> str:
     """One docstring line with its plain-text ``|`` and unpaired ``*`` escaped."""
+    line = _TRAILING_SPACE_LITERAL.sub(r"``'\1'``", line)
     if _TABLE_LINE.match(line) or ("|" not in line and "*" not in line):
         return line
     bullet = _BULLET.match(line)
