@@ -37,17 +37,12 @@ run = asperity.open_results(out)  # the typed stage results stored in out/result
 # ``sliding_friction`` the all-sliding value (N).
 friction = run.friction
 print(f"lambda = {friction.mode_mixity:g}, tau0 = {friction.shear_strength * 1e-6:g} MPa")
-for f_z, f_s, f_k, a in zip(
-    friction.normal_load,
-    friction.static_friction,
-    friction.sliding_friction,
-    friction.real_area,
-    strict=True,
-):
+fraction = friction.real_area / friction.nominal_area  # A_r/A_n, (normal_load, step)
+for k, f_z in enumerate(friction.normal_load):
     print(
-        f"F_z = {f_z:4.2f} N: static {f_s:.3f} N, sliding {f_k:.3f} N, "
-        f"A_r/A_n {100 * a[0] / friction.nominal_area:.3f} % -> "
-        f"{100 * a[-1] / friction.nominal_area:.3f} %"
+        f"F_z = {f_z:4.2f} N: static {friction.static_friction[k]:.3f} N, "
+        f"sliding {friction.sliding_friction[k]:.3f} N, "
+        f"A_r/A_n {100 * fraction[k, 0]:.3f} % -> {100 * fraction[k, -1]:.3f} %"
     )
 print("verdict:", run.verdict.verdict)
 assert (friction.static_friction >= friction.sliding_friction).all()
