@@ -1,4 +1,5 @@
-"""``asperity batch JOB.toml MAP... [--out DIR] [--workers N] [--scheduler ADDRESS] [--force]``.
+"""``asperity batch JOB.toml MAP [MAP ...] [--out DIR] [--workers N] [--scheduler ADDRESS]
+[--force]``.
 
 Every map (globs allowed: quote them, or let the shell expand them) through the same job, each
 in its own folder of ``--out`` (resumable), then ``summary.csv`` and ``summary.png`` across the
