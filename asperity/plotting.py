@@ -171,7 +171,8 @@ def save_figure(fig: Figure, path: str | Path, *, dpi: int = DEFAULT_DPI) -> Pat
     fig : Figure
         The figure (from :func:`new_figure`).
     path : str or Path
-        The output file; its folder must exist.
+        The output file; its folder must exist. Written atomically
+        (:func:`asperity.atomic.atomic_output`).
     dpi : int
         Resolution of raster formats, dots per inch.
 
@@ -180,8 +181,12 @@ def save_figure(fig: Figure, path: str | Path, *, dpi: int = DEFAULT_DPI) -> Pat
     Path
         The file written.
     """
+    from asperity.atomic import atomic_output
+
     path = Path(path)
-    fig.savefig(path, dpi=dpi)
+    fmt = path.suffix.lstrip(".").lower() or "png"  # named: the temporary's suffix is .tmp
+    with atomic_output(path) as tmp:  # the old figure or the new one, never a truncated file
+        fig.savefig(tmp, dpi=dpi, format=fmt)
     return path
 
 

@@ -1,13 +1,13 @@
 """Coarser versions of a height map: the paper's decimation and two anti-aliased options.
 
-=================  ==============================================  ======================
-function           what a coarse pixel is                          aliasing
-=================  ==============================================  ======================
-``decimate``       every k-th sample in x and y (Section 5: "one    short wavelengths fold
-                   out of two, three, four, etc sampling points")  into long ones
-``block_mean``     mean of a k x k block of valid pixels            attenuated (box filter)
-``fourier_resample`` spectrum truncated at the new Nyquist            none for periodic maps
-=================  ==============================================  ======================
+====================  ==============================================  ======================
+function              what a coarse pixel is                          aliasing
+====================  ==============================================  ======================
+``decimate``          every k-th sample in x and y (Section 5: "one   short wavelengths fold
+                      out of two, three, four, etc sampling points")  into long ones
+``block_mean``        mean of a k x k block of valid pixels            attenuated (box filter)
+``fourier_resample``  spectrum truncated at the new Nyquist            none for periodic maps
+====================  ==============================================  ======================
 
 ``decimate`` is what the paper uses for Fig 12 and is a strided view (no copy). The
 other two low-pass filter first: summits then belong to the smoothed surface rather than

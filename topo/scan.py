@@ -216,11 +216,9 @@ def write_scan_hdf5(scan: ResolutionScan, path: str | Path, *, source: dict | No
     Path
         The file written.
     """
-    import h5py
-
     path = Path(path)
     units = {spec.name: spec.units for spec in field_specs(ResolutionScan)}
-    with h5py.File(path, "w") as handle:
+    with h5.new_file(path) as handle:  # atomic: the old file or the new one, never a part
         for name in ARRAY_FIELDS:
             h5.write_dataset(handle, name, getattr(scan, name), units[name], compression=None)
         if scan.nominal_area is not None:

@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from asperity.atomic import open_atomic
 from asperity.pipelines.report import log_axis, spans_decades
 from asperity.plotting import display_unit, new_figure, save_figure, stamp
 
@@ -100,7 +101,7 @@ def write_summary_csv(records: list[dict[str, Any]], path: Path) -> Path:
     columns = numeric_columns(records)
     rows = [{**{k: r.get(k, "") for k in LEAD_COLUMNS}, **r.get("values", {})} for r in records]
     rows += list(_statistics(records, columns))
-    with open(path, "w", newline="", encoding="utf-8") as handle:
+    with open_atomic(path, "w", newline="", encoding="utf-8") as handle:
         for line in summary_header(records):
             handle.write(f"# {' '.join(line.split())}\n")
         writer = csv.writer(handle)

@@ -1,4 +1,5 @@
-"""``asperity batch JOB.toml MAP... [--out DIR] [--workers N] [--scheduler ADDRESS] [--force]``.
+"""``asperity batch JOB.toml MAP [MAP ...] [--out DIR] [--workers N] [--scheduler ADDRESS]
+[--force]``.
 
 Every map (globs allowed: quote them, or let the shell expand them) through the same job, each
 in its own folder of ``--out`` (resumable), then ``summary.csv`` and ``summary.png`` across the
@@ -13,6 +14,7 @@ import argparse
 import os
 import sys
 
+from asperity.files import require_output_dir
 from asperity.quantities import quantity
 
 
@@ -52,6 +54,7 @@ def handle_batch(args: argparse.Namespace) -> int:
     os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
     from asperity.pipelines.batch import run_batch
 
+    require_output_dir(args.out, "--out")  # an unwritable folder stops before any map runs
     result = run_batch(
         args.job,
         args.maps,

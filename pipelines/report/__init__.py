@@ -44,6 +44,7 @@ from matplotlib import colormaps
 from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
+from asperity.atomic import write_text_atomic
 from asperity.pipelines.report import verdict_marks
 from asperity.pipelines.report.bem import bem_grid_figure, bem_section
 from asperity.pipelines.report.figure_output import FigureOptions, FigureTable, publish
@@ -963,7 +964,7 @@ def write_report(result: Any, out_dir: str | Path, options: FigureOptions | None
     for name, path in figures.items():
         text += [f"![{captions[name]}]({path.name})", "", f"*{captions[name]}*", ""]
     report = out_dir / "report.md"
-    report.write_text("\n".join(text), encoding="utf-8")
+    write_text_atomic(report, "\n".join(text))
     write_html(result, out_dir, figures, captions)
     return report
 

@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from asperity.atomic import open_atomic
 from asperity.plotting import DEFAULT_DPI, save_figure
 
 if TYPE_CHECKING:
@@ -98,8 +99,8 @@ class FigureTable:
 
     def write_csv(self, path: Path) -> Path:
         """Write the header comments, then the table (empty cells where a row has no such
-        quantity)."""
-        with open(path, "w", newline="", encoding="utf-8") as handle:
+        quantity), atomically."""
+        with open_atomic(path, "w", newline="", encoding="utf-8") as handle:
             for line in self.header:
                 handle.write(f"# {' '.join(line.split())}\n")
             writer = csv.writer(handle)

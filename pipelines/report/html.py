@@ -21,6 +21,8 @@ from typing import Any
 
 import numpy as np
 
+from asperity.atomic import write_text_atomic
+
 #: Attribute names under which a result may hold a verdict stage's result.
 VERDICT_NAMES: tuple[str, ...] = ("verdict", "validity_verdict")
 
@@ -185,5 +187,5 @@ def write_html(
         "</body></html>",
     ]
     path = Path(out_dir) / "report.html"
-    path.write_text("\n".join(p for p in parts if p), encoding="utf-8")
+    write_text_atomic(path, "\n".join(p for p in parts if p))
     return path
