@@ -292,6 +292,20 @@ _ENTRIES = (
         "an n x n map takes 8 n^2 bytes and the BEM ~30 times that",
     ),
     _count("surface.synthetic.seed", 0, 2**32 - 1, "a numpy random seed"),
+    _count(
+        "surface.profile_synthesis_n",
+        32,
+        4096,
+        "pixels per side of the map synthesised from a line profile: fewer than 32 hold no "
+        "summit statistics, and an n x n map takes 8 n^2 bytes and the BEM ~30 times that",
+    ),
+    _count("surface.profile_seed", 0, 2**32 - 1, "a numpy random seed"),
+    _count(
+        "surface.profile_realisations",
+        1,
+        20,
+        "maps synthesised from a line profile (each one more BEM sweep at the job's loads)",
+    ),
     _q(
         "surface.synthetic.rms_height",
         "m",

@@ -22,7 +22,7 @@ from __future__ import annotations
 import dataclasses
 import sys
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -170,6 +170,15 @@ class SurfaceConfig:
     form_order : int or None
         Polynomial order of the form removed (0 mean, 1 plane, 2 quadratic, ... 8); None
         uses ``detrend``.
+    profile_synthesis_n : int
+        For a line profile as ``file``: pixels per side of the isotropic maps synthesised
+        from its spectrum (pixel size: the profile's sampling interval, m).
+    profile_seed : int
+        For a line profile: the seed of the first synthesised map (the BEM's); realisation
+        ``i`` uses ``profile_seed + i``.
+    profile_realisations : int
+        For a line profile with the BEM: maps synthesised and solved at the job's loads (the
+        first is the BEM stage's; the spread of A_r over all of them is reported).
     """
 
     file: Path | None = None
@@ -184,6 +193,9 @@ class SurfaceConfig:
     outlier_threshold: float = 10.0
     outlier_action: str = "mask"
     form_order: int | None = None
+    profile_synthesis_n: int = 512
+    profile_seed: int = 0
+    profile_realisations: int = 3
 
 
 @dataclass(frozen=True)
@@ -341,6 +353,9 @@ class JobConfig:
     run: RunConfig
     report: ReportConfig = ReportConfig()
     source: str = "<dict>"
+    #: The ``section.key`` names the file gave (the rest are defaults): a line profile has no
+    #: area, so its job must give ``loading.nominal_area`` itself.
+    given_keys: frozenset[str] = field(default_factory=frozenset, compare=False)
 
     def sections(self) -> dict[str, Any]:
         """The built sections by table name."""
@@ -481,6 +496,9 @@ JOB_SCHEMA = Schema(
                 _bounded("surface.outlier_threshold", SurfaceConfig.outlier_threshold),
                 Key("outlier_action", Choice(("mask", "clip")), SurfaceConfig.outlier_action),
                 _bounded("surface.form_order", None),
+                _bounded("surface.profile_synthesis_n", SurfaceConfig.profile_synthesis_n),
+                _bounded("surface.profile_seed", SurfaceConfig.profile_seed),
+                _bounded("surface.profile_realisations", SurfaceConfig.profile_realisations),
             ),
             required=True,
             check=_surface_checks,
@@ -627,7 +645,7 @@ def config_from_dict(
             False,
         )
     _compressive_loads_for_the_bem(sections, source)
-    return JobConfig(**sections, source=source)
+    return JobConfig(**sections, source=source, given_keys=given_keys(data))
 
 
 def _compressive_loads_for_the_bem(sections: Mapping[str, Any], source: str) -> None:
@@ -646,3 +664,13 @@ def _compressive_loads_for_the_bem(sections: Mapping[str, Any], source: str) -> 
             "predict at tensile loads above the pull-off force)",
             tensile[0],
         )
+
+
+def given_keys(data: Mapping[str, Any]) -> frozenset[str]:
+    """The ``section.key`` names present in parsed TOML data (top-level tables only)."""
+    return frozenset(
+        f"{section}.{key}"
+        for section, table in data.items()
+        if isinstance(table, Mapping)
+        for key in table
+    )

@@ -49,6 +49,12 @@ from asperity.pipelines.report import verdict_marks
 from asperity.pipelines.report.bem import bem_grid_figure, bem_section
 from asperity.pipelines.report.figure_output import FigureOptions, FigureTable, publish
 from asperity.pipelines.report.measured import shape_scale_key_numbers
+from asperity.pipelines.report.profile import (
+    profile_key_numbers,
+    profile_section,
+    scan_label,
+    surface_title,
+)
 from asperity.pipelines.report.uncertainty import (
     bem_cells,
     bem_error_bars,
@@ -152,7 +158,7 @@ def draw_surface(result: Any) -> tuple[Figure, FigureTable]:
     ax.set_ylabel(xu.label("y"))
     pixel = display_unit([s.dx, s.dy], "m")
     size = f"{pixel(s.dx):.3g}" if s.dx == s.dy else f"{pixel(s.dx):.3g} x {pixel(s.dy):.3g}"
-    ax.set_title(f"levelled surface, {s.nx} x {s.ny} px of {size} {pixel.symbol}")
+    ax.set_title(f"{surface_title(s)}, {s.nx} x {s.ny} px of {size} {pixel.symbol}")
     ix, iy = np.meshgrid(np.arange(h.shape[0]) * step, np.arange(h.shape[1]) * step, indexing="ij")
     table = FigureTable()
     table.add(
@@ -195,7 +201,7 @@ def _draw_scan_panel(ax: Any, xu: DisplayUnit, result: Any, spec: dict[str, Any]
     scan = result.scan
     yu = spec["unit"]
     values = np.asarray(spec["values"], dtype=float)
-    ax.plot(xu(scan.resolution), yu(values), "o", ms=4, label="map")
+    ax.plot(xu(scan.resolution), yu(values), "o", ms=4, label=scan_label(scan))
     if spec.get("fit") is not None:
         ax.plot(xu(spec["fit_x"]), yu(spec["fit"]), "-", label=spec["fit_label"])
     _mark_resolution(ax, xu, result.resolution, scan, yu(values))
@@ -757,6 +763,7 @@ def key_numbers(result: Any) -> list[tuple[str, str]]:
         ]
     rows += psd_key_numbers(result)
     rows += uncertainty_rows(result)
+    rows += profile_key_numbers(result)
     rows += [
         ("statmodel quadrature", fr.quadrature_reason),
         ("shear curves converged", f"{int(np.sum(fr.converged))} / {fr.converged.size}"),
@@ -929,6 +936,7 @@ def write_report(result: Any, out_dir: str | Path, options: FigureOptions | None
         _md_table(header, rows),
         "",
         *surface_section(result),
+        *profile_section(result),
         *bem_section(result),
         "## Validity",
         "",

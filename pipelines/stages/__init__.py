@@ -10,7 +10,8 @@
  5     mode_mixity             :mod:`~asperity.pipelines.stages.friction`
  6     friction                :mod:`~asperity.pipelines.stages.friction`
  7     psd                     :mod:`~asperity.pipelines.stages.psd`
- 8     verdict                 :mod:`~asperity.pipelines.stages.verdict`
+ 8     realisations            :mod:`~asperity.pipelines.stages.realisations`
+ 9     verdict                 :mod:`~asperity.pipelines.stages.verdict`
 =====  ======================  ====================================================
 
 (a test holds this table to :data:`STAGES`.) Each module declares its stages with
@@ -33,6 +34,7 @@ from asperity.pipelines.engine.stage import (
 from asperity.pipelines.stages.bem import BEM
 from asperity.pipelines.stages.friction import FRICTION, MODE_MIXITY
 from asperity.pipelines.stages.psd import PSD
+from asperity.pipelines.stages.realisations import REALISATIONS
 from asperity.pipelines.stages.statistical_model import STATISTICAL_MODEL
 from asperity.pipelines.stages.surface import SCAN, SURFACE
 from asperity.pipelines.stages.verdict import VERDICT
@@ -46,6 +48,7 @@ STAGES: tuple[Stage, ...] = (
     MODE_MIXITY,
     FRICTION,
     PSD,
+    REALISATIONS,
     VERDICT,
 )
 #: Their group names in results.h5.

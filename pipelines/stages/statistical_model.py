@@ -592,7 +592,7 @@ def _statistical_model_of_job(context: StageContext, config: Any) -> ResolutionC
         config.loading.normal_loads,
         bem=context.result(BEM),
         measured=context.measured.normal_area,
-        surface=context.result(SURFACE).measured_height_map(),
+        surface=context.result(SURFACE).scanned_height_map(),
         executor=context.executor,
         progress=context.progress,
     )

@@ -9,10 +9,16 @@ record, as a :class:`LevelledSurface`.
 The resolution-scan stage (:func:`scan_resolutions`) runs :func:`topo.resolution_scan`: eta, R
 and sigma_s of the map decimated with strides 1..K (Appendix A, Fig 12a-c) and the paper's fits
 (:class:`ScanResult`).
+
+A line profile as ``file`` (:mod:`asperity.pipelines.stages._profile`) is prepared as a
+profile; the stage stores the isotropic map synthesised from its spectrum (realisation 0, what
+the BEM and Persson's theory solve) and the prepared profile beside it, and the resolution scan
+is the profile's Nayak scan (:func:`topo.profile_resolution_scan`, ``method`` "nayak-profile").
 """
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import json
 from dataclasses import dataclass
@@ -26,10 +32,20 @@ from asperity.errors import InputError
 from asperity.fields import array, document_fields, scalar, stacked, text
 from asperity.pipelines.config import ConfigError, SurfaceConfig
 from asperity.pipelines.engine.stage import Stage, StageContext
+from asperity.pipelines.stages._profile import (
+    PROFILE_METHOD,
+    prepare_line_profile,
+    profile_crop,
+    require_nominal_area,
+    synthesis_record,
+    synthesised_map,
+)
 from asperity.pipelines.stages._pull_off import check_loads_above_pull_off
 from asperity.topo import scan as topo_scan
 from asperity.topo.heightmap import MapGeometry
 
+#: The scan's ``method`` for a map (summits counted on the map).
+MAP_METHOD = "map-summits"
 #: Fewest pixels per side kept by the coarsest resolution of the scan.
 MIN_SCAN_PIXELS = 16
 
@@ -51,21 +67,26 @@ def input_sha256(config: SurfaceConfig) -> str:
     return hashlib.sha256(("synthetic:" + recipe).encode()).hexdigest()
 
 
-def load_surface(config: SurfaceConfig) -> topo.HeightMap:
-    """The raw surface of the configuration (file or synthetic recipe), heights in m."""
+def read_input(config: SurfaceConfig) -> topo.HeightMap | topo.LineProfile:
+    """The raw input of the configuration: the file's map or line profile, or the synthetic
+    recipe's map (heights in m)."""
     if config.file is not None:
-        surface = topo.read_surface(
-            config.file, channel=config.channel, pixel_size=config.pixel_size
-        )
-        if not isinstance(surface, topo.HeightMap):
-            raise ConfigError(
-                f"surface.file: expected a 2D height map (summit statistics and the BEM are "
-                f"2D), got a 1D line profile ({config.file})"
-            )
-        return surface
+        return topo.read_surface(config.file, channel=config.channel, pixel_size=config.pixel_size)
     recipe = config.synthetic
     generator = getattr(topo.synthetic, recipe.recipe)
     return generator(n=recipe.n, pixel_size=recipe.pixel_size, seed=recipe.seed)
+
+
+def load_surface(config: SurfaceConfig) -> topo.HeightMap:
+    """The raw surface of the configuration (file or synthetic recipe), heights in m; a line
+    profile is refused here (the job's route for one is :func:`compute_surface`)."""
+    surface = read_input(config)
+    if not isinstance(surface, topo.HeightMap):
+        raise ConfigError(
+            f"surface.file: expected a 2D height map (summit statistics and the BEM are "
+            f"2D), got a 1D line profile ({config.file})"
+        )
+    return surface
 
 
 def preparation_options(config: SurfaceConfig) -> topo.PreparationOptions:
@@ -91,8 +112,10 @@ def preparation_options(config: SurfaceConfig) -> topo.PreparationOptions:
     )
 
 
-def prepare(config: SurfaceConfig) -> topo.PreparedSurface:
+def prepare(config: SurfaceConfig, surface: topo.HeightMap | None = None) -> topo.PreparedSurface:
     """Read (or generate) the surface and prepare it (:func:`topo.prepare_surface`).
+
+    ``surface``, when given, is the map already read from ``config`` (heights in m).
 
     Raises
     ------
@@ -100,7 +123,7 @@ def prepare(config: SurfaceConfig) -> topo.PreparedSurface:
         Naming the ``surface.*`` key: a crop outside the map, missing pixels with
         ``missing = "refuse"``, too few valid pixels for the form.
     """
-    surface = load_surface(config)
+    surface = load_surface(config) if surface is None else surface
     try:
         return topo.prepare_surface(surface, preparation_options(config))
     except InputError as exc:
@@ -174,6 +197,12 @@ class LevelledSurface(MapGeometry):
     filled : ndarray of bool or None
         Pixels whose height the missing-pixel policy filled (measured holes and masked
         outliers); the resolution scan leaves them out, so eta is per measured area.
+    profile_heights : ndarray or None
+        For a line profile as input: the prepared profile, m (the map above is then the
+        isotropic map synthesised from its spectrum; ``provenance["profile_synthesis"]``
+        says how).
+    profile_dx : float or None
+        Sampling interval of that profile, m.
     """
 
     x: np.ndarray = array("m", ("x",), "position along x")
@@ -189,6 +218,12 @@ class LevelledSurface(MapGeometry):
     filled: np.ndarray | None = array(
         "1", ("x", "y"), "height filled by the missing-pixel policy, not measured", optional=True
     )
+    profile_heights: np.ndarray | None = array(
+        "m", ("profile_x",), "prepared heights of the input line profile", optional=True
+    )
+    profile_dx: float | None = scalar(
+        "m", "sampling interval of the input line profile", optional=True
+    )
 
     @classmethod
     def from_prepared(cls, prepared: topo.PreparedSurface) -> LevelledSurface:
@@ -197,6 +232,38 @@ class LevelledSurface(MapGeometry):
         if prepared.filled_mask.any():
             stored.filled = np.asarray(prepared.filled_mask, dtype=bool)
         return stored
+
+    @classmethod
+    def from_profile(
+        cls, profile: topo.LineProfile, record: dict, surface: topo.HeightMap, synthesis: dict
+    ) -> LevelledSurface:
+        """Wrap a prepared line profile (m), its preparation record, the map synthesised from
+        it (realisation 0, m) and the record of that synthesis."""
+        stored = cls.from_height_map(surface)
+        stored.provenance = json.loads(
+            json.dumps(
+                {**surface.provenance, "input": profile.provenance, "profile_synthesis": synthesis},
+                default=str,
+            )
+        )
+        stored.preparation = json.loads(json.dumps(record, default=str))
+        stored.profile_heights = np.asarray(profile.heights, dtype=float)
+        stored.profile_dx = float(profile.dx)
+        return stored
+
+    def line_profile(self) -> topo.LineProfile | None:
+        """The input line profile (m), or None when the input was a map."""
+        if self.profile_heights is None or self.profile_dx is None:
+            return None
+        source = self.provenance.get("input") or {}
+        return topo.LineProfile(self.profile_heights, self.profile_dx, dict(source))
+
+    def scanned_height_map(self) -> topo.HeightMap | None:
+        """The map the resolution scan analysed (:meth:`measured_height_map`), which a
+        statistic between strides may resample; None for a line profile, whose scan is
+        Nayak's on the profile (the synthesised map's summits are another statistic, of a map
+        without the profile's longest wavelengths)."""
+        return None if self.profile_heights is not None else self.measured_height_map()
 
     def measured_height_map(self) -> topo.HeightMap:
         """The map with filled pixels missing again (NaN): what summit statistics count."""
@@ -245,6 +312,11 @@ class ScanResult:
     """
 
     fit_units: str = text("how the fits read")
+    method: str | None = text(
+        f"{MAP_METHOD!r} (the map's summits) or {PROFILE_METHOD!r} (Nayak's theory on the line "
+        "profile; n_summits counts its peaks)",
+        optional=True,
+    )
 
     @classmethod
     def from_scan(cls, scan: topo.ResolutionScan) -> ScanResult:
@@ -262,19 +334,54 @@ class ScanResult:
             density_prefactor=float(scan.density_prefactor),
             fit_units="R = radius_intercept (m) + radius_slope (m/m) * resolution; "
             "eta = density_prefactor * resolution**density_exponent (SI)",
+            method=getattr(scan, "method", MAP_METHOD),
         )
 
 
 def compute_surface(context: StageContext) -> LevelledSurface:
-    """The job's read-and-level stage: :func:`prepare` on ``[surface]``."""
-    return LevelledSurface.from_prepared(prepare(context.config.surface))
+    """The job's read-and-level stage: :func:`prepare` on ``[surface]``; for a line profile,
+    the prepared profile and the map synthesised from it (:func:`profile_surface`)."""
+    config = context.config.surface
+    raw = read_input(config)
+    if isinstance(raw, topo.LineProfile):
+        return profile_surface(raw, config)
+    return LevelledSurface.from_prepared(prepare(config, raw))
+
+
+def profile_surface(profile: topo.LineProfile, config: SurfaceConfig) -> LevelledSurface:
+    """A line profile prepared as ``[surface]`` says, with realisation 0 of the isotropic map
+    synthesised from its spectrum (``profile_synthesis_n`` pixels, seed ``profile_seed``)."""
+    options = dataclasses.replace(preparation_options(config), crop=profile_crop(config))
+    prepared, record = prepare_line_profile(profile, config, options)
+    surface = synthesised_map(prepared, config, 0)
+    synthesis = synthesis_record(prepared, config)
+    return LevelledSurface.from_profile(prepared, record, surface, synthesis)
+
+
+def check_profile_input(context: StageContext, surface: LevelledSurface) -> None:
+    """After the read-and-level stage: a line profile's job must give its nominal area."""
+    if surface.profile_heights is not None:
+        require_nominal_area(context.config)
 
 
 def compute_scan(context: StageContext) -> ScanResult:
     """The job's resolution-scan stage: :func:`scan_resolutions` up to ``surface.max_stride``,
-    over the measured pixels only (filled ones are missing again: eta per measured area)."""
-    surface = context.result(SURFACE).measured_height_map()
+    over the measured pixels only (filled ones are missing again: eta per measured area); for
+    a line profile, its Nayak scan (:func:`scan_profile`)."""
+    stored = context.result(SURFACE)
+    profile = stored.line_profile()
+    if profile is not None:
+        return ScanResult.from_scan(scan_profile(profile, context.config.surface.max_stride))
+    surface = stored.measured_height_map()
     return ScanResult.from_scan(scan_resolutions(surface, context.config.surface.max_stride))
+
+
+def scan_profile(profile: topo.LineProfile, max_stride: int) -> topo.ResolutionScan:
+    """Nayak's eta, R, sigma_s of a line profile at strides 1..``max_stride``
+    (:func:`topo.profile_resolution_scan`), capped so the coarsest profile keeps
+    MIN_SCAN_PIXELS points (and at least 3)."""
+    usable = max(1, min(int(max_stride), profile.nx // MIN_SCAN_PIXELS, (profile.nx - 1) // 2))
+    return topo.profile_resolution_scan(profile, usable)
 
 
 def check_scan_loads(context: StageContext, scan: ScanResult) -> None:
@@ -306,9 +413,12 @@ SURFACE = Stage(
         "surface.outlier_threshold",
         "surface.outlier_action",
         "surface.form_order",
+        "surface.profile_synthesis_n",
+        "surface.profile_seed",
     ),
     inputs=(),
     compute=compute_surface,
+    check=check_profile_input,
 )
 
 SCAN = Stage(

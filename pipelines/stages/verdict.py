@@ -42,7 +42,9 @@ Warnings: ``measured_load_unmatched`` (a measured curve at a load more than
 converged stride), ``lambda_fit`` (the optimiser did not report success),
 ``surface_preparation`` (the preparation record's warnings), ``static_friction_ratio`` and
 ``junction_shear_at_peak`` (F_s/F_d or the junction shear at the peak over tau_0 above 10,
-naming tau_0 and lambda: :func:`check_friction_plausibility`).
+naming tau_0 and lambda: :func:`check_friction_plausibility`), ``profile_isotropy`` (always
+for a line profile as input: its statistics and the maps synthesised from it assume an
+isotropic surface, which one line cannot check).
 
 The exit status (:func:`exit_status`): 1 (:attr:`ExitStatus.NOT_CONVERGED`) when a solver
 did not converge, else 3 (:attr:`ExitStatus.INVALID_RESULT`) when the verdict is invalid,
@@ -504,6 +506,24 @@ def check_surface(preparation: dict | None) -> list[Reason]:
     ]
 
 
+def check_profile_isotropy(surface: Any) -> list[Reason]:
+    """For a line profile as input, the isotropy assumption (always a warning)."""
+    if getattr(surface, "profile_heights", None) is None:
+        return []
+    synthesis = (surface.provenance or {}).get("profile_synthesis") or {}
+    size = synthesis.get("map_size")
+    maps = f" and the {size:.3g} m maps synthesised from its spectrum" if size else ""
+    return [
+        Reason(
+            "profile_isotropy",
+            "warning",
+            f"the input is a line profile of {np.size(surface.profile_heights)} points: its "
+            f"Nayak statistics{maps} assume an isotropic Gaussian surface, which one line "
+            "cannot check (measure profiles in two directions, or a map, to test it)",
+        )
+    ]
+
+
 def check_shape_scale(choice: Any) -> list[Reason]:
     """The shape fit's factor c per measured A_r(F_x) curve against 1.
 
@@ -645,6 +665,7 @@ def job_reasons(context: StageContext) -> list[Reason]:
     reasons += check_hardness(
         config.material.hardness, config.material.e_star, res.roughness, context.result(FRICTION)
     )
+    reasons += check_profile_isotropy(context.result(SURFACE))
     return reasons
 
 

@@ -26,9 +26,12 @@ def test_open_results_gives_back_every_stage(small_run):
     for stage in STAGES:
         attribute = ATTRIBUTES[stage.name]
         stored, computed = getattr(run, attribute), getattr(result, attribute)
+        if computed is None:  # disabled in this job (the line-profile realisations)
+            assert stored is None, stage.name
+            continue
         assert checksum(stored) == checksum(computed), stage.name
         assert getattr(run, stage.name) is stored  # also by group name
-    assert [s.name for s in run.stages] == [s.name for s in STAGES]
+    assert [s.name for s in run.stages] == [s.name for s in result.stages if s.status != "disabled"]
     assert run.input_sha256 == result.input_sha256
     assert run.problems() == result.problems()
     assert "[material]" in run.config_toml
