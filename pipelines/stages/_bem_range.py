@@ -10,13 +10,14 @@ areas equal the non-adhesive ones.
 
 The range rule (``[bem] adhesion_range = "auto"`` or absent): a physical range (~nm) gives a
 cohesive zone far below a um pixel, so the range is coarse-grained to the grid. It is the
-shortest range whose cohesive zone spans :data:`~asperity.bem.maugis.MIN_ZONE_ELEMENTS` = 3
-elements of the finest grid of the grid check (the map's pixel) at the check load: the search
-starts from the JKR-side closed form :func:`asperity.bem.resolving_range` (an upper estimate
-of the zone, which is narrower away from the JKR side) and lengthens the range by the power law
-of the zones tried (:func:`next_range`; on the default map the zone grows about linearly with
-h_0, not as h_0^2 as on a JKR sphere) until the solved zone spans 3 elements, at most
-:data:`MAX_RANGE_SEARCH` solves, each warm-started from the non-adhesive solution. The last solve is the check load's adhesive solve on that grid.
+shortest range found whose cohesive zone spans :data:`~asperity.bem.maugis.MIN_ZONE_ELEMENTS`
+= 3 elements of the finest grid of the grid check (the map's pixel) at the check load. The
+search starts from the JKR-side closed form :func:`asperity.bem.resolving_range` (an upper
+estimate of the zone, which is narrower away from the JKR side) and lengthens the range by the
+power law of the zones tried (:func:`next_range`; on the default map the zone grows about
+linearly with h_0, not as h_0^2 as on a JKR sphere) until the solved zone spans 3 elements, at
+most :data:`MAX_RANGE_SEARCH` solves, each warm-started from the non-adhesive solution. The
+last solve is the check load's adhesive solve on that grid.
 
 Sensitivity: the check load is solved again at half and double the range on the same grid (from
 the same non-adhesive start); ``half_spread`` of the three A_r/A_n
