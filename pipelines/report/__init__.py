@@ -691,7 +691,7 @@ def adhesion_key_numbers(result: Any) -> list[tuple[str, str]]:
                 "BEM range uncertainty",
                 f"A_r/A_n +/- {bem.area_range_uncertainty:.3g} (half spread over h_0/2, h_0, "
                 f"2 h_0: {spread[0]:.4g}, {spread[1]:.4g}, {spread[2]:.4g} at "
-                f"{bem.check_load:.4g} N on the finest grid)",
+                f"{bem.check_load:.4g} N on the range search's grid)",
             )
         )
     elif law == "pohrt-popov":

@@ -174,7 +174,8 @@ def run_grid_check(
     """Solve the check pressure (Pa) at every stride, coarse to fine, each from the coarser.
 
     ``adhesion`` is ([bem] adhesion, [bem] adhesion_range m or None for the rule); with
-    Maugis the range is chosen on the finest grid first (:mod:`._bem_range`) and every
+    Maugis the range is chosen first, on the grid of :func:`range_grid_stride`
+    (:mod:`._bem_range`), and every
     stride's adhesive solve uses it. Returns the summaries per stride, the (pressure, force)
     of each stride's non-adhesive solve, each stride's last contact mask, and the range choice.
     """
@@ -189,14 +190,17 @@ def run_grid_check(
         plains[s] = (solve_plain(h, dx, dy, e_star, force, solver, initial), force)
         starts[s] = (plains[s][0].pressure, force)
         previous = (plains[s][0].pressure, s)
-    choice = _range_choice(surface, e_star, work_of_adhesion, strides[-1], plains, solver, adhesion)
+    range_stride = range_grid_stride(surface, strides)
+    choice = _range_choice(
+        surface, e_star, work_of_adhesion, range_stride, plains, solver, adhesion
+    )
     solves, masks = [], {}
     for s in strides:
         plain, force = plains.pop(s)
         row, final = [summarise(plain)], plain
         if work_of_adhesion > 0:
             final = _adhesive_check_solve(
-                surface, s, e_star, plain, force, work_of_adhesion, solver, choice, strides[-1]
+                surface, s, e_star, plain, force, work_of_adhesion, solver, choice, range_stride
             )
             row.append(summarise(final))
         solves.append(row)
@@ -204,6 +208,21 @@ def run_grid_check(
     if choice is not None:
         choice.result = None
     return solves, starts, masks, choice
+
+
+#: Largest grid (pixels) on which the range search and its sensitivity solve: 2500^2, the
+#: paper case's 4 um grid (its 2 um grid of 5000^2 would take four more Maugis solves of about a
+#: minute each).
+MAX_RANGE_GRID_PIXELS = 2500 * 2500
+
+
+def range_grid_stride(surface: topo.HeightMap, strides: list[int]) -> int:
+    """The stride of the range search and its sensitivity: the finest of the check's
+    ``strides`` with at most :data:`MAX_RANGE_GRID_PIXELS` pixels (the coarsest when none)."""
+    for s in reversed(strides):
+        if (surface.nx // s) * (surface.ny // s) <= MAX_RANGE_GRID_PIXELS:
+            return s
+    return strides[0]
 
 
 def _range_choice(
@@ -215,7 +234,8 @@ def _range_choice(
     solver: dict,
     adhesion: tuple[str, float | None],
 ) -> RangeChoice | None:
-    """The Maugis range on the finest grid with its sensitivity (None without Maugis)."""
+    """The Maugis range on the grid of stride ``finest`` with its sensitivity (None without
+    Maugis)."""
     law, h0 = adhesion
     if law != "maugis" or w <= 0:
         return None
@@ -239,8 +259,9 @@ def _adhesive_check_solve(
     choice: RangeChoice | None,
     finest: int,
 ) -> object:
-    """The check's adhesive solve at ``stride``: the range search's own solve on the finest
-    grid, else a loading-branch solve from ``plain`` (Pohrt-Popov when ``choice`` is None)."""
+    """The check's adhesive solve at ``stride``: the range search's own solve on its grid
+    (stride ``finest``), else a loading-branch solve from ``plain`` (Pohrt-Popov when
+    ``choice`` is None)."""
     if choice is not None and stride == finest:
         return choice.result
     h, dx, dy = solver_grid(surface, stride)

@@ -11,7 +11,11 @@ areas equal the non-adhesive ones.
 The range rule (``[bem] adhesion_range = "auto"`` or absent): a physical range (~nm) gives a
 cohesive zone far below a um pixel, so the range is coarse-grained to the grid. It is the
 shortest range found whose cohesive zone spans :data:`~asperity.bem.maugis.MIN_ZONE_ELEMENTS`
-= 3 elements of the finest grid of the grid check (the map's pixel) at the check load. The
+= 3 elements of the finest grid of the grid check (the map's pixel) at the check load; on a map
+larger than 2500^2 pixels, of the finest check grid up to that size
+(:func:`asperity.pipelines.stages._bem_grid.range_grid_stride`; the paper case: 4 um, so its
+range spans about 6 elements of the 2 um grid: longer than the shortest, to save four Maugis
+solves at 5000^2). The
 search starts from the JKR-side closed form :func:`asperity.bem.resolving_range` (an upper
 estimate of the zone, which is narrower away from the JKR side) and lengthens the range by the
 power law of the zones tried (:func:`next_range`; on the default map the zone grows about
@@ -57,12 +61,12 @@ class RangeChoice:
     rule : str
         One sentence for the report: the rule, the zone width reached, the solves.
     zone_elements : float
-        Mean cohesive-zone width at the check load on the finest grid, elements (NaN if no
+        Mean cohesive-zone width at the check load on the search's grid, elements (NaN if no
         contact line).
     tried : list of tuple
         (h_0 m, zone elements, A_r/A_map) of each search solve.
     sensitivity : tuple of float
-        A_r/A_map at h_0 / 2, h_0, 2 h_0 on the finest grid at the check load.
+        A_r/A_map at h_0 / 2, h_0, 2 h_0 on the search's grid at the check load.
     result : Any
         The adhesive solve at the chosen range (not stored).
     """

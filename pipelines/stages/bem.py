@@ -118,9 +118,9 @@ class BemReference:
     range_rule : str or None
         How h_0 was chosen, with the cohesive-zone width reached (report line).
     range_zone_elements : float or None
-        Mean cohesive-zone width at the check load on the finest grid, elements.
+        Mean cohesive-zone width at the check load on the range search's grid, elements.
     range_sensitivity : ndarray or None
-        A_r/A_n at the check load on the finest grid at h_0 / 2, h_0, 2 h_0.
+        A_r/A_n at the check load on the range search's grid at h_0 / 2, h_0, 2 h_0.
     area_range_uncertainty : float or None
         Half the spread of ``range_sensitivity`` (absolute A_r/A_n): the range part of the
         BEM's uncertainty (:func:`asperity.bem.discretisation.half_spread`).
@@ -182,7 +182,7 @@ class BemReference:
     adhesion_range: float | None = scalar("m", "Maugis-Dugdale range h_0", optional=True)
     range_rule: str | None = text("how the Maugis range was chosen", optional=True)
     range_zone_elements: float | None = scalar(
-        "1", "cohesive-zone width at the check load on the finest grid, elements", optional=True
+        "1", "cohesive-zone width at the check load on the range grid, elements", optional=True
     )
     range_sensitivity: np.ndarray | None = array(
         "1", ("range_factor",), "A_r / A_n at h_0 / 2, h_0, 2 h_0 (check load)", optional=True

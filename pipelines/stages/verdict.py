@@ -410,8 +410,8 @@ def check_adhesion_regime(regime: AdhesionRegime | None) -> list[Reason]:
         return []
     check = regime.full_contact
     text_ = (
-        f"U_el/(A0 w) = {check.value:.3g} < {check.threshold:g}: {check.message} "
-        f"({check.reference}). Beside it: Tabor parameter mu = {regime.tabor_parameter:.3g} "
+        f"{check.message} ({check.reference}; threshold {check.threshold:g} on "
+        f"U_el/(A0 w)). Beside it: Tabor parameter mu = {regime.tabor_parameter:.3g} "
         f"(D. Tabor, J. Colloid Interface Sci. 58, 2 (1977)); Pastewka-Robbins stickiness "
         f"S_PR = {regime.stickiness:.3g} (sticky below 1; L. Pastewka, M.O. Robbins, PNAS "
         "111, 3298 (2014))"

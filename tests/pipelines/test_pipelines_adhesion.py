@@ -129,3 +129,23 @@ def test_glassy_polymer_on_x3p2_stays_partial_contact():
     regime = adhesion_regime_of(_crop("x3p-2.x3p", [0, 128, 0, 128]), glassy, 1e-6)
     assert regime.energy_ratio > 1
     assert check_adhesion_regime(regime) == []
+
+
+def test_maugis_solves_are_all_counted(monkeypatch):
+    """Every bem.solve_contact call of the stage is in ``solves``: the check and sweeps, the
+    range search beyond its first solve and the two sensitivity solves (h_0 / 2, 2 h_0)."""
+    from asperity import bem
+
+    calls = []
+    real = bem.solve_contact
+
+    def counting(*args, **kwargs):
+        calls.append(kwargs.get("adhesion_range"))
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(bem, "solve_contact", counting)
+    surface = topo.synthetic.paper_like(n=64, pixel_size=40e-6, seed=3)
+    ref = bem_reference(surface, 2.133e6, 0.04, [1.0, 3.0], 700e-6, max_stride=2)
+    assert ref.solves == len(calls)
+    h0 = ref.adhesion_range
+    assert calls.count(0.5 * h0) == 1 and calls.count(2.0 * h0) == 1
