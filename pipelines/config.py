@@ -187,7 +187,7 @@ class BemConfig:
     max_stride : int
         Coarsest decimation of the map tried by the refinement check.
     adhesive : bool
-        Also run the Pohrt-Popov adhesive sweep.
+        Also run the adhesive solves (law ``adhesion``).
     enabled : bool
         Run the BEM at all; false needs a measured A_r(F_z) (``measured.normal_area``), which
         then alone chooses the effective resolution.

@@ -10,7 +10,9 @@ J/m^2.
   the stage is therefore the adhesive solve started from the non-adhesive solution at the same
   load on the same grid: the ``"loading"`` branch that ``bem.solve_contact`` reaches from
   scratch, without solving the non-adhesive problem a second time. The grid check and the
-  sweeps use this one path.
+  sweeps use this one path. With Maugis-Dugdale adhesion (attraction within the range h_0 of
+  the surface) the same start leads to the loading branch with jump-in: the attractive set
+  only grows from the non-adhesive state (:mod:`asperity.bem.maugis`).
 * Nested grids. The grid check solves the check load from the coarsest stride to the finest;
   each finer non-adhesive solve starts from the coarser pressure, repeated onto the finer grid
   (measured on the 1000^2 default map: 15 instead of 28 iterations at stride 1 from stride 2).
