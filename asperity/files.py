@@ -16,6 +16,7 @@ from __future__ import annotations
 import errno
 import os
 import stat
+import tempfile
 from pathlib import Path
 
 from asperity.errors import InputError
@@ -26,6 +27,7 @@ __all__ = [
     "describe_kind",
     "require_regular_file",
     "require_output_path",
+    "require_output_dir",
     "read_bytes_bounded",
 ]
 
@@ -135,6 +137,48 @@ def require_output_path(path: str | Path, what: str) -> Path:
         raise SpecialFileError(
             f"{what}: {path}: its folder {parent} is {found}; expected an existing directory"
         )
+    return path
+
+
+def require_output_dir(path: str | Path, what: str, *, probe: bool = True) -> Path:
+    """Return the output folder ``path`` (option ``what``, e.g. ``--out``) once a file can be
+    written in it, or, when it does not exist yet, in the folder it would be created in.
+
+    Parameters
+    ----------
+    path : str or Path
+        The folder the user named.
+    what : str
+        The option, first in the message.
+    probe : bool
+        Create and remove a temporary file in the folder (or its nearest existing parent;
+        nothing else is created), so that a read-only folder or file system, or one without
+        permission, is refused before any work (False: only the name and the kind of path
+        are checked).
+
+    Raises
+    ------
+    SpecialFileError (an InputError)
+        An empty name (it would mean the current folder), a path that is not a directory,
+        a folder that cannot be created or written: one line naming it and the reason.
+    """
+    if str(path).strip() == "":
+        raise SpecialFileError(f"{what}: is empty; expected a folder name")
+    path = Path(path)
+    kind = describe_kind(path)
+    if kind is not None and kind != "a directory" and not kind.startswith("unreadable"):
+        raise SpecialFileError(f"{what} {path}: is {kind}, expected a directory")
+    if not probe:
+        return path
+    existing = next(p for p in (path, *path.absolute().parents) if p.exists())
+    try:
+        descriptor, name = tempfile.mkstemp(prefix=".asperity-probe-", dir=existing)
+        os.close(descriptor)
+        os.unlink(name)
+    except OSError as exc:
+        raise SpecialFileError(
+            f"{what} {path}: cannot write in {existing} ({exc.strerror or exc})"
+        ) from exc
     return path
 
 

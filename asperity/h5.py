@@ -16,18 +16,24 @@ scan (:func:`asperity.topo.write_scan_hdf5`), the friction curves of ``asperity 
 * a number or boolean is a group attribute, its unit in the JSON map ``attribute_units``;
 * a string is an attribute as is, a list or dict an attribute holding JSON text.
 
-:func:`read_result` reads the same declaration back.
+:func:`read_result` reads the same declaration back. A new file is built in memory and written
+atomically (:func:`new_file`): a full disk or an interruption leaves the previous file or none,
+never a truncated one, and libhdf5 never holds a half-written file on a full disk.
 """
 
 from __future__ import annotations
 
+import contextlib
+import io
 import json
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
+from pathlib import Path
 from typing import Any, TypeVar
 
 import h5py
 import numpy as np
 
+from asperity.atomic import write_bytes_atomic
 from asperity.fields import FieldSpec, canonical, field_specs
 
 R = TypeVar("R")
@@ -42,6 +48,30 @@ class StoredStageError(RuntimeError):
 
 class ResultLayoutError(RuntimeError):
     """A result's arrays disagree with their declared dimensions (a defect in a result type)."""
+
+
+@contextlib.contextmanager
+def new_file(path: str | Path) -> Iterator[h5py.File]:
+    """A new HDF5 file to fill, written to ``path`` atomically when the block ends.
+
+    The file is built in memory, then its bytes go through
+    :func:`asperity.atomic.write_bytes_atomic` (temporary beside ``path``, fsync, rename).
+    An exception inside the block writes nothing.
+
+    Parameters
+    ----------
+    path : str or Path
+        The output file (replaced); its folder must exist.
+
+    Raises
+    ------
+    asperity.atomic.OutputWriteError
+        No space, quota or access: ``path`` is as it was, no temporary is left.
+    """
+    image = io.BytesIO()
+    with h5py.File(image, "w") as handle:
+        yield handle
+    write_bytes_atomic(path, image.getbuffer())
 
 
 def attribute_value(value: Any) -> Any:

@@ -124,6 +124,45 @@ def new_figure(width: float, height: float) -> Figure:
     return Figure(figsize=(width, height), layout="constrained")
 
 
+#: Characters per inch of figure width of a 9 pt stamp line (a safe under-estimate).
+_STAMP_CHARS_PER_INCH = 13
+
+
+def stamp(fig: Figure, text: str, *, color: str = "#b00000", max_lines: int = 3) -> Figure:
+    """Put ``text`` at the top of ``fig``, above any title it has, so that it travels with
+    every copy of the picture (a PNG pasted into a slide keeps it).
+
+    The text becomes the first lines of the figure's suptitle (placed by the constrained
+    layout, so it never overlaps the axes), wrapped to the figure's width; beyond
+    ``max_lines`` lines it ends with "...". An existing suptitle follows on its own line.
+
+    Parameters
+    ----------
+    fig : Figure
+        The drawn figure (from :func:`new_figure`).
+    text : str
+        One sentence, e.g. a verdict and its first reason.
+    color : str
+        Colour of the title (matplotlib colour).
+    max_lines : int
+        Most lines of ``text`` shown.
+
+    Returns
+    -------
+    Figure
+        ``fig``, stamped.
+    """
+    import textwrap
+
+    width = max(20, int(fig.get_figwidth() * _STAMP_CHARS_PER_INCH))
+    lines = textwrap.wrap(text, width)
+    if len(lines) > max_lines:
+        lines = [*lines[: max_lines - 1], lines[max_lines - 1][: width - 4] + " ..."]
+    existing = fig.get_suptitle()
+    fig.suptitle("\n".join([*lines, existing] if existing else lines), color=color, fontsize=9)
+    return fig
+
+
 def save_figure(fig: Figure, path: str | Path, *, dpi: int = DEFAULT_DPI) -> Path:
     """Write ``fig`` to ``path``; the suffix picks the format (``.png``, ``.svg``, ``.pdf``).
 
@@ -132,7 +171,8 @@ def save_figure(fig: Figure, path: str | Path, *, dpi: int = DEFAULT_DPI) -> Pat
     fig : Figure
         The figure (from :func:`new_figure`).
     path : str or Path
-        The output file; its folder must exist.
+        The output file; its folder must exist. Written atomically
+        (:func:`asperity.atomic.atomic_output`).
     dpi : int
         Resolution of raster formats, dots per inch.
 
@@ -141,8 +181,12 @@ def save_figure(fig: Figure, path: str | Path, *, dpi: int = DEFAULT_DPI) -> Pat
     Path
         The file written.
     """
+    from asperity.atomic import atomic_output
+
     path = Path(path)
-    fig.savefig(path, dpi=dpi)
+    fmt = path.suffix.lstrip(".").lower() or "png"  # named: the temporary's suffix is .tmp
+    with atomic_output(path) as tmp:  # the old figure or the new one, never a truncated file
+        fig.savefig(tmp, dpi=dpi, format=fmt)
     return path
 
 

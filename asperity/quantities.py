@@ -183,6 +183,13 @@ _ENTRIES = (
         "no solid shears above its theoretical strength, < 1e11 Pa",
     ),
     _q("material.equilibrium_distance", "m", 1e-11, 1e-8, "interatomic distances are 0.1-1 nm"),
+    _q(
+        "material.hardness",
+        "Pa",
+        1e4,
+        2e11,
+        "indentation hardness, from soft gels (~10 kPa) to diamond (~1e11 Pa); job only",
+    ),
     # roughness (statmodel.Roughness; [roughness] of the friction file)
     _q(
         "roughness.asperity_density",
@@ -387,7 +394,11 @@ def quantity(key: str) -> Quantity:
 
 #: The keys of the ``asperity friction`` parameter file, in the order of its docs table.
 FRICTION_FILE_KEYS: tuple[str, ...] = (
-    "material.",
+    "material.E_star",
+    "material.work_of_adhesion",
+    "material.mode_mixity",
+    "material.shear_strength",
+    "material.equilibrium_distance",
     "roughness.",
     "loading.normal_load",
     "loading.nominal_area",

@@ -19,6 +19,7 @@ statistics; it runs right after the resolution scan (stage 2), before the BEM, a
 
 from __future__ import annotations
 
+import dataclasses
 import sys
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -66,6 +67,43 @@ MISSING_POLICIES: tuple[str, ...] = ("refuse", "fill-lowest", "interpolate")
 OUTLIER_RULES: tuple[str, ...] = ("mad", "percentile", "none")
 #: ``fit.mode`` (the first is the default).
 FIT_MODES: tuple[str, ...] = ("shape", "absolute")
+
+
+@dataclass(frozen=True)
+class JobMaterial(Material):
+    """:class:`statmodel.Material` with the job's optional hardness (``[material] hardness``).
+
+    Attributes
+    ----------
+    hardness : float or None
+        Indentation hardness H of the rough solid, Pa (None: not given; the plasticity checks
+        of the verdict, :mod:`asperity.statmodel.plausibility`, then do not run).
+    """
+
+    hardness: float | None = None
+
+    def __post_init__(self) -> None:
+        checked = Material(  # the statistical model's own bounds, converted to float
+            self.e_star,
+            self.work_of_adhesion,
+            self.mode_mixity,
+            self.shear_strength,
+            self.equilibrium_distance,
+        )
+        for name in ("e_star", "work_of_adhesion", "mode_mixity", "shear_strength"):
+            object.__setattr__(self, name, getattr(checked, name))
+        object.__setattr__(self, "equilibrium_distance", checked.equilibrium_distance)
+        if self.hardness is not None:
+            value = quantity("material.hardness").check(self.hardness, "material.hardness")
+            object.__setattr__(self, "hardness", value)
+
+
+def job_material_section(defaults: Material) -> Section:
+    """The job's ``[material]`` table: the statistical model's keys and ``hardness`` (Pa)."""
+    section = material_section(defaults)
+    hardness = Key("hardness", quantity("material.hardness").kind, None)
+    return dataclasses.replace(section, build=JobMaterial, keys=(*section.keys, hardness))
+
 
 #: The material of the paper's Figs 5 and 13 (used for absent ``[material]`` keys).
 DEFAULT_MATERIAL = Material(
@@ -456,7 +494,7 @@ JOB_SCHEMA = Schema(
             required=True,
             check=_surface_checks,
         ),
-        material_section(DEFAULT_MATERIAL),
+        job_material_section(DEFAULT_MATERIAL),
         Section(
             "loading",
             LoadingConfig,
@@ -599,4 +637,23 @@ def config_from_dict(
             "true unless measured.normal_area gives a measured A_r(F_z) to calibrate against",
             False,
         )
+    _compressive_loads_for_the_bem(sections, source)
     return JobConfig(**sections, source=source)
+
+
+def _compressive_loads_for_the_bem(sections: Mapping[str, Any], source: str) -> None:
+    """Loads <= 0 N are refused when the BEM runs: its non-adhesive reference sweep (the
+    Polonsky-Keer solver under load control) has no contact to solve at a tensile or zero
+    load. The user's own value is quoted, before any stage runs."""
+    if not sections["bem"].enabled:
+        return  # the statistical model alone: loads above its pull-off force (after stage 2)
+    loads = sections["loading"].normal_loads
+    tensile = [f for f in loads if not f > 0]
+    if tensile:
+        raise Context(source).fail(
+            "loading.normal_loads",
+            "loads > 0 N while bem.enabled = true (the non-adhesive BEM reference solves "
+            "compressive loads only; set bem.enabled = false with a measured A_r(F_z) to "
+            "predict at tensile loads above the pull-off force)",
+            tensile[0],
+        )

@@ -27,6 +27,7 @@ from typing import Any
 import asperity
 from asperity.errors import InputError
 from asperity.pipelines.config import ConfigError, JobConfig
+from asperity.pipelines.engine.interrupts import InterruptGuard, checkpoint
 from asperity.pipelines.engine.outdir import OutputLock, OutputWriteError
 from asperity.pipelines.engine.parallel import make_executor
 from asperity.pipelines.engine.stage import Runner, StageContext, StageRun
@@ -151,20 +152,24 @@ def run_job(
         Another run holds ``out_dir`` (its lock file ``.asperity.lock``).
     pipelines.engine.outdir.OutputDirError, pipelines.engine.outdir.OutputWriteError
         ``out_dir`` cannot be written, or the disk is full: ``results.h5`` keeps what it held.
+    KeyboardInterrupt
+        Ctrl-C (SIGINT), always, even when it first landed in a finaliser that cannot raise
+        (:mod:`pipelines.engine.interrupts`); ``results.h5`` keeps every stage written before.
     """
     t_job = time.perf_counter()
     out_dir = Path(out_dir)
     measured = read_measurements(
-        config.measured, config.loading.nominal_area
-    )  # a malformed CSV fails before any work
+        config.measured, config.loading.nominal_area, config.loading.normal_loads
+    )  # a malformed CSV, or a curve at a load not configured, fails before any work
     input_hash = input_sha256(config.surface)
     workers = config.run.workers if workers is None else workers
     log = log or (lambda line: None)
     with (
+        InterruptGuard() as interrupts,  # a Ctrl-C swallowed in a finaliser is raised again
         OutputLock(out_dir, log=log),  # one run per directory; stale temporaries removed
         make_executor(workers, scheduler=scheduler) as executor,
     ):
-        runner = Runner(
+        runner = InterruptibleRunner(
             store=ResultStore(out_dir / "results.h5"),
             context=StageContext(config, {}, executor, progress, measured),
             config_document=config.key_document(),
@@ -173,7 +178,11 @@ def run_job(
             force=force,
             log=log,
         )
-        run_stages(runner)
+        try:
+            run_stages(runner)
+        except KeyboardInterrupt:
+            interrupts.acknowledge()  # seen: the lock and the executor are released undisturbed
+            raise
     return JobResult(
         config=config,
         out_dir=out_dir,
@@ -182,6 +191,17 @@ def run_job(
         total_seconds=time.perf_counter() - t_job,
         input_sha256=input_hash,
     )
+
+
+class InterruptibleRunner(Runner):
+    """The job's :class:`Runner`, with a safe point after each write of ``results.h5``: a
+    Ctrl-C that a finaliser swallowed (:mod:`pipelines.engine.interrupts`) ends the run
+    there, every finished stage written."""
+
+    def flush(self) -> None:
+        """Write the computed results held so far, then raise a Ctrl-C not yet seen."""
+        super().flush()
+        checkpoint()
 
 
 def run_stages(runner: Runner) -> None:

@@ -3,7 +3,10 @@
 * A_r(F_z) at rest: columns ``normal_load`` (N) and ``real_area`` (m^2).
 * A_r(F_x) under shear: columns ``tangential_force`` (N) and ``real_area`` (m^2), one file per
   normal load (the load given in the configuration), or one long file with an extra
-  ``normal_load`` (N) column holding several loads.
+  ``normal_load`` (N) column holding several loads. A ``normal_load`` column in a file whose
+  load is declared must hold that load, and every curve's load must be one of the configured
+  ``loading.normal_loads`` (within :data:`LOAD_MATCH`): the contradiction is refused, naming
+  both, before any stage runs.
 
 A header cell may state its unit, ``real_area [mm^2]`` or ``tangential_force (mN)``; values
 are converted to SI (:data:`UNIT_FACTORS`). ``,`` or ``;`` separate the columns. Extra
@@ -152,7 +155,7 @@ def _cell_value(path: Path, number: int, name: str, row: list[str], i: int) -> f
 
 
 def read_columns(
-    path: str | Path, columns: Sequence[str], optional: Iterable[str] = ()
+    path: str | Path, columns: Sequence[str], optional: Iterable[str] = (), hint: str = ""
 ) -> dict[str, np.ndarray]:
     """Read named numeric columns of a CSV file with a header row, converted to SI.
 
@@ -166,6 +169,8 @@ def read_columns(
         Required column names.
     optional : iterable of str
         Columns returned when present.
+    hint : str
+        Appended to the message of a missing column (another way to give it).
 
     Returns
     -------
@@ -192,7 +197,7 @@ def read_columns(
         if name not in header:
             raise MeasuredFileError(
                 f"{path}: missing column {name!r} (header: {', '.join(header)}); expected "
-                f"columns {', '.join(columns)} (SI, or with a unit: 'real_area [mm^2]')"
+                f"columns {', '.join(columns)} (SI, or with a unit: 'real_area [mm^2]')" + hint
             )
     wanted = list(columns) + [c for c in optional if c in header and c not in columns]
     index = {name: header.index(name) for name in wanted}
@@ -245,6 +250,49 @@ def read_normal_area(path: str | Path, nominal_area: float | None = None) -> Nor
     return NormalAreaCurve(cols["normal_load"][order], cols["real_area"][order], str(path))
 
 
+#: Relative difference within which two normal loads are the same load: a measured curve's
+#: load and a configured one, or a file's ``normal_load`` column and the load declared for it.
+#: Laboratory load cells hold a set load to about 1 %; a larger difference is another load.
+LOAD_MATCH = 0.02
+
+#: Force units whose factor a wrongly labelled load column is off by (for the hint).
+_LOAD_UNIT_HINTS = {1e-3: "mN", 1e-6: "uN", 1e3: "kN"}
+
+_LONG_FILE_HINT = (
+    '; or declare the file\'s one load: shear_area = [{normal_load = N, file = "curve.csv"}]'
+)
+
+
+def _same_load(a: np.ndarray | float, b: float) -> np.ndarray | bool:
+    """Loads (N) within :data:`LOAD_MATCH` of ``b`` (relative to the larger magnitude)."""
+    a = np.asarray(a, dtype=float)
+    return np.abs(a - b) <= LOAD_MATCH * np.maximum(np.abs(a), abs(b))
+
+
+def _declared_load(path: Path, cols: dict[str, np.ndarray], declared: float) -> np.ndarray:
+    """The loads of a file declared at ``declared`` N; a contradicting column is refused."""
+    if "normal_load" not in cols:
+        return np.full(cols["real_area"].shape, float(declared))
+    column = cols["normal_load"]
+    wrong = np.flatnonzero(~_same_load(column, declared))
+    if wrong.size:
+        i = int(wrong[0])
+        distinct = np.unique(column)
+        held = (
+            f"{distinct.size} loads ({', '.join(f'{v:.4g}' for v in distinct[:8])} N)"
+            if distinct.size > 1
+            else f"{distinct[0]:.6g} N"
+        )
+        raise MeasuredFileError(
+            f"{path}: declared at normal_load = {declared:g} N in measured.shear_area, but its "
+            f"'normal_load' column holds {held} (line {cols['_line'][i]}: {column[i]:.6g} N, "
+            f"more than {100 * LOAD_MATCH:g} % from the declaration): give the file without "
+            "a declaration (a long file, one curve per load of its column), or correct one of "
+            "the two"
+        )
+    return np.full(column.shape, float(declared))
+
+
 def read_shear_area(
     path: str | Path, normal_load: float | None = None, nominal_area: float | None = None
 ) -> list[ShearAreaCurve]:
@@ -256,7 +304,9 @@ def read_shear_area(
         Columns ``tangential_force`` (N), ``real_area`` (m^2) and, for a long file holding
         several loads, ``normal_load`` (N).
     normal_load : float, optional
-        The normal load, N, of a one-curve file without a ``normal_load`` column.
+        The normal load, N, of a one-curve file. Without it the file must have a
+        ``normal_load`` column; with it, a ``normal_load`` column (when present) must hold
+        that load (within :data:`LOAD_MATCH`), else the contradiction is refused.
     nominal_area : float, optional
         A_n, m^2: any A_r above it is refused (:func:`check_areas`).
 
@@ -265,24 +315,79 @@ def read_shear_area(
     list of ShearAreaCurve
         One per distinct normal load, points in the file's order (the acquisition order:
         the fit finds the first static peak of F_x in it, before the stick-slip tail).
+
+    Raises
+    ------
+    MeasuredFileError
+        A malformed file (:func:`read_columns`), impossible areas, or a declared load that
+        the file's ``normal_load`` column contradicts (naming both).
     """
-    cols = read_columns(path, ("tangential_force", "real_area"), optional=("normal_load",))
-    check_areas(path, cols, nominal_area)
-    if "normal_load" in cols:
-        loads = cols["normal_load"]
-    elif normal_load is not None:
-        loads = np.full(cols["real_area"].shape, float(normal_load))
-    else:
-        raise MeasuredFileError(
-            f"{path}: no 'normal_load' column and no normal_load given in the "
-            "configuration (measured.shear_area)"
+    path = Path(path)
+    if normal_load is None:
+        cols = read_columns(
+            path, ("normal_load", "tangential_force", "real_area"), hint=_LONG_FILE_HINT
         )
+        loads = cols["normal_load"]
+    else:
+        cols = read_columns(path, ("tangential_force", "real_area"), optional=("normal_load",))
+        loads = _declared_load(path, cols, normal_load)
+    check_areas(path, cols, nominal_area)
     curves = []
     for load in np.unique(loads):
         pick = loads == load
         fx, ar = cols["tangential_force"][pick], cols["real_area"][pick]
         curves.append(ShearAreaCurve(float(load), fx, ar, str(path)))
     return curves
+
+
+def _unit_hint(load: float, configured: np.ndarray) -> str:
+    """A hint when ``load`` (N) is a unit factor (1e-3, 1e3, ...) from a configured load."""
+    for factor, unit in _LOAD_UNIT_HINTS.items():
+        if np.any(_same_load(configured, load * factor)):
+            return (
+                f"; {load:.6g} {unit} would be a configured load: if the column holds {unit}, "
+                f"say so in its header ('normal_load [{unit}]')"
+            )
+    return ""
+
+
+def _distance_text(load: float, nearest: float) -> str:
+    """How far a load is from the nearest configured one (N): a percentage or a factor."""
+    if nearest != 0 and load / nearest > 0 and max(load / nearest, nearest / load) >= 2:
+        return f"a factor {max(load / nearest, nearest / load):.3g} away"
+    return f"{abs(load - nearest) / max(abs(nearest), abs(load)):.1%} away"
+
+
+def check_curve_loads(curves: Sequence[ShearAreaCurve], normal_loads: Sequence[float]) -> None:
+    """Refuse a measured A_r(F_x) curve whose load is none of the configured loads (N).
+
+    The lambda fit evaluates the model at each curve's own load, and the report compares the
+    prediction with the measurement at the configured loads; a curve at a load that is not
+    configured (beyond :data:`LOAD_MATCH`) is most often a mistake (loads in mN under an
+    ``N`` header, the loads of another experiment), so it is refused before any stage runs,
+    quoting the file's value and the configured ones.
+
+    Raises
+    ------
+    MeasuredFileError
+        Naming the file, the curve's load and the configured loads.
+    """
+    configured = np.asarray(normal_loads, dtype=float)
+    if not configured.size:
+        return
+    for curve in curves:
+        load = curve.normal_load
+        if np.any(_same_load(configured, load)):
+            continue
+        nearest = float(configured[np.argmin(np.abs(configured - load))])
+        listed = ", ".join(f"{f:g}" for f in configured)
+        raise MeasuredFileError(
+            f"{curve.source}: a curve at normal_load = {load:.6g} N matches none of "
+            f"loading.normal_loads ({listed} N; nearest {nearest:g} N, "
+            f"{_distance_text(load, nearest)}, more than {100 * LOAD_MATCH:g} %): "
+            "add its load to loading.normal_loads, or correct the file"
+            + _unit_hint(load, configured)
+        )
 
 
 def write_shear_area(path: str | Path, curves: Sequence[ShearAreaCurve]) -> None:
@@ -311,10 +416,16 @@ class Measurements:
     shear_area: list[ShearAreaCurve] = field(default_factory=list)
 
 
-def read_measurements(config: Any, nominal_area: float | None = None) -> Measurements:
+def read_measurements(
+    config: Any,
+    nominal_area: float | None = None,
+    normal_loads: Sequence[float] | None = None,
+) -> Measurements:
     """Read every measured file of a ``[measured]`` configuration (``MeasuredConfig``).
 
-    ``nominal_area`` (m^2, ``loading.nominal_area``) refuses any measured A_r above it.
+    ``nominal_area`` (m^2, ``loading.nominal_area``) refuses any measured A_r above it;
+    ``normal_loads`` (N, ``loading.normal_loads``) refuses an A_r(F_x) curve at a load that
+    is none of them (:func:`check_curve_loads`). Both checks run before any stage.
     """
     normal = (
         None if config.normal_area is None else read_normal_area(config.normal_area, nominal_area)
@@ -322,4 +433,6 @@ def read_measurements(config: Any, nominal_area: float | None = None) -> Measure
     shear: list[ShearAreaCurve] = []
     for item in config.shear_area:
         shear += read_shear_area(item.file, item.normal_load, nominal_area)
+    if normal_loads is not None:
+        check_curve_loads(shear, normal_loads)
     return Measurements(normal, shear)

@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING
 import h5py
 import numpy as np
 
+from asperity.h5 import new_file
 from asperity.plotting import DisplayUnit, display_unit, new_figure, save_figure
 from asperity.statmodel.hertz import (
     hertz_contact_radius,
@@ -475,7 +476,7 @@ def write_all_figures(out: str | Path, *, dpi: int = DPI) -> list[Path]:
     out.mkdir(parents=True, exist_ok=True)
     h5_path = out / "statmodel_figures.h5"
     paths = []
-    with h5py.File(h5_path, "w") as h5:
+    with new_file(h5_path) as h5:  # atomic: a full disk leaves nothing partial
         h5.attrs["source"] = "asperity.statmodel.figures (Xu et al. 2022, Figs. 1, 2, 4, 5)"
         for name, draw in FIGURES.items():
             paths.append(save_figure(draw(h5), out / f"{name}.png", dpi=dpi))

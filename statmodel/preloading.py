@@ -94,12 +94,6 @@ def preload_state(setup: ModelSetup, separation: float) -> np.ndarray:
     return out
 
 
-def preload_normal_force(setup: ModelSetup, separation: float) -> float:
-    """F_z(d) of E:Fy_Greenwood at separation d (m), N."""
-    out = preload_state(setup, separation)
-    return setup.n_asperities * (out[_k.FZ_STICK] + out[_k.FZ_SLIP])
-
-
 def _unloading_prm(setup: ModelSetup, preload_separation: float | None) -> np.ndarray:
     """Kernel parameters of the loading branch (None) or the unloading branch after d_min (m)."""
     return (

@@ -63,7 +63,7 @@ def write_dataset(group: h5py.Group, name: str, data, units: str) -> None:
 
 def write_curve_hdf5(curve: ShearCurve, path: str | Path, attrs: dict | None = None) -> None:
     """Write a ShearCurve to HDF5: one dataset per field, each with a ``units`` attribute."""
-    with h5py.File(path, "w") as fh:
+    with h5.new_file(path) as fh:  # atomic: a full disk leaves nothing partial
         for name, unit in ARRAY_UNITS.items():
             write_dataset(fh, name, getattr(curve, name), unit)
         for name, unit in SCALAR_UNITS.items():

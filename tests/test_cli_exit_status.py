@@ -6,9 +6,18 @@ fault has to be injected (``asperity figures``'s handler stands in for any comma
 
 from __future__ import annotations
 
+import builtins
+import errno
+import io
+import os
+import shutil
+import signal
+import subprocess
 import warnings
+from collections.abc import Iterator
 from pathlib import Path
 
+import h5py
 import numpy as np
 import pytest
 
@@ -330,3 +339,202 @@ def test_warning_filters_still_apply_and_are_restored(capsys, monkeypatch):
         status, _, err = run(capsys, "figures", "--out", "anywhere")
     assert status == ExitStatus.OK and err == ""
     assert warnings.showwarning is before
+
+
+# ------------------------------------------------ 2: the user's disk (read-only, full)
+
+
+class _FillingFile:
+    """A file that takes ``room[0]`` more bytes, then fails as a full disk does (ENOSPC),
+    after writing what fitted (a half-written file is what the failure leaves)."""
+
+    def __init__(self, handle, room: list[int]):  # noqa: ANN001 (a file object)
+        self._handle, self._room = handle, room
+
+    def write(self, data):  # noqa: ANN001, ANN201
+        if len(data) > self._room[0]:
+            self._handle.write(data[: self._room[0]])
+            self._room[0] = 0
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        self._room[0] -= len(data)
+        return self._handle.write(data)
+
+    def fileno(self) -> int:  # writers must go through write() (PIL would use the fd)
+        raise io.UnsupportedOperation("fileno")
+
+    def __getattr__(self, name: str):  # noqa: ANN204
+        return getattr(self._handle, name)
+
+    def __enter__(self):  # noqa: ANN204
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._handle.close()
+
+
+def fill_disk_after(monkeypatch: pytest.MonkeyPatch, folder: Path, n_bytes: int) -> None:
+    """Every file opened for writing in ``folder`` shares ``n_bytes`` of free space."""
+    real_open, room = builtins.open, [n_bytes]
+
+    def open_on_a_small_disk(file, mode="r", *args, **kwargs):  # noqa: ANN001, ANN202
+        handle = real_open(file, mode, *args, **kwargs)
+        if isinstance(file, str | os.PathLike) and Path(file).parent == folder and "w" in mode:
+            return _FillingFile(handle, room)
+        return handle
+
+    monkeypatch.setattr(builtins, "open", open_on_a_small_disk)
+
+
+@pytest.fixture(scope="module")
+def small_map(tmp_path_factory) -> Path:
+    path = tmp_path_factory.mktemp("map") / "map.h5"
+    assert main(["synth", "--n", "64", "--seed", "3", "--out", str(path)]) == 0
+    return path
+
+
+def _tmpfs(folder: Path, options: str) -> bool:
+    """Mount a tmpfs on ``folder`` (root only); False where that is not possible."""
+    if os.geteuid() != 0 or shutil.which("mount") is None:
+        return False
+    folder.mkdir(parents=True, exist_ok=True)
+    command = ["mount", "-t", "tmpfs", "-o", options, "tmpfs", str(folder)]
+    done = subprocess.run(command, check=False, capture_output=True)
+    return done.returncode == 0
+
+
+@pytest.fixture
+def read_only_folder(tmp_path) -> Iterator[Path]:
+    """A folder no file can be written in: a read-only tmpfs as root, else mode 0o500."""
+    folder = tmp_path / "ro"
+    if _tmpfs(folder, "ro,size=64k"):
+        yield folder
+        subprocess.run(["umount", str(folder)], check=False)
+        return
+    if os.geteuid() == 0:
+        pytest.skip("root writes into read-only folders and cannot mount one here")
+    folder.mkdir()
+    folder.chmod(0o500)
+    yield folder
+    folder.chmod(0o700)
+
+
+@pytest.fixture
+def tiny_disk(tmp_path) -> Iterator[Path]:
+    """A real 20 kB file system (root only: a tmpfs), full after a few kB of output."""
+    folder = tmp_path / "tiny"
+    if not _tmpfs(folder, "size=20k"):
+        pytest.skip("needs root and tmpfs to make a real full disk (the patched disk tests run)")
+    yield folder
+    subprocess.run(["umount", str(folder)], check=False)
+
+
+def _one_error_line(err: str, *words: str) -> str:
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert len(lines) == 1 and "Traceback" not in err, err
+    assert all(word in lines[0] for word in words), lines[0]
+    return lines[0]
+
+
+WRITERS = {
+    "scan --out": ("scan", "{map}", "--max-stride", "4", "--out", "{folder}/scan.h5"),
+    "synth --out .npy": ("synth", "--n", "64", "--out", "{folder}/a.npy"),
+    "synth --out .npz": ("synth", "--n", "64", "--out", "{folder}/a.npz"),
+    "synth --out .h5": ("synth", "--n", "64", "--out", "{folder}/a.h5"),
+}
+
+
+def _argv(name: str, small_map: Path, folder: Path) -> list[str]:
+    return [a.format(map=small_map, folder=folder) for a in WRITERS[name]]
+
+
+@pytest.mark.parametrize("name", list(WRITERS))
+def test_a_read_only_folder_is_2_in_one_line_and_nothing_written(
+    capsys, small_map, read_only_folder, name
+):
+    status, _, err = run(capsys, *_argv(name, small_map, read_only_folder))
+    assert status == ExitStatus.BAD_INPUT
+    _one_error_line(err, str(read_only_folder), "while writing")
+    assert list(read_only_folder.iterdir()) == []
+
+
+@pytest.mark.parametrize("n_bytes", [0, 3000])
+@pytest.mark.parametrize("name", list(WRITERS))
+def test_a_full_disk_is_2_in_one_line_and_leaves_no_partial_file(
+    capsys, monkeypatch, small_map, tmp_path, name, n_bytes
+):
+    folder = tmp_path / "disk"
+    folder.mkdir()
+    fill_disk_after(monkeypatch, folder, n_bytes)
+    status, _, err = run(capsys, *_argv(name, small_map, folder))
+    monkeypatch.undo()
+    assert status == ExitStatus.BAD_INPUT
+    _one_error_line(err, "No space left on device while writing")
+    left = sorted(p.name for p in folder.iterdir())
+    # nothing, or (scan) the complete scan file written before its figure filled the disk
+    assert left in ([], ["scan.h5"]), left
+    for name_left in left:
+        with h5py.File(folder / name_left, "r") as handle:
+            assert handle["stride"][:].tolist() == [1, 2, 3, 4]
+
+
+@pytest.mark.parametrize("name", list(WRITERS))
+def test_a_real_full_disk_leaves_no_zero_byte_or_partial_file(capsys, tiny_disk, small_map, name):
+    (tiny_disk / "filler").write_bytes(b"\0" * 12_000)  # about 8 kB left
+    status, _, err = run(capsys, *_argv(name, small_map, tiny_disk))
+    assert status == ExitStatus.BAD_INPUT, err
+    _one_error_line(err, "No space left on device")
+    left = sorted(p.name for p in tiny_disk.iterdir() if p.name != "filler")
+    assert left in ([], ["scan.h5"]), left
+
+
+def test_dev_full_as_the_scan_output_is_2(capsys, small_map):
+    status, _, err = run(capsys, "scan", small_map, "--max-stride", "4", "--out", "/dev/full")
+    assert status == ExitStatus.BAD_INPUT
+    _one_error_line(err, "/dev/full", "character device")
+
+
+def test_run_out_empty_is_refused_before_anything_is_written(capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    status, _, err = run(capsys, "run", "--out", "")
+    assert status == ExitStatus.BAD_INPUT
+    _one_error_line(err, "--out", "empty")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_batch_out_read_only_is_2_before_any_map_runs(
+    capsys, small_map, read_only_folder, tmp_path
+):
+    job = tmp_path / "job.toml"
+    job.write_text(f'[surface]\nfile = "{small_map}"\n')
+    status, _, err = run(capsys, "batch", job, small_map, "--out", read_only_folder / "batch")
+    assert status == ExitStatus.BAD_INPUT
+    _one_error_line(err, "--out", f"cannot write in {read_only_folder} (")
+    status, _, err = run(capsys, "batch", job, small_map, "--out", "")
+    assert status == ExitStatus.BAD_INPUT
+    _one_error_line(err, "--out", "empty")
+
+
+def test_a_storage_error_escaping_a_command_is_2_not_70(capsys, monkeypatch):
+    def read_only(args):  # noqa: ANN001, ARG001
+        raise OSError(errno.EROFS, os.strerror(errno.EROFS), "/mnt/ro/out")
+
+    replace_handler(monkeypatch, read_only)
+    status, _, err = run(capsys, "figures", "--out", "anywhere")
+    assert status == ExitStatus.BAD_INPUT
+    _one_error_line(err, "/mnt/ro/out", "Read-only file system")
+
+
+# ----------------------------------------------------- 130: an interrupt is never lost
+
+
+def test_a_ctrl_c_turned_into_another_error_by_a_library_is_still_130(capsys, monkeypatch):
+    def interrupted_then_relabelled(args):  # noqa: ANN001, ARG001
+        try:
+            signal.raise_signal(signal.SIGINT)
+        except KeyboardInterrupt:
+            raise RuntimeError("a library's cleanup failed") from None
+
+    replace_handler(monkeypatch, interrupted_then_relabelled)
+    status, _, err = run(capsys, "figures", "--out", "anywhere")
+    assert status == ExitStatus.INTERRUPTED
+    _one_error_line(err, "interrupted")

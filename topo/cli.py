@@ -8,6 +8,7 @@ A thin shell over :func:`topo.read_surface`, :func:`topo.level`,
 from __future__ import annotations
 
 import argparse
+import io
 import json
 import math
 import re
@@ -16,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from asperity.atomic import write_bytes_atomic
 from asperity.errors import ExitStatus, InputError
 from asperity.files import require_output_path
 from asperity.quantities import add_bounded_option, quantity
@@ -316,10 +318,8 @@ def _synth(args: argparse.Namespace) -> int:
     surface = paper_like(n=args.n, pixel_size=args.pixel_size, seed=args.seed, **recipe)
     if out.suffix.lower() in (".h5", ".hdf5"):
         write_hdf5(surface, out)
-    elif out.suffix.lower() == ".npz":
-        np.savez(out, heights=surface.heights, dx=surface.dx, dy=surface.dy)
     else:
-        np.save(out, np.asarray(surface.heights), allow_pickle=False)
+        _write_numpy(surface, out)
     print(
         f"wrote {out}: {surface.nx} x {surface.ny} pixels of {surface.dx:g} m, "
         f"rms height {surface.provenance['rms_height']:g} m, periodic"
@@ -330,6 +330,18 @@ def _synth(args: argparse.Namespace) -> int:
         )
     )
     return ExitStatus.OK
+
+
+def _write_numpy(surface, out: Path) -> None:  # noqa: ANN001 (a HeightMap)
+    """``synth --out`` as .npz (heights, dx, dy in m) or .npy (heights in m), atomically: a
+    full disk leaves the previous file or none, never a 0-byte or truncated one. The bytes are
+    built in memory first: numpy's direct file write reports a full disk without its errno."""
+    image = io.BytesIO()
+    if out.suffix.lower() == ".npz":
+        np.savez(image, heights=surface.heights, dx=surface.dx, dy=surface.dy)
+    else:
+        np.save(image, np.asarray(surface.heights), allow_pickle=False)
+    write_bytes_atomic(out, image.getbuffer())
 
 
 def _add_input_options(parser: argparse.ArgumentParser) -> None:

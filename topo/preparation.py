@@ -27,6 +27,7 @@ from asperity.errors import InputError
 from asperity.topo.cleaning import (
     CropWindow,
     OutlierRule,
+    OutlierSearch,
     check_missing_policy,
     crop_surface,
     fill_missing,
@@ -269,12 +270,41 @@ def prepare_surface(
     if options.crop is not None:
         surface = crop_surface(surface, options.crop)
     check_height_spread(surface)
-    measured_missing = np.isnan(surface.heights)
-    n_missing = int(measured_missing.sum())
+    n_missing = int(np.isnan(surface.heights).sum())
     if options.missing == "refuse" and n_missing:
         refuse_missing(surface, n_missing)
     order, applied = _applied_order(surface, options.form_order)
     _check_enough_pixels(surface, order)
+    raw, levelled, form_rms, found = _level_and_treat_outliers(surface, order, options, n_missing)
+    holes = np.isnan(levelled)
+    unfilled = surface.with_heights(levelled)
+    prepared = fill_missing(unfilled, options.missing)
+    record = _preparation_record(
+        surface,
+        options,
+        measured_shape,
+        (order, applied),
+        (raw, levelled, form_rms),
+        found,
+        (n_missing, 0 if prepared is unfilled else int(holes.sum()), prepared.n_missing),
+    )
+    provenance = dict(surface.provenance, levelling=applied, preparation=record.as_dict())
+    return PreparedSurface(
+        surface=prepared.with_heights(prepared.heights, provenance=provenance),
+        record=record,
+        outlier_mask=found.mask,
+        filled_mask=holes if prepared is not unfilled else np.zeros_like(holes),
+    )
+
+
+def _level_and_treat_outliers(
+    surface: HeightMap, order: int, options: PreparationOptions, n_missing: int
+) -> tuple[np.ndarray, np.ndarray, float, OutlierSearch]:
+    """The form removed (order ``order``) and the outliers masked or clipped.
+
+    Returns the heights the form was fitted to (m, NaN where missing or masked), the levelled
+    heights (m), the form's rms (m) and the outliers found (:func:`find_outliers`).
+    """
     levelled, form_rms = _level(surface.heights, order)
     found = find_outliers(levelled, options.outliers)
     check_outlier_fraction(surface, found.count, n_missing, options.outliers.describe())
@@ -286,11 +316,28 @@ def prepare_surface(
         levelled, form_rms = _level(raw, order)
     elif found.count:
         levelled = np.clip(levelled, found.low, found.high)
+    return raw, levelled, form_rms, found
+
+
+def _preparation_record(
+    surface: HeightMap,
+    options: PreparationOptions,
+    measured_shape: tuple[int, int],
+    form: tuple[int, str],
+    heights: tuple[np.ndarray, np.ndarray, float],
+    found: OutlierSearch,
+    counts: tuple[int, int, int],
+) -> PreparationRecord:
+    """What :func:`prepare_surface` did, with its warnings.
+
+    ``form`` is (order, levelling applied), ``heights`` (fitted raw heights, levelled heights,
+    form rms in m), ``counts`` (missing pixels measured, filled, left).
+    """
+    order, applied = form
+    raw, levelled, form_rms = heights
+    n_missing, n_filled, n_left = counts
     roughness_rms = _rms_about_mean(levelled)
     next_order, next_rms = _next_order_rms(raw, order, surface.periodic)
-    holes = np.isnan(levelled)
-    unfilled = surface.with_heights(levelled)
-    prepared = fill_missing(unfilled, options.missing)
     n_total = surface.nx * surface.ny
     n_valid = n_total - n_missing
     record = PreparationRecord(
@@ -311,9 +358,9 @@ def prepare_surface(
         missing_policy=options.missing,
         n_missing=n_missing,
         missing_fraction=n_missing / n_total,
-        n_filled=0 if prepared is unfilled else int(holes.sum()),
-        filled_fraction=0.0 if prepared is unfilled else float(holes.sum()) / n_total,
-        n_missing_left=prepared.n_missing,
+        n_filled=n_filled,
+        filled_fraction=n_filled / n_total,
+        n_missing_left=n_left,
         outlier_rule=options.outliers.describe(),
         outlier_action=options.outliers.action,
         n_outliers=found.count,
@@ -322,14 +369,7 @@ def prepare_surface(
         outlier_high=found.high,
     )
     reader_warnings = [str(w) for w in surface.provenance.get("warnings", [])]
-    record = _with_warnings(record, found.scale, reader_warnings + grid_warnings(levelled))
-    provenance = dict(surface.provenance, levelling=applied, preparation=record.as_dict())
-    return PreparedSurface(
-        surface=prepared.with_heights(prepared.heights, provenance=provenance),
-        record=record,
-        outlier_mask=found.mask,
-        filled_mask=holes if prepared is not unfilled else np.zeros_like(holes),
-    )
+    return _with_warnings(record, found.scale, reader_warnings + grid_warnings(levelled))
 
 
 def check_outlier_fraction(surface: HeightMap, n_outliers: int, n_missing: int, rule: str) -> None:

@@ -216,11 +216,9 @@ def write_scan_hdf5(scan: ResolutionScan, path: str | Path, *, source: dict | No
     Path
         The file written.
     """
-    import h5py
-
     path = Path(path)
     units = {spec.name: spec.units for spec in field_specs(ResolutionScan)}
-    with h5py.File(path, "w") as handle:
+    with h5.new_file(path) as handle:  # atomic: the old file or the new one, never a part
         for name in ARRAY_FIELDS:
             h5.write_dataset(handle, name, getattr(scan, name), units[name], compression=None)
         if scan.nominal_area is not None:
@@ -274,7 +272,11 @@ def draw_resolution_scan(fig: Figure, scan: ResolutionScan, *, title: str = "") 
     ax_r.plot(res, u_r(scan.summit_radius), "o", ms=3, label="data")
     if math.isfinite(scan.radius_slope):
         fit = scan.radius_slope * scan.resolution + scan.radius_intercept
-        ax_r.plot(res, u_r(fit), "-", label=f"linear fit, slope {scan.radius_slope:.3g}")
+        positive = fit > 0  # a radius is positive: the line is drawn where it is
+        label = f"linear fit, dR/d$\\Delta$ = {scan.radius_slope:.3g} m/m"
+        if positive.any():
+            clipped = "" if positive.all() else " (drawn where R > 0)"
+            ax_r.plot(res[positive], u_r(fit[positive]), "-", label=label + clipped)
     ax_r.set_ylabel(u_r.label("mean summit radius $R$"))
     positive = scan.asperity_density > 0
     u_eta = display_unit(scan.asperity_density[positive], "m", -2)

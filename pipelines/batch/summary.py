@@ -4,8 +4,12 @@
 numbers of :func:`pipelines.batch.summary_values`, SI units in the headers), then a ``mean``
 and a ``std`` row (sample standard deviation, ddof = 1) over the maps whose result the
 verdict stands behind (status "ok"): an invalid or unconverged map is listed but never
-averaged in. ``summary.png``: each quantity against the map number,
-with the mean (line) and mean +- std (band).
+averaged in. The file opens with ``#`` comment lines (:func:`summary_header`): how many maps
+are ok, invalid, not converged or failed, and each such map with its first reason (read it
+with ``pandas.read_csv(path, comment="#")``). ``summary.png``: each quantity against the map
+number, with the mean (line) and mean +- std (band) over the maps with status "ok", as in the
+CSV; invalid and unconverged maps drawn as red crosses, and the figure stamped with their
+number when there are any.
 """
 
 from __future__ import annotations
@@ -16,8 +20,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from asperity.atomic import open_atomic
 from asperity.pipelines.report import log_axis, spans_decades
-from asperity.plotting import display_unit, new_figure, save_figure
+from asperity.plotting import display_unit, new_figure, save_figure, stamp
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -69,12 +74,36 @@ def _cell(value: Any) -> str:
     return "" if value is None else str(value)
 
 
+#: Map statuses the summary counts, in the order its header names them.
+STATUSES: tuple[str, ...] = ("ok", "invalid", "not converged", "failed")
+
+
+def summary_header(records: list[dict[str, Any]]) -> list[str]:
+    """Comment lines (without ``# ``) heading summary.csv: the count per status and each map
+    that is not ok with its status and first reason."""
+    counts = {s: sum(r.get("status") == s for r in records) for s in STATUSES}
+    lines = [
+        f"asperity batch summary of {len(records)} map(s): "
+        + ", ".join(f"{n} {'INVALID' if s == 'invalid' else s}" for s, n in counts.items() if n)
+    ]
+    flagged = [r for r in records if r.get("status") != "ok"]
+    if flagged:
+        lines.append("maps not ok are listed but left out of the mean and std rows:")
+    for r in flagged:
+        status = "INVALID" if r["status"] == "invalid" else r["status"]
+        first = str(r.get("message", "")).split("; ")[0]
+        lines.append(f"{Path(str(r['map'])).name}: {status}" + (f": {first}" if first else ""))
+    return lines
+
+
 def write_summary_csv(records: list[dict[str, Any]], path: Path) -> Path:
-    """One row per map, then the mean and std rows."""
+    """The :func:`summary_header` comments, one row per map, then the mean and std rows."""
     columns = numeric_columns(records)
     rows = [{**{k: r.get(k, "") for k in LEAD_COLUMNS}, **r.get("values", {})} for r in records]
     rows += list(_statistics(records, columns))
-    with open(path, "w", newline="", encoding="utf-8") as handle:
+    with open_atomic(path, "w", newline="", encoding="utf-8") as handle:
+        for line in summary_header(records):
+            handle.write(f"# {' '.join(line.split())}\n")
         writer = csv.writer(handle)
         writer.writerow([*LEAD_COLUMNS, *columns])
         for row in rows:
@@ -87,8 +116,11 @@ def _panel(ax: Any, records: list[dict[str, Any]], name: str, base: str, power: 
     values = column_values(records, name)
     unit = display_unit(values, base, power)
     index = np.arange(1, values.size + 1)
-    ax.plot(index, unit(values), "o")
-    good = values[np.isfinite(values)]
+    sound = np.array([r["status"] == "ok" for r in records if "values" in r], dtype=bool)
+    ax.plot(index[sound], unit(values[sound]), "o")
+    if not sound.all():
+        ax.plot(index[~sound], unit(values[~sound]), "x", color="#b00000", label="not ok")
+    good = values[sound & np.isfinite(values)]
     if good.size:
         m = unit(good.mean())
         ax.axhline(m, color="k", lw=1)
@@ -148,7 +180,17 @@ def draw_summary_figure(records: list[dict[str, Any]]) -> Figure:
     axes[1, 3].set_xticks(np.arange(1, values.size + 1))
     names = [Path(r["map"]).name for r in records if "values" in r]
     fig.suptitle(
-        f"{len(names)} maps (numbered as in summary.csv): mean (line) +- std (band)",
+        f"{len(names)} maps (numbered as in summary.csv): mean (line) +- std (band) over the "
+        "maps with status ok",
         fontsize=10,
     )
+    finished = [r for r in records if "values" in r]
+    flagged = [str(i + 1) for i, r in enumerate(finished) if r["status"] != "ok"]
+    if flagged:
+        which = ", ".join(flagged)
+        stamp(
+            fig,
+            f"{len(flagged)} of {len(names)} maps not ok (invalid verdict or not converged: "
+            f"map {which}; red crosses, left out of the mean and std; reasons in summary.csv)",
+        )
     return fig

@@ -14,7 +14,8 @@ code  name            when
 2     BAD_INPUT       bad input: a usage error (unknown option, missing argument: argparse's
                       message), an :class:`asperity.errors.InputError` (a bad file, configuration
                       key, option or value: the message names it), or a file-system error on a
-                      path the user named (not found, a directory, no permission, exists)
+                      path the user named (not found, a directory, no permission, exists) or of
+                      the user's storage (read-only, full disk, quota, I/O error)
 3     INVALID_RESULT  computed, but outside the model's validity (the report says why)
 70    INTERNAL_ERROR  any other exception: a defect in asperity, not in the input
 130   INTERRUPTED     interrupted (Ctrl-C); a job's finished stages are kept
@@ -33,6 +34,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import errno
 import importlib
 import os
 import sys
@@ -40,8 +42,10 @@ import traceback
 import warnings
 from collections.abc import Iterator, Sequence
 
+from asperity.atomic import storage_errno
 from asperity.errors import ExitStatus, InputError
 from asperity.pipelines import __version__
+from asperity.pipelines.engine.interrupts import InterruptGuard
 from asperity.quantities import OneLineErrorParser
 
 #: Modules that provide ``register(subparsers)``; each adds its sub-commands.
@@ -148,6 +152,17 @@ def _path_error_text(exc: OSError) -> str:
     return str(exc)
 
 
+#: Storage errors that are the user's disk whatever raised them (full, quota, read-only).
+DISK_ERRNOS = frozenset((errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EROFS))
+
+
+def _storage_failure(exc: BaseException) -> bool:
+    """A full, read-only or over-quota disk; an I/O or access error only with the path it
+    concerns (a bare ``OSError(EIO)`` may be a defect and stays an internal error)."""
+    code = storage_errno(exc)
+    return code in DISK_ERRNOS or (code is not None and bool(getattr(exc, "filename", None)))
+
+
 def _report_exception(command: str, exc: BaseException) -> ExitStatus:
     """Print the one-line report of ``exc`` (and its traceback when debugging); its status."""
     if _debugging():
@@ -155,7 +170,7 @@ def _report_exception(command: str, exc: BaseException) -> ExitStatus:
     if isinstance(exc, InputError):
         print(f"asperity {command}: error: {exc}", file=sys.stderr)
         return ExitStatus.BAD_INPUT
-    if isinstance(exc, PATH_ERRORS):
+    if isinstance(exc, PATH_ERRORS) or _storage_failure(exc):
         print(f"asperity {command}: error: {_path_error_text(exc)}", file=sys.stderr)
         return ExitStatus.BAD_INPUT
     print(
@@ -184,14 +199,21 @@ def main(argv: Sequence[str] | None = None) -> int:
     if getattr(args, "func", None) is None:
         parser.print_help()
         return ExitStatus.BAD_INPUT
+    interrupts = InterruptGuard()  # Ctrl-C is never lost, even inside a finaliser
     try:
-        with warnings_as_lines(args.command):
+        with warnings_as_lines(args.command), interrupts:
             return _status(args.func(args))
     except KeyboardInterrupt:
-        print(f"asperity {args.command}: interrupted; finished stages are kept", file=sys.stderr)
-        return ExitStatus.INTERRUPTED
+        return _interrupted(args.command)
     except Exception as exc:  # noqa: BLE001 (every exception gets a status of its own)
+        if interrupts.requested:  # a library turned the KeyboardInterrupt into another error
+            return _interrupted(args.command)
         return _report_exception(args.command, exc)
+
+
+def _interrupted(command: str) -> ExitStatus:
+    print(f"asperity {command}: interrupted; finished stages are kept", file=sys.stderr)
+    return ExitStatus.INTERRUPTED
 
 
 if __name__ == "__main__":  # pragma: no cover

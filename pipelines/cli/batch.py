@@ -13,6 +13,7 @@ import argparse
 import os
 import sys
 
+from asperity.files import require_output_dir
 from asperity.quantities import quantity
 
 
@@ -52,6 +53,7 @@ def handle_batch(args: argparse.Namespace) -> int:
     os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
     from asperity.pipelines.batch import run_batch
 
+    require_output_dir(args.out, "--out")  # an unwritable folder stops before any map runs
     result = run_batch(
         args.job,
         args.maps,

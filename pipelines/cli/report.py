@@ -4,12 +4,14 @@ Reads ``OUT_DIR/results.h5`` (:func:`asperity.open_results`) and writes every fi
 format, with its CSV), ``report.md`` and ``report.html`` again, without recomputing anything:
 no solver runs. Formats and dpi default to the run's ``[report]`` section (stored in the
 file's resolved configuration), else PNG at 150 dpi. Exit status 0, or 2 when the folder
-holds no complete run.
+holds no complete run, another run holds its lock, or it cannot be written (read-only, full).
+Every file is written atomically; temporaries left by a killed run are removed first.
 """
 
 from __future__ import annotations
 
 import argparse
+import sys
 
 from asperity.errors import InputError
 from asperity.quantities import quantity
@@ -56,6 +58,7 @@ def stored_report_section(config_toml: str) -> dict:
 
 def handle_report(args: argparse.Namespace) -> int:
     """Redraw the report of ``args.out_dir``; 0 on success."""
+    from asperity.pipelines.engine.outdir import OutputLock
     from asperity.pipelines.report import write_report
     from asperity.pipelines.report.figure_output import FigureOptions
     from asperity.pipelines.results import open_results
@@ -78,6 +81,10 @@ def handle_report(args: argparse.Namespace) -> int:
         options = FigureOptions(formats, dpi)
     except InputError as exc:
         raise InputError(f"--{exc}") from None
-    report = write_report(results, results.out_dir, options)
+    # The folder's lock: no run writes there meanwhile, and temporaries of a killed run are removed.
+    with OutputLock(
+        results.out_dir, log=lambda line: print(line, file=sys.stderr), option="OUT_DIR"
+    ):
+        report = write_report(results, results.out_dir, options)
     print(f"{report}, {report.with_suffix('.html')} and the figures ({', '.join(options.formats)})")
     return 0

@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from asperity.errors import InputError
+from asperity.files import require_output_dir
 from asperity.pipelines.config import PRESETS, load_config, load_preset
 from asperity.quantities import quantity
 
@@ -93,6 +94,7 @@ def handle_run(args: argparse.Namespace) -> int:
     )
     from asperity.pipelines.engine.outdir import OutputLock
 
+    require_output_dir(args.out, "--out", probe=False)  # "" would write into the current folder
     # The lock first (a second run on --out stops at once, before the heavy imports); held over
     # the job and the report.
     with OutputLock(args.out, log=_log_line):

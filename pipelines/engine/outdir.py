@@ -15,8 +15,9 @@ Three guarantees of ``asperity run --out DIR`` (and :func:`pipelines.job.run_job
   directory, no permission) is :class:`OutputDirError`, and a full disk or quota while
   writing is :class:`OutputWriteError`: one line, exit status 2 (a file-system error on a
   path the user named), the previous ``results.h5`` untouched.
-* **No stale temporary files.** The store writes ``.results.h5.<pid>.tmp`` beside the result
-  file; :func:`remove_stale_temporaries` (called under the lock) removes those of processes
+* **No stale temporary files.** Every output file is written through a temporary
+  ``.NAME.<pid>.tmp`` beside it (:mod:`asperity.atomic`); :func:`remove_stale_temporaries`
+  (called under the lock) removes those of processes
   that no longer run on this host, and reports each one removed.
 
 Where the file system refuses ``flock`` (some network or FUSE file systems), the pid record
@@ -43,24 +44,19 @@ from collections.abc import Callable
 from pathlib import Path
 from types import TracebackType
 
+from asperity.atomic import (  # noqa: F401 (re-exported: their documented home)
+    STORAGE_ERRNOS,
+    OutputWriteError,
+    storage_errno,
+    write_error,
+)
 from asperity.errors import InputError
 
 #: Name of the lock file in the output directory.
 LOCK_NAME = ".asperity.lock"
 #: Byte offset locked on Windows (past the pid record, so that the record stays readable).
 _WINDOWS_LOCK_OFFSET = 1 << 20
-#: Errors of a full or failing storage device (reported as OutputWriteError, not a defect).
-STORAGE_ERRNOS = frozenset(
-    (errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EROFS, errno.EIO, errno.EACCES, errno.EPERM)
-)
-_STORAGE_WORDS = {
-    "no space left on device": errno.ENOSPC,
-    "disk quota exceeded": errno.EDQUOT,
-    "file too large": errno.EFBIG,
-    "read-only file system": errno.EROFS,
-    "input/output error": errno.EIO,
-}
-_TEMPORARY = re.compile(r"^\.(?P<name>.+\.h5)\.(?P<pid>\d+)\.tmp$")  # the store's
+_TEMPORARY = re.compile(r"^\.(?P<name>.+)\.(?P<pid>\d+)\.tmp$")  # asperity.atomic's
 
 
 class OutputLockedError(InputError):
@@ -69,57 +65,6 @@ class OutputLockedError(InputError):
 
 class OutputDirError(InputError):
     """The output directory cannot be created or written (exit status 2)."""
-
-
-class OutputWriteError(InputError):
-    """Writing an output file failed for lack of space, quota or access (exit status 2).
-
-    Attributes
-    ----------
-    errno : int or None
-        The operating system's error number, when known.
-    """
-
-    def __init__(self, message: str, errno_code: int | None = None):
-        super().__init__(message)
-        self.errno = errno_code
-
-
-def storage_errno(exc: BaseException) -> int | None:
-    """The storage error number behind ``exc`` (an OSError, or h5py's RuntimeError text).
-
-    Returns None when ``exc`` is not a storage failure (a defect must not be relabelled).
-    """
-    code = getattr(exc, "errno", None)
-    if isinstance(exc, OSError) and code in STORAGE_ERRNOS:
-        return code
-    if isinstance(exc, OSError | RuntimeError):  # h5py: "... errno = 28, error message = ..."
-        text = str(exc).lower()
-        match = re.search(r"errno = (\d+)", text)
-        if match and int(match.group(1)) in STORAGE_ERRNOS:
-            return int(match.group(1))
-        for word, number in _STORAGE_WORDS.items():
-            if word in text:
-                return number
-    return None
-
-
-def write_error(path: Path, exc: BaseException, kept: str) -> OutputWriteError | None:
-    """The one-line error for a failed write of ``path``, or None when ``exc`` is a defect.
-
-    Parameters
-    ----------
-    path : Path
-        The file being written.
-    exc : exception
-        What the write raised.
-    kept : str
-        What is still intact on disk (said in the message).
-    """
-    code = storage_errno(exc)
-    if code is None:
-        return None
-    return OutputWriteError(f"{path}: {os.strerror(code)} while writing; {kept}", code)
 
 
 def pid_alive(pid: int) -> bool:
@@ -138,13 +83,13 @@ def pid_alive(pid: int) -> bool:
 
 
 def remove_stale_temporaries(directory: Path, log: Callable[[str], None]) -> list[Path]:
-    """Remove ``.NAME.h5.<pid>.tmp`` files of processes that no longer run on this host.
+    """Remove ``.NAME.<pid>.tmp`` files of processes that no longer run on this host.
 
     Call it while holding the directory's :class:`OutputLock` (no other run of asperity then
     writes there). Returns the files removed; ``log`` gets one line for each.
     """
     removed = []
-    for path in sorted(directory.glob(".*.h5.*.tmp")):
+    for path in sorted(directory.glob(".*.*.tmp")):
         match = _TEMPORARY.match(path.name)
         if match is None or int(match.group("pid")) == os.getpid():
             continue
@@ -201,6 +146,8 @@ class OutputLock:
         The output directory (created when missing).
     log : callable, optional
         Receives one line when a stale lock record or temporary file is taken over / removed.
+    option : str
+        How the user named the directory, first in every message (``--out``, ``OUT_DIR``).
 
     Raises
     ------
@@ -213,8 +160,14 @@ class OutputLock:
     _held: dict[Path, tuple[OutputLock, int]] = {}
     _guard = threading.Lock()
 
-    def __init__(self, directory: str | Path, log: Callable[[str], None] | None = None):
+    def __init__(
+        self,
+        directory: str | Path,
+        log: Callable[[str], None] | None = None,
+        option: str = "--out",
+    ):
         self.directory = Path(directory)
+        self.option = option
         self.path = self.directory / LOCK_NAME
         self.log = log or (lambda line: None)
         self._handle = None
@@ -238,7 +191,7 @@ class OutputLock:
             self.directory.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
             raise OutputDirError(
-                f"--out {self.directory}: cannot create the output directory "
+                f"{self.option} {self.directory}: cannot create the output directory "
                 f"({exc.strerror or exc})"
             ) from exc
         key = self.directory.resolve()
@@ -258,7 +211,7 @@ class OutputLock:
             handle = open(self.path, "a+b")  # noqa: SIM115 (held until release)
         except OSError as exc:
             raise OutputDirError(
-                f"--out {self.directory}: cannot write in the output directory "
+                f"{self.option} {self.directory}: cannot write in the output directory "
                 f"({exc.strerror or exc}: {self.path})"
             ) from exc
         try:
@@ -307,8 +260,8 @@ class OutputLock:
     def _locked_message(self, holder: dict) -> str:
         pid, host = holder.get("pid", "?"), holder.get("host", "?")
         return (
-            f"--out {self.directory}: in use by another asperity run (pid {pid} on host {host}, "
-            f"started {holder.get('started', '?')}; lock file {self.path}). Wait for it to "
+            f"{self.option} {self.directory}: in use by another asperity run (pid {pid} on host "
+            f"{host}, started {holder.get('started', '?')}; lock file {self.path}). Wait for it to "
             "finish or choose another --out. A run that ended on this host releases the lock "
             "by itself (a dead pid is taken over); delete the lock file only if that run is "
             "gone and the directory is shared with another host"

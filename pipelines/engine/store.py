@@ -19,8 +19,9 @@ metadata declares (:mod:`asperity.fields`), written and read back by :mod:`asper
 
 Crash safety: every write builds the new file in memory (the current file, the new group, the
 file's provenance, stale groups dropped), writes those bytes to ``.results.h5.<pid>.tmp`` in the
-same directory, flushes it to disk and renames it over ``results.h5`` (:func:`os.replace` is
-atomic on POSIX), so an interruption leaves either the old file or the new one, never a
+same directory, flushes it to disk and renames it over ``results.h5`` (:mod:`asperity.atomic`,
+the one atomic writer of every output file; :func:`os.replace` is atomic on POSIX), so an
+interruption leaves either the old file or the new one, never a
 half-written one, and the provenance always describes the stages beside it. libhdf5 itself never
 writes to disk, so a full disk is one clean :class:`pipelines.engine.outdir.OutputWriteError` (exit
 status 2), the previous file intact and the temporary removed, instead of an h5py error and a
@@ -30,7 +31,6 @@ stage arrays, compressed above 4096 elements).
 
 from __future__ import annotations
 
-import contextlib
 import datetime as _dt
 import io
 import os
@@ -43,6 +43,7 @@ from typing import Any, TypeVar
 import h5py
 import numpy as np
 
+from asperity.atomic import atomic_output, sync_directory, temporary_path
 from asperity.fields import checksum
 from asperity.h5 import (
     COMPRESS_ABOVE,
@@ -52,7 +53,6 @@ from asperity.h5 import (
     read_result,
     write_result,
 )
-from asperity.pipelines.engine.outdir import write_error
 
 R = TypeVar("R")
 
@@ -254,28 +254,12 @@ class ResultStore:
             No space, quota or access: the previous file is intact, no temporary is left.
         """
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = self.temporary_path()
-        try:
+        with atomic_output(self.path) as tmp:
             write_bytes_synced(tmp, image.getbuffer())
-            os.replace(tmp, self.path)
-            sync_directory(self.path.parent)
-        except (OSError, RuntimeError) as exc:
-            kept = (
-                f"{self.path} is unchanged (it keeps every stage finished before)"
-                if self.path.exists()
-                else "nothing was written"
-            )
-            error = write_error(self.path, exc, kept)
-            if error is None:
-                raise
-            raise error from exc
-        finally:
-            with contextlib.suppress(FileNotFoundError):
-                tmp.unlink()
 
     def temporary_path(self) -> Path:
         """Where this process writes the next version of the file (``.results.h5.<pid>.tmp``)."""
-        return self.path.with_name(f".{self.path.name}.{os.getpid()}.tmp")
+        return temporary_path(self.path)
 
 
 #: Bytes written per ``os.write`` call.
@@ -294,17 +278,5 @@ def write_bytes_synced(path: Path, data: memoryview | bytes) -> None:
             written = os.write(fd, view[:WRITE_CHUNK])
             view = view[written:]
         os.fsync(fd)
-    finally:
-        os.close(fd)
-
-
-def sync_directory(directory: Path) -> None:
-    """Flush a rename in ``directory`` to the device (POSIX; a no-op where unsupported)."""
-    if not hasattr(os, "O_DIRECTORY"):
-        return
-    fd = os.open(directory, os.O_RDONLY | os.O_DIRECTORY)
-    try:
-        with contextlib.suppress(OSError):  # some file systems refuse fsync on a directory
-            os.fsync(fd)
     finally:
         os.close(fd)

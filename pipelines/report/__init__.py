@@ -44,10 +44,30 @@ from matplotlib import colormaps
 from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
+from asperity.atomic import write_text_atomic
+from asperity.pipelines.report import verdict_marks
 from asperity.pipelines.report.bem import bem_grid_figure, bem_section
 from asperity.pipelines.report.figure_output import FigureOptions, FigureTable, publish
+from asperity.pipelines.report.measured import shape_scale_key_numbers
+from asperity.pipelines.report.uncertainty import (
+    bem_cells,
+    bem_error_bars,
+    draw_fig13_error_bars,
+    draw_model_band,
+    draw_resolution_interval,
+    friction_error_bars,
+    misfit_text,
+    model_cells,
+    resolution_text,
+    uncertainty_rows,
+)
 from asperity.pipelines.stages import stage_number
-from asperity.pipelines.stages.verdict import mark, verdict_lines, verdict_markdown
+from asperity.pipelines.stages.verdict import (
+    mark,
+    verdict_lines,
+    verdict_markdown,
+    verdict_wording,
+)
 from asperity.plotting import DisplayUnit, display_unit, new_figure
 from asperity.statmodel.figures import draw_shear_curve
 
@@ -199,9 +219,7 @@ def _scan_panels(scan: Any) -> list[dict[str, Any]]:
             "column": "summit radius R (m)",
             "values": scan.summit_radius,
             "unit": display_unit(scan.summit_radius, "m"),
-            "fit": scan.radius_intercept + scan.radius_slope * dense,
-            "fit_x": dense,
-            "fit_label": f"linear fit, slope {scan.radius_slope:.3g}",
+            **radius_fit_line(scan, dense),
         },
         {
             "title": "(b)",
@@ -224,6 +242,20 @@ def _scan_panels(scan: Any) -> list[dict[str, Any]]:
     ]
 
 
+def radius_fit_line(scan: Any, resolution: np.ndarray) -> dict[str, Any]:
+    """Fig 12a's linear fit R = intercept + slope x over ``resolution`` (m), drawn only where
+    R > 0 (a radius is positive; the straight line may cross zero inside the scan), with its
+    slope dR/dx in m/m (R and the resolution are both lengths)."""
+    fit = scan.radius_intercept + scan.radius_slope * np.asarray(resolution, dtype=float)
+    keep = np.isfinite(fit) & (fit > 0)
+    label = f"linear fit, dR/d(resolution) = {scan.radius_slope:.3g} m/m"
+    if not keep.all() and keep.any():
+        label += " (drawn where R > 0)"
+    if not keep.any():
+        return {"fit": None}
+    return {"fit": fit[keep], "fit_x": np.asarray(resolution)[keep], "fit_label": label}
+
+
 def _persson_fraction(result: Any) -> np.ndarray | None:
     psd = getattr(result, "psd", None)
     if psd is None:
@@ -240,41 +272,50 @@ def _draw_area_vs_load(ax: Any, result: Any, table: FigureTable) -> None:
     x_col, y_col = "normal load F_z (N)", "A_r/A_n (1)"
     plotted: list[np.ndarray] = []
 
-    def series(name: str, f: Any, fraction: Any, style: str, **kw: Any) -> None:
+    def series(name: str, f: Any, fraction: Any, style: str, u: Any = None, **kw: Any) -> None:
         fraction = np.asarray(fraction, dtype=float)
-        ax.plot(fu(f), fraction, style, label=name, **kw)
-        table.add("d", name, {x_col: f, y_col: fraction})
+        columns = {x_col: f, y_col: fraction}
+        if u is None:
+            ax.plot(fu(f), fraction, style, label=name, **kw)
+        else:
+            ax.errorbar(fu(f), fraction, yerr=u, fmt=style, label=name, capsize=3, **kw)
+            columns["A_r/A_n uncertainty (1)"] = u
+            # the bars count in the choice of a log axis (none when a bar reaches 0)
+            plotted.append(np.concatenate([fraction - u, fraction + u]))
+        table.add("d", name, columns)
         plotted.append(fraction)
 
     if bem is not None:
-        series(
-            "BEM, non-adhesive", bem.normal_load, bem.contact_fraction, "s", mfc="none", color="0.4"
-        )
+        bars = bem_error_bars(bem)
+        series("BEM, non-adhesive", bem.normal_load, bem.contact_fraction, "s", bars[0], mfc="none")
         if bem.contact_fraction_adhesive is not None:
-            series("BEM, adhesive", bem.normal_load, bem.contact_fraction_adhesive, "s", color="C3")
+            series("BEM, adhesive", bem.normal_load, bem.contact_fraction_adhesive, "s", bars[1])
         non_adhesive_series(series, res)
+    draw_model_band(ax, fu, result, table, (x_col, y_col))
     for i in sorted({0, res.index, len(res.stride) - 1}):
         if np.all(np.isfinite(res.real_area[i])):
             ru = display_unit(res.resolution[i], "m")
             name = f"model, {ru(res.resolution[i]):.3g} {ru.symbol}"
-            name += " (effective)" if i == res.index else ""
+            name += " (stride of least misfit)" if i == res.index else ""
             series(name, loads, res.real_area[i] / a_n, "-" if i == res.index else ":")
     persson = _persson_fraction(result)
     if persson is not None:
         series("Persson, non-adhesive", result.psd.normal_load, persson, "-.", color="C4")
     if res.measured is not None:
         series("measured", res.measured.normal_load, res.measured.real_area / a_n, "o", color="k")
+    verdict_marks.separate_bem_markers(ax)
     _auto_scale(ax, loads, np.concatenate(plotted))
     ax.set_xlabel(fu.label("normal load $F_z$"))
     ax.set_ylabel("$A_r / A_n$")
     ax.set_title("(d)")
+    verdict_marks.threshold_lines(ax, "A_r/A_n", verdict_marks.AREA_FRACTION_THRESHOLDS)
     ax.legend(fontsize=7)
 
 
 def non_adhesive_series(series: Any, res: Any) -> None:
     """Fig 12d's non-adhesive pair: the model at w -> 0 (Greenwood-Williamson) at that pair's
-    least-misfit resolution, drawn in the grey of the non-adhesive BEM (the adhesive pair:
-    filled red squares and the effective model)."""
+    least-misfit resolution, a grey dashed line with open triangles beside the open squares
+    of the non-adhesive BEM (the adhesive pair: the filled squares and the effective model)."""
     index = getattr(res, "effective_index_non_adhesive", None)
     if index is None or res.real_area_non_adhesive is None:
         return
@@ -329,11 +370,13 @@ def draw_misfit(result: Any) -> tuple[Figure, FigureTable]:
         xu(res.effective_resolution),
         color="k",
         ls="--",
-        label=f"effective {xu(res.effective_resolution):.3g} {xu.symbol}",
+        label=f"stride of least misfit {xu(res.effective_resolution):.3g} {xu.symbol}",
     )
+    draw_resolution_interval(ax, xu, res, table)
     ax.set_xlabel(xu.label("resolution"))
     ax.set_ylabel("rms of ln($A_{model}$ / $A_{reference}$)")
     log_axis(ax, "y", [m for _, m, _ in curves])
+    verdict_marks.threshold_lines(ax, "misfit", verdict_marks.MISFIT_THRESHOLDS)
     ax.legend(fontsize=8)
     return fig, table
 
@@ -481,6 +524,7 @@ def draw_area_vs_force(result: Any) -> tuple[Figure, FigureTable]:
         )
     if result.mode_mixity.curves:
         ax.plot([], [], "k-", lw=1, label="measured")
+    draw_fig13_error_bars(ax, fu, fr, colors, table)
     _model_at_measured(result.mode_mixity, a_n, table, x_col, y_col)
     line = np.linspace(0, np.nanmax(fr.tangential_force), 50)
     tau_line = line / max(fr.shear_strength, 1e-300) / a_n
@@ -489,6 +533,7 @@ def draw_area_vs_force(result: Any) -> tuple[Figure, FigureTable]:
     ax.set_ylim(0, 1.15 * np.nanmax(fr.real_area) / a_n)
     ax.set_xlabel(fu.label("tangential load $F_x$"))
     ax.set_ylabel("$A_r / A_n$")
+    verdict_marks.threshold_lines(ax, "A_r/A_n", verdict_marks.AREA_FRACTION_THRESHOLDS)
     ax.legend(fontsize=7)
     return fig, table
 
@@ -502,17 +547,69 @@ def draw_friction_vs_load(result: Any) -> tuple[Figure, FigureTable]:
     ax = fig.subplots()
     table = FigureTable()
     x_col = "normal load F_z (N)"
+    bars = friction_error_bars(fr)
     for name, values, style in (
         ("static (peak)", fr.static_friction, "o-"),
         ("sliding", fr.sliding_friction, "s--"),
     ):
-        ax.plot(fu(fr.normal_load), yu(values), style, label=name)
-        table.add("all", name, {x_col: fr.normal_load, "friction force (N)": values})
+        columns = {x_col: fr.normal_load, "friction force (N)": values}
+        u = bars[name]
+        if u is None:
+            ax.plot(fu(fr.normal_load), yu(values), style, label=name)
+        else:
+            x = fu(fr.normal_load)
+            ax.errorbar(x, yu(values), yerr=yu(u), fmt=style, capsize=3, label=name)
+            columns["friction force uncertainty (N)"] = u
+        table.add("all", name, columns)
     _auto_scale(ax, fr.normal_load, [fr.static_friction, fr.sliding_friction])
     ax.set_xlabel(fu.label("normal load $F_z$"))
     ax.set_ylabel(yu.label("friction force"))
     ax.legend(fontsize=8)
     return fig, table
+
+
+def nyquist_style(name: str) -> dict[str, Any]:
+    """Line style of a Nyquist mark: the map's wide and light grey, the effective resolution's
+    thin, red and on top (at stride 1 both coincide and both stay visible); solid or
+    dash-dot in x, dashed or dash-dot-dot in y."""
+    in_y = "dy" in name
+    if name.startswith("effective"):
+        return {
+            "color": "C3",
+            "lw": 1.2,
+            "zorder": 3,
+            "ls": (0, (6, 2, 1, 2, 1, 2)) if in_y else "-.",
+        }
+    return {
+        "color": "0.6",
+        "lw": 3.5,
+        "alpha": 0.6,
+        "zorder": 2,
+        "ls": (0, (3, 1)) if in_y else "-",
+    }
+
+
+def nyquist_marks(result: Any) -> dict[str, float]:
+    """Labelled Nyquist wavenumbers (rad/m) of the PSD figure (styles: :func:`nyquist_style`).
+
+    The map's own: pi/dx and, when the pixels are not square, pi/dy. The effective
+    resolution x (the scan's pixel size, stride k times sqrt(dx dy)) decimates both axes by
+    the same stride, so its Nyquist wavenumbers are pi/(k dx) and pi/(k dy): each within the
+    map's own in its direction (one line when the pixels are square).
+    """
+    surface, x = result.surface, float(result.psd.effective_resolution)
+    dx, dy = float(surface.dx), float(surface.dy)
+    xu = display_unit(x, "m")
+    effective = f"effective resolution {xu(x):.3g} {xu.symbol}"
+    if np.isclose(dx, dy, rtol=1e-9, atol=0.0):
+        return {"map Nyquist $\\pi/dx$": np.pi / dx, f"{effective}: $\\pi/x$": np.pi / x}
+    k = x / np.sqrt(dx * dy)  # the stride (the decimation of both axes)
+    return {
+        "map Nyquist in x, $\\pi/dx$": np.pi / dx,
+        "map Nyquist in y, $\\pi/dy$": np.pi / dy,
+        f"{effective}: $\\pi/(k\\,dx)$, k = {k:.3g}": np.pi / (k * dx),
+        f"{effective}: $\\pi/(k\\,dy)$": np.pi / (k * dy),
+    }
 
 
 def draw_psd(result: Any) -> tuple[Figure, FigureTable]:
@@ -543,25 +640,22 @@ def draw_psd(result: Any) -> tuple[Figure, FigureTable]:
             qu(line), cu(fit), "-", color="C1", label=f"power law, H = {psd.hurst_exponent:.3g}"
         )
         table.add("all", "power-law fit", {q_col: line, c_col: fit})
-    ax.axvline(qu(psd.nyquist_wavenumber), color="0.5", ls=":", label="map Nyquist $\\pi/dx$")
-    x = psd.effective_resolution
-    xu = display_unit(x, "m")
-    ax.axvline(
-        qu(np.pi / x),
-        color="C3",
-        ls="-.",
-        label=f"effective resolution {xu(x):.3g} {xu.symbol}: $\\pi/x$",
-    )
+    marks = nyquist_marks(result)
+    for name, wavenumber in marks.items():
+        ax.axvline(qu(wavenumber), label=name, **nyquist_style(name))
     table.add(
         "all",
         "marks",
         {
             "roll-off wavenumber (rad/m)": q_r,
             "map Nyquist wavenumber (rad/m)": psd.nyquist_wavenumber,
-            "effective Nyquist wavenumber (rad/m)": np.pi / x,
+            "effective Nyquist wavenumber (rad/m)": np.pi / psd.effective_resolution,
             "Hurst exponent (1)": psd.hurst_exponent,
         },
     )
+    for name, wavenumber in marks.items():  # each line drawn, named as in the legend
+        plain = name.replace("$", "").replace("\\pi", "pi").replace("\\,", " ")
+        table.add("all", f"line: {plain}", {q_col: wavenumber})
     ax.xaxis.set_minor_formatter(NullFormatter())
     ax.yaxis.set_minor_formatter(NullFormatter())
     ax.set_xlabel(f"wavenumber $q$ (rad {qu.symbol})")
@@ -589,9 +683,23 @@ FIGURES: dict[str, tuple[str, Any, Any]] = {
 }
 
 
+def draw_figure(result: Any, name: str) -> tuple[Figure, FigureTable]:
+    """One figure of :data:`FIGURES` drawn, stamped with the run's verdict unless it is valid,
+    its table headed by the verdict (:mod:`pipelines.report.verdict_marks`)."""
+    fig, table = FIGURES[name][1](result)
+    verdict = getattr(result, "verdict", None)
+    verdict_marks.stamp_verdict(fig, verdict)
+    table.header = verdict_marks.csv_header(verdict)
+    return fig, table
+
+
 def draw_figures(result: Any) -> dict[str, tuple[Figure, FigureTable]]:
     """Every figure the result has, drawn (nothing written): {name: (figure, data table)}."""
-    return {name: draw(result) for name, (_, draw, present) in FIGURES.items() if present(result)}
+    return {
+        name: draw_figure(result, name)
+        for name, (_, _, present) in FIGURES.items()
+        if present(result)
+    }
 
 
 def write_figures(
@@ -615,6 +723,13 @@ def _grid_error_text(bem: Any) -> str:
     return f"A_r {bem.grid_error:.2%} from the finest grid solved"
 
 
+def pixel_size_text(surface: Any) -> str:
+    """``"10 um pixels"``, or ``"0.1277 x 0.3146 um pixels (dx x dy)"`` when dy differs."""
+    if np.isclose(surface.dx, surface.dy, rtol=1e-9, atol=0.0):
+        return f"{surface.dx * 1e6:.4g} um pixels"
+    return f"{surface.dx * 1e6:.4g} x {surface.dy * 1e6:.4g} um pixels (dx x dy)"
+
+
 def key_numbers(result: Any) -> list[tuple[str, str]]:
     """(quantity, value with unit) rows of the report's headline table."""
     res, fr, bem, lam = result.resolution, result.friction, result.bem, result.mode_mixity
@@ -622,19 +737,14 @@ def key_numbers(result: Any) -> list[tuple[str, str]]:
     rows = [
         (
             "surface",
-            f"{result.surface.nx} x {result.surface.ny} px, "
-            f"{result.surface.dx * 1e6:.4g} um pixels",
+            f"{result.surface.nx} x {result.surface.ny} px, {pixel_size_text(result.surface)}",
         ),
-        (
-            "effective resolution",
-            f"{res.effective_resolution * 1e6:.4g} um "
-            f"(stride {res.effective_stride}, chosen against {res.basis})",
-        ),
+        ("effective resolution", f"{resolution_text(res)}; chosen against {res.basis}"),
         ("summit radius R", f"{r.summit_radius * 1e3:.4g} mm"),
         ("asperity density eta", f"{r.asperity_density * 1e-6:.4g} 1/mm^2"),
         ("rms summit height sigma_s", f"{r.summit_height_rms * 1e3:.4g} mm"),
         ("Tabor parameter mu", f"{res.tabor_parameter:.4g}"),
-        ("misfit at effective resolution", f"{res.misfit[res.index]:.3g} (rms ln ratio)"),
+        ("misfit at effective resolution", misfit_text(res)),
     ]
     if lam.fitted:
         rows.append(
@@ -647,6 +757,7 @@ def key_numbers(result: Any) -> list[tuple[str, str]]:
         )
     else:
         rows.append(("mode mixity lambda (configured)", f"{lam.mode_mixity:.4g}"))
+    rows += shape_scale_key_numbers(result)
     if bem is None:
         rows.append(("BEM", "not run ([bem] enabled = false): calibrated on the measurement"))
     else:
@@ -660,6 +771,7 @@ def key_numbers(result: Any) -> list[tuple[str, str]]:
         ]
         rows += adhesion_key_numbers(result)
     rows += psd_key_numbers(result)
+    rows += uncertainty_rows(result)
     rows += [
         ("statmodel quadrature", fr.quadrature_reason),
         ("shear curves converged", f"{int(np.sum(fr.converged))} / {fr.converged.size}"),
@@ -743,8 +855,7 @@ def psd_key_numbers(result: Any) -> list[tuple[str, str]]:
 
 def load_table(result: Any) -> tuple[list[str], list[list[str]]]:
     """Header and rows of the per-load table."""
-    fr, bem, res = result.friction, result.bem, result.resolution
-    a_n = fr.nominal_area
+    fr, bem = result.friction, result.bem
     header = [
         "F_z (N)",
         "A_r/A_n BEM",
@@ -758,20 +869,8 @@ def load_table(result: Any) -> tuple[list[str], list[list[str]]]:
     if persson is not None:
         header.append("A_r/A_n Persson")
     rows = []
-    plain = None if bem is None else bem.contact_fraction
-    adh = None if bem is None else bem.contact_fraction_adhesive
     for i, f in enumerate(fr.normal_load):
-        rows.append(
-            [
-                f"{f:.4g}",
-                "-" if plain is None else f"{plain[i]:.4g}",
-                "-" if adh is None else f"{adh[i]:.4g}",
-                f"{res.real_area[res.index, i] / a_n:.4g}",
-                f"{fr.static_friction[i]:.4g}",
-                f"{fr.sliding_friction[i]:.4g}",
-                f"{fr.sliding_displacement[i] * 1e6:.4g}",
-            ]
-        )
+        rows.append([f"{f:.4g}", *bem_cells(bem, i), *model_cells(result, i)])
         if persson is not None:
             rows[-1].append(f"{persson[i]:.4g}")
     verdict = getattr(result, "verdict", None)
@@ -914,7 +1013,7 @@ def write_report(result: Any, out_dir: str | Path, options: FigureOptions | None
         *bem_section(result),
         "## Validity",
         "",
-        f"Verdict: **{verdict.verdict}** (reasons at the top)."
+        f"**{verdict_wording(verdict)}** (reasons at the top)."
         if verdict is not None
         else "The statistical model is within its assumptions."
         if not result.resolution.validity
@@ -938,7 +1037,7 @@ def write_report(result: Any, out_dir: str | Path, options: FigureOptions | None
     for name, path in figures.items():
         text += [f"![{captions[name]}]({path.name})", "", f"*{captions[name]}*", ""]
     report = out_dir / "report.md"
-    report.write_text("\n".join(text), encoding="utf-8")
+    write_text_atomic(report, "\n".join(text))
     write_html(result, out_dir, figures, captions)
     return report
 

@@ -13,6 +13,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.ticker import LogLocator, NullFormatter, ScalarFormatter
 
+from asperity.pipelines.report.verdict_marks import separate_bem_markers
 from asperity.pipelines.stages._bem_grid import EDGE_MISMATCH_LIMIT
 from asperity.plotting import display_unit, new_figure
 
@@ -68,10 +69,50 @@ def bem_section(result: Any) -> list[str]:
         f"- Cost: {bem.solves} solves, {bem.total_iterations} iterations, "
         f"{bem.total_convolutions} FFT convolutions (grid check included, nothing solved twice).",
     ]
+    lines += discretisation_lines(bem)
     lines += [f"- **Warning:** {w}" for w in bem.warnings]
     header = ["stride", "pixel (um)", *(f"A_r/A_n {m}" for m in modes)]
     header += ["error vs finest", "iterations", "seconds"]
     return [*lines, "", *_table(header, refinement_rows(bem, result.surface.dx)), ""]
+
+
+def discretisation_lines(bem: Any) -> list[str]:
+    """Report lines: the grid check's A_r/A_n extrapolated to zero pixel size (Richardson,
+    Roache's grid convergence index) and the relative uncertainty applied to every load."""
+    if getattr(bem, "check_extrapolated_fraction", None) is None:
+        return []
+    modes = _MODES[: len(bem.check_extrapolated_fraction)]
+    parts = [
+        f"{m}: {f0:.4g} +- {u:.2g} (p = {p:.3g}, safety factor {fs:g}); grid used +- {rel:.1%}"
+        for m, f0, u, p, fs, rel in zip(
+            modes,
+            bem.check_extrapolated_fraction,
+            bem.check_extrapolation_uncertainty,
+            bem.extrapolation_order,
+            bem.extrapolation_safety_factor,
+            bem.discretisation_relative_uncertainty,
+            strict=True,
+        )
+    ]
+    return [
+        "- Discretisation error (Richardson extrapolation of the check load's A_r/A_n over "
+        f"strides {', '.join(str(int(s)) for s in bem.check_stride)}, grid convergence "
+        "index): " + "; ".join(parts) + ". The grid used's relative uncertainty "
+        "(|f - f_0| + u) / f is applied to every load of the same grid (the A_r/A_n +- u of the "
+        "load table)."
+    ]
+
+
+def _draw_extrapolation(ax: Any, bem: Any) -> None:
+    """The extrapolated A_r/A_n at zero pixel size with its band, per mode."""
+    if getattr(bem, "check_extrapolated_fraction", None) is None:
+        return
+    for k, (f0, u) in enumerate(
+        zip(bem.check_extrapolated_fraction, bem.check_extrapolation_uncertainty, strict=True)
+    ):
+        if np.isfinite(f0) and np.isfinite(u):
+            label = "extrapolated to 0 (GCI band)" if k == 0 else None
+            ax.errorbar([0.0], [f0], yerr=[u], fmt="D", color=f"C{k}", capsize=4, label=label)
 
 
 def bem_grid_figure(result: Any) -> Figure:
@@ -85,7 +126,9 @@ def bem_grid_figure(result: Any) -> Figure:
     pixel, used = pu(pixel_m), pu(bem.stride * result.surface.dx)
     for k in range(bem.check_contact_fraction.shape[1]):
         ax1.plot(pixel, bem.check_contact_fraction[:, k], "o-", label=_MODES[k])
+    _draw_extrapolation(ax1, bem)
     ax1.axvline(used, color="k", ls="--", label="used")
+    separate_bem_markers(ax1, ("non-adhesive", "adhesive"))
     ax1.set_xlabel(pu.label("BEM pixel size"))
     ax1.set_ylabel(f"$A_r/A_n$ at $F_z$ = {bem.check_load:.3g} N")
     ax1.set_title(f"grid refinement ({bem.boundary} boundary)")

@@ -6,6 +6,10 @@ SI unit in the header (``"normal load F_z (N)"``). The values are the SI values 
 ``results.h5``, not the prefixed display values, so a CSV can be checked against the file and
 re-plotted in any unit. :func:`publish` writes the figure in each format of
 :class:`FigureOptions` and the CSV beside it (same stem, ``.csv``).
+
+A table's ``header`` lines are written first, each after ``# `` (the run's verdict and its
+first reason, :func:`asperity.pipelines.report.verdict_marks.csv_header`): read such a file
+with ``pandas.read_csv(path, comment="#")`` or :func:`read_figure_csv`, which skip them.
 """
 
 from __future__ import annotations
@@ -19,6 +23,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from asperity.atomic import open_atomic
 from asperity.plotting import DEFAULT_DPI, save_figure
 
 if TYPE_CHECKING:
@@ -63,6 +68,7 @@ class FigureTable:
     def __init__(self) -> None:
         self.rows: list[dict[str, Any]] = []
         self.columns: list[str] = ["panel", "series"]
+        self.header: list[str] = []  # comment lines written first, after "# "
 
     def add(self, panel: str, series: str, columns: Mapping[str, ArrayLike]) -> None:
         """Add one plotted series: columns named ``"quantity (SI unit)"``, equal lengths
@@ -92,8 +98,11 @@ class FigureTable:
         )
 
     def write_csv(self, path: Path) -> Path:
-        """Write the table (empty cells where a row has no such quantity)."""
-        with open(path, "w", newline="", encoding="utf-8") as handle:
+        """Write the header comments, then the table (empty cells where a row has no such
+        quantity), atomically."""
+        with open_atomic(path, "w", newline="", encoding="utf-8") as handle:
+            for line in self.header:
+                handle.write(f"# {' '.join(line.split())}\n")
             writer = csv.writer(handle)
             writer.writerow(self.columns)
             for row in self.rows:
@@ -108,9 +117,21 @@ def _cell(value: Any) -> str:
 
 
 def read_figure_csv(path: str | Path) -> list[dict[str, str]]:
-    """Rows of a figure CSV as dicts of strings (for checks and notebooks)."""
+    """Rows of a figure CSV as dicts of strings (for checks and notebooks); the ``#`` header
+    lines are skipped (:func:`read_csv_header` reads them)."""
     with open(path, newline="", encoding="utf-8") as handle:
-        return list(csv.DictReader(handle))
+        return list(csv.DictReader(line for line in handle if not line.startswith("#")))
+
+
+def read_csv_header(path: str | Path) -> list[str]:
+    """The ``#`` comment lines heading a CSV, without the ``# ``."""
+    lines = []
+    with open(path, encoding="utf-8") as handle:
+        for line in handle:
+            if not line.startswith("#"):
+                break
+            lines.append(line[1:].strip())
+    return lines
 
 
 def publish(

@@ -1,7 +1,9 @@
 """``report.html``: one self-contained page (figures embedded) beside ``report.md``.
 
-The page holds the validity verdict (when the result has a verdict stage: read generically,
-field by field, so any verdict dataclass shows), the key numbers, the per-load table, the
+The page holds the validity verdict (when the result has a verdict stage: its wording, as in
+report.md and the terminal, then its reasons as a list, each with its severity and code,
+coloured: red for invalid, amber for warnings; a verdict dataclass without reasons is shown
+field by field), the key numbers, the per-load table, the
 validity and convergence notes, the stage table and every figure, embedded as a base64 PNG
 (when PNG was written), else as inline SVG, else (PDF only) as a PNG drawn in memory. It needs
 no other file and no network: mail it, or open it from a notebook.
@@ -18,6 +20,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from asperity.atomic import write_text_atomic
 
 #: Attribute names under which a result may hold a verdict stage's result.
 VERDICT_NAMES: tuple[str, ...] = ("verdict", "validity_verdict")
@@ -48,8 +52,30 @@ def _plain(value: Any) -> str | None:
     return str(value)
 
 
+def reasons_html(verdict: Any) -> str:
+    """The verdict's wording and its reasons as a list with their severities, coloured."""
+    from asperity.pipelines.stages.verdict import severity_label, verdict_wording
+
+    word = str(verdict.verdict)
+    items = "".join(
+        f'<li class="reason severity-{html.escape(sev)}" data-severity="{html.escape(sev)}">'
+        f"<b>{html.escape(severity_label(sev))}</b> (<code>{html.escape(code)}</code>): "
+        f"{html.escape(text)}</li>"
+        for sev, code, text in zip(verdict.severities, verdict.codes, verdict.reasons, strict=True)
+    )
+    return (
+        f'<section class="verdict" data-verdict="{html.escape(word)}"><h2>Validity verdict</h2>'
+        f'<p class="verdict-word">{html.escape(verdict_wording(word))}</p>'
+        + (f'<ul class="reasons">{items}</ul>' if items else "<p>Every check passed.</p>")
+        + "</section>"
+    )
+
+
 def verdict_html(verdict: Any) -> str:
-    """The verdict block: one row per non-array field, in declaration order."""
+    """The verdict block: the reasons as a list (:func:`reasons_html`) when the verdict has
+    them, else one row per non-array field, in declaration order."""
+    if all(hasattr(verdict, name) for name in ("verdict", "reasons", "codes", "severities")):
+        return reasons_html(verdict)
     rows = []
     for field in dataclasses.fields(verdict):
         text = _plain(getattr(verdict, field.name))
@@ -73,9 +99,9 @@ def table_html(header: list[str], rows: list[list[str]]) -> str:
 
 def _png_bytes(result: Any, name: str) -> bytes:
     """Draw one figure into PNG bytes (when no PNG or SVG file was written)."""
-    from asperity.pipelines.report import FIGURES
+    from asperity.pipelines.report import draw_figure
 
-    fig, _ = FIGURES[name][1](result)
+    fig, _ = draw_figure(result, name)
     buffer = io.BytesIO()
     fig.savefig(buffer, format="png", dpi=110)
     return buffer.getvalue()
@@ -105,7 +131,12 @@ STYLE = (
     "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px 8px;"
     "text-align:left}th{background:#eee}figure{margin:2em 0}figure img,figure svg{max-width:"
     "100%;height:auto}.verdict{border:2px solid #446;padding:0 1em;background:#f4f6ff}"
-    ".warning{color:#a40}"
+    ".warning{color:#a40}.verdict-word{font-size:1.3em;font-weight:bold}"
+    ".verdict[data-verdict=invalid]{border-color:#b00000;background:#fff2f2}"
+    ".verdict[data-verdict=invalid] .verdict-word{color:#b00000}"
+    ".verdict[data-verdict=warnings]{border-color:#b35900;background:#fff8ee}"
+    ".verdict[data-verdict=warnings] .verdict-word{color:#b35900}.severity-invalid{color:#b00000}"
+    ".severity-warning{color:#b35900}"
 )
 
 
@@ -114,6 +145,12 @@ def _notes(title: str, ok_text: str, notes: list[str]) -> str:
         return f"<h2>{title}</h2><p>{html.escape(ok_text)}</p>"
     items = "".join(f'<li class="warning">{html.escape(n)}</li>' for n in notes)
     return f"<h2>{title}</h2><ul>{items}</ul>"
+
+
+def _wording(verdict: Any) -> str:
+    from asperity.pipelines.stages.verdict import verdict_wording
+
+    return verdict_wording(str(verdict.verdict))
 
 
 def write_html(
@@ -135,8 +172,7 @@ def write_html(
         table_html(["quantity", "value"], [list(r) for r in key_numbers(result)]),
         "<h2>Per normal load</h2>",
         table_html(*load_table(result)),
-        f"<h2>Validity</h2><p>Verdict: <b>{html.escape(str(verdict.verdict))}</b> (reasons at"
-        " the top).</p>"
+        f"<h2>Validity</h2><p><b>{html.escape(_wording(verdict))}</b> (reasons at the top).</p>"
         if verdict is not None
         else _notes(
             "Validity",
@@ -151,5 +187,5 @@ def write_html(
         "</body></html>",
     ]
     path = Path(out_dir) / "report.html"
-    path.write_text("\n".join(p for p in parts if p), encoding="utf-8")
+    write_text_atomic(path, "\n".join(p for p in parts if p))
     return path

@@ -381,3 +381,29 @@ def check_grids(
         masks[chosen],
         choice,
     )
+
+
+def grid_extrapolations(
+    strides: np.ndarray, fraction: np.ndarray, pixel: float
+) -> list[bem.GridExtrapolation]:
+    """Richardson extrapolation (:func:`bem.richardson_extrapolation`, Roache's GCI) of the
+    grid check's A_r/A_n per mode (columns of ``fraction``, rows coarse to fine) to zero pixel
+    size; ``pixel`` is the map's pixel size (m), a stride's grid has ``stride * pixel``."""
+    h = np.asarray(strides, dtype=float) * pixel
+    return [bem.richardson_extrapolation(h, fraction[:, m]) for m in range(fraction.shape[1])]
+
+
+def relative_discretisation_uncertainty(
+    extrapolation: bem.GridExtrapolation, used_fraction: float
+) -> float:
+    """Relative uncertainty (1) of the A_r/A_n of the grid the sweeps use, from the extrapolation.
+
+    The value shown is the used grid's f (not the extrapolated f_0); the band f +- u_used with
+    ``u_used = |f - f_0| + u`` holds the whole GCI band f_0 +- u (and f_0 itself). Its ratio
+    ``u_used / f`` applies to every load of the same grid. NaN without an estimate (a single
+    grid) or a zero area.
+    """
+    f0, u = extrapolation.value, extrapolation.uncertainty
+    if not (np.isfinite(f0) and np.isfinite(u)) or used_fraction <= 0:
+        return float("nan")
+    return float((abs(used_fraction - f0) + u) / used_fraction)

@@ -26,6 +26,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from asperity import topo
+from asperity.bem.discretisation import combine_in_quadrature
 from asperity.fields import array, document_fields, scalar, text
 from asperity.pipelines.config import BemConfig
 from asperity.pipelines.engine.parallel import run_map, share
@@ -35,6 +36,8 @@ from asperity.pipelines.stages._bem_grid import (
     boundary_warning,
     check_grids,
     edge_mismatch,
+    grid_extrapolations,
+    relative_discretisation_uncertainty,
     solver_grid,
 )
 from asperity.pipelines.stages._bem_range import RangeChoice
@@ -126,6 +129,25 @@ class BemReference:
         BEM's uncertainty (:func:`asperity.bem.discretisation.half_spread`).
     range_solves : int
         Maugis solves made by the range search and sensitivity beyond the check's own.
+    check_extrapolated_fraction, check_extrapolation_uncertainty : ndarray or None
+        Per mode: the grid check's A_r/A_n extrapolated to zero pixel size and its band
+        (:func:`bem.richardson_extrapolation`, Roache's grid convergence index, about 95 %).
+    extrapolation_order, extrapolation_safety_factor : ndarray or None
+        Per mode: the order p and the safety factor Fs used.
+    extrapolation_messages : list of str or None
+        Per mode: how p and Fs were chosen.
+    discretisation_relative_uncertainty : ndarray or None
+        Per mode: the relative uncertainty of the A_r/A_n of the grid the sweeps use,
+        ``(|f - f_0| + u) / f`` (the band holds the whole extrapolated band), applied to every
+        load of the same grid (stated, not solved per load).
+    contact_fraction_discretisation_uncertainty : ndarray or None, shape (n_mode, n_load)
+        A_r/A_n discretisation part per mode and load.
+    contact_fraction_adhesion_range_uncertainty : ndarray or None, shape (n_load,)
+        The adhesive A_r/A_n's sensitivity to the adhesion range, ``bem.half_spread`` of the
+        solves at half and double the range (None until those solves are made).
+    contact_fraction_uncertainty : ndarray or None, shape (n_mode, n_load)
+        The parts in quadrature (:func:`bem.combine_in_quadrature`; derived): discretisation
+        for both modes, with the adhesion-range part for the adhesive one when given.
     """
 
     normal_load: np.ndarray = array("N", ("normal_load",), "normal load on the nominal area")
@@ -191,9 +213,50 @@ class BemReference:
         "1", "half spread of A_r / A_n over h_0 / 2 .. 2 h_0 (check load)", optional=True
     )
     range_solves: int = scalar("1", "Maugis solves of the range search and sensitivity", default=0)
+    check_extrapolated_fraction: np.ndarray | None = array(
+        "1", ("mode",), "check A_r / A_n extrapolated to zero pixel size", optional=True
+    )
+    check_extrapolation_uncertainty: np.ndarray | None = array(
+        "1", ("mode",), "grid convergence index band of the extrapolated A_r / A_n", optional=True
+    )
+    extrapolation_order: np.ndarray | None = array(
+        "1", ("mode",), "order p of the Richardson extrapolation", optional=True
+    )
+    extrapolation_safety_factor: np.ndarray | None = array(
+        "1", ("mode",), "safety factor of the grid convergence index", optional=True
+    )
+    extrapolation_messages: list[str] | None = text(
+        "how the extrapolation's order was chosen, per mode", optional=True
+    )
+    discretisation_relative_uncertainty: np.ndarray | None = array(
+        "1", ("mode",), "relative A_r uncertainty of the grid used", optional=True
+    )
+    contact_fraction_discretisation_uncertainty: np.ndarray | None = array(
+        "1", ("mode", "normal_load"), "A_r / A_n discretisation uncertainty", optional=True
+    )
+    contact_fraction_adhesion_range_uncertainty: np.ndarray | None = array(
+        "1", ("normal_load",), "adhesive A_r / A_n sensitivity to the adhesion range", optional=True
+    )
+    contact_fraction_uncertainty: np.ndarray | None = array(
+        "1",
+        ("mode", "normal_load"),
+        "A_r / A_n uncertainty, parts in quadrature",
+        optional=True,
+        init=False,
+    )
 
     def __post_init__(self) -> None:
         self.all_converged = bool(np.all(self.converged))
+        self.contact_fraction_uncertainty = combined_uncertainty(
+            self.contact_fraction_discretisation_uncertainty,
+            self.contact_fraction_adhesion_range_uncertainty,
+        )
+
+    def reference_fraction_uncertainty(self) -> np.ndarray | None:
+        """The uncertainty of :meth:`reference_fraction` (1), None when not estimated."""
+        if self.contact_fraction_uncertainty is None:
+            return None
+        return self.contact_fraction_uncertainty[-1]
 
     def reference_fraction(self) -> np.ndarray:
         """The A_r/A_n the adhesive statistical model is compared with: adhesive when run
@@ -201,6 +264,45 @@ class BemReference:
         if self.contact_fraction_adhesive is not None:
             return self.contact_fraction_adhesive
         return self.contact_fraction
+
+
+def combined_uncertainty(
+    discretisation: np.ndarray | None, adhesion_range: np.ndarray | None
+) -> np.ndarray | None:
+    """A_r/A_n uncertainty per mode and load (1): the independent parts in quadrature
+    (:func:`bem.combine_in_quadrature`). The adhesion-range part (``bem.half_spread`` of the
+    solves at half and double the range, shape (n_load,)) belongs to the adhesive mode (the last
+    row when there are two); None without the discretisation part."""
+    if discretisation is None:
+        return None
+    discretisation = np.asarray(discretisation, dtype=float)
+    adhesion = np.zeros_like(discretisation)
+    if adhesion_range is not None and discretisation.shape[0] > 1:
+        adhesion[-1] = np.asarray(adhesion_range, dtype=float)
+    budget = combine_in_quadrature(discretisation=discretisation, adhesion_range=adhesion)
+    return np.asarray(budget.total, dtype=float)  # a NaN part (no estimate) stays NaN
+
+
+def discretisation_fields(run: SimpleNamespace) -> dict:
+    """The Richardson-extrapolation fields of :class:`BemReference` (the grid check's solves,
+    strides x dx) and the discretisation part per mode and load (module
+    :mod:`~asperity.pipelines.stages._bem_grid`)."""
+    grid = run.grid
+    fraction = grid.fractions()
+    extrapolations = grid_extrapolations(grid.strides, fraction, run.pixel)
+    used = fraction[list(grid.strides).index(grid.stride)]
+    pairs = zip(extrapolations, used, strict=True)
+    relative = np.array([relative_discretisation_uncertainty(e, f) for e, f in pairs])
+    per_load = _field(run.solves, "contact_fraction")
+    return {
+        "check_extrapolated_fraction": np.array([e.value for e in extrapolations]),
+        "check_extrapolation_uncertainty": np.array([e.uncertainty for e in extrapolations]),
+        "extrapolation_order": np.array([e.order for e in extrapolations]),
+        "extrapolation_safety_factor": np.array([e.safety_factor for e in extrapolations]),
+        "extrapolation_messages": [e.message for e in extrapolations],
+        "discretisation_relative_uncertainty": relative,
+        "contact_fraction_discretisation_uncertainty": relative[:, None] * per_load,
+    }
 
 
 def check_load_index(loads: np.ndarray) -> int:
@@ -359,8 +461,9 @@ def bem_reference(
     chains = _solve_chains(grid, surface, e_star, map_loads, w, solver, executor, progress, law)
     solves = _per_load(loads, k, grid, chains, w > 0)
     run = SimpleNamespace(
-        loads=loads, k=k, grid=grid, chains=chains, solves=solves, h=h, dx=dx, dy=dy, w=w
-    )
+        loads=loads, k=k, grid=grid, chains=chains, solves=solves, h=h, dx=dx, dy=dy, w=w,
+        pixel=surface.dx,
+    )  # fmt: skip
     reference = _reference(run, map_loads, nominal_area, area_tolerance, boundary)
     return _with_adhesion_law(reference, adhesion if w > 0 else None, grid.range_choice)
 
@@ -382,6 +485,15 @@ def _with_adhesion_law(
     reference.area_range_uncertainty = choice.uncertainty
     reference.range_solves = len(choice.tried) - 1 + len(choice.sensitivity) - 1
     reference.solves += reference.range_solves
+    relative = choice.uncertainty / choice.sensitivity[1] if choice.sensitivity[1] > 0 else np.nan
+    # measured at the check load, applied as the same relative part at every load (stated)
+    reference.contact_fraction_adhesion_range_uncertainty = (
+        relative * reference.contact_fraction_adhesive
+    )
+    reference.contact_fraction_uncertainty = combined_uncertainty(
+        reference.contact_fraction_discretisation_uncertainty,
+        reference.contact_fraction_adhesion_range_uncertainty,
+    )
     return reference
 
 
@@ -457,6 +569,7 @@ def _reference(
         total_convolutions=int(check_conv.sum() + convolutions.sum() - convolutions[:, k].sum()),
         contact_fraction_adhesive=_field(solves, "contact_fraction")[1] if run.w > 0 else None,
         **grid,
+        **discretisation_fields(run),
     )
 
 

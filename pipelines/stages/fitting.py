@@ -16,7 +16,10 @@ A_r(F_x)/A_r(F_x = 0), after the normal-contact step has fixed the resolution. H
    A_r/A_r(F_x = 0) with A_r(F_x = 0) estimated from the whole curve, not from one noisy point.
    A measured A_r 20 % above the model at F_x = 0 (the normal case at low loads, Fig 13) then
    leaves lambda untouched; in mode ``absolute`` (c = 1) that offset drives lambda to its
-   lower bound. ``absolute`` is for data whose level the model already matches.
+   lower bound. ``absolute`` is for data whose level the model already matches. The factors
+   are returned (:attr:`LambdaFit.scale`, one per curve); the job stores them and its verdict
+   calls a c outside [0.50, 2.01] invalid (``shape_scale``): a free factor would otherwise
+   absorb areas or loads in a wrong unit without a trace.
 4. The model curve A_r(F_x) at each load is its stick branch (delta_T = 0 up to the static
    peak), interpolated at the measured F_x and held at the peak value beyond it. Residuals are
    r = (c A_model - A_measured) / max(A_measured) (every load weighs the same), minimised

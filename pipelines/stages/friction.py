@@ -42,6 +42,7 @@ from asperity.pipelines.measured import ShearAreaCurve
 from asperity.pipelines.stages.fitting import LambdaFit, fit_mode_mixity, interpolate_area
 from asperity.pipelines.stages.statistical_model import STATISTICAL_MODEL
 from asperity.statmodel.results_io import ARRAY_UNITS, SCALAR_UNITS
+from asperity.statmodel.uncertainty import propagate_to_predictions
 
 #: Per-step arrays and per-load scalars of :class:`statmodel.ShearCurve` kept by the friction stage,
 #: with their units: the tables the ``asperity friction`` output uses, less ``normal_load``, which
@@ -327,6 +328,11 @@ class ModeMixityChoice:
     model_real_area_at_measured : ndarray or None
         The model's A_r (m^2) at each measured (F_z, F_x) point with the fitted lambda
         (beside ``measured_real_area``).
+    shape_scale, shape_scale_normal_load : ndarray or None
+        The shape fit's least-squares factor c of each measured curve (A_measured ~ c
+        A_model, dimensionless; 1 in mode ``absolute``) and that curve's F_z (N). A factor
+        far from 1 means the measured level disagrees with the model at that load (a wrong
+        unit, another load): the verdict's ``shape_scale`` reason.
     """
 
     mode_mixity: float = scalar("1", "mode mixity lambda used downstream")
@@ -373,6 +379,15 @@ class ModeMixityChoice:
     fitted_model_area: np.ndarray | None = array(
         "m^2", ("fitted_point",), "model A_r (times the curve's factor) there", optional=True
     )
+    shape_scale: np.ndarray | None = array(
+        "1",
+        ("measured_curve",),
+        "shape fit's factor c per measured curve (A_measured ~ c A_model; 1 in mode absolute)",
+        optional=True,
+    )
+    shape_scale_normal_load: np.ndarray | None = array(
+        "N", ("measured_curve",), "normal load of each measured curve", optional=True
+    )
 
     @classmethod
     def from_fit(cls, fit: LambdaFit, curves: Sequence[ShearAreaCurve]) -> ModeMixityChoice:
@@ -402,6 +417,8 @@ class ModeMixityChoice:
             fitted_tangential_force=fit.points.get("tangential_force"),
             fitted_real_area=fit.points.get("real_area"),
             fitted_model_area=fit.points.get("model_area"),
+            shape_scale=np.asarray(fit.scale, dtype=float),
+            shape_scale_normal_load=np.array([c.normal_load for c in curves], dtype=float),
         )
 
     @property
@@ -426,6 +443,7 @@ class ModeMixityChoice:
                 math.nan if self.interval_high is None else self.interval_high,
             ),
             n_points_read=self.n_points_read or self.n_points,
+            scale=np.ones(0) if self.shape_scale is None else self.shape_scale,
             points={}
             if self.fitted_model_area is None
             else {
@@ -546,6 +564,24 @@ class FrictionPrediction:
         tau0 A_r, N: the constant-shear-strength model of Fig 13 (derived).
     all_converged : bool
         Every shear curve converged (derived).
+    model_real_area, model_real_area_uncertainty : ndarray or None
+        The model's A_r at F_x = 0 (E:Ar_Greenwood) per load and its uncertainty, m^2.
+    static_friction_uncertainty, sliding_friction_uncertainty : ndarray or None
+        Per load, N.
+    sliding_displacement_uncertainty : ndarray or None
+        Per load, m (NaN where the model never fully slides).
+    uncertainty_lower_bound : bool or None
+        The effective resolution's interval is open on a side: the uncertainties are lower
+        bounds.
+    uncertainty_status : int or None
+        0 every uncertainty finite from closed intervals, 1 otherwise.
+    uncertainty_message : str or None
+        What limits the uncertainties, one sentence.
+
+    The uncertainties come from :func:`statmodel.uncertainty.propagate_to_predictions`: the
+    model at the roughness of both ends of the effective resolution's interval and at both ends
+    of lambda's interval (zero width when lambda is configured), the largest excursion per
+    source, in quadrature (one sigma, docs/uncertainty.md).
     """
 
     normal_load: np.ndarray = array("N", ("normal_load",), "normal load")
@@ -568,6 +604,26 @@ class FrictionPrediction:
         init=False,
     )
     all_converged: bool = scalar("1", "every shear curve converged", init=False)
+    model_real_area: np.ndarray | None = array(
+        "m^2", ("normal_load",), "model A_r at F_x = 0", optional=True
+    )
+    model_real_area_uncertainty: np.ndarray | None = array(
+        "m^2", ("normal_load",), "uncertainty of the model A_r at F_x = 0", optional=True
+    )
+    static_friction_uncertainty: np.ndarray | None = array(
+        "N", ("normal_load",), "uncertainty of the static friction", optional=True
+    )
+    sliding_friction_uncertainty: np.ndarray | None = array(
+        "N", ("normal_load",), "uncertainty of the sliding friction", optional=True
+    )
+    sliding_displacement_uncertainty: np.ndarray | None = array(
+        "m", ("normal_load",), "uncertainty of the sliding displacement", optional=True
+    )
+    uncertainty_lower_bound: bool | None = scalar(
+        "1", "the uncertainties are lower bounds (an open interval)", optional=True
+    )
+    uncertainty_status: int | None = scalar("1", "status of the uncertainties", optional=True)
+    uncertainty_message: str | None = text("what limits the uncertainties", optional=True)
 
     def __post_init__(self) -> None:
         self.constant_shear_strength_force = self.shear_strength * np.asarray(self.real_area)
@@ -587,6 +643,9 @@ def friction_prediction(
     max_tangential_displacement: float | None = None,
     steps: int = 201,
     quadrature_tolerance: float = 1e-4,
+    roughness_interval: Sequence[statmodel.Roughness] | None = None,
+    mode_mixity_interval: tuple[float, float] | None = None,
+    interval_open: bool = False,
     executor: Executor | None = None,
     progress: bool = False,
 ) -> FrictionPrediction:
@@ -609,6 +668,13 @@ def friction_prediction(
         delta_T steps.
     quadrature_tolerance : float
         Relative accuracy asked of the quadrature (:func:`choose_quadrature`).
+    roughness_interval : sequence of two statmodel.Roughness, optional
+        eta, R, sigma_s at the (finer, coarser) ends of the effective resolution's interval;
+        with it the predictions get their uncertainties (:func:`prediction_uncertainty`).
+    mode_mixity_interval : (float, float), optional
+        lambda's one-sigma interval (default: lambda itself, no lambda part).
+    interval_open : bool
+        The effective resolution's interval is open on a side (uncertainties: lower bounds).
     executor : Executor, optional
         Runs the loads in parallel.
     """
@@ -650,7 +716,109 @@ def friction_prediction(
         quadrature_ladder=quad.ladder,
         quadrature_reason=quad.reason,
         **per_load,
+        **prediction_uncertainty(
+            material,
+            roughness,
+            nominal_area,
+            loads,
+            roughness_interval,
+            mode_mixity_interval,
+            interval_open,
+            functools.partial(
+                _shear_curve_at,
+                nominal_area=nominal_area,
+                max_dt=max_tangential_displacement,
+                steps=steps,
+                knobs=quad.knobs,
+            ),
+        ),
     )
+
+
+def _shear_curve_at(
+    material: statmodel.Material,
+    roughness: statmodel.Roughness,
+    normal_load: float,
+    *,
+    nominal_area: float,
+    max_dt: float | None,
+    steps: int,
+    knobs: Mapping[str, Any],
+) -> Any:
+    """The friction stage's own shear curve (path and quadrature) at one input."""
+    return shear_curve_auto(
+        material,
+        roughness,
+        nominal_area,
+        normal_load,
+        max_tangential_displacement=max_dt,
+        steps=steps,
+        knobs=knobs,
+    )
+
+
+def _unknown_uncertainty(loads: np.ndarray, message: str) -> dict[str, Any]:
+    nan = np.full(loads.shape, np.nan)
+    return {
+        "model_real_area_uncertainty": nan,
+        "static_friction_uncertainty": nan,
+        "sliding_friction_uncertainty": nan,
+        "sliding_displacement_uncertainty": nan,
+        "uncertainty_lower_bound": False,
+        "uncertainty_status": 1,
+        "uncertainty_message": message,
+    }
+
+
+def prediction_uncertainty(
+    material: statmodel.Material,
+    roughness: statmodel.Roughness,
+    nominal_area: float,
+    loads: np.ndarray,
+    roughness_interval: Sequence[statmodel.Roughness] | None,
+    mode_mixity_interval: tuple[float, float] | None,
+    interval_open: bool,
+    curve: Any,
+) -> dict[str, Any]:
+    """The uncertainty fields of :class:`FrictionPrediction` (SI; empty without an interval).
+
+    :func:`statmodel.uncertainty.propagate_to_predictions` with the stage's own ``curve``;
+    an interval end with unknown statistics makes every uncertainty NaN, stated.
+    """
+    if roughness_interval is None:
+        return {}
+    model_area = np.asarray(
+        statmodel.real_area_at_loads(material, roughness, nominal_area, loads), dtype=float
+    )
+    ends = [(r.asperity_density, r.summit_radius, r.summit_height_rms) for r in roughness_interval]
+    if not np.all(np.isfinite(ends)):
+        return {
+            "model_real_area": model_area,
+            **_unknown_uncertainty(
+                loads, "no interval of the effective resolution: no uncertainty estimated"
+            ),
+        }
+    lam = mode_mixity_interval or (material.mode_mixity, material.mode_mixity)
+    out = propagate_to_predictions(
+        material,
+        roughness,
+        list(roughness_interval),
+        lam,
+        nominal_area,
+        loads,
+        curve=curve,
+        interval_open=interval_open,
+    )
+    return {
+        "model_real_area": out.value["real_area"],
+        "model_real_area_uncertainty": out.uncertainty["real_area"],
+        "static_friction_uncertainty": out.uncertainty["static_friction"],
+        "sliding_friction_uncertainty": out.uncertainty["sliding_friction"],
+        "sliding_displacement_uncertainty": out.uncertainty["sliding_displacement"],
+        "uncertainty_lower_bound": bool(out.lower_bound),
+        "uncertainty_status": int(out.status),
+        "uncertainty_message": out.message,
+    }
 
 
 def compute_mode_mixity(context: StageContext) -> ModeMixityChoice:
@@ -673,19 +841,34 @@ def compute_mode_mixity(context: StageContext) -> ModeMixityChoice:
 def compute_friction(context: StageContext) -> FrictionPrediction:
     """The job's friction stage: :func:`friction_prediction` with the calibrated lambda."""
     config = context.config
-    material = dataclasses.replace(
-        config.material, mode_mixity=context.result(MODE_MIXITY).mode_mixity
-    )
+    lam = context.result(MODE_MIXITY)
+    material = dataclasses.replace(config.material, mode_mixity=lam.mode_mixity)
+    res = context.result(STATISTICAL_MODEL)
     return friction_prediction(
         material,
-        context.result(STATISTICAL_MODEL).roughness,
+        res.roughness,
         config.loading.nominal_area,
         config.loading.normal_loads,
         max_tangential_displacement=config.loading.max_tangential_displacement,
         steps=config.loading.steps,
         quadrature_tolerance=config.statmodel.area_tolerance,
+        roughness_interval=res.roughness_interval,
+        mode_mixity_interval=mode_mixity_interval(lam),
+        interval_open=res.interval_open,
         executor=context.executor,
         progress=context.progress,
+    )
+
+
+def mode_mixity_interval(choice: ModeMixityChoice) -> tuple[float, float]:
+    """lambda's one-sigma profile interval when fitted (NaN ends where the profile did not
+    close); the configured lambda itself (zero width) otherwise."""
+    if not choice.fitted:
+        return (choice.mode_mixity, choice.mode_mixity)
+    low, high = choice.interval_low, choice.interval_high
+    return (
+        math.nan if low is None else float(low),
+        math.nan if high is None else float(high),
     )
 
 

@@ -27,16 +27,17 @@ from typing import Any
 
 import numpy as np
 
-from asperity import statmodel
+from asperity import statmodel, topo
 from asperity.errors import InputError
 from asperity.fields import array, document_fields, scalar, text
 from asperity.pipelines.config import ConfigError
 from asperity.pipelines.engine.parallel import run_map
 from asperity.pipelines.engine.stage import Stage, StageContext
 from asperity.pipelines.measured import NormalAreaCurve
+from asperity.pipelines.stages._optimum_resolution import optimum_fields
 from asperity.pipelines.stages._pull_off import has_summits, pull_off_forces, roughness_from_scan
 from asperity.pipelines.stages.bem import BEM, BemReference
-from asperity.pipelines.stages.surface import SCAN, ScanResult
+from asperity.pipelines.stages.surface import SCAN, SURFACE, ScanResult
 
 #: Above this A_r/A_n the asperities of the statistical model would overlap: independent
 #: asperities (the Greenwood-Williamson / Fuller-Tabor picture) are no longer a fair model.
@@ -147,14 +148,14 @@ class ResolutionChoice:
     asperity_density, summit_radius, summit_height_rms : float
         eta (1/m^2), R (m), sigma_s (m) at the effective resolution.
     tabor_parameter : float
-        mu at the effective resolution.
+        mu at the effective resolution (the located optimum when there is one).
     nominal_area : float
         A_n, m^2.
     messages : list of str
         Model refusals per stride.
     validity : list of str
-        Where the model is outside its validity at the effective resolution
-        (:func:`validity_notes`); empty when it is not.
+        Where the model is outside its validity at the effective resolution (the located
+        optimum when there is one; :func:`validity_notes`); empty when it is not.
     measured_normal_load, measured_real_area : ndarray or None
         The measured A_r(F_z) (N, m^2) when given.
     model_real_area_at_measured : ndarray or None
@@ -169,6 +170,40 @@ class ResolutionChoice:
         Index of that pair's least misfit (reported beside the effective resolution).
     effective_resolution_non_adhesive : float or None
         Its pixel size, m.
+    optimum_resolution : float or None
+        The effective resolution between the strides (m): the least misfit located by
+        :func:`statmodel.effective_resolution.locate_least_misfit` (parabola in ln resolution,
+        refined on the map resampled at non-integer steps). ``effective_resolution`` and
+        ``effective_stride`` stay the scan's stride of least misfit (Fig 12).
+    optimum_interval : ndarray or None
+        Its one-sigma interval (finer end, coarser end), m; on an open side the scan's end:
+        the profile interval widened by the misfit's scatter between strides
+        (:mod:`~asperity.pipelines.stages._optimum_resolution`).
+    optimum_profile_interval : ndarray or None
+        The profile interval of the loads' residuals alone, m.
+    optimum_sampling_half_width : float or None
+        The half-width (ln resolution, 1) added in quadrature for the scatter.
+    optimum_misfit : float or None
+        The least misfit there (rms ln ratio, 1).
+    optimum_open_finer, optimum_open_coarser : bool or None
+        The interval reaches the finest / coarsest resolution scanned without closing.
+    optimum_direction : str or None
+        ``"finer"`` / ``"coarser"`` when the optimum is at that end of the scan (where the
+        data point), else "".
+    optimum_status : int or None
+        0 closed interval, 1 an open side or an optimum at an end, 2 no interval (one load).
+    optimum_message : str or None
+        One sentence: the optimum, its interval and any open side.
+    optimum_asperity_density, optimum_summit_radius, optimum_summit_height_rms : float or None
+        eta (1/m^2), R (m), sigma_s (m) at ``optimum_resolution``: the roughness the lambda
+        and friction stages use.
+    interval_asperity_density, interval_summit_radius, interval_summit_height_rms : ndarray
+        The same at the interval's (finer, coarser) ends (NaN where unknown).
+    optimum_real_area : ndarray or None
+        Model A_r (m^2) at the job's loads at ``optimum_resolution``.
+    sampled_resolution, sampled_misfit : ndarray or None
+        Every resolution the location used, strides and refinement (m, ascending), and its
+        misfit (1).
     """
 
     stride: np.ndarray = array("1", ("stride",), "decimation stride")
@@ -221,6 +256,51 @@ class ResolutionChoice:
     effective_resolution_non_adhesive: float | None = scalar(
         "m", "pixel size of the non-adhesive pair's least misfit", optional=True
     )
+    optimum_resolution: float | None = scalar(
+        "m", "effective resolution located between the strides", optional=True
+    )
+    optimum_interval: np.ndarray | None = array(
+        "m", ("interval_end",), "one-sigma interval of the effective resolution", optional=True
+    )
+    optimum_profile_interval: np.ndarray | None = array(
+        "m", ("interval_end",), "profile interval over the loads' residuals", optional=True
+    )
+    optimum_sampling_half_width: float | None = scalar(
+        "1", "ln-resolution half-width from the misfit's scatter between strides", optional=True
+    )
+    optimum_misfit: float | None = scalar("1", "least misfit between strides", optional=True)
+    optimum_open_finer: bool | None = scalar("1", "interval open on the fine side", optional=True)
+    optimum_open_coarser: bool | None = scalar(
+        "1", "interval open on the coarse side", optional=True
+    )
+    optimum_direction: str | None = text("finer/coarser: where the data point", optional=True)
+    optimum_status: int | None = scalar("1", "status of the located optimum", optional=True)
+    optimum_message: str | None = text("the located optimum in one sentence", optional=True)
+    optimum_asperity_density: float | None = scalar(
+        "1/m^2", "eta at the located optimum", optional=True
+    )
+    optimum_summit_radius: float | None = scalar("m", "R at the located optimum", optional=True)
+    optimum_summit_height_rms: float | None = scalar(
+        "m", "sigma_s at the located optimum", optional=True
+    )
+    interval_asperity_density: np.ndarray | None = array(
+        "1/m^2", ("interval_end",), "eta at the interval's ends", optional=True
+    )
+    interval_summit_radius: np.ndarray | None = array(
+        "m", ("interval_end",), "R at the interval's ends", optional=True
+    )
+    interval_summit_height_rms: np.ndarray | None = array(
+        "m", ("interval_end",), "sigma_s at the interval's ends", optional=True
+    )
+    optimum_real_area: np.ndarray | None = array(
+        "m^2", ("normal_load",), "model A_r at the located optimum", optional=True
+    )
+    sampled_resolution: np.ndarray | None = array(
+        "m", ("sample",), "resolutions used to locate the optimum", optional=True
+    )
+    sampled_misfit: np.ndarray | None = array(
+        "1", ("sample",), "misfit at those resolutions", optional=True
+    )
 
     @property
     def index(self) -> int:
@@ -229,10 +309,37 @@ class ResolutionChoice:
 
     @property
     def roughness(self) -> statmodel.Roughness:
-        """eta, R, sigma_s at the effective resolution."""
+        """eta, R, sigma_s at the effective resolution: the located optimum between the
+        strides when there is one, else the stride of least misfit."""
+        if self.optimum_summit_radius is not None:
+            return statmodel.Roughness(
+                self.optimum_asperity_density,
+                self.optimum_summit_radius,
+                self.optimum_summit_height_rms,
+            )
         return statmodel.Roughness(
             self.asperity_density, self.summit_radius, self.summit_height_rms
         )
+
+    @property
+    def roughness_interval(self) -> list[statmodel.Roughness] | None:
+        """eta, R, sigma_s at the (finer, coarser) ends of the optimum's interval (None
+        without a located optimum; NaN entries where an end is unknown)."""
+        if self.interval_summit_radius is None:
+            return None
+        return [
+            statmodel.Roughness(
+                float(self.interval_asperity_density[j]),
+                float(self.interval_summit_radius[j]),
+                float(self.interval_summit_height_rms[j]),
+            )
+            for j in range(2)
+        ]
+
+    @property
+    def interval_open(self) -> bool:
+        """The optimum's interval is open on a side (its uncertainties are lower bounds)."""
+        return bool(self.optimum_open_finer or self.optimum_open_coarser)
 
     @property
     def measured(self) -> NormalAreaCurve | None:
@@ -333,6 +440,7 @@ def statistical_model_scan(
     *,
     bem: BemReference | None = None,
     measured: NormalAreaCurve | None = None,
+    surface: topo.HeightMap | None = None,
     executor: Executor | None = None,
     progress: bool = False,
 ) -> ResolutionChoice:
@@ -353,6 +461,10 @@ def statistical_model_scan(
         The BEM stage result; its A_r/A_n (adhesive when run) is a reference.
     measured : NormalAreaCurve, optional
         Measured A_r(F_z); when given it chooses the effective resolution.
+    surface : topo.HeightMap, optional
+        The levelled map (m) the scan decimated: with it the least misfit is also located
+        between the strides, with its interval (``optimum_*`` fields,
+        :mod:`~asperity.pipelines.stages._optimum_resolution`).
     executor : Executor, optional
         Runs the strides in parallel.
 
@@ -377,8 +489,13 @@ def statistical_model_scan(
     index = _best_index(misfit_measured if measured is not None else misfit_bem, messages)
     pull_off, pull_off_refusals = pull_off_forces(material, scan, nominal_area)
     best = roughness[index]
-    mu = _quiet_tabor_parameter(best, material)
-    validity = validity_notes(area[index] / nominal_area, mu)
+    located = {}
+    if surface is not None:
+        located = _locate_optimum(
+            surface, scan, misfit_measured if measured is not None else misfit_bem,
+            material, nominal_area, loads, measured, bem,
+        )  # fmt: skip
+    mu, validity = _validity_at_optimum(located, best, area[index], material, nominal_area)
     for note in validity:
         warnings.warn(note, ModelValidityWarning, stacklevel=2)
     return ResolutionChoice(
@@ -404,6 +521,7 @@ def statistical_model_scan(
         measured_real_area=None if measured is None else measured.real_area,
         model_real_area_at_measured=at_measured,
         misfit_measured=misfit_measured,
+        **located,
     )
 
 
@@ -433,6 +551,63 @@ def non_adhesive_pair(
         choice.effective_index_non_adhesive = index
         choice.effective_resolution_non_adhesive = float(scan.resolution[index])
     return choice
+
+
+def _validity_at_optimum(
+    located: dict[str, Any],
+    stride_best: statmodel.Roughness,
+    stride_area: np.ndarray,
+    material: statmodel.Material,
+    nominal_area: float,
+) -> tuple[float, list[str]]:
+    """The Tabor parameter (1) and the validity notes at the roughness the later stages use:
+    the located optimum when there is one, else the stride of least misfit."""
+    area = stride_area
+    best = stride_best
+    if located:
+        area = located["optimum_real_area"]
+        best = statmodel.Roughness(
+            located["optimum_asperity_density"],
+            located["optimum_summit_radius"],
+            located["optimum_summit_height_rms"],
+        )
+    mu = _quiet_tabor_parameter(best, material)
+    return mu, validity_notes(np.asarray(area) / nominal_area, mu)
+
+
+def _locate_optimum(
+    surface: topo.HeightMap,
+    scan: ScanResult,
+    misfit: np.ndarray,
+    material: statmodel.Material,
+    nominal_area: float,
+    loads: np.ndarray,
+    measured: NormalAreaCurve | None,
+    bem: BemReference | None,
+) -> dict[str, Any]:
+    """The ``optimum_*`` fields: the least misfit between strides against the same reference
+    (measured A_r(F_z) when given, else the BEM), and the model's A_r (m^2) at the job's loads
+    there."""
+    if measured is not None:
+        ref_loads, reference = measured.normal_load, measured.real_area
+    else:
+        ref_loads, reference = loads, bem.reference_fraction() * nominal_area
+    n_loads = int(np.sum(np.asarray(reference) > 0))
+
+    def areas(roughness: statmodel.Roughness) -> np.ndarray:
+        return areas_at_loads(material, roughness, nominal_area, ref_loads)[0]
+
+    fields = optimum_fields(
+        surface, np.asarray(scan.resolution, float), misfit, n_loads, areas, reference, log_misfit
+    )
+    if fields:
+        best = statmodel.Roughness(
+            fields["optimum_asperity_density"],
+            fields["optimum_summit_radius"],
+            fields["optimum_summit_height_rms"],
+        )
+        fields["optimum_real_area"] = areas_at_loads(material, best, nominal_area, loads)[0]
+    return fields
 
 
 def compute_statistical_model(context: StageContext) -> ResolutionChoice:
@@ -475,6 +650,7 @@ def _statistical_model_of_job(context: StageContext, config: Any) -> ResolutionC
         config.loading.normal_loads,
         bem=context.result(BEM),
         measured=context.measured.normal_area,
+        surface=context.result(SURFACE).measured_height_map(),
         executor=context.executor,
         progress=context.progress,
     )
@@ -496,6 +672,6 @@ STATISTICAL_MODEL = Stage(
         "loading.normal_loads",
         "measured.normal_area",
     ),
-    inputs=(SCAN, BEM),
+    inputs=(SURFACE, SCAN, BEM),
     compute=compute_statistical_model,
 )

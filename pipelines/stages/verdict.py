@@ -24,23 +24,42 @@ calibrated on cannot be right:
 * ``misfit`` (rms ln(A_model / A_reference) above :data:`MAX_MISFIT` = 0.7, a factor 2;
   a warning above :data:`WARN_MISFIT` = 0.2), and ``resolution_at_edge`` (the least misfit
   at the first or last stride of the scan: a warning alone, invalid with a misfit above
-  :data:`WARN_MISFIT`: no resolution of the scan fits, the optimum is not bracketed).
+  :data:`WARN_MISFIT`: no resolution of the scan fits, the optimum is not bracketed). Its
+  message gives the direction the data point to (:func:`edge_direction`): beyond the end
+  (a finer measurement, or coarser strides), or between the end stride and its neighbour
+  when the model's mean ln(A_model / A_reference) changes sign between them.
 * ``lambda_at_bound`` / ``lambda_uncertainty``: the fitted lambda lies on a bound of the
   search interval (the bound chose it, not the data) or its uncertainty is not finite.
 * ``measured_area_above_nominal``: a measured A_r > A_n.
 * ``no_full_sliding``: a shear curve did not reach full sliding (its sliding friction is
-  not a result).
+  not a result), or reached no finite sliding displacement within the range (the separation
+  solve stopped before full sliding, or junctions never slide): the curve does not show the
+  sliding it reports.
 * ``bem_stall``: a BEM solve did not converge (read from the BEM stage's convergence fields).
+* ``shape_scale``: the shape fit's factor c of a measured curve outside [0.50, 2.01]
+  (|ln c| > :data:`MAX_MISFIT`; a warning beyond :data:`WARN_MISFIT`, [0.82, 1.22]):
+  :func:`check_shape_scale`.
+* ``plastic_asperities`` / ``contact_pressure_above_yield`` (with ``material.hardness``): the
+  plasticity index above 1 (a warning above 0.6), the mean contact pressure above H (a warning
+  above 0.39 H): :func:`check_hardness`, thresholds in :mod:`asperity.statmodel.plausibility`.
 
 Warnings: ``measured_load_unmatched`` (a measured curve at a load more than
-:data:`LOAD_MATCH` from every configured load), ``bem_grid`` (the grid check found no
+:data:`LOAD_MATCH` from every configured load; the job refuses such a curve before any stage,
+:func:`asperity.pipelines.measured.check_curve_loads`), ``bem_grid`` (the grid check found no
 converged stride), ``lambda_fit`` (the optimiser did not report success),
-``surface_preparation`` (the preparation record's warnings).
+``surface_preparation`` (the preparation record's warnings), ``static_friction_ratio`` and
+``junction_shear_at_peak`` (F_s/F_d or the junction shear at the peak over tau_0 above 10,
+naming tau_0 and lambda: :func:`check_friction_plausibility`).
 
 The exit status (:func:`exit_status`): 1 (:attr:`ExitStatus.NOT_CONVERGED`) when a solver
 did not converge, else 3 (:attr:`ExitStatus.INVALID_RESULT`) when the verdict is invalid,
 else 0. Non-convergence takes precedence: it is the first thing to fix (more iterations, a
 cleaner map), and the verdict lists it among its reasons anyway.
+
+A warning of the BEM reference's boundary: ``bem_edge_mismatch``, a periodic BEM solve of a
+map whose opposite edges do not meet (the seam's rms height jump over the rms height above
+:data:`~asperity.pipelines.stages._bem_grid.EDGE_MISMATCH_LIMIT` = 0.5 adds a cliff along two
+edges of the reference contact; :func:`check_edge_mismatch`).
 """
 
 from __future__ import annotations
@@ -54,12 +73,15 @@ import numpy as np
 
 from asperity.errors import ExitStatus
 from asperity.fields import document_fields, scalar, text
+from asperity.pipelines import measured
 from asperity.pipelines.engine.stage import Stage, StageContext
+from asperity.pipelines.stages._bem_grid import EDGE_MISMATCH_LIMIT
 from asperity.pipelines.stages.bem import BEM
 from asperity.pipelines.stages.friction import FRICTION, MODE_MIXITY
 from asperity.pipelines.stages.psd import complete_map
 from asperity.pipelines.stages.statistical_model import STATISTICAL_MODEL
 from asperity.pipelines.stages.surface import SCAN, SURFACE
+from asperity.statmodel import plausibility
 from asperity.statmodel.regimes import AdhesionRegime, adhesion_regime
 
 #: A_r/A_n above which an independent-asperity model cannot mean anything (junctions merge).
@@ -73,7 +95,7 @@ MAX_MISFIT = 0.7
 #: rms ln ratio above which the fit is poor (22 %): a warning.
 WARN_MISFIT = 0.2
 #: Relative difference within which a measured normal load matches a configured one.
-LOAD_MATCH = 0.02
+LOAD_MATCH = measured.LOAD_MATCH
 
 #: Verdicts, best first.
 VERDICTS: tuple[str, ...] = ("valid", "warnings", "invalid")
@@ -204,7 +226,9 @@ def check_tabor(tabor_parameter: float) -> list[Reason]:
     ]
 
 
-def check_resolution(misfit_curve: np.ndarray, index: int, basis: str) -> list[Reason]:
+def check_resolution(
+    misfit_curve: np.ndarray, index: int, basis: str, direction: str = ""
+) -> list[Reason]:
     """The effective resolution: misfit level, and the optimum at an end of the scan.
 
     Parameters
@@ -216,14 +240,16 @@ def check_resolution(misfit_curve: np.ndarray, index: int, basis: str) -> list[R
         Index of the effective resolution.
     basis : str
         "measured" or "bem".
+    direction : str
+        Where the data point when the least misfit is at an end of the scan
+        (:func:`edge_direction`): "finer", "coarser", "between" (the optimum lies between the
+        end stride and its neighbour) or "" (not known: the end's own direction is assumed).
     """
     curve = np.asarray(misfit_curve, dtype=float)
     misfit = float(curve[index])
     basis = {"bem": "BEM"}.get(basis, basis)
     scored = np.flatnonzero(~np.isnan(curve))  # inf: evaluated, and no area where needed
-    n_strides = len(curve)
     reasons = []
-    at_edge = scored.size > 0 and index in (int(scored[0]), int(scored[-1]))
     if not math.isfinite(misfit) or misfit > MAX_MISFIT:
         reasons.append(
             Reason(
@@ -243,30 +269,98 @@ def check_resolution(misfit_curve: np.ndarray, index: int, basis: str) -> list[R
                 f"{misfit:.3g} (> {WARN_MISFIT:g}) at its best resolution",
             )
         )
-    if at_edge:
-        end = "finest" if index == int(scored[0]) else "coarsest"
-        if scored.size == 1:
-            end = "only scored resolution"
-        severity = "invalid" if not math.isfinite(misfit) or misfit > WARN_MISFIT else "warning"
-        reasons.append(
-            Reason(
-                "resolution_at_edge",
-                severity,
-                f"the effective resolution is the {end} of the scan (stride {index + 1} of "
-                f"{n_strides}): the least misfit is not bracketed"
-                + (
-                    f", and its misfit {misfit:.3g} > {WARN_MISFIT:g}: no resolution of the "
-                    "scan fits"
-                    if severity == "invalid"
-                    else (
-                        "; a finer measurement may fit better"
-                        if end == "finest"
-                        else "; a wider scan (surface.max_stride) may fit better"
-                    )
-                ),
-            )
-        )
+    if scored.size > 0 and index in (int(scored[0]), int(scored[-1])):
+        reasons.append(_edge_reason(index, scored, len(curve), misfit, direction))
     return reasons
+
+
+def _edge_reason(
+    index: int, scored: np.ndarray, n_strides: int, misfit: float, direction: str
+) -> Reason:
+    """``resolution_at_edge``: which end, and where the data point (or that nothing fits)."""
+    end = "finest" if index == int(scored[0]) else "coarsest"
+    if scored.size == 1:
+        end = "only scored resolution"
+    where = f"the effective resolution is the {end} of the scan (stride {index + 1} of {n_strides})"
+    if not math.isfinite(misfit) or misfit > WARN_MISFIT:
+        return Reason(
+            "resolution_at_edge",
+            "invalid",
+            f"{where}: the least misfit is not bracketed, and its misfit {misfit:.3g} > "
+            f"{WARN_MISFIT:g}: no resolution of the scan fits",
+        )
+    if direction == "between" and scored.size > 1:
+        neighbour = int(scored[1]) if end == "finest" else int(scored[-2])
+        low, high = sorted((index + 1, neighbour + 1))
+        advice = (
+            f", but the model's mean ln(A_model / A_reference) changes sign between strides "
+            f"{low} and {high}: the optimum lies between them, inside the scan (not beyond "
+            "it); the effective resolution is known to within that step"
+        )
+    elif direction == "coarser" or (not direction and end == "coarsest"):
+        advice = (
+            ": the least misfit is not bracketed and the data point to coarser resolutions; "
+            "a wider scan (surface.max_stride) may fit better"
+        )
+    else:
+        advice = (
+            ": the least misfit is not bracketed and the data point to finer resolutions; "
+            "a finer measurement may fit better"
+        )
+    return Reason("resolution_at_edge", "warning", where + advice)
+
+
+def mean_log_ratio(model: np.ndarray, reference: np.ndarray) -> np.ndarray:
+    """Signed mean over loads of ln(A_model / A_reference), per stride (1).
+
+    Parameters
+    ----------
+    model : ndarray, shape (n_stride, n_load)
+        Model A_r, m^2 (NaN where the model gives none).
+    reference : ndarray, shape (n_load,)
+        Reference A_r at the same loads, m^2.
+
+    Returns
+    -------
+    ndarray
+        Per stride: the mean over loads where both are positive (NaN where none is).
+    """
+    model = np.asarray(model, dtype=float)
+    reference = np.broadcast_to(np.asarray(reference, dtype=float), model.shape)
+    usable = (model > 0) & (reference > 0)
+    counts = usable.sum(axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        logs = np.where(usable, np.log(model / reference), 0.0)
+        return np.where(counts > 0, logs.sum(axis=1) / np.maximum(counts, 1), np.nan)
+
+
+def edge_direction(ratio: np.ndarray, misfit_curve: np.ndarray, index: int) -> str:
+    """Where the data point when the least misfit is at an end of the scanned strides.
+
+    Parameters
+    ----------
+    ratio : ndarray
+        Signed mean ln(A_model / A_reference) per stride (:func:`mean_log_ratio`).
+    misfit_curve : ndarray
+        The misfit per stride (NaN: not scored).
+    index : int
+        Index of the least misfit.
+
+    Returns
+    -------
+    str
+        "between" when the mean log ratio changes sign between the end stride and its scored
+        neighbour (the optimum lies between them), else "finer" at the finest end and
+        "coarser" at the coarsest; "" when the least misfit is not at an end.
+    """
+    scored = np.flatnonzero(~np.isnan(np.asarray(misfit_curve, dtype=float)))
+    if scored.size < 2 or index not in (int(scored[0]), int(scored[-1])):
+        return ""
+    neighbour = int(scored[1]) if index == int(scored[0]) else int(scored[-2])
+    here, there = float(ratio[index]), float(ratio[neighbour])
+    if math.isfinite(here) and math.isfinite(there) and here * there < 0:
+        return "between"
+    return "finer" if index == int(scored[0]) else "coarser"
 
 
 def check_lambda(choice: Any) -> list[Reason]:
@@ -342,15 +436,63 @@ def check_sliding(friction: Any) -> list[Reason]:
         )
         if not ok or not math.isfinite(float(slide))
     ]
+    return _no_full_sliding(
+        missed,
+        "full sliding not reached at F_z = {loads} N: the sliding friction there is not a "
+        "result (loading.max_tangential_displacement too short, or the solver stopped)",
+    )
+
+
+def _no_full_sliding(missed: list[float], template: str) -> list[Reason]:
+    """The ``no_full_sliding`` reason naming the loads (N) in ``template``'s ``{loads}``."""
     if not missed:
         return []
     loads = ", ".join(f"{f:.4g}" for f in missed)
+    return [Reason("no_full_sliding", "invalid", template.format(loads=loads))]
+
+
+def check_sliding_displacement(friction: Any) -> list[Reason]:
+    """Converged shear curves with a finite sliding friction but no finite sliding displacement.
+
+    A NaN delta_T at full sliding means the separation solve stopped before the expected
+    number of sticking junctions fell to one; inf means junctions never slide. Either way the
+    curve does not reach the full sliding whose friction it reports. (A curve that did not
+    converge, or has no sliding friction, is reported by :func:`check_sliding`.)
+    """
+    missed = [
+        float(f)
+        for f, ok, slide, shift in zip(
+            friction.normal_load,
+            friction.converged,
+            friction.sliding_friction,
+            friction.sliding_displacement,
+            strict=True,
+        )
+        if ok and math.isfinite(float(slide)) and not math.isfinite(float(shift))
+    ]
+    return _no_full_sliding(
+        missed,
+        f"no finite sliding displacement at F_z = {{loads}} N ({len(missed)} of "
+        f"{np.size(friction.normal_load)} loads): full sliding is not reached within the "
+        "shear path, so the sliding friction and delta_T there are not results",
+    )
+
+
+def check_edge_mismatch(bem: Any) -> list[Reason]:
+    """A periodic BEM solve of a map whose opposite edges do not meet (a warning)."""
+    if bem is None or getattr(bem, "boundary", None) != "periodic":
+        return []
+    mismatch = float(getattr(bem, "edge_mismatch", math.nan))
+    if not mismatch > EDGE_MISMATCH_LIMIT:
+        return []
     return [
         Reason(
-            "no_full_sliding",
-            "invalid",
-            f"full sliding not reached at F_z = {loads} N: the sliding friction there is not a "
-            "result (loading.max_tangential_displacement too short, or the solver stopped)",
+            "bem_edge_mismatch",
+            "warning",
+            f"the BEM reference wraps the map periodically, but its opposite edges do not "
+            f"meet: rms height jump across the seam {mismatch:.2f} x the rms height (> "
+            f"{EDGE_MISMATCH_LIMIT:g}); the seam adds a cliff along two edges of the contact "
+            '([bem] boundary = "free" if the map is the whole contacting body)',
         )
     ]
 
@@ -428,6 +570,113 @@ def in_place_of_coalescence(reasons: list[Reason], regime: list[Reason]) -> list
     return regime + kept
 
 
+def check_shape_scale(choice: Any) -> list[Reason]:
+    """The shape fit's factor c per measured A_r(F_x) curve against 1.
+
+    In mode ``shape`` each measured curve is compared with the model curve at its own load
+    times a free factor c (:mod:`pipelines.stages.fitting`). The effective resolution already
+    makes the model's A_r(F_z) agree with its reference; a measured level off by more than
+    the misfit the verdict accepts on A_r(F_z) means the curve is not what the model at that
+    load describes (areas or loads in another unit, the curve of another load or specimen),
+    and lambda fitted to it is not a result. Invalid when ``|ln c| >`` :data:`MAX_MISFIT`
+    (c outside [0.50, 2.01]), a warning when ``|ln c| >`` :data:`WARN_MISFIT` (outside
+    [0.82, 1.22]): the same bounds as the rms ln misfit of A_r(F_z).
+    """
+    scales = getattr(choice, "shape_scale", None)
+    if choice is None or not choice.fitted or scales is None or choice.fit_mode == "absolute":
+        return []
+    scales = np.asarray(scales, dtype=float)
+    loads = np.asarray(choice.shape_scale_normal_load, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        distance = np.abs(np.log(scales))
+    distance = np.where(np.isfinite(distance), distance, math.inf)
+    worst = int(np.argmax(distance))
+    if distance[worst] <= WARN_MISFIT:
+        return []
+    severity = "invalid" if distance[worst] > MAX_MISFIT else "warning"
+    limit = MAX_MISFIT if severity == "invalid" else WARN_MISFIT
+    listed = ", ".join(f"{c:.3g} at {f:.4g} N" for c, f in zip(scales, loads, strict=True))
+    return [
+        Reason(
+            "shape_scale",
+            severity,
+            f"the shape fit scales the model's A_r(F_x) by c = {scales[worst]:.3g} at F_z = "
+            f"{loads[worst]:.4g} N (outside [{math.exp(-limit):.2f}, {math.exp(limit):.2f}], "
+            f"|ln c| > {limit:g}, the misfit bound of A_r(F_z); all: {listed}): the measured "
+            "level disagrees with the model at that load, so the curve is not what the model "
+            "describes there (units of real_area or normal_load? another load?)",
+        )
+    ]
+
+
+def _reasons_from_checks(checks: Sequence[Any]) -> list[Reason]:
+    """A reason per :class:`statmodel.checks.Check` whose level is not "ok" (its source cited)."""
+    return [Reason(c.code, c.level, f"{c.message} ({c.reference})") for c in checks if not c.ok]
+
+
+def _positive_or_nan(values: Any) -> np.ndarray:
+    """Values > 0 and finite kept, every other one NaN (not a result at that load)."""
+    array = np.asarray(values, dtype=float)
+    return np.where(np.isfinite(array) & (array > 0), array, np.nan)
+
+
+def check_friction_plausibility(friction: Any) -> list[Reason]:
+    """Static over sliding friction and the junction shear at the peak over tau_0 (warnings).
+
+    F_s/F_d and (F_s / A_r at the peak) / tau_0 per load
+    (:func:`statmodel.plausibility.static_to_sliding_check`,
+    :func:`statmodel.plausibility.junction_shear_check`: warning above 10, an order of
+    magnitude beyond the adhesive friction experiments the model is built on; they name
+    ``material.shear_strength`` (tau_0) and ``material.mode_mixity`` (lambda)). Nothing is
+    said where no load has a static or sliding friction (``no_full_sliding`` covers that).
+    """
+    static = _positive_or_nan(friction.static_friction)
+    sliding = _positive_or_nan(friction.sliding_friction)
+    forces = np.asarray(friction.tangential_force, dtype=float)
+    areas = np.asarray(friction.real_area, dtype=float)
+    area_at_peak = np.array(
+        [
+            areas[i, int(np.nanargmax(f))] if np.isfinite(f).any() else np.nan
+            for i, f in enumerate(forces)
+        ]
+    )
+    checks = []
+    if np.isfinite(static / sliding).any():
+        checks.append(plausibility.static_to_sliding_check(static, sliding))
+    area_at_peak = _positive_or_nan(area_at_peak)
+    if friction.shear_strength > 0 and np.isfinite(static / area_at_peak).any():
+        checks.append(
+            plausibility.junction_shear_check(static, area_at_peak, friction.shear_strength)
+        )
+    return _reasons_from_checks(checks)
+
+
+def check_hardness(
+    hardness: float | None, e_star: float, roughness: Any, friction: Any
+) -> list[Reason]:
+    """With ``material.hardness`` H (Pa): the plasticity index and the mean contact pressure.
+
+    ``e_star`` is E* (Pa), ``roughness`` the summit statistics at the effective resolution
+    (sigma_s and R in m), ``friction`` the friction stage's result (F_z in N, A_r in m^2).
+
+    psi = (E*/H) sqrt(sigma_s/R) at the effective resolution (Greenwood-Williamson; warning
+    above 0.6, invalid above 1) and max F_z/A_r at rest against H (warning above 0.39 H,
+    first yield; invalid above H): :mod:`statmodel.plausibility`. Nothing without a hardness.
+    """
+    if hardness is None:
+        return []
+    checks = [
+        plausibility.plasticity_index_check(
+            e_star, hardness, roughness.summit_height_rms, roughness.summit_radius
+        )
+    ]
+    area = _positive_or_nan(np.asarray(friction.real_area, dtype=float)[:, 0])
+    load = _positive_or_nan(friction.normal_load)
+    if np.isfinite(load / area).any():
+        checks.append(plausibility.contact_pressure_check(load, area, hardness))
+    return _reasons_from_checks(checks)
+
+
 # ------------------------------------------------------------------------------------------
 # the stage
 # ------------------------------------------------------------------------------------------
@@ -440,6 +689,7 @@ def job_reasons(context: StageContext) -> list[Reason]:
     a_n = config.loading.nominal_area
     reasons = check_surface(context.result(SURFACE).preparation)
     reasons += check_bem(context.result(BEM))
+    reasons += check_edge_mismatch(context.result(BEM))
     reasons += check_area_fraction(res.real_area[res.index] / a_n, "the statistical model's")
     if measured.normal_area is not None:
         reasons += check_measured_area(measured.normal_area.real_area, a_n, "A_r(F_z)")
@@ -447,13 +697,47 @@ def job_reasons(context: StageContext) -> list[Reason]:
     for curve in measured.shear_area:
         reasons += check_measured_area(curve.real_area, a_n, f"A_r(F_x) at {curve.normal_load} N")
     reasons += check_tabor(res.tabor_parameter)
-    reasons += check_resolution(res.misfit, res.index, res.basis)
+    reasons += check_resolution(
+        res.misfit, res.index, res.basis, resolution_direction(res, context.result(BEM))
+    )
     reasons += check_measured_loads(
         sorted({c.normal_load for c in measured.shear_area}), config.loading.normal_loads
     )
     reasons += check_lambda(lam)
+    reasons += check_sliding_displacement(context.result(FRICTION))
     reasons += check_sliding(context.result(FRICTION))
+    reasons += check_shape_scale(lam)
+    reasons += check_friction_plausibility(context.result(FRICTION))
+    reasons += check_hardness(
+        config.material.hardness, config.material.e_star, res.roughness, context.result(FRICTION)
+    )
     return reasons
+
+
+#: Fields a statistical-model result may store with the direction of its least misfit
+#: ("finer", "coarser", or "" when it lies between strides).
+DIRECTION_FIELDS: tuple[str, ...] = ("optimum_direction", "resolution_direction", "direction")
+
+
+def resolution_direction(res: Any, bem: Any) -> str:
+    """Where the data point when the least misfit is at an end of the scan.
+
+    Read from the statistical-model result when it stores a direction
+    (:data:`DIRECTION_FIELDS`: "" there means the optimum lies between strides), else from the
+    sign of the mean ln(A_model / A_reference) (:func:`edge_direction`) against the reference
+    that chose the resolution (the measured A_r(F_z), or the BEM).
+    """
+    for name in DIRECTION_FIELDS:
+        stored = getattr(res, name, None)
+        if isinstance(stored, str) and stored in ("finer", "coarser", ""):
+            return stored or "between"
+    if res.basis == "measured" and res.model_real_area_at_measured is not None:
+        ratio = mean_log_ratio(res.model_real_area_at_measured, res.measured_real_area)
+    elif bem is not None:
+        ratio = mean_log_ratio(res.real_area, bem.reference_fraction() * res.nominal_area)
+    else:
+        return ""
+    return edge_direction(ratio, res.misfit, res.index)
 
 
 def compute_verdict(context: StageContext) -> Verdict:
@@ -479,28 +763,65 @@ def exit_status(converged: bool, verdict: Verdict | None) -> ExitStatus:
     return ExitStatus.OK
 
 
+#: The words of each verdict, everywhere it is shown (terminal, report.md, report.html,
+#: figure stamps and CSV headers).
+VERDICT_WORDS: dict[str, str] = {
+    "valid": "valid",
+    "warnings": "valid, with warnings",
+    "invalid": "INVALID",
+}
+#: The word of each reason's severity, everywhere it is shown.
+SEVERITY_WORDS: dict[str, str] = {"invalid": "INVALID", "warning": "warning"}
+
+
+def verdict_wording(verdict: Verdict | str) -> str:
+    """``"Verdict: INVALID"``, ``"Verdict: valid, with warnings"`` or ``"Verdict: valid"``:
+    the one wording of the verdict in the terminal, the reports, the figures and the CSVs."""
+    word = verdict if isinstance(verdict, str) else verdict.verdict
+    return f"Verdict: {VERDICT_WORDS.get(word, word)}"
+
+
+def severity_label(severity: str) -> str:
+    """The word of a reason's severity ("INVALID" or "warning")."""
+    return SEVERITY_WORDS.get(severity, severity)
+
+
+def reason_line(severity: str, code: str, reason: str) -> str:
+    """One reason as text: ``"INVALID (tabor): mu = 2.6 < 5 ..."``."""
+    return f"{severity_label(severity)} ({code}): {reason}"
+
+
+def first_reason(verdict: Verdict) -> str:
+    """The first (most severe) reason as :func:`reason_line` ("" when there is none)."""
+    if not verdict.reasons:
+        return ""
+    return reason_line(verdict.severities[0], verdict.codes[0], verdict.reasons[0])
+
+
 def verdict_lines(verdict: Verdict) -> list[str]:
-    """The verdict as lines of text (the terminal summary; never truncated)."""
-    lines = [f"VERDICT: {verdict.verdict.upper()}"]
-    for severity, reason in zip(verdict.severities, verdict.reasons, strict=True):
-        lines.append(f"  - {'INVALID' if severity == 'invalid' else 'warning'}: {reason}")
+    """The verdict as lines of text (the terminal summary; never truncated): the words of
+    :func:`verdict_wording` under a capitalised label a terminal user can search for."""
+    lines = [verdict_wording(verdict).replace("Verdict:", "VERDICT:", 1)]
+    for severity, code, reason in zip(
+        verdict.severities, verdict.codes, verdict.reasons, strict=True
+    ):
+        lines.append(f"  - {reason_line(severity, code, reason)}")
     return lines
 
 
 def verdict_markdown(verdict: Verdict) -> list[str]:
     """The verdict block at the top of report.md."""
-    headline = {
-        "valid": "**Verdict: valid.** Every check passed.",
-        "warnings": "**Verdict: valid, with warnings.**",
-        "invalid": "**Verdict: INVALID.** The numbers below are outside the model's validity; "
-        "they are marked *invalid* and are not results.",
-    }[verdict.verdict]
-    lines = [headline, ""]
+    tail = {
+        "valid": " Every check passed.",
+        "warnings": "",
+        "invalid": " The numbers below are outside the model's validity; they are marked "
+        "*invalid* and are not results.",
+    }.get(verdict.verdict, "")
+    lines = [f"**{verdict_wording(verdict)}.**{tail}", ""]
     for severity, code, reason in zip(
         verdict.severities, verdict.codes, verdict.reasons, strict=True
     ):
-        label = "invalid" if severity == "invalid" else "warning"
-        lines.append(f"- **{label}** (`{code}`): {reason}")
+        lines.append(f"- **{severity_label(severity)}** (`{code}`): {reason}")
     return [*lines, ""] if verdict.reasons else lines
 
 
@@ -520,6 +841,7 @@ VERDICT = Stage(
         "measured",
         "loading.normal_loads",
         "loading.nominal_area",
+        "material.hardness",
         "material.E_star",
         "material.work_of_adhesion",
         "material.equilibrium_distance",

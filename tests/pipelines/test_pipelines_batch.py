@@ -31,7 +31,7 @@ def _maps_and_job(small, tmp_path, n_maps=2):
 
 def _summary(path):
     with open(path, newline="", encoding="utf-8") as handle:
-        return list(csv.DictReader(handle))
+        return list(csv.DictReader(line for line in handle if not line.startswith("#")))
 
 
 @pytest.mark.slow

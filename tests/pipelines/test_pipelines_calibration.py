@@ -83,7 +83,15 @@ def test_effective_resolution_and_lambda_recovered_from_measurements(tmp_path):
 
 
 def test_load_below_pull_off_refused_before_bem(tmp_path, monkeypatch):
-    cfg = config_from_dict(_data(normal_loads=[-1e3, 1.0]), base_dir=tmp_path)
+    # with the BEM a load <= 0 is refused at validation (its non-adhesive sweep needs a
+    # compressive load); without it, the pull-off bound is checked after the resolution scan
+    with pytest.raises(ConfigError, match=r"loading\.normal_loads: expected loads > 0 N"):
+        config_from_dict(_data(normal_loads=[-1e3, 1.0]), base_dir=tmp_path)
+    (tmp_path / "area.csv").write_text("normal_load,real_area\n1.0,1e-6\n2.0,2e-6\n")
+    data = _data(normal_loads=[-1e3, 1.0])
+    data["bem"]["enabled"] = False
+    data["measured"] = {"normal_area": "area.csv"}
+    cfg = config_from_dict(data, base_dir=tmp_path)
 
     def no_bem(*a, **k):
         raise AssertionError("the BEM must not run")

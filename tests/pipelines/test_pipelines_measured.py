@@ -42,7 +42,12 @@ def test_one_curve_file_takes_load_from_config(tmp_path):
     (curve,) = read_shear_area(path, normal_load=1.5)
     assert curve.normal_load == 1.5
     np.testing.assert_array_equal(curve.tangential_force, [0.2, 0.0])  # file order kept
-    with pytest.raises(InputError, match="no 'normal_load' column"):
+    # without a declared load the file must hold its loads, and the message lists them
+    with pytest.raises(
+        InputError,
+        match=r"missing column 'normal_load' .*expected columns normal_load, tangential_force, "
+        r"real_area .*or declare the file's one load",
+    ):
         read_shear_area(path)
 
 

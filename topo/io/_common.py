@@ -19,7 +19,6 @@ from asperity.topo.errors import (
     PhysicalBoundsError,
     TopographyFileError,
     UnsupportedContentError,
-    check_size,
 )
 from asperity.topo.heightmap import HeightMap, LineProfile
 from asperity.topo.io.limits import (
@@ -82,12 +81,6 @@ def read_all_bytes(path: str | Path) -> bytes:
     if not data:
         raise TopographyFileError(path, "file", "is empty (0 bytes); expected a topography file")
     return data
-
-
-def unpack_checked(path: str | Path, fmt: str, data: bytes, offset: int, field: str) -> tuple:
-    """``struct.unpack_from`` that refuses to read past the end of ``data``."""
-    check_size(path, field, offset + struct.calcsize(fmt), len(data))
-    return struct.unpack_from(fmt, data, offset)
 
 
 def decode_text(raw: bytes) -> str:

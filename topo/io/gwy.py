@@ -132,27 +132,6 @@ def _component(path: Path, field: dict, key: str, index: int, kind: type) -> flo
     return kind(number)
 
 
-def list_channels(path: str | Path) -> list[dict]:
-    """Describe the data channels of a ``.gwy`` file.
-
-    Parameters
-    ----------
-    path : str or Path
-        The ``.gwy`` file.
-
-    Returns
-    -------
-    list of dict
-        One dict per ``/N/data`` field: ``index`` (N), ``title``, ``unit`` (z unit).
-    """
-    path = Path(path)
-    container = _container(path, read_all_bytes(path))
-    return [
-        {"index": i, "title": t, "unit": _unit(f.get("si_unit_z"))}
-        for i, t, f in _fields(container)
-    ]
-
-
 def _container(path: Path, data: bytes) -> dict:
     if not data.startswith(MAGIC):
         raise TopographyFileError(path, "magic", f"is {data[:4]!r}; expected b'GWYP'")

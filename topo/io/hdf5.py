@@ -56,7 +56,7 @@ def write_hdf5(surface: HeightMap, path: str | Path) -> Path:
     surface = require_height_map(surface, "write_hdf5")
     path = Path(path)
     compression = {"compression": "gzip", "compression_opts": 1, "shuffle": True}
-    with h5py.File(path, "w") as handle:
+    with h5.new_file(path) as handle:  # atomic: the old file or the new one, never a part
         h5.write_dataset(handle, "heights", surface.heights, "m", compression=compression)
         h5.write_attributes(
             handle,

@@ -95,25 +95,6 @@ def _header_end(path: Path, data: bytes, sections: list[tuple[str, dict[str, str
     return max(end_line + len(_END), length)
 
 
-def list_channels(path: str | Path) -> list[dict]:
-    """Describe every image channel of a Nanoscope file.
-
-    Parameters
-    ----------
-    path : str or Path
-        The Nanoscope file.
-
-    Returns
-    -------
-    list of dict
-        Per channel: ``index``, ``key``, ``label``, ``nx``, ``ny``, ``dx``, ``dy`` (m),
-        ``height_unit``, ``height_factor`` (m per raw count, None for a non-length channel).
-    """
-    path = Path(path)
-    data = read_all_bytes(path)
-    return _channels(path, data)
-
-
 def _channels(path: Path, data: bytes) -> list[dict]:
     """Every ``\\*Ciao image list`` section of the header, checked, as a channel dict."""
     if not data.startswith(MAGIC):
@@ -149,7 +130,7 @@ def _channel(
     file_size: int,
     scanner: dict[str, str],
 ) -> dict:
-    """One image section as a channel dict (see :func:`list_channels`); sizes in m."""
+    """One image section as a channel dict (see :func:`_channels`); sizes in m."""
     nx, ny, offset, itemsize = _image_layout(path, section, index, header_end, file_size)
     sx, sy = _scan_size(path, section, index)
     image = _IMAGE_DATA.match(section.get("@2:image data", ""))
@@ -299,7 +280,7 @@ def choose_channel(path: Path, channels: list[dict], channel: str | int | None) 
     path : Path
         The file (for messages).
     channels : list of dict
-        As returned by :func:`list_channels`.
+        As returned by :func:`_channels`.
     channel : str or int or None
         Index, label or key; None picks the calibrated ``Height Sensor`` (``ZSensor``)
         channel, else the channel named ``Height`` (label or key), else the only channel of
