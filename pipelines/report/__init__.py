@@ -314,8 +314,8 @@ def _draw_area_vs_load(ax: Any, result: Any, table: FigureTable) -> None:
 
 def non_adhesive_series(series: Any, res: Any) -> None:
     """Fig 12d's non-adhesive pair: the model at w -> 0 (Greenwood-Williamson) at that pair's
-    least-misfit resolution, a grey dashed line with open triangles beside the open squares
-    of the non-adhesive BEM (the adhesive pair: the filled squares and the effective model)."""
+    least-misfit resolution, a grey dashed line with open triangles beside the open markers
+    of the non-adhesive BEM (the adhesive pair: the filled markers and the effective model)."""
     index = getattr(res, "effective_index_non_adhesive", None)
     if index is None or res.real_area_non_adhesive is None:
         return
