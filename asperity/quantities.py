@@ -347,6 +347,14 @@ _ENTRIES = (
     _count("bem.threads", 1, 1024, "FFT threads of one machine"),
     _q("bem.area_tolerance", "", 0, 1, "a relative change of A_r", open_low=True),
     _count("bem.max_stride", 1, 64, "coarsest decimation of the grid check"),
+    _q(
+        "bem.adhesion_range",
+        "m",
+        1e-10,
+        1e-3,
+        "the Maugis-Dugdale range h_0: from an atomic distance to a coarse-grained range of "
+        "a millimetre",
+    ),
     # bem.solve_contact's arguments: the solver is scale-free (linear in E*, in any consistent
     # units), so the library takes any finite positive value; the job and the CLI bound the SI
     # values by material.E_star, surface.pixel_size and material.work_of_adhesion

@@ -237,7 +237,7 @@ class BemConfig:
     max_stride : int
         Coarsest decimation of the map tried by the refinement check.
     adhesive : bool
-        Also run the Pohrt-Popov adhesive sweep.
+        Also run the adhesive solves (law ``adhesion``).
     enabled : bool
         Run the BEM at all; false needs a measured A_r(F_z) (``measured.normal_area``), which
         then alone chooses the effective resolution.
@@ -247,6 +247,13 @@ class BemConfig:
     coarsen : bool
         Let the sweeps use a coarser grid than the map when its area is within
         ``area_tolerance`` of the finest grid solved (false: the map's own resolution).
+    adhesion : str
+        The adhesive BEM's law: ``"maugis"`` (Maugis-Dugdale, attraction outside the contact:
+        adhesive on loading, like the statistical model; default) or ``"pohrt-popov"`` (the
+        paper's Appendix B criterion, whose loading branch carries no adhesion).
+    adhesion_range : float or None
+        Maugis-Dugdale range h_0, m; None ("auto" in the job file): the shortest range whose
+        cohesive zone the grid resolves (:mod:`asperity.pipelines.stages._bem_range`).
     """
 
     tol: float = 1e-6
@@ -257,6 +264,8 @@ class BemConfig:
     enabled: bool = True
     boundary: str = "periodic"
     coarsen: bool = True
+    adhesion: str = "maugis"
+    adhesion_range: float | None = None
 
 
 @dataclass(frozen=True)
@@ -534,6 +543,8 @@ JOB_SCHEMA = Schema(
                 Key("enabled", Flag(), BemConfig.enabled),
                 Key("boundary", Choice(("periodic", "free")), BemConfig.boundary),
                 Key("coarsen", Flag(), BemConfig.coarsen),
+                Key("adhesion", Choice(("maugis", "pohrt-popov")), BemConfig.adhesion),
+                Key("adhesion_range", OrAuto(quantity("bem.adhesion_range").kind), None),
             ),
         ),
         Section(

@@ -296,6 +296,7 @@ def _draw_area_vs_load(ax: Any, result: Any, table: FigureTable) -> None:
         series("BEM, non-adhesive", bem.normal_load, bem.contact_fraction, "s", bars[0], mfc="none")
         if bem.contact_fraction_adhesive is not None:
             series("BEM, adhesive", bem.normal_load, bem.contact_fraction_adhesive, "s", bars[1])
+        non_adhesive_series(series, res)
     draw_model_band(ax, fu, result, table, (x_col, y_col))
     for i in sorted({0, res.index, len(res.stride) - 1}):
         if np.all(np.isfinite(res.real_area[i])):
@@ -315,6 +316,19 @@ def _draw_area_vs_load(ax: Any, result: Any, table: FigureTable) -> None:
     ax.set_title("(d)")
     verdict_marks.threshold_lines(ax, "A_r/A_n", verdict_marks.AREA_FRACTION_THRESHOLDS)
     ax.legend(fontsize=7)
+
+
+def non_adhesive_series(series: Any, res: Any) -> None:
+    """Fig 12d's non-adhesive pair: the model at w -> 0 (Greenwood-Williamson) at that pair's
+    least-misfit resolution, a grey dashed line with open triangles beside the open markers
+    of the non-adhesive BEM (the adhesive pair: the filled markers and the effective model)."""
+    index = getattr(res, "effective_index_non_adhesive", None)
+    if index is None or res.real_area_non_adhesive is None:
+        return
+    ru = display_unit(res.resolution[index], "m")
+    name = f"model w=0 (GW), {ru(res.resolution[index]):.3g} {ru.symbol} (non-adhesive pair)"
+    fraction = res.real_area_non_adhesive[index] / res.nominal_area
+    series(name, res.normal_load, fraction, "v--", color="0.4", mfc="none")
 
 
 def draw_resolution(result: Any) -> tuple[Figure, FigureTable]:
@@ -761,6 +775,7 @@ def key_numbers(result: Any) -> list[tuple[str, str]]:
             ),
             ("BEM solves converged", f"{int(np.sum(bem.converged))} / {bem.converged.size}"),
         ]
+        rows += adhesion_key_numbers(result)
     rows += psd_key_numbers(result)
     rows += uncertainty_rows(result)
     rows += profile_key_numbers(result)
@@ -779,6 +794,54 @@ def key_numbers(result: Any) -> list[tuple[str, str]]:
         "mode mixity lambda (fitted)",
     )
     return [(k, mark(v, verdict) if k.startswith(judged) else v) for k, v in rows]
+
+
+def adhesion_key_numbers(result: Any) -> list[tuple[str, str]]:
+    """Rows of the adhesive BEM's law and range, the non-adhesive pair's resolution, and the
+    adhesion regime (Persson-Tosatti, Pastewka-Robbins, Tabor); empty where not run."""
+    bem, res = result.bem, result.resolution
+    rows = []
+    law = getattr(bem, "adhesion", None)
+    if law == "maugis":
+        rows.append(("BEM adhesion", f"Maugis-Dugdale (adhesive on loading); {bem.range_rule}"))
+        spread = bem.range_sensitivity
+        rows.append(
+            (
+                "BEM range uncertainty",
+                f"A_r/A_n +/- {bem.area_range_uncertainty:.3g} (half spread over h_0/2, h_0, "
+                f"2 h_0: {spread[0]:.4g}, {spread[1]:.4g}, {spread[2]:.4g} at "
+                f"{bem.check_load:.4g} N on the range search's grid)",
+            )
+        )
+    elif law == "pohrt-popov":
+        rows.append(("BEM adhesion", "Pohrt-Popov (Appendix B): no adhesion on loading"))
+    index = getattr(res, "effective_index_non_adhesive", None)
+    if index is not None:
+        rows.append(
+            (
+                "effective resolution, non-adhesive pair",
+                f"{res.resolution[index] * 1e6:.4g} um (w=0 model against the non-adhesive "
+                f"BEM, misfit {res.misfit_bem_non_adhesive[index]:.3g}; not used: the "
+                "adhesive pair chooses)",
+            )
+        )
+    return rows + regime_key_numbers(getattr(result, "verdict", None))
+
+
+def regime_key_numbers(verdict: Any) -> list[tuple[str, str]]:
+    """The adhesion regime's row (empty without one)."""
+    ratio = getattr(verdict, "adhesion_energy_ratio", None)
+    if ratio is None:
+        return []
+    full = "full contact expected" if ratio < 1 else "partial contact"
+    return [
+        (
+            "adhesion regime",
+            f"U_el/(A0 w) = {ratio:.3g} ({full}; Persson-Tosatti, threshold 1); "
+            f"stickiness S_PR = {verdict.stickiness:.3g} (Pastewka-Robbins, sticky below 1); "
+            f"Tabor mu = {verdict.regime_tabor_parameter:.3g}",
+        )
+    ]
 
 
 def psd_key_numbers(result: Any) -> list[tuple[str, str]]:
@@ -820,7 +883,25 @@ def load_table(result: Any) -> tuple[list[str], list[list[str]]]:
     verdict = getattr(result, "verdict", None)
     # the statistical model's columns carry the verdict; BEM and Persson are references
     rows = [[*row[:3], *(mark(cell, verdict) for cell in row[3:7]), *row[7:]] for row in rows]
-    return header, rows
+    return non_adhesive_column(result, header, rows)
+
+
+def non_adhesive_column(
+    result: Any, header: list[str], rows: list[list[str]]
+) -> tuple[list[str], list[list[str]]]:
+    """The load table with the non-adhesive pair's model column (w = 0, Greenwood-Williamson,
+    at that pair's least-misfit resolution) appended: its partner is "A_r/A_n BEM"; the
+    adhesive pair is "A_r/A_n BEM adh." and "A_r/A_n model"."""
+    res = result.resolution
+    index = getattr(res, "effective_index_non_adhesive", None)
+    if index is None or res.real_area_non_adhesive is None:
+        return header, rows
+    fraction = res.real_area_non_adhesive[index] / res.nominal_area
+    verdict = getattr(result, "verdict", None)
+    header = [*header, f"A_r/A_n model w=0 ({res.resolution[index] * 1e6:.3g} um)"]
+    return header, [
+        [*row, mark(f"{f:.4g}", verdict)] for row, f in zip(rows, fraction, strict=True)
+    ]
 
 
 def surface_section(result: Any) -> list[str]:

@@ -35,6 +35,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from asperity import bem, topo
+from asperity.pipelines.stages._bem_range import (
+    RangeChoice,
+    given_range,
+    measure_sensitivity,
+    search_range,
+)
 from asperity.pipelines.stages._bem_solves import (
     SolveSummary,
     solve_adhesive_loading,
@@ -137,6 +143,8 @@ class GridCheck:
         start (not stored).
     mask : ndarray of bool
         Contact mask of the chosen stride's last solve (adhesive when run; not stored).
+    range_choice : RangeChoice or None
+        The Maugis range, its rule and sensitivity (None for Pohrt-Popov or w = 0).
     """
 
     strides: np.ndarray
@@ -147,6 +155,7 @@ class GridCheck:
     reason: str
     start: tuple[np.ndarray, float] = field(repr=False)
     mask: np.ndarray = field(repr=False)
+    range_choice: RangeChoice | None = None
 
     def fractions(self) -> np.ndarray:
         """A_r/A_n per (stride, mode)."""
@@ -160,13 +169,17 @@ def run_grid_check(
     check_pressure: float,
     strides: list[int],
     solver: dict,
-) -> tuple[list[list[SolveSummary]], dict[int, tuple[np.ndarray, float]], dict]:
+    adhesion: tuple[str, float | None] = ("pohrt-popov", None),
+) -> tuple[list[list[SolveSummary]], dict[int, tuple[np.ndarray, float]], dict, RangeChoice | None]:
     """Solve the check pressure (Pa) at every stride, coarse to fine, each from the coarser.
 
-    Returns the summaries per stride, the (pressure, force) of each stride's non-adhesive
-    solve, and each stride's last contact mask.
+    ``adhesion`` is ([bem] adhesion, [bem] adhesion_range m or None for the rule); with
+    Maugis the range is chosen first, on the grid of :func:`range_grid_stride`
+    (:mod:`._bem_range`), and every
+    stride's adhesive solve uses it. Returns the summaries per stride, the (pressure, force)
+    of each stride's non-adhesive solve, each stride's last contact mask, and the range choice.
     """
-    solves, starts, masks = [], {}, {}
+    plains, starts = {}, {}
     previous: tuple[np.ndarray, int] | None = None
     for s in strides:
         h, dx, dy = solver_grid(surface, s)
@@ -174,18 +187,86 @@ def run_grid_check(
         initial = None
         if previous is not None:
             initial = upsample_pressure(previous[0], h.shape, previous[1] / s)
-        plain = solve_plain(h, dx, dy, e_star, force, solver, initial)
+        plains[s] = (solve_plain(h, dx, dy, e_star, force, solver, initial), force)
+        starts[s] = (plains[s][0].pressure, force)
+        previous = (plains[s][0].pressure, s)
+    range_stride = range_grid_stride(surface, strides)
+    choice = _range_choice(
+        surface, e_star, work_of_adhesion, range_stride, plains, solver, adhesion
+    )
+    solves, masks = [], {}
+    for s in strides:
+        plain, force = plains.pop(s)
         row, final = [summarise(plain)], plain
         if work_of_adhesion > 0:
-            final = solve_adhesive_loading(
-                h, dx, dy, e_star, plain, force, work_of_adhesion, solver
+            final = _adhesive_check_solve(
+                surface, s, e_star, plain, force, work_of_adhesion, solver, choice, range_stride
             )
             row.append(summarise(final))
         solves.append(row)
-        starts[s] = (plain.pressure, force)
         masks[s] = np.asarray(final.contact_mask, dtype=bool)
-        previous = (plain.pressure, s)
-    return solves, starts, masks
+    if choice is not None:
+        choice.result = None
+    return solves, starts, masks, choice
+
+
+#: Largest grid (pixels) on which the range search and its sensitivity solve: 2500^2, the
+#: paper case's 4 um grid (its 2 um grid of 5000^2 would take four more Maugis solves of about a
+#: minute each).
+MAX_RANGE_GRID_PIXELS = 2500 * 2500
+
+
+def range_grid_stride(surface: topo.HeightMap, strides: list[int]) -> int:
+    """The stride of the range search and its sensitivity: the finest of the check's
+    ``strides`` with at most :data:`MAX_RANGE_GRID_PIXELS` pixels (the coarsest when none)."""
+    for s in reversed(strides):
+        if (surface.nx // s) * (surface.ny // s) <= MAX_RANGE_GRID_PIXELS:
+            return s
+    return strides[0]
+
+
+def _range_choice(
+    surface: topo.HeightMap,
+    e_star: float,
+    w: float,
+    finest: int,
+    plains: dict,
+    solver: dict,
+    adhesion: tuple[str, float | None],
+) -> RangeChoice | None:
+    """The Maugis range on the grid of stride ``finest`` with its sensitivity (None without
+    Maugis)."""
+    law, h0 = adhesion
+    if law != "maugis" or w <= 0:
+        return None
+    grid = solver_grid(surface, finest)
+    plain, force = plains[finest]
+    if h0 is None:
+        choice = search_range(grid, e_star, plain, force, w, solver)
+    else:
+        choice = given_range(grid, e_star, plain, force, w, solver, h0)
+    return measure_sensitivity(choice, grid, e_star, plain, force, w, solver)
+
+
+def _adhesive_check_solve(
+    surface: topo.HeightMap,
+    stride: int,
+    e_star: float,
+    plain: object,
+    force: float,
+    w: float,
+    solver: dict,
+    choice: RangeChoice | None,
+    finest: int,
+) -> object:
+    """The check's adhesive solve at ``stride``: the range search's own solve on its grid
+    (stride ``finest``), else a loading-branch solve from ``plain`` (Pohrt-Popov when
+    ``choice`` is None)."""
+    if choice is not None and stride == finest:
+        return choice.result
+    h, dx, dy = solver_grid(surface, stride)
+    law = None if choice is None else choice.law
+    return solve_adhesive_loading(h, dx, dy, e_star, plain, force, w, solver, law)
 
 
 def relative_errors(fraction: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -262,6 +343,7 @@ def check_grids(
     area_tolerance: float,
     coarsen: bool,
     solver: dict,
+    adhesion: tuple[str, float | None] = ("pohrt-popov", None),
 ) -> GridCheck:
     """The grid check (module notes): solves, errors against the finest, the chosen stride.
 
@@ -277,17 +359,27 @@ def check_grids(
         ``[bem]`` keys of the same names.
     solver : dict
         Keywords of :func:`bem.solve_contact` (tol, max_iter, periodic).
+    adhesion : tuple
+        ([bem] adhesion, [bem] adhesion_range in m or None for the range rule).
     """
     strides = check_strides(surface.nx, surface.ny, max_stride)
-    solves, starts, masks = run_grid_check(
-        surface, e_star, work_of_adhesion, check_pressure, strides, solver
+    solves, starts, masks, choice = run_grid_check(
+        surface, e_star, work_of_adhesion, check_pressure, strides, solver, adhesion
     )
     fraction = np.array([[s.contact_fraction for s in row] for row in solves])
     error, change = relative_errors(fraction)
     chosen = choose_stride(strides, error, area_tolerance, coarsen)
     reason = grid_reason(strides, error, change, chosen, surface.dx, area_tolerance, coarsen)
     return GridCheck(
-        np.asarray(strides), solves, error, change, chosen, reason, starts[chosen], masks[chosen]
+        np.asarray(strides),
+        solves,
+        error,
+        change,
+        chosen,
+        reason,
+        starts[chosen],
+        masks[chosen],
+        choice,
     )
 
 

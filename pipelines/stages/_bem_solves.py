@@ -10,7 +10,9 @@ J/m^2.
   the stage is therefore the adhesive solve started from the non-adhesive solution at the same
   load on the same grid: the ``"loading"`` branch that ``bem.solve_contact`` reaches from
   scratch, without solving the non-adhesive problem a second time. The grid check and the
-  sweeps use this one path.
+  sweeps use this one path. With Maugis-Dugdale adhesion (attraction within the range h_0 of
+  the surface) the same start leads to the loading branch with jump-in: the attractive set
+  only grows from the non-adhesive state (:mod:`asperity.bem.maugis`).
 * Nested grids. The grid check solves the check load from the coarsest stride to the finest;
   each finer non-adhesive solve starts from the coarser pressure, repeated onto the finer grid
   (measured on the 1000^2 default map: 15 instead of 28 iterations at stride 1 from stride 2).
@@ -108,10 +110,12 @@ def solve_adhesive_loading(
     force: float,
     work_of_adhesion: float,
     solver: dict,
+    law: dict | None = None,
 ) -> Any:
     """The adhesive solve on the loading branch, started from ``plain``, the non-adhesive
     result at the same ``force`` (N) on the same grid (the state the loading branch has there,
-    :mod:`asperity.bem.branch`).
+    :mod:`asperity.bem.branch`). ``law`` holds :func:`bem.solve_contact`'s ``adhesion`` and
+    ``adhesion_range`` (m); None: Pohrt-Popov.
 
     ``plain`` is passed with its force set to the imposed one: its computed force differs from
     it by round-off, which the solver would otherwise read as a (tiny) unloading step.
@@ -125,6 +129,7 @@ def solve_adhesive_loading(
         normal_force=force,
         work_of_adhesion=work_of_adhesion,
         initial=start,
+        **(law or {}),
         **_with_threads(solver),
     )
 
@@ -172,10 +177,12 @@ def solve_chain(
     solver: dict,
     start: tuple[np.ndarray, float],
     want_mask: bool,
+    law: dict | None = None,
 ) -> tuple[list[tuple[SolveSummary, SolveSummary | None]], np.ndarray | None]:
     """Solve ``forces`` (N) in order, starting from ``start`` = (pressure Pa, force N) of a
     converged non-adhesive solve on this grid; adhesive on the loading branch at each force
-    when ``work_of_adhesion`` > 0.
+    when ``work_of_adhesion`` > 0, with the adhesion ``law`` (see
+    :func:`solve_adhesive_loading`).
 
     Returns
     -------
@@ -195,7 +202,7 @@ def solve_chain(
         adhesive = None
         if work_of_adhesion > 0:
             final = solve_adhesive_loading(
-                heights, dx, dy, e_star, plain, force, work_of_adhesion, solver
+                heights, dx, dy, e_star, plain, force, work_of_adhesion, solver, law
             )
             adhesive = summarise(final)
         out.append((summarise(plain), adhesive))

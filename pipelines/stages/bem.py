@@ -3,8 +3,11 @@
 The map covers only part of the experiment's nominal area A_n, so each normal load is scaled
 to the map at equal nominal pressure, F_map = F_z A_map / A_n, and the result is reported as
 the fraction A_r / A_map (equal to A_r / A_n of the experiment). Non-adhesive and adhesive
-(Pohrt-Popov, eq:max_sigma) solves at every load; every adhesive number lies on the loading
-branch (:mod:`asperity.pipelines.stages._bem_solves`).
+solves at every load; every adhesive number lies on the loading branch
+(:mod:`asperity.pipelines.stages._bem_solves`). The adhesive law is ``[bem] adhesion``:
+Maugis-Dugdale (default; adhesive on loading, like the statistical model) with the range chosen
+by the rule of :mod:`asperity.pipelines.stages._bem_range`, or Pohrt-Popov (eq:max_sigma, the
+paper's Appendix B; its loading branch carries no adhesion).
 
 The boundary condition (``[bem] boundary``) and the grid (``max_stride``, ``area_tolerance``,
 ``coarsen``) are chosen and stated as :mod:`asperity.pipelines.stages._bem_grid` explains.
@@ -37,6 +40,7 @@ from asperity.pipelines.stages._bem_grid import (
     relative_discretisation_uncertainty,
     solver_grid,
 )
+from asperity.pipelines.stages._bem_range import RangeChoice
 from asperity.pipelines.stages._bem_solves import SolveSummary, solve_chain
 from asperity.pipelines.stages.surface import SURFACE
 
@@ -53,7 +57,7 @@ class BemReference:
     normal_load : ndarray
         Experiment loads F_z, N.
     mode : ndarray
-        0 non-adhesive, 1 adhesive (Pohrt-Popov, when run).
+        0 non-adhesive, 1 adhesive (``adhesion``, when run).
     check_stride : ndarray
         Strides solved by the grid refinement check, coarse to fine.
     mask_x, mask_y : ndarray
@@ -63,7 +67,7 @@ class BemReference:
     contact_fraction : ndarray
         Non-adhesive A_r/A_map (= A_r/A_n of the experiment).
     contact_fraction_adhesive : ndarray or None
-        Adhesive (Pohrt-Popov) A_r/A_map; None when not run.
+        Adhesive A_r/A_map (law ``adhesion``); None when not run.
     iterations, converged, solve_seconds : ndarray, shape (n_mode, n_load)
         Per solve: iterations, convergence, wall time (s).
     check_contact_fraction : ndarray, shape (n_check_stride, n_mode)
@@ -110,6 +114,21 @@ class BemReference:
         BEM solves made by the stage (each once), their iterations and convolutions.
     all_converged : bool
         Every solve converged (derived).
+    adhesion : str or None
+        Law of the adhesive solves: "maugis" or "pohrt-popov" (None when not run).
+    adhesion_range : float or None
+        Maugis-Dugdale range h_0 of the adhesive solves, m.
+    range_rule : str or None
+        How h_0 was chosen, with the cohesive-zone width reached (report line).
+    range_zone_elements : float or None
+        Mean cohesive-zone width at the check load on the range search's grid, elements.
+    range_sensitivity : ndarray or None
+        A_r/A_n at the check load on the range search's grid at h_0 / 2, h_0, 2 h_0.
+    area_range_uncertainty : float or None
+        Half the spread of ``range_sensitivity`` (absolute A_r/A_n): the range part of the
+        BEM's uncertainty (:func:`asperity.bem.discretisation.half_spread`).
+    range_solves : int
+        Maugis solves made by the range search and sensitivity beyond the check's own.
     check_extrapolated_fraction, check_extrapolation_uncertainty : ndarray or None
         Per mode: the grid check's A_r/A_n extrapolated to zero pixel size and its band
         (:func:`bem.richardson_extrapolation`, Roache's grid convergence index, about 95 %).
@@ -132,7 +151,7 @@ class BemReference:
     """
 
     normal_load: np.ndarray = array("N", ("normal_load",), "normal load on the nominal area")
-    mode: np.ndarray = array("1", ("mode",), "0 non-adhesive, 1 adhesive (Pohrt-Popov)")
+    mode: np.ndarray = array("1", ("mode",), "0 non-adhesive, 1 adhesive")
     check_stride: np.ndarray = array("1", ("check_stride",), "strides of the grid refinement check")
     mask_x: np.ndarray = array("m", ("mask_x",), "x")
     mask_y: np.ndarray = array("m", ("mask_y",), "y")
@@ -181,6 +200,19 @@ class BemReference:
     area_tolerance: float | None = scalar(
         "1", "relative A_r tolerance of the grid check ([bem] area_tolerance)", optional=True
     )
+    adhesion: str | None = text("law of the adhesive solves: maugis or pohrt-popov", optional=True)
+    adhesion_range: float | None = scalar("m", "Maugis-Dugdale range h_0", optional=True)
+    range_rule: str | None = text("how the Maugis range was chosen", optional=True)
+    range_zone_elements: float | None = scalar(
+        "1", "cohesive-zone width at the check load on the range grid, elements", optional=True
+    )
+    range_sensitivity: np.ndarray | None = array(
+        "1", ("range_factor",), "A_r / A_n at h_0 / 2, h_0, 2 h_0 (check load)", optional=True
+    )
+    area_range_uncertainty: float | None = scalar(
+        "1", "half spread of A_r / A_n over h_0 / 2 .. 2 h_0 (check load)", optional=True
+    )
+    range_solves: int = scalar("1", "Maugis solves of the range search and sensitivity", default=0)
     check_extrapolated_fraction: np.ndarray | None = array(
         "1", ("mode",), "check A_r / A_n extrapolated to zero pixel size", optional=True
     )
@@ -227,7 +259,8 @@ class BemReference:
         return self.contact_fraction_uncertainty[-1]
 
     def reference_fraction(self) -> np.ndarray:
-        """The A_r/A_n the statistical model is compared with: adhesive when run."""
+        """The A_r/A_n the adhesive statistical model is compared with: adhesive when run
+        (Maugis-Dugdale by default: adhesive on loading, like the model)."""
         if self.contact_fraction_adhesive is not None:
             return self.contact_fraction_adhesive
         return self.contact_fraction
@@ -295,6 +328,7 @@ def _solve_chains(
     solver: dict,
     executor: Executor | None,
     progress: bool,
+    law: dict | None = None,
 ) -> dict[int, tuple[SolveSummary, SolveSummary | None]]:
     """The sweeps' solves at every load but the check load, per load index; and the contact
     mask of the largest load under key -1 when a chain reaches it."""
@@ -306,6 +340,7 @@ def _solve_chains(
     largest = int(np.argmax(map_loads))
     jobs = [
         (heights, dx, dy, e_star, [float(map_loads[i]) for i in c], w, solver, start, largest in c)
+        + (law,)
         for c in chains
     ]
     out: dict = {}
@@ -352,6 +387,8 @@ SETTINGS: tuple[str, ...] = (
     "adhesive",
     "boundary",
     "coarsen",
+    "adhesion",
+    "adhesion_range",
 )
 _DEFAULTS = BemConfig()
 
@@ -370,6 +407,8 @@ def bem_reference(
     adhesive: bool = _DEFAULTS.adhesive,
     boundary: str = _DEFAULTS.boundary,
     coarsen: bool = _DEFAULTS.coarsen,
+    adhesion: str = _DEFAULTS.adhesion,
+    adhesion_range: float | None = _DEFAULTS.adhesion_range,
     executor: Executor | None = None,
     progress: bool = False,
 ) -> BemReference:
@@ -382,7 +421,7 @@ def bem_reference(
     e_star : float
         E*, Pa.
     work_of_adhesion : float
-        w, J/m^2 (adhesive solves, Pohrt-Popov, on the loading branch).
+        w, J/m^2 (adhesive solves on the loading branch).
     normal_loads : sequence of float
         Experiment loads F_z, N (on the nominal area).
     nominal_area : float
@@ -395,6 +434,9 @@ def bem_reference(
         (:func:`asperity.pipelines.stages._bem_grid.check_grids`); ``adhesive`` runs the
         adhesive solves too; ``boundary`` ("periodic" or "free") is every solve's
         (:mod:`asperity.pipelines.stages._bem_grid`).
+    adhesion, adhesion_range
+        The adhesive law ("maugis" or "pohrt-popov") and the Maugis range h_0 (m; None: the
+        rule of :mod:`asperity.pipelines.stages._bem_range`).
     executor : Executor, optional
         Runs the two load chains in parallel.
     """
@@ -411,16 +453,57 @@ def bem_reference(
         area_tolerance=area_tolerance,
         coarsen=coarsen,
         solver=solver,
+        adhesion=(adhesion, adhesion_range),
     )
     h, dx, dy = solver_grid(surface, grid.stride)
     map_loads = loads * (h.size * dx * dy) / nominal_area
-    chains = _solve_chains(grid, surface, e_star, map_loads, w, solver, executor, progress)
+    law = None if grid.range_choice is None else grid.range_choice.law
+    chains = _solve_chains(grid, surface, e_star, map_loads, w, solver, executor, progress, law)
     solves = _per_load(loads, k, grid, chains, w > 0)
     run = SimpleNamespace(
         loads=loads, k=k, grid=grid, chains=chains, solves=solves, h=h, dx=dx, dy=dy, w=w,
         pixel=surface.dx,
     )  # fmt: skip
-    return _reference(run, map_loads, nominal_area, area_tolerance, boundary)
+    reference = _reference(run, map_loads, nominal_area, area_tolerance, boundary)
+    return _with_adhesion_law(reference, adhesion if w > 0 else None, grid.range_choice)
+
+
+def _with_adhesion_law(
+    reference: BemReference, adhesion: str | None, choice: RangeChoice | None
+) -> BemReference:
+    """``reference`` with the adhesive law's fields: the Maugis range, its rule, its
+    sensitivity; a Pohrt-Popov run says that its loading branch carries no adhesion."""
+    reference.adhesion = adhesion
+    if adhesion == "pohrt-popov":
+        reference.warnings.append(POHRT_POPOV_NOTE)
+    if choice is None:
+        return reference
+    reference.adhesion_range = choice.adhesion_range
+    reference.range_rule = choice.rule
+    reference.range_zone_elements = choice.zone_elements
+    reference.range_sensitivity = np.asarray(choice.sensitivity, dtype=float)
+    reference.area_range_uncertainty = choice.uncertainty
+    reference.range_solves = len(choice.tried) - 1 + len(choice.sensitivity) - 1
+    reference.solves += reference.range_solves
+    relative = choice.uncertainty / choice.sensitivity[1] if choice.sensitivity[1] > 0 else np.nan
+    # measured at the check load, applied as the same relative part at every load (stated)
+    reference.contact_fraction_adhesion_range_uncertainty = (
+        relative * reference.contact_fraction_adhesive
+    )
+    reference.contact_fraction_uncertainty = combined_uncertainty(
+        reference.contact_fraction_discretisation_uncertainty,
+        reference.contact_fraction_adhesion_range_uncertainty,
+    )
+    return reference
+
+
+#: The report line of a Pohrt-Popov run.
+POHRT_POPOV_NOTE = (
+    '[bem] adhesion = "pohrt-popov" (the paper\'s Appendix B, eq:max_sigma): its loading '
+    "branch carries no adhesion (an element joins only where its gap closes), so the adhesive "
+    "BEM areas equal the non-adhesive ones; the statistical model is adhesive on loading "
+    '(E:JKR_load): use adhesion = "maugis" for a like-for-like calibration'
+)
 
 
 def _grid_fields(run: SimpleNamespace, nominal_area: float, area_tolerance: float) -> dict:

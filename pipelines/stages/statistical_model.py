@@ -7,6 +7,12 @@ the job's normal loads. The misfit of a resolution is the root mean square over 
 ln(A_model / A_reference): a relative error, so light and heavy loads weigh the same. The
 reference is the user's measured A_r(F_z) when given (the paper's choice, Section 5), otherwise
 the BEM on the map (adhesive when run). The effective resolution is the one of least misfit.
+
+Two pairs are compared when the BEM ran: the adhesive model (JKR asperities, E:JKR_load)
+against the adhesive BEM (Maugis-Dugdale by default: adhesive on loading), which chooses the
+effective resolution; and the non-adhesive model (w -> 0: Greenwood-Williamson) against the
+non-adhesive BEM, whose own least-misfit resolution is stored beside it
+(``effective_resolution_non_adhesive``) and reported, not used.
 """
 
 from __future__ import annotations
@@ -156,6 +162,14 @@ class ResolutionChoice:
         Model A_r (m^2) at the measured loads, shape (n_stride, n_measured).
     misfit_measured : ndarray or None
         RMS ln-ratio misfit against the measured A_r(F_z).
+    real_area_non_adhesive : ndarray or None
+        Non-adhesive (w -> 0, Greenwood-Williamson) model A_r (m^2), shape (n_stride, n_load).
+    misfit_bem_non_adhesive : ndarray or None
+        RMS ln-ratio misfit of the non-adhesive model against the non-adhesive BEM.
+    effective_index_non_adhesive : int or None
+        Index of that pair's least misfit (reported beside the effective resolution).
+    effective_resolution_non_adhesive : float or None
+        Its pixel size, m.
     optimum_resolution : float or None
         The effective resolution between the strides (m): the least misfit located by
         :func:`statmodel.effective_resolution.locate_least_misfit` (parabola in ln resolution,
@@ -226,6 +240,21 @@ class ResolutionChoice:
     )
     misfit_measured: np.ndarray | None = array(
         "1", ("stride",), "rms ln(A_model / A_measured) over loads", optional=True
+    )
+    real_area_non_adhesive: np.ndarray | None = array(
+        "m^2",
+        ("stride", "normal_load"),
+        "non-adhesive (Greenwood-Williamson) model A_r",
+        optional=True,
+    )
+    misfit_bem_non_adhesive: np.ndarray | None = array(
+        "1", ("stride",), "rms ln(A_model,w=0 / A_bem,non-adhesive) over loads", optional=True
+    )
+    effective_index_non_adhesive: int | None = scalar(
+        "1", "index of the non-adhesive pair's least misfit", optional=True
+    )
+    effective_resolution_non_adhesive: float | None = scalar(
+        "m", "pixel size of the non-adhesive pair's least misfit", optional=True
     )
     optimum_resolution: float | None = scalar(
         "m", "effective resolution located between the strides", optional=True
@@ -496,6 +525,34 @@ def statistical_model_scan(
     )
 
 
+def non_adhesive_pair(
+    choice: ResolutionChoice,
+    scan: ScanResult,
+    material: statmodel.Material,
+    bem: BemReference | None,
+    executor: Executor | None = None,
+) -> ResolutionChoice:
+    """``choice`` with the non-adhesive pair: the model at w -> 0 (Greenwood-Williamson,
+    E:Ar_Greenwood with Hertzian asperities) at every resolution against the non-adhesive BEM,
+    and that pair's least-misfit resolution (stored beside the effective one, not used).
+    Unchanged without a BEM or when the model is already non-adhesive."""
+    if bem is None or material.work_of_adhesion == 0:
+        return choice
+    plain = dataclasses.replace(material, work_of_adhesion=0.0)
+    roughness = _scan_roughness(scan)
+    area, _, messages = _model_areas(
+        scan, plain, roughness, choice.nominal_area, choice.normal_load, None, executor, False
+    )
+    misfit = _misfit_curve(area, roughness, bem.contact_fraction * choice.nominal_area)
+    choice.real_area_non_adhesive = area
+    choice.misfit_bem_non_adhesive = misfit
+    if np.isfinite(misfit).any():
+        index = _best_index(misfit, messages)
+        choice.effective_index_non_adhesive = index
+        choice.effective_resolution_non_adhesive = float(scan.resolution[index])
+    return choice
+
+
 def _validity_at_optimum(
     located: dict[str, Any],
     stride_best: statmodel.Roughness,
@@ -585,9 +642,10 @@ def normal_contact_material(material: Any) -> statmodel.Material:
 
 
 def _statistical_model_of_job(context: StageContext, config: Any) -> ResolutionChoice:
-    return statistical_model_scan(
+    material = normal_contact_material(config.material)
+    choice = statistical_model_scan(
         context.result(SCAN),
-        normal_contact_material(config.material),
+        material,
         config.loading.nominal_area,
         config.loading.normal_loads,
         bem=context.result(BEM),
@@ -595,6 +653,9 @@ def _statistical_model_of_job(context: StageContext, config: Any) -> ResolutionC
         surface=context.result(SURFACE).scanned_height_map(),
         executor=context.executor,
         progress=context.progress,
+    )
+    return non_adhesive_pair(
+        choice, context.result(SCAN), material, context.result(BEM), context.executor
     )
 
 

@@ -12,6 +12,13 @@ calibrated on cannot be right:
   coalescence, which the effective resolution absorbs only while junctions stay apart. Beyond
   10-15 % contact the junctions merge into clusters (the BEM picture of Appendix B), and no
   resolution of independent spheres describes them.
+* ``adhesion_full_contact`` (Persson-Tosatti: the elastic energy per unit area to flatten the
+  map, U_el/A0, below the work of adhesion w; :func:`asperity.statmodel.regimes.adhesion_regime`
+  on the levelled map): the interface snaps into nearly full contact at any load, so the
+  asperity model and a loading-branch BEM do not apply. It takes the place of the
+  ``area_fraction`` reason (the model's large A_r/A_n is then a symptom of this regime, not
+  junction coalescence); Tabor's parameter and Pastewka and Robbins's stickiness are stated
+  beside it (:func:`check_adhesion_regime`).
 * ``tabor`` (mu < 5): the JKR asperity laws (E:JKR_indent, E:PC_indent) hold for
   Tabor parameters above 5 (paper, Section 2).
 * ``misfit`` (rms ln(A_model / A_reference) above :data:`MAX_MISFIT` = 0.7, a factor 2;
@@ -67,15 +74,17 @@ from typing import Any
 import numpy as np
 
 from asperity.errors import ExitStatus
-from asperity.fields import document_fields, text
+from asperity.fields import document_fields, scalar, text
 from asperity.pipelines import measured
 from asperity.pipelines.engine.stage import Stage, StageContext
 from asperity.pipelines.stages._bem_grid import EDGE_MISMATCH_LIMIT
 from asperity.pipelines.stages.bem import BEM
 from asperity.pipelines.stages.friction import FRICTION, MODE_MIXITY
+from asperity.pipelines.stages.psd import complete_map
 from asperity.pipelines.stages.statistical_model import STATISTICAL_MODEL
 from asperity.pipelines.stages.surface import SCAN, SURFACE
 from asperity.statmodel import plausibility
+from asperity.statmodel.regimes import AdhesionRegime, adhesion_regime
 
 #: A_r/A_n above which an independent-asperity model cannot mean anything (junctions merge).
 MAX_AREA_FRACTION = 0.15
@@ -128,12 +137,26 @@ class Verdict:
         The code of each reason (module docstring).
     severities : list of str
         "invalid" or "warning", per reason.
+    adhesion_energy_ratio, stickiness, regime_tabor_parameter : float or None
+        The adhesion regime of the map (:func:`check_adhesion_regime`): U_el / (A0 w)
+        (Persson-Tosatti), S_PR (Pastewka-Robbins) and Tabor's mu; None without adhesion.
     """
 
     verdict: str = text("valid, warnings or invalid")
     reasons: list[str] = text("the number, the threshold and why, per reason")
     codes: list[str] = text("code per reason")
     severities: list[str] = text("invalid or warning, per reason")
+    adhesion_energy_ratio: float | None = scalar(
+        "1",
+        "U_el / (A0 w): elastic energy to flatten the map over w (Persson-Tosatti)",
+        optional=True,
+    )
+    stickiness: float | None = scalar(
+        "1", "Pastewka-Robbins stickiness S_PR (sticky below 1)", optional=True
+    )
+    regime_tabor_parameter: float | None = scalar(
+        "1", "Tabor parameter at the effective resolution's summit radius", optional=True
+    )
 
     @classmethod
     def from_reasons(cls, reasons: Sequence[Reason]) -> Verdict:
@@ -524,6 +547,49 @@ def check_profile_isotropy(surface: Any) -> list[Reason]:
     ]
 
 
+def adhesion_regime_of(surface: Any, material: Any, summit_radius: float) -> AdhesionRegime | None:
+    """:func:`asperity.statmodel.regimes.adhesion_regime` of the levelled map (missing pixels
+    at the mean height) with E* (Pa), w (J/m^2) and, as the range of Pastewka and Robbins and
+    of Tabor's parameter, epsilon (m); Tabor's mu at ``summit_radius`` (m). None when w = 0."""
+    if material.work_of_adhesion <= 0:
+        return None
+    heights, _ = complete_map(surface)
+    return adhesion_regime(
+        heights,
+        material.e_star,
+        material.work_of_adhesion,
+        interaction_range=material.equilibrium_distance,
+        summit_radius=summit_radius,
+        equilibrium_distance=material.equilibrium_distance,
+    )
+
+
+def check_adhesion_regime(regime: AdhesionRegime | None) -> list[Reason]:
+    """Persson-Tosatti's full-contact criterion: invalid ``adhesion_full_contact`` when the
+    elastic energy to flatten the map is below w, with Tabor's parameter (Tabor 1977) and
+    Pastewka and Robbins's stickiness (PNAS 2014) beside it (docs/pipelines.md)."""
+    if regime is None or regime.full_contact.level != "invalid":
+        return []
+    check = regime.full_contact
+    text_ = (
+        f"{check.message} ({check.reference}; threshold {check.threshold:g} on "
+        f"U_el/(A0 w)). Beside it: Tabor parameter mu = {regime.tabor_parameter:.3g} "
+        f"(D. Tabor, J. Colloid Interface Sci. 58, 2 (1977)); Pastewka-Robbins stickiness "
+        f"S_PR = {regime.stickiness:.3g} (sticky below 1; L. Pastewka, M.O. Robbins, PNAS "
+        "111, 3298 (2014))"
+    )
+    return [Reason(check.code, "invalid", text_)]
+
+
+def in_place_of_coalescence(reasons: list[Reason], regime: list[Reason]) -> list[Reason]:
+    """``reasons`` with the adhesion-regime reasons in place of the junction-coalescence
+    (``area_fraction``) ones when the regime is full contact; unchanged otherwise."""
+    if not regime:
+        return reasons
+    kept = [r for r in reasons if r.code != "area_fraction"]
+    return regime + kept
+
+
 def check_shape_scale(choice: Any) -> list[Reason]:
     """The shape fit's factor c per measured A_r(F_x) curve against 1.
 
@@ -696,8 +762,17 @@ def resolution_direction(res: Any, bem: Any) -> str:
 
 
 def compute_verdict(context: StageContext) -> Verdict:
-    """The job's PSD stage: :func:`job_reasons` summed up."""
-    return Verdict.from_reasons(job_reasons(context))
+    """The job's PSD stage: :func:`job_reasons` summed up, the adhesion regime in place of
+    junction coalescence where it is full contact."""
+    res = context.result(STATISTICAL_MODEL)
+    regime = adhesion_regime_of(context.result(SURFACE), context.config.material, res.summit_radius)
+    reasons = in_place_of_coalescence(job_reasons(context), check_adhesion_regime(regime))
+    verdict = Verdict.from_reasons(reasons)
+    if regime is not None:
+        verdict.adhesion_energy_ratio = float(regime.energy_ratio)
+        verdict.stickiness = float(regime.stickiness)
+        verdict.regime_tabor_parameter = float(regime.tabor_parameter)
+    return verdict
 
 
 def exit_status(converged: bool, verdict: Verdict | None) -> ExitStatus:
@@ -789,6 +864,8 @@ VERDICT = Stage(
         "loading.nominal_area",
         "material.hardness",
         "material.E_star",
+        "material.work_of_adhesion",
+        "material.equilibrium_distance",
     ),
     inputs=(SURFACE, SCAN, BEM, STATISTICAL_MODEL, MODE_MIXITY, FRICTION),
     compute=compute_verdict,

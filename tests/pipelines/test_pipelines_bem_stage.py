@@ -83,7 +83,8 @@ def test_coarsest_grid_within_tolerance_of_the_finest():
 
 @pytest.fixture(scope="module")
 def counted(periodic_map):
-    """bem_reference on the periodic map, counting every bem.solve_contact call."""
+    """bem_reference on the periodic map with Pohrt-Popov adhesion (the paper's Appendix B),
+    counting every bem.solve_contact call."""
     calls = []
     real = bem.solve_contact
 
@@ -94,7 +95,9 @@ def counted(periodic_map):
     mp = pytest.MonkeyPatch()
     mp.setattr(bem, "solve_contact", counting)
     try:
-        ref = bem_reference(periodic_map, E_STAR, W, LOADS, A_N, max_stride=4, coarsen=False)
+        ref = bem_reference(
+            periodic_map, E_STAR, W, LOADS, A_N, max_stride=4, coarsen=False, adhesion="pohrt-popov"
+        )
     finally:
         mp.undo()
     return ref, calls
