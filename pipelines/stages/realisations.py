@@ -6,7 +6,8 @@ reference of a profile job (:mod:`asperity.pipelines.stages.bem`) is solved on o
 synthesised with random phases (realisation 0, seed ``surface.profile_seed``). This stage
 synthesises ``surface.profile_realisations - 1`` more (seeds ``profile_seed + 1, ...``), solves
 each at the job's loads on the BEM stage's grid (its decimation stride, boundary, tolerance, and
-the adhesive Pohrt-Popov solve, eq:max_sigma, when the BEM ran it) with
+its adhesive solve when the BEM ran one: the same law, Maugis-Dugdale with the range the BEM
+stage chose, or Pohrt-Popov, eq:max_sigma) with
 :func:`bem.load_sweep`, and stores A_r/A_n of every realisation, their mean, sample standard
 deviation and relative spread per load. The spread is how much the BEM reference owes to the
 phases the profile cannot give; the report states it with the number of realisations.
@@ -65,7 +66,7 @@ class RealisationSpread:
     pixel_size: float = scalar("m", "pixel size of each synthesised map (the profile's dx)")
     stride: int = scalar("1", "decimation of the maps solved (the BEM stage's)")
     max_relative_spread: float = scalar("1", "largest relative spread over the loads")
-    mode: str = text("which BEM area: adhesive (Pohrt-Popov) or non-adhesive")
+    mode: str = text("which BEM area: adhesive (its law and range) or non-adhesive")
     messages: list[str] = text("messages of solves that did not converge")
 
 
@@ -77,6 +78,7 @@ def solve_realisation(
     map_loads: np.ndarray,
     solver: dict,
     work_of_adhesion: float,
+    adhesion: tuple[str, float | None] = ("pohrt-popov", None),
 ) -> tuple[np.ndarray, np.ndarray, list[str]]:
     """A_r/A_map of one map at every load, non-adhesive, then adhesive when ``w > 0``.
 
@@ -94,6 +96,10 @@ def solve_realisation(
         ``tol``, ``max_iter``, ``periodic`` of :func:`bem.solve_contact`.
     work_of_adhesion : float
         w, J/m^2; 0 for the non-adhesive solve alone.
+    adhesion : (str, float or None)
+        The BEM stage's adhesion law and its range h_0 (m) for ``"maugis"``
+        (:func:`bem.solve_contact`'s ``adhesion`` and ``adhesion_range``), so that every
+        realisation is solved as the reference map was.
 
     Returns
     -------
@@ -109,7 +115,8 @@ def solve_realisation(
         start = plain if all(r.success for r in plain) else None  # else solved from scratch
         results = bem.load_sweep(
             heights, dx, dy, e_star, forces, non_adhesive=start,
-            work_of_adhesion=work_of_adhesion, **solver,
+            work_of_adhesion=work_of_adhesion, adhesion=adhesion[0],
+            adhesion_range=adhesion[1], **solver,
         )  # fmt: skip
     fraction = np.empty(len(forces))
     converged = np.empty(len(forces), dtype=bool)
@@ -145,7 +152,8 @@ def _jobs(context: StageContext, reference: BemReference) -> list[tuple]:
         surface = synthesised_map(profile, config.surface, index)
         h, dx, dy = solver_grid(surface, int(reference.stride))
         map_loads = reference.normal_load * (h.size * dx * dy) / config.loading.nominal_area
-        jobs.append((h, dx, dy, config.material.e_star, map_loads, solver, w))
+        law = (config.bem.adhesion, reference.adhesion_range)
+        jobs.append((h, dx, dy, config.material.e_star, map_loads, solver, w, law))
     return jobs
 
 
@@ -174,9 +182,16 @@ def compute_realisations(context: StageContext) -> RealisationSpread:
         pixel_size=float(context.result(SURFACE).dx),
         stride=int(reference.stride),
         max_relative_spread=float(np.nanmax(relative)) if np.isfinite(relative).any() else math.nan,
-        mode="adhesive (Pohrt-Popov)" if adhesive else "non-adhesive",
+        mode=_mode(config.bem.adhesion, reference.adhesion_range) if adhesive else "non-adhesive",
         messages=[m for s in solved for m in s[2]],
     )
+
+
+def _mode(adhesion: str, adhesion_range: float | None) -> str:
+    """Which BEM area the spread is of, in words (the reference map's law and range)."""
+    if adhesion == "maugis":
+        return f"adhesive (Maugis-Dugdale, range {adhesion_range:.3g} m)"
+    return "adhesive (Pohrt-Popov)"
 
 
 def realisations_enabled(config: JobConfig) -> bool:
@@ -203,6 +218,7 @@ REALISATIONS = Stage(
         "bem.tol",
         "bem.max_iter",
         "bem.adhesive",
+        "bem.adhesion",
         "bem.boundary",
     ),
     inputs=(SURFACE, BEM),
