@@ -37,8 +37,13 @@ def test_public_names_resolve_to_objects_not_shadowing_submodules(name: str) -> 
             importlib.import_module(f"{name}.{info.name}")
     for public in getattr(package, "__all__", ()):
         value = getattr(package, public)
-        if public in submodules:
-            assert value is importlib.import_module(f"{name}.{public}")
+        if public in submodules:  # exported as the module itself, never as its namesake
+            module = importlib.import_module(f"{name}.{public}")
+            assert value is module
+            assert not callable(getattr(module, public, None)), (
+                f"{name}.{public}: the module defines a public {public} of the same name, "
+                "which the module object shadows"
+            )
         else:
             assert not isinstance(value, type(sys)), f"{name}.{public} is a module"
 

@@ -40,7 +40,7 @@ def _prepared(args: argparse.Namespace, profile: LineProfile, what: str):
 def profile_record(profile: LineProfile, *, stride: int = 1) -> dict:
     """The ``asperity stats`` record of a levelled profile (keys in the module docstring)."""
     from asperity.topo.cli import _json_number
-    from asperity.topo.profile_statistics import profile_statistics
+    from asperity.topo.nayak import profile_statistics
 
     stats = profile_statistics(profile, stride=stride)
     heights = profile.heights[::stride]

@@ -1,7 +1,7 @@
 """Resolution scan of a line profile: Nayak's statistics at sampling intervals k dx.
 
 The profile counterpart of :func:`asperity.topo.resolution_scan` (paper, Fig 12a-c): for every
-stride k = 1..K the statistics of :func:`~asperity.topo.profile_statistics.profile_statistics`
+stride k = 1..K the statistics of :func:`~asperity.topo.nayak.profile_statistics`
 at sampling interval ``k dx`` (m), and the paper's fits: R linear in the resolution, eta a
 power law, sigma_s its mean and relative spread. The result is a
 :class:`~asperity.topo.ResolutionScan` (same arrays, fits, JSON keys, HDF5 layout and figure),
@@ -21,7 +21,7 @@ import numpy as np
 
 from asperity.errors import InputError
 from asperity.topo.heightmap import LineProfile
-from asperity.topo.profile_statistics import ISOTROPY_WARNING, profile_statistics
+from asperity.topo.nayak import ISOTROPY_WARNING, profile_statistics
 from asperity.topo.scan import ResolutionScan
 
 

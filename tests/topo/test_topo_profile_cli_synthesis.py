@@ -15,7 +15,7 @@ from asperity.errors import InputError
 from asperity.pipelines.cli import main
 from asperity.topo.cli import STATS_KEYS
 from asperity.topo.heightmap import LineProfile
-from asperity.topo.profile_statistics import profile_statistics
+from asperity.topo.nayak import profile_statistics
 from asperity.topo.profile_synthesis import (
     isotropic_psd,
     realisation_spread,

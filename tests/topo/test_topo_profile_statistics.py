@@ -12,7 +12,7 @@ import pytest
 from asperity import topo
 from asperity.errors import InputError
 from asperity.topo.heightmap import LineProfile
-from asperity.topo.profile_statistics import (
+from asperity.topo.nayak import (
     ISOTROPY_WARNING,
     SpectralMoments,
     count_peaks,
