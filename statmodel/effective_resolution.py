@@ -15,7 +15,10 @@ between them by these rules:
    resampled at non-integer steps, :mod:`topo.fractional_resampling`), and step 1 is repeated
    on all the points. When the least sampled misfit is at an end of the scan, the points go
    between that end and its neighbour: the optimum may lie between the first two strides
-   (the default job's mean log ratio changes sign between 10 and 20 um).
+   (the default job's mean log ratio changes sign between 10 and 20 um). The least misfit
+   m_min is then the model's own misfit evaluated at the vertex, never the parabola's value
+   there (the summit statistics are jagged between strides, and a parabola through three
+   jagged points can dip to 0 where no resolution fits perfectly).
 3. **Interval** (the profile rule of the lambda fit, :mod:`pipelines.fitting`): with
    S = n m^2 the residual sum of squares and s^2 = S_min/(n - 1) its one-parameter estimate of
    the residual variance, the one-sigma interval is where S <= S_min + s^2, i.e.
@@ -266,6 +269,8 @@ def locate_least_misfit(
         raise InputError(f"n_loads: expected an integer >= 1, got {n_loads!r}")
     res, m = _check_curve(resolution, misfit)
     x, y2, vertex, direction, refined = _optimum(np.log(res), m**2, misfit_at)
+    if misfit_at is not None and not direction:  # the model's own misfit there, not the
+        vertex = (vertex[0], float(misfit_at(math.exp(vertex[0]))) ** 2)  # parabola's floor
     low, high, threshold, open_low, open_high = _interval(x, y2, vertex, int(n_loads))
     open_low = open_low or (direction == "finer" and n_loads > 1)
     open_high = open_high or (direction == "coarser" and n_loads > 1)

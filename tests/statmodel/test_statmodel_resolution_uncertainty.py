@@ -105,3 +105,18 @@ def test_one_load_has_no_interval_and_bad_input_is_refused():
         locate_least_misfit(STRIDES[:3], [0.3, 0.1, 0.2], 0)
     with pytest.raises(InputError, match="misfit: expected a finite"):
         locate_least_misfit(STRIDES[:2], [math.nan, math.inf], 3)
+
+
+def test_least_misfit_is_the_models_own_value_not_the_parabolas_floor():
+    """A jagged misfit curve (summit statistics between strides) whose parabola through the
+    least point and its neighbours dips to 0 m^2: the reported least misfit is the misfit
+    evaluated at the located resolution, which is positive, never 0."""
+    resolution = np.array([10e-6, 20e-6, 30e-6])  # m
+    misfit = np.array([0.30, 0.02, 0.30])  # a sharp V: its parabola's vertex is at m^2 < 0.02^2
+
+    def misfit_at(r: float) -> float:
+        return 0.02 + 0.05 * abs(math.log(r / 20e-6))  # a V floor of 0.02, never below
+
+    located = locate_least_misfit(resolution, misfit, n_loads=6, misfit_at=misfit_at)
+    assert located.misfit == pytest.approx(misfit_at(located.resolution), rel=1e-12)
+    assert located.misfit >= 0.02
