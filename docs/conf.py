@@ -75,7 +75,6 @@ root_doc = "index"
 templates_path = ["api/_templates"]
 exclude_patterns = [
     "_build",
-    "README-docs-paragraph.md",  # text for the coordinator to paste into README.md
     "**/README.txt",  # gallery headers, read by sphinx-gallery itself
     "**.ipynb",
     "**.py.md5",
