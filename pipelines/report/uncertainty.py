@@ -158,10 +158,13 @@ def draw_model_band(ax: Any, fu: DisplayUnit, result: Any, table: Any, columns: 
     u = np.asarray(fr.model_real_area_uncertainty, dtype=float) / a_n
     at = result.resolution.optimum_resolution
     ru = display_unit(at, "m")
-    bound = ", u a lower bound" if getattr(fr, "uncertainty_lower_bound", False) else ""
-    name = f"model +- u{bound}, {ru(at):.3g} {ru.symbol} (located optimum)"
+    lower_bound = bool(getattr(fr, "uncertainty_lower_bound", False))
+    band = "u a lower bound, band not drawn" if lower_bound else "+- u"
+    name = f"model ({band}), {ru(at):.3g} {ru.symbol} (located optimum)"
     (line,) = ax.plot(fu(fr.normal_load), value, "-", color="C3", label=name)
-    ax.fill_between(fu(fr.normal_load), value - u, value + u, color=line.get_color(), alpha=0.25)
+    if not lower_bound:  # a lower bound has no upper edge to draw: a band would claim one
+        low = np.maximum(value - u, 0.1 * value)  # a log axis: at most a decade below
+        ax.fill_between(fu(fr.normal_load), low, value + u, color=line.get_color(), alpha=0.25)
     table.add("d", name, {x_col: fr.normal_load, y_col: value, "A_r/A_n uncertainty (1)": u})
     return True
 
