@@ -131,7 +131,7 @@ def test_job_stores_reports_and_judges_the_scale_factors(small_run, small, tmp_p
     status = main(["run", str(tmp_path / "job.toml"), "--out", str(run)])
     printed = capsys.readouterr().out
     assert status == 3
-    assert "INVALID: the shape fit scales the model's A_r(F_x) by c = 3" in printed
+    assert "INVALID (shape_scale): the shape fit scales the model's A_r(F_x) by c = 3" in printed
     with h5py.File(run / "results.h5") as f:
         group = f["mode_mixity"]
         lam, std = float(group.attrs["mode_mixity"]), float(group.attrs["mode_mixity_std"])

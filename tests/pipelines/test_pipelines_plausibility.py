@@ -130,6 +130,6 @@ def test_x3p_map_with_a_glassy_polymer_warns_of_its_friction(tmp_path, capsys):
     status = main(["run", str(config), "--out", str(tmp_path / "out")])
     out = capsys.readouterr().out
     assert status in (ExitStatus.OK, ExitStatus.INVALID_RESULT)
-    assert "warning: static over sliding friction F_s/F_d = " in out
-    assert "warning: mean junction shear at the peak F_s/A_r over tau_0" in out
+    assert "warning (static_friction_ratio): static over sliding friction F_s/F_d = " in out
+    assert "warning (junction_shear_at_peak): mean junction shear at the peak F_s/A_r over" in out
     assert out.count("check material.shear_strength (tau_0) and material.mode_mixity") == 2
