@@ -26,8 +26,11 @@ asperity's text profiles), and refused otherwise: asperity never interpolates a 
 
 from __future__ import annotations
 
+import contextlib
 import importlib.util
+import io
 import warnings
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -53,8 +56,8 @@ def _open(path: Path):
     """SurfaceTopography's reader of the file, or a typed error naming the file."""
     from SurfaceTopography.IO import open_topography
 
-    try:
-        with warnings.catch_warnings():
+    try:  # its readers may print while they probe a file: that is not ours to show
+        with warnings.catch_warnings(), _silenced():
             warnings.simplefilter("ignore")
             return open_topography(str(path))
     except Exception as exc:  # a third-party reader: any failure is a bad or unknown file
@@ -64,6 +67,14 @@ def _open(path: Path):
             "matches no supported format: neither asperity's readers nor SurfaceTopography's "
             f"read it (SurfaceTopography: {type(exc).__name__}: {_one_line(exc)})",
         ) from None
+
+
+@contextlib.contextmanager
+def _silenced() -> Iterator[None]:
+    """Python-level stdout and stderr discarded inside the block (a third-party reader's
+    prints would break the one-line error contract of the command line)."""
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+        yield
 
 
 def _one_line(error: Exception, limit: int = 200) -> str:
