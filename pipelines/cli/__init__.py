@@ -204,8 +204,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         with warnings_as_lines(args.command), interrupts:
             return _status(args.func(args))
     except KeyboardInterrupt:
+        interrupts.close()  # a late re-raise may have cut the guard's own exit short
         return _interrupted(args.command)
     except Exception as exc:  # noqa: BLE001 (every exception gets a status of its own)
+        interrupts.close()
         if interrupts.requested:  # a library turned the KeyboardInterrupt into another error
             return _interrupted(args.command)
         return _report_exception(args.command, exc)

@@ -22,7 +22,11 @@ with its traceback (the guard's :func:`sys.unraisablehook` drops those: the requ
 again); every other unraisable exception still goes to the previous hook.
 
 Once acknowledged, further SIGINTs are ignored while the run ends (finished stages are kept,
-the lock is released). Guards nest: an inner guard joins the active one. Off the main thread
+the lock is released). :meth:`InterruptGuard.close` ends a guard whose exit a late re-raise cut
+short, and :func:`forget_escaped_interrupts` keeps ``python -m asperity``'s status 130 (CPython
+would otherwise end the process by SIGINT after a Ctrl-C seen inside a library's ``exec``).
+
+Guards nest: an inner guard joins the active one. Off the main thread
 (a job run by a thread of ``batch``) a guard does nothing: signals reach the main thread only.
 """
 
@@ -35,7 +39,13 @@ import threading
 from types import FrameType
 from typing import Any
 
-__all__ = ["RETRY_SECONDS", "InterruptGuard", "active_guard", "checkpoint"]
+__all__ = [
+    "RETRY_SECONDS",
+    "InterruptGuard",
+    "active_guard",
+    "checkpoint",
+    "forget_escaped_interrupts",
+]
 
 #: Seconds between re-raises of an interrupt that was not seen (swallowed in a finaliser).
 RETRY_SECONDS = 0.5
@@ -52,6 +62,20 @@ def checkpoint() -> None:
     """A safe point: raise KeyboardInterrupt if a Ctrl-C was requested and not yet seen."""
     if _active is not None:
         _active.checkpoint()
+
+
+def forget_escaped_interrupts() -> None:
+    """Clear CPython's record of a KeyboardInterrupt that escaped an ``exec`` of source text.
+
+    CPython notes, process-wide, any KeyboardInterrupt that leaves code run from a source string
+    (``exec`` of a string: dataclass and namedtuple creation during a lazy import, numba's
+    generated wrappers), even when the caller catches it later. Under ``python -m`` the note
+    outlives ``sys.exit``: the process then kills itself with SIGINT after finalising, and its
+    parent sees -2 in place of the status the run chose (130, 0, ...). Running an empty source
+    string resets the note. ``python -m asperity`` calls this just before it exits; the
+    ``asperity`` script does not need it (a script's ``sys.exit`` ends the process at once).
+    """
+    exec("", {})  # noqa: S102 (an empty, constant source: the reset itself)
 
 
 class InterruptGuard:
@@ -90,20 +114,41 @@ class InterruptGuard:
         return self
 
     def __exit__(self, exc_type: type[BaseException] | None, *details: object) -> None:
-        global _active
         if exc_type is not None:
             self._guard.acknowledge()  # an exception (KeyboardInterrupt or other) ends the run
         if not self._installed:
             return
         pending = self.requested and not self.acknowledged
-        self.acknowledge()
-        if self._watchdog is not None:
-            self._watchdog.join()
-        signal.signal(signal.SIGINT, self._previous)
-        sys.unraisablehook = self._previous_hook
-        self._installed, _active = False, None
+        self.close()
         if pending:  # every raise was swallowed: the run must still end as interrupted
             raise KeyboardInterrupt
+
+    def close(self) -> None:
+        """Acknowledge, stop the watchdog and give SIGINT back; idempotent.
+
+        A re-raise that lands while the guard is being closed (the watchdog fired just before
+        the acknowledgement) is absorbed and the closing done again, so no KeyboardInterrupt
+        is left pending once the run has reported itself interrupted. Callers that catch the
+        KeyboardInterrupt call this first (a re-raise can cut ``__exit__`` short).
+        """
+        while True:
+            try:
+                self.acknowledge()
+                self._uninstall()
+                return
+            except KeyboardInterrupt:
+                continue
+
+    def _uninstall(self) -> None:
+        """Join the watchdog, then restore the previous SIGINT handler and unraisable hook."""
+        global _active
+        if not self._installed:
+            return
+        if self._watchdog is not None:
+            self._watchdog.join()
+        signal.signal(signal.SIGINT, self._previous)  # runs a pending re-raise first (a no-op)
+        sys.unraisablehook = self._previous_hook
+        self._installed, _active = False, None
 
     def _handle(self, signum: int, frame: FrameType | None) -> None:
         """The SIGINT handler: record, and raise unless the run is already ending."""

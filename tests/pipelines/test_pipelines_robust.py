@@ -667,6 +667,58 @@ def test_a_swallowed_ctrl_c_is_raised_at_the_next_safe_point_and_at_the_end(monk
         holder.clear()  # swallowed, and no safe point before the end: raised at the end
 
 
+def test_a_re_raise_cutting_the_guards_exit_short_leaves_nothing_pending(monkeypatch):
+    """The watchdog's re-raise can land in ``__exit__`` before it acknowledges (a slow CI
+    run once ended -SIGINT after printing "interrupted"): ``close`` then settles it all."""
+    monkeypatch.setattr(interrupts_module, "RETRY_SECONDS", 0.05)
+    guard = InterruptGuard()
+    real_acknowledge, cut = guard.acknowledge, []
+
+    def acknowledge_cut_once():
+        if not cut:
+            cut.append(True)
+            raise KeyboardInterrupt  # the re-raise, before the acknowledgement took hold
+        real_acknowledge()
+
+    monkeypatch.setattr(guard, "acknowledge", acknowledge_cut_once)
+    with pytest.raises(KeyboardInterrupt):
+        with guard:
+            signal.raise_signal(signal.SIGINT)
+    assert cut and not guard.acknowledged  # __exit__ was cut short: the guard still active
+    guard.close()
+    assert guard.acknowledged and interrupts_module.active_guard() is None
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    assert _busy(10 * interrupts_module.RETRY_SECONDS) >= 0.5  # no late KeyboardInterrupt
+
+
+_ESCAPED_EXEC_MODULE = """
+import sys
+from asperity.pipelines.engine.interrupts import forget_escaped_interrupts
+try:
+    exec("raise KeyboardInterrupt")  # as a dataclass built during a lazy import, hit by Ctrl-C
+except KeyboardInterrupt:
+    pass  # seen and handled: the run reports "interrupted", status 130
+if sys.argv[1:] == ["forget"]:
+    forget_escaped_interrupts()
+sys.exit(130)
+"""
+
+
+def test_python_m_keeps_status_130_after_a_ctrl_c_escaped_a_librarys_exec(tmp_path):
+    """CPython turns ``python -m``'s exit into -SIGINT after such an exec (a slow CI run saw
+    -2); ``python -m asperity`` clears that record before it exits."""
+    package = tmp_path / "escaped"
+    package.mkdir()
+    (package / "__main__.py").write_text(_ESCAPED_EXEC_MODULE)
+
+    def status(*argv):
+        command = [sys.executable, "-m", "escaped", *argv]
+        return subprocess.run(command, cwd=tmp_path, capture_output=True, timeout=60).returncode
+
+    assert status() == -signal.SIGINT  # the quirk itself: the fix below is needed
+    assert status("forget") == 130
+
+
 def test_a_swallowed_ctrl_c_at_a_stage_boundary_ends_the_job_keeping_written_stages(
     small, tmp_path, monkeypatch
 ):
