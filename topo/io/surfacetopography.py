@@ -40,6 +40,7 @@ from asperity.topo.errors import TopographyFileError, UnsupportedContentError
 from asperity.topo.heightmap import HeightMap, LineProfile
 from asperity.topo.io._common import caller_pixel_size, make_provenance, make_surface
 from asperity.topo.io.limits import MAX_FILE_BYTES, check_map_points
+from asperity.topo.io.registry import native_formats_text
 from asperity.topo.io.text_layouts import profile_step
 from asperity.topo.io.units import length_unit_in_metres
 
@@ -171,9 +172,8 @@ def read_with_extra(
         raise UnsupportedContentError(
             path,
             "format",
-            "is not one asperity reads natively (x3p, sur, dat, datx, plu, opd, di, mi, gwy, "
-            "csv/txt, npy/npz, h5); other instrument formats are read through SurfaceTopography: "
-            f"{INSTALL_HINT}",
+            f"is not one asperity reads natively ({native_formats_text()}); other instrument "
+            f"formats are read through SurfaceTopography: {INSTALL_HINT}",
         )
     if path.stat().st_size > MAX_FILE_BYTES:
         raise TopographyFileError(path, "file", f"is larger than {MAX_FILE_BYTES} bytes")
