@@ -359,10 +359,15 @@ def hertz_accuracy_plot(path: Path) -> None:
     import matplotlib.pyplot as plt
 
     from asperity.bem import solve_contact
+    from asperity.bem.reference_solutions import (
+        hertz_sphere_contact_radius,
+        hertz_sphere_peak_pressure,
+        hertz_sphere_pressure,
+    )
 
     R, E, F = 1.0, 1.0, 1e-4
-    a = (3 * F * R / (4 * E)) ** (1 / 3)
-    p0 = 3 * F / (2 * np.pi * a**2)
+    a = hertz_sphere_contact_radius(F, R, E)
+    p0 = hertz_sphere_peak_pressure(F, R, E)
 
     def case(n, tol):
         box = 4 * a
@@ -374,7 +379,7 @@ def hertz_accuracy_plot(path: Path) -> None:
         t0 = time.perf_counter()
         res = solve_contact(h, dx, dx, E, normal_force=F, periodic=False, tol=tol)
         sec = time.perf_counter() - t0
-        exact = p0 * np.sqrt(np.clip(1 - (r / a) ** 2, 0, None))
+        exact = hertz_sphere_pressure(r, F, R, E)
         inside = r < a
         err = np.sqrt(np.mean((res.pressure[inside] - exact[inside]) ** 2)) / p0
         return sec, err, res.nit

@@ -1,30 +1,12 @@
-"""Shared helpers for the bem tests: geometries and the contact-conditions check."""
+"""Fixtures of the bem tests: geometries (from tests/_helpers.py) and the contact-conditions
+check."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-
-def sphere_heights(n: int, box: float, radius: float) -> tuple[np.ndarray, float]:
-    """Parabolic sphere cap h = -r^2 / (2 R) (m), apex at the grid centre; returns (h, dx)."""
-    dx = box / n
-    x = (np.arange(n) - n / 2 + 0.5) * dx
-    return -(x[:, None] ** 2 + x[None, :] ** 2) / (2 * radius), dx
-
-
-def random_surface(n: int, seed: int = 0, hurst: float = 0.8, cutoff: float = 8.0) -> np.ndarray:
-    """Periodic self-affine heights (rms slope 1, pixel size 1) for solver tests."""
-    rng = np.random.default_rng(seed)
-    qx = 2 * np.pi * np.fft.fftfreq(n)
-    qy = 2 * np.pi * np.fft.rfftfreq(n)
-    q = np.hypot(qx[:, None], qy[None, :])
-    band = (q > 0) & (q <= 2 * np.pi / cutoff)
-    amp = np.where(band, np.where(q > 0, q, 1.0) ** (-(1 + hurst)), 0.0)
-    spec = amp * (rng.standard_normal(q.shape) + 1j * rng.standard_normal(q.shape))
-    h = np.fft.irfft2(spec, s=(n, n))
-    gx, gy = np.gradient(h)
-    return (h - h.mean()) / np.sqrt(np.mean(gx**2 + gy**2))
+from tests._helpers import random_surface, sphere_heights
 
 
 def check_contact_conditions(

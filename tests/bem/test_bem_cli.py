@@ -6,18 +6,7 @@ import numpy as np
 import pytest
 
 from asperity.pipelines.cli import main
-
-KEYS = [
-    "contact_fraction",
-    "real_area",
-    "normal_force",
-    "mean_gap",
-    "iterations",
-    "converged",
-    "seconds",
-    "status",
-    "branch",
-]
+from tests._helpers import BEM_JSON_KEYS as KEYS
 
 
 @pytest.fixture

@@ -16,12 +16,12 @@ from asperity.bem.discretisation import (
     observed_order,
     richardson_extrapolation,
 )
+from asperity.bem.reference_solutions import hertz_sphere_contact_radius
 from asperity.errors import InputError
-
-from .conftest import sphere_heights
+from tests._helpers import sphere_heights
 
 R, E, F = 1.0, 1.0, 1e-4
-A_HERTZ = math.pi * (3 * F * R / (4 * E)) ** (2 / 3)  # pi a^2, E:Hertz contact radius
+A_HERTZ = math.pi * hertz_sphere_contact_radius(F, R, E) ** 2  # pi a^2, E:Hertz_theory
 
 
 def _hertz_areas(box_radii: float, sizes: tuple[int, ...]) -> tuple[list[float], list[float]]:

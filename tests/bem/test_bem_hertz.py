@@ -4,16 +4,22 @@ import numpy as np
 import pytest
 
 from asperity.bem import solve_contact
+from asperity.bem.reference_solutions import (
+    hertz_sphere_approach,
+    hertz_sphere_contact_radius,
+    hertz_sphere_peak_pressure,
+    hertz_sphere_pressure,
+)
 
 R, E, F = 1.0, 1.0, 1e-4
-A_HERTZ = (3 * F * R / (4 * E)) ** (1 / 3)
-P0_HERTZ = 3 * F / (2 * np.pi * A_HERTZ**2)
+A_HERTZ = hertz_sphere_contact_radius(F, R, E)
+P0_HERTZ = hertz_sphere_peak_pressure(F, R, E)
 
 
 def _errors(res, dx, n):
     x = (np.arange(n) - n / 2 + 0.5) * dx
     r = np.hypot(x[:, None], x[None, :])
-    p_exact = P0_HERTZ * np.sqrt(np.clip(1 - (r / A_HERTZ) ** 2, 0, None))
+    p_exact = hertz_sphere_pressure(r, F, R, E)
     a_num = np.sqrt(res.real_area / np.pi)
     inside = r < A_HERTZ
     p_rms = np.sqrt(np.mean((res.pressure[inside] - p_exact[inside]) ** 2)) / P0_HERTZ
@@ -28,8 +34,8 @@ def test_hertz_nonperiodic_converges_under_refinement(sphere, contact_ok):
         assert res.converged, res.message
         contact_ok(res, h, force=F)
         errs.append(_errors(res, dx, n))
-        # approach: delta = a^2 / R; d = -delta for a sphere whose apex is at h = 0
-        assert -res.separation == pytest.approx(A_HERTZ**2 / R, rel=0.02)
+        # approach: d = -delta for a sphere whose apex is at h = 0
+        assert -res.separation == pytest.approx(hertz_sphere_approach(F, R, E), rel=0.02)
     a_err, p0_err, prms = np.array(errs).T
     assert abs(a_err[-1]) < 0.01  # 32 px per contact radius
     assert abs(p0_err[-1]) < 0.002

@@ -4,14 +4,21 @@ import numpy as np
 import pytest
 
 from asperity.bem import approach_retract, critical_tension, pull_off_force, solve_contact
+from asperity.bem.reference_solutions import (
+    hertz_sphere_force,
+    jkr_jump_off_distance,
+    jkr_pull_off_force_load_control,
+    jkr_sphere_contact_radius,
+    jkr_sphere_force,
+)
 
 R, E = 1.0, 1.0
 A_C = 0.05  # contact radius at (load-controlled) pull-off (m)
 W = A_C**3 * 8 * E / (9 * np.pi * R**2)  # J/m^2
-A_0 = (9 * np.pi * W * R**2 / (2 * E)) ** (1 / 3)  # JKR radius at zero load
-P_PULL = -1.5 * np.pi * W * R
+A_0 = jkr_sphere_contact_radius(0.0, R, W, E)  # JKR radius at zero load
+P_PULL = jkr_pull_off_force_load_control(R, W)
 D_MAX = A_0**2 / R  # indentation at the end of the approach
-DELTA_MIN = -0.75 * (np.pi**2 * W**2 * R / E**2) ** (1 / 3)  # fixed-grip jump-off
+DELTA_MIN = jkr_jump_off_distance(R, W, E)  # fixed-grip jump-off
 
 
 def _sphere(n):
@@ -27,10 +34,6 @@ def _cycle(n, n_out=40):
     d_out = np.linspace(-D_MAX, -1.3 * DELTA_MIN, n_out)
     loading, unloading = approach_retract(h, dx, dx, E, W, d_in, d_out, periodic=False, tol=1e-8)
     return h, dx, loading, unloading
-
-
-def _jkr_force(a):
-    return 4 * E * a**3 / (3 * R) - np.sqrt(8 * np.pi * E * a**3 * W)
 
 
 @pytest.fixture(scope="module")
@@ -65,7 +68,9 @@ def test_unloading_follows_jkr_a_of_p(cycles):
         if res.real_area == 0 or a < 0.6 * A_0 or a > 0.98 * A_0 * 1.0:
             continue
         # only states on the JKR branch (the contact edge has started to recede)
-        assert res.normal_force == pytest.approx(_jkr_force(a), abs=0.12 * abs(P_PULL))
+        assert res.normal_force == pytest.approx(
+            jkr_sphere_force(a, R, W, E), abs=0.12 * abs(P_PULL)
+        )
         checked += 1
     assert checked >= 5
 
@@ -75,7 +80,7 @@ def test_loading_is_hertzian_and_hysteresis(cycles):
     follows Hertz; the retraction keeps a larger contact and pulls (hysteresis)."""
     _, _, loading, unloading = cycles[128]
     last = loading[-1]
-    hertz = 4 / 3 * E * np.sqrt(R) * D_MAX**1.5
+    hertz = hertz_sphere_force(D_MAX, R, E)
     assert last.normal_force == pytest.approx(hertz, rel=0.03)
     assert np.sqrt(last.real_area / np.pi) == pytest.approx(np.sqrt(R * D_MAX), rel=0.03)
     by_d = {round(r.separation, 12): r for r in loading}

@@ -4,7 +4,6 @@ conditions on a rough surface, branches, warnings and input refusals."""
 
 from __future__ import annotations
 
-import math
 import warnings
 
 import numpy as np
@@ -12,41 +11,18 @@ import pytest
 
 from asperity import bem
 from asperity.bem.errors import BemInputError
-from asperity.statmodel.maugis_dugdale import MaugisDugdale
-from tests.bem.conftest import random_surface
+from tests._helpers import (
+    MAUGIS_E_STAR,
+    MAUGIS_RADIUS,
+    MAUGIS_WORK,
+    equivalent_radius,
+    maugis_sphere_case,
+    random_surface,
+    retract_to_pull_off,
+)
 
-RADIUS, E_STAR, WORK = 1e-2, 1e6, 0.05  # m, Pa, J/m^2
-
-
-def sphere_case(lam: float, per_radius: float, n: int):
-    """The closed form at Maugis parameter ``lam`` and a paraboloid (apex on a grid node)
-    with ``per_radius`` pixels per contact radius at the load pi w R."""
-    k = 4 * E_STAR / 3
-    sigma0 = lam / 2 * (math.pi * WORK * k**2 / RADIUS) ** (1 / 3)
-    md = MaugisDugdale(RADIUS, E_STAR, WORK, WORK / sigma0)
-    dx = md.contact_radius(md.force_scale) / per_radius
-    x = (np.arange(n) - n // 2) * dx
-    h = -(x[:, None] ** 2 + x[None, :] ** 2) / (2 * RADIUS)
-    kw = dict(
-        work_of_adhesion=WORK, adhesion="maugis", adhesion_range=md.adhesion_range, periodic=False
-    )
-    return md, h, dx, kw
-
-
-def equivalent_radius(res) -> float:
-    return math.sqrt(res.real_area / math.pi)
-
-
-def retract_to_pull_off(h, dx, kw, md, steps: int = 24) -> tuple[float, list]:
-    """Displacement-controlled unloading from zero approach: the most tensile force (N)."""
-    res = bem.solve_contact(h, dx, dx, E_STAR, separation=0.0, **kw)
-    branch = [res]
-    for d in np.linspace(0.0, 1.5 * md.approach_scale, steps + 1)[1:]:
-        res = bem.solve_contact(h, dx, dx, E_STAR, separation=float(d), initial=res, **kw)
-        branch.append(res)
-        if res.real_area == 0:
-            break
-    return bem.pull_off_force(branch), branch
+RADIUS, E_STAR, WORK = MAUGIS_RADIUS, MAUGIS_E_STAR, MAUGIS_WORK  # m, Pa, J/m^2
+sphere_case = maugis_sphere_case
 
 
 @pytest.mark.parametrize(

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from asperity.pipelines.cli import main
-from tests.bem.test_bem_cli import KEYS
+from tests._helpers import BEM_JSON_KEYS as KEYS
 
 
 @pytest.fixture

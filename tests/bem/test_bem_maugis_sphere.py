@@ -6,12 +6,9 @@ from __future__ import annotations
 import pytest
 
 from asperity import bem
-from tests.bem.test_bem_maugis import (
-    E_STAR,
-    equivalent_radius,
-    retract_to_pull_off,
-    sphere_case,
-)
+from tests._helpers import MAUGIS_E_STAR as E_STAR
+from tests._helpers import equivalent_radius, retract_to_pull_off
+from tests._helpers import maugis_sphere_case as sphere_case
 
 pytestmark = pytest.mark.slow
 

@@ -14,9 +14,9 @@ from asperity.statmodel.uncertainty import (
     largest_excursion,
     propagate_to_predictions,
 )
-
-from .test_statmodel_resolution_uncertainty import MATERIAL, NOMINAL_AREA
-from .test_statmodel_resolution_uncertainty import paper_roughness as _roughness
+from tests._helpers import PAPER_MATERIAL as MATERIAL
+from tests._helpers import PAPER_NOMINAL_AREA as NOMINAL_AREA
+from tests._helpers import paper_roughness as _roughness
 
 LOADS = [0.56, 1.58, 3.12]  # N
 PATH = np.linspace(0.0, 80e-6, 241)  # m, past full sliding at every load here

@@ -12,26 +12,12 @@ from asperity import statmodel
 from asperity.errors import InputError
 from asperity.pipelines.resolution_stage import log_misfit
 from asperity.statmodel.effective_resolution import locate_least_misfit
+from tests._helpers import PAPER_MATERIAL, PAPER_NOMINAL_AREA, paper_roughness
 
-MATERIAL = statmodel.Material(
-    e_star=2.133e6,
-    work_of_adhesion=0.040,
-    mode_mixity=0.03,
-    shear_strength=0.13e6,
-    equilibrium_distance=0.2e-9,
-)
-NOMINAL_AREA = 700e-6  # m^2
+MATERIAL, NOMINAL_AREA = PAPER_MATERIAL, PAPER_NOMINAL_AREA  # (SI), m^2
 LOADS = np.array([0.56, 1.06, 1.58, 2.08, 2.57, 3.12])  # N
 STRIDES = np.arange(1, 9) * 10e-6  # m, a scan of strides 1..8 at 10 um
 TRUE = 25e-6  # m, between strides 2 and 3
-
-
-def paper_roughness(resolution: float) -> statmodel.Roughness:
-    """The paper's Fig 12 laws at a resolution (m): eta = 652.1 mm^-2 (Delta/2 um)^-1.12,
-    R = 0.041 mm + 4.4 (Delta - 2 um), sigma_s = 0.032 mm."""
-    return statmodel.Roughness(
-        652.1e6 * (resolution / 2e-6) ** -1.12, 0.041e-3 + 4.4 * (resolution - 2e-6), 0.032e-3
-    )
 
 
 @functools.cache

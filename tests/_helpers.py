@@ -1,0 +1,125 @@
+"""Helpers shared by several test files (a test file imports no other test file).
+
+Import as ``from tests._helpers import ...``. Fixtures stay in the ``conftest.py`` of their
+folder; what a fixture hands out may be defined here.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from asperity import bem, statmodel
+from asperity.bem.reference_solutions import MaugisDugdale
+
+# --------------------------------------------------------------------------------------------
+# bem: geometries
+# --------------------------------------------------------------------------------------------
+
+
+def sphere_heights(n: int, box: float, radius: float) -> tuple[np.ndarray, float]:
+    """Parabolic sphere cap h = -r^2 / (2 R) (m), apex at the grid centre; returns (h, dx)."""
+    dx = box / n
+    x = (np.arange(n) - n / 2 + 0.5) * dx
+    return -(x[:, None] ** 2 + x[None, :] ** 2) / (2 * radius), dx
+
+
+def random_surface(n: int, seed: int = 0, hurst: float = 0.8, cutoff: float = 8.0) -> np.ndarray:
+    """Periodic self-affine heights (rms slope 1, pixel size 1) for solver tests."""
+    rng = np.random.default_rng(seed)
+    qx = 2 * np.pi * np.fft.fftfreq(n)
+    qy = 2 * np.pi * np.fft.rfftfreq(n)
+    q = np.hypot(qx[:, None], qy[None, :])
+    band = (q > 0) & (q <= 2 * np.pi / cutoff)
+    amp = np.where(band, np.where(q > 0, q, 1.0) ** (-(1 + hurst)), 0.0)
+    spec = amp * (rng.standard_normal(q.shape) + 1j * rng.standard_normal(q.shape))
+    h = np.fft.irfft2(spec, s=(n, n))
+    gx, gy = np.gradient(h)
+    return (h - h.mean()) / np.sqrt(np.mean(gx**2 + gy**2))
+
+
+# --------------------------------------------------------------------------------------------
+# bem: the ``asperity bem --json`` contract
+# --------------------------------------------------------------------------------------------
+
+#: The keys of one ``asperity bem --json`` entry, in order.
+BEM_JSON_KEYS = [
+    "contact_fraction",
+    "real_area",
+    "normal_force",
+    "mean_gap",
+    "iterations",
+    "converged",
+    "seconds",
+    "status",
+    "branch",
+]
+
+# --------------------------------------------------------------------------------------------
+# bem: the Maugis-Dugdale sphere (test_bem_maugis.py, test_bem_maugis_sphere.py)
+# --------------------------------------------------------------------------------------------
+
+MAUGIS_RADIUS, MAUGIS_E_STAR, MAUGIS_WORK = 1e-2, 1e6, 0.05  # m, Pa, J/m^2
+
+
+def maugis_sphere_case(lam: float, per_radius: float, n: int):
+    """The closed form at Maugis parameter ``lam`` and a paraboloid (apex on a grid node)
+    with ``per_radius`` pixels per contact radius at the load pi w R.
+
+    Returns (MaugisDugdale, heights m, dx m, keyword arguments of ``bem.solve_contact``).
+    """
+    k = 4 * MAUGIS_E_STAR / 3
+    sigma0 = lam / 2 * (math.pi * MAUGIS_WORK * k**2 / MAUGIS_RADIUS) ** (1 / 3)
+    md = MaugisDugdale(MAUGIS_RADIUS, MAUGIS_E_STAR, MAUGIS_WORK, MAUGIS_WORK / sigma0)
+    dx = md.contact_radius(md.force_scale) / per_radius
+    x = (np.arange(n) - n // 2) * dx
+    h = -(x[:, None] ** 2 + x[None, :] ** 2) / (2 * MAUGIS_RADIUS)
+    kw = dict(
+        work_of_adhesion=MAUGIS_WORK,
+        adhesion="maugis",
+        adhesion_range=md.adhesion_range,
+        periodic=False,
+    )
+    return md, h, dx, kw
+
+
+def equivalent_radius(res) -> float:
+    """sqrt(A / pi) (m) of a contact result's real area A (m^2)."""
+    return math.sqrt(res.real_area / math.pi)
+
+
+def retract_to_pull_off(h, dx, kw, md, steps: int = 24) -> tuple[float, list]:
+    """Displacement-controlled unloading from zero approach: the most tensile force (N)."""
+    res = bem.solve_contact(h, dx, dx, MAUGIS_E_STAR, separation=0.0, **kw)
+    branch = [res]
+    for d in np.linspace(0.0, 1.5 * md.approach_scale, steps + 1)[1:]:
+        res = bem.solve_contact(h, dx, dx, MAUGIS_E_STAR, separation=float(d), initial=res, **kw)
+        branch.append(res)
+        if res.real_area == 0:
+            break
+    return bem.pull_off_force(branch), branch
+
+
+# --------------------------------------------------------------------------------------------
+# statmodel: the paper's material and roughness laws (resolution and prediction uncertainty)
+# --------------------------------------------------------------------------------------------
+
+#: The paper's PDMS-on-glass material (SI units).
+PAPER_MATERIAL = statmodel.Material(
+    e_star=2.133e6,
+    work_of_adhesion=0.040,
+    mode_mixity=0.03,
+    shear_strength=0.13e6,
+    equilibrium_distance=0.2e-9,
+)
+#: The paper's nominal contact area, m^2.
+PAPER_NOMINAL_AREA = 700e-6
+
+
+def paper_roughness(resolution: float) -> statmodel.Roughness:
+    """The paper's Fig 12 laws at a resolution (m): eta = 652.1 mm^-2 (Delta/2 um)^-1.12,
+    R = 0.041 mm + 4.4 (Delta - 2 um), sigma_s = 0.032 mm."""
+    return statmodel.Roughness(
+        652.1e6 * (resolution / 2e-6) ** -1.12, 0.041e-3 + 4.4 * (resolution - 2e-6), 0.032e-3
+    )
