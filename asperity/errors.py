@@ -1,20 +1,9 @@
 """The error types and exit statuses shared by every asperity package and command.
 
-Exit statuses of every ``asperity`` command, one meaning each:
-
-====  =================  ==============================================================
-code  name               meaning
-====  =================  ==============================================================
-0     OK                 success: every number shown is one the report stands behind
-1     NOT_CONVERGED      a solver did not converge; everything is still written and the
-                         report says which solve failed
-2     BAD_INPUT          bad input: a file, a configuration key, an option or a value
-                         (the message names it, what was expected and what was found)
-3     INVALID_RESULT     computed, but outside the model's validity (the report's verdict
-                         says why); the numbers are written, marked invalid
-70    INTERNAL_ERROR     a defect in asperity itself (not your input): please report it
-130   INTERRUPTED        interrupted (Ctrl-C); finished stages are kept
-====  =================  ==============================================================
+Exit statuses of every ``asperity`` command, one meaning each: :class:`ExitStatus`, whose
+members carry their ``label`` and ``meaning``. It is the one source of the table:
+:func:`exit_status_table` writes the Markdown of README.md and docs/DEVELOPING.md (a test holds
+them to it) and ``asperity --help`` builds its epilog from the labels.
 """
 
 from __future__ import annotations
@@ -23,14 +12,74 @@ from enum import IntEnum
 
 
 class ExitStatus(IntEnum):
-    """Process exit statuses of the ``asperity`` commands (see the module docstring)."""
+    """Process exit statuses of the ``asperity`` commands, one meaning each.
 
-    OK = 0
-    NOT_CONVERGED = 1
-    BAD_INPUT = 2
-    INVALID_RESULT = 3
-    INTERNAL_ERROR = 70
-    INTERRUPTED = 130
+    Each member is its integer code and carries ``label`` (a few words, for ``--help``) and
+    ``meaning`` (the sentence of the documentation tables). Status 1 takes precedence over 3.
+    """
+
+    label: str
+    meaning: str
+
+    def __new__(cls, code: int, label: str, meaning: str) -> ExitStatus:
+        member = int.__new__(cls, code)
+        member._value_ = code
+        member.label = label
+        member.meaning = meaning
+        return member
+
+    OK = (
+        0,
+        "ok",
+        "success: every number shown is one the report stands behind (warnings, if any, are "
+        "listed)",
+    )
+    NOT_CONVERGED = (
+        1,
+        "not converged",
+        "a solver did not converge: everything is still written and the report says which "
+        "solve failed",
+    )
+    BAD_INPUT = (
+        2,
+        "bad input",
+        "bad input: a file, a configuration key, an option or a value (one line names it, what "
+        "was expected and what was found); also an output folder or file in use by another "
+        "run, not writable, or on a full disk (every command; nothing partial is left)",
+    )
+    INVALID_RESULT = (
+        3,
+        "outside the model's validity",
+        "computed, but outside the model's validity: the verdict says why; the numbers are "
+        "written, marked invalid",
+    )
+    INTERNAL_ERROR = (
+        70,
+        "internal error",
+        "an internal error of asperity, not of the input (one line; `ASPERITY_DEBUG=1` shows "
+        "the traceback): please report it",
+    )
+    INTERRUPTED = (
+        130,
+        "interrupted",
+        "interrupted (Ctrl-C), always, even when the interrupt lands inside a library "
+        "callback; stages already stored are kept",
+    )
+
+
+def exit_status_table() -> str:
+    """The exit statuses as a Markdown table (status, name, meaning), from :class:`ExitStatus`.
+
+    The generated text of README.md's and docs/DEVELOPING.md's tables.
+    """
+    rows = ["| status | name | meaning |", "|---|---|---|"]
+    rows += [f"| {s.value} | `{s.name}` | {s.meaning} |" for s in ExitStatus]
+    return "\n".join(rows)
+
+
+def exit_status_epilog() -> str:
+    """One line for ``--help``: ``Exit status: 0 ok, 1 not converged, ...``."""
+    return "Exit status: " + ", ".join(f"{s.value} {s.label}" for s in ExitStatus) + "."
 
 
 class InputError(ValueError):

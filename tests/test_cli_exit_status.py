@@ -10,6 +10,7 @@ import builtins
 import errno
 import io
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -21,7 +22,7 @@ import h5py
 import numpy as np
 import pytest
 
-from asperity.errors import ExitStatus, InputError
+from asperity.errors import ExitStatus, InputError, exit_status_epilog, exit_status_table
 from asperity.pipelines.cli import main
 from asperity.statmodel import TaborWarning
 
@@ -538,3 +539,32 @@ def test_a_ctrl_c_turned_into_another_error_by_a_library_is_still_130(capsys, mo
     status, _, err = run(capsys, "figures", "--out", "anywhere")
     assert status == ExitStatus.INTERRUPTED
     _one_error_line(err, "interrupted")
+
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.mark.parametrize("document", ["README.md", "docs/DEVELOPING.md"])
+def test_the_exit_status_tables_are_generated_from_exit_status(document: str) -> None:
+    """README's and docs/DEVELOPING.md's tables are the text ExitStatus writes, and the
+    ``--help`` epilog is built from its labels: one source for every status's meaning."""
+    text = (ROOT / document).read_text(encoding="utf-8")
+    block = re.search(
+        r"<!-- exit statuses: asperity.errors -->\n(.*?)\n<!-- end exit statuses -->", text, re.S
+    )
+    assert block, f"{document} lost its generated exit-status table"
+    assert block.group(1) == exit_status_table(), (
+        "regenerate the table: python -c 'from asperity.errors import exit_status_table; "
+        "print(exit_status_table())'"
+    )
+
+
+def test_every_status_has_a_meaning_and_the_help_lists_every_status(capsys) -> None:
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    help_text = " ".join(capsys.readouterr().out.split())
+    assert exit_status_epilog() in help_text
+    for status in ExitStatus:
+        assert status.label and status.meaning
+        assert f"{status.value} {status.label}" in help_text
+    assert [int(s) for s in ExitStatus] == [0, 1, 2, 3, 70, 130]

@@ -4,22 +4,13 @@ Each package contributes its own sub-commands through a ``register(subparsers)``
 ``cli`` module; this module assembles them, runs the chosen handler and turns what comes out of
 it into one line on stderr and an exit status (:class:`asperity.errors.ExitStatus`).
 
-Exit statuses (one meaning each):
-
-====  ==============  ===========================================================================
-code  name            when
-====  ==============  ===========================================================================
-0     OK              success
-1     NOT_CONVERGED   a solver did not converge; the results are still printed / written
-2     BAD_INPUT       bad input: a usage error (unknown option, missing argument: argparse's
-                      message), an :class:`asperity.errors.InputError` (a bad file, configuration
-                      key, option or value: the message names it), or a file-system error on a
-                      path the user named (not found, a directory, no permission, exists) or of
-                      the user's storage (read-only, full disk, quota, I/O error)
-3     INVALID_RESULT  computed, but outside the model's validity (the report says why)
-70    INTERNAL_ERROR  any other exception: a defect in asperity, not in the input
-130   INTERRUPTED     interrupted (Ctrl-C); a job's finished stages are kept
-====  ==============  ===========================================================================
+Exit statuses: :class:`asperity.errors.ExitStatus`, one meaning each (its members carry them;
+``asperity --help`` lists the labels). Status 2 (``BAD_INPUT``) is a usage error (unknown option,
+missing argument: argparse's message), an :class:`asperity.errors.InputError` (a bad file,
+configuration key, option or value: the message names it), or a file-system error on a path the
+user named (not found, a directory, no permission, exists) or of the user's storage (read-only,
+full disk, quota, I/O error); status 70 (``INTERNAL_ERROR``) any other exception: a defect in
+asperity, not in the input.
 
 What reaches stderr: ``asperity CMD: error: MESSAGE`` (status 2); ``asperity CMD: internal
 error: TYPE: MESSAGE (please report this; ...)`` (status 70), with the traceback above it when the
@@ -43,7 +34,7 @@ import warnings
 from collections.abc import Iterator, Sequence
 
 from asperity.atomic import storage_errno
-from asperity.errors import ExitStatus, InputError
+from asperity.errors import ExitStatus, InputError, exit_status_epilog
 from asperity.pipelines import __version__
 from asperity.pipelines.engine.interrupts import InterruptGuard
 from asperity.quantities import OneLineErrorParser
@@ -74,8 +65,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser = OneLineErrorParser(
         prog="asperity",
         description="Adhesive friction of rough elastic contacts (SI units throughout).",
-        epilog="Exit status: 0 ok, 1 not converged, 2 bad input, 3 outside the model's validity, "
-        "70 internal error, 130 interrupted.",
+        epilog=exit_status_epilog(),
     )
     parser.add_argument("--version", action="version", version=f"asperity {__version__}")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND")
