@@ -269,8 +269,9 @@ class MaugisAsperity:
                 continue
             if d_a < running:
                 p_a = float(self._inverse(kind, p_a, p_b, np.array([running]))[0])
-                d_a = running
-            pieces.append(_Piece(kind, p_a, p_b, d_a, d_b))
+            # contiguous in Delta: a piece starts where the branch before it ends (the two
+            # closed forms meet at first contact to round-off, which is what this absorbs)
+            pieces.append(_Piece(kind, p_a, p_b, running, d_b))
             running = d_b
         return tuple(pieces)
 

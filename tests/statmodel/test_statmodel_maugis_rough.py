@@ -304,3 +304,22 @@ def test_bad_input_names_the_field(kwargs, field):
     args.update(kwargs)
     with pytest.raises(InputError, match=field):
         maugis_rough_contact(**args)
+
+
+@pytest.mark.parametrize("h0", [1e-2, 1e-5, 1e-7, 1e-9])
+def test_loading_branch_is_a_closed_form_state_from_the_edge_of_the_range(h0):
+    """lambda 3e-5 .. 300: the branch starts at delta = -h_0, its pieces are contiguous, and in
+    contact every state is the closed form's (approach and force to 1e-8 of their scales)."""
+    asp = MaugisAsperity(R, E_STAR, WORK, h0)
+    md = MaugisDugdale(R, E_STAR, WORK, h0)
+    pieces = asp.pieces
+    assert pieces[0].delta_start * asp.approach_scale == pytest.approx(-h0, rel=1e-12)
+    assert all(p.delta_end == q.delta_start for p, q in zip(pieces[:-1], pieces[1:], strict=True))
+    assert math.isinf(pieces[-1].delta_end)
+    delta = np.linspace(-h0, 50 * asp.approach_scale, 7)[1:]
+    force, radius = asp.loading_state(delta)
+    for x, f, a in zip(delta, force, radius, strict=True):
+        if a > 0:
+            st = md.state(float(a))
+            assert abs(st["approach"] - x) < 1e-8 * asp.approach_scale
+            assert abs(st["force"] - f) < 1e-8 * asp.force_scale
