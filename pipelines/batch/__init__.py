@@ -101,7 +101,7 @@ def _verdict_text(result: Any) -> str:
 
 def summary_values(result: Any) -> dict[str, Any]:
     """The summary numbers of one run (SI; column names carry the units)."""
-    res, fr = result.resolution, result.friction
+    res, fr = result.statistical_model, result.friction
     values: dict[str, Any] = {
         "effective resolution (m)": res.effective_resolution,
         "asperity density eta (1/m^2)": res.asperity_density,

@@ -3,15 +3,14 @@
 A :class:`Stage` names its HDF5 group, the configuration keys and the earlier stages it reads,
 its result dataclass (fields with units and dims, :mod:`asperity.fields`) and the function that
 computes it. From that one declaration :class:`Runner` keys, stores, reuses and checks the
-stage, and :class:`~asperity.pipelines.job.JobResult` and
-:class:`~asperity.pipelines.results.Results` take their attributes; nothing else lists its
-fields or its dependencies. A stage's number is its place in
+stage, and its result is the field of :class:`~asperity.pipelines.results.StageResults`
+(``JobResult``, ``Results``) named by its group (a test holds the two lists together); nothing
+else lists its fields or its dependencies. A stage's number is its place in
 :data:`asperity.pipelines.stages.STAGES`. Example (the one docs/DEVELOPING.md walks through)::
 
     ROUGHNESS = Stage(
         name="roughness",              # its group in results.h5
         title="roughness parameters",  # the log says "<number> roughness parameters"
-        attribute="roughness",         # JobResult.roughness, Results.roughness
         result=RoughnessParameters,    # fields declared with asperity.fields
         config=("surface.max_stride",),
         inputs=(SURFACE,),
@@ -129,9 +128,6 @@ class Stage(Generic[R]):
     title : str
         How the log and the report call it ("BEM reference"; the number comes from the
         stage's place in the job's list, :func:`stage_label`).
-    attribute : str
-        Its attribute on ``JobResult`` and ``Results`` (``run.bem``); also reachable by
-        ``name``.
     result : type
         The result dataclass (every field declared with :mod:`asperity.fields`).
     config : tuple of str
@@ -145,17 +141,21 @@ class Stage(Generic[R]):
     check : callable or None
         ``check(context, result)``, run after the stage is computed *or* taken from the store
         (e.g. the loads checked against the pull-off force after the resolution scan).
+    attribute : str or None
+        A deprecated second name of the stage on ``JobResult`` and ``Results`` (asperity 0.3's
+        ``run.bem`` for ``run.bem_reference``), answered with a ``DeprecationWarning``; None
+        for a stage that only has its group name (every new stage).
     """
 
     name: str
     title: str
-    attribute: str
     result: type[R]
     config: tuple[str, ...]
     inputs: tuple[Stage, ...]
     compute: Callable[[StageContext], R]
     enabled: Callable[[JobConfig], bool] = _always
     check: Callable[[StageContext, R], None] | None = None
+    attribute: str | None = None
 
     def __post_init__(self) -> None:
         field_specs(self.result)  # a faulty result declaration fails at import

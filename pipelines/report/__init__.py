@@ -198,13 +198,13 @@ def _mark_resolution(ax: Any, xu: DisplayUnit, res: Any, scan: Any, y: np.ndarra
 
 def _draw_scan_panel(ax: Any, xu: DisplayUnit, result: Any, spec: dict[str, Any]) -> None:
     """One of Fig 12a-c: the map's points, the fit, the marks."""
-    scan = result.scan
+    scan = result.resolution_scan
     yu = spec["unit"]
     values = np.asarray(spec["values"], dtype=float)
     ax.plot(xu(scan.resolution), yu(values), "o", ms=4, label=scan_label(scan))
     if spec.get("fit") is not None:
         ax.plot(xu(spec["fit_x"]), yu(spec["fit"]), "-", label=spec["fit_label"])
-    _mark_resolution(ax, xu, result.resolution, scan, yu(values))
+    _mark_resolution(ax, xu, result.statistical_model, scan, yu(values))
     if spec.get("log"):
         log_axis(ax, "x", xu(scan.resolution))
         log_axis(ax, "y", yu(values))
@@ -266,12 +266,12 @@ def _persson_fraction(result: Any) -> np.ndarray | None:
     psd = getattr(result, "psd", None)
     if psd is None:
         return None
-    return np.asarray(psd.persson_real_area) / result.resolution.nominal_area
+    return np.asarray(psd.persson_real_area) / result.statistical_model.nominal_area
 
 
 def _draw_area_vs_load(ax: Any, result: Any, table: FigureTable) -> None:
     """Fig 12d: A_r/A_n against F_z from BEM, the statistical model, Persson, measurement."""
-    res, bem = result.resolution, result.bem
+    res, bem = result.statistical_model, result.bem_reference
     a_n = res.nominal_area
     loads = np.asarray(res.normal_load, dtype=float)
     fu = display_unit(loads, "N")
@@ -333,7 +333,7 @@ def non_adhesive_series(series: Any, res: Any) -> None:
 
 def draw_resolution(result: Any) -> tuple[Figure, FigureTable]:
     """Fig 12a-d with the data table (SI)."""
-    scan = result.scan
+    scan = result.resolution_scan
     xu = display_unit(scan.resolution, "m")
     fig = new_figure(10.5, 8.2)
     axes = fig.subplots(2, 2)
@@ -360,7 +360,7 @@ def draw_resolution(result: Any) -> tuple[Figure, FigureTable]:
 
 def draw_misfit(result: Any) -> tuple[Figure, FigureTable]:
     """The statistical-model stage: the misfit curve that chose the effective resolution."""
-    res = result.resolution
+    res = result.statistical_model
     xu = display_unit(res.resolution, "m")
     fig = new_figure(6, 4)
     ax = fig.subplots()
@@ -389,7 +389,7 @@ def draw_misfit(result: Any) -> tuple[Figure, FigureTable]:
 
 def draw_bem_grid(result: Any) -> tuple[Figure, FigureTable]:
     """The BEM stage: the refinement curve, its error against the finest grid, the contact mask."""
-    bem = result.bem
+    bem = result.bem_reference
     table = FigureTable()
     pixel = np.asarray(bem.check_stride) * result.surface.dx
     for k, mode in enumerate(("non-adhesive", "adhesive")[: bem.check_contact_fraction.shape[1]]):
@@ -678,7 +678,7 @@ FIGURES: dict[str, tuple[str, Any, Any]] = {
     "shear": ("fig4_shear", draw_shear, lambda r: True),
     "area_vs_force": ("fig13_area_vs_force", draw_area_vs_force, lambda r: True),
     "friction_vs_load": ("friction_vs_load", draw_friction_vs_load, lambda r: True),
-    "bem_grid": ("bem_grid", draw_bem_grid, lambda r: r.bem is not None),
+    "bem_grid": ("bem_grid", draw_bem_grid, lambda r: r.bem_reference is not None),
     "lambda_fit": ("lambda_fit", draw_lambda_fit, lambda r: r.mode_mixity.fit is not None),
     "lambda_residuals": (
         "lambda_residuals",
@@ -738,7 +738,12 @@ def pixel_size_text(surface: Any) -> str:
 
 def key_numbers(result: Any) -> list[tuple[str, str]]:
     """(quantity, value with unit) rows of the report's headline table."""
-    res, fr, bem, lam = result.resolution, result.friction, result.bem, result.mode_mixity
+    res, fr, bem, lam = (
+        result.statistical_model,
+        result.friction,
+        result.bem_reference,
+        result.mode_mixity,
+    )
     r = res.roughness
     rows = [
         (
@@ -799,7 +804,7 @@ def key_numbers(result: Any) -> list[tuple[str, str]]:
 def adhesion_key_numbers(result: Any) -> list[tuple[str, str]]:
     """Rows of the adhesive BEM's law and range, the non-adhesive pair's resolution, and the
     adhesion regime (Persson-Tosatti, Pastewka-Robbins, Tabor); empty where not run."""
-    bem, res = result.bem, result.resolution
+    bem, res = result.bem_reference, result.statistical_model
     rows = []
     law = getattr(bem, "adhesion", None)
     if law == "maugis":
@@ -862,7 +867,7 @@ def psd_key_numbers(result: Any) -> list[tuple[str, str]]:
 
 def load_table(result: Any) -> tuple[list[str], list[list[str]]]:
     """Header and rows of the per-load table."""
-    fr, bem = result.friction, result.bem
+    fr, bem = result.friction, result.bem_reference
     header = [
         "F_z (N)",
         "A_r/A_n BEM",
@@ -892,7 +897,7 @@ def non_adhesive_column(
     """The load table with the non-adhesive pair's model column (w = 0, Greenwood-Williamson,
     at that pair's least-misfit resolution) appended: its partner is "A_r/A_n BEM"; the
     adhesive pair is "A_r/A_n BEM adh." and "A_r/A_n model"."""
-    res = result.resolution
+    res = result.statistical_model
     index = getattr(res, "effective_index_non_adhesive", None)
     if index is None or res.real_area_non_adhesive is None:
         return header, rows
@@ -973,7 +978,7 @@ CAPTIONS: dict[str, str] = {
 
 def refusals_section(result: Any) -> list[str]:
     """Markdown lines listing the resolutions where the statistical model gave no value."""
-    messages = list(getattr(result.resolution, "messages", None) or [])
+    messages = list(getattr(result.statistical_model, "messages", None) or [])
     if not messages:
         return []
     return [
@@ -1024,8 +1029,8 @@ def write_report(result: Any, out_dir: str | Path, options: FigureOptions | None
         f"**{verdict_wording(verdict)}** (reasons at the top)."
         if verdict is not None
         else "The statistical model is within its assumptions."
-        if not result.resolution.validity
-        else "\n".join(f"- **Warning:** {note}" for note in result.resolution.validity),
+        if not result.statistical_model.validity
+        else "\n".join(f"- **Warning:** {note}" for note in result.statistical_model.validity),
         "",
         *refusals_section(result),
         "## Convergence",
@@ -1072,8 +1077,8 @@ def summary_text(result: Any) -> str:
         + f"; total {result.total_seconds:.1f} s",
     ]
     if getattr(result, "verdict", None) is None:
-        lines += [f"  WARNING: {note}" for note in result.resolution.validity]
-    for note in [] if result.bem is None else result.bem.warnings:
+        lines += [f"  WARNING: {note}" for note in result.statistical_model.validity]
+    for note in [] if result.bem_reference is None else result.bem_reference.warnings:
         lines.append(f"  WARNING: {note}")
     problems = result.problems()
     if problems:

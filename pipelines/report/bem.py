@@ -45,7 +45,7 @@ def refinement_rows(bem: Any, pixel: float) -> list[list[str]]:
 
 def bem_section(result: Any) -> list[str]:
     """Markdown lines of the report's "BEM reference" section ([] without a BEM)."""
-    bem = result.bem
+    bem = result.bem_reference
     if bem is None:
         return []
     modes = list(_MODES[: bem.check_contact_fraction.shape[1]])
@@ -118,7 +118,7 @@ def _draw_extrapolation(ax: Any, bem: Any) -> None:
 def bem_grid_figure(result: Any) -> Figure:
     """The refinement curve (A_r/A_n and error against the finest grid per pixel size) and the
     contact mask at the largest load; axis units chosen from the data (um, mm, ...)."""
-    bem = result.bem
+    bem = result.bem_reference
     fig = new_figure(14, 4.4)
     ax1, ax3, ax2 = fig.subplots(1, 3)
     pixel_m = np.asarray(bem.check_stride) * result.surface.dx

@@ -177,7 +177,7 @@ def write_html(
         else _notes(
             "Validity",
             "The statistical model is within its assumptions.",
-            result.resolution.validity,
+            result.statistical_model.validity,
         ),
         _notes("Convergence", "All solvers converged.", result.problems()),
         "<h2>Stages</h2>",

@@ -36,7 +36,7 @@ def _spread_text(result: Any) -> str:
     """The realisations' spread in one phrase, or why there is none."""
     spread = getattr(result, "realisations", None)
     if spread is None:
-        if result.bem is None:
+        if result.bem_reference is None:
             return "no BEM ([bem] enabled = false): no realisations solved"
         return "1 realisation (surface.profile_realisations = 1): spread not known"
     return (

@@ -57,7 +57,7 @@ def bem_cells(bem: Any, i: int) -> tuple[str, str]:
 def model_cells(result: Any, i: int) -> list[str]:
     """The model's A_r/A_n, static and sliding friction (N) and sliding displacement (um) of
     load ``i``, each ``+- u`` when the friction stage estimated it."""
-    fr, res = result.friction, result.resolution
+    fr, res = result.friction, result.statistical_model
     a_n = fr.nominal_area
     low = bool(getattr(fr, "uncertainty_lower_bound", False))
     area = getattr(fr, "model_real_area", None)
@@ -156,7 +156,7 @@ def draw_model_band(ax: Any, fu: DisplayUnit, result: Any, table: Any, columns: 
     a_n = fr.nominal_area
     value = np.asarray(fr.model_real_area, dtype=float) / a_n
     u = np.asarray(fr.model_real_area_uncertainty, dtype=float) / a_n
-    at = result.resolution.optimum_resolution
+    at = result.statistical_model.optimum_resolution
     ru = display_unit(at, "m")
     lower_bound = bool(getattr(fr, "uncertainty_lower_bound", False))
     band = "u a lower bound, band not drawn" if lower_bound else "+- u"

@@ -875,7 +875,6 @@ def mode_mixity_interval(choice: ModeMixityChoice) -> tuple[float, float]:
 MODE_MIXITY = Stage(
     name="mode_mixity",
     title="lambda",
-    attribute="mode_mixity",
     result=ModeMixityChoice,
     config=(
         "material",
@@ -892,7 +891,6 @@ MODE_MIXITY = Stage(
 FRICTION = Stage(
     name="friction",
     title="friction prediction",
-    attribute="friction",
     result=FrictionPrediction,
     config=("material", "loading", "statmodel"),
     inputs=(STATISTICAL_MODEL, MODE_MIXITY),

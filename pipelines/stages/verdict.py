@@ -856,7 +856,6 @@ def mark(value: str, verdict: Verdict | None) -> str:
 VERDICT = Stage(
     name="verdict",
     title="validity verdict",
-    attribute="verdict",
     result=Verdict,
     config=(
         "measured",

@@ -6,6 +6,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import inspect
+import typing
 
 import numpy as np
 import pytest
@@ -128,13 +129,16 @@ def test_bem_settings_are_one_list_for_declaration_call_and_defaults():
 
 
 def test_result_types_and_numbers_follow_from_the_stage_list():
-    fields = [f.name for f in dataclasses.fields(job.JobResult)]
-    attributes = [s.attribute for s in STAGES]
-    assert [f for f in fields if f in attributes] == attributes
-    assert [f.name for f in dataclasses.fields(results.Results)][1 : 1 + len(STAGES)] == attributes
-    assert results.ATTRIBUTES == {s.name: s.attribute for s in STAGES}
+    names = [s.name for s in STAGES]
+    hints = typing.get_type_hints(results.StageResults)
+    assert [f.name for f in dataclasses.fields(results.StageResults)] == names
+    for stage in STAGES:  # each field typed by the stage's result, None where absent
+        assert hints[stage.name] == stage.result | None, stage.name
+    for cls in (job.JobResult, results.Results):
+        assert [f.name for f in dataclasses.fields(cls)][: len(STAGES)] == names
+    assert results.ALIASES == {s.attribute: s.name for s in STAGES if s.attribute}
     for number, stage in enumerate(STAGES, start=1):
-        assert stage_number(stage.name) == stage_number(stage.attribute) == number
+        assert stage_number(stage.name) == stage_number(stage.attribute or stage.name) == number
         assert stage_label(stage, STAGES) == f"{number} {stage.title}"
         assert not stage.title[0].isdigit()  # the number is never written by hand
 

@@ -136,15 +136,15 @@ def test_uncertainties_round_trip_through_open_results(small_run):
     """Every stored uncertainty reopens equal, and its dataset states its unit."""
     _, out, result = small_run
     reopened = asperity.open_results(out)
-    attributes = {"bem_reference": "bem", "statistical_model": "resolution"}
     with h5py.File(out / "results.h5", "r") as h5:
         for group, names in UNCERTAINTY_FIELDS.items():
-            attribute = attributes.get(group, group)
             for name in names:
-                stored = getattr(getattr(reopened, attribute), name)
-                np.testing.assert_array_equal(stored, getattr(getattr(result, attribute), name))
+                stored = getattr(getattr(reopened, group), name)
+                np.testing.assert_array_equal(stored, getattr(getattr(result, group), name))
                 assert h5[group][name].attrs["units"] in ("1", "m", "N", "m^2")
-    assert reopened.resolution.optimum_resolution == result.resolution.optimum_resolution
+    assert (
+        reopened.statistical_model.optimum_resolution == result.statistical_model.optimum_resolution
+    )
     assert reopened.friction.uncertainty_message == result.friction.uncertainty_message
 
 
@@ -190,5 +190,5 @@ def test_default_job_load_rows_carry_uncertainties(tmp_path):
     assert len(rows) == 6
     for row in rows:
         assert all("+-" in cell for cell in row[1:7]), row
-    assert 10e-6 < result.resolution.optimum_resolution < 20e-6
-    assert result.resolution.optimum_misfit < result.resolution.misfit[0]
+    assert 10e-6 < result.statistical_model.optimum_resolution < 20e-6
+    assert result.statistical_model.optimum_misfit < result.statistical_model.misfit[0]
