@@ -21,8 +21,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from asperity.atomic import open_atomic
-from asperity.pipelines.report import log_axis, spans_decades
-from asperity.plotting import display_unit, new_figure, save_figure, stamp
+from asperity.plotting import display_unit, log_axis, new_figure, save_figure, spans_decades, stamp
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

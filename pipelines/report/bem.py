@@ -7,15 +7,20 @@ solved, per stride) and the error of the grid used; the figure draws the same cu
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.ticker import LogLocator, NullFormatter, ScalarFormatter
 
+from asperity.pipelines.report._run import Run
 from asperity.pipelines.report.verdict_marks import separate_bem_markers
 from asperity.pipelines.stages._bem_grid import EDGE_MISMATCH_LIMIT
+from asperity.pipelines.stages.bem import BemReference
 from asperity.plotting import display_unit, new_figure
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
 
 _MODES = ("non-adhesive", "adhesive")
 
@@ -25,7 +30,7 @@ def _table(header: list[str], rows: list[list[str]]) -> list[str]:
     return lines + ["| " + " | ".join(row) + " |" for row in rows]
 
 
-def refinement_rows(bem: Any, pixel: float) -> list[list[str]]:
+def refinement_rows(bem: BemReference, pixel: float) -> list[list[str]]:
     """Rows of the refinement table: stride, pixel (um), A_r/A_n per mode, error, cost."""
     rows = []
     for i, s in enumerate(bem.check_stride):
@@ -43,7 +48,7 @@ def refinement_rows(bem: Any, pixel: float) -> list[list[str]]:
     return rows
 
 
-def bem_section(result: Any) -> list[str]:
+def bem_section(result: Run) -> list[str]:
     """Markdown lines of the report's "BEM reference" section ([] without a BEM)."""
     bem = result.bem_reference
     if bem is None:
@@ -76,7 +81,7 @@ def bem_section(result: Any) -> list[str]:
     return [*lines, "", *_table(header, refinement_rows(bem, result.surface.dx)), ""]
 
 
-def discretisation_lines(bem: Any) -> list[str]:
+def discretisation_lines(bem: BemReference) -> list[str]:
     """Report lines: the grid check's A_r/A_n extrapolated to zero pixel size (Richardson,
     Roache's grid convergence index) and the relative uncertainty applied to every load."""
     if getattr(bem, "check_extrapolated_fraction", None) is None:
@@ -103,7 +108,7 @@ def discretisation_lines(bem: Any) -> list[str]:
     ]
 
 
-def _draw_extrapolation(ax: Any, bem: Any) -> None:
+def _draw_extrapolation(ax: Axes, bem: BemReference) -> None:
     """The extrapolated A_r/A_n at zero pixel size with its band, per mode."""
     if getattr(bem, "check_extrapolated_fraction", None) is None:
         return
@@ -115,7 +120,7 @@ def _draw_extrapolation(ax: Any, bem: Any) -> None:
             ax.errorbar([0.0], [f0], yerr=[u], fmt="D", color=f"C{k}", capsize=4, label=label)
 
 
-def bem_grid_figure(result: Any) -> Figure:
+def bem_grid_figure(result: Run) -> Figure:
     """The refinement curve (A_r/A_n and error against the finest grid per pixel size) and the
     contact mask at the largest load; axis units chosen from the data (um, mm, ...)."""
     bem = result.bem_reference
@@ -144,7 +149,9 @@ def bem_grid_figure(result: Any) -> Figure:
     return fig
 
 
-def _draw_grid_error(ax: Any, bem: Any, pixel: np.ndarray, used: float, symbol: str) -> None:
+def _draw_grid_error(
+    ax: Axes, bem: BemReference, pixel: np.ndarray, used: float, symbol: str
+) -> None:
     """The error of each coarser grid against the finest solved, in %, on log axes."""
     coarse = bem.check_error > 0
     ax.loglog(pixel[coarse], bem.check_error[coarse] * 100, "o-", label="larger of the modes")

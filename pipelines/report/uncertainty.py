@@ -17,11 +17,19 @@ that is not known ``+- ?``: never a bare number that looks exact.
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
+from asperity.pipelines.report._run import Run
+from asperity.pipelines.report.figure_output import FigureTable
+from asperity.pipelines.stages.bem import BemReference
+from asperity.pipelines.stages.friction import FrictionPrediction
+from asperity.pipelines.stages.statistical_model import ResolutionChoice
 from asperity.plotting import DisplayUnit, display_unit
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
 
 
 def plus_minus(value: float, u: float | None, scale: float = 1.0, lower_bound: bool = False) -> str:
@@ -38,11 +46,11 @@ def plus_minus(value: float, u: float | None, scale: float = 1.0, lower_bound: b
     return f"{v:.4g} +- {'>' if lower_bound else ''}{u:.2g}"
 
 
-def _at(values: Any, i: int) -> float | None:
+def _at(values: np.ndarray | None, i: int) -> float | None:
     return None if values is None else float(np.asarray(values)[i])
 
 
-def bem_cells(bem: Any, i: int) -> tuple[str, str]:
+def bem_cells(bem: BemReference, i: int) -> tuple[str, str]:
     """The non-adhesive and adhesive BEM A_r/A_n of load ``i`` with their uncertainties."""
     if bem is None:
         return "-", "-"
@@ -54,7 +62,7 @@ def bem_cells(bem: Any, i: int) -> tuple[str, str]:
     return plain, plus_minus(adh[i], None if u is None else u[-1, i])
 
 
-def model_cells(result: Any, i: int) -> list[str]:
+def model_cells(result: Run, i: int) -> list[str]:
     """The model's A_r/A_n, static and sliding friction (N) and sliding displacement (um) of
     load ``i``, each ``+- u`` when the friction stage estimated it."""
     fr, res = result.friction, result.statistical_model
@@ -75,7 +83,7 @@ def model_cells(result: Any, i: int) -> list[str]:
     ]
 
 
-def resolution_text(res: Any) -> str:
+def resolution_text(res: ResolutionChoice) -> str:
     """The effective resolution row: the located optimum with its interval (um), and the
     stride of least misfit."""
     stride = (
@@ -92,7 +100,7 @@ def resolution_text(res: Any) -> str:
     return f"{res.optimum_resolution * 1e6:.4g} um ({interval}; {stride})"
 
 
-def misfit_text(res: Any) -> str:
+def misfit_text(res: ResolutionChoice) -> str:
     """The least misfit: located between strides, and at the stride of least misfit."""
     at_stride = f"{res.misfit[res.index]:.3g} at stride {res.effective_stride}"
     if getattr(res, "optimum_misfit", None) is None:
@@ -100,7 +108,7 @@ def misfit_text(res: Any) -> str:
     return f"{res.optimum_misfit:.3g} between strides ({at_stride}; rms ln ratio)"
 
 
-def uncertainty_rows(result: Any) -> list[tuple[str, str]]:
+def uncertainty_rows(result: Run) -> list[tuple[str, str]]:
     """Key-number rows saying what the +- u of the load table are and what limits them."""
     fr = result.friction
     message = getattr(fr, "uncertainty_message", None)
@@ -115,7 +123,9 @@ def uncertainty_rows(result: Any) -> list[tuple[str, str]]:
     ]
 
 
-def draw_resolution_interval(ax: Any, xu: DisplayUnit, res: Any, table: Any) -> None:
+def draw_resolution_interval(
+    ax: Axes, xu: DisplayUnit, res: ResolutionChoice, table: FigureTable
+) -> None:
     """The misfit figure: the located optimum, its interval (band) and the refined samples."""
     if getattr(res, "optimum_resolution", None) is None:
         return
@@ -147,7 +157,9 @@ def draw_resolution_interval(ax: Any, xu: DisplayUnit, res: Any, table: Any) -> 
     )
 
 
-def draw_model_band(ax: Any, fu: DisplayUnit, result: Any, table: Any, columns: tuple) -> bool:
+def draw_model_band(
+    ax: Axes, fu: DisplayUnit, result: Run, table: FigureTable, columns: tuple
+) -> bool:
     """Fig 12d: the model at the located optimum with its A_r/A_n band (True when drawn)."""
     fr = result.friction
     if getattr(fr, "model_real_area", None) is None:
@@ -169,14 +181,14 @@ def draw_model_band(ax: Any, fu: DisplayUnit, result: Any, table: Any, columns: 
     return True
 
 
-def bem_error_bars(bem: Any) -> list[np.ndarray | None]:
+def bem_error_bars(bem: BemReference) -> list[np.ndarray | None]:
     """Per BEM mode (non-adhesive, adhesive), its A_r/A_n uncertainty per load (None unknown)."""
     u = getattr(bem, "contact_fraction_uncertainty", None)
     modes = 1 if bem.contact_fraction_adhesive is None else 2
     return [None if u is None else np.asarray(u[m], dtype=float) for m in range(modes)]
 
 
-def friction_error_bars(fr: Any) -> dict[str, np.ndarray | None]:
+def friction_error_bars(fr: FrictionPrediction) -> dict[str, np.ndarray | None]:
     """Static and sliding friction uncertainties (N) per load, None when not estimated."""
     return {
         "static (peak)": getattr(fr, "static_friction_uncertainty", None),
@@ -184,7 +196,9 @@ def friction_error_bars(fr: Any) -> dict[str, np.ndarray | None]:
     }
 
 
-def draw_fig13_error_bars(ax: Any, fu: DisplayUnit, fr: Any, colors: Any, table: Any) -> None:
+def draw_fig13_error_bars(
+    ax: Axes, fu: DisplayUnit, fr: FrictionPrediction, colors: np.ndarray, table: FigureTable
+) -> None:
     """Fig 13: at each load, the model's A_r/A_n at F_x = 0 (vertical bar) and the static
     friction at the peak (horizontal bar), with their CSV rows."""
     if getattr(fr, "static_friction_uncertainty", None) is None:

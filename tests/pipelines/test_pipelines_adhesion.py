@@ -86,7 +86,7 @@ def test_adhesion_keys_round_trip(tmp_path):
     again = config_from_dict(tomllib.loads(cfg.to_toml()), source=cfg.source, base_dir=tmp_path)
     assert again == cfg
     auto = config_from_dict(_bem_data(adhesion_range="auto"), base_dir=tmp_path)
-    assert auto.bem_reference.adhesion == "maugis" and auto.bem_reference.adhesion_range is None
+    assert auto.bem.adhesion == "maugis" and auto.bem.adhesion_range is None
 
 
 @pytest.mark.parametrize(

@@ -151,7 +151,7 @@ def test_uncertainties_round_trip_through_open_results(small_run):
 def test_bem_adhesion_range_part_adds_in_quadrature(small_run):
     """The hook for the adhesion-range sensitivity: a part given for the adhesive solves adds
     in quadrature to their discretisation part and leaves the non-adhesive ones alone."""
-    bem = small_run[2].bem
+    bem = small_run[2].bem_reference
     part = 0.5 * bem.contact_fraction_adhesive
     with_range = dataclasses.replace(bem, contact_fraction_adhesion_range_uncertainty=part)
     discretisation = bem.contact_fraction_discretisation_uncertainty
@@ -163,7 +163,7 @@ def test_bem_adhesion_range_part_adds_in_quadrature(small_run):
 
 def test_bem_band_holds_the_extrapolated_band(small_run):
     """The grid used's A_r/A_n +- u holds the Richardson value f_0 +- u_GCI at the check load."""
-    bem = small_run[2].bem
+    bem = small_run[2].bem_reference
     k = int(np.flatnonzero(bem.normal_load == bem.check_load)[0])
     for m, fraction in enumerate((bem.contact_fraction, bem.contact_fraction_adhesive)):
         f0 = bem.check_extrapolated_fraction[m]
