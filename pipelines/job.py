@@ -22,14 +22,13 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
 
 import asperity
 from asperity.errors import InputError
 from asperity.pipelines.config import ConfigError, JobConfig
 from asperity.pipelines.engine.interrupts import InterruptGuard, checkpoint
 from asperity.pipelines.engine.outdir import OutputLock, OutputWriteError
-from asperity.pipelines.engine.parallel import make_executor
+from asperity.pipelines.engine.parallel import Scheduler, make_executor
 from asperity.pipelines.engine.stage import Runner, StageContext, StageRun
 from asperity.pipelines.engine.store import ResultStore
 from asperity.pipelines.measured import read_measurements
@@ -81,7 +80,7 @@ class JobResult(StageResults):
     input_sha256: str = ""
 
 
-def provenance(config: JobConfig, input_hash: str) -> dict[str, Any]:
+def provenance(config: JobConfig, input_hash: str) -> dict[str, str]:
     """The file-level attributes of results.h5: what this run was computed from."""
     return {
         "asperity_version": asperity.__version__,
@@ -99,7 +98,7 @@ def run_job(
     *,
     force: bool = False,
     workers: int | None = None,
-    scheduler: Any = None,
+    scheduler: Scheduler = None,
     progress: bool = False,
     log: Callable[[str], None] | None = None,
 ) -> JobResult:
