@@ -6,8 +6,9 @@ nor ``matplotlib.use``, so importing or calling asperity in a notebook leaves th
 backend as it was. Axis units are chosen from the data with :func:`display_unit` (SI prefixes:
 a 10 um map is drawn in um, not in "mm x 1e-2"); an axis whose data span a decade or more is
 logarithmic with plain-number ticks (:func:`spans_decades`, :func:`log_axis`,
-:func:`auto_log_scale`). This is the one module of shared styling: the figures of
-``topo``, ``statmodel`` and the pipeline's report (``pipelines.report.figures``) use it.
+:func:`auto_log_scale`, :func:`plain_log_ticks`). This is the one module of shared styling:
+the figures of ``topo``, ``statmodel`` and the pipeline's report (``pipelines.report.figures``)
+use it.
 :func:`layout_problems` lists overlapping or clipped text of a drawn figure (used by the tests).
 
 This module imports matplotlib only inside its functions, so importing it is cheap.
@@ -26,6 +27,7 @@ from numpy.typing import ArrayLike
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
+    from matplotlib.axis import Axis
     from matplotlib.figure import Figure
 
 #: Resolution of raster output (PNG), dots per inch.
@@ -142,14 +144,19 @@ def spans_decades(values: ArrayLike) -> bool:
 def log_axis(ax: Axes, which: str, values: ArrayLike | None = None) -> None:
     """A log axis (``which`` "x" or "y") labelled at 1, 2, 5 x 10^k (1 x 10^k beyond 3 decades
     of ``values``) in plain numbers; no minor tick labels (they overprint)."""
-    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
-
     getattr(ax, f"set_{which}scale")("log")
     v = np.asarray(values if values is not None else [1.0, 1e6], dtype=float).ravel()
     v = v[np.isfinite(v) & (v > 0)]
     decades = np.log10(v.max() / v.min()) if v.size else 6.0
-    axis = getattr(ax, f"{which}axis")
-    axis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0) if decades < 3 else (1.0,)))
+    plain_log_ticks(getattr(ax, f"{which}axis"), (1.0, 2.0, 5.0) if decades < 3 else (1.0,))
+
+
+def plain_log_ticks(axis: Axis, subs: tuple[float, ...] = (1.0, 2.0, 5.0)) -> None:
+    """Major ticks of a log ``axis`` at ``subs`` x 10^k, written as plain numbers (0.002, 50,
+    1e+06); no minor tick labels (they overprint)."""
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+    axis.set_major_locator(LogLocator(base=10, subs=subs))
     axis.set_major_formatter(FuncFormatter(_tick_text))
     axis.set_minor_formatter(NullFormatter())
 

@@ -36,6 +36,7 @@ Figures written in the output directory (stem; one file per format):
 from __future__ import annotations
 
 import inspect
+import math
 from collections.abc import Callable
 from pathlib import Path
 from types import SimpleNamespace
@@ -44,12 +45,12 @@ from typing import TYPE_CHECKING, TypedDict
 import numpy as np
 from matplotlib import colormaps
 from matplotlib.figure import Figure
-from matplotlib.ticker import NullFormatter
+from matplotlib.ticker import LogLocator, NullFormatter, ScalarFormatter
 from numpy.typing import ArrayLike
 
 from asperity.pipelines.report import verdict_marks
 from asperity.pipelines.report._run import Run, persson_fraction
-from asperity.pipelines.report.bem import bem_grid_figure
+from asperity.pipelines.report.bem import BEM_MODES
 from asperity.pipelines.report.figure_output import FigureOptions, FigureTable, publish
 from asperity.pipelines.report.profile import (
     scan_label,
@@ -57,12 +58,11 @@ from asperity.pipelines.report.profile import (
 )
 from asperity.pipelines.report.uncertainty import (
     bem_error_bars,
-    draw_fig13_error_bars,
-    draw_model_band,
-    draw_resolution_interval,
     friction_error_bars,
 )
-from asperity.pipelines.stages.friction import ModeMixityChoice
+from asperity.pipelines.report.verdict_marks import separate_bem_markers
+from asperity.pipelines.stages.bem import BemReference
+from asperity.pipelines.stages.friction import FrictionPrediction, ModeMixityChoice
 from asperity.pipelines.stages.statistical_model import ResolutionChoice
 from asperity.pipelines.stages.surface import ScanResult
 from asperity.plotting import (
@@ -383,7 +383,7 @@ def draw_bem_grid(result: Run) -> tuple[Figure, FigureTable]:
     bem = result.bem_reference
     table = FigureTable()
     pixel = np.asarray(bem.check_stride) * result.surface.dx
-    for k, mode in enumerate(("non-adhesive", "adhesive")[: bem.check_contact_fraction.shape[1]]):
+    for k, mode in enumerate(BEM_MODES[: bem.check_contact_fraction.shape[1]]):
         table.add(
             "refinement",
             mode,
@@ -661,6 +661,159 @@ def draw_psd(result: Run) -> tuple[Figure, FigureTable]:
     ax.set_ylabel(cu.label("PSD $C(q)$"))
     ax.legend(fontsize=7)
     return fig, table
+
+
+def bem_grid_figure(result: Run) -> Figure:
+    """The refinement curve (A_r/A_n and error against the finest grid per pixel size) and the
+    contact mask at the largest load; axis units chosen from the data (um, mm, ...)."""
+    bem = result.bem_reference
+    fig = new_figure(14, 4.4)
+    ax1, ax3, ax2 = fig.subplots(1, 3)
+    pixel_m = np.asarray(bem.check_stride) * result.surface.dx
+    pu = display_unit(pixel_m, "m")
+    pixel, used = pu(pixel_m), pu(bem.stride * result.surface.dx)
+    for k in range(bem.check_contact_fraction.shape[1]):
+        ax1.plot(pixel, bem.check_contact_fraction[:, k], "o-", label=BEM_MODES[k])
+    _draw_extrapolation(ax1, bem)
+    ax1.axvline(used, color="k", ls="--", label="used")
+    separate_bem_markers(ax1, ("non-adhesive", "adhesive"))
+    ax1.set_xlabel(pu.label("BEM pixel size"))
+    ax1.set_ylabel(f"$A_r/A_n$ at $F_z$ = {bem.check_load:.3g} N")
+    ax1.set_title(f"grid refinement ({bem.boundary} boundary)")
+    ax1.legend(fontsize=8)
+    _draw_grid_error(ax3, bem, pixel, used, pu.symbol)
+    mask = bem.contact_mask
+    lengths = (mask.shape[0] * bem.dx, mask.shape[1] * bem.dy)
+    xu = display_unit(lengths, "m")
+    ax2.imshow(mask.T, origin="lower", cmap="gray_r", extent=(0, xu(lengths[0]), 0, xu(lengths[1])))
+    ax2.set_xlabel(xu.label("x"))
+    ax2.set_ylabel(xu.label("y"))
+    ax2.set_title(f"contact at $F_z$ = {bem.normal_load.max():.3g} N")
+    return fig
+
+
+def _draw_extrapolation(ax: Axes, bem: BemReference) -> None:
+    """The extrapolated A_r/A_n at zero pixel size with its band, per mode."""
+    if getattr(bem, "check_extrapolated_fraction", None) is None:
+        return
+    for k, (f0, u) in enumerate(
+        zip(bem.check_extrapolated_fraction, bem.check_extrapolation_uncertainty, strict=True)
+    ):
+        if np.isfinite(f0) and np.isfinite(u):
+            label = "extrapolated to 0 (GCI band)" if k == 0 else None
+            ax.errorbar([0.0], [f0], yerr=[u], fmt="D", color=f"C{k}", capsize=4, label=label)
+
+
+def _draw_grid_error(
+    ax: Axes, bem: BemReference, pixel: np.ndarray, used: float, symbol: str
+) -> None:
+    """The error of each coarser grid against the finest solved, in %, on log axes."""
+    coarse = bem.check_error > 0
+    ax.loglog(pixel[coarse], bem.check_error[coarse] * 100, "o-", label="larger of the modes")
+    if bem.area_tolerance is not None:  # stored with the stage: redrawn without the config
+        ax.axhline(bem.area_tolerance * 100, color="gray", ls=":", label="area_tolerance")
+    ax.axvline(used, color="k", ls="--", label="used")
+    for axis in (ax.xaxis, ax.yaxis):
+        axis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+        axis.set_major_formatter(ScalarFormatter())
+        axis.set_minor_formatter(NullFormatter())
+    ax.legend(fontsize=8)
+    ax.set_xlabel(f"BEM pixel size ({symbol})")
+    ax.set_ylabel("$|A_r - A_r^{finest}| / A_r^{finest}$ (%)")
+    finest = float(pixel.min())
+    if used <= finest:
+        ax.set_title(f"error against {finest:.3g} {symbol}; the grid used is the finest")
+    else:
+        ax.set_title(f"error against {finest:.3g} {symbol}; grid used: {bem.grid_error:.2%}")
+
+
+def draw_resolution_interval(
+    ax: Axes, xu: DisplayUnit, res: ResolutionChoice, table: FigureTable
+) -> None:
+    """The misfit figure: the located optimum, its interval (band) and the refined samples."""
+    if getattr(res, "optimum_resolution", None) is None:
+        return
+    low, high = np.asarray(res.optimum_interval, dtype=float)
+    if math.isfinite(low) and math.isfinite(high):
+        ax.axvspan(xu(low), xu(high), color="C2", alpha=0.2, label="one-sigma interval")
+    if res.sampled_resolution is not None:
+        ax.plot(xu(res.sampled_resolution), res.sampled_misfit, "x", color="C2", ms=5)
+        table.add(
+            "misfit",
+            "located (strides and refinement)",
+            {"resolution (m)": res.sampled_resolution, "misfit (1)": res.sampled_misfit},
+        )
+    table.add(
+        "misfit",
+        "located optimum",
+        {
+            "resolution (m)": res.optimum_resolution,
+            "misfit (1)": res.optimum_misfit,
+            "resolution interval low (m)": low,
+            "resolution interval high (m)": high,
+        },
+    )
+    ax.axvline(
+        xu(res.optimum_resolution),
+        color="C2",
+        lw=1.5,
+        label=f"located {xu(res.optimum_resolution):.3g} {xu.symbol}",
+    )
+
+
+def draw_model_band(
+    ax: Axes, fu: DisplayUnit, result: Run, table: FigureTable, columns: tuple
+) -> bool:
+    """Fig 12d: the model at the located optimum with its A_r/A_n band (True when drawn)."""
+    fr = result.friction
+    if getattr(fr, "model_real_area", None) is None:
+        return False
+    x_col, y_col = columns
+    a_n = fr.nominal_area
+    value = np.asarray(fr.model_real_area, dtype=float) / a_n
+    u = np.asarray(fr.model_real_area_uncertainty, dtype=float) / a_n
+    at = result.statistical_model.optimum_resolution
+    ru = display_unit(at, "m")
+    lower_bound = bool(getattr(fr, "uncertainty_lower_bound", False))
+    band = "u a lower bound, band not drawn" if lower_bound else "+- u"
+    name = f"model ({band}), {ru(at):.3g} {ru.symbol} (located optimum)"
+    (line,) = ax.plot(fu(fr.normal_load), value, "-", color="C3", label=name)
+    if not lower_bound:  # a lower bound has no upper edge to draw: a band would claim one
+        low = np.maximum(value - u, 0.1 * value)  # a log axis: at most a decade below
+        ax.fill_between(fu(fr.normal_load), low, value + u, color=line.get_color(), alpha=0.25)
+    table.add("d", name, {x_col: fr.normal_load, y_col: value, "A_r/A_n uncertainty (1)": u})
+    return True
+
+
+def draw_fig13_error_bars(
+    ax: Axes, fu: DisplayUnit, fr: FrictionPrediction, colors: np.ndarray, table: FigureTable
+) -> None:
+    """Fig 13: at each load, the model's A_r/A_n at F_x = 0 (vertical bar) and the static
+    friction at the peak (horizontal bar), with their CSV rows."""
+    if getattr(fr, "static_friction_uncertainty", None) is None:
+        return
+    a_n = fr.nominal_area
+    x_col, y_col = "tangential load F_x (N)", "A_r/A_n (1)"
+    for i, f in enumerate(fr.normal_load):
+        peak = int(np.nanargmax(fr.tangential_force[i]))
+        x = np.array([0.0, fr.static_friction[i]])
+        y = np.array([fr.model_real_area[i], fr.real_area[i][peak]]) / a_n
+        xerr = np.array([0.0, fr.static_friction_uncertainty[i]])
+        yerr = np.array([fr.model_real_area_uncertainty[i] / a_n, 0.0])
+        label = "model +- u (A_r at $F_x$ = 0; static peak)" if i == 0 else None
+        ax.errorbar(
+            fu(x), y, xerr=fu(xerr), yerr=yerr, fmt="none", ecolor=colors[i], capsize=3, label=label
+        )
+        table.add(
+            "all",
+            f"model uncertainty F_z = {f:.6g} N",
+            {
+                x_col: x,
+                y_col: y,
+                "tangential load F_x uncertainty (N)": xerr,
+                "A_r/A_n uncertainty (1)": yerr,
+            },
+        )
 
 
 #: How a figure is drawn: the run in, the figure and its data table out.

@@ -6,6 +6,8 @@ from __future__ import annotations
 import copy
 import dataclasses
 import inspect
+import subprocess
+import sys
 import typing
 
 import numpy as np
@@ -214,3 +216,15 @@ def test_the_friction_outputs_take_their_units_from_the_shear_curve_declaration(
         if name != "normal_load":
             assert (stage[name].units, stage[name].long_name) == (units, curve[name].long_name)
             assert stage[name].dims == ("normal_load", *curve[name].dims)
+
+
+def test_results_module_does_not_import_the_job():
+    """results.py needs no job.py (job.py imports results.py only): no import cycle between
+    them, so a reopened run reads without loading the job runner."""
+    code = (
+        "import pathlib, sys, asperity.pipelines.results as r; "
+        "assert r.Results(path=pathlib.Path('results.h5')).problems() == []; "
+        "print('asperity.pipelines.job' in sys.modules)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
