@@ -4,8 +4,12 @@ Every figure of the library is a :class:`matplotlib.figure.Figure` built with
 :func:`new_figure` and written with :func:`save_figure`; neither touches ``matplotlib.pyplot``
 nor ``matplotlib.use``, so importing or calling asperity in a notebook leaves the user's
 backend as it was. Axis units are chosen from the data with :func:`display_unit` (SI prefixes:
-a 10 um map is drawn in um, not in "mm x 1e-2"). :func:`layout_problems` lists overlapping or
-clipped text of a drawn figure (used by the tests).
+a 10 um map is drawn in um, not in "mm x 1e-2"); an axis whose data span a decade or more is
+logarithmic with plain-number ticks (:func:`spans_decades`, :func:`log_axis`,
+:func:`auto_log_scale`, :func:`plain_log_ticks`). This is the one module of shared styling:
+the figures of ``topo``, ``statmodel`` and the pipeline's report (``pipelines.report.figures``)
+use it.
+:func:`layout_problems` lists overlapping or clipped text of a drawn figure (used by the tests).
 
 This module imports matplotlib only inside its functions, so importing it is cheap.
 """
@@ -22,6 +26,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.axis import Axis
     from matplotlib.figure import Figure
 
 #: Resolution of raster output (PNG), dots per inch.
@@ -122,6 +128,50 @@ def new_figure(width: float, height: float) -> Figure:
     from matplotlib.figure import Figure
 
     return Figure(figsize=(width, height), layout="constrained")
+
+
+#: Data spanning at least this ratio are drawn on a log axis.
+LOG_SPAN = 10.0
+
+
+def spans_decades(values: ArrayLike) -> bool:
+    """Positive finite data whose largest and smallest differ by :data:`LOG_SPAN` or more."""
+    v = np.asarray(values, dtype=float).ravel()
+    v = v[np.isfinite(v)]
+    return v.size > 1 and bool(np.all(v > 0)) and v.max() >= LOG_SPAN * v.min()
+
+
+def log_axis(ax: Axes, which: str, values: ArrayLike | None = None) -> None:
+    """A log axis (``which`` "x" or "y") labelled at 1, 2, 5 x 10^k (1 x 10^k beyond 3 decades
+    of ``values``) in plain numbers; no minor tick labels (they overprint)."""
+    getattr(ax, f"set_{which}scale")("log")
+    v = np.asarray(values if values is not None else [1.0, 1e6], dtype=float).ravel()
+    v = v[np.isfinite(v) & (v > 0)]
+    decades = np.log10(v.max() / v.min()) if v.size else 6.0
+    plain_log_ticks(getattr(ax, f"{which}axis"), (1.0, 2.0, 5.0) if decades < 3 else (1.0,))
+
+
+def plain_log_ticks(axis: Axis, subs: tuple[float, ...] = (1.0, 2.0, 5.0)) -> None:
+    """Major ticks of a log ``axis`` at ``subs`` x 10^k, written as plain numbers (0.002, 50,
+    1e+06); no minor tick labels (they overprint)."""
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+    axis.set_major_locator(LogLocator(base=10, subs=subs))
+    axis.set_major_formatter(FuncFormatter(_tick_text))
+    axis.set_minor_formatter(NullFormatter())
+
+
+def _tick_text(value: float, _position: float | None) -> str:
+    """A log-axis tick as a short number (0.002, 50, 1e+06)."""
+    return f"{value:g}"
+
+
+def auto_log_scale(ax: Axes, x: ArrayLike, y: ArrayLike) -> None:
+    """Log axes (:func:`log_axis`) where the plotted data ``x``, ``y`` span decades."""
+    if spans_decades(x):
+        log_axis(ax, "x", x)
+    if spans_decades(y):
+        log_axis(ax, "y", y)
 
 
 #: Characters per inch of figure width of a 9 pt stamp line (a safe under-estimate).

@@ -132,8 +132,8 @@ def stage_table(result, marks: list[float], start: float, memory: MemorySampler)
     rows, t0 = [], start
     for run, t1 in zip(result.stages, marks, strict=True):
         row = [run.name, run.seconds, memory.peak(t0, t1) / 2**30, "-", "-", "-"]
-        if run.name == "bem_reference" and result.bem is not None:
-            b = result.bem
+        if run.name == "bem_reference" and result.bem_reference is not None:
+            b = result.bem_reference
             row[3:] = [b.solves, b.total_iterations, b.total_convolutions]
         rows.append(row)
         t0 = t1
@@ -199,9 +199,10 @@ def main() -> None:
             config, tmp, force=True, log=lambda line: marks.append(time.perf_counter())
         )
     rows = stage_table(result, marks, start, memory)
+    bem = result.bem_reference
     print(
         f"paper case, {args.n} x {args.n} px at 2 um, workers {args.workers}, "
-        f"BEM grid {result.bem.contact_mask.shape}, boundary {result.bem.boundary}"
+        f"BEM grid {bem.contact_mask.shape}, boundary {bem.boundary}"
     )
     print(
         f"{'stage':<18} {'seconds':>9} {'peak GiB':>9} {'solves':>7} {'iterations':>11} "
@@ -213,15 +214,15 @@ def main() -> None:
         f"{'total (job)':<18} {result.total_seconds:9.1f} "
         f"{memory.peak(start, marks[-1]) / 2**30:9.2f}"
     )
-    print("\n".join(bem_rows(result.bem)))
-    print(f"  grid: {result.bem.grid_reason}")
-    conv, lib = convolution_seconds(result.bem.contact_mask.shape)
+    print("\n".join(bem_rows(result.bem_reference)))
+    print(f"  grid: {result.bem_reference.grid_reason}")
+    conv, lib = convolution_seconds(bem.contact_mask.shape)
     bem_seconds = next(r[1] for r in rows if r[0] == "bem_reference")
-    floor = conv * result.bem.total_convolutions
+    floor = conv * bem.total_convolutions
     print(
-        f"FFT floor on {result.bem.contact_mask.shape}, {lib}: one bare real convolution "
+        f"FFT floor on {bem.contact_mask.shape}, {lib}: one bare real convolution "
         f"{conv:.3f} s, two (one iteration) {2 * conv:.3f} s; BEM stage {bem_seconds:.1f} s for "
-        f"{result.bem.total_convolutions} convolutions = {bem_seconds / floor:.2f} x the floor "
+        f"{bem.total_convolutions} convolutions = {bem_seconds / floor:.2f} x the floor "
         f"({floor:.1f} s)"
     )
     args.out.mkdir(parents=True, exist_ok=True)

@@ -57,7 +57,7 @@ def time_job(n: int, workers: int) -> dict:
         t0 = time.perf_counter()
         write_report(result, tmp)
         t_report = time.perf_counter() - t0
-    median = len(result.bem.normal_load) // 2
+    median = len(result.bem_reference.normal_load) // 2
     return {
         "n": n,
         "pixel": cfg.surface.synthetic.pixel_size,
@@ -65,8 +65,8 @@ def time_job(n: int, workers: int) -> dict:
         "stages": {s.name: s.seconds for s in result.stages},
         "job": t_job,
         "report": t_report,
-        "fraction": float(result.bem.reference_fraction()[median]),
-        "stride": result.bem.stride,
+        "fraction": float(result.bem_reference.reference_fraction()[median]),
+        "stride": result.bem_reference.stride,
         "converged": result.converged,
     }
 

@@ -25,7 +25,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeAlias
 
 from asperity.quantities import quantity
 from asperity.schema import (
@@ -48,6 +48,12 @@ from asperity.schema import (
 )
 from asperity.statmodel.config import material_section
 from asperity.statmodel.parameters import Material
+
+#: A value of parsed TOML (or of the JSON key documents built from it): the configuration as
+#: data, before validation or after :meth:`JobConfig.to_dict`.
+TomlValue: TypeAlias = str | int | float | bool | None | list["TomlValue"] | dict[str, "TomlValue"]
+#: A TOML table or JSON object: ``{name: value}``.
+Document: TypeAlias = dict[str, TomlValue]
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -366,11 +372,11 @@ class JobConfig:
     #: area, so its job must give ``loading.nominal_area`` itself.
     given_keys: frozenset[str] = field(default_factory=frozenset, compare=False)
 
-    def sections(self) -> dict[str, Any]:
+    def sections(self) -> dict[str, object]:
         """The built sections by table name."""
         return {section.name: getattr(self, section.name) for section in JOB_SCHEMA.sections}
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> Document:
         """The resolved configuration as TOML data (documented spellings, paths as strings)."""
         return JOB_SCHEMA.plain(self.sections())
 
@@ -378,7 +384,7 @@ class JobConfig:
         """The resolved configuration as TOML text (defaults filled in, paths absolute)."""
         return dump_toml(self.to_dict())
 
-    def key_document(self) -> dict[str, Any]:
+    def key_document(self) -> Document:
         """Every key as plain data, files by path and SHA-256: what the stage keys hash, so
         a changed file recomputes the stages that read it."""
         return JOB_SCHEMA.document(self.sections())
@@ -388,7 +394,7 @@ class JobConfig:
 class ShearFiles(Kind):
     """``measured.shear_area``: one long file, or a list of ``{normal_load, file}`` tables."""
 
-    def convert(self, value: Any, context: Context) -> tuple[ShearCurveFile, ...]:
+    def convert(self, value: object, context: Context) -> tuple[ShearCurveFile, ...]:
         if isinstance(value, str):
             return (ShearCurveFile(ExistingFile().convert(value, context)),)
         if not isinstance(value, list):
@@ -396,7 +402,7 @@ class ShearFiles(Kind):
         return tuple(self._item(i, item, context) for i, item in enumerate(value))
 
     @staticmethod
-    def _item(i: int, item: Any, context: Context) -> ShearCurveFile:
+    def _item(i: int, item: object, context: Context) -> ShearCurveFile:
         if not isinstance(item, Mapping) or set(item) != {"normal_load", "file"}:
             raise Invalid('a table {normal_load = N, file = "curve.csv"}', f"[{i}]", item)
         parts = {"normal_load": LOAD, "file": ExistingFile()}
@@ -408,14 +414,14 @@ class ShearFiles(Kind):
                 raise Invalid(exc.expected, f"[{i}].{name}", item[name]) from None
         return ShearCurveFile(values["file"], values["normal_load"])
 
-    def plain(self, value: tuple[ShearCurveFile, ...]) -> Any:
+    def plain(self, value: tuple[ShearCurveFile, ...]) -> TomlValue:
         if not value:
             return None
         if len(value) == 1 and value[0].normal_load is None:
             return str(value[0].file)
         return [{"normal_load": c.normal_load, "file": str(c.file)} for c in value]
 
-    def document(self, value: tuple[ShearCurveFile, ...]) -> Any:
+    def document(self, value: tuple[ShearCurveFile, ...]) -> TomlValue:
         return [[c.normal_load, ExistingFile().document(c.file)] for c in value]
 
 
@@ -423,16 +429,16 @@ class ShearFiles(Kind):
 class CropPixels(Kind):
     """``surface.crop``: ``[x0, x1, y0, y1]``, half-open pixel ranges along axis 0 and 1."""
 
-    def convert(self, value: Any, context: Context) -> tuple[int, ...]:
+    def convert(self, value: object, context: Context) -> tuple[int, ...]:
         pixels = ListOf(Integer(0, 10**7, why="a pixel index"), 4, 4).convert(value, context)
         if not (pixels[0] < pixels[1] and pixels[2] < pixels[3]):
             raise Invalid("[x0, x1, y0, y1] with x0 < x1 and y0 < y1 (pixels)", "", value)
         return pixels
 
-    def plain(self, value: Any) -> Any:
+    def plain(self, value: tuple[int, ...] | None) -> TomlValue:
         return None if value is None else list(value)
 
-    def document(self, value: Any) -> Any:
+    def document(self, value: tuple[int, ...] | None) -> TomlValue:
         return self.plain(value)
 
 
@@ -442,7 +448,7 @@ LOAD = quantity("loading.normal_load").kind
 PIXEL = quantity("surface.pixel_size").kind
 
 
-def _bounded(key: str, default: Any) -> Key:
+def _bounded(key: str, default: float | int | None) -> Key:
     """The key ``table.name`` of ``key``, bounded by its entry of the shared quantities."""
     return Key(key.rsplit(".", 1)[1], quantity(key).kind, default)
 
@@ -630,7 +636,7 @@ def load_config(path: str | Path) -> JobConfig:
 
 
 def config_from_dict(
-    data: Mapping[str, Any], *, source: str = "<dict>", base_dir: str | Path = "."
+    data: Mapping[str, TomlValue], *, source: str = "<dict>", base_dir: str | Path = "."
 ) -> JobConfig:
     """Validate plain TOML data into a :class:`JobConfig` (defaults fill missing keys).
 
@@ -677,7 +683,7 @@ def _compressive_loads_for_the_bem(sections: Mapping[str, Any], source: str) -> 
         )
 
 
-def given_keys(data: Mapping[str, Any]) -> frozenset[str]:
+def given_keys(data: Mapping[str, TomlValue]) -> frozenset[str]:
     """The ``section.key`` names present in parsed TOML data (top-level tables only)."""
     return frozenset(
         f"{section}.{key}"

@@ -20,37 +20,44 @@ from __future__ import annotations
 import sys
 import time
 from collections.abc import Callable
-from dataclasses import field
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
 
 import asperity
 from asperity.errors import InputError
 from asperity.pipelines.config import ConfigError, JobConfig
 from asperity.pipelines.engine.interrupts import InterruptGuard, checkpoint
 from asperity.pipelines.engine.outdir import OutputLock, OutputWriteError
-from asperity.pipelines.engine.parallel import make_executor
+from asperity.pipelines.engine.parallel import Scheduler, make_executor
 from asperity.pipelines.engine.stage import Runner, StageContext, StageRun
 from asperity.pipelines.engine.store import ResultStore
 from asperity.pipelines.measured import read_measurements
-from asperity.pipelines.results import StageAttributes, stage_dataclass
+from asperity.pipelines.results import StageResults, solver_problems
 from asperity.pipelines.stages import STAGE_NAMES, STAGES, stage_label
 from asperity.pipelines.stages.surface import input_sha256
 
-__all__ = ["STAGES", "STAGE_NAMES", "JobResult", "run_job", "provenance", "progress_enabled"]
+__all__ = [
+    "STAGES",
+    "STAGE_NAMES",
+    "JobResult",
+    "run_job",
+    "provenance",
+    "progress_enabled",
+    "solver_problems",
+]
 
 
-@stage_dataclass
-class JobResult(StageAttributes):
+@dataclass(kw_only=True)
+class JobResult(StageResults):
     """Everything the job produced (the same data as results.h5).
 
-    Each stage's result is a field named by its declaration
-    (:class:`~asperity.pipelines.engine.stage.Stage` ``attribute``; also reachable by its
-    group name): ``surface``, ``scan``, ``bem``, ``resolution``, ``mode_mixity``,
-    ``friction``, ``psd``, ``verdict``, in the order of :data:`STAGES`
-    (:func:`~asperity.pipelines.results.stage_dataclass` adds them). ``bem`` is None when
-    ``[bem] enabled = false``; ``verdict`` (:mod:`asperity.pipelines.stages.verdict`) says
-    whether the report stands behind the numbers.
+    Each stage's result is the field named by its group in results.h5
+    (:class:`~asperity.pipelines.results.StageResults`): ``surface``, ``resolution_scan``,
+    ``bem_reference``, ``statistical_model``, ``mode_mixity``, ``friction``, ``psd``,
+    ``realisations``, ``verdict``, in the order of :data:`STAGES`. ``bem_reference`` is None
+    when ``[bem] enabled = false``; ``verdict`` (:mod:`asperity.pipelines.stages.verdict`) says
+    whether the report stands behind the numbers. ``problems()`` and ``converged`` say whether
+    every solver converged.
 
     Attributes
     ----------
@@ -72,35 +79,8 @@ class JobResult(StageAttributes):
     total_seconds: float = 0.0
     input_sha256: str = ""
 
-    @property
-    def converged(self) -> bool:
-        """Every solver converged (BEM sweeps, shear curves, the lambda fit)."""
-        return not self.problems()
 
-    def problems(self) -> list[str]:
-        """One line per solver that did not converge."""
-        return solver_problems(self)
-
-
-def solver_problems(result: Any) -> list[str]:
-    """One line per solver that did not converge, from a job's or a reopened run's results."""
-    bem, friction, mode_mixity = result.bem, result.friction, result.mode_mixity
-    lines = [] if bem is None else list(bem.messages)
-    if bem is not None and not bem.all_converged and not lines:
-        lines.append("BEM: a solve did not converge")
-    lines += [
-        f"shear curve F_z={f:.4g} N: {m}"
-        for f, ok, m in zip(
-            friction.normal_load, friction.converged, friction.messages, strict=True
-        )
-        if not ok
-    ]
-    if mode_mixity.fitted and not mode_mixity.success:
-        lines.append(f"lambda fit: {mode_mixity.message}")
-    return lines
-
-
-def provenance(config: JobConfig, input_hash: str) -> dict[str, Any]:
+def provenance(config: JobConfig, input_hash: str) -> dict[str, str]:
     """The file-level attributes of results.h5: what this run was computed from."""
     return {
         "asperity_version": asperity.__version__,
@@ -118,7 +98,7 @@ def run_job(
     *,
     force: bool = False,
     workers: int | None = None,
-    scheduler: Any = None,
+    scheduler: Scheduler = None,
     progress: bool = False,
     log: Callable[[str], None] | None = None,
 ) -> JobResult:
@@ -186,7 +166,7 @@ def run_job(
     return JobResult(
         config=config,
         out_dir=out_dir,
-        **{stage.attribute: runner.context.results[stage.name] for stage in STAGES},
+        **{stage.name: runner.context.results[stage.name] for stage in STAGES},
         stages=runner.runs,
         total_seconds=time.perf_counter() - t_job,
         input_sha256=input_hash,

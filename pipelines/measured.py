@@ -22,12 +22,12 @@ import re
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
 from asperity.errors import InputError
 from asperity.files import require_regular_file
+from asperity.pipelines.config import MeasuredConfig
 
 
 class MeasuredFileError(InputError):
@@ -417,7 +417,7 @@ class Measurements:
 
 
 def read_measurements(
-    config: Any,
+    config: MeasuredConfig,
     nominal_area: float | None = None,
     normal_loads: Sequence[float] | None = None,
 ) -> Measurements:

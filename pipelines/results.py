@@ -8,9 +8,14 @@ the report from the file (``asperity report OUT_DIR``). Example::
 
     import asperity
     run = asperity.open_results("asperity-out")        # the folder or results.h5
-    run.resolution.effective_resolution                 # m
+    run.statistical_model.effective_resolution          # m
     run.friction.static_friction                        # N, one per load
     datasets = run.to_xarray()                          # {group: xarray.Dataset}
+
+Each stage's result is the field named by its group in results.h5 (:class:`StageResults`,
+shared by this module's :class:`Results` and ``job.JobResult``). The second names of asperity
+0.3 (``run.scan``, ``run.bem``, ``run.resolution``) still answer, with a
+:class:`DeprecationWarning`; they are removed in asperity 0.5.
 
 ``to_xarray`` and ``to_datatree`` need xarray and h5netcdf (the ``test`` extra, or
 ``pip install xarray h5netcdf``); they are imported only when called.
@@ -18,57 +23,143 @@ the report from the file (``asperity report OUT_DIR``). Example::
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from types import ModuleType
+from typing import TYPE_CHECKING
+
+import h5py
 
 import asperity
 from asperity.errors import InputError
+from asperity.pipelines.engine.stage import StageRun
+from asperity.pipelines.engine.store import ResultStore, StoredStageError
 from asperity.pipelines.stages import STAGES
+from asperity.pipelines.stages.bem import BemReference
+from asperity.pipelines.stages.friction import FrictionPrediction, ModeMixityChoice
+from asperity.pipelines.stages.psd import PsdResult
+from asperity.pipelines.stages.realisations import RealisationSpread
+from asperity.pipelines.stages.statistical_model import ResolutionChoice
+from asperity.pipelines.stages.surface import LevelledSurface, ScanResult
+from asperity.pipelines.stages.verdict import Verdict
 
-#: Group name -> attribute of :class:`Results` (and of ``job.JobResult``), from the stages.
-ATTRIBUTES: dict[str, str] = {stage.name: stage.attribute for stage in STAGES}
+if TYPE_CHECKING:
+    import xarray
+
+#: The version that removes the deprecated second names of the stages.
+ALIAS_REMOVAL = "0.5"
+
+#: Deprecated second name -> group name, from the stage declarations (``Stage.attribute``).
+ALIASES: dict[str, str] = {
+    stage.attribute: stage.name
+    for stage in STAGES
+    if stage.attribute is not None and stage.attribute != stage.name
+}
 
 
-class StageAttributes:
-    """Mixin: a stage's result is also reachable by its group name (``run.bem_reference``)."""
+def _deprecated_alias(alias: str, group: str) -> property:
+    def get(self: StageResults) -> object:
+        warnings.warn(
+            f"{type(self).__name__}.{alias} is deprecated: use .{group} (the stage's group in "
+            f"results.h5); .{alias} is removed in asperity {ALIAS_REMOVAL}",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return getattr(self, group)
 
-    def __getattr__(self, name: str) -> Any:
-        # only called for names that are not fields: the group names
-        if name in ATTRIBUTES and ATTRIBUTES[name] != name:
-            return getattr(self, ATTRIBUTES[name])
-        raise AttributeError(f"{type(self).__name__} has no attribute or stage {name!r}")
+    return property(get, doc=f"Deprecated name of :attr:`{group}` (removed in {ALIAS_REMOVAL}).")
 
 
-def stage_dataclass(cls: type) -> type:
-    """``cls`` as a dataclass with one field per stage of :data:`STAGES` (default None).
+@dataclass(kw_only=True)
+class StageResults:
+    """One field per stage of :data:`~asperity.pipelines.stages.STAGES`, named by its group in
+    results.h5 and typed by its result dataclass, in the stages' order; None where the stage is
+    absent (disabled, or not stored). A test holds these fields to the stage list.
 
-    The stage fields, named by each stage's ``attribute``, come after the fields of ``cls``
-    without a default and before those with one, in the order of the stage list: the stage
-    declarations are the only list of them.
+    Attributes
+    ----------
+    surface : LevelledSurface or None
+        Stage 1, the levelled map (m).
+    resolution_scan : ScanResult or None
+        Stage 2, the summit statistics against resolution.
+    bem_reference : BemReference or None
+        Stage 3, the BEM reference (None with ``[bem] enabled = false``).
+    statistical_model : ResolutionChoice or None
+        Stage 4, the statistical model and the effective resolution (m).
+    mode_mixity : ModeMixityChoice or None
+        Stage 5, lambda.
+    friction : FrictionPrediction or None
+        Stage 6, the shear curves and friction forces (N).
+    psd : PsdResult or None
+        Stage 7, the power spectral density.
+    realisations : RealisationSpread or None
+        Stage 8, the spread over synthesised maps (line-profile input only).
+    verdict : Verdict or None
+        Stage 9, whether the report stands behind the numbers.
     """
-    own = dict(cls.__dict__.get("__annotations__", {}))
-    required = {k: v for k, v in own.items() if k not in cls.__dict__}
-    optional = {k: v for k, v in own.items() if k in cls.__dict__}
-    stage_fields = {stage.attribute: "Any" for stage in STAGES}
-    cls.__annotations__ = {**required, **stage_fields, **optional}
-    for name in stage_fields:
-        setattr(cls, name, None)
-    return dataclass(cls)
+
+    surface: LevelledSurface | None = None
+    resolution_scan: ScanResult | None = None
+    bem_reference: BemReference | None = None
+    statistical_model: ResolutionChoice | None = None
+    mode_mixity: ModeMixityChoice | None = None
+    friction: FrictionPrediction | None = None
+    psd: PsdResult | None = None
+    realisations: RealisationSpread | None = None
+    verdict: Verdict | None = None
+
+    # asperity 0.3's second names (docs/pipelines.md promised run.scan and run.resolution)
+    scan = _deprecated_alias("scan", "resolution_scan")
+    bem = _deprecated_alias("bem", "bem_reference")
+    resolution = _deprecated_alias("resolution", "statistical_model")
+
+    def stage_results(self) -> dict[str, object]:
+        """Each stage's result (None where absent), by group name, in the stages' order."""
+        return {stage.name: getattr(self, stage.name) for stage in STAGES}
+
+    def problems(self) -> list[str]:
+        """One line per solver that did not converge (BEM sweeps, shear curves, the lambda
+        fit)."""
+        return solver_problems(self)
+
+    @property
+    def converged(self) -> bool:
+        """Every solver converged."""
+        return not self.problems()
 
 
-@stage_dataclass
-class Results(StageAttributes):
+def solver_problems(result: StageResults) -> list[str]:
+    """One line per solver that did not converge, from a job's or a reopened run's results."""
+    bem, friction, mode_mixity = result.bem_reference, result.friction, result.mode_mixity
+    lines = [] if bem is None else list(bem.messages)
+    if bem is not None and not bem.all_converged and not lines:
+        lines.append("BEM: a solve did not converge")
+    if friction is not None:
+        lines += [
+            f"shear curve F_z={f:.4g} N: {m}"
+            for f, ok, m in zip(
+                friction.normal_load, friction.converged, friction.messages, strict=True
+            )
+            if not ok
+        ]
+    if mode_mixity is not None and mode_mixity.fitted and not mode_mixity.success:
+        lines.append(f"lambda fit: {mode_mixity.message}")
+    return lines
+
+
+@dataclass(kw_only=True)
+class Results(StageResults):
     """The stage results stored in one ``results.h5`` (None where a stage is absent).
 
     Attributes
     ----------
     path : Path
         The file read.
-    surface, scan, bem, resolution, mode_mixity, friction, psd, verdict
-        One field per stage of :data:`asperity.pipelines.stages.STAGES`, named by its
-        declaration, in its order (see ``docs/pipelines.md``); also reachable by the group
-        names (``results.resolution_scan``, ``results.statistical_model``, ...).
+    surface, resolution_scan, bem_reference, statistical_model, mode_mixity, friction, psd, \
+realisations, verdict
+        One field per stage of :data:`asperity.pipelines.stages.STAGES`, named by its group in
+        results.h5 (:class:`StageResults`; see ``docs/pipelines.md``).
     stages : list of StageRun
         One "stored" row per stage read, with the seconds it took to compute.
     source, config_toml, input_sha256, asperity_version : str
@@ -77,7 +168,7 @@ class Results(StageAttributes):
     """
 
     path: Path
-    stages: list[Any] = field(default_factory=list)
+    stages: list[StageRun] = field(default_factory=list)
     source: str = ""
     config_toml: str = ""
     input_sha256: str = ""
@@ -93,41 +184,28 @@ class Results(StageAttributes):
         """Seconds the stored stages took to compute, s."""
         return float(sum(s.seconds for s in self.stages))
 
-    def problems(self) -> list[str]:
-        """One line per solver that did not converge (as ``job.JobResult.problems``)."""
-        from asperity.pipelines.job import solver_problems
-
-        return solver_problems(self)
-
-    @property
-    def converged(self) -> bool:
-        """Every solver converged."""
-        return not self.problems()
-
-    def to_xarray(self) -> dict[str, Any]:
+    def to_xarray(self) -> dict[str, xarray.Dataset]:
         """Every stored group as an ``xarray.Dataset`` (named dims, ``units`` attributes).
 
         Needs xarray and h5netcdf, imported here (not a dependency of asperity).
         """
-        xarray = _import_xarray()
+        xr = _import_xarray()
         names = [s.name for s in self.stages]
-        return {
-            name: xarray.load_dataset(self.path, group=name, engine="h5netcdf") for name in names
-        }
+        return {name: xr.load_dataset(self.path, group=name, engine="h5netcdf") for name in names}
 
-    def to_datatree(self) -> Any:
+    def to_datatree(self) -> xarray.DataTree:
         """The stored groups as one ``xarray.DataTree`` (xarray >= 2024.10)."""
-        xarray = _import_xarray()
-        if not hasattr(xarray, "DataTree"):
+        xr = _import_xarray()
+        if not hasattr(xr, "DataTree"):
             raise ImportError(
-                f"to_datatree needs xarray >= 2024.10 (DataTree); found {xarray.__version__}"
+                f"to_datatree needs xarray >= 2024.10 (DataTree); found {xr.__version__}"
             )
-        return xarray.DataTree.from_dict({f"/{k}": v for k, v in self.to_xarray().items()})
+        return xr.DataTree.from_dict({f"/{k}": v for k, v in self.to_xarray().items()})
 
 
-def _import_xarray() -> Any:
+def _import_xarray() -> ModuleType:
     try:
-        import xarray
+        import xarray  # optional: the test extra
     except ImportError as exc:  # pragma: no cover - the test extra has it
         raise ImportError(
             "to_xarray needs xarray and h5netcdf: pip install xarray h5netcdf"
@@ -137,8 +215,6 @@ def _import_xarray() -> Any:
 
 def results_file(path: str | Path) -> Path:
     """``path`` itself, or ``path/results.h5`` for a folder; checked to be an HDF5 file."""
-    import h5py
-
     path = Path(path)
     if path.is_dir():
         path = path / "results.h5"
@@ -170,9 +246,6 @@ def open_results(path: str | Path) -> Results:
         was written, or written by an incompatible version): the message names the file and
         the stage.
     """
-    from asperity.pipelines.engine.stage import StageRun
-    from asperity.pipelines.engine.store import ResultStore, StoredStageError
-
     path = results_file(path)
     store = ResultStore(path)
     stored = store.stored()
@@ -195,7 +268,7 @@ def open_results(path: str | Path) -> Results:
                 f"by asperity {results.asperity_version or '?'}, this is {asperity.__version__}: "
                 "run `asperity run` with the same configuration to recompute it"
             ) from exc
-        setattr(results, stage.attribute, value)
+        setattr(results, stage.name, value)
         info = stored[stage.name]
         results.stages.append(StageRun(stage.name, info.key, "stored", info.seconds))
     return results

@@ -260,9 +260,7 @@ def draw_resolution_scan(fig: Figure, scan: ResolutionScan, *, title: str = "") 
     Figure
         ``fig``, drawn on.
     """
-    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
-
-    from asperity.plotting import display_unit
+    from asperity.plotting import display_unit, plain_log_ticks
 
     u_res = display_unit(scan.resolution, "m")
     res = u_res(scan.resolution)
@@ -287,9 +285,7 @@ def draw_resolution_scan(fig: Figure, scan: ResolutionScan, *, title: str = "") 
         ax_eta.loglog(res, u_eta(fit), "-", label=label)
     ax_eta.set_ylabel(u_eta.label(r"asperity density $\eta$"))
     # labels at 1, 2, 5 x 10^k: readable whether the scan spans one decade or three
-    ax_eta.xaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
-    ax_eta.xaxis.set_major_formatter(FuncFormatter(lambda value, _: f"{value:g}"))
-    ax_eta.xaxis.set_minor_formatter(NullFormatter())
+    plain_log_ticks(ax_eta.xaxis, (1.0, 2.0, 5.0))
     u_sigma = display_unit(scan.summit_height_rms, "m")
     ax_sigma.plot(res, u_sigma(scan.summit_height_rms), "o", ms=3, label="data")
     if math.isfinite(scan.height_rms_mean):

@@ -41,12 +41,12 @@ print(summary_text(result))
 # %%
 # Reading the effective resolution
 # --------------------------------
-# ``result.resolution`` holds the model's misfit against the BEM at every stride. The stride of
-# least misfit is one of the decimated grids; between strides, the job locates the optimum on
-# a continuous resolution axis with a one-sigma interval (that interval gives the model's error
-# bars). The statistics at the located optimum (``choice.roughness``) are the ones the friction
-# prediction uses (SI units: m, 1/m^2).
-choice = result.resolution
+# ``result.statistical_model`` holds the model's misfit against the BEM at every stride. The
+# stride of least misfit is one of the decimated grids; between strides, the job locates the
+# optimum on a continuous resolution axis with a one-sigma interval (that interval gives the
+# model's error bars). The statistics at the located optimum (``choice.roughness``) are the ones
+# the friction prediction uses (SI units: m, 1/m^2).
+choice = result.statistical_model
 print(
     f"stride of least misfit: {choice.effective_stride} "
     f"({choice.effective_resolution * 1e6:.0f} um, misfit {choice.misfit_bem.min():.3f}), "

@@ -19,12 +19,18 @@ from __future__ import annotations
 import glob
 import traceback
 from collections.abc import Callable, Sequence
+from concurrent.futures import Future
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 from asperity.errors import InputError
-from asperity.pipelines.config import JobConfig, config_from_dict
+from asperity.pipelines.batch.summary import MapRecord, write_summary_csv, write_summary_figure
+from asperity.pipelines.config import Document, JobConfig, config_from_dict
+from asperity.pipelines.engine.parallel import Scheduler, make_executor
+
+if TYPE_CHECKING:  # the job is imported in the worker that runs it (run_one_map)
+    from asperity.pipelines.job import JobResult
 
 try:
     import tomllib
@@ -59,7 +65,7 @@ def expand_maps(patterns: Sequence[str]) -> list[Path]:
     return maps
 
 
-def read_job(path: str | Path) -> tuple[dict[str, Any], Path]:
+def read_job(path: str | Path) -> tuple[Document, Path]:
     """The job file's TOML data and its folder (relative names are taken from there)."""
     path = Path(path)
     try:
@@ -71,7 +77,7 @@ def read_job(path: str | Path) -> tuple[dict[str, Any], Path]:
     return data, path.resolve().parent
 
 
-def map_config(data: dict[str, Any], base_dir: Path, source: str, map_path: Path) -> JobConfig:
+def map_config(data: Document, base_dir: Path, source: str, map_path: Path) -> JobConfig:
     """The job with ``[surface] file`` set to ``map_path`` (any synthetic recipe dropped)."""
     surface = {k: v for k, v in data.get("surface", {}).items() if k != "synthetic"}
     surface["file"] = str(Path(map_path).resolve())
@@ -86,7 +92,7 @@ def map_folders(maps: Sequence[Path], out_dir: Path) -> list[Path]:
     return [out_dir / (s if stems.count(s) == 1 else f"{s}-{i + 1}") for i, s in enumerate(stems)]
 
 
-def _verdict_text(result: Any) -> str:
+def _verdict_text(result: JobResult) -> str:
     from asperity.pipelines.report.html import find_verdict
 
     verdict = find_verdict(result)
@@ -99,10 +105,10 @@ def _verdict_text(result: Any) -> str:
     return ""
 
 
-def summary_values(result: Any) -> dict[str, Any]:
+def summary_values(result: JobResult) -> dict[str, float | str]:
     """The summary numbers of one run (SI; column names carry the units)."""
-    res, fr = result.resolution, result.friction
-    values: dict[str, Any] = {
+    res, fr = result.statistical_model, result.friction
+    values: dict[str, float | str] = {
         "effective resolution (m)": res.effective_resolution,
         "asperity density eta (1/m^2)": res.asperity_density,
         "summit radius R (m)": res.summit_radius,
@@ -119,7 +125,7 @@ def summary_values(result: Any) -> dict[str, Any]:
     return values
 
 
-def _map_status(result: Any) -> str:
+def _map_status(result: JobResult) -> str:
     """A finished run's status: "not converged" first, then "invalid" (the verdict), else "ok"."""
     if not result.converged:
         return "not converged"
@@ -127,7 +133,7 @@ def _map_status(result: Any) -> str:
     return "invalid" if getattr(verdict, "verdict", None) == "invalid" else "ok"
 
 
-def _invalid_reasons(result: Any) -> list[str]:
+def _invalid_reasons(result: JobResult) -> list[str]:
     """The verdict's reasons of severity "invalid" (none for a valid run or no verdict)."""
     verdict = getattr(result, "verdict", None)
     if verdict is None:
@@ -137,8 +143,8 @@ def _invalid_reasons(result: Any) -> list[str]:
 
 
 def run_one_map(
-    data: dict[str, Any], base_dir: str, source: str, map_path: str, folder: str, force: bool
-) -> dict[str, Any]:
+    data: Document, base_dir: str, source: str, map_path: str, folder: str, force: bool
+) -> MapRecord:
     """Run (or resume) the job on one map; never raises: failures come back as a record.
 
     Returns
@@ -148,7 +154,7 @@ def run_one_map(
         ``message`` and,
         unless failed, ``values`` (:func:`summary_values`).
     """
-    record: dict[str, Any] = {"map": map_path, "folder": folder, "status": "failed"}
+    record: MapRecord = {"map": map_path, "folder": folder, "status": "failed"}
     try:
         from asperity.pipelines.job import run_job
         from asperity.pipelines.report import write_report
@@ -181,7 +187,7 @@ class BatchResult:
         ``summary.csv`` and ``summary.png``.
     """
 
-    records: list[dict[str, Any]]
+    records: list[MapRecord]
     summary_csv: Path
     summary_figure: Path | None = None
     failed: list[str] = field(default_factory=list)
@@ -203,7 +209,7 @@ def run_batch(
     out_dir: str | Path,
     *,
     workers: int = 1,
-    scheduler: Any = None,
+    scheduler: Scheduler = None,
     force: bool = False,
     log: Callable[[str], None] | None = None,
 ) -> BatchResult:
@@ -231,8 +237,6 @@ def run_batch(
     InputError
         A bad job file or key, or a map pattern matching nothing: before any map runs.
     """
-    from asperity.pipelines.engine.parallel import make_executor
-
     log = log or (lambda line: None)
     data, base_dir = read_job(job_path)
     maps = expand_maps(patterns)
@@ -251,15 +255,13 @@ def run_batch(
             future.add_done_callback(lambda done, a=a: log(_log_line(done, a[3])))
             futures.append(future)
         records = [_record(future, a) for a, future in zip(args, futures, strict=True)]
-    from asperity.pipelines.batch.summary import write_summary_csv, write_summary_figure
-
     csv_path = write_summary_csv(records, out_dir / "summary.csv")
     figure = write_summary_figure(records, out_dir / "summary.png")
     failed = [r["map"] for r in records if r["status"] == "failed"]
     return BatchResult(records, csv_path, figure, failed)
 
 
-def _record(future: Any, args: tuple) -> dict[str, Any]:
+def _record(future: Future[MapRecord], args: tuple) -> MapRecord:
     """A map's record; a lost worker (the task itself raised) is a failed map."""
     try:
         return future.result()
@@ -267,7 +269,7 @@ def _record(future: Any, args: tuple) -> dict[str, Any]:
         return {"map": args[3], "folder": args[4], "status": "failed", "message": str(exc)}
 
 
-def _log_line(future: Any, map_path: str) -> str:
+def _log_line(future: Future[MapRecord], map_path: str) -> str:
     """One line as a map finishes (completion order)."""
     record = _record(future, (None, None, None, map_path, ""))
     reason = f" ({record['message']})" if record.get("message") else ""

@@ -16,25 +16,44 @@ from __future__ import annotations
 
 import csv
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, TypedDict
 
 import numpy as np
 
 from asperity.atomic import open_atomic
-from asperity.pipelines.report import log_axis, spans_decades
-from asperity.plotting import display_unit, new_figure, save_figure, stamp
+from asperity.plotting import display_unit, log_axis, new_figure, save_figure, spans_decades, stamp
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
 #: Text columns among the values (no mean or std).
 TEXT_COLUMNS = ("verdict", "validity")
 
+
+class MapRecord(TypedDict, total=False):
+    """One map's record in a batch (:func:`asperity.pipelines.batch.run_one_map`).
+
+    ``map`` and ``folder`` are paths as text; ``status`` is "ok", "not converged", "invalid" or
+    "failed"; ``message`` says why; ``values`` holds the summary numbers (SI, the column names
+    carry the units) and the verdict and validity text; ``computed`` names the stages computed
+    (not taken from results.h5); ``traceback`` is kept for a failed map.
+    """
+
+    map: str
+    folder: str
+    status: str
+    message: str
+    values: dict[str, float | str]
+    computed: list[str]
+    traceback: str
+
+
 #: Columns before the numbers.
 LEAD_COLUMNS = ("map", "folder", "status", "message")
 
 
-def numeric_columns(records: list[dict[str, Any]]) -> list[str]:
+def numeric_columns(records: list[MapRecord]) -> list[str]:
     """Every value column of the finished runs, in first-seen order (numbers, then the
     :data:`TEXT_COLUMNS` where present)."""
     columns: dict[str, None] = {}
@@ -44,16 +63,18 @@ def numeric_columns(records: list[dict[str, Any]]) -> list[str]:
     return list(columns)
 
 
-def column_values(records: list[dict[str, Any]], name: str) -> np.ndarray:
+def column_values(records: list[MapRecord], name: str) -> np.ndarray:
     """One column over the finished runs (NaN where a run lacks it)."""
     return np.array(
         [float(r["values"].get(name, np.nan)) for r in records if "values" in r], dtype=float
     )
 
 
-def _statistics(records: list[dict[str, Any]], columns: list[str]) -> tuple[dict, dict]:
-    mean: dict[str, Any] = {"map": "mean"}
-    spread: dict[str, Any] = {"map": "std"}
+def _statistics(
+    records: list[MapRecord], columns: list[str]
+) -> tuple[dict[str, str | float], dict[str, str | float]]:
+    mean: dict[str, str | float] = {"map": "mean"}
+    spread: dict[str, str | float] = {"map": "std"}
     sound = [r for r in records if r["status"] == "ok"]
     for name in columns:
         if name in TEXT_COLUMNS:
@@ -68,7 +89,7 @@ def _statistics(records: list[dict[str, Any]], columns: list[str]) -> tuple[dict
     return mean, spread
 
 
-def _cell(value: Any) -> str:
+def _cell(value: object) -> str:
     if isinstance(value, float):
         return "" if not np.isfinite(value) else repr(value)
     return "" if value is None else str(value)
@@ -78,7 +99,7 @@ def _cell(value: Any) -> str:
 STATUSES: tuple[str, ...] = ("ok", "invalid", "not converged", "failed")
 
 
-def summary_header(records: list[dict[str, Any]]) -> list[str]:
+def summary_header(records: list[MapRecord]) -> list[str]:
     """Comment lines (without ``# ``) heading summary.csv: the count per status and each map
     that is not ok with its status and first reason."""
     counts = {s: sum(r.get("status") == s for r in records) for s in STATUSES}
@@ -96,7 +117,7 @@ def summary_header(records: list[dict[str, Any]]) -> list[str]:
     return lines
 
 
-def write_summary_csv(records: list[dict[str, Any]], path: Path) -> Path:
+def write_summary_csv(records: list[MapRecord], path: Path) -> Path:
     """The :func:`summary_header` comments, one row per map, then the mean and std rows."""
     columns = numeric_columns(records)
     rows = [{**{k: r.get(k, "") for k in LEAD_COLUMNS}, **r.get("values", {})} for r in records]
@@ -111,7 +132,7 @@ def write_summary_csv(records: list[dict[str, Any]], path: Path) -> Path:
     return path
 
 
-def _panel(ax: Any, records: list[dict[str, Any]], name: str, base: str, power: int) -> None:
+def _panel(ax: Axes, records: list[MapRecord], name: str, base: str, power: int) -> None:
     """One quantity against the map number: points, mean line, mean +- std band."""
     values = column_values(records, name)
     unit = display_unit(values, base, power)
@@ -135,7 +156,7 @@ def _panel(ax: Any, records: list[dict[str, Any]], name: str, base: str, power: 
     ax.set_xticks(index)
 
 
-def _per_load_panel(ax: Any, records: list[dict[str, Any]], prefix: str, base: str) -> None:
+def _per_load_panel(ax: Axes, records: list[MapRecord], prefix: str, base: str) -> None:
     """A per-load quantity against F_z, one line per map."""
     columns = [c for c in numeric_columns(records) if c.startswith(prefix)]
     loads = np.array([float(c.split("F_z=")[1].split(" N")[0]) for c in columns])
@@ -151,14 +172,14 @@ def _per_load_panel(ax: Any, records: list[dict[str, Any]], prefix: str, base: s
     ax.set_ylabel(yu.label(label) if yu is not None else label, fontsize=8)
 
 
-def write_summary_figure(records: list[dict[str, Any]], path: Path) -> Path | None:
+def write_summary_figure(records: list[MapRecord], path: Path) -> Path | None:
     """Write the summary figure (None when no map finished)."""
     if not any("values" in r for r in records):
         return None
     return save_figure(draw_summary_figure(records), path)
 
 
-def draw_summary_figure(records: list[dict[str, Any]]) -> Figure:
+def draw_summary_figure(records: list[MapRecord]) -> Figure:
     """Every summary quantity against the map (top) and against F_z per map (bottom)."""
     fig = new_figure(12, 7)
     axes = fig.subplots(2, 4)

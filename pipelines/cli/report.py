@@ -17,7 +17,7 @@ from asperity.errors import InputError
 from asperity.quantities import quantity
 
 #: Stages a report needs (attributes of :class:`pipelines.results.Results`).
-REQUIRED = ("surface", "scan", "resolution", "mode_mixity", "friction")
+REQUIRED = ("surface", "resolution_scan", "statistical_model", "mode_mixity", "friction")
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:

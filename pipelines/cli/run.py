@@ -15,12 +15,15 @@ import argparse
 import os
 import sys
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 from asperity.errors import InputError
 from asperity.files import require_output_dir
-from asperity.pipelines.config import PRESETS, load_config, load_preset
+from asperity.pipelines.config import PRESETS, JobConfig, load_config, load_preset
 from asperity.quantities import quantity
+
+if TYPE_CHECKING:  # imported when a job runs (the CLI starts without the solvers)
+    from asperity.pipelines.job import JobResult
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -107,7 +110,7 @@ def handle_run(args: argparse.Namespace) -> int:
     return int(exit_status(result.converged, result.verdict))
 
 
-def _run_and_report(args: argparse.Namespace, config: Any) -> Any:
+def _run_and_report(args: argparse.Namespace, config: JobConfig) -> JobResult:
     """The job and its report in ``args.out`` (the caller holds the directory's lock)."""
     # OpenMP threads that spin-wait (the default) halve the BEM's speed on a busy 2-core machine
     # (measured: 23 s -> 11 s for the default job's BEM stage); it must be set before pyFFTW

@@ -36,8 +36,8 @@ import _thread
 import signal
 import sys
 import threading
+from collections.abc import Callable
 from types import FrameType
-from typing import Any
 
 __all__ = [
     "RETRY_SECONDS",
@@ -92,8 +92,8 @@ class InterruptGuard:
     def __init__(self) -> None:
         self.requested = False
         self.acknowledged = False
-        self._previous: Any = None
-        self._previous_hook: Any = None
+        self._previous: Callable[[int, FrameType | None], object] | int | None = None
+        self._previous_hook: Callable[[sys.UnraisableHookArgs], object] = sys.unraisablehook
         self._installed = False
         self._lock = threading.RLock()  # re-entered when a SIGINT interrupts the handler
         self._guard: InterruptGuard = self
@@ -158,7 +158,7 @@ class InterruptGuard:
         self._start_watchdog()
         raise KeyboardInterrupt
 
-    def _unraisable(self, unraisable: Any) -> None:
+    def _unraisable(self, unraisable: sys.UnraisableHookArgs) -> None:
         """Drop a KeyboardInterrupt a finaliser swallowed (raised again); pass the rest on."""
         if isinstance(unraisable.exc_value, KeyboardInterrupt) and self.requested:
             return

@@ -28,9 +28,17 @@ import sys
 import threading
 import time
 from collections.abc import Callable, Iterable, Iterator
-from typing import Any
+from typing import TYPE_CHECKING, ParamSpec, TypeAlias, TypeVar
 
 from asperity.errors import InputError
+
+if TYPE_CHECKING:  # optional: the dask extra
+    import distributed
+
+P = ParamSpec("P")
+T = TypeVar("T")
+#: Where the sweeps run: a dask.distributed scheduler address, a client, or None (this machine).
+Scheduler: TypeAlias = "str | distributed.Client | None"
 
 #: Environment variables that cap the threads of the numerical libraries.
 THREAD_ENV_VARS: tuple[str, ...] = (
@@ -104,9 +112,9 @@ class SerialExecutor(concurrent.futures.Executor):
     """An executor that runs each call immediately in this process."""
 
     def submit(
-        self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any
-    ) -> concurrent.futures.Future:
-        future: concurrent.futures.Future = concurrent.futures.Future()
+        self, fn: Callable[P, T], /, *args: P.args, **kwargs: P.kwargs
+    ) -> concurrent.futures.Future[T]:
+        future: concurrent.futures.Future[T] = concurrent.futures.Future()
         try:
             future.set_result(fn(*args, **kwargs))
         except BaseException as exc:  # delivered through the future, like a pool would
@@ -115,33 +123,33 @@ class SerialExecutor(concurrent.futures.Executor):
 
     def map(
         self,
-        fn: Callable[..., Any],
+        fn: Callable[..., T],
         *iterables: Iterable,
         timeout: float | None = None,
         chunksize: int = 1,
-    ) -> Iterator:
+    ) -> Iterator[T]:
         return map(fn, *iterables)
 
 
 class DaskExecutor(concurrent.futures.Executor):
     """The executor of a dask.distributed client, owning the client (closed on shutdown)."""
 
-    def __init__(self, client: Any):
+    def __init__(self, client: distributed.Client):
         self.client = client
         self._executor = client.get_executor()
 
     def submit(
-        self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any
-    ) -> concurrent.futures.Future:
+        self, fn: Callable[P, T], /, *args: P.args, **kwargs: P.kwargs
+    ) -> concurrent.futures.Future[T]:
         return self._executor.submit(fn, *args, **kwargs)
 
     def map(
         self,
-        fn: Callable[..., Any],
+        fn: Callable[..., T],
         *iterables: Iterable,
         timeout: float | None = None,
         chunksize: int = 1,
-    ) -> Iterator:
+    ) -> Iterator[T]:
         return self._executor.map(fn, *iterables, timeout=timeout)
 
     def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
@@ -150,7 +158,7 @@ class DaskExecutor(concurrent.futures.Executor):
 
 
 def make_executor(
-    workers: int = 1, *, scheduler: str | Any | None = None, threads_per_worker: int = 1
+    workers: int = 1, *, scheduler: Scheduler = None, threads_per_worker: int = 1
 ) -> concurrent.futures.Executor:
     """An executor for the sweeps.
 
@@ -271,7 +279,7 @@ class _BorrowedDaskExecutor(DaskExecutor):
         self._executor.shutdown(wait=wait)
 
 
-def share(executor: concurrent.futures.Executor | None, value: Any) -> Any:
+def share(executor: concurrent.futures.Executor | None, value: T) -> T | distributed.Future:
     """``value`` as an argument that reaches each worker once.
 
     On dask.distributed it is scattered to every worker (``broadcast=True``) and the returned
@@ -285,13 +293,13 @@ def share(executor: concurrent.futures.Executor | None, value: Any) -> Any:
 
 
 def run_map(
-    fn: Callable[..., Any],
+    fn: Callable[..., T],
     jobs: list[tuple],
     executor: concurrent.futures.Executor | None = None,
     *,
     desc: str = "",
     progress: bool = False,
-) -> list:
+) -> list[T]:
     """``[fn(*job) for job in jobs]``, through ``executor`` when given, with a progress bar.
 
     Parameters

@@ -3,15 +3,14 @@
 A :class:`Stage` names its HDF5 group, the configuration keys and the earlier stages it reads,
 its result dataclass (fields with units and dims, :mod:`asperity.fields`) and the function that
 computes it. From that one declaration :class:`Runner` keys, stores, reuses and checks the
-stage, and :class:`~asperity.pipelines.job.JobResult` and
-:class:`~asperity.pipelines.results.Results` take their attributes; nothing else lists its
-fields or its dependencies. A stage's number is its place in
+stage, and its result is the field of :class:`~asperity.pipelines.results.StageResults`
+(``JobResult``, ``Results``) named by its group (a test holds the two lists together); nothing
+else lists its fields or its dependencies. A stage's number is its place in
 :data:`asperity.pipelines.stages.STAGES`. Example (the one docs/DEVELOPING.md walks through)::
 
     ROUGHNESS = Stage(
         name="roughness",              # its group in results.h5
         title="roughness parameters",  # the log says "<number> roughness parameters"
-        attribute="roughness",         # JobResult.roughness, Results.roughness
         result=RoughnessParameters,    # fields declared with asperity.fields
         config=("surface.max_stride",),
         inputs=(SURFACE,),
@@ -42,7 +41,7 @@ from dataclasses import dataclass, field
 from typing import Any, Generic, TypeVar
 
 from asperity.fields import field_specs
-from asperity.pipelines.config import JOB_SCHEMA, JobConfig
+from asperity.pipelines.config import JOB_SCHEMA, Document, JobConfig, TomlValue
 from asperity.pipelines.engine.store import ResultStore, StoredStageError
 from asperity.pipelines.engine.views import ConfigView, DeclaredView, UndeclaredReadError
 from asperity.pipelines.measured import Measurements
@@ -104,7 +103,7 @@ class StageContext:
     def for_stage(self, stage: Stage) -> StageContext:
         """The context ``stage.compute`` sees: its declared keys, inputs and measurements."""
         measured_keys = {k.split(".", 1)[1]: k for k in stage.config if k.startswith("measured.")}
-        measured: Any = self.measured
+        measured: Measurements | DeclaredView = self.measured
         if "measured" not in stage.config:
             where = f"stage {stage.name!r}, measured curves"
             measured = DeclaredView(self.measured, measured_keys, where)
@@ -129,9 +128,6 @@ class Stage(Generic[R]):
     title : str
         How the log and the report call it ("BEM reference"; the number comes from the
         stage's place in the job's list, :func:`stage_label`).
-    attribute : str
-        Its attribute on ``JobResult`` and ``Results`` (``run.bem``); also reachable by
-        ``name``.
     result : type
         The result dataclass (every field declared with :mod:`asperity.fields`).
     config : tuple of str
@@ -145,17 +141,21 @@ class Stage(Generic[R]):
     check : callable or None
         ``check(context, result)``, run after the stage is computed *or* taken from the store
         (e.g. the loads checked against the pull-off force after the resolution scan).
+    attribute : str or None
+        A deprecated second name of the stage on ``JobResult`` and ``Results`` (asperity 0.3's
+        ``run.bem`` for ``run.bem_reference``), answered with a ``DeprecationWarning``; None
+        for a stage that only has its group name (every new stage).
     """
 
     name: str
     title: str
-    attribute: str
     result: type[R]
     config: tuple[str, ...]
     inputs: tuple[Stage, ...]
     compute: Callable[[StageContext], R]
     enabled: Callable[[JobConfig], bool] = _always
     check: Callable[[StageContext, R], None] | None = None
+    attribute: str | None = None
 
     def __post_init__(self) -> None:
         field_specs(self.result)  # a faulty result declaration fails at import
@@ -196,17 +196,23 @@ def stage_label(stage: Stage, stages: Sequence[Stage]) -> str:
     return f"{list(stages).index(stage) + 1} {stage.title}"
 
 
-def config_value(document: Mapping[str, Any], path: str) -> Any:
+def config_value(document: Mapping[str, TomlValue], path: str) -> TomlValue:
     """The value at a dotted path of the configuration document ("material.E_star")."""
-    value: Any = document
-    for part in path.split("."):
+    first, *rest = path.split(".")
+    value = document[first]
+    for part in rest:
+        if not isinstance(value, dict):
+            raise KeyError(path)
         value = value[part]
     return value
 
 
 def key_document(
-    stage: Stage, config_document: Mapping[str, Any], input_keys: Mapping[str, str], version: str
-) -> dict[str, Any]:
+    stage: Stage,
+    config_document: Mapping[str, TomlValue],
+    input_keys: Mapping[str, str],
+    version: str,
+) -> Document:
     """Everything a stage's result depends on, as one JSON-ready document."""
     return {
         "stage": stage.name,
@@ -216,7 +222,7 @@ def key_document(
     }
 
 
-def hash_document(document: Mapping[str, Any]) -> str:
+def hash_document(document: Mapping[str, TomlValue]) -> str:
     """SHA-256 of a JSON document (keys sorted)."""
     text = json.dumps(document, sort_keys=True, default=str)
     return hashlib.sha256(text.encode()).hexdigest()
@@ -252,15 +258,15 @@ class Runner:
 
     store: ResultStore
     context: StageContext
-    config_document: dict[str, Any]
+    config_document: Document
     version: str
-    root_attrs: dict[str, Any]
+    root_attrs: dict[str, str]
     force: bool = False
     log: Callable[[str], None] = print
     keys: dict[str, str] = field(default_factory=dict)
     documents: dict[str, str] = field(default_factory=dict)
     runs: list[StageRun] = field(default_factory=list)
-    pending: list[tuple[Stage, Any, float]] = field(default_factory=list)
+    pending: list[tuple[Stage, object, float]] = field(default_factory=list)
     labels: dict[str, str] = field(default_factory=dict)
 
     def plan(self, stages: Sequence[Stage]) -> None:

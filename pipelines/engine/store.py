@@ -38,7 +38,7 @@ import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import TypeVar
 
 import h5py
 import numpy as np
@@ -164,7 +164,7 @@ class ResultStore:
             )
         return result
 
-    def root_attrs(self) -> dict[str, Any]:
+    def root_attrs(self) -> dict[str, object]:
         """The file-level provenance attributes."""
         f = self._open_read()
         if f is None:
@@ -175,12 +175,12 @@ class ResultStore:
     def write(
         self,
         name: str | None = None,
-        result: Any = None,
+        result: object = None,
         *,
         key: str = "",
         key_inputs: str = "",
         seconds: float = float("nan"),
-        root_attrs: Mapping[str, Any] | None = None,
+        root_attrs: Mapping[str, str] | None = None,
         drop: Sequence[str] = (),
     ) -> None:
         """Atomically write one stage group, the file's provenance and the removal of stale groups.
@@ -206,11 +206,11 @@ class ResultStore:
     def _new_image(
         self,
         name: str | None,
-        result: Any,
+        result: object,
         key: str,
         key_inputs: str,
         seconds: float,
-        root_attrs: Mapping[str, Any] | None,
+        root_attrs: Mapping[str, str] | None,
         drop: Sequence[str],
     ) -> io.BytesIO:
         """The new file's bytes, built in memory: the current file plus the changes.

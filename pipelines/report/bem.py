@@ -1,23 +1,19 @@
-"""The BEM section of report.md and the ``bem_grid.png`` figure (the BEM stage, Appendix B).
+"""The BEM section of report.md (the BEM stage, Appendix B).
 
 The section states the boundary condition and the seam mismatch, the branch each number lies
 on, the refinement curve of the grid check (A_r/A_n and its error against the finest grid
-solved, per stride) and the error of the grid used; the figure draws the same curve.
+solved, per stride) and the error of the grid used; the ``bem_grid`` figure
+(:func:`asperity.pipelines.report.figures.bem_grid_figure`) draws the same curve.
 """
 
 from __future__ import annotations
 
-from typing import Any
-
-import numpy as np
-from matplotlib.figure import Figure
-from matplotlib.ticker import LogLocator, NullFormatter, ScalarFormatter
-
-from asperity.pipelines.report.verdict_marks import separate_bem_markers
+from asperity.pipelines.report._run import Run
 from asperity.pipelines.stages._bem_grid import EDGE_MISMATCH_LIMIT
-from asperity.plotting import display_unit, new_figure
+from asperity.pipelines.stages.bem import BemReference
 
-_MODES = ("non-adhesive", "adhesive")
+#: The BEM modes, in the order of the second axis of its grid-check arrays.
+BEM_MODES = ("non-adhesive", "adhesive")
 
 
 def _table(header: list[str], rows: list[list[str]]) -> list[str]:
@@ -25,7 +21,7 @@ def _table(header: list[str], rows: list[list[str]]) -> list[str]:
     return lines + ["| " + " | ".join(row) + " |" for row in rows]
 
 
-def refinement_rows(bem: Any, pixel: float) -> list[list[str]]:
+def refinement_rows(bem: BemReference, pixel: float) -> list[list[str]]:
     """Rows of the refinement table: stride, pixel (um), A_r/A_n per mode, error, cost."""
     rows = []
     for i, s in enumerate(bem.check_stride):
@@ -43,12 +39,12 @@ def refinement_rows(bem: Any, pixel: float) -> list[list[str]]:
     return rows
 
 
-def bem_section(result: Any) -> list[str]:
+def bem_section(result: Run) -> list[str]:
     """Markdown lines of the report's "BEM reference" section ([] without a BEM)."""
-    bem = result.bem
+    bem = result.bem_reference
     if bem is None:
         return []
-    modes = list(_MODES[: bem.check_contact_fraction.shape[1]])
+    modes = list(BEM_MODES[: bem.check_contact_fraction.shape[1]])
     branches = {m: sorted(set(row)) for m, row in zip(modes, bem.branch, strict=False)}
     lines = [
         "## BEM reference",
@@ -76,12 +72,12 @@ def bem_section(result: Any) -> list[str]:
     return [*lines, "", *_table(header, refinement_rows(bem, result.surface.dx)), ""]
 
 
-def discretisation_lines(bem: Any) -> list[str]:
+def discretisation_lines(bem: BemReference) -> list[str]:
     """Report lines: the grid check's A_r/A_n extrapolated to zero pixel size (Richardson,
     Roache's grid convergence index) and the relative uncertainty applied to every load."""
     if getattr(bem, "check_extrapolated_fraction", None) is None:
         return []
-    modes = _MODES[: len(bem.check_extrapolated_fraction)]
+    modes = BEM_MODES[: len(bem.check_extrapolated_fraction)]
     parts = [
         f"{m}: {f0:.4g} +- {u:.2g} (p = {p:.3g}, safety factor {fs:g}); grid used +- {rel:.1%}"
         for m, f0, u, p, fs, rel in zip(
@@ -101,65 +97,3 @@ def discretisation_lines(bem: Any) -> list[str]:
         "(|f - f_0| + u) / f is applied to every load of the same grid (the A_r/A_n +- u of the "
         "load table)."
     ]
-
-
-def _draw_extrapolation(ax: Any, bem: Any) -> None:
-    """The extrapolated A_r/A_n at zero pixel size with its band, per mode."""
-    if getattr(bem, "check_extrapolated_fraction", None) is None:
-        return
-    for k, (f0, u) in enumerate(
-        zip(bem.check_extrapolated_fraction, bem.check_extrapolation_uncertainty, strict=True)
-    ):
-        if np.isfinite(f0) and np.isfinite(u):
-            label = "extrapolated to 0 (GCI band)" if k == 0 else None
-            ax.errorbar([0.0], [f0], yerr=[u], fmt="D", color=f"C{k}", capsize=4, label=label)
-
-
-def bem_grid_figure(result: Any) -> Figure:
-    """The refinement curve (A_r/A_n and error against the finest grid per pixel size) and the
-    contact mask at the largest load; axis units chosen from the data (um, mm, ...)."""
-    bem = result.bem
-    fig = new_figure(14, 4.4)
-    ax1, ax3, ax2 = fig.subplots(1, 3)
-    pixel_m = np.asarray(bem.check_stride) * result.surface.dx
-    pu = display_unit(pixel_m, "m")
-    pixel, used = pu(pixel_m), pu(bem.stride * result.surface.dx)
-    for k in range(bem.check_contact_fraction.shape[1]):
-        ax1.plot(pixel, bem.check_contact_fraction[:, k], "o-", label=_MODES[k])
-    _draw_extrapolation(ax1, bem)
-    ax1.axvline(used, color="k", ls="--", label="used")
-    separate_bem_markers(ax1, ("non-adhesive", "adhesive"))
-    ax1.set_xlabel(pu.label("BEM pixel size"))
-    ax1.set_ylabel(f"$A_r/A_n$ at $F_z$ = {bem.check_load:.3g} N")
-    ax1.set_title(f"grid refinement ({bem.boundary} boundary)")
-    ax1.legend(fontsize=8)
-    _draw_grid_error(ax3, bem, pixel, used, pu.symbol)
-    mask = bem.contact_mask
-    lengths = (mask.shape[0] * bem.dx, mask.shape[1] * bem.dy)
-    xu = display_unit(lengths, "m")
-    ax2.imshow(mask.T, origin="lower", cmap="gray_r", extent=(0, xu(lengths[0]), 0, xu(lengths[1])))
-    ax2.set_xlabel(xu.label("x"))
-    ax2.set_ylabel(xu.label("y"))
-    ax2.set_title(f"contact at $F_z$ = {bem.normal_load.max():.3g} N")
-    return fig
-
-
-def _draw_grid_error(ax: Any, bem: Any, pixel: np.ndarray, used: float, symbol: str) -> None:
-    """The error of each coarser grid against the finest solved, in %, on log axes."""
-    coarse = bem.check_error > 0
-    ax.loglog(pixel[coarse], bem.check_error[coarse] * 100, "o-", label="larger of the modes")
-    if bem.area_tolerance is not None:  # stored with the stage: redrawn without the config
-        ax.axhline(bem.area_tolerance * 100, color="gray", ls=":", label="area_tolerance")
-    ax.axvline(used, color="k", ls="--", label="used")
-    for axis in (ax.xaxis, ax.yaxis):
-        axis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
-        axis.set_major_formatter(ScalarFormatter())
-        axis.set_minor_formatter(NullFormatter())
-    ax.legend(fontsize=8)
-    ax.set_xlabel(f"BEM pixel size ({symbol})")
-    ax.set_ylabel("$|A_r - A_r^{finest}| / A_r^{finest}$ (%)")
-    finest = float(pixel.min())
-    if used <= finest:
-        ax.set_title(f"error against {finest:.3g} {symbol}; the grid used is the finest")
-    else:
-        ax.set_title(f"error against {finest:.3g} {symbol}; grid used: {bem.grid_error:.2%}")

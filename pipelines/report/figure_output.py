@@ -18,7 +18,7 @@ import csv
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -66,7 +66,7 @@ class FigureTable:
     """The tidy data behind one figure: rows of (panel, series, quantity columns...)."""
 
     def __init__(self) -> None:
-        self.rows: list[dict[str, Any]] = []
+        self.rows: list[dict[str, object]] = []
         self.columns: list[str] = ["panel", "series"]
         self.header: list[str] = []  # comment lines written first, after "# "
 
@@ -81,7 +81,7 @@ class FigureTable:
             if name not in self.columns:
                 self.columns.append(name)
         for i in range(n):
-            row: dict[str, Any] = {"panel": panel, "series": series}
+            row: dict[str, object] = {"panel": panel, "series": series}
             for name, a in arrays.items():
                 row[name] = a[i] if a.size == n else a[0]
             self.rows.append(row)
@@ -110,7 +110,7 @@ class FigureTable:
         return path
 
 
-def _cell(value: Any) -> str:
+def _cell(value: object) -> str:
     if isinstance(value, float | np.floating):
         return "" if np.isnan(value) else repr(float(value))
     return str(value)

@@ -17,17 +17,20 @@ import html
 import io
 import json
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
 from asperity.atomic import write_text_atomic
+from asperity.pipelines.report._run import Run
+from asperity.pipelines.report.figures import draw_figure
+from asperity.pipelines.report.text import key_numbers, load_table
+from asperity.pipelines.stages.verdict import Verdict
 
 #: Attribute names under which a result may hold a verdict stage's result.
 VERDICT_NAMES: tuple[str, ...] = ("verdict", "validity_verdict")
 
 
-def find_verdict(result: Any) -> Any | None:
+def find_verdict(result: object) -> Verdict | None:
     """The verdict stage's result when the result holds one (any dataclass), else None."""
     for name in VERDICT_NAMES:
         value = getattr(result, name, None)
@@ -39,7 +42,7 @@ def find_verdict(result: Any) -> Any | None:
     return None
 
 
-def _plain(value: Any) -> str | None:
+def _plain(value: object) -> str | None:
     """A verdict field as text; None for arrays and empty values (not shown)."""
     if value is None or isinstance(value, np.ndarray):
         return None
@@ -52,7 +55,7 @@ def _plain(value: Any) -> str | None:
     return str(value)
 
 
-def reasons_html(verdict: Any) -> str:
+def reasons_html(verdict: Verdict) -> str:
     """The verdict's wording and its reasons as a list with their severities, coloured."""
     from asperity.pipelines.stages.verdict import severity_label, verdict_wording
 
@@ -71,7 +74,7 @@ def reasons_html(verdict: Any) -> str:
     )
 
 
-def verdict_html(verdict: Any) -> str:
+def verdict_html(verdict: Verdict) -> str:
     """The verdict block: the reasons as a list (:func:`reasons_html`) when the verdict has
     them, else one row per non-array field, in declaration order."""
     if all(hasattr(verdict, name) for name in ("verdict", "reasons", "codes", "severities")):
@@ -97,17 +100,15 @@ def table_html(header: list[str], rows: list[list[str]]) -> str:
     return f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
 
 
-def _png_bytes(result: Any, name: str) -> bytes:
+def _png_bytes(result: Run, name: str) -> bytes:
     """Draw one figure into PNG bytes (when no PNG or SVG file was written)."""
-    from asperity.pipelines.report import draw_figure
-
     fig, _ = draw_figure(result, name)
     buffer = io.BytesIO()
     fig.savefig(buffer, format="png", dpi=110)
     return buffer.getvalue()
 
 
-def figure_html(result: Any, name: str, path: Path, caption: str) -> str:
+def figure_html(result: Run, name: str, path: Path, caption: str) -> str:
     """One figure embedded with its caption: the PNG just written (base64), else the SVG
     just written (inline), else (PDF only) a PNG drawn in memory. ``path`` is the file of
     the first format written (PNG whenever PNG was requested), so a stale file of an earlier
@@ -147,18 +148,16 @@ def _notes(title: str, ok_text: str, notes: list[str]) -> str:
     return f"<h2>{title}</h2><ul>{items}</ul>"
 
 
-def _wording(verdict: Any) -> str:
+def _wording(verdict: Verdict) -> str:
     from asperity.pipelines.stages.verdict import verdict_wording
 
     return verdict_wording(str(verdict.verdict))
 
 
 def write_html(
-    result: Any, out_dir: Path, figures: dict[str, Path], captions: dict[str, str]
+    result: Run, out_dir: Path, figures: dict[str, Path], captions: dict[str, str]
 ) -> Path:
     """Write ``report.html`` in ``out_dir``; ``figures`` as returned by ``write_figures``."""
-    from asperity.pipelines.report import key_numbers, load_table
-
     status = {"stored": "stored (skipped)", "computed": "computed", "disabled": "disabled"}
     stage_rows = [
         [s.name, status.get(s.status, s.status), f"{s.seconds:.2f}"] for s in result.stages
@@ -177,7 +176,7 @@ def write_html(
         else _notes(
             "Validity",
             "The statistical model is within its assumptions.",
-            result.resolution.validity,
+            result.statistical_model.validity,
         ),
         _notes("Convergence", "All solvers converged.", result.problems()),
         "<h2>Stages</h2>",

@@ -9,12 +9,12 @@ the fit absorbed.
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 
+from asperity.pipelines.report._run import Run
 
-def shape_scale_key_numbers(result: Any) -> list[tuple[str, str]]:
+
+def shape_scale_key_numbers(result: Run) -> list[tuple[str, str]]:
     """The row ``shape-fit scale factor c``: c (dimensionless) at each curve's F_z (N).
 
     Empty when lambda was not fitted, was fitted in mode ``absolute`` (c = 1), or the stored

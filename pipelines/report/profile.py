@@ -7,10 +7,12 @@ Empty for a map input. Lengths are shown in um, A_r/A_n as fractions; ``results.
 
 from __future__ import annotations
 
-from typing import Any
+from asperity.pipelines.report._run import Run
+from asperity.pipelines.stages.realisations import RealisationSpread
+from asperity.pipelines.stages.surface import LevelledSurface, ScanResult
 
 
-def surface_title(surface: Any) -> str:
+def surface_title(surface: LevelledSurface) -> str:
     """The surface figure's title: the levelled map, or the map synthesised from a profile."""
     if getattr(surface, "profile_heights", None) is None:
         return "levelled surface"
@@ -18,13 +20,13 @@ def surface_title(surface: Any) -> str:
     return f"map from the profile's PSD, seed {seed}"
 
 
-def scan_label(scan: Any) -> str:
+def scan_label(scan: ScanResult) -> str:
     """The legend of the scan's points (Fig 12a-c): the map's summits or the profile's Nayak
     statistics."""
     return "profile (Nayak)" if getattr(scan, "method", None) == "nayak-profile" else "map"
 
 
-def _synthesis(result: Any) -> dict | None:
+def _synthesis(result: Run) -> dict | None:
     """The synthesis record of a profile input (None for a map)."""
     surface = result.surface
     if getattr(surface, "profile_heights", None) is None:
@@ -32,11 +34,11 @@ def _synthesis(result: Any) -> dict | None:
     return (surface.provenance or {}).get("profile_synthesis") or {}
 
 
-def _spread_text(result: Any) -> str:
+def _spread_text(result: Run) -> str:
     """The realisations' spread in one phrase, or why there is none."""
     spread = getattr(result, "realisations", None)
     if spread is None:
-        if result.bem is None:
+        if result.bem_reference is None:
             return "no BEM ([bem] enabled = false): no realisations solved"
         return "1 realisation (surface.profile_realisations = 1): spread not known"
     return (
@@ -45,7 +47,7 @@ def _spread_text(result: Any) -> str:
     )
 
 
-def profile_key_numbers(result: Any) -> list[tuple[str, str]]:
+def profile_key_numbers(result: Run) -> list[tuple[str, str]]:
     """Key-number rows of a profile input: what the map is, and the realisations' spread."""
     record = _synthesis(result)
     if record is None:
@@ -66,7 +68,7 @@ def profile_key_numbers(result: Any) -> list[tuple[str, str]]:
     ]
 
 
-def _spread_rows(spread: Any) -> list[str]:
+def _spread_rows(spread: RealisationSpread) -> list[str]:
     """One table row per load: every realisation's A_r/A_n, the mean, std and relative spread."""
     rows = []
     for j, load in enumerate(spread.normal_load):
@@ -78,7 +80,7 @@ def _spread_rows(spread: Any) -> list[str]:
     return rows
 
 
-def profile_section(result: Any) -> list[str]:
+def profile_section(result: Run) -> list[str]:
     """Markdown lines of the report's "Line profile input" section ([] for a map input)."""
     record = _synthesis(result)
     if record is None:

@@ -1,5 +1,6 @@
-"""Error bars wherever a predicted number is shown: ``value +- u`` text, the uncertainty columns
-of the figure CSVs and the bands/error bars of the figures (docs/pipelines.md, "Uncertainties").
+"""Error bars wherever a predicted number is shown: ``value +- u`` text and the uncertainties
+the figures draw as bands and error bars (drawn in :mod:`~asperity.pipelines.report.figures`;
+docs/pipelines.md, "Uncertainties").
 
 Where the numbers come from (all SI, stored in results.h5):
 
@@ -17,11 +18,13 @@ that is not known ``+- ?``: never a bare number that looks exact.
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numpy as np
 
-from asperity.plotting import DisplayUnit, display_unit
+from asperity.pipelines.report._run import Run
+from asperity.pipelines.stages.bem import BemReference
+from asperity.pipelines.stages.friction import FrictionPrediction
+from asperity.pipelines.stages.statistical_model import ResolutionChoice
 
 
 def plus_minus(value: float, u: float | None, scale: float = 1.0, lower_bound: bool = False) -> str:
@@ -38,11 +41,11 @@ def plus_minus(value: float, u: float | None, scale: float = 1.0, lower_bound: b
     return f"{v:.4g} +- {'>' if lower_bound else ''}{u:.2g}"
 
 
-def _at(values: Any, i: int) -> float | None:
+def _at(values: np.ndarray | None, i: int) -> float | None:
     return None if values is None else float(np.asarray(values)[i])
 
 
-def bem_cells(bem: Any, i: int) -> tuple[str, str]:
+def bem_cells(bem: BemReference, i: int) -> tuple[str, str]:
     """The non-adhesive and adhesive BEM A_r/A_n of load ``i`` with their uncertainties."""
     if bem is None:
         return "-", "-"
@@ -54,10 +57,10 @@ def bem_cells(bem: Any, i: int) -> tuple[str, str]:
     return plain, plus_minus(adh[i], None if u is None else u[-1, i])
 
 
-def model_cells(result: Any, i: int) -> list[str]:
+def model_cells(result: Run, i: int) -> list[str]:
     """The model's A_r/A_n, static and sliding friction (N) and sliding displacement (um) of
     load ``i``, each ``+- u`` when the friction stage estimated it."""
-    fr, res = result.friction, result.resolution
+    fr, res = result.friction, result.statistical_model
     a_n = fr.nominal_area
     low = bool(getattr(fr, "uncertainty_lower_bound", False))
     area = getattr(fr, "model_real_area", None)
@@ -75,7 +78,7 @@ def model_cells(result: Any, i: int) -> list[str]:
     ]
 
 
-def resolution_text(res: Any) -> str:
+def resolution_text(res: ResolutionChoice) -> str:
     """The effective resolution row: the located optimum with its interval (um), and the
     stride of least misfit."""
     stride = (
@@ -92,7 +95,7 @@ def resolution_text(res: Any) -> str:
     return f"{res.optimum_resolution * 1e6:.4g} um ({interval}; {stride})"
 
 
-def misfit_text(res: Any) -> str:
+def misfit_text(res: ResolutionChoice) -> str:
     """The least misfit: located between strides, and at the stride of least misfit."""
     at_stride = f"{res.misfit[res.index]:.3g} at stride {res.effective_stride}"
     if getattr(res, "optimum_misfit", None) is None:
@@ -100,7 +103,7 @@ def misfit_text(res: Any) -> str:
     return f"{res.optimum_misfit:.3g} between strides ({at_stride}; rms ln ratio)"
 
 
-def uncertainty_rows(result: Any) -> list[tuple[str, str]]:
+def uncertainty_rows(result: Run) -> list[tuple[str, str]]:
     """Key-number rows saying what the +- u of the load table are and what limits them."""
     fr = result.friction
     message = getattr(fr, "uncertainty_message", None)
@@ -115,99 +118,16 @@ def uncertainty_rows(result: Any) -> list[tuple[str, str]]:
     ]
 
 
-def draw_resolution_interval(ax: Any, xu: DisplayUnit, res: Any, table: Any) -> None:
-    """The misfit figure: the located optimum, its interval (band) and the refined samples."""
-    if getattr(res, "optimum_resolution", None) is None:
-        return
-    low, high = np.asarray(res.optimum_interval, dtype=float)
-    if math.isfinite(low) and math.isfinite(high):
-        ax.axvspan(xu(low), xu(high), color="C2", alpha=0.2, label="one-sigma interval")
-    if res.sampled_resolution is not None:
-        ax.plot(xu(res.sampled_resolution), res.sampled_misfit, "x", color="C2", ms=5)
-        table.add(
-            "misfit",
-            "located (strides and refinement)",
-            {"resolution (m)": res.sampled_resolution, "misfit (1)": res.sampled_misfit},
-        )
-    table.add(
-        "misfit",
-        "located optimum",
-        {
-            "resolution (m)": res.optimum_resolution,
-            "misfit (1)": res.optimum_misfit,
-            "resolution interval low (m)": low,
-            "resolution interval high (m)": high,
-        },
-    )
-    ax.axvline(
-        xu(res.optimum_resolution),
-        color="C2",
-        lw=1.5,
-        label=f"located {xu(res.optimum_resolution):.3g} {xu.symbol}",
-    )
-
-
-def draw_model_band(ax: Any, fu: DisplayUnit, result: Any, table: Any, columns: tuple) -> bool:
-    """Fig 12d: the model at the located optimum with its A_r/A_n band (True when drawn)."""
-    fr = result.friction
-    if getattr(fr, "model_real_area", None) is None:
-        return False
-    x_col, y_col = columns
-    a_n = fr.nominal_area
-    value = np.asarray(fr.model_real_area, dtype=float) / a_n
-    u = np.asarray(fr.model_real_area_uncertainty, dtype=float) / a_n
-    at = result.resolution.optimum_resolution
-    ru = display_unit(at, "m")
-    lower_bound = bool(getattr(fr, "uncertainty_lower_bound", False))
-    band = "u a lower bound, band not drawn" if lower_bound else "+- u"
-    name = f"model ({band}), {ru(at):.3g} {ru.symbol} (located optimum)"
-    (line,) = ax.plot(fu(fr.normal_load), value, "-", color="C3", label=name)
-    if not lower_bound:  # a lower bound has no upper edge to draw: a band would claim one
-        low = np.maximum(value - u, 0.1 * value)  # a log axis: at most a decade below
-        ax.fill_between(fu(fr.normal_load), low, value + u, color=line.get_color(), alpha=0.25)
-    table.add("d", name, {x_col: fr.normal_load, y_col: value, "A_r/A_n uncertainty (1)": u})
-    return True
-
-
-def bem_error_bars(bem: Any) -> list[np.ndarray | None]:
+def bem_error_bars(bem: BemReference) -> list[np.ndarray | None]:
     """Per BEM mode (non-adhesive, adhesive), its A_r/A_n uncertainty per load (None unknown)."""
     u = getattr(bem, "contact_fraction_uncertainty", None)
     modes = 1 if bem.contact_fraction_adhesive is None else 2
     return [None if u is None else np.asarray(u[m], dtype=float) for m in range(modes)]
 
 
-def friction_error_bars(fr: Any) -> dict[str, np.ndarray | None]:
+def friction_error_bars(fr: FrictionPrediction) -> dict[str, np.ndarray | None]:
     """Static and sliding friction uncertainties (N) per load, None when not estimated."""
     return {
         "static (peak)": getattr(fr, "static_friction_uncertainty", None),
         "sliding": getattr(fr, "sliding_friction_uncertainty", None),
     }
-
-
-def draw_fig13_error_bars(ax: Any, fu: DisplayUnit, fr: Any, colors: Any, table: Any) -> None:
-    """Fig 13: at each load, the model's A_r/A_n at F_x = 0 (vertical bar) and the static
-    friction at the peak (horizontal bar), with their CSV rows."""
-    if getattr(fr, "static_friction_uncertainty", None) is None:
-        return
-    a_n = fr.nominal_area
-    x_col, y_col = "tangential load F_x (N)", "A_r/A_n (1)"
-    for i, f in enumerate(fr.normal_load):
-        peak = int(np.nanargmax(fr.tangential_force[i]))
-        x = np.array([0.0, fr.static_friction[i]])
-        y = np.array([fr.model_real_area[i], fr.real_area[i][peak]]) / a_n
-        xerr = np.array([0.0, fr.static_friction_uncertainty[i]])
-        yerr = np.array([fr.model_real_area_uncertainty[i] / a_n, 0.0])
-        label = "model +- u (A_r at $F_x$ = 0; static peak)" if i == 0 else None
-        ax.errorbar(
-            fu(x), y, xerr=fu(xerr), yerr=yerr, fmt="none", ecolor=colors[i], capsize=3, label=label
-        )
-        table.add(
-            "all",
-            f"model uncertainty F_z = {f:.6g} N",
-            {
-                x_col: x,
-                y_col: y,
-                "tangential load F_x uncertainty (N)": xerr,
-                "A_r/A_n uncertainty (1)": yerr,
-            },
-        )

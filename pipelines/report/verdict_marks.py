@@ -19,19 +19,21 @@ beside the adhesive ones where the two coincide.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from asperity.pipelines.stages.verdict import (
     MAX_AREA_FRACTION,
     MAX_MISFIT,
     WARN_AREA_FRACTION,
     WARN_MISFIT,
+    Verdict,
     first_reason,
     verdict_wording,
 )
 from asperity.plotting import stamp
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
 #: Colour of each verdict's stamp and of each severity's threshold line.
@@ -49,7 +51,7 @@ MISFIT_THRESHOLDS: tuple[tuple[float, str], ...] = (
 )
 
 
-def verdict_summary(verdict: Any) -> str:
+def verdict_summary(verdict: Verdict) -> str:
     """The verdict and its first reason in one sentence; how many more reasons there are."""
     text = verdict_wording(verdict)
     if verdict.reasons:
@@ -60,14 +62,14 @@ def verdict_summary(verdict: Any) -> str:
     return text
 
 
-def stamp_verdict(fig: Figure, verdict: Any | None) -> Figure:
+def stamp_verdict(fig: Figure, verdict: Verdict | None) -> Figure:
     """Stamp ``fig`` with the verdict and its first reason unless the verdict is valid."""
     if verdict is None or verdict.verdict == "valid":
         return fig
     return stamp(fig, verdict_summary(verdict), color=COLOURS.get(verdict.verdict, "k"))
 
 
-def csv_header(verdict: Any | None) -> list[str]:
+def csv_header(verdict: Verdict | None) -> list[str]:
     """Comment lines (without the leading ``#``) heading a figure's CSV; none without a
     verdict stage."""
     if verdict is None:
@@ -82,7 +84,9 @@ def csv_header(verdict: Any | None) -> list[str]:
     return lines
 
 
-def threshold_lines(ax: Any, quantity: str, thresholds: Sequence[tuple[float, str]]) -> list[float]:
+def threshold_lines(
+    ax: Axes, quantity: str, thresholds: Sequence[tuple[float, str]]
+) -> list[float]:
     """Horizontal lines at the verdict's thresholds inside the y-axis; the others named in
     the axis title. Call after the data and the axis limits are set, before the legend.
 
@@ -127,14 +131,14 @@ def threshold_lines(ax: Any, quantity: str, thresholds: Sequence[tuple[float, st
 
 #: Marker styles of the BEM modes where both are drawn: the non-adhesive open, larger and on
 #: top, the adhesive filled and small inside it.
-BEM_MARKERS: dict[str, dict[str, Any]] = {
+BEM_MARKERS: dict[str, dict[str, str | float]] = {
     "plain": {"marker": "o", "markerfacecolor": "none", "markersize": 8, "zorder": 3},
     "adhesive": {"marker": "s", "markersize": 4, "zorder": 2.5},
 }
 
 
 def separate_bem_markers(
-    ax: Any, labels: tuple[str, str] = ("BEM, non-adhesive", "BEM, adhesive")
+    ax: Axes, labels: tuple[str, str] = ("BEM, non-adhesive", "BEM, adhesive")
 ) -> None:
     """Restyle the two BEM series of ``ax`` (plain lines, or error bars) by their labels
     (non-adhesive, adhesive) with :data:`BEM_MARKERS`, so neither hides the other."""

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from typing import Any
+from typing import TypeAlias
 
 import numpy as np
 
@@ -38,6 +38,9 @@ from asperity.statmodel.effective_resolution import (
     locate_least_misfit,
     roughness_at_resolution,
 )
+
+#: The ``optimum_*`` and ``interval_*`` fields of the statistical-model result by name (SI).
+OptimumFields: TypeAlias = dict[str, float | int | bool | str | np.ndarray | tuple[float, float]]
 
 
 def _interpolation(surface: topo.HeightMap) -> str:
@@ -164,7 +167,7 @@ def optimum_fields(
     areas: Callable[[statmodel.Roughness], np.ndarray],
     reference: np.ndarray,
     log_misfit: Callable[[np.ndarray, np.ndarray], float],
-) -> dict[str, Any]:
+) -> OptimumFields:
     """The ``optimum_*`` and ``interval_*`` fields of the stage result (SI).
 
     Parameters

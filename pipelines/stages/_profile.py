@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import functools
 from pathlib import Path
-from typing import Any
 
 from asperity import topo
 from asperity.errors import InputError
@@ -106,7 +105,9 @@ def synthesised_map(profile: topo.LineProfile, config: SurfaceConfig, index: int
     return topo.synthesise_from_profile(profile, n=config.profile_synthesis_n, seed=seed)
 
 
-def synthesis_record(profile: topo.LineProfile, config: SurfaceConfig) -> dict[str, Any]:
+def synthesis_record(
+    profile: topo.LineProfile, config: SurfaceConfig
+) -> dict[str, str | int | float]:
     """What the synthesised maps are, for the provenance and the report (SI units)."""
     n = int(config.profile_synthesis_n)
     return {

@@ -9,15 +9,18 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from asperity import statmodel
 from asperity.pipelines.config import ConfigError
 
+if TYPE_CHECKING:  # the surface stage imports this module
+    from asperity.pipelines.stages.surface import ScanResult
 
-def roughness_from_scan(scan: Any, index: int) -> statmodel.Roughness:
+
+def roughness_from_scan(scan: ScanResult, index: int) -> statmodel.Roughness:
     """The :class:`statmodel.Roughness` (eta 1/m^2, R m, sigma_s m) at one scan entry."""
     return statmodel.Roughness(
         asperity_density=float(scan.asperity_density[index]),
@@ -26,7 +29,7 @@ def roughness_from_scan(scan: Any, index: int) -> statmodel.Roughness:
     )
 
 
-def has_summits(scan: Any, index: int) -> bool:
+def has_summits(scan: ScanResult, index: int) -> bool:
     """The scan entry has finite, positive eta, R and sigma_s (summits were found)."""
     values = (
         scan.asperity_density[index],
@@ -37,7 +40,7 @@ def has_summits(scan: Any, index: int) -> bool:
 
 
 def pull_off_forces(
-    material: statmodel.Material, scan: Any, nominal_area: float
+    material: statmodel.Material, scan: ScanResult, nominal_area: float
 ) -> tuple[np.ndarray, list[str]]:
     """Pull-off force of the statistical model at each scan resolution, N (negative).
 
@@ -66,7 +69,10 @@ def pull_off_forces(
 
 
 def check_loads_above_pull_off(
-    material: statmodel.Material, scan: Any, nominal_area: float, normal_loads: Sequence[float]
+    material: statmodel.Material,
+    scan: ScanResult,
+    nominal_area: float,
+    normal_loads: Sequence[float],
 ) -> np.ndarray:
     """Raise :class:`ConfigError` naming ``loading.normal_loads`` if a load is not above the
     pull-off force at some resolution (N).

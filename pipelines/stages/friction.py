@@ -30,7 +30,7 @@ import time
 from collections.abc import Mapping, Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass
-from typing import Any
+from typing import TypeAlias
 
 import numpy as np
 
@@ -48,11 +48,15 @@ from asperity.statmodel.uncertainty import propagate_to_predictions
 #: with their units: the tables the ``asperity friction`` output uses, less ``normal_load``, which
 #: is the stage's dimension coordinate.
 CURVE_FIELDS: dict[str, str] = dict(ARRAY_UNITS)
+#: A shear curve as plain values (arrays and scalars in SI, "converged", "message").
+CurveSummary: TypeAlias = dict[str, np.ndarray | float | bool | str]
+#: The uncertainty fields of :class:`FrictionPrediction` by name (arrays in SI, flags, text).
+UncertaintyFields: TypeAlias = dict[str, np.ndarray | float | bool | int | str]
 CURVE_SCALARS: dict[str, str] = {k: v for k, v in SCALAR_UNITS.items() if k != "normal_load"}
 
 #: Quadrature settings of :func:`statmodel.shear_curve` (its ``nodes`` Gauss-Legendre nodes per
 #: panel and ``panels`` per population range), coarse to fine; the fourth is the model's default.
-QUADRATURE_LADDER: tuple[dict[str, Any], ...] = (
+QUADRATURE_LADDER: tuple[dict[str, float], ...] = (
     {"nodes": 4, "panels": 1},
     {"nodes": 6, "panels": 2},
     {"nodes": 8, "panels": 4},
@@ -91,8 +95,8 @@ def shear_curve_auto(
     *,
     max_tangential_displacement: float | None = None,
     steps: int = 201,
-    knobs: Mapping[str, Any] | None = None,
-) -> Any:
+    knobs: Mapping[str, float] | None = None,
+) -> statmodel.ShearCurve:
     """:func:`statmodel.shear_curve` on a given or automatically found shear path.
 
     Parameters
@@ -116,7 +120,7 @@ def shear_curve_auto(
     """
     knobs = dict(knobs or {})
 
-    def run(max_dt: float) -> Any:
+    def run(max_dt: float) -> statmodel.ShearCurve:
         path = np.linspace(0.0, max_dt, steps)
         return statmodel.shear_curve(material, roughness, nominal_area, normal_load, path, **knobs)
 
@@ -130,9 +134,9 @@ def shear_curve_auto(
     return curve
 
 
-def curve_summary(curve: Any) -> dict[str, Any]:
+def curve_summary(curve: statmodel.ShearCurve) -> CurveSummary:
     """Arrays and scalars of a shear curve as a picklable dict (SI)."""
-    out: dict[str, Any] = {
+    out: CurveSummary = {
         name: np.asarray(getattr(curve, name), dtype=float) for name in CURVE_FIELDS
     }
     for name in CURVE_SCALARS:
@@ -149,8 +153,8 @@ def _curve_job(
     normal_load: float,
     max_dt: float | None,
     steps: int,
-    knobs: Mapping[str, Any],
-) -> dict[str, Any]:
+    knobs: Mapping[str, float],
+) -> CurveSummary:
     return curve_summary(
         shear_curve_auto(
             material,
@@ -173,7 +177,7 @@ def model_shear_area(
     nominal_area: float,
     max_tangential_displacement: float | None,
     steps: int,
-    knobs: Mapping[str, Any],
+    knobs: Mapping[str, float],
 ) -> tuple[np.ndarray, np.ndarray]:
     """Model A_r(F_x) along the shear path for one lambda and load: (F_x N, A_r m^2)."""
     curve = shear_curve_auto(
@@ -206,8 +210,8 @@ class QuadratureChoice:
         One sentence for the report.
     """
 
-    knobs: dict[str, Any]
-    ladder: list[dict[str, Any]]
+    knobs: dict[str, float]
+    ladder: list[dict[str, float]]
     relative_change: np.ndarray
     seconds: np.ndarray
     reason: str
@@ -255,7 +259,7 @@ def choose_quadrature(
     tolerance: float,
     max_tangential_displacement: float | None,
     steps: int,
-    ladder: Sequence[Mapping[str, Any]] = QUADRATURE_LADDER,
+    ladder: Sequence[Mapping[str, float]] = QUADRATURE_LADDER,
 ) -> QuadratureChoice:
     """The coarsest quadrature setting whose curve agrees with the next finer one.
 
@@ -480,7 +484,7 @@ def calibrate_mode_mixity(
     bounds: tuple[float, float] = (1e-4, 1.0),
     max_tangential_displacement: float | None = None,
     steps: int = 201,
-    knobs: Mapping[str, Any] | None = None,
+    knobs: Mapping[str, float] | None = None,
     executor: Executor | None = None,
     mode: str = "shape",
     trim: bool = True,
@@ -743,8 +747,8 @@ def _shear_curve_at(
     nominal_area: float,
     max_dt: float | None,
     steps: int,
-    knobs: Mapping[str, Any],
-) -> Any:
+    knobs: Mapping[str, float],
+) -> statmodel.ShearCurve:
     """The friction stage's own shear curve (path and quadrature) at one input."""
     return shear_curve_auto(
         material,
@@ -757,7 +761,7 @@ def _shear_curve_at(
     )
 
 
-def _unknown_uncertainty(loads: np.ndarray, message: str) -> dict[str, Any]:
+def _unknown_uncertainty(loads: np.ndarray, message: str) -> UncertaintyFields:
     nan = np.full(loads.shape, np.nan)
     return {
         "model_real_area_uncertainty": nan,
@@ -778,8 +782,8 @@ def prediction_uncertainty(
     roughness_interval: Sequence[statmodel.Roughness] | None,
     mode_mixity_interval: tuple[float, float] | None,
     interval_open: bool,
-    curve: Any,
-) -> dict[str, Any]:
+    curve: statmodel.ShearCurve,
+) -> UncertaintyFields:
     """The uncertainty fields of :class:`FrictionPrediction` (SI; empty without an interval).
 
     :func:`statmodel.uncertainty.propagate_to_predictions` with the stage's own ``curve``;
@@ -875,7 +879,6 @@ def mode_mixity_interval(choice: ModeMixityChoice) -> tuple[float, float]:
 MODE_MIXITY = Stage(
     name="mode_mixity",
     title="lambda",
-    attribute="mode_mixity",
     result=ModeMixityChoice,
     config=(
         "material",
@@ -892,7 +895,6 @@ MODE_MIXITY = Stage(
 FRICTION = Stage(
     name="friction",
     title="friction prediction",
-    attribute="friction",
     result=FrictionPrediction,
     config=("material", "loading", "statmodel"),
     inputs=(STATISTICAL_MODEL, MODE_MIXITY),

@@ -195,7 +195,6 @@ def compute_psd(context: StageContext) -> PsdResult:
 PSD = Stage(
     name="psd",
     title="PSD and Persson's theory",
-    attribute="psd",
     result=PsdResult,
     config=("material.E_star", "loading.nominal_area", "loading.normal_loads"),
     inputs=(SURFACE, STATISTICAL_MODEL),

@@ -206,7 +206,6 @@ def realisations_enabled(config: JobConfig) -> bool:
 REALISATIONS = Stage(
     name="realisations",
     title="profile realisations",
-    attribute="realisations",
     result=RealisationSpread,
     config=(
         "surface.profile_synthesis_n",

@@ -23,18 +23,18 @@ import warnings
 from collections.abc import Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
 from asperity import statmodel, topo
 from asperity.errors import InputError
 from asperity.fields import array, document_fields, scalar, text
-from asperity.pipelines.config import ConfigError
+from asperity.pipelines.config import ConfigError, JobConfig
 from asperity.pipelines.engine.parallel import run_map
 from asperity.pipelines.engine.stage import Stage, StageContext
+from asperity.pipelines.engine.views import ConfigView, DeclaredView
 from asperity.pipelines.measured import NormalAreaCurve
-from asperity.pipelines.stages._optimum_resolution import optimum_fields
+from asperity.pipelines.stages._optimum_resolution import OptimumFields, optimum_fields
 from asperity.pipelines.stages._pull_off import has_summits, pull_off_forces, roughness_from_scan
 from asperity.pipelines.stages.bem import BEM, BemReference
 from asperity.pipelines.stages.surface import SCAN, SURFACE, ScanResult
@@ -554,7 +554,7 @@ def non_adhesive_pair(
 
 
 def _validity_at_optimum(
-    located: dict[str, Any],
+    located: OptimumFields,
     stride_best: statmodel.Roughness,
     stride_area: np.ndarray,
     material: statmodel.Material,
@@ -584,7 +584,7 @@ def _locate_optimum(
     loads: np.ndarray,
     measured: NormalAreaCurve | None,
     bem: BemReference | None,
-) -> dict[str, Any]:
+) -> OptimumFields:
     """The ``optimum_*`` fields: the least misfit between strides against the same reference
     (measured A_r(F_z) when given, else the BEM), and the model's A_r (m^2) at the job's loads
     there."""
@@ -623,7 +623,7 @@ def compute_statistical_model(context: StageContext) -> ResolutionChoice:
         return _statistical_model_of_job(context, config)
 
 
-def normal_contact_material(material: Any) -> statmodel.Material:
+def normal_contact_material(material: statmodel.Material | DeclaredView) -> statmodel.Material:
     """The :class:`statmodel.Material` of the normal-contact model, from the keys it reads.
 
     The preload (E:Fy_Greenwood with the JKR asperity laws, E:JKR_load) and the Tabor
@@ -641,7 +641,9 @@ def normal_contact_material(material: Any) -> statmodel.Material:
     )
 
 
-def _statistical_model_of_job(context: StageContext, config: Any) -> ResolutionChoice:
+def _statistical_model_of_job(
+    context: StageContext, config: JobConfig | ConfigView
+) -> ResolutionChoice:
     material = normal_contact_material(config.material)
     choice = statistical_model_scan(
         context.result(SCAN),

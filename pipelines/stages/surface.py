@@ -23,7 +23,6 @@ import hashlib
 import json
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
@@ -213,8 +212,8 @@ class LevelledSurface(MapGeometry):
     periodic: bool = scalar("1", "the map is one period of a periodic surface")
     n_missing: int = scalar("1", "missing pixels")
     rms_height: float = scalar("m", "rms of the valid heights")
-    provenance: dict[str, Any] = text("reader, file and levelling (JSON)")
-    preparation: dict[str, Any] | None = text("surface preparation record (JSON)", optional=True)
+    provenance: dict[str, object] = text("reader, file and levelling (JSON)")
+    preparation: dict[str, object] | None = text("surface preparation record (JSON)", optional=True)
     filled: np.ndarray | None = array(
         "1", ("x", "y"), "height filled by the missing-pixel policy, not measured", optional=True
     )
@@ -399,7 +398,6 @@ def check_scan_loads(context: StageContext, scan: ScanResult) -> None:
 SURFACE = Stage(
     name="surface",
     title="read and level",
-    attribute="surface",
     result=LevelledSurface,
     config=(
         "surface.file",

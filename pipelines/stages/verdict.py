@@ -69,21 +69,27 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from asperity.errors import ExitStatus
 from asperity.fields import document_fields, scalar, text
 from asperity.pipelines import measured
 from asperity.pipelines.engine.stage import Stage, StageContext
 from asperity.pipelines.stages._bem_grid import EDGE_MISMATCH_LIMIT
-from asperity.pipelines.stages.bem import BEM
-from asperity.pipelines.stages.friction import FRICTION, MODE_MIXITY
+from asperity.pipelines.stages.bem import BEM, BemReference
+from asperity.pipelines.stages.friction import (
+    FRICTION,
+    MODE_MIXITY,
+    FrictionPrediction,
+    ModeMixityChoice,
+)
 from asperity.pipelines.stages.psd import complete_map
-from asperity.pipelines.stages.statistical_model import STATISTICAL_MODEL
-from asperity.pipelines.stages.surface import SCAN, SURFACE
-from asperity.statmodel import plausibility
+from asperity.pipelines.stages.statistical_model import STATISTICAL_MODEL, ResolutionChoice
+from asperity.pipelines.stages.surface import SCAN, SURFACE, LevelledSurface
+from asperity.statmodel import Material, Roughness, plausibility
+from asperity.statmodel.checks import Check
 from asperity.statmodel.regimes import AdhesionRegime, adhesion_regime
 
 #: A_r/A_n above which an independent-asperity model cannot mean anything (junctions merge).
@@ -365,7 +371,7 @@ def edge_direction(ratio: np.ndarray, misfit_curve: np.ndarray, index: int) -> s
     return "finer" if index == int(scored[0]) else "coarser"
 
 
-def check_lambda(choice: Any) -> list[Reason]:
+def check_lambda(choice: ModeMixityChoice) -> list[Reason]:
     """The fitted lambda: at a bound, non-finite uncertainty, optimiser failure."""
     if choice is None or not choice.fitted:
         return []
@@ -429,7 +435,7 @@ def check_measured_loads(measured: Sequence[float], configured: Sequence[float])
     return reasons
 
 
-def check_sliding(friction: Any) -> list[Reason]:
+def check_sliding(friction: FrictionPrediction) -> list[Reason]:
     """Shear curves that did not reach full sliding."""
     missed = [
         float(f)
@@ -453,7 +459,7 @@ def _no_full_sliding(missed: list[float], template: str) -> list[Reason]:
     return [Reason("no_full_sliding", "invalid", template.format(loads=loads))]
 
 
-def check_sliding_displacement(friction: Any) -> list[Reason]:
+def check_sliding_displacement(friction: FrictionPrediction) -> list[Reason]:
     """Converged shear curves with a finite sliding friction but no finite sliding displacement.
 
     A NaN delta_T at full sliding means the separation solve stopped before the expected
@@ -480,7 +486,7 @@ def check_sliding_displacement(friction: Any) -> list[Reason]:
     )
 
 
-def check_edge_mismatch(bem: Any) -> list[Reason]:
+def check_edge_mismatch(bem: BemReference) -> list[Reason]:
     """A periodic BEM solve of a map whose opposite edges do not meet (a warning)."""
     if bem is None or getattr(bem, "boundary", None) != "periodic":
         return []
@@ -499,7 +505,7 @@ def check_edge_mismatch(bem: Any) -> list[Reason]:
     ]
 
 
-def check_bem(bem: Any) -> list[Reason]:
+def check_bem(bem: BemReference) -> list[Reason]:
     """The BEM stage's convergence fields: stalls and the grid check."""
     if bem is None:
         return []
@@ -529,7 +535,7 @@ def check_surface(preparation: dict | None) -> list[Reason]:
     ]
 
 
-def check_profile_isotropy(surface: Any) -> list[Reason]:
+def check_profile_isotropy(surface: LevelledSurface) -> list[Reason]:
     """For a line profile as input, the isotropy assumption (always a warning)."""
     if getattr(surface, "profile_heights", None) is None:
         return []
@@ -547,7 +553,9 @@ def check_profile_isotropy(surface: Any) -> list[Reason]:
     ]
 
 
-def adhesion_regime_of(surface: Any, material: Any, summit_radius: float) -> AdhesionRegime | None:
+def adhesion_regime_of(
+    surface: LevelledSurface, material: Material, summit_radius: float
+) -> AdhesionRegime | None:
     """:func:`asperity.statmodel.regimes.adhesion_regime` of the levelled map (missing pixels
     at the mean height) with E* (Pa), w (J/m^2) and, as the range of Pastewka and Robbins and
     of Tabor's parameter, epsilon (m); Tabor's mu at ``summit_radius`` (m). None when w = 0."""
@@ -590,7 +598,7 @@ def in_place_of_coalescence(reasons: list[Reason], regime: list[Reason]) -> list
     return regime + kept
 
 
-def check_shape_scale(choice: Any) -> list[Reason]:
+def check_shape_scale(choice: ResolutionChoice) -> list[Reason]:
     """The shape fit's factor c per measured A_r(F_x) curve against 1.
 
     In mode ``shape`` each measured curve is compared with the model curve at its own load
@@ -629,18 +637,18 @@ def check_shape_scale(choice: Any) -> list[Reason]:
     ]
 
 
-def _reasons_from_checks(checks: Sequence[Any]) -> list[Reason]:
+def _reasons_from_checks(checks: Sequence[Check]) -> list[Reason]:
     """A reason per :class:`statmodel.checks.Check` whose level is not "ok" (its source cited)."""
     return [Reason(c.code, c.level, f"{c.message} ({c.reference})") for c in checks if not c.ok]
 
 
-def _positive_or_nan(values: Any) -> np.ndarray:
+def _positive_or_nan(values: ArrayLike) -> np.ndarray:
     """Values > 0 and finite kept, every other one NaN (not a result at that load)."""
     array = np.asarray(values, dtype=float)
     return np.where(np.isfinite(array) & (array > 0), array, np.nan)
 
 
-def check_friction_plausibility(friction: Any) -> list[Reason]:
+def check_friction_plausibility(friction: FrictionPrediction) -> list[Reason]:
     """Static over sliding friction and the junction shear at the peak over tau_0 (warnings).
 
     F_s/F_d and (F_s / A_r at the peak) / tau_0 per load
@@ -672,7 +680,10 @@ def check_friction_plausibility(friction: Any) -> list[Reason]:
 
 
 def check_hardness(
-    hardness: float | None, e_star: float, roughness: Any, friction: Any
+    hardness: float | None,
+    e_star: float,
+    roughness: Roughness,
+    friction: FrictionPrediction,
 ) -> list[Reason]:
     """With ``material.hardness`` H (Pa): the plasticity index and the mean contact pressure.
 
@@ -740,7 +751,7 @@ def job_reasons(context: StageContext) -> list[Reason]:
 DIRECTION_FIELDS: tuple[str, ...] = ("optimum_direction", "resolution_direction", "direction")
 
 
-def resolution_direction(res: Any, bem: Any) -> str:
+def resolution_direction(res: ResolutionChoice, bem: BemReference | None) -> str:
     """Where the data point when the least misfit is at an end of the scan.
 
     Read from the statistical-model result when it stores a direction
@@ -856,7 +867,6 @@ def mark(value: str, verdict: Verdict | None) -> str:
 VERDICT = Stage(
     name="verdict",
     title="validity verdict",
-    attribute="verdict",
     result=Verdict,
     config=(
         "measured",

@@ -36,7 +36,7 @@ def test_default_job_solves_both_pairs_and_adhesion_adds_area(small_run):
     the non-adhesive BEM; JKR asperities likewise carry more area than Greenwood-Williamson's
     Hertzian ones at every resolution and load."""
     _, _, result = small_run
-    bem, res = result.bem, result.resolution
+    bem, res = result.bem_reference, result.statistical_model
     assert bem.adhesion == "maugis" and bem.adhesion_range > 0
     assert np.all(bem.contact_fraction_adhesive >= bem.contact_fraction)
     assert bem.contact_fraction_adhesive.sum() > bem.contact_fraction.sum()
@@ -53,7 +53,7 @@ def test_range_rule_and_its_sensitivity_are_stated(small_run):
     """The range's cohesive zone spans 3 elements (or the rule says it was not reached), and
     the range part of the uncertainty is half the spread of the three areas it stores."""
     _, _, result = small_run
-    bem = result.bem
+    bem = result.bem_reference
     assert ("reached" in bem.range_rule) and "3 elements" in bem.range_rule
     if "NOT reached" not in bem.range_rule:
         assert bem.range_zone_elements >= 3.0

@@ -71,7 +71,7 @@ def test_effective_resolution_and_lambda_recovered_from_measurements(tmp_path):
     data["fit"] = {"mode_mixity_bounds": [1e-3, 1.0]}
     data["bem"]["enabled"] = False  # the measurement alone calibrates (no BEM needed)
     result = run_job(config_from_dict(data, base_dir=tmp_path), tmp_path / "out")
-    res, lam = result.resolution, result.mode_mixity
+    res, lam = result.statistical_model, result.mode_mixity
     assert res.basis == "measured"
     assert res.effective_stride == 3
     assert res.misfit_measured[2] < 1e-6  # the model reproduces its own data
@@ -124,8 +124,12 @@ def test_cli_exit_1_when_a_solver_did_not_converge(tmp_path, capsys):
 
 
 def _compare(a, b):
-    np.testing.assert_allclose(a.bem.contact_fraction, b.bem.contact_fraction, rtol=1e-12)
-    np.testing.assert_allclose(a.resolution.real_area, b.resolution.real_area, rtol=1e-12)
+    np.testing.assert_allclose(
+        a.bem_reference.contact_fraction, b.bem_reference.contact_fraction, rtol=1e-12
+    )
+    np.testing.assert_allclose(
+        a.statistical_model.real_area, b.statistical_model.real_area, rtol=1e-12
+    )
     for name in ("tangential_force", "real_area"):
         np.testing.assert_allclose(getattr(a.friction, name), getattr(b.friction, name), rtol=1e-12)
 

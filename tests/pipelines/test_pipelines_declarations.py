@@ -6,6 +6,9 @@ from __future__ import annotations
 import copy
 import dataclasses
 import inspect
+import subprocess
+import sys
+import typing
 
 import numpy as np
 import pytest
@@ -128,13 +131,16 @@ def test_bem_settings_are_one_list_for_declaration_call_and_defaults():
 
 
 def test_result_types_and_numbers_follow_from_the_stage_list():
-    fields = [f.name for f in dataclasses.fields(job.JobResult)]
-    attributes = [s.attribute for s in STAGES]
-    assert [f for f in fields if f in attributes] == attributes
-    assert [f.name for f in dataclasses.fields(results.Results)][1 : 1 + len(STAGES)] == attributes
-    assert results.ATTRIBUTES == {s.name: s.attribute for s in STAGES}
+    names = [s.name for s in STAGES]
+    hints = typing.get_type_hints(results.StageResults)
+    assert [f.name for f in dataclasses.fields(results.StageResults)] == names
+    for stage in STAGES:  # each field typed by the stage's result, None where absent
+        assert hints[stage.name] == stage.result | None, stage.name
+    for cls in (job.JobResult, results.Results):
+        assert [f.name for f in dataclasses.fields(cls)][: len(STAGES)] == names
+    assert results.ALIASES == {s.attribute: s.name for s in STAGES if s.attribute}
     for number, stage in enumerate(STAGES, start=1):
-        assert stage_number(stage.name) == stage_number(stage.attribute) == number
+        assert stage_number(stage.name) == stage_number(stage.attribute or stage.name) == number
         assert stage_label(stage, STAGES) == f"{number} {stage.title}"
         assert not stage.title[0].isdigit()  # the number is never written by hand
 
@@ -210,3 +216,15 @@ def test_the_friction_outputs_take_their_units_from_the_shear_curve_declaration(
         if name != "normal_load":
             assert (stage[name].units, stage[name].long_name) == (units, curve[name].long_name)
             assert stage[name].dims == ("normal_load", *curve[name].dims)
+
+
+def test_results_module_does_not_import_the_job():
+    """results.py needs no job.py (job.py imports results.py only): no import cycle between
+    them, so a reopened run reads without loading the job runner."""
+    code = (
+        "import pathlib, sys, asperity.pipelines.results as r; "
+        "assert r.Results(path=pathlib.Path('results.h5')).problems() == []; "
+        "print('asperity.pipelines.job' in sys.modules)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"

@@ -40,7 +40,7 @@ def test_all_stages_ran_and_converged(small_run):
 
 def test_physics_of_the_outputs(small_run):
     _, _, result = small_run
-    fr, bem, res = result.friction, result.bem, result.resolution
+    fr, bem, res = result.friction, result.bem_reference, result.statistical_model
     # real area grows with load, in the BEM and in the model at every resolution
     assert np.all(np.diff(bem.contact_fraction) > 0)
     finite = np.all(np.isfinite(res.real_area), axis=1)
@@ -206,7 +206,7 @@ def test_real_afm_file_through_the_job(tmp_path):
     assert result.converged, result.problems()
     assert result.surface.lx == pytest.approx(20e-6, rel=0.02)
     assert result.input_sha256 == file_sha256(path)
-    assert result.resolution.validity
+    assert result.statistical_model.validity
     # PDMS on an AFM map: the elastic energy to flatten it is below w (Persson-Tosatti), so the
     # adhesion regime is the reason, in place of the junction coalescence it causes
     codes = result.verdict.codes

@@ -108,7 +108,7 @@ def test_job_stores_reports_and_judges_the_scale_factors(small_run, small, tmp_p
     model = functools.partial(
         model_shear_area,
         material=DEFAULT_MATERIAL,
-        roughness=result.resolution.roughness,
+        roughness=result.statistical_model.roughness,
         nominal_area=700e-6,
         max_tangential_displacement=None,
         steps=201,

@@ -108,7 +108,7 @@ def test_small_job_with_a_soft_hardness_is_invalid(small_run, small, tmp_path):
     result = run_job(config_from_dict(data, base_dir=tmp_path), tmp_path)
     codes = dict(zip(result.verdict.codes, result.verdict.severities, strict=True))
     assert codes["plastic_asperities"] == "invalid"
-    r = result.resolution.roughness
+    r = result.statistical_model.roughness
     psi = 2.133e6 / 1e6 * math.sqrt(r.summit_height_rms / r.summit_radius)
     assert f"{psi:.3g}" in " ".join(result.verdict.reasons)
     assert exit_status(True, result.verdict) == ExitStatus.INVALID_RESULT

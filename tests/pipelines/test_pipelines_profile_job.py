@@ -79,7 +79,7 @@ def test_measured_profile_job_ends_with_the_isotropy_warning(measured_run):
     i = verdict.codes.index("profile_isotropy")
     assert verdict.severities[i] == "warning"
     assert "isotropic" in verdict.reasons[i] and "1500 points" in verdict.reasons[i]
-    assert result.bem is None and result.realisations is None
+    assert result.bem_reference is None and result.realisations is None
     assert any("profile_isotropy" in line for line in verdict_markdown(verdict))
 
 
@@ -87,7 +87,7 @@ def test_profile_scan_is_nayaks_density_from_the_profile_moments(measured_run):
     """eta = m4 / (6 pi sqrt(3) m2) (Nayak 1971) with the moments written out here from finite
     differences of the stored profile at sampling interval k dx."""
     _, _, result = measured_run
-    scan, profile = result.scan, _prepared_profile(result)
+    scan, profile = result.resolution_scan, _prepared_profile(result)
     assert scan.method == "nayak-profile"
     z = np.asarray(profile.heights)
     for i, k in enumerate(scan.stride):
@@ -99,7 +99,7 @@ def test_profile_scan_is_nayaks_density_from_the_profile_moments(measured_run):
         assert scan.resolution[i] == pytest.approx(h)
     # the statistical model ran on those statistics, against the measurement, at one of the
     # scan's strides (no resampling of the synthesised map between strides: another statistic)
-    res = result.resolution
+    res = result.statistical_model
     assert res.basis == "measured"
     assert np.all(np.isfinite(res.real_area[res.index]))
     assert res.roughness.asperity_density == pytest.approx(scan.asperity_density[res.index])
@@ -109,7 +109,7 @@ def test_profile_scan_is_nayaks_density_from_the_profile_moments(measured_run):
 
 def test_profile_job_stores_the_realisations_spread(synthesis_run):
     config, out, result = synthesis_run
-    spread, bem = result.realisations, result.bem
+    spread, bem = result.realisations, result.bem_reference
     assert spread.realisations == 3 and list(spread.seed) == [7, 8, 9]
     assert spread.contact_fraction.shape == (3, 3)
     # realisation 0 is the BEM stage's own map

@@ -131,16 +131,18 @@ def test_fig12_marks_units_and_log_axes(small_run):
     """Effective resolution and the strides left out of the fits are marked in 12a-c; units
     in um; 12d on log axes where the areas span a decade."""
     _, _, result = small_run
-    scan = dataclasses.replace(result.scan, n_summits=np.array(result.scan.n_summits))
+    scan = dataclasses.replace(
+        result.resolution_scan, n_summits=np.array(result.resolution_scan.n_summits)
+    )
     scan.n_summits[-1] = 3  # fewer than 10 summits: left out of the fits
-    fig, _ = draw_resolution(SimpleNamespace(**{**vars(result), "scan": scan}))
+    fig, _ = draw_resolution(dataclasses.replace(result, resolution_scan=scan))
     for ax in fig.axes[:3]:
         assert "(µm)" in ax.get_xlabel()
         labels = {line.get_label(): line for line in ax.get_lines()}
         effective = labels["effective"].get_xdata()[0]
-        assert effective == pytest.approx(result.resolution.effective_resolution * 1e6)
+        assert effective == pytest.approx(result.statistical_model.effective_resolution * 1e6)
         excluded = labels["not fitted (< 10 summits)"].get_xdata()
-        assert list(excluded) == pytest.approx([result.scan.resolution[-1] * 1e6])
+        assert list(excluded) == pytest.approx([result.resolution_scan.resolution[-1] * 1e6])
     d = fig.axes[3]
     fractions = np.concatenate([line.get_ydata() for line in d.get_lines()])
     assert d.get_yscale() == ("log" if spans_decades(fractions) else "linear")

@@ -16,7 +16,7 @@ from asperity.pipelines.fields import checksum
 from asperity.pipelines.html_report import find_verdict, write_html
 from asperity.pipelines.job import STAGES
 from asperity.pipelines.report import FIGURES, key_numbers, load_table, write_report
-from asperity.pipelines.results import ATTRIBUTES
+from asperity.pipelines.results import ALIASES
 
 
 def test_open_results_gives_back_every_stage(small_run):
@@ -24,17 +24,27 @@ def test_open_results_gives_back_every_stage(small_run):
     _, out, result = small_run
     run = asperity.open_results(out)
     for stage in STAGES:
-        attribute = ATTRIBUTES[stage.name]
-        stored, computed = getattr(run, attribute), getattr(result, attribute)
+        stored, computed = getattr(run, stage.name), getattr(result, stage.name)
         if computed is None:  # disabled in this job (the line-profile realisations)
             assert stored is None, stage.name
             continue
         assert checksum(stored) == checksum(computed), stage.name
-        assert getattr(run, stage.name) is stored  # also by group name
+        assert isinstance(stored, stage.result), stage.name
     assert [s.name for s in run.stages] == [s.name for s in result.stages if s.status != "disabled"]
     assert run.input_sha256 == result.input_sha256
     assert run.problems() == result.problems()
     assert "[material]" in run.config_toml
+
+
+def test_old_stage_names_warn_and_answer(small_run):
+    """asperity 0.3's second names (run.scan, run.bem, run.resolution) still answer, warning."""
+    _, out, result = small_run
+    run = asperity.open_results(out)
+    for alias, group in ALIASES.items():
+        for value in (run, result):
+            with pytest.warns(DeprecationWarning, match=f"use .{group}.*removed in asperity"):
+                assert getattr(value, alias) is getattr(value, group)
+    assert set(ALIASES) == {"scan", "bem", "resolution"}
 
 
 def test_to_xarray_has_units_and_dims(small_run):

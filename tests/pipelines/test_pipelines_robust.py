@@ -39,7 +39,6 @@ from asperity.pipelines.outdir import (
 )
 from asperity.pipelines.parallel import SerialExecutor
 from asperity.pipelines.report import write_report
-from asperity.pipelines.results import ATTRIBUTES
 from asperity.pipelines.stages import Runner, StageContext
 from asperity.pipelines.store import ResultStore
 
@@ -47,8 +46,6 @@ try:
     import tomllib
 except ModuleNotFoundError:  # pragma: no cover
     import tomli as tomllib
-
-RESULT_ATTRIBUTES = ATTRIBUTES  # stage group name -> JobResult attribute
 
 
 # --- helpers ---------------------------------------------------------------------------------
@@ -130,7 +127,7 @@ def _assert_same_results(a, b):
     """Every stored number of two job results is identical (wall times and the text that
     quotes them aside)."""
     for stage in STAGES:
-        x, y = getattr(a, RESULT_ATTRIBUTES[stage.name]), getattr(b, RESULT_ATTRIBUTES[stage.name])
+        x, y = getattr(a, stage.name), getattr(b, stage.name)
         if x is None or y is None:  # a disabled stage
             assert x is None and y is None, stage.name
             continue

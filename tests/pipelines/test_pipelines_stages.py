@@ -36,9 +36,9 @@ def test_every_stage_result_round_trips_with_units_and_dims(small_run):
     store = ResultStore(out / "results.h5")
     results = {
         "surface": result.surface,
-        "resolution_scan": result.scan,
-        "bem_reference": result.bem,
-        "statistical_model": result.resolution,
+        "resolution_scan": result.resolution_scan,
+        "bem_reference": result.bem_reference,
+        "statistical_model": result.statistical_model,
         "mode_mixity": result.mode_mixity,
         "friction": result.friction,
         "psd": result.psd,
@@ -62,7 +62,7 @@ def test_every_stage_result_round_trips_with_units_and_dims(small_run):
                         h5py.h5ds.get_scale_name(ds.dims[i][0].id).decode() for i in range(ds.ndim)
                     )
                 assert dims == spec.dims, (stage.name, spec.name)
-    assert result.bem.converged.dtype == bool
+    assert result.bem_reference.converged.dtype == bool
 
 
 def test_friction_result_declares_every_shear_curve_field_with_its_units():
@@ -177,11 +177,11 @@ def test_version_change_recomputes_and_a_corrupted_stage_is_not_reused(
 
 def _measured_area_csv(path, result, loads):
     """A measured A_r(F_z) the model makes at the small job's stride-2 statistics."""
-    res = result.resolution
+    res = result.statistical_model
     roughness = statmodel.Roughness(
-        float(result.scan.asperity_density[1]),
-        float(result.scan.summit_radius[1]),
-        float(result.scan.summit_height_rms[1]),
+        float(result.resolution_scan.asperity_density[1]),
+        float(result.resolution_scan.summit_radius[1]),
+        float(result.resolution_scan.summit_height_rms[1]),
     )
     area = statmodel.real_area_at_loads(
         result.config.material, roughness, res.nominal_area, np.asarray(loads)
@@ -199,9 +199,9 @@ def test_bem_disabled_calibrates_on_the_measurement_alone(small, small_run, tmp_
     data["measured"] = {"normal_area": "area.csv"}
     result = run_job(small(tmp_path, data), tmp_path / "out")
     status = {s.name: s.status for s in result.stages}
-    assert status["bem_reference"] == "disabled" and result.bem is None
+    assert status["bem_reference"] == "disabled" and result.bem_reference is None
     assert status["surface"] == status["resolution_scan"] == "stored"
-    res = result.resolution
+    res = result.statistical_model
     assert res.basis == "measured" and res.effective_stride == 2
     assert np.all(np.isnan(res.misfit_bem)) and res.misfit_measured[1] < 1e-6
     assert np.all(result.friction.converged)

@@ -136,22 +136,22 @@ def test_uncertainties_round_trip_through_open_results(small_run):
     """Every stored uncertainty reopens equal, and its dataset states its unit."""
     _, out, result = small_run
     reopened = asperity.open_results(out)
-    attributes = {"bem_reference": "bem", "statistical_model": "resolution"}
     with h5py.File(out / "results.h5", "r") as h5:
         for group, names in UNCERTAINTY_FIELDS.items():
-            attribute = attributes.get(group, group)
             for name in names:
-                stored = getattr(getattr(reopened, attribute), name)
-                np.testing.assert_array_equal(stored, getattr(getattr(result, attribute), name))
+                stored = getattr(getattr(reopened, group), name)
+                np.testing.assert_array_equal(stored, getattr(getattr(result, group), name))
                 assert h5[group][name].attrs["units"] in ("1", "m", "N", "m^2")
-    assert reopened.resolution.optimum_resolution == result.resolution.optimum_resolution
+    assert (
+        reopened.statistical_model.optimum_resolution == result.statistical_model.optimum_resolution
+    )
     assert reopened.friction.uncertainty_message == result.friction.uncertainty_message
 
 
 def test_bem_adhesion_range_part_adds_in_quadrature(small_run):
     """The hook for the adhesion-range sensitivity: a part given for the adhesive solves adds
     in quadrature to their discretisation part and leaves the non-adhesive ones alone."""
-    bem = small_run[2].bem
+    bem = small_run[2].bem_reference
     part = 0.5 * bem.contact_fraction_adhesive
     with_range = dataclasses.replace(bem, contact_fraction_adhesion_range_uncertainty=part)
     discretisation = bem.contact_fraction_discretisation_uncertainty
@@ -163,7 +163,7 @@ def test_bem_adhesion_range_part_adds_in_quadrature(small_run):
 
 def test_bem_band_holds_the_extrapolated_band(small_run):
     """The grid used's A_r/A_n +- u holds the Richardson value f_0 +- u_GCI at the check load."""
-    bem = small_run[2].bem
+    bem = small_run[2].bem_reference
     k = int(np.flatnonzero(bem.normal_load == bem.check_load)[0])
     for m, fraction in enumerate((bem.contact_fraction, bem.contact_fraction_adhesive)):
         f0 = bem.check_extrapolated_fraction[m]
@@ -190,5 +190,5 @@ def test_default_job_load_rows_carry_uncertainties(tmp_path):
     assert len(rows) == 6
     for row in rows:
         assert all("+-" in cell for cell in row[1:7]), row
-    assert 10e-6 < result.resolution.optimum_resolution < 20e-6
-    assert result.resolution.optimum_misfit < result.resolution.misfit[0]
+    assert 10e-6 < result.statistical_model.optimum_resolution < 20e-6
+    assert result.statistical_model.optimum_misfit < result.statistical_model.misfit[0]

@@ -1,0 +1,871 @@
+"""Every figure of the report (PNG, SVG and/or PDF, each with its data as CSV), drawn on
+:class:`matplotlib.figure.Figure` objects (never pyplot state); the text is in
+:mod:`~asperity.pipelines.report.text`, the shared styling in :mod:`asperity.plotting`.
+
+The data behind every figure is in ``results.h5`` (same names as the stage records) and, as
+plotted, in ``<figure>.csv`` beside it (:mod:`pipelines.report.figure_output`: one tidy table per
+figure, SI values, units in the column headers). Units on the axes are SI-prefixed from the
+data (:func:`asperity.plotting.display_unit`); an axis whose data span a decade or more is
+logarithmic. Formats and dpi come from ``[report]`` (``formats = ["png", "svg", "pdf"]``,
+``dpi = 150``) or from ``asperity report OUT_DIR --formats ... --dpi ...``.
+
+Figures written in the output directory (stem; one file per format):
+
+* ``surface`` - the read-and-level stage: the levelled height map; colour limits at the 0.5th
+  and 99.5th percentiles of the heights (stated on the colour bar), so one spike does not set
+  the scale.
+* ``fig12_resolution`` - the resolution-scan to statistical-model stages: R, eta, sigma_s against
+  resolution with the paper's fits (Fig 12a-c; the effective resolution and the strides left out of
+  the fits marked) and A_r/A_n against F_z from the BEM, the statistical model, Persson's theory and
+  the measurement (Fig 12d).
+* ``fig12d_misfit`` - the statistical-model stage: misfit of the statistical model against
+  resolution.
+* ``bem_grid`` - the BEM stage: the grid refinement check and the contact mask.
+* ``lambda_fit`` - the lambda stage (when measured curves are given): misfit against lambda.
+* ``lambda_residuals`` - the lambda stage: measured minus fitted A_r against F_x, one panel per
+  load.
+* ``fig4_shear`` - the friction stage: F_z, contact counts, A_r and F_x against delta_T with their
+  stick and slip parts, at the heaviest load (Fig 4).
+* ``fig13_area_vs_force`` - the friction stage: A_r/A_n against F_x at every load, the measured
+  curves and the constant-shear-strength line F_x = tau0 A_r (Fig 13).
+* ``friction_vs_load`` - the friction stage: static and sliding friction against F_z.
+* ``psd`` - the PSD stage: the radially averaged PSD, its roll-off and power-law (Hurst) fit, the
+  map's and the effective resolution's Nyquist wavenumbers (the paper's Section 5 argument).
+"""
+
+from __future__ import annotations
+
+import inspect
+import math
+from collections.abc import Callable
+from pathlib import Path
+from types import SimpleNamespace
+from typing import TYPE_CHECKING, TypedDict
+
+import numpy as np
+from matplotlib import colormaps
+from matplotlib.figure import Figure
+from matplotlib.ticker import LogLocator, NullFormatter, ScalarFormatter
+from numpy.typing import ArrayLike
+
+from asperity.pipelines.report import verdict_marks
+from asperity.pipelines.report._run import Run, persson_fraction
+from asperity.pipelines.report.bem import BEM_MODES
+from asperity.pipelines.report.figure_output import FigureOptions, FigureTable, publish
+from asperity.pipelines.report.profile import (
+    scan_label,
+    surface_title,
+)
+from asperity.pipelines.report.uncertainty import (
+    bem_error_bars,
+    friction_error_bars,
+)
+from asperity.pipelines.report.verdict_marks import separate_bem_markers
+from asperity.pipelines.stages.bem import BemReference
+from asperity.pipelines.stages.friction import FrictionPrediction, ModeMixityChoice
+from asperity.pipelines.stages.statistical_model import ResolutionChoice
+from asperity.pipelines.stages.surface import ScanResult
+from asperity.plotting import (
+    DisplayUnit,
+    auto_log_scale,
+    display_unit,
+    log_axis,
+    new_figure,
+    spans_decades,
+)
+from asperity.statmodel.figures import draw_shear_curve
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+#: Percentiles of the heights that bound the colour scale of the surface figure.
+COLOUR_PERCENTILES = (0.5, 99.5)
+
+
+#: Largest number of pixels per side drawn (and written to surface.csv).
+SURFACE_DRAWN_PIXELS = 400
+
+
+class FitLine(TypedDict, total=False):
+    """A fit drawn on a panel of Fig 12a-c: values (None: nothing to draw), abscissae (m),
+    legend."""
+
+    fit: np.ndarray | None
+    fit_x: np.ndarray
+    fit_label: str
+
+
+class ScanPanel(FitLine, total=False):
+    """One panel of Fig 12a-c: title, quantity, CSV column, values and their display unit,
+    the fit and whether the axes are logarithmic."""
+
+    title: str
+    quantity: str
+    column: str
+    values: np.ndarray
+    unit: DisplayUnit
+    log: bool
+
+
+def figure_options(result: Run, options: FigureOptions | None = None) -> FigureOptions:
+    """``options``, else the job's ``[report]`` section, else PNG at 150 dpi."""
+    if options is not None:
+        return options
+    report = getattr(getattr(result, "config", None), "report", None)
+    if report is None:
+        return FigureOptions()
+    return FigureOptions(tuple(report.formats), int(report.dpi))
+
+
+def draw_surface(result: Run) -> tuple[Figure, FigureTable]:
+    """The read-and-level stage: the levelled height map, robust colour limits (percentiles,
+    stated)."""
+    s = result.surface
+    step = max(1, -(-max(s.nx, s.ny) // SURFACE_DRAWN_PIXELS))
+    h = np.asarray(s.heights)[::step, ::step]
+    low, high = np.nanpercentile(h, COLOUR_PERCENTILES)
+    hu = display_unit([low, high], "m")
+    xu = display_unit([s.lx, s.ly], "m")
+    fig = new_figure(5.8, 4.6)
+    ax = fig.subplots()
+    image = ax.imshow(
+        hu(h).T,
+        origin="lower",
+        cmap="viridis",
+        extent=(0, xu(s.lx), 0, xu(s.ly)),
+        vmin=hu(low),
+        vmax=hu(high),
+    )
+    p_low, p_high = COLOUR_PERCENTILES
+    fig.colorbar(
+        image,
+        ax=ax,
+        extend="both",
+        label=hu.label("height") + f"\ncolour limits: {p_low:g}th-{p_high:g}th percentile",
+    )
+    ax.set_xlabel(xu.label("x"))
+    ax.set_ylabel(xu.label("y"))
+    pixel = display_unit([s.dx, s.dy], "m")
+    size = f"{pixel(s.dx):.3g}" if s.dx == s.dy else f"{pixel(s.dx):.3g} x {pixel(s.dy):.3g}"
+    ax.set_title(f"{surface_title(s)}, {s.nx} x {s.ny} px of {size} {pixel.symbol}")
+    ix, iy = np.meshgrid(np.arange(h.shape[0]) * step, np.arange(h.shape[1]) * step, indexing="ij")
+    table = FigureTable()
+    table.add(
+        "map",
+        f"heights, every {step} px" if step > 1 else "heights",
+        {"x (m)": ix * s.dx, "y (m)": iy * s.dy, "height (m)": h},
+    )
+    return fig, table
+
+
+def _min_summits() -> int:
+    from asperity.topo.scan import resolution_scan
+
+    return int(inspect.signature(resolution_scan).parameters["min_summits"].default)
+
+
+def fit_excluded(scan: ScanResult) -> np.ndarray:
+    """Strides left out of the paper's fits: too few summits or no finite density."""
+    return (np.asarray(scan.n_summits) < _min_summits()) | ~np.isfinite(
+        np.asarray(scan.asperity_density, dtype=float)
+    )
+
+
+def _mark_resolution(
+    ax: Axes, xu: DisplayUnit, res: ResolutionChoice, scan: ScanResult, y: np.ndarray
+) -> None:
+    """The effective resolution (dashed) and the strides left out of the fits (grey)."""
+    ax.axvline(xu(res.effective_resolution), color="k", ls="--", lw=1, label="effective")
+    out = fit_excluded(scan)
+    if out.any():
+        ax.plot(
+            xu(np.asarray(scan.resolution)[out]),
+            y[out],
+            "x",
+            color="0.5",
+            label=f"not fitted (< {_min_summits()} summits)",
+        )
+
+
+def _draw_scan_panel(ax: Axes, xu: DisplayUnit, result: Run, spec: ScanPanel) -> None:
+    """One of Fig 12a-c: the map's points, the fit, the marks."""
+    scan = result.resolution_scan
+    yu = spec["unit"]
+    values = np.asarray(spec["values"], dtype=float)
+    ax.plot(xu(scan.resolution), yu(values), "o", ms=4, label=scan_label(scan))
+    if spec.get("fit") is not None:
+        ax.plot(xu(spec["fit_x"]), yu(spec["fit"]), "-", label=spec["fit_label"])
+    _mark_resolution(ax, xu, result.statistical_model, scan, yu(values))
+    if spec.get("log"):
+        log_axis(ax, "x", xu(scan.resolution))
+        log_axis(ax, "y", yu(values))
+    ax.set_xlabel(xu.label("resolution"))
+    ax.set_ylabel(yu.label(spec["quantity"]))
+    ax.set_title(spec["title"])
+    ax.legend(fontsize=7)
+
+
+def _scan_panels(scan: ScanResult) -> list[ScanPanel]:
+    res = np.asarray(scan.resolution, dtype=float)
+    dense = np.geomspace(res.min(), res.max(), 60)
+    eta = np.asarray(scan.asperity_density, dtype=float)
+    return [
+        {
+            "title": "(a)",
+            "quantity": "mean summit radius $R$",
+            "column": "summit radius R (m)",
+            "values": scan.summit_radius,
+            "unit": display_unit(scan.summit_radius, "m"),
+            **radius_fit_line(scan, dense),
+        },
+        {
+            "title": "(b)",
+            "quantity": "asperity density $\\eta$",
+            "column": "asperity density eta (1/m^2)",
+            "values": eta,
+            "unit": display_unit(eta, "m", -2),
+            "fit": scan.density_prefactor * dense**scan.density_exponent,
+            "fit_x": dense,
+            "fit_label": f"power law, exponent {scan.density_exponent:.3g}",
+            "log": spans_decades(res) or spans_decades(eta),
+        },
+        {
+            "title": "(c)",
+            "quantity": "rms summit height $\\sigma_s$",
+            "column": "rms summit height sigma_s (m)",
+            "values": scan.summit_height_rms,
+            "unit": display_unit(scan.summit_height_rms, "m"),
+        },
+    ]
+
+
+def radius_fit_line(scan: ScanResult, resolution: np.ndarray) -> FitLine:
+    """Fig 12a's linear fit R = intercept + slope x over ``resolution`` (m), drawn only where
+    R > 0 (a radius is positive; the straight line may cross zero inside the scan), with its
+    slope dR/dx in m/m (R and the resolution are both lengths)."""
+    fit = scan.radius_intercept + scan.radius_slope * np.asarray(resolution, dtype=float)
+    keep = np.isfinite(fit) & (fit > 0)
+    label = f"linear fit, dR/d(resolution) = {scan.radius_slope:.3g} m/m"
+    if not keep.all() and keep.any():
+        label += " (drawn where R > 0)"
+    if not keep.any():
+        return {"fit": None}
+    return {"fit": fit[keep], "fit_x": np.asarray(resolution)[keep], "fit_label": label}
+
+
+def _draw_area_vs_load(ax: Axes, result: Run, table: FigureTable) -> None:
+    """Fig 12d: A_r/A_n against F_z from BEM, the statistical model, Persson, measurement."""
+    res, bem = result.statistical_model, result.bem_reference
+    a_n = res.nominal_area
+    loads = np.asarray(res.normal_load, dtype=float)
+    fu = display_unit(loads, "N")
+    x_col, y_col = "normal load F_z (N)", "A_r/A_n (1)"
+    plotted: list[np.ndarray] = []
+
+    def series(
+        name: str,
+        f: ArrayLike,
+        fraction: ArrayLike,
+        style: str,
+        u: np.ndarray | None = None,
+        **kw: str | float,
+    ) -> None:
+        fraction = np.asarray(fraction, dtype=float)
+        columns = {x_col: f, y_col: fraction}
+        if u is None:
+            ax.plot(fu(f), fraction, style, label=name, **kw)
+        else:
+            ax.errorbar(fu(f), fraction, yerr=u, fmt=style, label=name, capsize=3, **kw)
+            columns["A_r/A_n uncertainty (1)"] = u
+            # the bars count in the choice of a log axis (none when a bar reaches 0)
+            plotted.append(np.concatenate([fraction - u, fraction + u]))
+        table.add("d", name, columns)
+        plotted.append(fraction)
+
+    if bem is not None:
+        bars = bem_error_bars(bem)
+        series("BEM, non-adhesive", bem.normal_load, bem.contact_fraction, "s", bars[0], mfc="none")
+        if bem.contact_fraction_adhesive is not None:
+            series("BEM, adhesive", bem.normal_load, bem.contact_fraction_adhesive, "s", bars[1])
+        non_adhesive_series(series, res)
+    draw_model_band(ax, fu, result, table, (x_col, y_col))
+    for i in sorted({0, res.index, len(res.stride) - 1}):
+        if np.all(np.isfinite(res.real_area[i])):
+            ru = display_unit(res.resolution[i], "m")
+            name = f"model, {ru(res.resolution[i]):.3g} {ru.symbol}"
+            name += " (stride of least misfit)" if i == res.index else ""
+            series(name, loads, res.real_area[i] / a_n, "-" if i == res.index else ":")
+    persson = persson_fraction(result)
+    if persson is not None:
+        series("Persson, non-adhesive", result.psd.normal_load, persson, "-.", color="C4")
+    if res.measured is not None:
+        series("measured", res.measured.normal_load, res.measured.real_area / a_n, "o", color="k")
+    verdict_marks.separate_bem_markers(ax)
+    auto_log_scale(ax, loads, np.concatenate(plotted))
+    ax.set_xlabel(fu.label("normal load $F_z$"))
+    ax.set_ylabel("$A_r / A_n$")
+    ax.set_title("(d)")
+    verdict_marks.threshold_lines(ax, "A_r/A_n", verdict_marks.AREA_FRACTION_THRESHOLDS)
+    ax.legend(fontsize=7)
+
+
+def non_adhesive_series(series: Callable[..., None], res: ResolutionChoice) -> None:
+    """Fig 12d's non-adhesive pair: the model at w -> 0 (Greenwood-Williamson) at that pair's
+    least-misfit resolution, a grey dashed line with open triangles beside the open markers
+    of the non-adhesive BEM (the adhesive pair: the filled markers and the effective model)."""
+    index = getattr(res, "effective_index_non_adhesive", None)
+    if index is None or res.real_area_non_adhesive is None:
+        return
+    ru = display_unit(res.resolution[index], "m")
+    name = f"model w=0 (GW), {ru(res.resolution[index]):.3g} {ru.symbol} (non-adhesive pair)"
+    fraction = res.real_area_non_adhesive[index] / res.nominal_area
+    series(name, res.normal_load, fraction, "v--", color="0.4", mfc="none")
+
+
+def draw_resolution(result: Run) -> tuple[Figure, FigureTable]:
+    """Fig 12a-d with the data table (SI)."""
+    scan = result.resolution_scan
+    xu = display_unit(scan.resolution, "m")
+    fig = new_figure(10.5, 8.2)
+    axes = fig.subplots(2, 2)
+    table = FigureTable()
+    used = (~fit_excluded(scan)).astype(float)
+    for ax, spec in zip(axes.flat[:3], _scan_panels(scan), strict=True):
+        _draw_scan_panel(ax, xu, result, spec)
+        columns = {
+            "stride (1)": scan.stride,
+            "resolution (m)": scan.resolution,
+            spec["column"]: spec["values"],
+            "used in fit (1)": used,
+        }
+        table.add(spec["title"].strip("()"), "map", columns)
+        if spec.get("fit") is not None:
+            table.add(
+                spec["title"].strip("()"),
+                "fit",
+                {"resolution (m)": spec["fit_x"], spec["column"]: spec["fit"]},
+            )
+    _draw_area_vs_load(axes[1, 1], result, table)
+    return fig, table
+
+
+def draw_misfit(result: Run) -> tuple[Figure, FigureTable]:
+    """The statistical-model stage: the misfit curve that chose the effective resolution."""
+    res = result.statistical_model
+    xu = display_unit(res.resolution, "m")
+    fig = new_figure(6, 4)
+    ax = fig.subplots()
+    table = FigureTable()
+    curves = [("against BEM", res.misfit_bem, "o-")]
+    if res.misfit_measured is not None:
+        curves.append(("against measured A_r(F_z)", res.misfit_measured, "s-"))
+    for name, misfit, style in curves:
+        if np.isfinite(misfit).any():
+            ax.plot(xu(res.resolution), misfit, style, label=name)
+            table.add("misfit", name, {"resolution (m)": res.resolution, "misfit (1)": misfit})
+    ax.axvline(
+        xu(res.effective_resolution),
+        color="k",
+        ls="--",
+        label=f"stride of least misfit {xu(res.effective_resolution):.3g} {xu.symbol}",
+    )
+    draw_resolution_interval(ax, xu, res, table)
+    ax.set_xlabel(xu.label("resolution"))
+    ax.set_ylabel("rms of ln($A_{model}$ / $A_{reference}$)")
+    log_axis(ax, "y", [m for _, m, _ in curves])
+    verdict_marks.threshold_lines(ax, "misfit", verdict_marks.MISFIT_THRESHOLDS)
+    ax.legend(fontsize=8)
+    return fig, table
+
+
+def draw_bem_grid(result: Run) -> tuple[Figure, FigureTable]:
+    """The BEM stage: the refinement curve, its error against the finest grid, the contact mask."""
+    bem = result.bem_reference
+    table = FigureTable()
+    pixel = np.asarray(bem.check_stride) * result.surface.dx
+    for k, mode in enumerate(BEM_MODES[: bem.check_contact_fraction.shape[1]]):
+        table.add(
+            "refinement",
+            mode,
+            {"BEM pixel size (m)": pixel, "A_r/A_n (1)": bem.check_contact_fraction[:, k]},
+        )
+    table.add(
+        "error",
+        "larger of the modes",
+        {"BEM pixel size (m)": pixel, "error against the finest grid (1)": bem.check_error},
+    )
+    return bem_grid_figure(result), table
+
+
+def draw_lambda_fit(result: Run) -> tuple[Figure, FigureTable]:
+    """The lambda stage: the misfit of the coarse lambda scan and the fitted value."""
+    fit = result.mode_mixity.fit
+    fig = new_figure(6, 4)
+    ax = fig.subplots()
+    ax.loglog(fit.grid_mode_mixity, fit.grid_residual_rms, "o-", label="coarse scan")
+    ax.axvline(
+        fit.mode_mixity,
+        color="k",
+        ls="--",
+        label=f"fit {fit.mode_mixity:.3g} +/- {fit.mode_mixity_std:.2g}",
+    )
+    if np.isfinite(fit.mode_mixity_std):  # an unbounded uncertainty has no band to draw
+        ax.axvspan(
+            max(fit.mode_mixity - fit.mode_mixity_std, 1e-12),
+            fit.mode_mixity + fit.mode_mixity_std,
+            color="0.85",
+        )
+    ax.set_xlabel("mode mixity $\\lambda$")
+    ax.set_ylabel("rms of ($A_{model}$ - $A_{measured}$) / max $A_{measured}$")
+    ax.legend(fontsize=8)
+    table = FigureTable()
+    table.add(
+        "fit",
+        "coarse scan",
+        {"mode mixity lambda (1)": fit.grid_mode_mixity, "residual rms (1)": fit.grid_residual_rms},
+    )
+    table.add(
+        "fit",
+        "fitted",
+        {"mode mixity lambda (1)": fit.mode_mixity, "lambda std (1)": fit.mode_mixity_std},
+    )
+    return fig, table
+
+
+def draw_lambda_residuals(result: Run) -> tuple[Figure, FigureTable]:
+    """The lambda stage: measured minus fitted A_r against F_x, one panel per load (fitted
+    points)."""
+    lam = result.mode_mixity
+    loads = np.unique(lam.fitted_normal_load)
+    fig = new_figure(6, 2.2 * len(loads) + 0.6)
+    axes = fig.subplots(len(loads), 1, squeeze=False)[:, 0]
+    fu = display_unit(lam.fitted_tangential_force, "N")
+    table = FigureTable()
+    for ax, load in zip(axes, loads, strict=True):
+        pick = lam.fitted_normal_load == load
+        fx = lam.fitted_tangential_force[pick]
+        measured, model = lam.fitted_real_area[pick], lam.fitted_model_area[pick]
+        residual = (measured - model) / np.max(measured)
+        ax.axhline(0.0, color="0.6", lw=0.8)
+        ax.plot(fu(fx), 100 * residual, "o-", ms=3)
+        ax.set_ylabel("residual (% of max $A_r$)")
+        ax.set_title(f"$F_z$ = {load:.4g} N ({lam.fit_mode} fit)", fontsize=9)
+        table.add(
+            f"F_z = {load:.4g} N",
+            "residual",
+            {
+                "tangential force F_x (N)": fx,
+                "measured A_r (m^2)": measured,
+                "fitted model A_r (m^2)": model,
+                "residual / max measured A_r (1)": residual,
+            },
+        )
+    axes[-1].set_xlabel(fu.label("tangential force $F_x$"))
+    return fig, table
+
+
+def draw_shear(result: Run) -> tuple[Figure, FigureTable]:
+    """Fig 4 at the heaviest load, drawn by the one Fig-4 plotter, statmodel.draw_shear_curve."""
+    from asperity.pipelines.stages.friction import CURVE_FIELDS
+
+    fr = result.friction
+    i = int(np.argmax(fr.normal_load))
+    arrays = fr.curve_arrays(i)  # the per-step arrays (SI) at that load
+    title = f"$F_z$ = {fr.normal_load[i]:.3g} N, $\\lambda$ = {fr.mode_mixity:.3g}"
+    fig = draw_shear_curve(new_figure(10, 7.5), SimpleNamespace(**arrays), title=title)
+    table = FigureTable()
+    table.add(
+        "all",
+        f"F_z = {fr.normal_load[i]:.6g} N",
+        {f"{name} ({CURVE_FIELDS[name]})": values for name, values in arrays.items()},
+    )
+    return fig, table
+
+
+def _model_at_measured(
+    lam: ModeMixityChoice, a_n: float, table: FigureTable, x_col: str, y_col: str
+) -> None:
+    """The fitted model at the measured points (data only: the curves show it)."""
+    model_at = getattr(lam, "model_real_area_at_measured", None)
+    if model_at is None:
+        return
+    for f in np.unique(lam.measured_normal_load):
+        mask = lam.measured_normal_load == f
+        table.add(
+            "all",
+            f"model at measured points F_z = {f:.6g} N",
+            {x_col: lam.measured_tangential_force[mask], y_col: model_at[mask] / a_n},
+        )
+
+
+def draw_area_vs_force(result: Run) -> tuple[Figure, FigureTable]:
+    """Fig 13: A_r/A_n against F_x at each load, measured curves, and tau0 A_r."""
+    fr = result.friction
+    a_n = fr.nominal_area
+    fu = display_unit(np.nanmax(fr.tangential_force), "N")
+    x_col, y_col = "tangential load F_x (N)", "A_r/A_n (1)"
+    fig = new_figure(7, 5)
+    ax = fig.subplots()
+    table = FigureTable()
+    colors = colormaps["viridis"](np.linspace(0, 0.9, len(fr.normal_load)))
+    for i, f in enumerate(fr.normal_load):
+        fx, ar = fr.tangential_force[i], fr.real_area[i] / a_n
+        ax.plot(fu(fx), ar, "--", color=colors[i], label=f"model $F_z$ = {f:.3g} N")
+        table.add("all", f"model F_z = {f:.6g} N", {x_col: fx, y_col: ar})
+    for curve in result.mode_mixity.curves:
+        j = int(np.argmin(np.abs(fr.normal_load - curve.normal_load)))
+        ar = curve.real_area / a_n
+        ax.plot(fu(curve.tangential_force), ar, "-", color=colors[j], lw=1)
+        table.add(
+            "all",
+            f"measured F_z = {curve.normal_load:.6g} N",
+            {x_col: curve.tangential_force, y_col: ar},
+        )
+    if result.mode_mixity.curves:
+        ax.plot([], [], "k-", lw=1, label="measured")
+    draw_fig13_error_bars(ax, fu, fr, colors, table)
+    _model_at_measured(result.mode_mixity, a_n, table, x_col, y_col)
+    line = np.linspace(0, np.nanmax(fr.tangential_force), 50)
+    tau_line = line / max(fr.shear_strength, 1e-300) / a_n
+    ax.plot(fu(line), tau_line, "k:", lw=1, label="$F_x = \\tau_0 A_r$ (constant shear strength)")
+    table.add("all", "F_x = tau0 A_r", {x_col: line, y_col: tau_line})
+    ax.set_ylim(0, 1.15 * np.nanmax(fr.real_area) / a_n)
+    ax.set_xlabel(fu.label("tangential load $F_x$"))
+    ax.set_ylabel("$A_r / A_n$")
+    verdict_marks.threshold_lines(ax, "A_r/A_n", verdict_marks.AREA_FRACTION_THRESHOLDS)
+    ax.legend(fontsize=7)
+    return fig, table
+
+
+def draw_friction_vs_load(result: Run) -> tuple[Figure, FigureTable]:
+    """Static and sliding friction against normal load."""
+    fr = result.friction
+    fu = display_unit(fr.normal_load, "N")
+    yu = display_unit([fr.static_friction, fr.sliding_friction], "N")
+    fig = new_figure(6, 4)
+    ax = fig.subplots()
+    table = FigureTable()
+    x_col = "normal load F_z (N)"
+    bars = friction_error_bars(fr)
+    for name, values, style in (
+        ("static (peak)", fr.static_friction, "o-"),
+        ("sliding", fr.sliding_friction, "s--"),
+    ):
+        columns = {x_col: fr.normal_load, "friction force (N)": values}
+        u = bars[name]
+        if u is None:
+            ax.plot(fu(fr.normal_load), yu(values), style, label=name)
+        else:
+            x = fu(fr.normal_load)
+            ax.errorbar(x, yu(values), yerr=yu(u), fmt=style, capsize=3, label=name)
+            columns["friction force uncertainty (N)"] = u
+        table.add("all", name, columns)
+    auto_log_scale(ax, fr.normal_load, [fr.static_friction, fr.sliding_friction])
+    ax.set_xlabel(fu.label("normal load $F_z$"))
+    ax.set_ylabel(yu.label("friction force"))
+    ax.legend(fontsize=8)
+    return fig, table
+
+
+def nyquist_style(name: str) -> dict[str, str | float | tuple[float, tuple[float, ...]]]:
+    """Line style of a Nyquist mark: the map's wide and light grey, the effective resolution's
+    thin, red and on top (at stride 1 both coincide and both stay visible); solid or
+    dash-dot in x, dashed or dash-dot-dot in y."""
+    in_y = "dy" in name
+    if name.startswith("effective"):
+        return {
+            "color": "C3",
+            "lw": 1.2,
+            "zorder": 3,
+            "ls": (0, (6, 2, 1, 2, 1, 2)) if in_y else "-.",
+        }
+    return {
+        "color": "0.6",
+        "lw": 3.5,
+        "alpha": 0.6,
+        "zorder": 2,
+        "ls": (0, (3, 1)) if in_y else "-",
+    }
+
+
+def nyquist_marks(result: Run) -> dict[str, float]:
+    """Labelled Nyquist wavenumbers (rad/m) of the PSD figure (styles: :func:`nyquist_style`).
+
+    The map's own: pi/dx and, when the pixels are not square, pi/dy. The effective
+    resolution x (the scan's pixel size, stride k times sqrt(dx dy)) decimates both axes by
+    the same stride, so its Nyquist wavenumbers are pi/(k dx) and pi/(k dy): each within the
+    map's own in its direction (one line when the pixels are square).
+    """
+    surface, x = result.surface, float(result.psd.effective_resolution)
+    dx, dy = float(surface.dx), float(surface.dy)
+    xu = display_unit(x, "m")
+    effective = f"effective resolution {xu(x):.3g} {xu.symbol}"
+    if np.isclose(dx, dy, rtol=1e-9, atol=0.0):
+        return {"map Nyquist $\\pi/dx$": np.pi / dx, f"{effective}: $\\pi/x$": np.pi / x}
+    k = x / np.sqrt(dx * dy)  # the stride (the decimation of both axes)
+    return {
+        "map Nyquist in x, $\\pi/dx$": np.pi / dx,
+        "map Nyquist in y, $\\pi/dy$": np.pi / dy,
+        f"{effective}: $\\pi/(k\\,dx)$, k = {k:.3g}": np.pi / (k * dx),
+        f"{effective}: $\\pi/(k\\,dy)$": np.pi / (k * dy),
+    }
+
+
+def draw_psd(result: Run) -> tuple[Figure, FigureTable]:
+    """The PSD stage: the radial PSD with the roll-off, the Hurst fit and the Nyquist
+    wavenumbers."""
+    psd = result.psd
+    q, c = np.asarray(psd.wavenumber), np.asarray(psd.psd)
+    qu = display_unit(q, "m", -1)
+    cu = display_unit(c, "m", 4)
+    fig = new_figure(6.5, 4.6)
+    ax = fig.subplots()
+    table = FigureTable()
+    q_col, c_col = "wavenumber q (rad/m)", "PSD C (m^4)"
+    ax.loglog(qu(q), cu(c), ".", ms=3, color="0.4", label="radial average")
+    table.add("all", "radial average", {q_col: q, c_col: c})
+    q_r = 2 * np.pi / psd.rolloff_wavelength
+    wl = display_unit(psd.rolloff_wavelength, "m")
+    ax.axvline(
+        qu(q_r),
+        color="C0",
+        ls="--",
+        label=f"roll-off, {wl(psd.rolloff_wavelength):.3g} {wl.symbol}",
+    )
+    if np.isfinite(psd.psd_fit_exponent):
+        line = np.geomspace(q_r, psd.nyquist_wavenumber, 30)
+        fit = psd.psd_fit_prefactor * line**psd.psd_fit_exponent
+        ax.loglog(
+            qu(line), cu(fit), "-", color="C1", label=f"power law, H = {psd.hurst_exponent:.3g}"
+        )
+        table.add("all", "power-law fit", {q_col: line, c_col: fit})
+    marks = nyquist_marks(result)
+    for name, wavenumber in marks.items():
+        ax.axvline(qu(wavenumber), label=name, **nyquist_style(name))
+    table.add(
+        "all",
+        "marks",
+        {
+            "roll-off wavenumber (rad/m)": q_r,
+            "map Nyquist wavenumber (rad/m)": psd.nyquist_wavenumber,
+            "effective Nyquist wavenumber (rad/m)": np.pi / psd.effective_resolution,
+            "Hurst exponent (1)": psd.hurst_exponent,
+        },
+    )
+    for name, wavenumber in marks.items():  # each line drawn, named as in the legend
+        plain = name.replace("$", "").replace("\\pi", "pi").replace("\\,", " ")
+        table.add("all", f"line: {plain}", {q_col: wavenumber})
+    ax.xaxis.set_minor_formatter(NullFormatter())
+    ax.yaxis.set_minor_formatter(NullFormatter())
+    ax.set_xlabel(f"wavenumber $q$ (rad {qu.symbol})")
+    ax.set_ylabel(cu.label("PSD $C(q)$"))
+    ax.legend(fontsize=7)
+    return fig, table
+
+
+def bem_grid_figure(result: Run) -> Figure:
+    """The refinement curve (A_r/A_n and error against the finest grid per pixel size) and the
+    contact mask at the largest load; axis units chosen from the data (um, mm, ...)."""
+    bem = result.bem_reference
+    fig = new_figure(14, 4.4)
+    ax1, ax3, ax2 = fig.subplots(1, 3)
+    pixel_m = np.asarray(bem.check_stride) * result.surface.dx
+    pu = display_unit(pixel_m, "m")
+    pixel, used = pu(pixel_m), pu(bem.stride * result.surface.dx)
+    for k in range(bem.check_contact_fraction.shape[1]):
+        ax1.plot(pixel, bem.check_contact_fraction[:, k], "o-", label=BEM_MODES[k])
+    _draw_extrapolation(ax1, bem)
+    ax1.axvline(used, color="k", ls="--", label="used")
+    separate_bem_markers(ax1, ("non-adhesive", "adhesive"))
+    ax1.set_xlabel(pu.label("BEM pixel size"))
+    ax1.set_ylabel(f"$A_r/A_n$ at $F_z$ = {bem.check_load:.3g} N")
+    ax1.set_title(f"grid refinement ({bem.boundary} boundary)")
+    ax1.legend(fontsize=8)
+    _draw_grid_error(ax3, bem, pixel, used, pu.symbol)
+    mask = bem.contact_mask
+    lengths = (mask.shape[0] * bem.dx, mask.shape[1] * bem.dy)
+    xu = display_unit(lengths, "m")
+    ax2.imshow(mask.T, origin="lower", cmap="gray_r", extent=(0, xu(lengths[0]), 0, xu(lengths[1])))
+    ax2.set_xlabel(xu.label("x"))
+    ax2.set_ylabel(xu.label("y"))
+    ax2.set_title(f"contact at $F_z$ = {bem.normal_load.max():.3g} N")
+    return fig
+
+
+def _draw_extrapolation(ax: Axes, bem: BemReference) -> None:
+    """The extrapolated A_r/A_n at zero pixel size with its band, per mode."""
+    if getattr(bem, "check_extrapolated_fraction", None) is None:
+        return
+    for k, (f0, u) in enumerate(
+        zip(bem.check_extrapolated_fraction, bem.check_extrapolation_uncertainty, strict=True)
+    ):
+        if np.isfinite(f0) and np.isfinite(u):
+            label = "extrapolated to 0 (GCI band)" if k == 0 else None
+            ax.errorbar([0.0], [f0], yerr=[u], fmt="D", color=f"C{k}", capsize=4, label=label)
+
+
+def _draw_grid_error(
+    ax: Axes, bem: BemReference, pixel: np.ndarray, used: float, symbol: str
+) -> None:
+    """The error of each coarser grid against the finest solved, in %, on log axes."""
+    coarse = bem.check_error > 0
+    ax.loglog(pixel[coarse], bem.check_error[coarse] * 100, "o-", label="larger of the modes")
+    if bem.area_tolerance is not None:  # stored with the stage: redrawn without the config
+        ax.axhline(bem.area_tolerance * 100, color="gray", ls=":", label="area_tolerance")
+    ax.axvline(used, color="k", ls="--", label="used")
+    for axis in (ax.xaxis, ax.yaxis):
+        axis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+        axis.set_major_formatter(ScalarFormatter())
+        axis.set_minor_formatter(NullFormatter())
+    ax.legend(fontsize=8)
+    ax.set_xlabel(f"BEM pixel size ({symbol})")
+    ax.set_ylabel("$|A_r - A_r^{finest}| / A_r^{finest}$ (%)")
+    finest = float(pixel.min())
+    if used <= finest:
+        ax.set_title(f"error against {finest:.3g} {symbol}; the grid used is the finest")
+    else:
+        ax.set_title(f"error against {finest:.3g} {symbol}; grid used: {bem.grid_error:.2%}")
+
+
+def draw_resolution_interval(
+    ax: Axes, xu: DisplayUnit, res: ResolutionChoice, table: FigureTable
+) -> None:
+    """The misfit figure: the located optimum, its interval (band) and the refined samples."""
+    if getattr(res, "optimum_resolution", None) is None:
+        return
+    low, high = np.asarray(res.optimum_interval, dtype=float)
+    if math.isfinite(low) and math.isfinite(high):
+        ax.axvspan(xu(low), xu(high), color="C2", alpha=0.2, label="one-sigma interval")
+    if res.sampled_resolution is not None:
+        ax.plot(xu(res.sampled_resolution), res.sampled_misfit, "x", color="C2", ms=5)
+        table.add(
+            "misfit",
+            "located (strides and refinement)",
+            {"resolution (m)": res.sampled_resolution, "misfit (1)": res.sampled_misfit},
+        )
+    table.add(
+        "misfit",
+        "located optimum",
+        {
+            "resolution (m)": res.optimum_resolution,
+            "misfit (1)": res.optimum_misfit,
+            "resolution interval low (m)": low,
+            "resolution interval high (m)": high,
+        },
+    )
+    ax.axvline(
+        xu(res.optimum_resolution),
+        color="C2",
+        lw=1.5,
+        label=f"located {xu(res.optimum_resolution):.3g} {xu.symbol}",
+    )
+
+
+def draw_model_band(
+    ax: Axes, fu: DisplayUnit, result: Run, table: FigureTable, columns: tuple
+) -> bool:
+    """Fig 12d: the model at the located optimum with its A_r/A_n band (True when drawn)."""
+    fr = result.friction
+    if getattr(fr, "model_real_area", None) is None:
+        return False
+    x_col, y_col = columns
+    a_n = fr.nominal_area
+    value = np.asarray(fr.model_real_area, dtype=float) / a_n
+    u = np.asarray(fr.model_real_area_uncertainty, dtype=float) / a_n
+    at = result.statistical_model.optimum_resolution
+    ru = display_unit(at, "m")
+    lower_bound = bool(getattr(fr, "uncertainty_lower_bound", False))
+    band = "u a lower bound, band not drawn" if lower_bound else "+- u"
+    name = f"model ({band}), {ru(at):.3g} {ru.symbol} (located optimum)"
+    (line,) = ax.plot(fu(fr.normal_load), value, "-", color="C3", label=name)
+    if not lower_bound:  # a lower bound has no upper edge to draw: a band would claim one
+        low = np.maximum(value - u, 0.1 * value)  # a log axis: at most a decade below
+        ax.fill_between(fu(fr.normal_load), low, value + u, color=line.get_color(), alpha=0.25)
+    table.add("d", name, {x_col: fr.normal_load, y_col: value, "A_r/A_n uncertainty (1)": u})
+    return True
+
+
+def draw_fig13_error_bars(
+    ax: Axes, fu: DisplayUnit, fr: FrictionPrediction, colors: np.ndarray, table: FigureTable
+) -> None:
+    """Fig 13: at each load, the model's A_r/A_n at F_x = 0 (vertical bar) and the static
+    friction at the peak (horizontal bar), with their CSV rows."""
+    if getattr(fr, "static_friction_uncertainty", None) is None:
+        return
+    a_n = fr.nominal_area
+    x_col, y_col = "tangential load F_x (N)", "A_r/A_n (1)"
+    for i, f in enumerate(fr.normal_load):
+        peak = int(np.nanargmax(fr.tangential_force[i]))
+        x = np.array([0.0, fr.static_friction[i]])
+        y = np.array([fr.model_real_area[i], fr.real_area[i][peak]]) / a_n
+        xerr = np.array([0.0, fr.static_friction_uncertainty[i]])
+        yerr = np.array([fr.model_real_area_uncertainty[i] / a_n, 0.0])
+        label = "model +- u (A_r at $F_x$ = 0; static peak)" if i == 0 else None
+        ax.errorbar(
+            fu(x), y, xerr=fu(xerr), yerr=yerr, fmt="none", ecolor=colors[i], capsize=3, label=label
+        )
+        table.add(
+            "all",
+            f"model uncertainty F_z = {f:.6g} N",
+            {
+                x_col: x,
+                y_col: y,
+                "tangential load F_x uncertainty (N)": xerr,
+                "A_r/A_n uncertainty (1)": yerr,
+            },
+        )
+
+
+#: How a figure is drawn: the run in, the figure and its data table out.
+Drawer = Callable[[Run], tuple[Figure, FigureTable]]
+
+#: Figure name -> (file stem, drawing function, whether the result has it).
+FIGURES: dict[str, tuple[str, Drawer, Callable[[Run], bool]]] = {
+    "surface": ("surface", draw_surface, lambda r: True),
+    "resolution": ("fig12_resolution", draw_resolution, lambda r: True),
+    "misfit": ("fig12d_misfit", draw_misfit, lambda r: True),
+    "shear": ("fig4_shear", draw_shear, lambda r: True),
+    "area_vs_force": ("fig13_area_vs_force", draw_area_vs_force, lambda r: True),
+    "friction_vs_load": ("friction_vs_load", draw_friction_vs_load, lambda r: True),
+    "bem_grid": ("bem_grid", draw_bem_grid, lambda r: r.bem_reference is not None),
+    "lambda_fit": ("lambda_fit", draw_lambda_fit, lambda r: r.mode_mixity.fit is not None),
+    "lambda_residuals": (
+        "lambda_residuals",
+        draw_lambda_residuals,
+        lambda r: getattr(r.mode_mixity, "fitted_model_area", None) is not None,
+    ),
+    "psd": ("psd", draw_psd, lambda r: getattr(r, "psd", None) is not None),
+}
+
+
+def draw_figure(result: Run, name: str) -> tuple[Figure, FigureTable]:
+    """One figure of :data:`FIGURES` drawn, stamped with the run's verdict unless it is valid,
+    its table headed by the verdict (:mod:`pipelines.report.verdict_marks`)."""
+    fig, table = FIGURES[name][1](result)
+    verdict = getattr(result, "verdict", None)
+    verdict_marks.stamp_verdict(fig, verdict)
+    table.header = verdict_marks.csv_header(verdict)
+    return fig, table
+
+
+def draw_figures(result: Run) -> dict[str, tuple[Figure, FigureTable]]:
+    """Every figure the result has, drawn (nothing written): {name: (figure, data table)}."""
+    return {
+        name: draw_figure(result, name)
+        for name, (_, _, present) in FIGURES.items()
+        if present(result)
+    }
+
+
+def write_figures(
+    result: Run, out_dir: Path, options: FigureOptions | None = None
+) -> dict[str, Path]:
+    """Write every figure of the job in each format, with its CSV; returns {name: path} of
+    the first format (PNG when written)."""
+    out_dir = Path(out_dir)
+    options = figure_options(result, options)
+    first = "png" if "png" in options.formats else options.formats[0]
+    return {
+        name: publish(fig, table, out_dir / f"{FIGURES[name][0]}.{first}", options)
+        for name, (fig, table) in draw_figures(result).items()
+    }

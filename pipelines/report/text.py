@@ -1,0 +1,394 @@
+"""The report's text: ``report.md`` (key numbers, the per-load table, the sections, captions)
+and the one-screen terminal summary; ``report.html`` (:mod:`~asperity.pipelines.report.html`)
+shows the same tables. Values are SI in ``results.h5`` and written here in the units named in
+each row (um, mm, N).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from asperity.pipelines.report._run import Run, persson_fraction
+from asperity.pipelines.report.bem import bem_section
+from asperity.pipelines.report.measured import shape_scale_key_numbers
+from asperity.pipelines.report.profile import (
+    profile_key_numbers,
+    profile_section,
+)
+from asperity.pipelines.report.uncertainty import (
+    bem_cells,
+    misfit_text,
+    model_cells,
+    resolution_text,
+    uncertainty_rows,
+)
+from asperity.pipelines.stages import stage_number
+from asperity.pipelines.stages.bem import BemReference
+from asperity.pipelines.stages.surface import LevelledSurface
+from asperity.pipelines.stages.verdict import (
+    Verdict,
+    mark,
+    verdict_lines,
+    verdict_markdown,
+    verdict_wording,
+)
+
+
+def _grid_error_text(bem: BemReference) -> str:
+    """The grid used against the finest grid solved; the finest grid's own error is unknown."""
+    if bem.stride <= int(np.min(bem.check_stride)):
+        return "the finest grid solved (its own error is not known)"
+    return f"A_r {bem.grid_error:.2%} from the finest grid solved"
+
+
+def pixel_size_text(surface: LevelledSurface) -> str:
+    """``"10 um pixels"``, or ``"0.1277 x 0.3146 um pixels (dx x dy)"`` when dy differs."""
+    if np.isclose(surface.dx, surface.dy, rtol=1e-9, atol=0.0):
+        return f"{surface.dx * 1e6:.4g} um pixels"
+    return f"{surface.dx * 1e6:.4g} x {surface.dy * 1e6:.4g} um pixels (dx x dy)"
+
+
+def key_numbers(result: Run) -> list[tuple[str, str]]:
+    """(quantity, value with unit) rows of the report's headline table."""
+    res, fr, bem, lam = (
+        result.statistical_model,
+        result.friction,
+        result.bem_reference,
+        result.mode_mixity,
+    )
+    r = res.roughness
+    rows = [
+        (
+            "surface",
+            f"{result.surface.nx} x {result.surface.ny} px, {pixel_size_text(result.surface)}",
+        ),
+        ("effective resolution", f"{resolution_text(res)}; chosen against {res.basis}"),
+        ("summit radius R", f"{r.summit_radius * 1e3:.4g} mm"),
+        ("asperity density eta", f"{r.asperity_density * 1e-6:.4g} 1/mm^2"),
+        ("rms summit height sigma_s", f"{r.summit_height_rms * 1e3:.4g} mm"),
+        ("Tabor parameter mu", f"{res.tabor_parameter:.4g}"),
+        ("misfit at effective resolution", misfit_text(res)),
+    ]
+    if lam.fitted:
+        rows.append(
+            (
+                "mode mixity lambda (fitted)",
+                f"{lam.mode_mixity:.4g} +/- {lam.mode_mixity_std:.2g} "
+                f"(rms relative residual {lam.residual_rms:.3g}, "
+                f"{lam.n_points} points)",
+            )
+        )
+    else:
+        rows.append(("mode mixity lambda (configured)", f"{lam.mode_mixity:.4g}"))
+    rows += shape_scale_key_numbers(result)
+    if bem is None:
+        rows.append(("BEM", "not run ([bem] enabled = false): calibrated on the measurement"))
+    else:
+        rows += [
+            (
+                "BEM grid",
+                f"stride {bem.stride} ({bem.dx * 1e6:.4g} um), {_grid_error_text(bem)}; "
+                f"{bem.boundary} boundary",
+            ),
+            ("BEM solves converged", f"{int(np.sum(bem.converged))} / {bem.converged.size}"),
+        ]
+        rows += adhesion_key_numbers(result)
+    rows += psd_key_numbers(result)
+    rows += uncertainty_rows(result)
+    rows += profile_key_numbers(result)
+    rows += [
+        ("statmodel quadrature", fr.quadrature_reason),
+        ("shear curves converged", f"{int(np.sum(fr.converged))} / {fr.converged.size}"),
+    ]
+    verdict = getattr(result, "verdict", None)
+    judged = (
+        "effective resolution",
+        "summit",
+        "asperity",
+        "rms summit",
+        "Tabor",
+        "misfit",
+        "mode mixity lambda (fitted)",
+    )
+    return [(k, mark(v, verdict) if k.startswith(judged) else v) for k, v in rows]
+
+
+def adhesion_key_numbers(result: Run) -> list[tuple[str, str]]:
+    """Rows of the adhesive BEM's law and range, the non-adhesive pair's resolution, and the
+    adhesion regime (Persson-Tosatti, Pastewka-Robbins, Tabor); empty where not run."""
+    bem, res = result.bem_reference, result.statistical_model
+    rows = []
+    law = getattr(bem, "adhesion", None)
+    if law == "maugis":
+        rows.append(("BEM adhesion", f"Maugis-Dugdale (adhesive on loading); {bem.range_rule}"))
+        spread = bem.range_sensitivity
+        rows.append(
+            (
+                "BEM range uncertainty",
+                f"A_r/A_n +/- {bem.area_range_uncertainty:.3g} (half spread over h_0/2, h_0, "
+                f"2 h_0: {spread[0]:.4g}, {spread[1]:.4g}, {spread[2]:.4g} at "
+                f"{bem.check_load:.4g} N on the range search's grid)",
+            )
+        )
+    elif law == "pohrt-popov":
+        rows.append(("BEM adhesion", "Pohrt-Popov (Appendix B): no adhesion on loading"))
+    index = getattr(res, "effective_index_non_adhesive", None)
+    if index is not None:
+        rows.append(
+            (
+                "effective resolution, non-adhesive pair",
+                f"{res.resolution[index] * 1e6:.4g} um (w=0 model against the non-adhesive "
+                f"BEM, misfit {res.misfit_bem_non_adhesive[index]:.3g}; not used: the "
+                "adhesive pair chooses)",
+            )
+        )
+    return rows + regime_key_numbers(getattr(result, "verdict", None))
+
+
+def regime_key_numbers(verdict: Verdict) -> list[tuple[str, str]]:
+    """The adhesion regime's row (empty without one)."""
+    ratio = getattr(verdict, "adhesion_energy_ratio", None)
+    if ratio is None:
+        return []
+    full = "full contact expected" if ratio < 1 else "partial contact"
+    return [
+        (
+            "adhesion regime",
+            f"U_el/(A0 w) = {ratio:.3g} ({full}; Persson-Tosatti, threshold 1); "
+            f"stickiness S_PR = {verdict.stickiness:.3g} (Pastewka-Robbins, sticky below 1); "
+            f"Tabor mu = {verdict.regime_tabor_parameter:.3g}",
+        )
+    ]
+
+
+def psd_key_numbers(result: Run) -> list[tuple[str, str]]:
+    """Rows of the PSD stage (empty when the result has none)."""
+    psd = getattr(result, "psd", None)
+    if psd is None:
+        return []
+    return [
+        ("PSD roll-off wavelength", f"{psd.rolloff_wavelength * 1e6:.4g} um"),
+        ("Hurst exponent H (PSD above roll-off)", f"{psd.hurst_exponent:.3g}"),
+        (
+            "effective Nyquist wavelength 2x",
+            f"{psd.effective_nyquist_wavelength * 1e6:.4g} um",
+        ),
+        ("rms slope h' (Persson)", f"{psd.persson_rms_slope:.4g}"),
+    ]
+
+
+def load_table(result: Run) -> tuple[list[str], list[list[str]]]:
+    """Header and rows of the per-load table."""
+    fr, bem = result.friction, result.bem_reference
+    header = [
+        "F_z (N)",
+        "A_r/A_n BEM",
+        "A_r/A_n BEM adh.",
+        "A_r/A_n model",
+        "static F_x (N)",
+        "sliding F_x (N)",
+        "delta_T slide (um)",
+    ]
+    persson = persson_fraction(result)
+    if persson is not None:
+        header.append("A_r/A_n Persson")
+    rows = []
+    for i, f in enumerate(fr.normal_load):
+        rows.append([f"{f:.4g}", *bem_cells(bem, i), *model_cells(result, i)])
+        if persson is not None:
+            rows[-1].append(f"{persson[i]:.4g}")
+    verdict = getattr(result, "verdict", None)
+    # the statistical model's columns carry the verdict; BEM and Persson are references
+    rows = [[*row[:3], *(mark(cell, verdict) for cell in row[3:7]), *row[7:]] for row in rows]
+    return non_adhesive_column(result, header, rows)
+
+
+def non_adhesive_column(
+    result: Run, header: list[str], rows: list[list[str]]
+) -> tuple[list[str], list[list[str]]]:
+    """The load table with the non-adhesive pair's model column (w = 0, Greenwood-Williamson,
+    at that pair's least-misfit resolution) appended: its partner is "A_r/A_n BEM"; the
+    adhesive pair is "A_r/A_n BEM adh." and "A_r/A_n model"."""
+    res = result.statistical_model
+    index = getattr(res, "effective_index_non_adhesive", None)
+    if index is None or res.real_area_non_adhesive is None:
+        return header, rows
+    fraction = res.real_area_non_adhesive[index] / res.nominal_area
+    verdict = getattr(result, "verdict", None)
+    header = [*header, f"A_r/A_n model w=0 ({res.resolution[index] * 1e6:.3g} um)"]
+    return header, [
+        [*row, mark(f"{f:.4g}", verdict)] for row, f in zip(rows, fraction, strict=True)
+    ]
+
+
+def surface_section(result: Run) -> list[str]:
+    """The report's "Surface" section: how the map was prepared, with its warnings."""
+    surface = result.surface
+    record = getattr(surface, "preparation", None) or {}
+    rows = [
+        ["grid", f"{surface.nx} x {surface.ny} px"],
+        ["pixel size dx, dy", f"{surface.dx * 1e6:.4g} um, {surface.dy * 1e6:.4g} um"],
+    ]
+    if record:
+        ratio = record.get("form_to_roughness")
+        rows += [
+            ["crop", str(record.get("crop") or "none")],
+            ["levelling (form removed)", str(record.get("levelling"))],
+            ["form-to-roughness rms ratio", "-" if ratio is None else f"{ratio:.3g}"],
+            [
+                "missing pixels",
+                f"{record['n_missing']} ({100 * record['missing_fraction']:.3g} %), policy "
+                f"{record['missing_policy']}; {record['n_filled']} filled",
+            ],
+            [
+                "outliers changed",
+                f"{record['n_outliers']} ({100 * record['outlier_fraction']:.3g} % of the valid "
+                f"pixels, {record['outlier_action']}): {record['outlier_rule']}",
+            ],
+            ["rms roughness after preparation", f"{record['roughness_rms'] * 1e6:.4g} um"],
+        ]
+    rows = [[key, value.replace("|", "\\|")] for key, value in rows]  # a pipe ends a cell
+    lines = ["## Surface", "", _md_table(["step", "value"], rows), ""]
+    warnings = record.get("warnings") or []
+    lines += [f"- **Warning:** {w}" for w in warnings]
+    return [*lines, ""] if warnings else lines
+
+
+def _md_table(header: list[str], rows: list[list[str]]) -> str:
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    lines += ["| " + " | ".join(row) + " |" for row in rows]
+    return "\n".join(lines)
+
+
+def _source(result: Run) -> str:
+    """Where the configuration came from (a job's config, or a reopened file's record)."""
+    config = getattr(result, "config", None)
+    return config.source if config is not None else getattr(result, "source", "results.h5")
+
+
+#: Figure name -> caption in report.md and report.html.
+CAPTIONS: dict[str, str] = {
+    "surface": f"Stage {stage_number('surface')}: levelled surface.",
+    "resolution": "Fig 12: summit statistics against resolution (a-c) and A_r/A_n against "
+    "F_z (d). Persson's theory (dash-dot) is non-adhesive: a lower bound.",
+    "misfit": f"Stage {stage_number('statistical_model')}: misfit of the statistical model "
+    "against resolution.",
+    "bem_grid": f"Stage {stage_number('bem_reference')}: BEM grid refinement (A_r/A_n and its "
+    "error against the finest grid solved) and contact at the largest load.",
+    "lambda_fit": f"Stage {stage_number('mode_mixity')}: lambda fit.",
+    "lambda_residuals": f"Stage {stage_number('mode_mixity')}: measured minus fitted A_r at each "
+    "load (the points fitted: trimmed after the first static peak, repeated points merged).",
+    "shear": "Fig 4: shear response at the heaviest load, with stick and slip parts.",
+    "area_vs_force": "Fig 13: A_r/A_n against F_x (dashed: model; dotted: constant shear "
+    "strength).",
+    "friction_vs_load": "Static and sliding friction against normal load.",
+    "psd": f"Stage {stage_number('psd')}: radially averaged PSD with the roll-off, the power-law "
+    "(Hurst) fit and "
+    "the Nyquist wavenumbers of the map and of the effective resolution.",
+}
+
+
+def refusals_section(result: Run) -> list[str]:
+    """Markdown lines listing the resolutions where the statistical model gave no value."""
+    messages = list(getattr(result.statistical_model, "messages", None) or [])
+    if not messages:
+        return []
+    return [
+        "## Statistical model refusals",
+        "",
+        "No value at these resolutions (NaN in `results.h5`, group `statistical_model`):",
+        "",
+        *(f"- {m}" for m in messages),
+        "",
+    ]
+
+
+def summary_text(result: Run) -> str:
+    """The one-screen terminal summary."""
+    lines = ["asperity run: summary", ""]
+    if getattr(result, "verdict", None) is not None:
+        lines += [*verdict_lines(result.verdict), ""]
+    width = max(len(k) for k, _ in key_numbers(result))
+    for key, value in key_numbers(result):
+        lines.append(f"  {key:<{width}}  {value}")
+    header, rows = load_table(result)
+    widths = [max(len(h), *(len(r[j]) for r in rows)) for j, h in enumerate(header)]
+    lines += ["", "  " + "  ".join(h.rjust(w) for h, w in zip(header, widths, strict=True))]
+    for row in rows:
+        lines.append("  " + "  ".join(c.rjust(w) for c, w in zip(row, widths, strict=True)))
+    computed = sum(s.seconds for s in result.stages if not s.cached)
+    cached = [s.name for s in result.stages if s.cached]
+    lines += [
+        "",
+        f"  stages computed in {computed:.1f} s"
+        + (f"; stored stages skipped: {', '.join(cached)}" if cached else "")
+        + f"; total {result.total_seconds:.1f} s",
+    ]
+    if getattr(result, "verdict", None) is None:
+        lines += [f"  WARNING: {note}" for note in result.statistical_model.validity]
+    for note in [] if result.bem_reference is None else result.bem_reference.warnings:
+        lines.append(f"  WARNING: {note}")
+    problems = result.problems()
+    if problems:
+        lines.append("  NOT CONVERGED:")
+        lines += [f"    {p}" for p in problems[:8]]
+    lines.append(f"  outputs: {result.out_dir / 'results.h5'}, {result.out_dir / 'report.md'}")
+    return "\n".join(lines)
+
+
+def report_markdown(result: Run, figures: dict[str, Path]) -> str:
+    """The text of ``report.md``: verdict, key numbers, per-load table, sections, stage table
+    and the figures ``figures`` ({name: written file}) with their captions."""
+    header, rows = load_table(result)
+    status = {"stored": "stored (skipped)", "computed": "computed", "disabled": "disabled"}
+    stage_rows = [
+        [s.name, status[s.status] + (f" ({s.note})" if s.note else ""), f"{s.seconds:.2f}"]
+        for s in result.stages
+    ]
+    problems = result.problems()
+    verdict = getattr(result, "verdict", None)
+    text = [
+        "# asperity run report",
+        "",
+        *([] if verdict is None else verdict_markdown(verdict)),
+        f"Configuration: `{_source(result)}`; input SHA-256 `{result.input_sha256[:16]}...`;"
+        " all data in `results.h5` (SI units).",
+        "",
+        "## Key numbers",
+        "",
+        _md_table(["quantity", "value"], [list(r) for r in key_numbers(result)]),
+        "",
+        "## Per normal load",
+        "",
+        _md_table(header, rows),
+        "",
+        *surface_section(result),
+        *profile_section(result),
+        *bem_section(result),
+        "## Validity",
+        "",
+        f"**{verdict_wording(verdict)}** (reasons at the top)."
+        if verdict is not None
+        else "The statistical model is within its assumptions."
+        if not result.statistical_model.validity
+        else "\n".join(f"- **Warning:** {note}" for note in result.statistical_model.validity),
+        "",
+        *refusals_section(result),
+        "## Convergence",
+        "",
+        "All solvers converged."
+        if not problems
+        else "**Not converged:**\n\n" + "\n".join(f"- {p}" for p in problems),
+        "",
+        "## Stages",
+        "",
+        _md_table(["stage", "status", "seconds"], stage_rows),
+        "",
+        "## Figures",
+        "",
+    ]
+    for name, path in figures.items():
+        text += [f"![{CAPTIONS[name]}]({path.name})", "", f"*{CAPTIONS[name]}*", ""]
+    return "\n".join(text)
