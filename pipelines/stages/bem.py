@@ -2,49 +2,55 @@
 
 The map covers only part of the experiment's nominal area A_n, so each normal load is scaled
 to the map at equal nominal pressure, F_map = F_z A_map / A_n, and the result is reported as
-the fraction A_r / A_map (equal to A_r / A_n of the experiment). Non-adhesive and adhesive
-solves at every load; every adhesive number lies on the loading branch
-(:mod:`asperity.pipelines.stages._bem_solves`). The adhesive law is ``[bem] adhesion``:
-Maugis-Dugdale (default; adhesive on loading, like the statistical model) with the range chosen
-by the rule of :mod:`asperity.pipelines.stages._bem_range`, or Pohrt-Popov (eq:max_sigma, the
-paper's Appendix B; its loading branch carries no adhesion).
-
-The boundary condition (``[bem] boundary``) and the grid (``max_stride``, ``area_tolerance``,
-``coarsen``) are chosen and stated as :mod:`asperity.pipelines.stages._bem_grid` explains.
-Nothing is solved twice: the grid check's solve at the chosen stride is the sweep's solve at the
-check load, and the other loads are solved in two chains outwards from it (in parallel with two
-workers; the map is shipped to each worker once).
+the fraction A_r / A_map (equal to A_r / A_n of the experiment). The numerics are
+:mod:`asperity.bem`'s: the grid check and its Richardson extrapolation
+(:mod:`asperity.bem.grid_refinement`), the Maugis-Dugdale range rule
+(:mod:`asperity.bem.adhesion_range`; ``[bem] adhesion = "pohrt-popov"`` keeps the paper's
+eq:max_sigma, whose loading branch carries no adhesion) and the load chains
+(:mod:`asperity.bem.load_sweeps`). This module declares the stage: its ``[bem]`` keys
+(:data:`SETTINGS`, the fields of :class:`~asperity.pipelines.config.BemConfig`), its input, its
+stored fields (:class:`BemReference`). Nothing is solved twice: the grid check's solve at the
+chosen stride is the sweep's solve at the check load; the other loads are solved in two chains
+outwards from it (in parallel with two workers; the map is shipped to each worker once).
 """
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass
-from types import SimpleNamespace
 
 import numpy as np
 
 from asperity import topo
-from asperity.bem.discretisation import combine_in_quadrature
-from asperity.fields import array, document_fields, scalar, text
-from asperity.pipelines.config import BemConfig
-from asperity.pipelines.engine.parallel import run_map, share
-from asperity.pipelines.engine.stage import Stage, StageContext
-from asperity.pipelines.stages._bem_grid import (
+from asperity.bem.discretisation import combined_uncertainty
+from asperity.bem.grid_refinement import (
     GridCheck,
     boundary_warning,
     check_grids,
     edge_mismatch,
     grid_extrapolations,
     relative_discretisation_uncertainty,
-    solver_grid,
 )
-from asperity.pipelines.stages._bem_range import RangeChoice
-from asperity.pipelines.stages._bem_solves import SolveSummary, solve_chain
+from asperity.bem.load_sweeps import (
+    ContactSetup,
+    Grid,
+    LoadChain,
+    SolveSummary,
+    check_load_index,
+    decimated_grid,
+    load_chains,
+    solve_chain,
+)
+from asperity.bem.options import SolverOptions
+from asperity.fields import array, document_fields, scalar, text
+from asperity.pipelines.config import BemConfig
+from asperity.pipelines.engine.parallel import run_map, share, worker_threads
+from asperity.pipelines.engine.stage import Stage, StageContext
 from asperity.pipelines.stages.surface import SURFACE
 
-__all__ = ["BEM", "BemReference", "bem_reference", "compute_bem", "solver_grid"]
+__all__ = ["BEM", "SETTINGS", "BemReference", "bem_reference", "compute_bem"]
 
 
 @document_fields
@@ -266,106 +272,183 @@ class BemReference:
         return self.contact_fraction
 
 
-def combined_uncertainty(
-    discretisation: np.ndarray | None, adhesion_range: np.ndarray | None
-) -> np.ndarray | None:
-    """A_r/A_n uncertainty per mode and load (1): the independent parts in quadrature
-    (:func:`bem.combine_in_quadrature`). The adhesion-range part (``bem.half_spread`` of the
-    solves at half and double the range, shape (n_load,)) belongs to the adhesive mode (the last
-    row when there are two); None without the discretisation part."""
-    if discretisation is None:
-        return None
-    discretisation = np.asarray(discretisation, dtype=float)
-    adhesion = np.zeros_like(discretisation)
-    if adhesion_range is not None and discretisation.shape[0] > 1:
-        adhesion[-1] = np.asarray(adhesion_range, dtype=float)
-    budget = combine_in_quadrature(discretisation=discretisation, adhesion_range=adhesion)
-    return np.asarray(budget.total, dtype=float)  # a NaN part (no estimate) stays NaN
+#: The ``[bem]`` keys the BEM reference reads: the fields of :class:`BemConfig` but
+#: ``enabled`` (which only switches the stage on or off).
+SETTINGS: tuple[str, ...] = tuple(
+    f.name for f in dataclasses.fields(BemConfig) if f.name != "enabled"
+)
+
+#: The report line of a Pohrt-Popov run.
+POHRT_POPOV_NOTE = (
+    '[bem] adhesion = "pohrt-popov" (the paper\'s Appendix B, eq:max_sigma): its loading '
+    "branch carries no adhesion (an element joins only where its gap closes), so the adhesive "
+    "BEM areas equal the non-adhesive ones; the statistical model is adhesive on loading "
+    '(E:JKR_load): use adhesion = "maugis" for a like-for-like calibration'
+)
 
 
-def discretisation_fields(run: SimpleNamespace) -> dict:
-    """The Richardson-extrapolation fields of :class:`BemReference` (the grid check's solves,
-    strides x dx) and the discretisation part per mode and load (module
-    :mod:`~asperity.pipelines.stages._bem_grid`)."""
-    grid = run.grid
-    fraction = grid.fractions()
-    extrapolations = grid_extrapolations(grid.strides, fraction, run.pixel)
-    used = fraction[list(grid.strides).index(grid.stride)]
-    pairs = zip(extrapolations, used, strict=True)
-    relative = np.array([relative_discretisation_uncertainty(e, f) for e, f in pairs])
-    per_load = _field(run.solves, "contact_fraction")
-    return {
-        "check_extrapolated_fraction": np.array([e.value for e in extrapolations]),
-        "check_extrapolation_uncertainty": np.array([e.uncertainty for e in extrapolations]),
-        "extrapolation_order": np.array([e.order for e in extrapolations]),
-        "extrapolation_safety_factor": np.array([e.safety_factor for e in extrapolations]),
-        "extrapolation_messages": [e.message for e in extrapolations],
-        "discretisation_relative_uncertainty": relative,
-        "contact_fraction_discretisation_uncertainty": relative[:, None] * per_load,
-    }
+def _with_worker_threads(setup: ContactSetup) -> ContactSetup:
+    threads = worker_threads()
+    if threads is None:
+        return setup
+    return dataclasses.replace(setup, options=dataclasses.replace(setup.options, threads=threads))
 
 
-def check_load_index(loads: np.ndarray) -> int:
-    """Index of the check load in ``loads``: the middle one, ``sorted(loads)[n // 2]``."""
-    return int(np.argsort(loads, kind="stable")[len(loads) // 2])
+def _chain(grid: Grid, setup: ContactSetup, forces: list[float], start, want_mask) -> LoadChain:
+    """One load chain in a worker, with the worker's FFT thread cap."""
+    return solve_chain(grid, _with_worker_threads(setup), forces, start, want_mask)
 
 
-def load_chains(loads: np.ndarray) -> list[list[int]]:
-    """Indices of the loads other than the check load, in two chains solved outwards from it:
-    increasing above it, decreasing below it (empty chains left out)."""
-    order = list(np.argsort(loads, kind="stable"))
-    k = len(loads) // 2
-    chains = [order[k + 1 :], order[:k][::-1]]
-    return [[int(i) for i in c] for c in chains if c]
+def bem_reference(
+    surface: topo.HeightMap,
+    e_star: float,
+    work_of_adhesion: float,
+    normal_loads: Sequence[float],
+    nominal_area: float,
+    settings: BemConfig | None = None,
+    *,
+    executor: Executor | None = None,
+    progress: bool = False,
+) -> BemReference:
+    """The BEM real contact area against normal load on the map.
+
+    Parameters
+    ----------
+    surface : topo.HeightMap
+        Levelled map, heights in m (larger = closer to the flat).
+    e_star : float
+        E*, Pa.
+    work_of_adhesion : float
+        w, J/m^2 (adhesive solves on the loading branch when ``settings.adhesive``).
+    normal_loads : sequence of float
+        Experiment loads F_z, N (on the nominal area).
+    nominal_area : float
+        A_n of the experiment, m^2.
+    settings : BemConfig, optional
+        The ``[bem]`` table (default ``BemConfig()``): ``tol`` and ``max_iter`` of the solver,
+        the grid check's ``max_stride``, ``area_tolerance``, ``coarsen``
+        (:func:`bem.grid_refinement.check_grids`), ``boundary``, ``adhesive``, and the law
+        ``adhesion`` with its range ``adhesion_range`` (m; None: the rule of
+        :func:`bem.adhesion_range.search_range`).
+    executor : Executor, optional
+        Runs the two load chains in parallel.
+    """
+    settings = BemConfig() if settings is None else settings
+    loads = np.asarray(normal_loads, dtype=float)
+    w = work_of_adhesion if settings.adhesive and work_of_adhesion > 0 else 0.0
+    options = SolverOptions(tol=settings.tol, max_iter=settings.max_iter)
+    setup = ContactSetup(e_star, w, options, periodic=settings.boundary == "periodic")
+    k = check_load_index(loads)
+    check = check_grids(
+        surface.heights, surface.dx, surface.dy, _with_worker_threads(setup),
+        float(loads[k]) / nominal_area, max_stride=settings.max_stride,
+        area_tolerance=settings.area_tolerance, coarsen=settings.coarsen,
+        adhesion=settings.adhesion, adhesion_range=settings.adhesion_range,
+    )  # fmt: skip
+    if check.range_choice is not None:
+        setup = dataclasses.replace(setup, adhesion_range=check.range_choice.adhesion_range)
+    grid = decimated_grid(surface.heights, surface.dx, surface.dy, check.stride)
+    map_loads = loads * grid.area / nominal_area
+    per_load, mask = _solve_chains(grid, setup, map_loads, check.start, executor, progress)
+    per_load[k] = tuple(check.solves[check.chosen])
+    solves = [[per_load[i][m] for i in range(len(loads))] for m in range(1 + (w > 0))]
+    mismatch = edge_mismatch(grid.heights)
+    warning = boundary_warning(settings.boundary, mismatch)
+    reference = BemReference(
+        normal_load=loads, map_normal_load=map_loads,
+        **_grid_fields(check, float(loads[k]), nominal_area, settings.area_tolerance),
+        **_sweep_fields(solves, check, k, mask if mask is not None else check.mask, grid),
+        messages=_messages(loads, solves),
+        **_discretisation_fields(check, solves, surface.dx),
+        boundary=settings.boundary, edge_mismatch=mismatch, warnings=[warning] if warning else [],
+    )  # fmt: skip
+    return _with_adhesion_law(reference, settings.adhesion if w > 0 else None, check)
 
 
 def _solve_chains(
-    grid: GridCheck,
-    surface: topo.HeightMap,
-    e_star: float,
+    grid: Grid,
+    setup: ContactSetup,
     map_loads: np.ndarray,
-    w: float,
-    solver: dict,
+    start: tuple[np.ndarray, float],
     executor: Executor | None,
     progress: bool,
-    law: dict | None = None,
-) -> dict[int, tuple[SolveSummary, SolveSummary | None]]:
-    """The sweeps' solves at every load but the check load, per load index; and the contact
-    mask of the largest load under key -1 when a chain reaches it."""
+) -> tuple[dict[int, tuple[SolveSummary, ...]], np.ndarray | None]:
+    """The solves at every load but the check load, per load index (non-adhesive, then
+    adhesive when run), and the contact mask of the largest load when a chain reaches it."""
     chains = load_chains(map_loads)
     if not chains:
-        return {}
-    h, dx, dy = solver_grid(surface, grid.stride)
-    heights, start = share(executor, h), share(executor, grid.start)
+        return {}, None
     largest = int(np.argmax(map_loads))
-    jobs = [
-        (heights, dx, dy, e_star, [float(map_loads[i]) for i in c], w, solver, start, largest in c)
-        + (law,)
-        for c in chains
-    ]
-    out: dict = {}
-    for chain, (summaries, mask) in zip(
-        chains,
-        run_map(solve_chain, jobs, executor, desc="BEM sweeps", progress=progress),
-        strict=True,
-    ):
-        out.update(zip(chain, summaries, strict=True))
-        if mask is not None:
-            out[-1] = mask
-    return out
-
-
-def _per_load(
-    loads: np.ndarray, k: int, grid: GridCheck, chains: dict, adhesive: bool
-) -> list[list[SolveSummary]]:
-    """Summaries per mode and load: the check solve at the chosen stride at load ``k``."""
-    check = grid.solves[list(grid.strides).index(grid.stride)]
-    modes = range(2 if adhesive else 1)
-    return [[check[m] if i == k else chains[i][m] for i in range(len(loads))] for m in modes]
+    shared, first = share(executor, grid), share(executor, start)
+    jobs = [(shared, setup, [float(map_loads[i]) for i in c], first, largest in c) for c in chains]
+    per_load: dict[int, tuple[SolveSummary, ...]] = {}
+    mask = None
+    solved = run_map(_chain, jobs, executor, desc="BEM sweeps", progress=progress)
+    for indices, chain in zip(chains, solved, strict=True):
+        for i, plain, adhesive in zip(indices, chain.plain, chain.adhesive, strict=True):
+            per_load[i] = (plain,) if adhesive is None else (plain, adhesive)
+        mask = chain.mask if chain.mask is not None else mask
+    return per_load, mask
 
 
 def _field(solves: list[list[SolveSummary]], name: str, dtype: type = float) -> np.ndarray:
     return np.array([[getattr(s, name) for s in row] for row in solves], dtype=dtype)
+
+
+def _grid_fields(check: GridCheck, load: float, nominal_area: float, tolerance: float) -> dict:
+    """The grid check's fields of :class:`BemReference` (strides tried, their solves, choice)."""
+    return {
+        "check_stride": check.strides,
+        "check_contact_fraction": check.fractions(),
+        "check_relative_change": check.relative_change,
+        "stride": check.stride,
+        "check_pressure": load / nominal_area,
+        "grid_converged": check.converged(tolerance),
+        "area_tolerance": float(tolerance),
+        "grid_reason": check.reason,
+        "check_error": check.error,
+        "check_iterations": _field(check.solves, "iterations", int),
+        "check_convolutions": _field(check.solves, "convolutions", int),
+        "check_seconds": _field(check.solves, "seconds"),
+        "check_branch": [[s.branch for s in row] for row in check.solves],
+        "check_load": load,
+        "grid_error": float(check.error[check.chosen]),
+    }
+
+
+def _sweep_fields(
+    solves: list[list[SolveSummary]], check: GridCheck, k: int, mask: np.ndarray, grid: Grid
+) -> dict:
+    """The sweeps' fields of :class:`BemReference`, per mode and load; the counts of the
+    stage's solves (the check's at the chosen stride is load ``k``'s, counted once)."""
+    iterations, convolutions = (
+        _field(solves, "iterations", int),
+        _field(solves, "convolutions", int),
+    )
+    fraction = _field(solves, "contact_fraction")
+    check_iterations, check_convolutions = (
+        _field(check.solves, n, int) for n in ("iterations", "convolutions")
+    )
+    return {
+        "mode": np.arange(len(solves)),
+        "mask_x": np.arange(mask.shape[0]) * grid.dx,
+        "mask_y": np.arange(mask.shape[1]) * grid.dy,
+        "contact_fraction": fraction[0],
+        "contact_fraction_adhesive": fraction[1] if len(solves) > 1 else None,
+        "iterations": iterations,
+        "converged": _field(solves, "converged", bool),
+        "solve_seconds": _field(solves, "seconds"),
+        "contact_mask": mask,
+        "dx": grid.dx,
+        "dy": grid.dy,
+        "convolutions": convolutions,
+        "branch": [[s.branch for s in row] for row in solves],
+        "solves": int(check_iterations.size + iterations.size - iterations.shape[0]),
+        "total_iterations": int(check_iterations.sum() + iterations.sum() - iterations[:, k].sum()),
+        "total_convolutions": int(
+            check_convolutions.sum() + convolutions.sum() - convolutions[:, k].sum()
+        ),
+    }
 
 
 def _messages(loads: np.ndarray, solves: list[list[SolveSummary]]) -> list[str]:
@@ -377,105 +460,34 @@ def _messages(loads: np.ndarray, solves: list[list[SolveSummary]]) -> list[str]:
     ]
 
 
-#: The ``[bem]`` keys the BEM reference reads: the keyword arguments of :func:`bem_reference`,
-#: the keys the stage declares and passes (``bem.enabled`` only switches the stage on or off).
-SETTINGS: tuple[str, ...] = (
-    "tol",
-    "max_iter",
-    "area_tolerance",
-    "max_stride",
-    "adhesive",
-    "boundary",
-    "coarsen",
-    "adhesion",
-    "adhesion_range",
-)
-_DEFAULTS = BemConfig()
+def _discretisation_fields(
+    check: GridCheck, solves: list[list[SolveSummary]], pixel: float
+) -> dict:
+    """The Richardson-extrapolation fields of :class:`BemReference` (the grid check's solves,
+    strides x ``pixel`` m) and the discretisation part per mode and load."""
+    fraction = check.fractions()
+    extrapolations = grid_extrapolations(check.strides, fraction, pixel)
+    pairs = zip(extrapolations, fraction[check.chosen], strict=True)
+    relative = np.array([relative_discretisation_uncertainty(e, f) for e, f in pairs])
+    return {
+        "check_extrapolated_fraction": np.array([e.value for e in extrapolations]),
+        "check_extrapolation_uncertainty": np.array([e.uncertainty for e in extrapolations]),
+        "extrapolation_order": np.array([e.order for e in extrapolations]),
+        "extrapolation_safety_factor": np.array([e.safety_factor for e in extrapolations]),
+        "extrapolation_messages": [e.message for e in extrapolations],
+        "discretisation_relative_uncertainty": relative,
+        "contact_fraction_discretisation_uncertainty": relative[:, None]
+        * _field(solves, "contact_fraction"),
+    }
 
 
-def bem_reference(
-    surface: topo.HeightMap,
-    e_star: float,
-    work_of_adhesion: float,
-    normal_loads: Sequence[float],
-    nominal_area: float,
-    *,
-    tol: float = _DEFAULTS.tol,
-    max_iter: int | None = _DEFAULTS.max_iter,
-    area_tolerance: float = _DEFAULTS.area_tolerance,
-    max_stride: int = _DEFAULTS.max_stride,
-    adhesive: bool = _DEFAULTS.adhesive,
-    boundary: str = _DEFAULTS.boundary,
-    coarsen: bool = _DEFAULTS.coarsen,
-    adhesion: str = _DEFAULTS.adhesion,
-    adhesion_range: float | None = _DEFAULTS.adhesion_range,
-    executor: Executor | None = None,
-    progress: bool = False,
-) -> BemReference:
-    """The BEM stage: BEM real contact area against normal load on the map.
-
-    Parameters
-    ----------
-    surface : topo.HeightMap
-        Levelled map, heights in m (larger = closer to the flat).
-    e_star : float
-        E*, Pa.
-    work_of_adhesion : float
-        w, J/m^2 (adhesive solves on the loading branch).
-    normal_loads : sequence of float
-        Experiment loads F_z, N (on the nominal area).
-    nominal_area : float
-        A_n of the experiment, m^2.
-    tol, max_iter, area_tolerance, max_stride, adhesive, boundary, coarsen
-        The ``[bem]`` keys of :data:`SETTINGS`, defaults from
-        :class:`~asperity.pipelines.config.BemConfig`. ``tol`` and ``max_iter`` are the
-        solver's (:func:`bem.solve_contact`).
-        ``area_tolerance``, ``max_stride`` and ``coarsen`` set the grid check
-        (:func:`asperity.pipelines.stages._bem_grid.check_grids`); ``adhesive`` runs the
-        adhesive solves too; ``boundary`` ("periodic" or "free") is every solve's
-        (:mod:`asperity.pipelines.stages._bem_grid`).
-    adhesion, adhesion_range
-        The adhesive law ("maugis" or "pohrt-popov") and the Maugis range h_0 (m; None: the
-        rule of :mod:`asperity.pipelines.stages._bem_range`).
-    executor : Executor, optional
-        Runs the two load chains in parallel.
-    """
-    loads = np.asarray(normal_loads, dtype=float)
-    w = work_of_adhesion if adhesive and work_of_adhesion > 0 else 0.0
-    solver = {"tol": tol, "max_iter": max_iter, "periodic": boundary == "periodic"}
-    k = check_load_index(loads)
-    grid = check_grids(
-        surface,
-        e_star,
-        w,
-        float(loads[k]) / nominal_area,
-        max_stride=max_stride,
-        area_tolerance=area_tolerance,
-        coarsen=coarsen,
-        solver=solver,
-        adhesion=(adhesion, adhesion_range),
-    )
-    h, dx, dy = solver_grid(surface, grid.stride)
-    map_loads = loads * (h.size * dx * dy) / nominal_area
-    law = None if grid.range_choice is None else grid.range_choice.law
-    chains = _solve_chains(grid, surface, e_star, map_loads, w, solver, executor, progress, law)
-    solves = _per_load(loads, k, grid, chains, w > 0)
-    run = SimpleNamespace(
-        loads=loads, k=k, grid=grid, chains=chains, solves=solves, h=h, dx=dx, dy=dy, w=w,
-        pixel=surface.dx,
-    )  # fmt: skip
-    reference = _reference(run, map_loads, nominal_area, area_tolerance, boundary)
-    return _with_adhesion_law(reference, adhesion if w > 0 else None, grid.range_choice)
-
-
-def _with_adhesion_law(
-    reference: BemReference, adhesion: str | None, choice: RangeChoice | None
-) -> BemReference:
+def _with_adhesion_law(reference: BemReference, law: str | None, check: GridCheck) -> BemReference:
     """``reference`` with the adhesive law's fields: the Maugis range, its rule, its
     sensitivity; a Pohrt-Popov run says that its loading branch carries no adhesion."""
-    reference.adhesion = adhesion
-    if adhesion == "pohrt-popov":
+    reference.adhesion = law
+    if law == "pohrt-popov":
         reference.warnings.append(POHRT_POPOV_NOTE)
+    choice = check.range_choice
     if choice is None:
         return reference
     reference.adhesion_range = choice.adhesion_range
@@ -483,94 +495,17 @@ def _with_adhesion_law(
     reference.range_zone_elements = choice.zone_elements
     reference.range_sensitivity = np.asarray(choice.sensitivity, dtype=float)
     reference.area_range_uncertainty = choice.uncertainty
-    reference.range_solves = len(choice.tried) - 1 + len(choice.sensitivity) - 1
+    reference.range_solves = choice.solves
     reference.solves += reference.range_solves
-    relative = choice.uncertainty / choice.sensitivity[1] if choice.sensitivity[1] > 0 else np.nan
     # measured at the check load, applied as the same relative part at every load (stated)
     reference.contact_fraction_adhesion_range_uncertainty = (
-        relative * reference.contact_fraction_adhesive
+        choice.relative_uncertainty * reference.contact_fraction_adhesive
     )
     reference.contact_fraction_uncertainty = combined_uncertainty(
         reference.contact_fraction_discretisation_uncertainty,
         reference.contact_fraction_adhesion_range_uncertainty,
     )
     return reference
-
-
-#: The report line of a Pohrt-Popov run.
-POHRT_POPOV_NOTE = (
-    '[bem] adhesion = "pohrt-popov" (the paper\'s Appendix B, eq:max_sigma): its loading '
-    "branch carries no adhesion (an element joins only where its gap closes), so the adhesive "
-    "BEM areas equal the non-adhesive ones; the statistical model is adhesive on loading "
-    '(E:JKR_load): use adhesion = "maugis" for a like-for-like calibration'
-)
-
-
-def _grid_fields(run: SimpleNamespace, nominal_area: float, area_tolerance: float) -> dict:
-    """The grid check's fields of :class:`BemReference` (strides tried, their solves, choice)."""
-    grid, loads, k = run.grid, run.loads, run.k
-    change = grid.relative_change
-    return {
-        "check_stride": grid.strides,
-        "check_contact_fraction": grid.fractions(),
-        "check_relative_change": change,
-        "stride": grid.stride,
-        "check_pressure": float(loads[k]) / nominal_area,
-        "grid_converged": bool(len(change) < 2 or change[-2] <= area_tolerance),
-        "area_tolerance": float(area_tolerance),
-        "grid_reason": grid.reason,
-        "check_error": grid.error,
-        "check_iterations": _field(grid.solves, "iterations", int),
-        "check_convolutions": _field(grid.solves, "convolutions", int),
-        "check_seconds": _field(grid.solves, "seconds"),
-        "check_branch": [[s.branch for s in row] for row in grid.solves],
-        "check_load": float(loads[k]),
-        "grid_error": float(grid.error[list(grid.strides).index(grid.stride)]),
-    }
-
-
-def _reference(
-    run: SimpleNamespace,
-    map_loads: np.ndarray,
-    nominal_area: float,
-    area_tolerance: float,
-    boundary: str,
-) -> BemReference:
-    """The :class:`BemReference` of the grid check and the load chains ``run`` holds."""
-    loads, k, solves, dx, dy = run.loads, run.k, run.solves, run.dx, run.dy
-    mask = run.chains.get(-1, run.grid.mask)  # the check's own mask when the check load is largest
-    mismatch = edge_mismatch(run.h)
-    warning = boundary_warning(boundary, mismatch)
-    grid = _grid_fields(run, nominal_area, area_tolerance)
-    check_iter, check_conv = grid["check_iterations"], grid["check_convolutions"]
-    iterations = _field(solves, "iterations", int)
-    convolutions = _field(solves, "convolutions", int)
-    return BemReference(
-        normal_load=loads,
-        mode=np.arange(len(solves)),
-        mask_x=np.arange(mask.shape[0]) * dx,
-        mask_y=np.arange(mask.shape[1]) * dy,
-        map_normal_load=map_loads,
-        contact_fraction=_field(solves, "contact_fraction")[0],
-        iterations=iterations,
-        converged=_field(solves, "converged", bool),
-        solve_seconds=_field(solves, "seconds"),
-        contact_mask=mask,
-        dx=dx,
-        dy=dy,
-        messages=_messages(loads, solves),
-        convolutions=convolutions,
-        branch=[[s.branch for s in row] for row in solves],
-        boundary=boundary,
-        edge_mismatch=mismatch,
-        warnings=[warning] if warning else [],
-        solves=int(check_iter.size + iterations.size - iterations.shape[0]),
-        total_iterations=int(check_iter.sum() + iterations.sum() - iterations[:, k].sum()),
-        total_convolutions=int(check_conv.sum() + convolutions.sum() - convolutions[:, k].sum()),
-        contact_fraction_adhesive=_field(solves, "contact_fraction")[1] if run.w > 0 else None,
-        **grid,
-        **discretisation_fields(run),
-    )
 
 
 def compute_bem(context: StageContext) -> BemReference:
@@ -582,7 +517,7 @@ def compute_bem(context: StageContext) -> BemReference:
         config.material.work_of_adhesion,
         config.loading.normal_loads,
         config.loading.nominal_area,
-        **{name: getattr(config.bem, name) for name in SETTINGS},
+        config.bem,
         executor=context.executor,
         progress=context.progress,
     )
