@@ -36,17 +36,19 @@ def options_with_deprecated_knobs(
 ) -> SolverOptions:
     """``options`` with the knobs given the 0.3 way, as keywords of :func:`solve_contact`.
 
-    Each knob warns (``DeprecationWarning`` naming the :class:`SolverOptions` field) and, when
-    not None, replaces that field, as in 0.3. A keyword that is not a knob is a TypeError, as
+    Knobs given warn once (a ``DeprecationWarning`` naming each :class:`SolverOptions` field)
+    and, when not None, replace their fields, as in 0.3. A keyword that is not a knob is a TypeError, as
     for any function.
     """
     unknown = sorted(set(knobs) - set(KNOBS))
     if unknown:
         raise TypeError(f"solve_contact() got an unexpected keyword argument {unknown[0]!r}")
-    for name, value in knobs.items():
+    if knobs:
+        given = ", ".join(f"{name}=..." for name in knobs)
+        fields = ", ".join(f"{name}={value!r}" for name, value in knobs.items())
         warnings.warn(
-            f"solve_contact({name}=...) is deprecated since asperity 0.4 and will be removed in "
-            f"0.5: pass options=bem.SolverOptions({name}={value!r})",
+            f"solve_contact({given}) is deprecated since asperity 0.4 and will be removed in "
+            f"0.5: pass options=bem.SolverOptions({fields})",
             DeprecationWarning,
             stacklevel=3,
         )

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from asperity.bem import solve_contact
+from asperity.bem import SolverOptions, solve_contact
 
 E, WAVELENGTH, AMPLITUDE = 2.0e9, 1.0e-4, 1.0e-6  # Pa, m, m
 P_STAR = np.pi * E * AMPLITUDE / WAVELENGTH  # full-contact mean pressure (Johnson 1985)
@@ -20,7 +20,9 @@ def _wavy(nx, ny=8):
 def test_full_contact_pressure_is_exact(kernel, contact_ok):
     h, dx, x = _wavy(64)
     p_mean = 1.5 * P_STAR
-    res = solve_contact(h, dx, dx, E, mean_pressure=p_mean, kernel=kernel, tol=1e-12)
+    res = solve_contact(
+        h, dx, dx, E, mean_pressure=p_mean, options=SolverOptions(kernel=kernel, tol=1e-12)
+    )
     assert res.converged, res.message
     contact_ok(res, h)
     assert res.contact_fraction == 1.0
@@ -41,7 +43,7 @@ def test_partial_contact_width_and_pressure(ratio, contact_ok):
     n = 512
     h, dx, x = _wavy(n, ny=4)
     p_mean = ratio * P_STAR
-    res = solve_contact(h, dx, dx, E, mean_pressure=p_mean, tol=1e-10)
+    res = solve_contact(h, dx, dx, E, mean_pressure=p_mean, options=SolverOptions(tol=1e-10))
     assert res.converged, res.message
     contact_ok(res, h, force=p_mean * h.size * dx * dx)
     half_width = WAVELENGTH / np.pi * np.arcsin(np.sqrt(ratio))
