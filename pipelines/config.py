@@ -222,12 +222,16 @@ class LoadingConfig:
 
 @dataclass(frozen=True)
 class BemConfig:
-    """The BEM reference (stage 3).
+    """The BEM reference (stage 3): the ``[bem]`` table, written once.
+
+    Its fields but ``enabled`` are the settings of
+    :func:`asperity.pipelines.stages.bem.bem_reference` (which takes this object) and the keys
+    the stage declares (:data:`asperity.pipelines.stages.bem.SETTINGS` is derived from them).
 
     Attributes
     ----------
     tol : float
-        Solver tolerance passed to :func:`bem.load_sweep`.
+        Solver tolerance of every BEM solve (:class:`bem.SolverOptions` ``tol``).
     max_iter : int or None
         Iteration cap (None: the solver's default).
     area_tolerance : float
@@ -243,7 +247,7 @@ class BemConfig:
         then alone chooses the effective resolution.
     boundary : str
         ``"periodic"`` (the map is one period of the interface, as the paper's Appendix B) or
-        ``"free"`` (a finite specimen); see :mod:`asperity.pipelines.bem_grid`.
+        ``"free"`` (a finite specimen); see :mod:`asperity.bem.grid_refinement`.
     coarsen : bool
         Let the sweeps use a coarser grid than the map when its area is within
         ``area_tolerance`` of the finest grid solved (false: the map's own resolution).
@@ -253,7 +257,7 @@ class BemConfig:
         paper's Appendix B criterion, whose loading branch carries no adhesion).
     adhesion_range : float or None
         Maugis-Dugdale range h_0, m; None ("auto" in the job file): the shortest range whose
-        cohesive zone the grid resolves (:mod:`asperity.pipelines.stages._bem_range`).
+        cohesive zone the grid resolves (:mod:`asperity.bem.adhesion_range`).
     """
 
     tol: float = 1e-6
