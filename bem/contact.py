@@ -37,8 +37,8 @@ def options_with_deprecated_knobs(
     """``options`` with the knobs given the 0.3 way, as keywords of :func:`solve_contact`.
 
     Knobs given warn once (a ``DeprecationWarning`` naming each :class:`SolverOptions` field)
-    and, when not None, replace their fields, as in 0.3. A keyword that is not a knob is a TypeError, as
-    for any function.
+    and, when not None, replace their fields, as in 0.3. A keyword that is not a knob is a
+    TypeError, as for any function.
     """
     unknown = sorted(set(knobs) - set(KNOBS))
     if unknown:

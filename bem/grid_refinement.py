@@ -65,6 +65,7 @@ __all__ = [
     "boundary_warning",
     "check_grids",
     "check_strides",
+    "discretisation_estimate",
     "choose_stride",
     "edge_mismatch",
     "grid_extrapolations",
@@ -394,3 +395,15 @@ def relative_discretisation_uncertainty(
     if not (np.isfinite(f0) and np.isfinite(u)) or used_fraction <= 0:
         return float("nan")
     return float((abs(used_fraction - f0) + u) / used_fraction)
+
+
+def discretisation_estimate(
+    check: GridCheck, pixel: float
+) -> tuple[list[GridExtrapolation], np.ndarray]:
+    """The grid check's Richardson extrapolation per mode (:func:`grid_extrapolations`) and the
+    relative discretisation uncertainty per mode of the grid chosen
+    (:func:`relative_discretisation_uncertainty`, 1); ``pixel`` is the map's pixel size, m."""
+    fraction = check.fractions()
+    extrapolations = grid_extrapolations(check.strides, fraction, pixel)
+    pairs = zip(extrapolations, fraction[check.chosen], strict=True)
+    return extrapolations, np.array([relative_discretisation_uncertainty(e, f) for e, f in pairs])

@@ -17,33 +17,24 @@ outwards from it (in parallel with two workers; the map is shipped to each worke
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass
 
 import numpy as np
 
 from asperity import topo
+from asperity.bem.adhesion_range import RangeChoice
 from asperity.bem.discretisation import combined_uncertainty
 from asperity.bem.grid_refinement import (
     GridCheck,
     boundary_warning,
-    check_grids,
+    discretisation_estimate,
     edge_mismatch,
-    grid_extrapolations,
-    relative_discretisation_uncertainty,
 )
-from asperity.bem.load_sweeps import (
-    ContactSetup,
-    Grid,
-    LoadChain,
-    SolveSummary,
-    check_load_index,
-    decimated_grid,
-    load_chains,
-    solve_chain,
-)
+from asperity.bem.load_sweeps import ContactSetup, LoadChain
 from asperity.bem.options import SolverOptions
+from asperity.bem.reference import ChainMap, solve_reference
 from asperity.fields import array, document_fields, scalar, text
 from asperity.pipelines.config import BemConfig
 from asperity.pipelines.engine.parallel import run_map, share, worker_threads
@@ -288,15 +279,24 @@ POHRT_POPOV_NOTE = (
 
 
 def _with_worker_threads(setup: ContactSetup) -> ContactSetup:
-    threads = worker_threads()
-    if threads is None:
-        return setup
-    return dataclasses.replace(setup, options=dataclasses.replace(setup.options, threads=threads))
+    """``setup`` with this process's FFT thread cap (:func:`worker_threads`)."""
+    options = dataclasses.replace(setup.options, threads=worker_threads())
+    return dataclasses.replace(setup, options=options)
 
 
-def _chain(grid: Grid, setup: ContactSetup, forces: list[float], start, want_mask) -> LoadChain:
-    """One load chain in a worker, with the worker's FFT thread cap."""
-    return solve_chain(grid, _with_worker_threads(setup), forces, start, want_mask)
+def _in_worker(function: Callable[..., LoadChain], grid, setup, *job) -> LoadChain:
+    return function(grid, _with_worker_threads(setup), *job)
+
+
+def _chain_map(executor: Executor | None, progress: bool) -> ChainMap:
+    """Runs the load chains through ``executor``, the map and start shipped to each worker once."""
+
+    def map_chains(function: Callable[..., LoadChain], jobs: list[tuple]) -> list[LoadChain]:
+        grid, start = share(executor, jobs[0][0]), share(executor, jobs[0][3])
+        jobs = [(function, grid, setup, forces, start, mask) for _, setup, forces, _, mask in jobs]
+        return run_map(_in_worker, jobs, executor, desc="BEM sweeps", progress=progress)
+
+    return map_chains
 
 
 def bem_reference(
@@ -310,7 +310,7 @@ def bem_reference(
     executor: Executor | None = None,
     progress: bool = False,
 ) -> BemReference:
-    """The BEM real contact area against normal load on the map.
+    """The BEM real contact area against normal load on the map (:func:`bem.solve_reference`).
 
     Parameters
     ----------
@@ -325,11 +325,10 @@ def bem_reference(
     nominal_area : float
         A_n of the experiment, m^2.
     settings : BemConfig, optional
-        The ``[bem]`` table (default ``BemConfig()``): ``tol`` and ``max_iter`` of the solver,
-        the grid check's ``max_stride``, ``area_tolerance``, ``coarsen``
-        (:func:`bem.grid_refinement.check_grids`), ``boundary``, ``adhesive``, and the law
-        ``adhesion`` with its range ``adhesion_range`` (m; None: the rule of
-        :func:`bem.adhesion_range.search_range`).
+        The ``[bem]`` table (default ``BemConfig()``): the solver's ``tol`` and ``max_iter``,
+        the grid check's ``max_stride``, ``area_tolerance``, ``coarsen``, the ``boundary``,
+        ``adhesive``, the law ``adhesion`` and its range ``adhesion_range`` (m; None: the rule
+        of :func:`bem.adhesion_range.search_range`).
     executor : Executor, optional
         Runs the two load chains in parallel.
     """
@@ -338,156 +337,79 @@ def bem_reference(
     w = work_of_adhesion if settings.adhesive and work_of_adhesion > 0 else 0.0
     options = SolverOptions(tol=settings.tol, max_iter=settings.max_iter)
     setup = ContactSetup(e_star, w, options, periodic=settings.boundary == "periodic")
-    k = check_load_index(loads)
-    check = check_grids(
-        surface.heights, surface.dx, surface.dy, _with_worker_threads(setup),
-        float(loads[k]) / nominal_area, max_stride=settings.max_stride,
-        area_tolerance=settings.area_tolerance, coarsen=settings.coarsen,
-        adhesion=settings.adhesion, adhesion_range=settings.adhesion_range,
+    run = solve_reference(
+        surface.heights, surface.dx, surface.dy, _with_worker_threads(setup), loads,
+        nominal_area, max_stride=settings.max_stride, area_tolerance=settings.area_tolerance,
+        coarsen=settings.coarsen, adhesion=settings.adhesion,
+        adhesion_range=settings.adhesion_range, map_chains=_chain_map(executor, progress),
     )  # fmt: skip
-    if check.range_choice is not None:
-        setup = dataclasses.replace(setup, adhesion_range=check.range_choice.adhesion_range)
-    grid = decimated_grid(surface.heights, surface.dx, surface.dy, check.stride)
-    map_loads = loads * grid.area / nominal_area
-    per_load, mask = _solve_chains(grid, setup, map_loads, check.start, executor, progress)
-    per_load[k] = tuple(check.solves[check.chosen])
-    solves = [[per_load[i][m] for i in range(len(loads))] for m in range(1 + (w > 0))]
+    check, grid, k = run.check, run.grid, run.check_index
     mismatch = edge_mismatch(grid.heights)
     warning = boundary_warning(settings.boundary, mismatch)
+    extrapolations, relative = discretisation_estimate(check, surface.dx)
+    fraction = run.field("contact_fraction")
+    solves, iterations, convolutions = run.totals()
     reference = BemReference(
-        normal_load=loads, map_normal_load=map_loads,
-        **_grid_fields(check, float(loads[k]), nominal_area, settings.area_tolerance),
-        **_sweep_fields(solves, check, k, mask if mask is not None else check.mask, grid),
-        messages=_messages(loads, solves),
-        **_discretisation_fields(check, solves, surface.dx),
-        boundary=settings.boundary, edge_mismatch=mismatch, warnings=[warning] if warning else [],
-    )  # fmt: skip
-    return _with_adhesion_law(reference, settings.adhesion if w > 0 else None, check)
-
-
-def _solve_chains(
-    grid: Grid,
-    setup: ContactSetup,
-    map_loads: np.ndarray,
-    start: tuple[np.ndarray, float],
-    executor: Executor | None,
-    progress: bool,
-) -> tuple[dict[int, tuple[SolveSummary, ...]], np.ndarray | None]:
-    """The solves at every load but the check load, per load index (non-adhesive, then
-    adhesive when run), and the contact mask of the largest load when a chain reaches it."""
-    chains = load_chains(map_loads)
-    if not chains:
-        return {}, None
-    largest = int(np.argmax(map_loads))
-    shared, first = share(executor, grid), share(executor, start)
-    jobs = [(shared, setup, [float(map_loads[i]) for i in c], first, largest in c) for c in chains]
-    per_load: dict[int, tuple[SolveSummary, ...]] = {}
-    mask = None
-    solved = run_map(_chain, jobs, executor, desc="BEM sweeps", progress=progress)
-    for indices, chain in zip(chains, solved, strict=True):
-        for i, plain, adhesive in zip(indices, chain.plain, chain.adhesive, strict=True):
-            per_load[i] = (plain,) if adhesive is None else (plain, adhesive)
-        mask = chain.mask if chain.mask is not None else mask
-    return per_load, mask
-
-
-def _field(solves: list[list[SolveSummary]], name: str, dtype: type = float) -> np.ndarray:
-    return np.array([[getattr(s, name) for s in row] for row in solves], dtype=dtype)
-
-
-def _grid_fields(check: GridCheck, load: float, nominal_area: float, tolerance: float) -> dict:
-    """The grid check's fields of :class:`BemReference` (strides tried, their solves, choice)."""
-    return {
-        "check_stride": check.strides,
-        "check_contact_fraction": check.fractions(),
-        "check_relative_change": check.relative_change,
-        "stride": check.stride,
-        "check_pressure": load / nominal_area,
-        "grid_converged": check.converged(tolerance),
-        "area_tolerance": float(tolerance),
-        "grid_reason": check.reason,
-        "check_error": check.error,
-        "check_iterations": _field(check.solves, "iterations", int),
-        "check_convolutions": _field(check.solves, "convolutions", int),
-        "check_seconds": _field(check.solves, "seconds"),
-        "check_branch": [[s.branch for s in row] for row in check.solves],
-        "check_load": load,
-        "grid_error": float(check.error[check.chosen]),
-    }
-
-
-def _sweep_fields(
-    solves: list[list[SolveSummary]], check: GridCheck, k: int, mask: np.ndarray, grid: Grid
-) -> dict:
-    """The sweeps' fields of :class:`BemReference`, per mode and load; the counts of the
-    stage's solves (the check's at the chosen stride is load ``k``'s, counted once)."""
-    iterations, convolutions = (
-        _field(solves, "iterations", int),
-        _field(solves, "convolutions", int),
+        normal_load=loads,
+        mode=np.arange(len(run.solves)),
+        check_stride=check.strides,
+        mask_x=np.arange(run.mask.shape[0]) * grid.dx,
+        mask_y=np.arange(run.mask.shape[1]) * grid.dy,
+        map_normal_load=run.map_loads,
+        contact_fraction=fraction[0],
+        iterations=run.field("iterations", int),
+        converged=run.field("converged", bool),
+        solve_seconds=run.field("seconds"),
+        check_contact_fraction=check.fractions(),
+        check_relative_change=check.relative_change,
+        contact_mask=run.mask,
+        stride=check.stride,
+        dx=grid.dx,
+        dy=grid.dy,
+        check_pressure=float(loads[k]) / nominal_area,
+        grid_converged=check.converged(settings.area_tolerance),
+        grid_reason=check.reason,
+        messages=run.messages(loads),
+        convolutions=run.field("convolutions", int),
+        branch=[[s.branch for s in row] for row in run.solves],
+        check_error=check.error,
+        check_iterations=_check_field(check, "iterations", int),
+        check_convolutions=_check_field(check, "convolutions", int),
+        check_seconds=_check_field(check, "seconds"),
+        check_branch=[[s.branch for s in row] for row in check.solves],
+        check_load=float(loads[k]),
+        grid_error=float(check.error[check.chosen]),
+        boundary=settings.boundary,
+        edge_mismatch=mismatch,
+        warnings=[warning] if warning else [],
+        solves=solves,
+        total_iterations=iterations,
+        total_convolutions=convolutions,
+        contact_fraction_adhesive=fraction[1] if w > 0 else None,
+        area_tolerance=float(settings.area_tolerance),
+        check_extrapolated_fraction=np.array([e.value for e in extrapolations]),
+        check_extrapolation_uncertainty=np.array([e.uncertainty for e in extrapolations]),
+        extrapolation_order=np.array([e.order for e in extrapolations]),
+        extrapolation_safety_factor=np.array([e.safety_factor for e in extrapolations]),
+        extrapolation_messages=[e.message for e in extrapolations],
+        discretisation_relative_uncertainty=relative,
+        contact_fraction_discretisation_uncertainty=relative[:, None] * fraction,
     )
-    fraction = _field(solves, "contact_fraction")
-    check_iterations, check_convolutions = (
-        _field(check.solves, n, int) for n in ("iterations", "convolutions")
-    )
-    return {
-        "mode": np.arange(len(solves)),
-        "mask_x": np.arange(mask.shape[0]) * grid.dx,
-        "mask_y": np.arange(mask.shape[1]) * grid.dy,
-        "contact_fraction": fraction[0],
-        "contact_fraction_adhesive": fraction[1] if len(solves) > 1 else None,
-        "iterations": iterations,
-        "converged": _field(solves, "converged", bool),
-        "solve_seconds": _field(solves, "seconds"),
-        "contact_mask": mask,
-        "dx": grid.dx,
-        "dy": grid.dy,
-        "convolutions": convolutions,
-        "branch": [[s.branch for s in row] for row in solves],
-        "solves": int(check_iterations.size + iterations.size - iterations.shape[0]),
-        "total_iterations": int(check_iterations.sum() + iterations.sum() - iterations[:, k].sum()),
-        "total_convolutions": int(
-            check_convolutions.sum() + convolutions.sum() - convolutions[:, k].sum()
-        ),
-    }
+    return _with_adhesion_law(reference, settings.adhesion if w > 0 else None, check.range_choice)
 
 
-def _messages(loads: np.ndarray, solves: list[list[SolveSummary]]) -> list[str]:
-    return [
-        f"{'adhesive' if m else 'non-adhesive'} F_z={loads[i]:.4g} N: {s.message}"
-        for m, row in enumerate(solves)
-        for i, s in enumerate(row)
-        if not s.converged
-    ]
+def _check_field(check: GridCheck, name: str, dtype: type = float) -> np.ndarray:
+    return np.array([[getattr(s, name) for s in row] for row in check.solves], dtype=dtype)
 
 
-def _discretisation_fields(
-    check: GridCheck, solves: list[list[SolveSummary]], pixel: float
-) -> dict:
-    """The Richardson-extrapolation fields of :class:`BemReference` (the grid check's solves,
-    strides x ``pixel`` m) and the discretisation part per mode and load."""
-    fraction = check.fractions()
-    extrapolations = grid_extrapolations(check.strides, fraction, pixel)
-    pairs = zip(extrapolations, fraction[check.chosen], strict=True)
-    relative = np.array([relative_discretisation_uncertainty(e, f) for e, f in pairs])
-    return {
-        "check_extrapolated_fraction": np.array([e.value for e in extrapolations]),
-        "check_extrapolation_uncertainty": np.array([e.uncertainty for e in extrapolations]),
-        "extrapolation_order": np.array([e.order for e in extrapolations]),
-        "extrapolation_safety_factor": np.array([e.safety_factor for e in extrapolations]),
-        "extrapolation_messages": [e.message for e in extrapolations],
-        "discretisation_relative_uncertainty": relative,
-        "contact_fraction_discretisation_uncertainty": relative[:, None]
-        * _field(solves, "contact_fraction"),
-    }
-
-
-def _with_adhesion_law(reference: BemReference, law: str | None, check: GridCheck) -> BemReference:
+def _with_adhesion_law(
+    reference: BemReference, law: str | None, choice: RangeChoice | None
+) -> BemReference:
     """``reference`` with the adhesive law's fields: the Maugis range, its rule, its
     sensitivity; a Pohrt-Popov run says that its loading branch carries no adhesion."""
     reference.adhesion = law
     if law == "pohrt-popov":
         reference.warnings.append(POHRT_POPOV_NOTE)
-    choice = check.range_choice
     if choice is None:
         return reference
     reference.adhesion_range = choice.adhesion_range
@@ -496,7 +418,6 @@ def _with_adhesion_law(reference: BemReference, law: str | None, check: GridChec
     reference.range_sensitivity = np.asarray(choice.sensitivity, dtype=float)
     reference.area_range_uncertainty = choice.uncertainty
     reference.range_solves = choice.solves
-    reference.solves += reference.range_solves
     # measured at the check load, applied as the same relative part at every load (stated)
     reference.contact_fraction_adhesion_range_uncertainty = (
         choice.relative_uncertainty * reference.contact_fraction_adhesive
