@@ -244,9 +244,13 @@ class GridCheck:
     mask: np.ndarray = field(repr=False)
     range_choice: RangeChoice | None = None
 
+    def field(self, name: str, dtype: type = float) -> np.ndarray:
+        """One :class:`SolveSummary` attribute per (stride, mode)."""
+        return np.array([[getattr(s, name) for s in row] for row in self.solves], dtype=dtype)
+
     def fractions(self) -> np.ndarray:
         """A_r/A_n per (stride, mode)."""
-        return np.array([[s.contact_fraction for s in row] for row in self.solves])
+        return self.field("contact_fraction")
 
     @property
     def chosen(self) -> int:

@@ -89,7 +89,7 @@ class ReferenceSolves:
         counts = []
         for name in ("iterations", "convolutions"):
             sweep = self.field(name, int)
-            check = np.array([[getattr(s, name) for s in r] for r in self.check.solves], int)
+            check = self.check.field(name, int)
             counts.append(int(check.sum() + sweep.sum() - sweep[:, k].sum()))
         sweep_size = self.field("iterations", int).size
         check_size = sum(len(row) for row in self.check.solves)

@@ -1,8 +1,3 @@
-"""The seam limit of the BEM's boundary check, re-exported for :mod:`asperity.pipelines.report.bem`.
+"""The seam limit for :mod:`~asperity.pipelines.report.bem`; it lives in bem.grid_refinement."""
 
-The grid check lives in :mod:`asperity.bem.grid_refinement`; import from there.
-"""
-
-from asperity.bem.grid_refinement import EDGE_MISMATCH_LIMIT
-
-__all__ = ["EDGE_MISMATCH_LIMIT"]
+from asperity.bem.grid_refinement import EDGE_MISMATCH_LIMIT as EDGE_MISMATCH_LIMIT

@@ -1,17 +1,10 @@
-"""The BEM stage: the BEM reference A_r(F_z) on the map (Appendix B; squares of Fig 12d).
+"""The BEM stage (3): the BEM reference A_r(F_z) on the map (Appendix B; squares of Fig 12d).
 
-The map covers only part of the experiment's nominal area A_n, so each normal load is scaled
-to the map at equal nominal pressure, F_map = F_z A_map / A_n, and the result is reported as
-the fraction A_r / A_map (equal to A_r / A_n of the experiment). The numerics are
-:mod:`asperity.bem`'s: the grid check and its Richardson extrapolation
-(:mod:`asperity.bem.grid_refinement`), the Maugis-Dugdale range rule
-(:mod:`asperity.bem.adhesion_range`; ``[bem] adhesion = "pohrt-popov"`` keeps the paper's
-eq:max_sigma, whose loading branch carries no adhesion) and the load chains
-(:mod:`asperity.bem.load_sweeps`). This module declares the stage: its ``[bem]`` keys
-(:data:`SETTINGS`, the fields of :class:`~asperity.pipelines.config.BemConfig`), its input, its
-stored fields (:class:`BemReference`). Nothing is solved twice: the grid check's solve at the
-chosen stride is the sweep's solve at the check load; the other loads are solved in two chains
-outwards from it (in parallel with two workers; the map is shipped to each worker once).
+A declaration: its ``[bem]`` keys (:data:`SETTINGS`, the fields of
+:class:`~asperity.pipelines.config.BemConfig`), its input (the levelled map) and its stored
+fields (:class:`BemReference`). The numerics are :func:`asperity.bem.solve_reference`'s: the grid
+check with its Richardson extrapolation (:mod:`asperity.bem.grid_refinement`), the Maugis range
+rule (:mod:`asperity.bem.adhesion_range`) and the load chains (:mod:`asperity.bem.load_sweeps`).
 """
 
 from __future__ import annotations
@@ -27,7 +20,6 @@ from asperity import topo
 from asperity.bem.adhesion_range import RangeChoice
 from asperity.bem.discretisation import combined_uncertainty
 from asperity.bem.grid_refinement import (
-    GridCheck,
     boundary_warning,
     discretisation_estimate,
     edge_mismatch,
@@ -51,72 +43,28 @@ class BemReference:
 
     Attributes
     ----------
-    normal_load : ndarray
-        Experiment loads F_z, N.
     mode : ndarray
         0 non-adhesive, 1 adhesive (``adhesion``, when run).
-    check_stride : ndarray
-        Strides solved by the grid refinement check, coarse to fine.
-    mask_x, mask_y : ndarray
-        Pixel positions of the solved grid, m.
-    map_normal_load : ndarray
-        Loads on the solved map, F_z A_map / A_n, N.
     contact_fraction : ndarray
         Non-adhesive A_r/A_map (= A_r/A_n of the experiment).
     contact_fraction_adhesive : ndarray or None
         Adhesive A_r/A_map (law ``adhesion``); None when not run.
-    iterations, converged, solve_seconds : ndarray, shape (n_mode, n_load)
-        Per solve: iterations, convergence, wall time (s).
-    check_contact_fraction : ndarray, shape (n_check_stride, n_mode)
-        A_r/A_map at the check pressure per stride and mode.
-    check_relative_change : ndarray
-        Largest relative change to the next finer stride (NaN for the finest).
     contact_mask : ndarray of bool
         Contact at the largest load (adhesive when run).
-    stride : int
-        Chosen decimation of the map for the sweeps.
-    dx, dy : float
-        Pixel sizes of the solved grid, m.
-    check_pressure : float
-        Nominal pressure of the check, Pa.
     grid_converged : bool
         The two finest grids solved agree within ``bem.area_tolerance`` (the finest grid's
         area looks converged); True when a single grid was solved.
-    grid_reason : str
-        One sentence for the report.
-    messages : list of str
-        Solver messages of runs that did not converge.
     convolutions : ndarray, shape (n_mode, n_load)
         FFT convolutions per solve (an adhesive solve's non-adhesive start included).
     branch : list of list of str
         Per mode and load: the branch of the solve (``"unique"`` non-adhesive, ``"loading"``).
-    check_error : ndarray
-        Per check stride: largest relative A_r/A_n difference from the finest grid solved.
-    check_iterations, check_convolutions, check_seconds : ndarray, (n_check_stride, n_mode)
-        Per check solve: iterations, convolutions, wall time (s).
-    check_branch : list of list of str
-        Per check stride and mode: the branch of the solve.
     check_load : float
         Experiment load of the check, N (one of ``normal_load``: its solve at the chosen
         stride is the sweep's).
     grid_error : float
         Error of the grid used against the finest grid solved (0 when it is the finest).
-    boundary : str
-        ``"periodic"`` or ``"free"``.
-    edge_mismatch : float
-        Rms height jump across opposite edges of the solved grid over its rms height.
-    warnings : list of str
-        Report lines (a periodic solve of a map whose edges do not meet).
-    solves, total_iterations, total_convolutions : int
-        BEM solves made by the stage (each once), their iterations and convolutions.
     all_converged : bool
         Every solve converged (derived).
-    adhesion : str or None
-        Law of the adhesive solves: "maugis" or "pohrt-popov" (None when not run).
-    adhesion_range : float or None
-        Maugis-Dugdale range h_0 of the adhesive solves, m.
-    range_rule : str or None
-        How h_0 was chosen, with the cohesive-zone width reached (report line).
     range_zone_elements : float or None
         Mean cohesive-zone width at the check load on the range search's grid, elements.
     range_sensitivity : ndarray or None
@@ -124,15 +72,9 @@ class BemReference:
     area_range_uncertainty : float or None
         Half the spread of ``range_sensitivity`` (absolute A_r/A_n): the range part of the
         BEM's uncertainty (:func:`asperity.bem.discretisation.half_spread`).
-    range_solves : int
-        Maugis solves made by the range search and sensitivity beyond the check's own.
     check_extrapolated_fraction, check_extrapolation_uncertainty : ndarray or None
         Per mode: the grid check's A_r/A_n extrapolated to zero pixel size and its band
         (:func:`bem.richardson_extrapolation`, Roache's grid convergence index, about 95 %).
-    extrapolation_order, extrapolation_safety_factor : ndarray or None
-        Per mode: the order p and the safety factor Fs used.
-    extrapolation_messages : list of str or None
-        Per mode: how p and Fs were chosen.
     discretisation_relative_uncertainty : ndarray or None
         Per mode: the relative uncertainty of the A_r/A_n of the grid the sweeps use,
         ``(|f - f_0| + u) / f`` (the band holds the whole extrapolated band), applied to every
@@ -345,7 +287,11 @@ def bem_reference(
     )  # fmt: skip
     check, grid, k = run.check, run.grid, run.check_index
     mismatch = edge_mismatch(grid.heights)
-    warning = boundary_warning(settings.boundary, mismatch)
+    law = settings.adhesion if w > 0 else None
+    notes = (
+        boundary_warning(settings.boundary, mismatch),
+        law == "pohrt-popov" and POHRT_POPOV_NOTE,
+    )
     extrapolations, relative = discretisation_estimate(check, surface.dx)
     fraction = run.field("contact_fraction")
     solves, iterations, convolutions = run.totals()
@@ -373,15 +319,15 @@ def bem_reference(
         convolutions=run.field("convolutions", int),
         branch=[[s.branch for s in row] for row in run.solves],
         check_error=check.error,
-        check_iterations=_check_field(check, "iterations", int),
-        check_convolutions=_check_field(check, "convolutions", int),
-        check_seconds=_check_field(check, "seconds"),
+        check_iterations=check.field("iterations", int),
+        check_convolutions=check.field("convolutions", int),
+        check_seconds=check.field("seconds"),
         check_branch=[[s.branch for s in row] for row in check.solves],
         check_load=float(loads[k]),
         grid_error=float(check.error[check.chosen]),
         boundary=settings.boundary,
         edge_mismatch=mismatch,
-        warnings=[warning] if warning else [],
+        warnings=[note for note in notes if note],
         solves=solves,
         total_iterations=iterations,
         total_convolutions=convolutions,
@@ -394,39 +340,27 @@ def bem_reference(
         extrapolation_messages=[e.message for e in extrapolations],
         discretisation_relative_uncertainty=relative,
         contact_fraction_discretisation_uncertainty=relative[:, None] * fraction,
-    )
-    return _with_adhesion_law(reference, settings.adhesion if w > 0 else None, check.range_choice)
-
-
-def _check_field(check: GridCheck, name: str, dtype: type = float) -> np.ndarray:
-    return np.array([[getattr(s, name) for s in row] for row in check.solves], dtype=dtype)
-
-
-def _with_adhesion_law(
-    reference: BemReference, law: str | None, choice: RangeChoice | None
-) -> BemReference:
-    """``reference`` with the adhesive law's fields: the Maugis range, its rule, its
-    sensitivity; a Pohrt-Popov run says that its loading branch carries no adhesion."""
-    reference.adhesion = law
-    if law == "pohrt-popov":
-        reference.warnings.append(POHRT_POPOV_NOTE)
-    if choice is None:
-        return reference
-    reference.adhesion_range = choice.adhesion_range
-    reference.range_rule = choice.rule
-    reference.range_zone_elements = choice.zone_elements
-    reference.range_sensitivity = np.asarray(choice.sensitivity, dtype=float)
-    reference.area_range_uncertainty = choice.uncertainty
-    reference.range_solves = choice.solves
-    # measured at the check load, applied as the same relative part at every load (stated)
-    reference.contact_fraction_adhesion_range_uncertainty = (
-        choice.relative_uncertainty * reference.contact_fraction_adhesive
-    )
-    reference.contact_fraction_uncertainty = combined_uncertainty(
-        reference.contact_fraction_discretisation_uncertainty,
-        reference.contact_fraction_adhesion_range_uncertainty,
+        adhesion=law,
+        **_range_fields(check.range_choice, fraction[-1]),
     )
     return reference
+
+
+def _range_fields(choice: RangeChoice | None, adhesive: np.ndarray) -> dict:
+    """The Maugis range's fields of :class:`BemReference`: the range, its rule, its
+    sensitivity, measured at the check load and applied as the same relative part at every
+    load (stated); none for Pohrt-Popov or a non-adhesive run."""
+    if choice is None:
+        return {}
+    return {
+        "adhesion_range": choice.adhesion_range,
+        "range_rule": choice.rule,
+        "range_zone_elements": choice.zone_elements,
+        "range_sensitivity": np.asarray(choice.sensitivity, dtype=float),
+        "area_range_uncertainty": choice.uncertainty,
+        "range_solves": choice.solves,
+        "contact_fraction_adhesion_range_uncertainty": choice.relative_uncertainty * adhesive,
+    }
 
 
 def compute_bem(context: StageContext) -> BemReference:
