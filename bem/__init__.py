@@ -46,6 +46,9 @@ _EXPORTS: dict[str, str] = {
     "RangeChoice": "asperity.bem.adhesion_range",
     "search_range": "asperity.bem.adhesion_range",
     "measure_sensitivity": "asperity.bem.adhesion_range",
+    "ReferenceSolves": "asperity.bem.reference",
+    "solve_reference": "asperity.bem.reference",
+    "discretisation_estimate": "asperity.bem.grid_refinement",
 }
 
 __all__ = [
@@ -82,6 +85,9 @@ __all__ = [
     "RangeChoice",
     "search_range",
     "measure_sensitivity",
+    "ReferenceSolves",
+    "solve_reference",
+    "discretisation_estimate",
 ]
 
 
