@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import dataclasses
 import sys
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from importlib import resources
@@ -270,6 +271,27 @@ class BemConfig:
     coarsen: bool = True
     adhesion: str = "maugis"
     adhesion_range: float | None = None
+
+    def with_keywords(self, caller: str, keywords: Mapping[str, Any]) -> BemConfig:
+        """This table with settings given the 0.3 way, as keywords of ``caller`` (e.g.
+        ``bem_reference(..., max_stride=2)``): they warn once (``DeprecationWarning`` naming
+        the fields; removed in asperity 0.5) and replace their fields. A keyword that is not
+        a setting is a TypeError, as for any function."""
+        if not keywords:
+            return self
+        settings = {f.name for f in dataclasses.fields(self)} - {"enabled"}
+        unknown = sorted(set(keywords) - settings)
+        if unknown:
+            raise TypeError(f"{caller}() got an unexpected keyword argument {unknown[0]!r}")
+        given = ", ".join(f"{name}=..." for name in keywords)
+        fields = ", ".join(f"{name}={value!r}" for name, value in keywords.items())
+        warnings.warn(
+            f"{caller}({given}) is deprecated since asperity 0.4 and will be removed in 0.5: "
+            f"pass settings=BemConfig({fields})",
+            DeprecationWarning,
+            stacklevel=3,
+        )
+        return dataclasses.replace(self, **keywords)
 
 
 @dataclass(frozen=True)

@@ -1,11 +1,9 @@
-"""The BEM stage (3): the BEM reference A_r(F_z) on the map (Appendix B; squares of Fig 12d).
-
-A declaration: its ``[bem]`` keys (:data:`SETTINGS`, the fields of
-:class:`~asperity.pipelines.config.BemConfig`), its input (the levelled map) and its stored
-fields (:class:`BemReference`). The numerics are :func:`asperity.bem.solve_reference`'s: the grid
-check with its Richardson extrapolation (:mod:`asperity.bem.grid_refinement`), the Maugis range
-rule (:mod:`asperity.bem.adhesion_range`) and the load chains (:mod:`asperity.bem.load_sweeps`).
-"""
+"""The BEM stage (3), the BEM reference A_r(F_z) on the map (Appendix B; Fig 12d's squares):
+its ``[bem]`` keys (:data:`SETTINGS`, :class:`~asperity.pipelines.config.BemConfig`'s fields),
+its input (the levelled map), its stored fields (:class:`BemReference`). The numerics are
+:func:`asperity.bem.solve_reference`'s (:mod:`asperity.bem.grid_refinement`, the grid check and
+its Richardson extrapolation; :mod:`~asperity.bem.adhesion_range`, the Maugis range rule;
+:mod:`~asperity.bem.load_sweeps`, the load chains)."""
 
 from __future__ import annotations
 
@@ -251,6 +249,7 @@ def bem_reference(
     *,
     executor: Executor | None = None,
     progress: bool = False,
+    **deprecated_settings: object,
 ) -> BemReference:
     """The BEM real contact area against normal load on the map (:func:`bem.solve_reference`).
 
@@ -273,8 +272,10 @@ def bem_reference(
         of :func:`bem.adhesion_range.search_range`).
     executor : Executor, optional
         Runs the two load chains in parallel.
+    **deprecated_settings
+        The settings as keywords (0.3): a DeprecationWarning, removed in 0.5.
     """
-    settings = BemConfig() if settings is None else settings
+    settings = (settings or BemConfig()).with_keywords("bem_reference", deprecated_settings)
     loads = np.asarray(normal_loads, dtype=float)
     w = work_of_adhesion if settings.adhesive and work_of_adhesion > 0 else 0.0
     options = SolverOptions(tol=settings.tol, max_iter=settings.max_iter)
@@ -347,9 +348,8 @@ def bem_reference(
 
 
 def _range_fields(choice: RangeChoice | None, adhesive: np.ndarray) -> dict:
-    """The Maugis range's fields of :class:`BemReference`: the range, its rule, its
-    sensitivity, measured at the check load and applied as the same relative part at every
-    load (stated); none for Pohrt-Popov or a non-adhesive run."""
+    """The Maugis range's fields of :class:`BemReference` (none for Pohrt-Popov or w = 0); its
+    sensitivity, measured at the check load, applies as the same relative part at every load."""
     if choice is None:
         return {}
     return {

@@ -121,3 +121,15 @@ def test_one_adhesive_loading_path(counted, periodic_map):
         assert ref.contact_fraction_adhesive[i] == pytest.approx(scratch.contact_fraction, rel=0.01)
     # the loading branch of Pohrt-Popov adhesion is the non-adhesive contact set (bem.branch)
     np.testing.assert_allclose(ref.contact_fraction_adhesive, ref.contact_fraction, rtol=0.01)
+
+
+def test_the_keyword_settings_of_0_3_warn_and_mean_the_same(periodic_map):
+    """``bem_reference(..., max_stride=2)`` (0.3) still works for one version, warning with the
+    BemConfig to pass instead; a keyword that is no setting is refused."""
+    settings = BemConfig(max_stride=2, adhesive=False)
+    new = bem_reference(periodic_map, E_STAR, W, LOADS, A_N, settings)
+    with pytest.warns(DeprecationWarning, match=r"BemConfig\(max_stride=2, adhesive=False\)"):
+        old = bem_reference(periodic_map, E_STAR, W, LOADS, A_N, max_stride=2, adhesive=False)
+    np.testing.assert_array_equal(old.contact_fraction, new.contact_fraction)
+    with pytest.raises(TypeError, match="max_strides"):
+        bem_reference(periodic_map, E_STAR, W, LOADS, A_N, max_strides=2)
