@@ -272,26 +272,28 @@ class BemConfig:
     adhesion: str = "maugis"
     adhesion_range: float | None = None
 
-    def with_keywords(self, caller: str, keywords: Mapping[str, Any]) -> BemConfig:
-        """This table with settings given the 0.3 way, as keywords of ``caller`` (e.g.
-        ``bem_reference(..., max_stride=2)``): they warn once (``DeprecationWarning`` naming
-        the fields; removed in asperity 0.5) and replace their fields. A keyword that is not
-        a setting is a TypeError, as for any function."""
-        if not keywords:
-            return self
-        settings = {f.name for f in dataclasses.fields(self)} - {"enabled"}
-        unknown = sorted(set(keywords) - settings)
-        if unknown:
-            raise TypeError(f"{caller}() got an unexpected keyword argument {unknown[0]!r}")
-        given = ", ".join(f"{name}=..." for name in keywords)
-        fields = ", ".join(f"{name}={value!r}" for name, value in keywords.items())
-        warnings.warn(
-            f"{caller}({given}) is deprecated since asperity 0.4 and will be removed in 0.5: "
-            f"pass settings=BemConfig({fields})",
-            DeprecationWarning,
-            stacklevel=3,
-        )
-        return dataclasses.replace(self, **keywords)
+
+def bem_settings(settings: BemConfig | None, caller: str, keywords: Mapping[str, Any]) -> BemConfig:
+    """``settings`` (default ``BemConfig()``) with settings given the 0.3 way, as keywords of
+    ``caller`` (e.g. ``bem_reference(..., max_stride=2)``): they warn once
+    (``DeprecationWarning`` naming the fields; removed in asperity 0.5) and replace their
+    fields. A keyword that is not a setting is a TypeError, as for any function."""
+    settings = BemConfig() if settings is None else settings
+    if not keywords:
+        return settings
+    known = {f.name for f in dataclasses.fields(BemConfig)} - {"enabled"}
+    unknown = sorted(set(keywords) - known)
+    if unknown:
+        raise TypeError(f"{caller}() got an unexpected keyword argument {unknown[0]!r}")
+    given = ", ".join(f"{name}=..." for name in keywords)
+    fields = ", ".join(f"{name}={value!r}" for name, value in keywords.items())
+    warnings.warn(
+        f"{caller}({given}) is deprecated since asperity 0.4 and will be removed in 0.5: "
+        f"pass settings=BemConfig({fields})",
+        DeprecationWarning,
+        stacklevel=3,
+    )
+    return dataclasses.replace(settings, **keywords)
 
 
 @dataclass(frozen=True)

@@ -26,7 +26,7 @@ from asperity.bem.load_sweeps import ContactSetup, LoadChain
 from asperity.bem.options import SolverOptions
 from asperity.bem.reference import ChainMap, solve_reference
 from asperity.fields import array, document_fields, scalar, text
-from asperity.pipelines.config import BemConfig
+from asperity.pipelines.config import BemConfig, bem_settings
 from asperity.pipelines.engine.parallel import run_map, share, worker_threads
 from asperity.pipelines.engine.stage import Stage, StageContext
 from asperity.pipelines.stages.surface import SURFACE
@@ -275,7 +275,7 @@ def bem_reference(
     **deprecated_settings
         The settings as keywords (0.3): a DeprecationWarning, removed in 0.5.
     """
-    settings = (settings or BemConfig()).with_keywords("bem_reference", deprecated_settings)
+    settings = bem_settings(settings, "bem_reference", deprecated_settings)
     loads = np.asarray(normal_loads, dtype=float)
     w = work_of_adhesion if settings.adhesive and work_of_adhesion > 0 else 0.0
     options = SolverOptions(tol=settings.tol, max_iter=settings.max_iter)
