@@ -12,9 +12,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from asperity.bem.contact import solve_contact
 from asperity.bem.errors import BemInputError
 from asperity.bem.pohrt_popov import critical_tension, pohrt_popov_chi
-from asperity.bem.polonsky_keer import solve_contact
 from asperity.bem.result import ContactResult
 
 # critical_tension and pohrt_popov_chi are re-exported for code that imported them from here
@@ -49,7 +49,8 @@ def approach_retract(
         Separations d (m) on the retraction (unloading) branch, applied after the last loading
         step (increasing); default: ``separations_in`` reversed.
     **options
-        Passed to :func:`bem.solve_contact` (``tol``, ``max_iter``, ``periodic``, ...;
+        Passed to :func:`bem.solve_contact` (``options`` a :class:`bem.SolverOptions`,
+        ``periodic``, ...;
         ``adhesion="maugis"`` with ``adhesion_range`` (m) follows the same path with the
         Maugis-Dugdale law, :mod:`asperity.bem.maugis`).
 

@@ -310,3 +310,32 @@ def half_spread(*values: ArrayLike) -> np.ndarray | float:
     stack = np.asarray(np.broadcast_arrays(*[np.asarray(v, float) for v in values]))
     spread = 0.5 * (np.max(stack, axis=0) - np.min(stack, axis=0))
     return float(spread) if np.ndim(spread) == 0 else spread
+
+
+def combined_uncertainty(
+    discretisation: ArrayLike | None, adhesion_range: ArrayLike | None
+) -> np.ndarray | None:
+    """A_r/A_n uncertainty per mode and load (1): the independent parts in quadrature
+    (:func:`combine_in_quadrature`).
+
+    Parameters
+    ----------
+    discretisation : array (n_mode, n_load) or None
+        The discretisation part per mode (non-adhesive, then adhesive) and load, 1.
+    adhesion_range : array (n_load,) or None
+        The adhesion-range part (:func:`half_spread` of the solves at half and double the
+        range), 1: it belongs to the adhesive mode, the last row when there are two.
+
+    Returns
+    -------
+    ndarray (n_mode, n_load) or None
+        None without the discretisation part; a NaN part (no estimate) stays NaN.
+    """
+    if discretisation is None:
+        return None
+    discretisation = np.asarray(discretisation, dtype=float)
+    adhesion = np.zeros_like(discretisation)
+    if adhesion_range is not None and discretisation.shape[0] > 1:
+        adhesion[-1] = np.asarray(adhesion_range, dtype=float)
+    budget = combine_in_quadrature(discretisation=discretisation, adhesion_range=adhesion)
+    return np.asarray(budget.total, dtype=float)

@@ -32,6 +32,7 @@ import numpy as np
 from asperity.bem.errors import BemInputError
 from asperity.bem.operators import influence_operator
 from asperity.bem.options import SolverOptions
+from asperity.bem.polonsky_keer import solve_polonsky_keer
 from asperity.bem.problem import ContactProblem, real_scalar
 from asperity.bem.result import ContactResult, SolverStatus
 
@@ -207,8 +208,6 @@ def _inner_solve(case: _Case, it: _SetIteration, opts: SolverOptions) -> Contact
     """The non-adhesive solve for the contact pressure q with the attraction on the current S
     as an external traction; None when a load-controlled S carries the whole force in
     tension (no compressive contact force left)."""
-    from asperity.bem.polonsky_keer import solve_contact
-
     dx, dy, e_star, periodic = case.grid
     load_control, force, separation = case.loads
     sigma0 = case.law.cohesive_stress
@@ -220,12 +219,12 @@ def _inner_solve(case: _Case, it: _SetIteration, opts: SolverOptions) -> Contact
         load = {"normal_force": contact_force}
     else:
         load = {"separation": separation}
-    return solve_contact(
+    return solve_polonsky_keer(
         lifted,
         dx,
         dy,
         e_star,
-        **load,
+        load,
         initial=it.inner,
         periodic=periodic,
         options=dataclasses.replace(opts, tol=it.tol),
@@ -396,7 +395,8 @@ def solve_maugis_problem(
 ) -> ContactResult:
     """Maugis-Dugdale adhesive contact of a rigid flat with the elastic half-space.
 
-    Called by :func:`bem.solve_contact` with ``adhesion="maugis"`` on its validated problem.
+    Called by :func:`bem.solve_contact` (:mod:`asperity.bem.contact`) with
+    ``adhesion="maugis"`` on its validated problem.
 
     Parameters
     ----------

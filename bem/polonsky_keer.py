@@ -61,123 +61,47 @@ import numpy as np
 from asperity.bem.assembly import assemble_result, first_contact_result
 from asperity.bem.branch import solve_branch
 from asperity.bem.iteration import iterate, new_state
-from asperity.bem.maugis import check_adhesion, solve_maugis_problem
-from asperity.bem.options import SolverOptions, resolve_options
+from asperity.bem.options import SolverOptions
 from asperity.bem.problem import ContactProblem, set_up_problem
 from asperity.bem.result import ContactResult
 from asperity.bem.start import starting_state
 
-__all__ = ["solve_contact"]
+__all__ = ["solve_polonsky_keer", "solve_problem"]
 
 #: Tolerance of the coarse-grid solves of ``coarse_start`` (or ``tol`` if looser): their
 #: solution differs from the fine one by the discretisation anyway.
 COARSE_TOL = 1e-2
 
 
-def solve_contact(
+def solve_polonsky_keer(
     heights: np.ndarray,
     dx: float,
     dy: float,
     e_star: float,
+    loads: dict[str, float | None],
     *,
-    normal_force: float | None = None,
-    mean_pressure: float | None = None,
-    separation: float | None = None,
-    work_of_adhesion: float = 0.0,
-    initial: ContactResult | np.ndarray | None = None,
+    initial: object = None,
     periodic: bool = True,
-    options: SolverOptions | None = None,
-    tol: float | None = None,
-    max_iter: int | None = None,
-    precondition: bool | None = None,
-    stall_window: int | None = None,
-    refresh: int | None = None,
-    kernel: str | None = None,
-    fft_backend: str | None = None,
-    threads: int | None = None,
-    coarse_start: bool | None = None,
-    precision: str | None = None,
-    adhesion: str = "pohrt-popov",
-    adhesion_range: float | None = None,
+    options: SolverOptions,
 ) -> ContactResult:
-    """Normal contact of an elastic half-space with a rigid flat (E:BEM_eq1..E:BEM_eq4).
+    """A non-adhesive contact problem set up and solved by constrained conjugate gradients:
+    the inner solve of :mod:`asperity.bem.maugis` and of the coarse start.
 
-    Parameters
-    ----------
-    heights : ndarray (nx, ny)
-        Surface heights h (m), larger = closer to the flat; axis 0 is x. No NaN.
-    dx, dy : float
-        Pixel sizes (m) along x and y.
-    e_star : float
-        Reduced modulus E* = E / (1 - nu^2) (Pa).
-    normal_force, mean_pressure, separation : float, optional
-        Exactly one: the total force F_z (N) or F_z / nominal area (Pa), load control; or the
-        rigid-body distance d of eq. E:BEM_eq1 (m), displacement control. For a periodic
-        domain d must exceed the mean height (the mean deflection is zero); for a non-periodic
-        one d is the approach relative to the far field.
-    work_of_adhesion : float
-        w (J/m^2). When > 0, elements in contact carry tension down to the Pohrt-Popov
-        critical tension Sigma (eq:max_sigma) and delaminate below it. The state then depends
-        on the path (``branch`` of the result). A tensile force needs ``initial`` = a state on
-        the unloading branch.
-    initial : ContactResult or ndarray, optional
-        Warm start: a previous result (its pressure and contact set) or a pressure field (Pa).
-    periodic : bool
-        Periodic domain (default) or finite specimen (zero-padded doubled grid).
-    adhesion : {"pohrt-popov", "maugis"}
-        How ``work_of_adhesion`` acts: the paper's Pohrt-Popov criterion (default, Appendix
-        B), or the Maugis-Dugdale cohesive law, a tension w / adhesion_range wherever the gap
-        is within ``adhesion_range`` (:mod:`asperity.bem.maugis`; loading with jump-in from
-        scratch, unloading from ``initial``; a force <= 0 is allowed).
-    adhesion_range : float, optional
-        The Maugis-Dugdale range h_0 (m), required with ``adhesion="maugis"`` only.
-    options : SolverOptions, optional
-        Tuning knobs (tol, max_iter, precondition, stall_window, refresh, kernel, fft_backend,
-        threads, coarse_start, precision); each may also be given as a keyword, which
-        overrides it.
-
-    Returns
-    -------
-    ContactResult
-        Pressure (Pa), gap (m), contact mask, areas (m^2), force (N), ``status`` (0 converged,
-        1 iteration cap, 2 stalled, 3 contact lost, 4 load not carried), ``success``,
-        ``message``, ``nit``. Non-convergence is reported, never raised.
-
-    Raises
-    ------
-    asperity.bem.errors.BemInputError
-        (an :class:`asperity.errors.InputError`) naming the argument: heights not a real 2D
-        array of at least 2 x 2 finite values; dx, dy, e_star not positive finite; not exactly
-        one finite load; a force <= 0 without adhesion; a periodic separation <= mean(h);
-        work_of_adhesion not finite >= 0; an option out of its bounds (:class:`SolverOptions`);
-        an ``initial`` of the wrong shape or with non-finite values.
+    ``loads`` maps ``normal_force`` (N), ``mean_pressure`` (Pa) and ``separation`` (m) to their
+    values, exactly one not None; heights and pixel sizes in m, E* in Pa. The public entry is
+    :func:`asperity.bem.solve_contact`.
     """
     started = time.perf_counter()
-    opts = resolve_options(
-        options,
-        tol=tol,
-        max_iter=max_iter,
-        precondition=precondition,
-        stall_window=stall_window,
-        refresh=refresh,
-        kernel=kernel,
-        fft_backend=fft_backend,
-        threads=threads,
-        coarse_start=coarse_start,
-        precision=precision,
-    )
-    loads = {"normal_force": normal_force, "mean_pressure": mean_pressure, "separation": separation}
-    law = check_adhesion(adhesion, work_of_adhesion, adhesion_range)
-    problem = set_up_problem(heights, dx, dy, e_star, loads, work_of_adhesion, periodic, opts)
-    if law is not None:
-        return solve_maugis_problem(problem, law, initial, opts)
-    return _solve(problem, initial, opts, started)
+    problem = set_up_problem(heights, dx, dy, e_star, loads, 0.0, periodic, options)
+    return solve_problem(problem, initial, options, started)
 
 
-def _solve(
+def solve_problem(
     problem: ContactProblem, initial: object, opts: SolverOptions, started: float
 ) -> ContactResult:
-    """Solve one validated problem on the branch its start implies (:mod:`asperity.bem.branch`)."""
+    """Solve one validated problem (:func:`~asperity.bem.problem.set_up_problem`) by constrained
+    conjugate gradients on the branch its start implies (:mod:`asperity.bem.branch`);
+    ``started`` is the :func:`time.perf_counter` of the call, for the result's wall time (s)."""
     branch = solve_branch(problem, initial)
     if branch == "loading":
         return _solve_on_loading_branch(problem, initial, opts, started)
@@ -274,12 +198,12 @@ def _coarse_start(problem: ContactProblem, opts: SolverOptions) -> tuple[np.ndar
     repeated onto the fine grid, and the coarse solve's counters."""
     nx, ny = problem.heights.shape
     coarse_h = problem.heights.reshape(nx // 2, 2, ny // 2, 2).mean(axis=(1, 3))
-    coarse = solve_contact(
+    coarse = solve_polonsky_keer(
         coarse_h,
         2 * problem.dx,
         2 * problem.dy,
         problem.e_star,
-        mean_pressure=problem.force / problem.nominal_area,
+        {"normal_force": None, "mean_pressure": problem.force / problem.nominal_area},
         options=SolverOptions(
             tol=max(opts.tol, COARSE_TOL),
             max_iter=opts.max_iterations((nx, ny)),

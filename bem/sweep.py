@@ -26,8 +26,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from asperity.bem.contact import solve_contact
 from asperity.bem.errors import BemInputError
-from asperity.bem.polonsky_keer import solve_contact
 from asperity.bem.result import ContactResult
 
 __all__ = ["load_sweep"]
@@ -62,8 +62,9 @@ def load_sweep(
         is the non-adhesive one, so each loading step starts from it and costs only the
         adhesive check. Ignored without adhesion.
     **options
-        Any keyword of :func:`bem.solve_contact` except the loads (``tol``, ``max_iter``,
-        ``work_of_adhesion``, ``periodic``, ``initial`` for the first solve, ...).
+        Any keyword of :func:`bem.solve_contact` except the loads (``options`` a
+        :class:`bem.SolverOptions`, ``work_of_adhesion``, ``periodic``, ``initial`` for the
+        first solve, ...).
 
     Returns
     -------

@@ -122,7 +122,13 @@ def warm_up(threads: int) -> None:
     s = paper_like(n=64)
     for kw in ({}, dict(work_of_adhesion=WORK, adhesion="maugis", adhesion_range=5e-7)):
         bem.solve_contact(
-            s.heights, s.dx, s.dx, E_STAR, mean_pressure=MEAN_PRESSURE, threads=threads, **kw
+            s.heights,
+            s.dx,
+            s.dx,
+            E_STAR,
+            mean_pressure=MEAN_PRESSURE,
+            options=bem.SolverOptions(threads=threads),
+            **kw,
         )
 
 
@@ -133,9 +139,12 @@ def measure(n: int, h0: float, tol: float, threads: int, tamaas: dict | None) ->
 
     s = paper_like(n=n)
     h, dx = np.ascontiguousarray(s.heights), float(s.dx)
-    common = dict(mean_pressure=MEAN_PRESSURE, tol=tol, threads=threads)
+    options = bem.SolverOptions(tol=tol, threads=threads)
+    common = dict(mean_pressure=MEAN_PRESSURE, options=options)
     # plan this grid's transforms (and compile) before anything is timed
-    bem.solve_contact(h, dx, dx, E_STAR, **{**common, "tol": 1e-2})
+    bem.solve_contact(
+        h, dx, dx, E_STAR, **{**common, "options": bem.SolverOptions(tol=1e-2, threads=threads)}
+    )
     law = dict(work_of_adhesion=WORK, adhesion="maugis", adhesion_range=h0)
     plain, t_plain = timed(lambda: bem.solve_contact(h, dx, dx, E_STAR, **common))
     maugis, t_maugis = timed(lambda: bem.solve_contact(h, dx, dx, E_STAR, **common, **law))
@@ -164,9 +173,18 @@ def versus_tamaas(h, dx, h0, mean_gap, tol, threads, tamaas) -> dict:
 
     law = dict(work_of_adhesion=WORK, adhesion="maugis", adhesion_range=h0)
     sep = mean_gap + float(h.mean())
-    bem.solve_contact(h, dx, dx, E_STAR, mean_pressure=MEAN_PRESSURE, tol=1e-2, threads=1)
+    bem.solve_contact(
+        h,
+        dx,
+        dx,
+        E_STAR,
+        mean_pressure=MEAN_PRESSURE,
+        options=bem.SolverOptions(tol=0.01, threads=1),
+    )
     mine, t_mine = timed(
-        lambda: bem.solve_contact(h, dx, dx, E_STAR, separation=sep, tol=tol, threads=1, **law)
+        lambda: bem.solve_contact(
+            h, dx, dx, E_STAR, separation=sep, options=bem.SolverOptions(tol=tol, threads=1), **law
+        )
     )
     row = {"disp_s": t_mine, "disp_frac": mine.contact_fraction, "disp_p": mine.mean_pressure}
     if tamaas is None:

@@ -163,7 +163,7 @@ def main(argv=None) -> int:
     parser.add_argument("--json", type=Path, default=None, help="also write the rows as JSON")
     args = parser.parse_args(argv)
 
-    from asperity.bem import solve_contact
+    from asperity.bem import SolverOptions, solve_contact
     from asperity.topo.synthetic import paper_like
 
     print(
@@ -183,8 +183,10 @@ def main(argv=None) -> int:
             f"# FFT floor ({p}): one bare convolution {f['conv_s']:.3f} s ({f['backend']}), "
             f"planning {f['planning_s']:.1f} s; two per iteration: {2 * f['conv_s']:.3f} s"
         )
-    opts = dict(tol=args.tol, fft_backend=args.backend, threads=args.threads)
-    opts["precision"] = args.precision
+    options = SolverOptions(
+        tol=args.tol, fft_backend=args.backend, threads=args.threads, precision=args.precision
+    )
+    opts = {"options": options}
     t0 = time.perf_counter()
     cold = solve_contact(h, dx, dx, E_STAR, normal_force=COLD_LOAD * scale, **opts)
     rows = [solve_row(f"cold {COLD_LOAD} N", [cold], time.perf_counter() - t0, floor)]

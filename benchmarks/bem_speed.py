@@ -67,7 +67,7 @@ BEM_WORKER = r"""
 import json, os, resource, sys, time
 sys.path.insert(0, {root!r})
 import numpy as np
-from asperity.bem import solve_contact
+from asperity.bem import SolverOptions, solve_contact
 from asperity.bem.operators import influence_operator as _operator
 h = np.load({surface!r})
 n = h.shape[0]
@@ -80,8 +80,9 @@ conv = []
 for _ in range(5):
     t1 = time.perf_counter(); op(x, y); conv.append(time.perf_counter() - t1)
 c0 = time.process_time()
-res = solve_contact(h, dx, dx, e_star, mean_pressure={p}, tol={tol}, max_iter=20000,
-                    coarse_start={coarse}, precision={precision!r})
+res = solve_contact(h, dx, dx, e_star, mean_pressure={p},
+                    options=SolverOptions(tol={tol}, max_iter=20000, coarse_start={coarse},
+                                          precision={precision!r}))
 cpu = time.process_time() - c0
 if {save!r}:
     np.save({save!r}, res.pressure)
@@ -358,7 +359,7 @@ def hertz_accuracy_plot(path: Path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from asperity.bem import solve_contact
+    from asperity.bem import SolverOptions, solve_contact
     from asperity.bem.reference_solutions import (
         hertz_sphere_contact_radius,
         hertz_sphere_peak_pressure,
@@ -375,9 +376,13 @@ def hertz_accuracy_plot(path: Path) -> None:
         x = (np.arange(n) - n / 2 + 0.5) * dx
         r = np.hypot(x[:, None], x[None, :])
         h = -(r**2) / (2 * R)
-        solve_contact(h, dx, dx, E, normal_force=F, periodic=False, tol=tol, max_iter=1)
+        solve_contact(
+            h, dx, dx, E, normal_force=F, periodic=False, options=SolverOptions(tol=tol, max_iter=1)
+        )
         t0 = time.perf_counter()
-        res = solve_contact(h, dx, dx, E, normal_force=F, periodic=False, tol=tol)
+        res = solve_contact(
+            h, dx, dx, E, normal_force=F, periodic=False, options=SolverOptions(tol=tol)
+        )
         sec = time.perf_counter() - t0
         exact = hertz_sphere_pressure(r, F, R, E)
         inside = r < a

@@ -27,7 +27,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from bem_surfaces import self_affine_periodic  # noqa: E402
 
-from asperity.bem import load_sweep, solve_contact  # noqa: E402
+from asperity.bem import SolverOptions, load_sweep, solve_contact  # noqa: E402
 
 TOL = 1e-8
 N_LOADS = 10
@@ -38,16 +38,23 @@ def _previous_only(h, forces):
     results = []
     for f in forces:
         start = results[-1] if results else None
-        results.append(solve_contact(h, 1.0, 1.0, 1.0, normal_force=f, tol=TOL, initial=start))
+        results.append(
+            solve_contact(
+                h, 1.0, 1.0, 1.0, normal_force=f, initial=start, options=SolverOptions(tol=TOL)
+            )
+        )
     return results
 
 
 def _cold(h, forces):
-    return [solve_contact(h, 1.0, 1.0, 1.0, normal_force=f, tol=TOL) for f in forces]
+    return [
+        solve_contact(h, 1.0, 1.0, 1.0, normal_force=f, options=SolverOptions(tol=TOL))
+        for f in forces
+    ]
 
 
 def _sweep(h, forces):
-    return load_sweep(h, 1.0, 1.0, 1.0, forces, tol=TOL)
+    return load_sweep(h, 1.0, 1.0, 1.0, forces, options=SolverOptions(tol=TOL))
 
 
 def _timed(fn, *args):
@@ -65,7 +72,9 @@ def main(sizes: list[int]) -> None:
     for n in sizes:
         h = self_affine_periodic(n, seed=1)
         f0 = MEAN_PRESSURE * n * n
-        solve_contact(h, 1.0, 1.0, 1.0, normal_force=f0, tol=TOL)  # compile, plan the FFTs
+        solve_contact(
+            h, 1.0, 1.0, 1.0, normal_force=f0, options=SolverOptions(tol=TOL)
+        )  # compile, plan the FFTs
         for step in (0.025, 0.2):
             forces = [f0 * (1 + step) ** k for k in range(N_LOADS)]
             cold, t_cold = _timed(_cold, h, forces)

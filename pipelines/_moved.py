@@ -26,8 +26,6 @@ MOVED: dict[str, str] = {
     "surface_stage": "asperity.pipelines.stages.surface",
     "resolution_stage": "asperity.pipelines.stages.statistical_model",
     "bem_stage": "asperity.pipelines.stages.bem",
-    "bem_grid": "asperity.pipelines.stages._bem_grid",
-    "bem_solves": "asperity.pipelines.stages._bem_solves",
     "pull_off": "asperity.pipelines.stages._pull_off",
     "friction_stage": "asperity.pipelines.stages.friction",
     "fitting": "asperity.pipelines.stages.fitting",

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import dataclasses
 import sys
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from importlib import resources
@@ -228,12 +229,16 @@ class LoadingConfig:
 
 @dataclass(frozen=True)
 class BemConfig:
-    """The BEM reference (stage 3).
+    """The BEM reference (stage 3): the ``[bem]`` table, written once.
+
+    Its fields but ``enabled`` are the settings of
+    :func:`asperity.pipelines.stages.bem.bem_reference` (which takes this object) and the keys
+    the stage declares (:data:`asperity.pipelines.stages.bem.SETTINGS` is derived from them).
 
     Attributes
     ----------
     tol : float
-        Solver tolerance passed to :func:`bem.load_sweep`.
+        Solver tolerance of every BEM solve (:class:`bem.SolverOptions` ``tol``).
     max_iter : int or None
         Iteration cap (None: the solver's default).
     area_tolerance : float
@@ -249,7 +254,7 @@ class BemConfig:
         then alone chooses the effective resolution.
     boundary : str
         ``"periodic"`` (the map is one period of the interface, as the paper's Appendix B) or
-        ``"free"`` (a finite specimen); see :mod:`asperity.pipelines.bem_grid`.
+        ``"free"`` (a finite specimen); see :mod:`asperity.bem.grid_refinement`.
     coarsen : bool
         Let the sweeps use a coarser grid than the map when its area is within
         ``area_tolerance`` of the finest grid solved (false: the map's own resolution).
@@ -259,7 +264,7 @@ class BemConfig:
         paper's Appendix B criterion, whose loading branch carries no adhesion).
     adhesion_range : float or None
         Maugis-Dugdale range h_0, m; None ("auto" in the job file): the shortest range whose
-        cohesive zone the grid resolves (:mod:`asperity.pipelines.stages._bem_range`).
+        cohesive zone the grid resolves (:mod:`asperity.bem.adhesion_range`).
     """
 
     tol: float = 1e-6
@@ -272,6 +277,29 @@ class BemConfig:
     coarsen: bool = True
     adhesion: str = "maugis"
     adhesion_range: float | None = None
+
+
+def bem_settings(settings: BemConfig | None, caller: str, keywords: Mapping[str, Any]) -> BemConfig:
+    """``settings`` (default ``BemConfig()``) with settings given the 0.3 way, as keywords of
+    ``caller`` (e.g. ``bem_reference(..., max_stride=2)``): they warn once
+    (``DeprecationWarning`` naming the fields; removed in asperity 0.5) and replace their
+    fields. A keyword that is not a setting is a TypeError, as for any function."""
+    settings = BemConfig() if settings is None else settings
+    if not keywords:
+        return settings
+    known = {f.name for f in dataclasses.fields(BemConfig)} - {"enabled"}
+    unknown = sorted(set(keywords) - known)
+    if unknown:
+        raise TypeError(f"{caller}() got an unexpected keyword argument {unknown[0]!r}")
+    given = ", ".join(f"{name}=..." for name in keywords)
+    fields = ", ".join(f"{name}={value!r}" for name, value in keywords.items())
+    warnings.warn(
+        f"{caller}({given}) is deprecated since asperity 0.4 and will be removed in 0.5: "
+        f"pass settings=BemConfig({fields})",
+        DeprecationWarning,
+        stacklevel=3,
+    )
+    return dataclasses.replace(settings, **keywords)
 
 
 @dataclass(frozen=True)

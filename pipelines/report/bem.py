@@ -8,8 +8,8 @@ solved, per stride) and the error of the grid used; the ``bem_grid`` figure
 
 from __future__ import annotations
 
+from asperity.bem.grid_refinement import EDGE_MISMATCH_LIMIT
 from asperity.pipelines.report._run import Run
-from asperity.pipelines.stages._bem_grid import EDGE_MISMATCH_LIMIT
 from asperity.pipelines.stages.bem import BemReference
 
 #: The BEM modes, in the order of the second axis of its grid-check arrays.

@@ -1,50 +1,37 @@
-"""The BEM stage: the BEM reference A_r(F_z) on the map (Appendix B; squares of Fig 12d).
-
-The map covers only part of the experiment's nominal area A_n, so each normal load is scaled
-to the map at equal nominal pressure, F_map = F_z A_map / A_n, and the result is reported as
-the fraction A_r / A_map (equal to A_r / A_n of the experiment). Non-adhesive and adhesive
-solves at every load; every adhesive number lies on the loading branch
-(:mod:`asperity.pipelines.stages._bem_solves`). The adhesive law is ``[bem] adhesion``:
-Maugis-Dugdale (default; adhesive on loading, like the statistical model) with the range chosen
-by the rule of :mod:`asperity.pipelines.stages._bem_range`, or Pohrt-Popov (eq:max_sigma, the
-paper's Appendix B; its loading branch carries no adhesion).
-
-The boundary condition (``[bem] boundary``) and the grid (``max_stride``, ``area_tolerance``,
-``coarsen``) are chosen and stated as :mod:`asperity.pipelines.stages._bem_grid` explains.
-Nothing is solved twice: the grid check's solve at the chosen stride is the sweep's solve at the
-check load, and the other loads are solved in two chains outwards from it (in parallel with two
-workers; the map is shipped to each worker once).
-"""
+"""The BEM stage (3), the BEM reference A_r(F_z) on the map (Appendix B; Fig 12d's squares):
+its ``[bem]`` keys (:data:`SETTINGS`, :class:`~asperity.pipelines.config.BemConfig`'s fields),
+its input (the levelled map), its stored fields (:class:`BemReference`). The numerics are
+:func:`asperity.bem.solve_reference`'s (:mod:`asperity.bem.grid_refinement`, the grid check and
+its Richardson extrapolation; :mod:`~asperity.bem.adhesion_range`, the Maugis range rule;
+:mod:`~asperity.bem.load_sweeps`, the load chains)."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import dataclasses
+from collections.abc import Callable, Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass
-from types import SimpleNamespace
 
 import numpy as np
 
 from asperity import topo
-from asperity.bem.discretisation import combine_in_quadrature
-from asperity.fields import array, document_fields, scalar, text
-from asperity.pipelines.config import BemConfig
-from asperity.pipelines.engine.parallel import run_map, share
-from asperity.pipelines.engine.stage import Stage, StageContext
-from asperity.pipelines.stages._bem_grid import (
-    GridCheck,
+from asperity.bem.adhesion_range import RangeChoice
+from asperity.bem.discretisation import combined_uncertainty
+from asperity.bem.grid_refinement import (
     boundary_warning,
-    check_grids,
+    discretisation_estimate,
     edge_mismatch,
-    grid_extrapolations,
-    relative_discretisation_uncertainty,
-    solver_grid,
 )
-from asperity.pipelines.stages._bem_range import RangeChoice
-from asperity.pipelines.stages._bem_solves import SolveSummary, solve_chain
+from asperity.bem.load_sweeps import ContactSetup, LoadChain
+from asperity.bem.options import SolverOptions
+from asperity.bem.reference import ChainMap, solve_reference
+from asperity.fields import array, document_fields, scalar, text
+from asperity.pipelines.config import BemConfig, bem_settings
+from asperity.pipelines.engine.parallel import run_map, share, worker_threads
+from asperity.pipelines.engine.stage import Stage, StageContext
 from asperity.pipelines.stages.surface import SURFACE
 
-__all__ = ["BEM", "BemReference", "bem_reference", "compute_bem", "solver_grid"]
+__all__ = ["BEM", "SETTINGS", "BemReference", "bem_reference", "compute_bem"]
 
 
 @document_fields
@@ -54,72 +41,28 @@ class BemReference:
 
     Attributes
     ----------
-    normal_load : ndarray
-        Experiment loads F_z, N.
     mode : ndarray
         0 non-adhesive, 1 adhesive (``adhesion``, when run).
-    check_stride : ndarray
-        Strides solved by the grid refinement check, coarse to fine.
-    mask_x, mask_y : ndarray
-        Pixel positions of the solved grid, m.
-    map_normal_load : ndarray
-        Loads on the solved map, F_z A_map / A_n, N.
     contact_fraction : ndarray
         Non-adhesive A_r/A_map (= A_r/A_n of the experiment).
     contact_fraction_adhesive : ndarray or None
         Adhesive A_r/A_map (law ``adhesion``); None when not run.
-    iterations, converged, solve_seconds : ndarray, shape (n_mode, n_load)
-        Per solve: iterations, convergence, wall time (s).
-    check_contact_fraction : ndarray, shape (n_check_stride, n_mode)
-        A_r/A_map at the check pressure per stride and mode.
-    check_relative_change : ndarray
-        Largest relative change to the next finer stride (NaN for the finest).
     contact_mask : ndarray of bool
         Contact at the largest load (adhesive when run).
-    stride : int
-        Chosen decimation of the map for the sweeps.
-    dx, dy : float
-        Pixel sizes of the solved grid, m.
-    check_pressure : float
-        Nominal pressure of the check, Pa.
     grid_converged : bool
         The two finest grids solved agree within ``bem.area_tolerance`` (the finest grid's
         area looks converged); True when a single grid was solved.
-    grid_reason : str
-        One sentence for the report.
-    messages : list of str
-        Solver messages of runs that did not converge.
     convolutions : ndarray, shape (n_mode, n_load)
         FFT convolutions per solve (an adhesive solve's non-adhesive start included).
     branch : list of list of str
         Per mode and load: the branch of the solve (``"unique"`` non-adhesive, ``"loading"``).
-    check_error : ndarray
-        Per check stride: largest relative A_r/A_n difference from the finest grid solved.
-    check_iterations, check_convolutions, check_seconds : ndarray, (n_check_stride, n_mode)
-        Per check solve: iterations, convolutions, wall time (s).
-    check_branch : list of list of str
-        Per check stride and mode: the branch of the solve.
     check_load : float
         Experiment load of the check, N (one of ``normal_load``: its solve at the chosen
         stride is the sweep's).
     grid_error : float
         Error of the grid used against the finest grid solved (0 when it is the finest).
-    boundary : str
-        ``"periodic"`` or ``"free"``.
-    edge_mismatch : float
-        Rms height jump across opposite edges of the solved grid over its rms height.
-    warnings : list of str
-        Report lines (a periodic solve of a map whose edges do not meet).
-    solves, total_iterations, total_convolutions : int
-        BEM solves made by the stage (each once), their iterations and convolutions.
     all_converged : bool
         Every solve converged (derived).
-    adhesion : str or None
-        Law of the adhesive solves: "maugis" or "pohrt-popov" (None when not run).
-    adhesion_range : float or None
-        Maugis-Dugdale range h_0 of the adhesive solves, m.
-    range_rule : str or None
-        How h_0 was chosen, with the cohesive-zone width reached (report line).
     range_zone_elements : float or None
         Mean cohesive-zone width at the check load on the range search's grid, elements.
     range_sensitivity : ndarray or None
@@ -127,15 +70,9 @@ class BemReference:
     area_range_uncertainty : float or None
         Half the spread of ``range_sensitivity`` (absolute A_r/A_n): the range part of the
         BEM's uncertainty (:func:`asperity.bem.discretisation.half_spread`).
-    range_solves : int
-        Maugis solves made by the range search and sensitivity beyond the check's own.
     check_extrapolated_fraction, check_extrapolation_uncertainty : ndarray or None
         Per mode: the grid check's A_r/A_n extrapolated to zero pixel size and its band
         (:func:`bem.richardson_extrapolation`, Roache's grid convergence index, about 95 %).
-    extrapolation_order, extrapolation_safety_factor : ndarray or None
-        Per mode: the order p and the safety factor Fs used.
-    extrapolation_messages : list of str or None
-        Per mode: how p and Fs were chosen.
     discretisation_relative_uncertainty : ndarray or None
         Per mode: the relative uncertainty of the A_r/A_n of the grid the sweeps use,
         ``(|f - f_0| + u) / f`` (the band holds the whole extrapolated band), applied to every
@@ -266,236 +203,11 @@ class BemReference:
         return self.contact_fraction
 
 
-def combined_uncertainty(
-    discretisation: np.ndarray | None, adhesion_range: np.ndarray | None
-) -> np.ndarray | None:
-    """A_r/A_n uncertainty per mode and load (1): the independent parts in quadrature
-    (:func:`bem.combine_in_quadrature`). The adhesion-range part (``bem.half_spread`` of the
-    solves at half and double the range, shape (n_load,)) belongs to the adhesive mode (the last
-    row when there are two); None without the discretisation part."""
-    if discretisation is None:
-        return None
-    discretisation = np.asarray(discretisation, dtype=float)
-    adhesion = np.zeros_like(discretisation)
-    if adhesion_range is not None and discretisation.shape[0] > 1:
-        adhesion[-1] = np.asarray(adhesion_range, dtype=float)
-    budget = combine_in_quadrature(discretisation=discretisation, adhesion_range=adhesion)
-    return np.asarray(budget.total, dtype=float)  # a NaN part (no estimate) stays NaN
-
-
-def discretisation_fields(run: SimpleNamespace) -> dict:
-    """The Richardson-extrapolation fields of :class:`BemReference` (the grid check's solves,
-    strides x dx) and the discretisation part per mode and load (module
-    :mod:`~asperity.pipelines.stages._bem_grid`)."""
-    grid = run.grid
-    fraction = grid.fractions()
-    extrapolations = grid_extrapolations(grid.strides, fraction, run.pixel)
-    used = fraction[list(grid.strides).index(grid.stride)]
-    pairs = zip(extrapolations, used, strict=True)
-    relative = np.array([relative_discretisation_uncertainty(e, f) for e, f in pairs])
-    per_load = _field(run.solves, "contact_fraction")
-    return {
-        "check_extrapolated_fraction": np.array([e.value for e in extrapolations]),
-        "check_extrapolation_uncertainty": np.array([e.uncertainty for e in extrapolations]),
-        "extrapolation_order": np.array([e.order for e in extrapolations]),
-        "extrapolation_safety_factor": np.array([e.safety_factor for e in extrapolations]),
-        "extrapolation_messages": [e.message for e in extrapolations],
-        "discretisation_relative_uncertainty": relative,
-        "contact_fraction_discretisation_uncertainty": relative[:, None] * per_load,
-    }
-
-
-def check_load_index(loads: np.ndarray) -> int:
-    """Index of the check load in ``loads``: the middle one, ``sorted(loads)[n // 2]``."""
-    return int(np.argsort(loads, kind="stable")[len(loads) // 2])
-
-
-def load_chains(loads: np.ndarray) -> list[list[int]]:
-    """Indices of the loads other than the check load, in two chains solved outwards from it:
-    increasing above it, decreasing below it (empty chains left out)."""
-    order = list(np.argsort(loads, kind="stable"))
-    k = len(loads) // 2
-    chains = [order[k + 1 :], order[:k][::-1]]
-    return [[int(i) for i in c] for c in chains if c]
-
-
-def _solve_chains(
-    grid: GridCheck,
-    surface: topo.HeightMap,
-    e_star: float,
-    map_loads: np.ndarray,
-    w: float,
-    solver: dict,
-    executor: Executor | None,
-    progress: bool,
-    law: dict | None = None,
-) -> dict[int, tuple[SolveSummary, SolveSummary | None]]:
-    """The sweeps' solves at every load but the check load, per load index; and the contact
-    mask of the largest load under key -1 when a chain reaches it."""
-    chains = load_chains(map_loads)
-    if not chains:
-        return {}
-    h, dx, dy = solver_grid(surface, grid.stride)
-    heights, start = share(executor, h), share(executor, grid.start)
-    largest = int(np.argmax(map_loads))
-    jobs = [
-        (heights, dx, dy, e_star, [float(map_loads[i]) for i in c], w, solver, start, largest in c)
-        + (law,)
-        for c in chains
-    ]
-    out: dict = {}
-    for chain, (summaries, mask) in zip(
-        chains,
-        run_map(solve_chain, jobs, executor, desc="BEM sweeps", progress=progress),
-        strict=True,
-    ):
-        out.update(zip(chain, summaries, strict=True))
-        if mask is not None:
-            out[-1] = mask
-    return out
-
-
-def _per_load(
-    loads: np.ndarray, k: int, grid: GridCheck, chains: dict, adhesive: bool
-) -> list[list[SolveSummary]]:
-    """Summaries per mode and load: the check solve at the chosen stride at load ``k``."""
-    check = grid.solves[list(grid.strides).index(grid.stride)]
-    modes = range(2 if adhesive else 1)
-    return [[check[m] if i == k else chains[i][m] for i in range(len(loads))] for m in modes]
-
-
-def _field(solves: list[list[SolveSummary]], name: str, dtype: type = float) -> np.ndarray:
-    return np.array([[getattr(s, name) for s in row] for row in solves], dtype=dtype)
-
-
-def _messages(loads: np.ndarray, solves: list[list[SolveSummary]]) -> list[str]:
-    return [
-        f"{'adhesive' if m else 'non-adhesive'} F_z={loads[i]:.4g} N: {s.message}"
-        for m, row in enumerate(solves)
-        for i, s in enumerate(row)
-        if not s.converged
-    ]
-
-
-#: The ``[bem]`` keys the BEM reference reads: the keyword arguments of :func:`bem_reference`,
-#: the keys the stage declares and passes (``bem.enabled`` only switches the stage on or off).
-SETTINGS: tuple[str, ...] = (
-    "tol",
-    "max_iter",
-    "area_tolerance",
-    "max_stride",
-    "adhesive",
-    "boundary",
-    "coarsen",
-    "adhesion",
-    "adhesion_range",
+#: The ``[bem]`` keys the BEM reference reads: the fields of :class:`BemConfig` but
+#: ``enabled`` (which only switches the stage on or off).
+SETTINGS: tuple[str, ...] = tuple(
+    f.name for f in dataclasses.fields(BemConfig) if f.name != "enabled"
 )
-_DEFAULTS = BemConfig()
-
-
-def bem_reference(
-    surface: topo.HeightMap,
-    e_star: float,
-    work_of_adhesion: float,
-    normal_loads: Sequence[float],
-    nominal_area: float,
-    *,
-    tol: float = _DEFAULTS.tol,
-    max_iter: int | None = _DEFAULTS.max_iter,
-    area_tolerance: float = _DEFAULTS.area_tolerance,
-    max_stride: int = _DEFAULTS.max_stride,
-    adhesive: bool = _DEFAULTS.adhesive,
-    boundary: str = _DEFAULTS.boundary,
-    coarsen: bool = _DEFAULTS.coarsen,
-    adhesion: str = _DEFAULTS.adhesion,
-    adhesion_range: float | None = _DEFAULTS.adhesion_range,
-    executor: Executor | None = None,
-    progress: bool = False,
-) -> BemReference:
-    """The BEM stage: BEM real contact area against normal load on the map.
-
-    Parameters
-    ----------
-    surface : topo.HeightMap
-        Levelled map, heights in m (larger = closer to the flat).
-    e_star : float
-        E*, Pa.
-    work_of_adhesion : float
-        w, J/m^2 (adhesive solves on the loading branch).
-    normal_loads : sequence of float
-        Experiment loads F_z, N (on the nominal area).
-    nominal_area : float
-        A_n of the experiment, m^2.
-    tol, max_iter, area_tolerance, max_stride, adhesive, boundary, coarsen
-        The ``[bem]`` keys of :data:`SETTINGS`, defaults from
-        :class:`~asperity.pipelines.config.BemConfig`. ``tol`` and ``max_iter`` are the
-        solver's (:func:`bem.solve_contact`).
-        ``area_tolerance``, ``max_stride`` and ``coarsen`` set the grid check
-        (:func:`asperity.pipelines.stages._bem_grid.check_grids`); ``adhesive`` runs the
-        adhesive solves too; ``boundary`` ("periodic" or "free") is every solve's
-        (:mod:`asperity.pipelines.stages._bem_grid`).
-    adhesion, adhesion_range
-        The adhesive law ("maugis" or "pohrt-popov") and the Maugis range h_0 (m; None: the
-        rule of :mod:`asperity.pipelines.stages._bem_range`).
-    executor : Executor, optional
-        Runs the two load chains in parallel.
-    """
-    loads = np.asarray(normal_loads, dtype=float)
-    w = work_of_adhesion if adhesive and work_of_adhesion > 0 else 0.0
-    solver = {"tol": tol, "max_iter": max_iter, "periodic": boundary == "periodic"}
-    k = check_load_index(loads)
-    grid = check_grids(
-        surface,
-        e_star,
-        w,
-        float(loads[k]) / nominal_area,
-        max_stride=max_stride,
-        area_tolerance=area_tolerance,
-        coarsen=coarsen,
-        solver=solver,
-        adhesion=(adhesion, adhesion_range),
-    )
-    h, dx, dy = solver_grid(surface, grid.stride)
-    map_loads = loads * (h.size * dx * dy) / nominal_area
-    law = None if grid.range_choice is None else grid.range_choice.law
-    chains = _solve_chains(grid, surface, e_star, map_loads, w, solver, executor, progress, law)
-    solves = _per_load(loads, k, grid, chains, w > 0)
-    run = SimpleNamespace(
-        loads=loads, k=k, grid=grid, chains=chains, solves=solves, h=h, dx=dx, dy=dy, w=w,
-        pixel=surface.dx,
-    )  # fmt: skip
-    reference = _reference(run, map_loads, nominal_area, area_tolerance, boundary)
-    return _with_adhesion_law(reference, adhesion if w > 0 else None, grid.range_choice)
-
-
-def _with_adhesion_law(
-    reference: BemReference, adhesion: str | None, choice: RangeChoice | None
-) -> BemReference:
-    """``reference`` with the adhesive law's fields: the Maugis range, its rule, its
-    sensitivity; a Pohrt-Popov run says that its loading branch carries no adhesion."""
-    reference.adhesion = adhesion
-    if adhesion == "pohrt-popov":
-        reference.warnings.append(POHRT_POPOV_NOTE)
-    if choice is None:
-        return reference
-    reference.adhesion_range = choice.adhesion_range
-    reference.range_rule = choice.rule
-    reference.range_zone_elements = choice.zone_elements
-    reference.range_sensitivity = np.asarray(choice.sensitivity, dtype=float)
-    reference.area_range_uncertainty = choice.uncertainty
-    reference.range_solves = len(choice.tried) - 1 + len(choice.sensitivity) - 1
-    reference.solves += reference.range_solves
-    relative = choice.uncertainty / choice.sensitivity[1] if choice.sensitivity[1] > 0 else np.nan
-    # measured at the check load, applied as the same relative part at every load (stated)
-    reference.contact_fraction_adhesion_range_uncertainty = (
-        relative * reference.contact_fraction_adhesive
-    )
-    reference.contact_fraction_uncertainty = combined_uncertainty(
-        reference.contact_fraction_discretisation_uncertainty,
-        reference.contact_fraction_adhesion_range_uncertainty,
-    )
-    return reference
-
 
 #: The report line of a Pohrt-Popov run.
 POHRT_POPOV_NOTE = (
@@ -506,71 +218,149 @@ POHRT_POPOV_NOTE = (
 )
 
 
-def _grid_fields(run: SimpleNamespace, nominal_area: float, area_tolerance: float) -> dict:
-    """The grid check's fields of :class:`BemReference` (strides tried, their solves, choice)."""
-    grid, loads, k = run.grid, run.loads, run.k
-    change = grid.relative_change
-    return {
-        "check_stride": grid.strides,
-        "check_contact_fraction": grid.fractions(),
-        "check_relative_change": change,
-        "stride": grid.stride,
-        "check_pressure": float(loads[k]) / nominal_area,
-        "grid_converged": bool(len(change) < 2 or change[-2] <= area_tolerance),
-        "area_tolerance": float(area_tolerance),
-        "grid_reason": grid.reason,
-        "check_error": grid.error,
-        "check_iterations": _field(grid.solves, "iterations", int),
-        "check_convolutions": _field(grid.solves, "convolutions", int),
-        "check_seconds": _field(grid.solves, "seconds"),
-        "check_branch": [[s.branch for s in row] for row in grid.solves],
-        "check_load": float(loads[k]),
-        "grid_error": float(grid.error[list(grid.strides).index(grid.stride)]),
-    }
+def _with_worker_threads(setup: ContactSetup) -> ContactSetup:
+    """``setup`` with this process's FFT thread cap (:func:`worker_threads`)."""
+    options = dataclasses.replace(setup.options, threads=worker_threads())
+    return dataclasses.replace(setup, options=options)
 
 
-def _reference(
-    run: SimpleNamespace,
-    map_loads: np.ndarray,
+def _in_worker(function: Callable[..., LoadChain], grid, setup, *job) -> LoadChain:
+    return function(grid, _with_worker_threads(setup), *job)
+
+
+def _chain_map(executor: Executor | None, progress: bool) -> ChainMap:
+    """Runs the load chains through ``executor``, the map and start shipped to each worker once."""
+
+    def map_chains(function: Callable[..., LoadChain], jobs: list[tuple]) -> list[LoadChain]:
+        grid, start = share(executor, jobs[0][0]), share(executor, jobs[0][3])
+        jobs = [(function, grid, setup, forces, start, mask) for _, setup, forces, _, mask in jobs]
+        return run_map(_in_worker, jobs, executor, desc="BEM sweeps", progress=progress)
+
+    return map_chains
+
+
+def bem_reference(
+    surface: topo.HeightMap,
+    e_star: float,
+    work_of_adhesion: float,
+    normal_loads: Sequence[float],
     nominal_area: float,
-    area_tolerance: float,
-    boundary: str,
+    settings: BemConfig | None = None,
+    *,
+    executor: Executor | None = None,
+    progress: bool = False,
+    **deprecated_settings: object,
 ) -> BemReference:
-    """The :class:`BemReference` of the grid check and the load chains ``run`` holds."""
-    loads, k, solves, dx, dy = run.loads, run.k, run.solves, run.dx, run.dy
-    mask = run.chains.get(-1, run.grid.mask)  # the check's own mask when the check load is largest
-    mismatch = edge_mismatch(run.h)
-    warning = boundary_warning(boundary, mismatch)
-    grid = _grid_fields(run, nominal_area, area_tolerance)
-    check_iter, check_conv = grid["check_iterations"], grid["check_convolutions"]
-    iterations = _field(solves, "iterations", int)
-    convolutions = _field(solves, "convolutions", int)
-    return BemReference(
-        normal_load=loads,
-        mode=np.arange(len(solves)),
-        mask_x=np.arange(mask.shape[0]) * dx,
-        mask_y=np.arange(mask.shape[1]) * dy,
-        map_normal_load=map_loads,
-        contact_fraction=_field(solves, "contact_fraction")[0],
-        iterations=iterations,
-        converged=_field(solves, "converged", bool),
-        solve_seconds=_field(solves, "seconds"),
-        contact_mask=mask,
-        dx=dx,
-        dy=dy,
-        messages=_messages(loads, solves),
-        convolutions=convolutions,
-        branch=[[s.branch for s in row] for row in solves],
-        boundary=boundary,
-        edge_mismatch=mismatch,
-        warnings=[warning] if warning else [],
-        solves=int(check_iter.size + iterations.size - iterations.shape[0]),
-        total_iterations=int(check_iter.sum() + iterations.sum() - iterations[:, k].sum()),
-        total_convolutions=int(check_conv.sum() + convolutions.sum() - convolutions[:, k].sum()),
-        contact_fraction_adhesive=_field(solves, "contact_fraction")[1] if run.w > 0 else None,
-        **grid,
-        **discretisation_fields(run),
+    """The BEM real contact area against normal load on the map (:func:`bem.solve_reference`).
+
+    Parameters
+    ----------
+    surface : topo.HeightMap
+        Levelled map, heights in m (larger = closer to the flat).
+    e_star : float
+        E*, Pa.
+    work_of_adhesion : float
+        w, J/m^2 (adhesive solves on the loading branch when ``settings.adhesive``).
+    normal_loads : sequence of float
+        Experiment loads F_z, N (on the nominal area).
+    nominal_area : float
+        A_n of the experiment, m^2.
+    settings : BemConfig, optional
+        The ``[bem]`` table (default ``BemConfig()``): the solver's ``tol`` and ``max_iter``,
+        the grid check's ``max_stride``, ``area_tolerance``, ``coarsen``, the ``boundary``,
+        ``adhesive``, the law ``adhesion`` and its range ``adhesion_range`` (m; None: the rule
+        of :func:`bem.adhesion_range.search_range`).
+    executor : Executor, optional
+        Runs the two load chains in parallel.
+    **deprecated_settings
+        The settings as keywords (0.3): a DeprecationWarning, removed in 0.5.
+    """
+    settings = bem_settings(settings, "bem_reference", deprecated_settings)
+    loads = np.asarray(normal_loads, dtype=float)
+    w = work_of_adhesion if settings.adhesive and work_of_adhesion > 0 else 0.0
+    options = SolverOptions(tol=settings.tol, max_iter=settings.max_iter)
+    setup = ContactSetup(e_star, w, options, periodic=settings.boundary == "periodic")
+    run = solve_reference(
+        surface.heights, surface.dx, surface.dy, _with_worker_threads(setup), loads,
+        nominal_area, max_stride=settings.max_stride, area_tolerance=settings.area_tolerance,
+        coarsen=settings.coarsen, adhesion=settings.adhesion,
+        adhesion_range=settings.adhesion_range, map_chains=_chain_map(executor, progress),
+    )  # fmt: skip
+    check, grid, k = run.check, run.grid, run.check_index
+    mismatch = edge_mismatch(grid.heights)
+    law = settings.adhesion if w > 0 else None
+    notes = (
+        boundary_warning(settings.boundary, mismatch),
+        law == "pohrt-popov" and POHRT_POPOV_NOTE,
     )
+    extrapolations, relative = discretisation_estimate(check, surface.dx)
+    fraction = run.field("contact_fraction")
+    solves, iterations, convolutions = run.totals()
+    reference = BemReference(
+        normal_load=loads,
+        mode=np.arange(len(run.solves)),
+        check_stride=check.strides,
+        mask_x=np.arange(run.mask.shape[0]) * grid.dx,
+        mask_y=np.arange(run.mask.shape[1]) * grid.dy,
+        map_normal_load=run.map_loads,
+        contact_fraction=fraction[0],
+        iterations=run.field("iterations", int),
+        converged=run.field("converged", bool),
+        solve_seconds=run.field("seconds"),
+        check_contact_fraction=check.fractions(),
+        check_relative_change=check.relative_change,
+        contact_mask=run.mask,
+        stride=check.stride,
+        dx=grid.dx,
+        dy=grid.dy,
+        check_pressure=float(loads[k]) / nominal_area,
+        grid_converged=check.converged(settings.area_tolerance),
+        grid_reason=check.reason,
+        messages=run.messages(loads),
+        convolutions=run.field("convolutions", int),
+        branch=[[s.branch for s in row] for row in run.solves],
+        check_error=check.error,
+        check_iterations=check.field("iterations", int),
+        check_convolutions=check.field("convolutions", int),
+        check_seconds=check.field("seconds"),
+        check_branch=[[s.branch for s in row] for row in check.solves],
+        check_load=float(loads[k]),
+        grid_error=float(check.error[check.chosen]),
+        boundary=settings.boundary,
+        edge_mismatch=mismatch,
+        warnings=[note for note in notes if note],
+        solves=solves,
+        total_iterations=iterations,
+        total_convolutions=convolutions,
+        contact_fraction_adhesive=fraction[1] if w > 0 else None,
+        area_tolerance=float(settings.area_tolerance),
+        check_extrapolated_fraction=np.array([e.value for e in extrapolations]),
+        check_extrapolation_uncertainty=np.array([e.uncertainty for e in extrapolations]),
+        extrapolation_order=np.array([e.order for e in extrapolations]),
+        extrapolation_safety_factor=np.array([e.safety_factor for e in extrapolations]),
+        extrapolation_messages=[e.message for e in extrapolations],
+        discretisation_relative_uncertainty=relative,
+        contact_fraction_discretisation_uncertainty=relative[:, None] * fraction,
+        adhesion=law,
+        **_range_fields(check.range_choice, fraction[-1]),
+    )
+    return reference
+
+
+def _range_fields(choice: RangeChoice | None, adhesive: np.ndarray) -> dict:
+    """The Maugis range's fields of :class:`BemReference` (none for Pohrt-Popov or w = 0); its
+    sensitivity, measured at the check load, applies as the same relative part at every load."""
+    if choice is None:
+        return {}
+    return {
+        "adhesion_range": choice.adhesion_range,
+        "range_rule": choice.rule,
+        "range_zone_elements": choice.zone_elements,
+        "range_sensitivity": np.asarray(choice.sensitivity, dtype=float),
+        "area_range_uncertainty": choice.uncertainty,
+        "range_solves": choice.solves,
+        "contact_fraction_adhesion_range_uncertainty": choice.relative_uncertainty * adhesive,
+    }
 
 
 def compute_bem(context: StageContext) -> BemReference:
@@ -582,7 +372,7 @@ def compute_bem(context: StageContext) -> BemReference:
         config.material.work_of_adhesion,
         config.loading.normal_loads,
         config.loading.nominal_area,
-        **{name: getattr(config.bem, name) for name in SETTINGS},
+        config.bem,
         executor=context.executor,
         progress=context.progress,
     )

@@ -25,11 +25,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from asperity import bem
+from asperity.bem.load_sweeps import decimated_grid
 from asperity.fields import array, document_fields, scalar, text
 from asperity.pipelines.config import JobConfig
 from asperity.pipelines.engine.parallel import run_map
 from asperity.pipelines.engine.stage import Stage, StageContext
-from asperity.pipelines.stages._bem_grid import solver_grid
 from asperity.pipelines.stages._profile import input_is_profile, synthesised_map
 from asperity.pipelines.stages.bem import BEM, BemReference
 from asperity.pipelines.stages.surface import SURFACE
@@ -93,7 +93,8 @@ def solve_realisation(
     map_loads : ndarray
         Loads on the map, N (any order).
     solver : dict
-        ``tol``, ``max_iter``, ``periodic`` of :func:`bem.solve_contact`.
+        ``options`` (a :class:`bem.SolverOptions`) and ``periodic`` of
+        :func:`bem.solve_contact`.
     work_of_adhesion : float
         w, J/m^2; 0 for the non-adhesive solve alone.
     adhesion : (str, float or None)
@@ -143,17 +144,18 @@ def _jobs(context: StageContext, reference: BemReference) -> list[tuple]:
     w = config.material.work_of_adhesion
     w = w if config.bem.adhesive and reference.contact_fraction_adhesive is not None else 0.0
     solver = {
-        "tol": config.bem.tol,
-        "max_iter": config.bem.max_iter,
+        "options": bem.SolverOptions(tol=config.bem.tol, max_iter=config.bem.max_iter),
         "periodic": config.bem.boundary == "periodic",
     }
     jobs = []
     for index in range(1, config.surface.profile_realisations):
         surface = synthesised_map(profile, config.surface, index)
-        h, dx, dy = solver_grid(surface, int(reference.stride))
-        map_loads = reference.normal_load * (h.size * dx * dy) / config.loading.nominal_area
+        grid = decimated_grid(surface.heights, surface.dx, surface.dy, int(reference.stride))
+        map_loads = reference.normal_load * grid.area / config.loading.nominal_area
         law = (config.bem.adhesion, reference.adhesion_range)
-        jobs.append((h, dx, dy, config.material.e_star, map_loads, solver, w, law))
+        jobs.append(
+            (grid.heights, grid.dx, grid.dy, config.material.e_star, map_loads, solver, w, law)
+        )
     return jobs
 
 

@@ -5,6 +5,7 @@ import json
 import numpy as np
 import pytest
 
+from asperity.bem import SolverOptions
 from asperity.pipelines.cli import main
 from tests._helpers import BEM_JSON_KEYS as KEYS
 
@@ -77,7 +78,9 @@ def test_sweep_json_lists_and_matches_api(capsys, npy_surface, contact_ok):
     assert data["normal_force"] == pytest.approx([0.1, 0.15, 0.2], rel=1e-9)
     assert data["contact_fraction"] == sorted(data["contact_fraction"])
     h = np.load(npy_surface)
-    direct = solve_contact(h, 1e-6, 1e-6, 1e9, normal_force=0.15, tol=1e-10)
+    direct = solve_contact(
+        h, 1e-6, 1e-6, 1000000000.0, normal_force=0.15, options=SolverOptions(tol=1e-10)
+    )
     assert direct.converged, direct.message
     contact_ok(direct, h, force=0.15)
     assert data["contact_fraction"][1] == pytest.approx(direct.contact_fraction, abs=2 / h.size)

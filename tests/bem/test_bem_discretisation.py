@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from asperity.bem import solve_contact
+from asperity.bem import SolverOptions, solve_contact
 from asperity.bem.discretisation import (
     combine_in_quadrature,
     half_spread,
@@ -30,7 +30,9 @@ def _hertz_areas(box_radii: float, sizes: tuple[int, ...]) -> tuple[list[float],
     pixels, areas = [], []
     for n in sizes:
         h, dx = sphere_heights(n, box_radii * a, R)
-        res = solve_contact(h, dx, dx, E, normal_force=F, periodic=False, tol=1e-8)
+        res = solve_contact(
+            h, dx, dx, E, normal_force=F, periodic=False, options=SolverOptions(tol=1e-8)
+        )
         assert res.success, res.message
         pixels.append(dx)
         areas.append(res.real_area)

@@ -25,8 +25,12 @@ W = 0.02  # J/m^2 on the unit-modulus, unit-pixel test surfaces (about 5 % conta
 def test_mixed_precision_gives_the_double_contact_set(rough, contact_ok, tol):
     h = rough(256, seed=11)
     load = 0.04 * h.size
-    double = solve_contact(h, 1.0, 1.0, 1.0, normal_force=load, tol=tol, precision="double")
-    mixed = solve_contact(h, 1.0, 1.0, 1.0, normal_force=load, tol=tol, precision="mixed")
+    double = solve_contact(
+        h, 1.0, 1.0, 1.0, normal_force=load, options=SolverOptions(tol=tol, precision="double")
+    )
+    mixed = solve_contact(
+        h, 1.0, 1.0, 1.0, normal_force=load, options=SolverOptions(tol=tol, precision="mixed")
+    )
     assert double.converged and mixed.converged, (double.message, mixed.message)
     contact_ok(mixed, h, force=load)
     # the single-precision phase really ran, and the solve ended in double precision
@@ -42,7 +46,7 @@ def test_mixed_precision_gives_the_double_contact_set(rough, contact_ok, tol):
 
 def test_precision_auto_is_double_on_small_grids(rough):
     h = rough(64, seed=1)
-    res = solve_contact(h, 1.0, 1.0, 1.0, mean_pressure=0.04, tol=1e-8)
+    res = solve_contact(h, 1.0, 1.0, 1.0, mean_pressure=0.04, options=SolverOptions(tol=1e-8))
     assert res.converged
     assert res.extra["single_precision_convolutions"] == 0
     assert SolverOptions().mixed_precision((512, 512))
@@ -77,9 +81,20 @@ def test_single_precision_convolution_is_float32_accurate(rough, backend):
 def test_adhesive_sweep_from_the_non_adhesive_sweep_is_bit_identical(rough, contact_ok):
     h = rough(96, seed=7)
     forces = [0.02 * h.size * 1.3**k for k in range(4)]
-    plain = load_sweep(h, 1.0, 1.0, 1.0, forces, tol=1e-9)
-    alone = load_sweep(h, 1.0, 1.0, 1.0, forces, tol=1e-9, work_of_adhesion=W)
-    reused = load_sweep(h, 1.0, 1.0, 1.0, forces, tol=1e-9, work_of_adhesion=W, non_adhesive=plain)
+    plain = load_sweep(h, 1.0, 1.0, 1.0, forces, options=SolverOptions(tol=1e-9))
+    alone = load_sweep(
+        h, 1.0, 1.0, 1.0, forces, work_of_adhesion=W, options=SolverOptions(tol=1e-9)
+    )
+    reused = load_sweep(
+        h,
+        1.0,
+        1.0,
+        1.0,
+        forces,
+        work_of_adhesion=W,
+        non_adhesive=plain,
+        options=SolverOptions(tol=1e-9),
+    )
     for a, b, f in zip(alone, reused, forces, strict=True):
         assert a.converged and b.converged, (a.message, b.message)
         assert a.branch == b.branch == "loading"
@@ -95,9 +110,13 @@ def test_adhesive_sweep_from_the_non_adhesive_sweep_is_bit_identical(rough, cont
 def test_adhesive_sweep_is_the_loading_branch_of_solves_from_scratch(rough):
     h = rough(96, seed=7)
     forces = [0.02 * h.size * 1.3**k for k in range(3)]
-    sweep = load_sweep(h, 1.0, 1.0, 1.0, forces, tol=1e-9, work_of_adhesion=W)
+    sweep = load_sweep(
+        h, 1.0, 1.0, 1.0, forces, work_of_adhesion=W, options=SolverOptions(tol=1e-9)
+    )
     for res, f in zip(sweep, forces, strict=True):
-        scratch = solve_contact(h, 1.0, 1.0, 1.0, normal_force=f, tol=1e-9, work_of_adhesion=W)
+        scratch = solve_contact(
+            h, 1.0, 1.0, 1.0, normal_force=f, work_of_adhesion=W, options=SolverOptions(tol=1e-9)
+        )
         assert scratch.branch == res.branch == "loading"
         assert np.count_nonzero(scratch.contact_mask != res.contact_mask) <= 1
         np.testing.assert_allclose(res.pressure, scratch.pressure, atol=1e-6 * f)

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from asperity.bem import solve_contact
+from asperity.bem import SolverOptions, solve_contact
 from asperity.bem.reference_solutions import (
     hertz_sphere_approach,
     hertz_sphere_contact_radius,
@@ -30,7 +30,9 @@ def test_hertz_nonperiodic_converges_under_refinement(sphere, contact_ok):
     errs = []
     for n in (32, 64, 128):
         h, dx = sphere(n, 4 * A_HERTZ, R)
-        res = solve_contact(h, dx, dx, E, normal_force=F, periodic=False, tol=1e-10)
+        res = solve_contact(
+            h, dx, dx, E, normal_force=F, periodic=False, options=SolverOptions(tol=1e-10)
+        )
         assert res.converged, res.message
         contact_ok(res, h, force=F)
         errs.append(_errors(res, dx, n))
@@ -50,7 +52,9 @@ def test_hertz_periodic_kernels(kernel, sphere, contact_ok):
     out = {}
     for n in (64, 256):  # 4 and 16 pixels per contact radius
         h, dx = sphere(n, 16 * A_HERTZ, R)
-        res = solve_contact(h, dx, dx, E, normal_force=F, kernel=kernel, tol=1e-10)
+        res = solve_contact(
+            h, dx, dx, E, normal_force=F, options=SolverOptions(kernel=kernel, tol=1e-10)
+        )
         assert res.converged, res.message
         contact_ok(res, h, force=F)
         out[n] = _errors(res, dx, n)
@@ -63,8 +67,12 @@ def test_point_kernel_underestimates_peak_more_than_love_on_coarse_mesh(sphere, 
     """The stated consequence of the kernel choice (docs/bem.md): at 4 px per contact radius
     the point-force kernel's peak pressure is lower than the Love patch's."""
     h, dx = sphere(64, 16 * A_HERTZ, R)
-    p_point = solve_contact(h, dx, dx, E, normal_force=F, kernel="point", tol=1e-10)
-    p_love = solve_contact(h, dx, dx, E, normal_force=F, kernel="love", tol=1e-10)
+    p_point = solve_contact(
+        h, dx, dx, E, normal_force=F, options=SolverOptions(kernel="point", tol=1e-10)
+    )
+    p_love = solve_contact(
+        h, dx, dx, E, normal_force=F, options=SolverOptions(kernel="love", tol=1e-10)
+    )
     contact_ok(p_point, h, force=F)
     contact_ok(p_love, h, force=F)
     np.testing.assert_array_equal(p_point.contact_mask, p_love.contact_mask)
@@ -76,8 +84,18 @@ def test_point_kernel_underestimates_peak_more_than_love_on_coarse_mesh(sphere, 
 
 def test_hertz_displacement_control_matches_load_control(sphere, contact_ok):
     h, dx = sphere(64, 4 * A_HERTZ, R)
-    by_load = solve_contact(h, dx, dx, E, normal_force=F, periodic=False, tol=1e-10)
-    by_disp = solve_contact(h, dx, dx, E, separation=by_load.separation, periodic=False, tol=1e-10)
+    by_load = solve_contact(
+        h, dx, dx, E, normal_force=F, periodic=False, options=SolverOptions(tol=1e-10)
+    )
+    by_disp = solve_contact(
+        h,
+        dx,
+        dx,
+        E,
+        separation=by_load.separation,
+        periodic=False,
+        options=SolverOptions(tol=1e-10),
+    )
     assert by_load.converged and by_disp.converged
     contact_ok(by_load, h, force=F)
     contact_ok(by_disp, h)

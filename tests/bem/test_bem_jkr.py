@@ -3,7 +3,13 @@
 import numpy as np
 import pytest
 
-from asperity.bem import approach_retract, critical_tension, pull_off_force, solve_contact
+from asperity.bem import (
+    SolverOptions,
+    approach_retract,
+    critical_tension,
+    pull_off_force,
+    solve_contact,
+)
 from asperity.bem.reference_solutions import (
     hertz_sphere_force,
     jkr_jump_off_distance,
@@ -32,7 +38,9 @@ def _cycle(n, n_out=40):
     h, dx = _sphere(n)
     d_in = np.linspace(0.0, -D_MAX, 8)
     d_out = np.linspace(-D_MAX, -1.3 * DELTA_MIN, n_out)
-    loading, unloading = approach_retract(h, dx, dx, E, W, d_in, d_out, periodic=False, tol=1e-8)
+    loading, unloading = approach_retract(
+        h, dx, dx, E, W, d_in, d_out, periodic=False, options=SolverOptions(tol=1e-8)
+    )
     return h, dx, loading, unloading
 
 
@@ -116,7 +124,7 @@ def test_load_controlled_adhesive_solve(cycles, contact_ok):
         work_of_adhesion=W,
         periodic=False,
         initial=start,
-        tol=1e-8,
+        options=SolverOptions(tol=1e-8),
     )
     assert res.converged, res.message
     contact_ok(res, h, force=0.5 * P_PULL, rel_force=1e-6)
@@ -130,7 +138,7 @@ def test_load_controlled_adhesive_solve(cycles, contact_ok):
         work_of_adhesion=W,
         periodic=False,
         initial=start,
-        tol=1e-8,
+        options=SolverOptions(tol=1e-8),
     )
     assert not res.converged
     assert "contact lost" in res.message or "stalled" in res.message or "-Sigma" in res.message

@@ -103,17 +103,19 @@ def test_vanishing_range_strength_gives_the_non_adhesive_solution():
     h = random_surface(48, seed=1) * 1e-6
     dx = 1e-6
     force = 1e-3 * E_STAR * h.size * dx * dx
-    plain = bem.solve_contact(h, dx, dx, E_STAR, normal_force=force, tol=1e-10)
+    plain = bem.solve_contact(
+        h, dx, dx, E_STAR, normal_force=force, options=bem.SolverOptions(tol=1e-10)
+    )
     res = bem.solve_contact(
         h,
         dx,
         dx,
         E_STAR,
         normal_force=force,
-        tol=1e-10,
         work_of_adhesion=1e-12,
         adhesion="maugis",
         adhesion_range=1e-8,
+        options=bem.SolverOptions(tol=1e-10),
     )
     assert np.array_equal(res.contact_mask, plain.contact_mask)
     assert np.linalg.norm(res.pressure - plain.pressure) < 1e-3 * np.linalg.norm(plain.pressure)

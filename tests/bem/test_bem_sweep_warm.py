@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from asperity.bem import load_sweep, solve_contact
+from asperity.bem import SolverOptions, load_sweep, solve_contact
 
 TOL = 1e-8
 
@@ -15,7 +15,11 @@ def _previous_only(h, forces):
     results = []
     for f in forces:
         start = results[-1] if results else None
-        results.append(solve_contact(h, 1.0, 1.0, 1.0, normal_force=f, tol=TOL, initial=start))
+        results.append(
+            solve_contact(
+                h, 1.0, 1.0, 1.0, normal_force=f, initial=start, options=SolverOptions(tol=TOL)
+            )
+        )
     return results
 
 
@@ -37,8 +41,11 @@ def _assert_same_as_cold(sweep, cold, h, forces, contact_ok):
 def test_sweep_needs_fewer_iterations_than_cold_solves(rough, contact_ok, step, bound):
     h = rough(128, seed=3)
     forces = [0.02 * h.size * (1 + step) ** k for k in range(8)]
-    sweep = load_sweep(h, 1.0, 1.0, 1.0, forces, tol=TOL)
-    cold = [solve_contact(h, 1.0, 1.0, 1.0, normal_force=f, tol=TOL) for f in forces]
+    sweep = load_sweep(h, 1.0, 1.0, 1.0, forces, options=SolverOptions(tol=TOL))
+    cold = [
+        solve_contact(h, 1.0, 1.0, 1.0, normal_force=f, options=SolverOptions(tol=TOL))
+        for f in forces
+    ]
     _assert_same_as_cold(sweep, cold, h, forces, contact_ok)
     it_sweep = sum(r.nit for r in sweep)
     it_cold = sum(r.nit for r in cold)
@@ -51,7 +58,7 @@ def test_secant_start_beats_previous_solution_start(rough):
     iterations (measured 106 vs 117 here)."""
     h = rough(128, seed=3)
     forces = [0.02 * h.size * 1.025**k for k in range(8)]
-    sweep = load_sweep(h, 1.0, 1.0, 1.0, forces, tol=TOL)
+    sweep = load_sweep(h, 1.0, 1.0, 1.0, forces, options=SolverOptions(tol=TOL))
     prev = _previous_only(h, forces)
     for s, p in zip(sweep[2:], prev[2:], strict=True):
         assert s.residual_history[0] < 0.2 * p.residual_history[0]
@@ -62,6 +69,9 @@ def test_sweep_up_and_down_matches_cold_solves(rough, contact_ok):
     """Reversed and uneven steps fall back to the previous-solution start: same answers."""
     h = rough(64, seed=1)
     forces = [0.02 * h.size * m for m in (1.0, 1.1, 1.2, 1.1, 1.0, 1.05, 3.0, 3.2)]
-    sweep = load_sweep(h, 1.0, 1.0, 1.0, forces, tol=TOL)
-    cold = [solve_contact(h, 1.0, 1.0, 1.0, normal_force=f, tol=TOL) for f in forces]
+    sweep = load_sweep(h, 1.0, 1.0, 1.0, forces, options=SolverOptions(tol=TOL))
+    cold = [
+        solve_contact(h, 1.0, 1.0, 1.0, normal_force=f, options=SolverOptions(tol=TOL))
+        for f in forces
+    ]
     _assert_same_as_cold(sweep, cold, h, forces, contact_ok)

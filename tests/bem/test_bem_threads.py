@@ -28,7 +28,10 @@ def test_concurrent_solves_in_threads_match_serial_solves() -> None:
     dx = 1e-6
     loads = [1e-3, 2e-2, 5e-3, 1e-2]
     serial = [
-        bem.solve_contact(h, dx, dx, 1e6, normal_force=f, tol=1e-8).contact_fraction for f in loads
+        bem.solve_contact(
+            h, dx, dx, 1000000.0, normal_force=f, options=bem.SolverOptions(tol=1e-8)
+        ).contact_fraction
+        for f in loads
     ]
     assert len(set(serial)) == len(loads)  # the loads really give different answers
     for _ in range(3):
@@ -37,7 +40,9 @@ def test_concurrent_solves_in_threads_match_serial_solves() -> None:
 
         def solve(i: int, barrier=barrier, results=results) -> None:
             barrier.wait()
-            res = bem.solve_contact(h, dx, dx, 1e6, normal_force=loads[i], tol=1e-8)
+            res = bem.solve_contact(
+                h, dx, dx, 1000000.0, normal_force=loads[i], options=bem.SolverOptions(tol=1e-8)
+            )
             assert res.converged
             results[i] = res.contact_fraction
 

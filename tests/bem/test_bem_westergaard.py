@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from asperity.bem import solve_contact
+from asperity.bem import SolverOptions, solve_contact
 from asperity.bem.reference_solutions import (
     westergaard_contact_half_width,
     westergaard_full_contact_pressure,
@@ -25,7 +25,9 @@ def _wavy(nx, ny=8):
 def test_full_contact_pressure_is_exact(kernel, contact_ok):
     h, dx, x = _wavy(64)
     p_mean = 1.5 * P_STAR
-    res = solve_contact(h, dx, dx, E, mean_pressure=p_mean, kernel=kernel, tol=1e-12)
+    res = solve_contact(
+        h, dx, dx, E, mean_pressure=p_mean, options=SolverOptions(kernel=kernel, tol=1e-12)
+    )
     assert res.converged, res.message
     contact_ok(res, h)
     assert res.contact_fraction == 1.0
@@ -45,7 +47,7 @@ def test_partial_contact_width_and_pressure(ratio, contact_ok):
     n = 512
     h, dx, x = _wavy(n, ny=4)
     p_mean = ratio * P_STAR
-    res = solve_contact(h, dx, dx, E, mean_pressure=p_mean, tol=1e-10)
+    res = solve_contact(h, dx, dx, E, mean_pressure=p_mean, options=SolverOptions(tol=1e-10))
     assert res.converged, res.message
     contact_ok(res, h, force=p_mean * h.size * dx * dx)
     half_width = westergaard_contact_half_width(p_mean, AMPLITUDE, WAVELENGTH, E)

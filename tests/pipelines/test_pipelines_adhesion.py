@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from asperity import topo
-from asperity.pipelines.config import ConfigError, config_from_dict
+from asperity.pipelines.config import BemConfig, ConfigError, config_from_dict
 from asperity.pipelines.report import load_table
 from asperity.pipelines.stages.bem import bem_reference
 from asperity.pipelines.stages.verdict import (
@@ -64,7 +64,8 @@ def test_range_rule_and_its_sensitivity_are_stated(small_run):
 
 def test_pohrt_popov_loading_branch_carries_no_adhesion_and_says_so():
     surface = topo.synthetic.paper_like(n=64, pixel_size=40e-6, seed=3)
-    ref = bem_reference(surface, 2.133e6, 0.04, [1.0, 3.0], 700e-6, adhesion="pohrt-popov")
+    settings = BemConfig(adhesion="pohrt-popov")
+    ref = bem_reference(surface, 2.133e6, 0.04, [1.0, 3.0], 700e-6, settings)
     np.testing.assert_array_equal(ref.contact_fraction_adhesive, ref.contact_fraction)
     assert ref.adhesion == "pohrt-popov" and ref.adhesion_range is None
     assert any("carries no adhesion" in w for w in ref.warnings)
@@ -134,18 +135,18 @@ def test_glassy_polymer_on_x3p2_stays_partial_contact():
 def test_maugis_solves_are_all_counted(monkeypatch):
     """Every bem.solve_contact call of the stage is in ``solves``: the check and sweeps, the
     range search beyond its first solve and the two sensitivity solves (h_0 / 2, 2 h_0)."""
-    from asperity import bem
+    from asperity.bem import load_sweeps
 
     calls = []
-    real = bem.solve_contact
+    real = load_sweeps.solve_contact
 
     def counting(*args, **kwargs):
         calls.append(kwargs.get("adhesion_range"))
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(bem, "solve_contact", counting)
+    monkeypatch.setattr(load_sweeps, "solve_contact", counting)
     surface = topo.synthetic.paper_like(n=64, pixel_size=40e-6, seed=3)
-    ref = bem_reference(surface, 2.133e6, 0.04, [1.0, 3.0], 700e-6, max_stride=2)
+    ref = bem_reference(surface, 2.133e6, 0.04, [1.0, 3.0], 700e-6, BemConfig(max_stride=2))
     assert ref.solves == len(calls)
     h0 = ref.adhesion_range
     assert calls.count(0.5 * h0) == 1 and calls.count(2.0 * h0) == 1

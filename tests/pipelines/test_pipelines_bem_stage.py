@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 from asperity import bem, topo
-from asperity.pipelines import bem_grid
-from asperity.pipelines.bem_grid import EDGE_MISMATCH_LIMIT, choose_stride, edge_mismatch
-from asperity.pipelines.bem_stage import bem_reference, check_load_index, load_chains
-from asperity.pipelines.config import ConfigError, config_from_dict
+from asperity.bem import load_sweeps
+from asperity.bem.load_sweeps import check_load_index, decimated_grid
+from asperity.pipelines.config import BemConfig, ConfigError, config_from_dict
+from asperity.pipelines.stages.bem import bem_reference
 
 E_STAR = 2.133e6  # Pa
 W = 0.04  # J/m^2
@@ -31,27 +31,24 @@ def window_map(periodic_map) -> topo.HeightMap:
     return topo.HeightMap(np.array(big.heights[10:74, 30:94]), big.dx, big.dy, periodic=False)
 
 
-def test_edge_mismatch_tells_a_periodic_map_from_a_window(periodic_map, window_map):
-    assert edge_mismatch(periodic_map.heights) < 0.3  # statistically ~0
-    assert edge_mismatch(window_map.heights) > 0.9  # uncorrelated edges: ~sqrt(2)
-    assert not bem_grid.boundary_warning("periodic", edge_mismatch(periodic_map.heights))
-    assert not bem_grid.boundary_warning("free", edge_mismatch(window_map.heights))
-    warning = bem_grid.boundary_warning("periodic", edge_mismatch(window_map.heights))
-    assert f"limit {EDGE_MISMATCH_LIMIT}" in warning and "free" in warning
-
-
 @pytest.mark.slow
 def test_boundary_is_applied_stated_and_warned(window_map):
-    kwargs = dict(max_stride=1, adhesive=False)
-    periodic = bem_reference(window_map, E_STAR, W, LOADS, A_N, boundary="periodic", **kwargs)
-    free = bem_reference(window_map, E_STAR, W, LOADS, A_N, boundary="free", **kwargs)
+    periodic, free = (
+        bem_reference(
+            window_map, E_STAR, W, LOADS, A_N, BemConfig(max_stride=1, adhesive=False, boundary=b)
+        )
+        for b in ("periodic", "free")
+    )
     assert (periodic.boundary, free.boundary) == ("periodic", "free")
     assert periodic.warnings and "seam" in periodic.warnings[0]
     assert free.warnings == []
     # the free solve is the finite-specimen solve of bem, at every load
-    h, dx, dy = bem_grid.solver_grid(window_map, 1)
+    grid = decimated_grid(window_map.heights, window_map.dx, window_map.dy, 1)
+    options = bem.SolverOptions(tol=1e-6)
     for i, f in enumerate(free.map_normal_load):
-        ref = bem.solve_contact(h, dx, dy, E_STAR, normal_force=f, periodic=False, tol=1e-6)
+        ref = bem.solve_contact(
+            grid.heights, grid.dx, grid.dy, E_STAR, normal_force=f, periodic=False, options=options
+        )
         assert free.contact_fraction[i] == pytest.approx(ref.contact_fraction, rel=0.02)
     assert not np.allclose(free.contact_fraction, periodic.contact_fraction)
 
@@ -63,28 +60,10 @@ def test_config_boundary_key():
         config_from_dict({"surface": {"synthetic": {"n": 64}}, "bem": {"boundary": "open"}})
 
 
-def test_check_load_and_chains_cover_every_load_once():
-    loads = np.array([3.12, 0.56, 2.08, 1.06, 2.57, 1.58])
-    k = check_load_index(loads)
-    assert loads[k] == 2.08  # the middle load of the sorted six, one of the loads
-    chains = load_chains(loads)
-    assert [loads[c].tolist() for c in chains] == [[2.57, 3.12], [1.58, 1.06, 0.56]]
-    assert sorted([k, *chains[0], *chains[1]]) == list(range(6))
-    assert load_chains(np.array([1.0])) == []
-
-
-def test_coarsest_grid_within_tolerance_of_the_finest():
-    strides, error = [8, 4, 2, 1], np.array([0.30, 0.04, 0.06, 0.0])
-    # stride 4 is within 5 % of the finest even though stride 2 is not: the finest decides
-    assert choose_stride(strides, error, 0.05, coarsen=True) == 4
-    assert choose_stride(strides, error, 0.01, coarsen=True) == 1
-    assert choose_stride(strides, error, 0.5, coarsen=False) == 1
-
-
 @pytest.fixture(scope="module")
 def counted(periodic_map):
     """bem_reference on the periodic map with Pohrt-Popov adhesion (the paper's Appendix B),
-    counting every bem.solve_contact call."""
+    counting every bem.solve_contact call of its solves (:mod:`asperity.bem.load_sweeps`)."""
     calls = []
     real = bem.solve_contact
 
@@ -93,11 +72,10 @@ def counted(periodic_map):
         return real(*args, **kwargs)
 
     mp = pytest.MonkeyPatch()
-    mp.setattr(bem, "solve_contact", counting)
+    mp.setattr(load_sweeps, "solve_contact", counting)
+    settings = BemConfig(max_stride=4, coarsen=False, adhesion="pohrt-popov")
     try:
-        ref = bem_reference(
-            periodic_map, E_STAR, W, LOADS, A_N, max_stride=4, coarsen=False, adhesion="pohrt-popov"
-        )
+        ref = bem_reference(periodic_map, E_STAR, W, LOADS, A_N, settings)
     finally:
         mp.undo()
     return ref, calls
@@ -134,10 +112,24 @@ def test_one_adhesive_loading_path(counted, periodic_map):
     assert [row[1] for row in ref.check_branch] == ["loading"] * len(ref.check_stride)
     # the adhesive A_r of the check and of the sweep lie on the branch that bem reaches from
     # scratch (its own loading path), at the check load and at the loads the chains solved
-    h, dx, dy = bem_grid.solver_grid(periodic_map, 1)
+    g = decimated_grid(periodic_map.heights, periodic_map.dx, periodic_map.dy, 1)
     for i, f in enumerate(ref.map_normal_load):
-        scratch = bem.solve_contact(h, dx, dy, E_STAR, normal_force=f, work_of_adhesion=W)
+        scratch = bem.solve_contact(
+            g.heights, g.dx, g.dy, E_STAR, normal_force=f, work_of_adhesion=W
+        )
         assert scratch.branch == "loading"
         assert ref.contact_fraction_adhesive[i] == pytest.approx(scratch.contact_fraction, rel=0.01)
     # the loading branch of Pohrt-Popov adhesion is the non-adhesive contact set (bem.branch)
     np.testing.assert_allclose(ref.contact_fraction_adhesive, ref.contact_fraction, rtol=0.01)
+
+
+def test_the_keyword_settings_of_0_3_warn_and_mean_the_same(periodic_map):
+    """``bem_reference(..., max_stride=2)`` (0.3) still works for one version, warning with the
+    BemConfig to pass instead; a keyword that is no setting is refused."""
+    settings = BemConfig(max_stride=2, adhesive=False)
+    new = bem_reference(periodic_map, E_STAR, W, LOADS, A_N, settings)
+    with pytest.warns(DeprecationWarning, match=r"BemConfig\(max_stride=2, adhesive=False\)"):
+        old = bem_reference(periodic_map, E_STAR, W, LOADS, A_N, max_stride=2, adhesive=False)
+    np.testing.assert_array_equal(old.contact_fraction, new.contact_fraction)
+    with pytest.raises(TypeError, match="max_strides"):
+        bem_reference(periodic_map, E_STAR, W, LOADS, A_N, max_strides=2)

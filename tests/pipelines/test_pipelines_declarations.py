@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import copy
 import dataclasses
-import inspect
 import subprocess
 import sys
 import typing
@@ -114,20 +113,14 @@ def test_a_declared_key_that_the_schema_does_not_have_is_refused(small, tmp_path
         _ = context.for_stage(stage).config.material
 
 
-def test_bem_settings_are_one_list_for_declaration_call_and_defaults():
-    keyword = [
-        name
-        for name, p in inspect.signature(bem_stage.bem_reference).parameters.items()
-        if p.kind is p.KEYWORD_ONLY and name not in ("executor", "progress")
-    ]
-    assert tuple(keyword) == bem_stage.SETTINGS
+def test_bem_settings_are_the_fields_of_bem_config_and_the_declared_keys():
+    """The ``[bem]`` keys are written once, as BemConfig's fields: the stage declares each
+    (``enabled`` only switches it on); bem_reference takes the BemConfig itself."""
+    fields = [f.name for f in dataclasses.fields(BemConfig) if f.name != "enabled"]
+    assert list(bem_stage.SETTINGS) == fields
     assert {k for k in bem_stage.BEM.config if k.startswith("bem.")} == {
-        f"bem.{name}" for name in bem_stage.SETTINGS
+        f"bem.{name}" for name in fields
     }
-    defaults = BemConfig()
-    for name in bem_stage.SETTINGS:
-        parameter = inspect.signature(bem_stage.bem_reference).parameters[name]
-        assert parameter.default == getattr(defaults, name)
 
 
 def test_result_types_and_numbers_follow_from_the_stage_list():

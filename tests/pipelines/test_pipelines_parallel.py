@@ -66,11 +66,18 @@ def _bem_on(executor):
     import numpy as np
 
     from asperity import topo
-    from asperity.pipelines.bem_stage import bem_reference
+    from asperity.pipelines.config import BemConfig
+    from asperity.pipelines.stages.bem import bem_reference
 
     surface = topo.synthetic.paper_like(n=64, pixel_size=50e-6, seed=3)
     ref = bem_reference(
-        surface, 2.133e6, 0.04, [0.5, 1.0, 1.5, 2.0, 3.0], 40e-6, max_stride=2, executor=executor
+        surface,
+        2.133e6,
+        0.04,
+        [0.5, 1.0, 1.5, 2.0, 3.0],
+        40e-6,
+        BemConfig(max_stride=2),
+        executor=executor,
     )
     return np.concatenate([ref.contact_fraction, ref.contact_fraction_adhesive]), ref
 

@@ -9,8 +9,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from asperity.bem.grid_refinement import EDGE_MISMATCH_LIMIT, edge_mismatch
 from asperity.pipelines import verdict as v
-from asperity.pipelines.stages._bem_grid import EDGE_MISMATCH_LIMIT, edge_mismatch
 
 
 def _friction(displacement, sliding=(0.1, 0.2, 0.3), converged=(True, True, True)):

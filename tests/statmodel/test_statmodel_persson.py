@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.special import erf
 
-from asperity.bem import load_sweep
+from asperity.bem import SolverOptions, load_sweep
 from asperity.errors import InputError
 from asperity.statmodel import (
     KAPPA_PERSSON,
@@ -219,7 +219,14 @@ def persson_over_bem(surface):
     area = surface.nominal_area
     slope = persson_real_area(surface, E_STAR, [1.0], area).rms_slope
     loads = TARGETS * E_STAR * slope / 2 * area
-    bem = load_sweep(surface.heights, surface.dx, surface.dy, E_STAR, list(loads), tol=1e-8)
+    bem = load_sweep(
+        surface.heights,
+        surface.dx,
+        surface.dy,
+        E_STAR,
+        list(loads),
+        options=SolverOptions(tol=1e-8),
+    )
     assert all(r.converged for r in bem)
     bem_fraction = np.array([r.contact_fraction for r in bem])
     persson = persson_real_area(surface, E_STAR, loads, area).contact_fraction

@@ -113,7 +113,7 @@ def test_energy_stored_by_a_bem_full_contact_equals_the_flattening_energy():
         surface.dy,
         e_star,
         mean_pressure=20 * e_star * slope,
-        tol=1e-10,
+        options=bem.SolverOptions(tol=1e-10),
     )
     assert result.success and result.contact_fraction == 1.0
     p = result.pressure - result.pressure.mean()
