@@ -5,67 +5,8 @@ Pohrt-Popov mesh-dependent adhesion criterion (paper Appendix B, eqs. E:BEM_eq1.
 eq:PohrtPopov_G, eq:max_sigma). Works on plain arrays of heights (m) with pixel sizes (m).
 """
 
-from __future__ import annotations
+import lazy_loader
 
-import importlib
-from typing import Any
-
-# Public names and the module that defines each; imported on first use so that
-# `asperity --help` and light sub-commands do not load numba kernels they never call.
-_EXPORTS: dict[str, str] = {
-    "approach_retract": "asperity.bem.adhesion",
-    "critical_tension": "asperity.bem.pohrt_popov",
-    "pull_off_force": "asperity.bem.adhesion",
-    "crop_to_fast_size": "asperity.bem.fft_backend",
-    "fast_size": "asperity.bem.fft_backend",
-    "solve_contact": "asperity.bem.polonsky_keer",
-    "ContactResult": "asperity.bem.result",
-    "SolverOptions": "asperity.bem.options",
-    "SolverStatus": "asperity.bem.result",
-    "BemInputError": "asperity.bem.errors",
-    "load_sweep": "asperity.bem.sweep",
-    "MaugisLaw": "asperity.bem.maugis",
-    "cohesive_zone_width": "asperity.bem.maugis",
-    "resolving_range": "asperity.bem.maugis",
-    "GridExtrapolation": "asperity.bem.discretisation",
-    "UncertaintyBudget": "asperity.bem.discretisation",
-    "combine_in_quadrature": "asperity.bem.discretisation",
-    "half_spread": "asperity.bem.discretisation",
-    "richardson_extrapolation": "asperity.bem.discretisation",
-}
-
-__all__ = [
-    "BemInputError",
-    "ContactResult",
-    "SolverOptions",
-    "SolverStatus",
-    "approach_retract",
-    "critical_tension",
-    "crop_to_fast_size",
-    "fast_size",
-    "MaugisLaw",
-    "cohesive_zone_width",
-    "load_sweep",
-    "pull_off_force",
-    "resolving_range",
-    "solve_contact",
-    "GridExtrapolation",
-    "UncertaintyBudget",
-    "combine_in_quadrature",
-    "half_spread",
-    "richardson_extrapolation",
-]
-
-
-def __getattr__(name: str) -> Any:
-    module_name = _EXPORTS.get(name)
-    if module_name is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    module = importlib.import_module(module_name)
-    value = module if module_name == f"{__name__}.{name}" else getattr(module, name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+# The public names are the imports in __init__.pyi (also what type checkers read); each is
+# imported on first use, so that `asperity --help` and light sub-commands load no numba kernel.
+__getattr__, __dir__, __all__ = lazy_loader.attach_stub(__name__, __file__)

@@ -24,7 +24,12 @@ from pathlib import Path
 from typing import Any
 
 from asperity.errors import InputError
+from asperity.pipelines.batch.summary import write_summary_csv, write_summary_figure
 from asperity.pipelines.config import JobConfig, config_from_dict
+from asperity.pipelines.engine.parallel import make_executor
+from asperity.pipelines.job import run_job
+from asperity.pipelines.report import write_report
+from asperity.pipelines.report.html import find_verdict
 
 try:
     import tomllib
@@ -87,8 +92,6 @@ def map_folders(maps: Sequence[Path], out_dir: Path) -> list[Path]:
 
 
 def _verdict_text(result: Any) -> str:
-    from asperity.pipelines.report.html import find_verdict
-
     verdict = find_verdict(result)
     if verdict is None:
         return ""
@@ -150,9 +153,6 @@ def run_one_map(
     """
     record: dict[str, Any] = {"map": map_path, "folder": folder, "status": "failed"}
     try:
-        from asperity.pipelines.job import run_job
-        from asperity.pipelines.report import write_report
-
         config = map_config(data, Path(base_dir), source, Path(map_path))
         result = run_job(config, folder, force=force, workers=1)
         write_report(result, folder)
@@ -231,8 +231,6 @@ def run_batch(
     InputError
         A bad job file or key, or a map pattern matching nothing: before any map runs.
     """
-    from asperity.pipelines.engine.parallel import make_executor
-
     log = log or (lambda line: None)
     data, base_dir = read_job(job_path)
     maps = expand_maps(patterns)
@@ -251,8 +249,6 @@ def run_batch(
             future.add_done_callback(lambda done, a=a: log(_log_line(done, a[3])))
             futures.append(future)
         records = [_record(future, a) for a, future in zip(args, futures, strict=True)]
-    from asperity.pipelines.batch.summary import write_summary_csv, write_summary_figure
-
     csv_path = write_summary_csv(records, out_dir / "summary.csv")
     figure = write_summary_figure(records, out_dir / "summary.png")
     failed = [r["map"] for r in records if r["status"] == "failed"]

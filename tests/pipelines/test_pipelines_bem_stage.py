@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 from asperity import bem, topo
-from asperity.pipelines import bem_grid
-from asperity.pipelines.bem_grid import EDGE_MISMATCH_LIMIT, choose_stride, edge_mismatch
-from asperity.pipelines.bem_stage import bem_reference, check_load_index, load_chains
 from asperity.pipelines.config import ConfigError, config_from_dict
+from asperity.pipelines.stages import _bem_grid as bem_grid
+from asperity.pipelines.stages._bem_grid import EDGE_MISMATCH_LIMIT, choose_stride, edge_mismatch
+from asperity.pipelines.stages.bem import bem_reference, check_load_index, load_chains
 
 E_STAR = 2.133e6  # Pa
 W = 0.04  # J/m^2

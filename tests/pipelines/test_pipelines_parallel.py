@@ -8,7 +8,7 @@ import os
 import pytest
 
 from asperity.errors import InputError
-from asperity.pipelines.parallel import (
+from asperity.pipelines.engine.parallel import (
     SerialExecutor,
     make_executor,
     run_map,
@@ -66,7 +66,7 @@ def _bem_on(executor):
     import numpy as np
 
     from asperity import topo
-    from asperity.pipelines.bem_stage import bem_reference
+    from asperity.pipelines.stages.bem import bem_reference
 
     surface = topo.synthetic.paper_like(n=64, pixel_size=50e-6, seed=3)
     ref = bem_reference(

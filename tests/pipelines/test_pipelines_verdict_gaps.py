@@ -9,7 +9,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from asperity.pipelines import verdict as v
+from asperity.pipelines.stages import verdict as v
 from asperity.pipelines.stages._bem_grid import EDGE_MISMATCH_LIMIT, edge_mismatch
 
 
