@@ -243,7 +243,7 @@ class BemConfig:
         then alone chooses the effective resolution.
     boundary : str
         ``"periodic"`` (the map is one period of the interface, as the paper's Appendix B) or
-        ``"free"`` (a finite specimen); see :mod:`asperity.pipelines.bem_grid`.
+        ``"free"`` (a finite specimen); see :mod:`asperity.pipelines.stages._bem_grid`.
     coarsen : bool
         Let the sweeps use a coarser grid than the map when its area is within
         ``area_tolerance`` of the finest grid solved (false: the map's own resolution).
