@@ -6,7 +6,8 @@ Mechanics and Physics of Solids (2022); preprint arXiv:2207.12735 (doi:10.48550/
 See docs/paper.md for the BibTeX entry and the equation labels. SI units throughout (m, Pa, N,
 J/m^2).
 
-The four sub-packages load on first use, so ``import asperity`` is cheap:
+Import the four sub-packages by name (``import asperity.topo``, ``from asperity import bem``);
+``import asperity`` alone loads none of them, so it stays cheap:
 
 - :mod:`asperity.topo`: height maps, their preparation and asperity statistics (Appendix A);
 - :mod:`asperity.bem`: FFT boundary elements, Polonsky-Keer and Pohrt-Popov (Appendix B);
@@ -22,34 +23,43 @@ exit statuses), :mod:`asperity.fields` (the unit, dims and description of every 
 
 from __future__ import annotations
 
-import importlib
 from importlib.metadata import PackageNotFoundError, version
-from typing import Any
+from os import PathLike
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from asperity.pipelines.results import Results
 
 try:
     __version__ = version("asperity")
 except PackageNotFoundError:  # a source tree that is not installed
     __version__ = "0.0.0+unknown"
 
-_SUBPACKAGES = ("topo", "bem", "statmodel", "pipelines")
-
-#: Public functions by name -> the module that defines them (imported on first use).
-_EXPORTS: dict[str, str] = {"open_results": "asperity.pipelines.results"}
-
-__all__ = ["__version__", *_SUBPACKAGES, *_EXPORTS]
+__all__ = ["__version__", "open_results"]
 
 
-def __getattr__(name: str) -> Any:
-    if name in _EXPORTS:
-        value = getattr(importlib.import_module(_EXPORTS[name]), name)
-        globals()[name] = value
-        return value
-    if name not in _SUBPACKAGES:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    module = importlib.import_module(f"{__name__}.{name}")
-    globals()[name] = module
-    return module
+def open_results(path: str | PathLike[str]) -> Results:
+    """Read every stored stage of an asperity run (nothing is recomputed).
 
+    The same as :func:`asperity.pipelines.results.open_results`.
 
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+    Parameters
+    ----------
+    path : str or PathLike
+        ``results.h5`` or the output folder holding it.
+
+    Returns
+    -------
+    Results
+        One attribute per stage (its typed result, None where not stored), the provenance
+        and ``to_xarray()``.
+
+    Raises
+    ------
+    InputError
+        No such file, not HDF5, or a stored stage that does not read back.
+    """
+    # deferred: asperity.pipelines.results loads h5py and every stage; `import asperity` stays light
+    from asperity.pipelines.results import open_results as open_stored
+
+    return open_stored(path)

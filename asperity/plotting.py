@@ -25,6 +25,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike
 
+from asperity.atomic import atomic_output
+
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.axis import Axis
@@ -231,8 +233,6 @@ def save_figure(fig: Figure, path: str | Path, *, dpi: int = DEFAULT_DPI) -> Pat
     Path
         The file written.
     """
-    from asperity.atomic import atomic_output
-
     path = Path(path)
     fmt = path.suffix.lstrip(".").lower() or "png"  # named: the temporary's suffix is .tmp
     with atomic_output(path) as tmp:  # the old figure or the new one, never a truncated file

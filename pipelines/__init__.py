@@ -6,20 +6,12 @@ and runner, HDF5 store, output-folder lock, parallel sweeps); :mod:`~asperity.pi
 reopens a run, :mod:`~asperity.pipelines.report` writes the figures and reports,
 :mod:`~asperity.pipelines.cli` the ``asperity`` command, :mod:`~asperity.pipelines.batch` many
 maps at once; :mod:`~asperity.pipelines.config` and :mod:`~asperity.pipelines.measured` read
-the job's inputs. The flat module names of asperity 0.2 (``surface_stage``, ``bem_stage``,
-``store``, ...) still import (:mod:`asperity.pipelines._moved`).
+the job's inputs. The module paths that asperity 0.2's documentation named
+(``asperity.pipelines.surface_stage``, ``bem_stage``, ``resolution_stage``, ``friction_stage``,
+``psd_stage``, ``fitting``, ``fields``, ``verdict``) still import, with a DeprecationWarning
+naming the new path, until asperity 0.5.
 """
 
-from typing import Any
-
 from asperity import __version__
-from asperity.pipelines import _moved
-
-_moved.install()
 
 __all__ = ["__version__"]
-
-
-def __getattr__(name: str) -> Any:
-    # ``asperity.pipelines.surface_stage`` and the other old flat names, imported when first used
-    return _moved.moved_module(name)

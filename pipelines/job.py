@@ -29,11 +29,11 @@ from asperity.pipelines.config import ConfigError, JobConfig
 from asperity.pipelines.engine.interrupts import InterruptGuard, checkpoint
 from asperity.pipelines.engine.outdir import OutputLock, OutputWriteError
 from asperity.pipelines.engine.parallel import Scheduler, make_executor
-from asperity.pipelines.engine.stage import Runner, StageContext, StageRun
+from asperity.pipelines.engine.stage import Runner, StageContext, StageRun, stage_label
 from asperity.pipelines.engine.store import ResultStore
 from asperity.pipelines.measured import read_measurements
 from asperity.pipelines.results import StageResults, solver_problems
-from asperity.pipelines.stages import STAGE_NAMES, STAGES, stage_label
+from asperity.pipelines.stages import STAGE_NAMES, STAGES
 from asperity.pipelines.stages.surface import input_sha256
 
 __all__ = [

@@ -19,12 +19,13 @@ import warnings
 from pathlib import Path
 
 from asperity.errors import ExitStatus
+from asperity.statmodel.config import read_friction_parameters
+from asperity.statmodel.parameters import TaborWarning
 
 
 def run_friction(args: argparse.Namespace) -> int:
     """Handler of ``asperity friction``; returns the exit status."""
-    from asperity.statmodel.config import read_friction_parameters
-    from asperity.statmodel.parameters import TaborWarning
+    # deferred: numba kernels and h5py, loaded by the command, not by --help
     from asperity.statmodel.results_io import curve_to_json, write_curve_hdf5
     from asperity.statmodel.shear import shear_curve
 
@@ -79,6 +80,7 @@ def run_friction(args: argparse.Namespace) -> int:
 
 def run_figures(args: argparse.Namespace) -> int:
     """Handler of ``asperity figures``; returns the exit status."""
+    # deferred: numba kernels, h5py and matplotlib, only for the command
     from asperity.statmodel.figures import write_all_figures
 
     paths = write_all_figures(Path(args.out))

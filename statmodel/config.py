@@ -132,6 +132,8 @@ LOADING = Section(
 
 
 def _quadrature_options(**knobs: Any) -> QuadratureOptions:
+    # deferred: statmodel.options loads numba kernels; a job's configuration is
+    # checked (pipelines.config, `asperity --help` too) before any numerical library loads
     from asperity.statmodel.options import QuadratureOptions  # loads the compiled kernels
 
     return QuadratureOptions(**{k: v for k, v in knobs.items() if v is not None})
@@ -191,6 +193,7 @@ def parse_friction_parameters(data: Any, path: str = "<parameters>") -> Friction
     ConfigError
         ``path: table.key: expected ..., got ...``.
     """
+    # deferred: statmodel.options loads numba kernels (see _quadrature_options)
     from asperity.statmodel.options import check_nominal_area
 
     values = FRICTION_SCHEMA.read(data, source=path)

@@ -39,16 +39,14 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from asperity.errors import InputError
 from asperity.statmodel.parameters import Roughness
-
-if TYPE_CHECKING:
-    from asperity.topo.heightmap import HeightMap
+from asperity.topo.fractional_resampling import fractional_summit_statistics
+from asperity.topo.heightmap import HeightMap
 
 #: Resolutions added between the least misfit's neighbours by the refinement.
 REFINE_POINTS = 8
@@ -314,8 +312,6 @@ def roughness_at_resolution(
     InputError
         A resolution finer than the map's, or a resampled map without summits.
     """
-    from asperity.topo.fractional_resampling import fractional_summit_statistics
-
     pixel = math.sqrt(surface.dx * surface.dy)
     step = float(resolution) / pixel
     if 1.0 - 1e-9 < step < 1.0:

@@ -49,17 +49,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Literal
+from typing import Literal
 
 import numpy as np
 from scipy.special import erf
 
 from asperity.errors import InputError
 from asperity.statmodel.spectral_moments import isotropic_moment, validate_spectrum
-
-if TYPE_CHECKING:
-    from asperity.topo.heightmap import HeightMap
-    from asperity.topo.psd import RadialPSD
+from asperity.topo.heightmap import HeightMap
+from asperity.topo.psd import RadialPSD, radial_psd
 
 __all__ = [
     "KAPPA_PERSSON",
@@ -326,9 +324,6 @@ def persson_psd(
     c : ndarray
         Persson's ``C(q)`` (m^4), ``<h^2> = 2 pi int q C dq``.
     """
-    from asperity.topo.heightmap import HeightMap
-    from asperity.topo.psd import radial_psd
-
     if not isinstance(surface, HeightMap):
         raise InputError(f"persson_psd: expected an asperity.topo.HeightMap, got {type(surface)}")
     if surface.n_missing:
@@ -346,9 +341,6 @@ def persson_psd(
 
 def _surface_spectrum(surface, q_cutoff: float | None, window: str):
     """(q, C_P, q0, q1) of a map or radial PSD, up to its largest q1 or ``q_cutoff``."""
-    from asperity.topo.heightmap import HeightMap
-    from asperity.topo.psd import RadialPSD
-
     if not isinstance(surface, (HeightMap, RadialPSD)):
         raise InputError(
             "persson_real_area: surface must be an asperity.topo.HeightMap or the RadialPSD "

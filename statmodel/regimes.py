@@ -56,7 +56,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Literal
+from typing import Literal
 
 import numpy as np
 
@@ -65,10 +65,8 @@ from asperity.statmodel.checks import Check, positive_number, positive_numbers
 from asperity.statmodel.parameters import tabor_parameter
 from asperity.statmodel.persson import MIN_PSD_POINTS, _hann_windowed
 from asperity.statmodel.spectral_moments import isotropic_moment, validate_spectrum
-
-if TYPE_CHECKING:
-    from asperity.topo.heightmap import HeightMap
-    from asperity.topo.psd import RadialPSD
+from asperity.topo.heightmap import HeightMap
+from asperity.topo.psd import RadialPSD, psd_2d
 
 __all__ = [
     "FULL_CONTACT_MEANING",
@@ -135,8 +133,6 @@ class FlatteningEnergy:
 
 def _map_moments(surface: HeightMap, q_cutoff: float | None, window: WindowChoice):
     """Mode sums ``(1/A) sum |q|^m C_topo`` for m = 1, 2, 4 and the range, of a map."""
-    from asperity.topo.psd import psd_2d
-
     if window not in ("auto", "hann", "none"):
         raise InputError(
             f"flattening_energy: window must be 'auto', 'hann' or 'none', got {window!r}"
@@ -200,9 +196,6 @@ def flattening_energy(
     FlatteningEnergy
         ``U_el / A0`` (J/m^2) with the rms slope, rms curvature (1/m) and wavenumber range.
     """
-    from asperity.topo.heightmap import HeightMap
-    from asperity.topo.psd import RadialPSD
-
     e = positive_number("flattening_energy", "e_star", e_star, "Pa")
     if q_cutoff is not None:
         q_cutoff = positive_number("flattening_energy", "q_cutoff", q_cutoff, "rad/m")

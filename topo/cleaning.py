@@ -13,6 +13,7 @@ import numpy as np
 
 from asperity.errors import InputError
 from asperity.topo.heightmap import HeightMap, require_height_map
+from asperity.topo.inpainting import harmonic_fill
 
 MISSING_POLICIES = ("keep", "refuse", "fill-lowest", "interpolate")
 OUTLIER_METHODS = ("none", "mad", "percentile")
@@ -325,8 +326,6 @@ def fill_missing(surface: HeightMap, policy: str) -> HeightMap:
     InputError
         An unknown policy; ``refuse`` with missing pixels; every pixel missing.
     """
-    from asperity.topo.inpainting import harmonic_fill
-
     check_missing_policy(policy)
     surface = require_height_map(surface, "fill_missing")
     n_missing = surface.n_missing

@@ -21,7 +21,9 @@ from asperity.atomic import write_bytes_atomic
 from asperity.errors import ExitStatus, InputError
 from asperity.files import require_output_path
 from asperity.quantities import add_bounded_option, quantity
+from asperity.topo.cli_common import json_number, preparation_options, print_scan_table
 from asperity.topo.heightmap import HeightMap, LineProfile, require_height_map
+from asperity.topo.profile_cli import profile_scan, profile_stats
 
 #: Keys of ``asperity stats --json``, in order (a contract with other tools).
 STATS_KEYS = (
@@ -36,16 +38,6 @@ STATS_KEYS = (
     "summit_radius",
     "summit_height_rms",
 )
-
-
-def _json_number(value: object) -> object:
-    if isinstance(value, (bool, np.bool_)):
-        return bool(value)
-    if isinstance(value, (int, np.integer)):
-        return int(value)
-    if isinstance(value, (float, np.floating)):
-        return float(value) if math.isfinite(value) else None
-    return value
 
 
 def _pixel_size(text: str | None) -> float | tuple[float, float] | None:
@@ -69,33 +61,9 @@ def _pixel_size(text: str | None) -> float | tuple[float, float] | None:
     return values[0] if len(values) == 1 else (values[0], values[1])
 
 
-def preparation_options(args: argparse.Namespace):
-    """The :class:`~asperity.topo.preparation.PreparationOptions` of the command-line options."""
-    from asperity.topo.cleaning import CropWindow, OutlierRule
-    from asperity.topo.preparation import PreparationOptions
-
-    if args.crop is not None and args.crop_m is not None:
-        raise InputError("--crop and --crop-m: give the window once, in pixels or in metres")
-    crop = None
-    if args.crop is not None:
-        crop = CropWindow.parse(args.crop, "px")
-    elif args.crop_m is not None:
-        crop = CropWindow.parse(args.crop_m, "m")
-    order = (
-        args.form_order
-        if args.form_order is not None
-        else PreparationOptions.order_of(args.detrend)
-    )
-    return PreparationOptions(
-        crop=crop,
-        missing=args.missing,
-        outliers=OutlierRule.parse(args.outliers, args.outlier_action),
-        form_order=order,
-    )
-
-
 def _read(args: argparse.Namespace):
     """The file as a HeightMap or a LineProfile."""
+    # deferred: topo.io loads h5py; `asperity --help` must not
     from asperity.topo.io import read_surface
 
     return read_surface(args.file, channel=args.channel, pixel_size=_pixel_size(args.pixel_size))
@@ -103,6 +71,7 @@ def _read(args: argparse.Namespace):
 
 def _load_prepared(args: argparse.Namespace, what: str, surface=None):
     """Read the file and prepare it as the options say; warnings go to stderr."""
+    # deferred: topo.preparation loads scipy and numba; `asperity --help` must not
     from asperity.topo.preparation import prepare_surface
 
     options = preparation_options(args)
@@ -139,6 +108,7 @@ def surface_stats(surface: HeightMap, *, stride: int = 1, neighbours: int = 4) -
         grid ``decimate(surface, stride)``;
         NaN becomes None (JSON null).
     """
+    # deferred: numba kernels and scipy, loaded by the command, not by --help
     from asperity.topo.psd import rms_height
     from asperity.topo.resampling import decimate
     from asperity.topo.summits import summit_statistics
@@ -159,7 +129,7 @@ def surface_stats(surface: HeightMap, *, stride: int = 1, neighbours: int = 4) -
     }
     record["nominal_area"] = stats.nominal_area
     record["grid_area"] = stats.grid_area
-    return {key: _json_number(value) for key, value in record.items()}
+    return {key: json_number(value) for key, value in record.items()}
 
 
 _UNITS = {
@@ -200,8 +170,6 @@ def _print_preparation(record: dict) -> None:
 def _stats(args: argparse.Namespace) -> int:
     surface = _read(args)
     if isinstance(surface, LineProfile):  # Nayak's theory: asperity.topo.profile_cli
-        from asperity.topo.profile_cli import profile_stats
-
         return profile_stats(args, surface)
     prepared = _load_prepared(args, "stats", surface)
     record = surface_stats(prepared.surface, stride=args.stride, neighbours=args.neighbours)
@@ -227,14 +195,13 @@ def _stats(args: argparse.Namespace) -> int:
 
 
 def _scan(args: argparse.Namespace) -> int:
+    # deferred: numba kernels, scipy and h5py, loaded by the command, not by --help
     from asperity.topo.scan import plot_resolution_scan, resolution_scan, write_scan_hdf5
 
     if args.out is not None:
         require_output_path(args.out, "--out")
     surface = _read(args)
     if isinstance(surface, LineProfile):  # Nayak's theory: asperity.topo.profile_cli
-        from asperity.topo.profile_cli import profile_scan
-
         return profile_scan(args, surface)
     prepared = _load_prepared(args, "scan", surface)
     preparation = prepared.record.as_dict()
@@ -249,7 +216,7 @@ def _scan(args: argparse.Namespace) -> int:
         figure = plot_resolution_scan(scan, figure, title=str(args.file))
     if args.json:
         data = {
-            key: (_json_number(v) if not isinstance(v, list) else [_json_number(x) for x in v])
+            key: (json_number(v) if not isinstance(v, list) else [json_number(x) for x in v])
             for key, v in scan.as_dict().items()
         }
         data["preparation"] = preparation
@@ -263,40 +230,8 @@ def _scan(args: argparse.Namespace) -> int:
     return ExitStatus.OK
 
 
-def print_scan_table(scan, count: str = "N", extra: tuple[str, object] | None = None) -> None:
-    """The text table of a resolution scan (SI units) and its fits line.
-
-    ``count`` labels the ``n_summits`` column; ``extra`` is an optional (label, values)
-    column printed last (e.g. the bandwidth of a profile scan).
-    """
-    label, values = extra if extra is not None else ("", [None] * len(scan.stride))
-    print(
-        f"{'stride':>6s} {'resolution (m)':>15s} {count:>9s} {'eta (1/m^2)':>12s} "
-        f"{'R (m)':>11s} {'sigma_s (m)':>12s}" + (f" {label:>9s}" if extra else "")
-    )
-    for row in zip(
-        scan.stride,
-        scan.resolution,
-        scan.n_summits,
-        scan.asperity_density,
-        scan.summit_radius,
-        scan.summit_height_rms,
-        values,
-        strict=True,
-    ):
-        print(
-            f"{row[0]:6d} {row[1]:15.4e} {row[2]:9d} {row[3]:12.4e} {row[4]:11.4e} "
-            f"{row[5]:12.4e}" + (f" {row[6]:9.3g}" if extra else "")
-        )
-    print(
-        f"R = {scan.radius_slope:.4g} * resolution + {scan.radius_intercept:.4g} m; "
-        f"eta = {scan.density_prefactor:.4g} * resolution^{scan.density_exponent:.4g} 1/m^2; "
-        f"sigma_s = {scan.height_rms_mean:.4g} m "
-        f"(spread {100 * scan.height_rms_relative_spread:.2f} %)"
-    )
-
-
 def _synth(args: argparse.Namespace) -> int:
+    # deferred: h5py and scipy, loaded by the command, not by --help
     from asperity.topo.io import write_hdf5
     from asperity.topo.synthetic import check_map_size, paper_like
 

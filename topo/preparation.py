@@ -37,7 +37,7 @@ from asperity.topo.cleaning import (
 from asperity.topo.form import check_order, subtract_polynomial
 from asperity.topo.heightmap import HeightMap, require_height_map
 from asperity.topo.io.limits import MIN_HEIGHT_SPREAD_M
-from asperity.topo.levelling import order_name
+from asperity.topo.levelling import method_order, order_name
 from asperity.topo.preparation_checks import WARN_LIMITS, grid_warnings, preparation_warnings
 
 #: Largest fraction of the valid pixels an outlier rule may flag; above it the map is
@@ -83,8 +83,6 @@ class PreparationOptions:
     @staticmethod
     def order_of(detrend: str | int | None) -> int | None:
         """Polynomial order of a detrend name (``none|mean|plane|quadratic``) or an int."""
-        from asperity.topo.levelling import method_order
-
         return None if detrend is None else method_order(detrend)
 
 

@@ -18,11 +18,13 @@ from pathlib import Path
 import numpy as np
 
 from asperity.errors import ExitStatus
+from asperity.topo.cli_common import json_number, preparation_options, print_scan_table
 from asperity.topo.heightmap import LineProfile
+from asperity.topo.nayak import profile_statistics
 
 
 def _prepared(args: argparse.Namespace, profile: LineProfile, what: str):
-    from asperity.topo.cli import preparation_options
+    # deferred: profile_preparation loads scipy and numba (cleaning); `asperity --help` must not
     from asperity.topo.profile_preparation import prepare_profile
 
     options = argparse.Namespace(**vars(args))
@@ -39,9 +41,6 @@ def _prepared(args: argparse.Namespace, profile: LineProfile, what: str):
 
 def profile_record(profile: LineProfile, *, stride: int = 1) -> dict:
     """The ``asperity stats`` record of a levelled profile (keys in the module docstring)."""
-    from asperity.topo.cli import _json_number
-    from asperity.topo.nayak import profile_statistics
-
     stats = profile_statistics(profile, stride=stride)
     heights = profile.heights[::stride]
     moments = stats.moments
@@ -68,7 +67,7 @@ def profile_record(profile: LineProfile, *, stride: int = 1) -> dict:
         "message": stats.message,
         "warnings": list(stats.warnings),
     }
-    return {key: _json_number(value) for key, value in record.items()}
+    return {key: json_number(value) for key, value in record.items()}
 
 
 def _profile_rms(heights: np.ndarray) -> float:
@@ -119,7 +118,7 @@ def profile_stats(args: argparse.Namespace, profile: LineProfile) -> int:
 
 def profile_scan(args: argparse.Namespace, profile: LineProfile) -> int:
     """``asperity scan`` of a line profile (Nayak's statistics against the sampling interval)."""
-    from asperity.topo.cli import _json_number, print_scan_table
+    # deferred: numba kernels, scipy and h5py, loaded by the command, not by --help
     from asperity.topo.profile_scan import profile_resolution_scan
     from asperity.topo.scan import plot_resolution_scan, write_scan_hdf5
 
@@ -133,7 +132,7 @@ def profile_scan(args: argparse.Namespace, profile: LineProfile) -> int:
     if figure:
         figure = plot_resolution_scan(scan, figure, title=f"{args.file} (line profile, Nayak)")
     data = {
-        key: (_json_number(v) if not isinstance(v, list) else [_json_number(x) for x in v])
+        key: (json_number(v) if not isinstance(v, list) else [json_number(x) for x in v])
         for key, v in scan.as_dict().items()
     }
     if args.json:

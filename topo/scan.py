@@ -25,6 +25,7 @@ import numpy as np
 from asperity import h5
 from asperity.errors import InputError
 from asperity.fields import array, document_fields, field_specs, scalar
+from asperity.plotting import display_unit, new_figure, plain_log_ticks, save_figure
 from asperity.topo.heightmap import HeightMap, require_height_map
 from asperity.topo.summits import summit_statistics
 
@@ -260,8 +261,6 @@ def draw_resolution_scan(fig: Figure, scan: ResolutionScan, *, title: str = "") 
     Figure
         ``fig``, drawn on.
     """
-    from asperity.plotting import display_unit, plain_log_ticks
-
     u_res = display_unit(scan.resolution, "m")
     res = u_res(scan.resolution)
     x_label = u_res.label(r"resolution $\Delta$")
@@ -318,6 +317,4 @@ def plot_resolution_scan(scan: ResolutionScan, path: str | Path, *, title: str =
     Path
         The file written.
     """
-    from asperity.plotting import new_figure, save_figure
-
     return save_figure(draw_resolution_scan(new_figure(13, 4), scan, title=title), path)

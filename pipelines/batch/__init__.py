@@ -22,15 +22,14 @@ from collections.abc import Callable, Sequence
 from concurrent.futures import Future
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 from asperity.errors import InputError
 from asperity.pipelines.batch.summary import MapRecord, write_summary_csv, write_summary_figure
 from asperity.pipelines.config import Document, JobConfig, config_from_dict
 from asperity.pipelines.engine.parallel import Scheduler, make_executor
-
-if TYPE_CHECKING:  # the job is imported in the worker that runs it (run_one_map)
-    from asperity.pipelines.job import JobResult
+from asperity.pipelines.job import JobResult, run_job
+from asperity.pipelines.report import write_report
+from asperity.pipelines.report.html import find_verdict
 
 try:
     import tomllib
@@ -93,8 +92,6 @@ def map_folders(maps: Sequence[Path], out_dir: Path) -> list[Path]:
 
 
 def _verdict_text(result: JobResult) -> str:
-    from asperity.pipelines.report.html import find_verdict
-
     verdict = find_verdict(result)
     if verdict is None:
         return ""
@@ -156,9 +153,6 @@ def run_one_map(
     """
     record: MapRecord = {"map": map_path, "folder": folder, "status": "failed"}
     try:
-        from asperity.pipelines.job import run_job
-        from asperity.pipelines.report import write_report
-
         config = map_config(data, Path(base_dir), source, Path(map_path))
         result = run_job(config, folder, force=force, workers=1)
         write_report(result, folder)

@@ -52,6 +52,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def handle_batch(args: argparse.Namespace) -> int:
     """Run the batch; the exit status of :attr:`pipelines.batch.BatchResult.status`."""
     os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+    # deferred: the job's numerical stages and matplotlib, only for the command
     from asperity.pipelines.batch import run_batch
 
     require_output_dir(args.out, "--out")  # an unwritable folder stops before any map runs

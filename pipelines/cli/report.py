@@ -14,6 +14,7 @@ import argparse
 import sys
 
 from asperity.errors import InputError
+from asperity.pipelines.engine.outdir import OutputLock
 from asperity.quantities import quantity
 
 #: Stages a report needs (attributes of :class:`pipelines.results.Results`).
@@ -58,7 +59,7 @@ def stored_report_section(config_toml: str) -> dict:
 
 def handle_report(args: argparse.Namespace) -> int:
     """Redraw the report of ``args.out_dir``; 0 on success."""
-    from asperity.pipelines.engine.outdir import OutputLock
+    # deferred: matplotlib and h5py, only for the command, not for --help
     from asperity.pipelines.report import write_report
     from asperity.pipelines.report.figure_output import FigureOptions
     from asperity.pipelines.results import open_results

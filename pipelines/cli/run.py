@@ -19,7 +19,9 @@ from typing import TYPE_CHECKING
 
 from asperity.errors import InputError
 from asperity.files import require_output_dir
+from asperity.pipelines.cli import batch, report
 from asperity.pipelines.config import PRESETS, JobConfig, load_config, load_preset
+from asperity.pipelines.engine.outdir import OutputLock, write_error
 from asperity.quantities import quantity
 
 if TYPE_CHECKING:  # imported when a job runs (the CLI starts without the solvers)
@@ -76,8 +78,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def register_companions(subparsers: argparse._SubParsersAction) -> None:
     """Add ``report`` (redraw from results.h5) and ``batch`` (many maps, one job)."""
-    from asperity.pipelines.cli import batch, report
-
     report.register(subparsers)
     batch.register(subparsers)
 
@@ -95,13 +95,12 @@ def handle_run(args: argparse.Namespace) -> int:
         if args.config is not None
         else load_preset(args.preset or "default")
     )
-    from asperity.pipelines.engine.outdir import OutputLock
-
     require_output_dir(args.out, "--out", probe=False)  # "" would write into the current folder
     # The lock first (a second run on --out stops at once, before the heavy imports); held over
     # the job and the report.
     with OutputLock(args.out, log=_log_line):
         result = _run_and_report(args, config)
+    # deferred: matplotlib and the stages' numerics, not for --help
     from asperity.pipelines.report import summary_text
 
     print(summary_text(result))
@@ -117,7 +116,6 @@ def _run_and_report(args: argparse.Namespace, config: JobConfig) -> JobResult:
     # loads the OpenMP runtime, i.e. before the solvers run.
     os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
     # Heavy imports only after the configuration passed validation.
-    from asperity.pipelines.engine.outdir import write_error
     from asperity.pipelines.job import progress_enabled, run_job
     from asperity.pipelines.report import write_report
 

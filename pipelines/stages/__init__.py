@@ -16,21 +16,10 @@
 
 (a test holds this table to :data:`STAGES`.) Each module declares its stages with
 :class:`~asperity.pipelines.engine.stage.Stage`; a stage's number is its place in
-:data:`STAGES`. The declaration API is re-exported here, as ``asperity.pipelines.stages``
-offered it in asperity 0.2.
+:data:`STAGES`; the declaration API is :mod:`asperity.pipelines.engine.stage`'s.
 """
 
-from asperity.pipelines.engine.stage import (
-    DISABLED,
-    Runner,
-    Stage,
-    StageContext,
-    StageRun,
-    config_value,
-    hash_document,
-    key_document,
-    stage_label,
-)
+from asperity.pipelines.engine.stage import Stage
 from asperity.pipelines.stages.bem import BEM
 from asperity.pipelines.stages.friction import FRICTION, MODE_MIXITY
 from asperity.pipelines.stages.psd import PSD
@@ -63,17 +52,4 @@ def stage_number(name: str) -> int:
     raise KeyError(f"no stage named {name!r} (stages: {', '.join(STAGE_NAMES)})")
 
 
-__all__ = [
-    "DISABLED",
-    "STAGES",
-    "STAGE_NAMES",
-    "Runner",
-    "Stage",
-    "StageContext",
-    "StageRun",
-    "config_value",
-    "hash_document",
-    "key_document",
-    "stage_label",
-    "stage_number",
-]
+__all__ = ["STAGES", "STAGE_NAMES", "stage_number"]

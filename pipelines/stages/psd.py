@@ -27,6 +27,7 @@ from asperity.fields import array, document_fields, scalar, text
 from asperity.pipelines.engine.stage import Stage, StageContext
 from asperity.pipelines.stages.statistical_model import STATISTICAL_MODEL, ResolutionChoice
 from asperity.pipelines.stages.surface import SURFACE, LevelledSurface
+from asperity.statmodel.persson import persson_real_area
 
 #: Log-spaced bins of the power-law fit of the PSD (equal weight per decade).
 FIT_BINS = 40
@@ -149,8 +150,6 @@ def psd_and_persson(
     normal_loads : ndarray
         F_z, N (>= 0; Persson's theory has no tensile branch).
     """
-    from asperity.statmodel import persson_real_area
-
     height_map, note = complete_map(surface)
     radial = topo.radial_psd(height_map)
     nyquist = math.pi / max(surface.dx, surface.dy)

@@ -14,13 +14,13 @@ from asperity import topo
 from asperity.pipelines.config import BemConfig, ConfigError, config_from_dict
 from asperity.pipelines.report import load_table
 from asperity.pipelines.stages.bem import bem_reference
+from asperity.pipelines.stages.surface import LevelledSurface, prepare
 from asperity.pipelines.stages.verdict import (
     Reason,
     adhesion_regime_of,
     check_adhesion_regime,
     in_place_of_coalescence,
 )
-from asperity.pipelines.surface_stage import LevelledSurface, prepare
 
 try:
     import tomllib

@@ -104,7 +104,7 @@ def _record(name, radius, fraction):
 
 def test_summary_rows_and_figure_layout(tmp_path):
     """mean and std rows over the maps with status ok only; a clean summary figure."""
-    from asperity.pipelines.batch_summary import draw_summary_figure, write_summary_csv
+    from asperity.pipelines.batch.summary import draw_summary_figure, write_summary_csv
     from asperity.plotting import layout_problems
 
     records = [
@@ -125,7 +125,7 @@ def test_invalid_maps_are_listed_never_averaged_and_set_the_exit_status(tmp_path
     confident average over numbers the model cannot stand behind), and the batch exits 3;
     a failed map (2) and an unconverged one (1) take precedence, as for one run."""
     from asperity.pipelines.batch import BatchResult
-    from asperity.pipelines.batch_summary import write_summary_csv
+    from asperity.pipelines.batch.summary import write_summary_csv
 
     invalid = {**_record("c.x3p", 900e-6, 0.9), "status": "invalid"}
     records = [_record("a.x3p", 100e-6, 0.004), invalid, _record("b.x3p", 140e-6, 0.006)]

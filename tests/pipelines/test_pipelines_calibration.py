@@ -6,17 +6,17 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import asperity.pipelines.bem_stage as bem_module
+import asperity.pipelines.stages.bem as bem_module
 from asperity import statmodel
 from asperity.pipelines.cli import main
 from asperity.pipelines.config import ConfigError, config_from_dict, preset_text
-from asperity.pipelines.fitting import area_up_to_peak, interpolate_area
-from asperity.pipelines.friction_stage import model_shear_area
 from asperity.pipelines.job import run_job
 from asperity.pipelines.measured import NormalAreaCurve, ShearAreaCurve, write_shear_area
-from asperity.pipelines.pull_off import roughness_from_scan
-from asperity.pipelines.resolution_stage import material_from_config
-from asperity.pipelines.surface_stage import read_and_level, scan_resolutions
+from asperity.pipelines.stages._pull_off import roughness_from_scan
+from asperity.pipelines.stages.fitting import area_up_to_peak, interpolate_area
+from asperity.pipelines.stages.friction import model_shear_area
+from asperity.pipelines.stages.statistical_model import material_from_config
+from asperity.pipelines.stages.surface import read_and_level, scan_resolutions
 
 try:
     import tomllib
@@ -156,7 +156,10 @@ def test_model_outside_validity_warns():
     the independent-asperity model: the stage warns and the result says why."""
     from types import SimpleNamespace
 
-    from asperity.pipelines.resolution_stage import ModelValidityWarning, statistical_model_scan
+    from asperity.pipelines.stages.statistical_model import (
+        ModelValidityWarning,
+        statistical_model_scan,
+    )
 
     scan = SimpleNamespace(
         stride=np.array([1, 2]),

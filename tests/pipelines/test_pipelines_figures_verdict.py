@@ -12,7 +12,6 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from asperity.pipelines import verdict as v
 from asperity.pipelines.report import (
     draw_figures,
     draw_psd,
@@ -24,6 +23,7 @@ from asperity.pipelines.report import (
 )
 from asperity.pipelines.report.figure_output import read_csv_header, read_figure_csv
 from asperity.pipelines.report.verdict_marks import threshold_lines
+from asperity.pipelines.stages import verdict as v
 from asperity.plotting import display_unit, layout_problems, new_figure
 
 INVALID = v.Verdict.from_reasons(

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from asperity.errors import InputError
-from asperity.pipelines.fitting import area_up_to_peak, fit_mode_mixity, interpolate_area
 from asperity.pipelines.measured import ShearAreaCurve
+from asperity.pipelines.stages.fitting import area_up_to_peak, fit_mode_mixity, interpolate_area
 
 A_N = 700e-6
 
@@ -76,7 +76,7 @@ def test_recovers_lambda_from_statistical_model_curves():
     """Curves made by the statistical model itself (Fig 13 roughness) with 1 % noise: the fit
     finds the lambda that made them within its own uncertainty."""
     from asperity import statmodel
-    from asperity.pipelines.friction_stage import model_shear_area
+    from asperity.pipelines.stages.friction import model_shear_area
 
     material = statmodel.Material(2.133e6, 0.040, 0.03, 0.13e6, 0.2e-9)
     roughness = statmodel.Roughness(2.25e6, 1.180e-3, 0.0419e-3)
@@ -105,7 +105,7 @@ def test_recovers_lambda_from_statistical_model_curves():
 
 @pytest.mark.slow
 def test_fit_in_worker_processes_matches_serial():
-    from asperity.pipelines.parallel import make_executor
+    from asperity.pipelines.engine.parallel import make_executor
 
     rng = np.random.default_rng(5)
     curves = _noisy_curves(_toy_model, 0.05, [1.0, 2.0], 0.005, rng)

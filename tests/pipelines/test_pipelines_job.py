@@ -6,9 +6,9 @@ import h5py
 import numpy as np
 import pytest
 
-import asperity.pipelines.bem_stage as bem_module
-import asperity.pipelines.resolution_stage as resolution_module
-import asperity.pipelines.surface_stage as surface_module
+import asperity.pipelines.stages.bem as bem_module
+import asperity.pipelines.stages.statistical_model as resolution_module
+import asperity.pipelines.stages.surface as surface_module
 from asperity.pipelines.config import config_from_dict
 from asperity.pipelines.job import STAGE_NAMES, run_job
 from asperity.pipelines.report import write_report
@@ -193,7 +193,7 @@ def test_real_afm_file_through_the_job(tmp_path):
     asperity model outside its validity, which the job reports instead of hiding."""
     from pathlib import Path
 
-    from asperity.pipelines.surface_stage import file_sha256
+    from asperity.pipelines.stages.surface import file_sha256
 
     path = Path(__file__).resolve().parents[1] / "data" / "mi-1.mi"
     data = {

@@ -10,15 +10,15 @@ import pytest
 
 from asperity import statmodel
 from asperity.errors import InputError
-from asperity.pipelines.fitting import (
+from asperity.pipelines.measured import ShearAreaCurve, read_shear_area
+from asperity.pipelines.stages.fitting import (
     area_up_to_peak,
     first_peak_end,
     fit_mode_mixity,
     interpolate_area,
     merge_repeated,
 )
-from asperity.pipelines.friction_stage import model_shear_area
-from asperity.pipelines.measured import ShearAreaCurve, read_shear_area
+from asperity.pipelines.stages.friction import model_shear_area
 
 A_N = 700e-6
 TRUE_LAMBDA = 0.03  # the paper's Fig 13 value
@@ -124,9 +124,9 @@ def test_fit_points_stored_and_residual_plot_per_load(tmp_path, model):
     the report draws one residual panel per load."""
     from types import SimpleNamespace
 
-    from asperity.pipelines.figure_output import FigureOptions, publish
-    from asperity.pipelines.friction_stage import ModeMixityChoice
     from asperity.pipelines.report import draw_lambda_residuals
+    from asperity.pipelines.report.figure_output import FigureOptions, publish
+    from asperity.pipelines.stages.friction import ModeMixityChoice
 
     curves = _measured(model, repeat=3)
     fit = fit_mode_mixity(curves, model, bounds=(1e-3, 1.0), grid_points=7)
@@ -146,9 +146,9 @@ def test_lambda_plot_with_an_unbounded_uncertainty(tmp_path, model):
     lambda plot still draws (no band), it does not crash the report."""
     from types import SimpleNamespace
 
-    from asperity.pipelines.figure_output import FigureOptions, publish
-    from asperity.pipelines.friction_stage import ModeMixityChoice
     from asperity.pipelines.report import draw_lambda_fit
+    from asperity.pipelines.report.figure_output import FigureOptions, publish
+    from asperity.pipelines.stages.friction import ModeMixityChoice
 
     curves = _measured(model, tail=False)
     fit = fit_mode_mixity(curves, model, bounds=(1e-4, 1.0), grid_points=5, mode="absolute")

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from asperity.pipelines.config import ConfigError, config_from_dict
-from asperity.pipelines.surface_stage import LevelledSurface, prepare
+from asperity.pipelines.stages.surface import LevelledSurface, prepare
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 

@@ -9,10 +9,10 @@ import shutil
 import numpy as np
 import pytest
 
-from asperity.pipelines.fitting import area_up_to_peak, fit_mode_mixity, interpolate_area
-from asperity.pipelines.friction_stage import ModeMixityChoice
 from asperity.pipelines.measured import ShearAreaCurve
-from asperity.pipelines.verdict import MAX_MISFIT, WARN_MISFIT, check_shape_scale
+from asperity.pipelines.stages.fitting import area_up_to_peak, fit_mode_mixity, interpolate_area
+from asperity.pipelines.stages.friction import ModeMixityChoice
+from asperity.pipelines.stages.verdict import MAX_MISFIT, WARN_MISFIT, check_shape_scale
 
 LOADS = (0.56, 1.58, 3.12)
 TRUE_LAMBDA = 0.3
@@ -101,8 +101,8 @@ def test_job_stores_reports_and_judges_the_scale_factors(small_run, small, tmp_p
 
     from asperity.pipelines.cli import main
     from asperity.pipelines.config import DEFAULT_MATERIAL, dump_toml
-    from asperity.pipelines.friction_stage import model_shear_area
     from asperity.pipelines.measured import write_shear_area
+    from asperity.pipelines.stages.friction import model_shear_area
 
     _, out, result = small_run
     model = functools.partial(

@@ -8,7 +8,7 @@ import os
 import pytest
 
 from asperity.errors import InputError
-from asperity.pipelines.parallel import (
+from asperity.pipelines.engine.parallel import (
     SerialExecutor,
     make_executor,
     run_map,

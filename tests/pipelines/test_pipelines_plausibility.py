@@ -19,7 +19,7 @@ import pytest
 
 from asperity.errors import ExitStatus
 from asperity.pipelines.config import ConfigError, config_from_dict
-from asperity.pipelines.verdict import check_friction_plausibility, check_hardness
+from asperity.pipelines.stages.verdict import check_friction_plausibility, check_hardness
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 TAU0 = 0.13e6  # Pa, PDMS on glass (the paper's Fig 13)

@@ -11,9 +11,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
+from asperity.fields import array
 from asperity.pipelines.config import dump_toml
-from asperity.pipelines.fields import array
-from asperity.pipelines.store import ResultStore
+from asperity.pipelines.engine.store import ResultStore
 
 try:
     import tomllib

@@ -14,8 +14,6 @@ import pytest
 
 from asperity import topo
 from asperity.errors import InputError
-from asperity.pipelines.figure_output import FigureOptions, publish, read_figure_csv
-from asperity.pipelines.psd_stage import psd_and_persson
 from asperity.pipelines.report import (
     FIGURES,
     draw_figures,
@@ -23,7 +21,9 @@ from asperity.pipelines.report import (
     draw_surface,
     spans_decades,
 )
-from asperity.pipelines.surface_stage import LevelledSurface
+from asperity.pipelines.report.figure_output import FigureOptions, publish, read_figure_csv
+from asperity.pipelines.stages.psd import psd_and_persson
+from asperity.pipelines.stages.surface import LevelledSurface
 from asperity.plotting import layout_problems
 from asperity.statmodel import KAPPA_PERSSON
 
@@ -172,8 +172,8 @@ def test_psd_stage_recovers_the_hurst_exponent_and_rolloff():
 
 def test_lambda_fit_figure_is_not_clipped():
     """The lambda-fit figure (only drawn with measured curves) keeps its labels on the page."""
-    from asperity.pipelines.friction_stage import ModeMixityChoice
     from asperity.pipelines.report import draw_lambda_fit
+    from asperity.pipelines.stages.friction import ModeMixityChoice
 
     grid = np.geomspace(1e-3, 1.0, 9)
     choice = ModeMixityChoice(

@@ -11,11 +11,11 @@ import pytest
 
 import asperity
 from asperity.errors import InputError
+from asperity.fields import checksum
 from asperity.pipelines.cli import main
-from asperity.pipelines.fields import checksum
-from asperity.pipelines.html_report import find_verdict, write_html
 from asperity.pipelines.job import STAGES
 from asperity.pipelines.report import FIGURES, key_numbers, load_table, write_report
+from asperity.pipelines.report.html import find_verdict, write_html
 from asperity.pipelines.results import ALIASES
 
 
@@ -166,14 +166,14 @@ def test_model_values_are_stored_beside_the_measured_points(tmp_path):
     """Curves the model made at lambda = 0.1: at the fitted lambda the stored model values at
     the measured points reproduce them, and they read back from results.h5 beside them."""
     from asperity import statmodel
-    from asperity.pipelines.fitting import area_up_to_peak, interpolate_area
-    from asperity.pipelines.friction_stage import (
+    from asperity.pipelines.engine.store import ResultStore
+    from asperity.pipelines.measured import ShearAreaCurve
+    from asperity.pipelines.stages.fitting import area_up_to_peak, interpolate_area
+    from asperity.pipelines.stages.friction import (
         ModeMixityChoice,
         calibrate_mode_mixity,
         model_shear_area,
     )
-    from asperity.pipelines.measured import ShearAreaCurve
-    from asperity.pipelines.store import ResultStore
 
     material = statmodel.Material(
         e_star=2.133e6, work_of_adhesion=0.04, mode_mixity=0.03, shear_strength=0.13e6
@@ -210,7 +210,7 @@ def test_model_values_are_stored_beside_the_measured_points(tmp_path):
 @pytest.mark.slow
 def test_html_embeds_svg_or_a_drawn_png_without_png_files(small_run, tmp_path):
     """SVG only: the figures are inline SVG; PDF only: PNGs drawn in memory (no stale files)."""
-    from asperity.pipelines.figure_output import FigureOptions
+    from asperity.pipelines.report.figure_output import FigureOptions
 
     _, _, result = small_run
     expected = len([n for n in FIGURES if n not in ("lambda_fit", "lambda_residuals")])

@@ -21,15 +21,14 @@ import pytest
 import asperity
 import asperity.atomic as atomic_module
 import asperity.pipelines.engine.interrupts as interrupts_module
-import asperity.pipelines.outdir as outdir_module
+import asperity.pipelines.engine.outdir as outdir_module
+import asperity.pipelines.engine.store as store_module
 import asperity.pipelines.report as report_module
-import asperity.pipelines.store as store_module
+from asperity.fields import field_specs
 from asperity.pipelines.cli import main
 from asperity.pipelines.config import config_from_dict
 from asperity.pipelines.engine.interrupts import InterruptGuard
-from asperity.pipelines.fields import field_specs
-from asperity.pipelines.job import STAGE_NAMES, STAGES, run_job
-from asperity.pipelines.outdir import (
+from asperity.pipelines.engine.outdir import (
     LOCK_NAME,
     OutputDirError,
     OutputLock,
@@ -37,10 +36,11 @@ from asperity.pipelines.outdir import (
     OutputWriteError,
     remove_stale_temporaries,
 )
-from asperity.pipelines.parallel import SerialExecutor
+from asperity.pipelines.engine.parallel import SerialExecutor
+from asperity.pipelines.engine.stage import Runner, StageContext
+from asperity.pipelines.engine.store import ResultStore
+from asperity.pipelines.job import STAGE_NAMES, STAGES, run_job
 from asperity.pipelines.report import write_report
-from asperity.pipelines.stages import Runner, StageContext
-from asperity.pipelines.store import ResultStore
 
 try:
     import tomllib
@@ -56,7 +56,7 @@ def _hold_lock_in_child(directory):
     code = textwrap.dedent(
         f"""
         import sys
-        from asperity.pipelines.outdir import OutputLock
+        from asperity.pipelines.engine.outdir import OutputLock
         with OutputLock({str(directory)!r}):
             print("locked", flush=True)
             sys.stdin.read()

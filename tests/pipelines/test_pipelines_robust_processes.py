@@ -140,7 +140,7 @@ def _sleep(seconds: float) -> float:
 
 
 def test_a_pool_left_by_an_exception_terminates_its_workers_at_once():
-    from asperity.pipelines.parallel import make_executor
+    from asperity.pipelines.engine.parallel import make_executor
 
     t0 = time.perf_counter()
     with pytest.raises(KeyboardInterrupt), make_executor(2) as pool:

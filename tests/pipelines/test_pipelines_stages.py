@@ -11,12 +11,12 @@ import pytest
 
 import asperity
 from asperity import statmodel
-from asperity.pipelines.fields import field_specs
+from asperity.fields import field_specs
+from asperity.pipelines.engine.parallel import SerialExecutor
+from asperity.pipelines.engine.stage import DISABLED, Runner, StageContext
+from asperity.pipelines.engine.store import ResultStore
 from asperity.pipelines.job import STAGES, run_job
-from asperity.pipelines.parallel import SerialExecutor
 from asperity.pipelines.report import write_report
-from asperity.pipelines.stages import DISABLED, Runner, StageContext
-from asperity.pipelines.store import ResultStore
 from asperity.statmodel.results_io import ARRAY_UNITS, SCALAR_UNITS
 
 
@@ -67,7 +67,7 @@ def test_every_stage_result_round_trips_with_units_and_dims(small_run):
 
 def test_friction_result_declares_every_shear_curve_field_with_its_units():
     """Stage 6 stores the ``asperity friction`` outputs under the same names and units."""
-    from asperity.pipelines.friction_stage import FrictionPrediction
+    from asperity.pipelines.stages.friction import FrictionPrediction
 
     specs = {s.name: s for s in field_specs(FrictionPrediction)}
     for name, units in ARRAY_UNITS.items():

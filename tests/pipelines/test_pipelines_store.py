@@ -8,9 +8,9 @@ import h5py
 import numpy as np
 import pytest
 
-import asperity.pipelines.store as store_module
-from asperity.pipelines.fields import array, checksum, field_specs, scalar, text
-from asperity.pipelines.store import (
+import asperity.pipelines.engine.store as store_module
+from asperity.fields import array, checksum, field_specs, scalar, text
+from asperity.pipelines.engine.store import (
     ResultLayoutError,
     ResultStore,
     StoredStageError,
@@ -182,7 +182,7 @@ def test_a_full_disk_mid_write_keeps_the_previous_file_and_no_temporary(tmp_path
     import errno
     import os
 
-    from asperity.pipelines.outdir import OutputWriteError
+    from asperity.pipelines.engine.outdir import OutputWriteError
 
     store = ResultStore(tmp_path / "results.h5")
     store.write("a", toy(), key="k", root_attrs={"config_toml": "old"})

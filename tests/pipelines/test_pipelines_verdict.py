@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from asperity.errors import ExitStatus
-from asperity.pipelines import verdict as v
+from asperity.pipelines.stages import verdict as v
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 
@@ -170,7 +170,7 @@ def test_x3p_map_with_pdms_material_is_invalid_with_status_3(tmp_path, capsys):
 def test_bad_input_inside_a_stage_names_its_configuration_keys(small, tmp_path, monkeypatch):
     """A solver argument refused deep in a stage comes back naming the stage and the keys
     that feed it, not only the map-scaled argument."""
-    import asperity.pipelines.friction_stage as friction_module
+    import asperity.pipelines.stages.friction as friction_module
     from asperity.errors import InputError
     from asperity.pipelines.config import ConfigError
     from asperity.pipelines.job import run_job

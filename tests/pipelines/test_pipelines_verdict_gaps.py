@@ -10,7 +10,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from asperity.bem.grid_refinement import EDGE_MISMATCH_LIMIT, edge_mismatch
-from asperity.pipelines import verdict as v
+from asperity.pipelines.stages import verdict as v
 
 
 def _friction(displacement, sliding=(0.1, 0.2, 0.3), converged=(True, True, True)):

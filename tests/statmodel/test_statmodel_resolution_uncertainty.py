@@ -10,7 +10,7 @@ import pytest
 
 from asperity import statmodel
 from asperity.errors import InputError
-from asperity.pipelines.resolution_stage import log_misfit
+from asperity.pipelines.stages.statistical_model import log_misfit
 from asperity.statmodel.effective_resolution import locate_least_misfit
 from tests._helpers import PAPER_MATERIAL, PAPER_NOMINAL_AREA, paper_roughness
 

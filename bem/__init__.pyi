@@ -1,0 +1,44 @@
+"""The public names of :mod:`asperity.bem`, one line each.
+
+Read by type checkers and editors, and at run time by ``lazy_loader.attach_stub`` in
+``__init__.py``, which imports each name on first use (``asperity --help`` then loads no
+numba, scipy or h5py); ``__all__`` is these names. ``name as name`` marks a
+re-export for type checkers.
+"""
+
+from .adhesion import approach_retract as approach_retract
+from .adhesion import pull_off_force as pull_off_force
+from .adhesion_range import RangeChoice as RangeChoice
+from .adhesion_range import measure_sensitivity as measure_sensitivity
+from .adhesion_range import search_range as search_range
+from .contact import solve_contact as solve_contact
+from .discretisation import GridExtrapolation as GridExtrapolation
+from .discretisation import UncertaintyBudget as UncertaintyBudget
+from .discretisation import combine_in_quadrature as combine_in_quadrature
+from .discretisation import combined_uncertainty as combined_uncertainty
+from .discretisation import half_spread as half_spread
+from .discretisation import richardson_extrapolation as richardson_extrapolation
+from .errors import BemInputError as BemInputError
+from .fft_backend import crop_to_fast_size as crop_to_fast_size
+from .fft_backend import fast_size as fast_size
+from .grid_refinement import GridCheck as GridCheck
+from .grid_refinement import check_grids as check_grids
+from .grid_refinement import discretisation_estimate as discretisation_estimate
+from .grid_refinement import edge_mismatch as edge_mismatch
+from .grid_refinement import grid_extrapolations as grid_extrapolations
+from .load_sweeps import ContactSetup as ContactSetup
+from .load_sweeps import Grid as Grid
+from .load_sweeps import LoadChain as LoadChain
+from .load_sweeps import SolveSummary as SolveSummary
+from .load_sweeps import decimated_grid as decimated_grid
+from .load_sweeps import solve_chain as solve_chain
+from .maugis import MaugisLaw as MaugisLaw
+from .maugis import cohesive_zone_width as cohesive_zone_width
+from .maugis import resolving_range as resolving_range
+from .options import SolverOptions as SolverOptions
+from .pohrt_popov import critical_tension as critical_tension
+from .reference import ReferenceSolves as ReferenceSolves
+from .reference import solve_reference as solve_reference
+from .result import ContactResult as ContactResult
+from .result import SolverStatus as SolverStatus
+from .sweep import load_sweep as load_sweep

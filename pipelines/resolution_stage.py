@@ -1,0 +1,16 @@
+"""Deprecated (asperity 0.2's path): import :mod:`asperity.pipelines.stages.statistical_model`.
+
+``import asperity.pipelines.resolution_stage`` warns (DeprecationWarning) and gives the public
+names of the module at its new path, the same objects. Removed in asperity 0.5.
+"""
+
+import warnings
+
+from asperity.pipelines.stages.statistical_model import *  # noqa: F403
+
+warnings.warn(
+    "asperity.pipelines.resolution_stage is deprecated and will be removed in asperity 0.5: "
+    "import asperity.pipelines.stages.statistical_model instead",
+    DeprecationWarning,
+    stacklevel=2,
+)
