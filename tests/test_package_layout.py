@@ -325,8 +325,6 @@ def _import_cycles(graph: dict[str, set[str]]) -> list[set[str]]:
     return cycles
 
 
-
-
 def test_no_import_cycle_between_modules() -> None:
     """No module imports, directly or through others, a module that imports it back (at module
     level or inside a function). The namespace ``asperity`` itself is left out as a target: it
