@@ -24,6 +24,7 @@ import numpy as np
 import scipy.fft
 
 from asperity.errors import InputError
+from asperity.topo.capped_surface import CappedSurfaceRecipe, capped_surface
 from asperity.topo.heightmap import HeightMap
 
 _ROWS_PER_BLOCK = 256
@@ -234,3 +235,71 @@ def paper_like(
     )
     provenance = dict(surface.provenance, generator="asperity.topo.synthetic.paper_like")
     return surface.with_heights(surface.heights, provenance=provenance)
+
+
+#: The ``paper_surface`` recipe (SI units), fitted by ``benchmarks/paper_surface_fit.py``.
+PAPER_SURFACE = CappedSurfaceRecipe(
+    base_rms=24e-6,
+    waviness_rms=38e-6,
+    rolloff_wavelength=550e-6,
+    base_hurst=1.36,
+    base_cutoff=100e-6,
+    waviness_wavelength=3e-3,
+    cap_radius=25e-6,
+    max_cap_radius=90e-6,
+    cap_slope=0.55,
+    coarse_cap_slope=0.3,
+    cap_density=7e9,
+    size_exponent=1.12,
+    threshold=0.05,
+    width=0.5,
+)
+
+
+def paper_surface(
+    *,
+    n: int = 5001,
+    pixel_size: float = 2e-6,
+    seed: int = 0,
+    ny: int | None = None,
+    recipe: CappedSurfaceRecipe = PAPER_SURFACE,
+) -> HeightMap:
+    """A surface whose summit statistics follow the paper's (Appendix A, Fig 12, Section 5).
+
+    Parameters
+    ----------
+    n : int
+        Pixels along x (and y unless ``ny`` is given).
+    pixel_size : float
+        dx = dy (m), at most half the recipe's ``base_cutoff``.
+    seed : int
+        Seed of ``numpy.random.default_rng``; the same seed, domain and recipe give the same
+        surface at any resolving pixel size.
+    ny : int, optional
+        Pixels along y (default ``n``).
+    recipe : CappedSurfaceRecipe
+        Parameters (default :data:`PAPER_SURFACE`).
+
+    Returns
+    -------
+    HeightMap
+        Periodic, heights in m, zero mean; the provenance records the recipe.
+    """
+    nx = int(n)
+    ny = nx if ny is None else int(ny)
+    if nx < 3 or ny < 3:
+        raise InputError(f"paper_surface: need at least 3 x 3 pixels, got {nx} x {ny}")
+    check_map_size(nx, ny, "paper_surface: n")
+    if not (math.isfinite(pixel_size) and pixel_size > 0):
+        raise InputError(
+            f"paper_surface: pixel_size must be a finite value > 0 m, got {pixel_size!r}"
+        )
+    heights = capped_surface(nx, ny, pixel_size, pixel_size, recipe, int(seed))
+    provenance = {
+        "format": "synthetic",
+        "generator": "asperity.topo.synthetic.paper_surface",
+        "seed": int(seed),
+        "recipe": recipe.as_dict(),
+        "units": {"lateral": "m", "height": "m"},
+    }
+    return HeightMap(heights, pixel_size, pixel_size, True, provenance)
