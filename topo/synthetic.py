@@ -270,9 +270,10 @@ def paper_surface(
 ) -> HeightMap:
     """A surface whose summit statistics follow the paper's (Appendix A, Fig 12, Section 5).
 
-    A non-Gaussian, "protuberance on protuberance" surface (:func:`topo.capped_surface.
-    capped_surface`): a smooth Gaussian base, rolled off at 550 um (rms 24 um, ``C ~ q^-4.72``
-    above the roll-off, cut at 100 um) plus a waviness (rms 38 um, wavelengths above 3 mm),
+    A non-Gaussian, "protuberance on protuberance" surface
+    (:func:`~asperity.topo.capped_surface.capped_surface`): a smooth Gaussian base, rolled
+    off at 550 um (rms 24 um, ``C ~ q^-4.72`` above the roll-off, cut at 100 um) plus a
+    waviness (rms 38 um, wavelengths above 3 mm),
     carrying two levels of spherical caps of base radius 25 and 50 um (sphere radii 45 and
     167 um; 7000 and 3200 caps per mm^2 before thinning; each level the upper envelope of
     its caps, the two levels added), a cap being kept with the probability
