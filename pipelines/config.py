@@ -67,7 +67,7 @@ __all__ = ["ConfigError", "JobConfig", "config_from_dict", "dump_toml", "load_co
 PRESETS: tuple[str, ...] = ("default", "paper")
 
 DETREND_METHODS: tuple[str, ...] = ("none", "mean", "plane", "quadratic")
-SYNTHETIC_RECIPES: tuple[str, ...] = ("paper_like",)
+SYNTHETIC_RECIPES: tuple[str, ...] = ("paper_like", "paper_surface")
 #: ``surface.missing``: what a contact solve can use (a complete map).
 MISSING_POLICIES: tuple[str, ...] = ("refuse", "fill-lowest", "interpolate")
 #: ``surface.outliers``.

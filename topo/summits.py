@@ -5,11 +5,17 @@ the paper's rule) or its 8 neighbours (``neighbours=8``). Pixels next to a missi
 pixel cannot be summits, nor can edge pixels of a non-periodic map (they lack neighbours);
 a periodic map wraps around. From the N summits of a map:
 
-* asperity density ``eta = N / A_n`` (1/m^2) over the *valid* area: ``A_n = n_c dx dy``,
-  where ``n_c`` counts the pixels that could host a summit (valid, with all 4, or 8, compared
-  neighbours present and valid). Holes (missing pixels) and the pixels around them, and the
-  edge rows and columns of a non-periodic map, are left out of the count and of the area
-  alike, so that eta of a map with holes estimates the eta of the complete map;
+* asperity density ``eta = N / A_n`` (1/m^2), with ``A_n`` the sampling area as in
+  Appendix A (``A_n = 10 x 10 mm^2`` for the paper's map): ``A_n = n_a dx dy``, where
+  ``n_a`` counts the valid pixels none of whose 4 (or 8) compared neighbours is missing.
+  A complete map has ``A_n = nx dx ny dy``, its whole area, edge rows and columns
+  included (they cannot host a summit, as in the paper). Holes (missing pixels) and the
+  pixels around them are left out of the count and of the area alike, so that eta of a
+  map with holes estimates the eta of the complete map. (asperity 0.3 and earlier also
+  left out the edge rows and columns of a non-periodic map: ``(nx-2)(ny-2) dx dy`` for a
+  complete map, which raised eta by ``nx ny / ((nx-2)(ny-2))``, +11 % on a 39 x 39 grid,
+  the paper's map at 260 um; periodic maps are unchanged. That interior area is still
+  ``n_candidates dx dy``);
 * rms summit height ``sigma_s = sqrt(<(z - <z>)^2>)`` over the summits, about the mean
   summit height (m);
 * mean summit radius ``R = 1/2 <|z_xx|^-1 + |z_yy|^-1>`` (m), with the central differences
@@ -96,31 +102,55 @@ def _summit_moments(h, dx, dy, periodic, eight):
     return int(acc[0]), acc[1], acc[2], acc[3]
 
 
-@numba.njit(cache=True)
-def _count_candidates(h, periodic, eight):
-    """Pixels that could host a summit: valid, with every compared neighbour present and valid.
+@numba.njit(cache=True, inline="always")
+def _nan_at(h, i, j, periodic):
+    """True if (i, j) is a missing pixel; an index off a non-periodic map is not missing."""
+    nx, ny = h.shape
+    if periodic:
+        return np.isnan(h[i % nx, j % ny])
+    if i < 0 or i >= nx or j < 0 or j >= ny:
+        return False
+    return np.isnan(h[i, j])
 
-    Edge pixels of a non-periodic map lack a neighbour; a periodic map wraps around. With
-    ``eight`` the diagonal neighbours must be valid too.
+
+@numba.njit(cache=True)
+def _count_pixels(h, periodic, eight):
+    """Pixels that could host a summit, and pixels of the nominal area ``A_n``.
+
+    A candidate is valid with every compared neighbour present and valid: edge pixels of a
+    non-periodic map lack a neighbour, a periodic map wraps around; with ``eight`` the
+    diagonal neighbours must be valid too. The area pixels are the valid pixels with no
+    compared neighbour missing (NaN): the edge of the map belongs to ``A_n`` (Appendix A:
+    ``A_n`` is the whole sampling area), the rim of a hole does not.
     """
     nx, ny = h.shape
     if nx < 3 or ny < 3:
-        return 0
-    i_start, i_stop = (0, nx) if periodic else (1, nx - 1)
-    j_start, j_stop = (0, ny) if periodic else (1, ny - 1)
-    count = 0
-    for i in range(i_start, i_stop):
-        im = i - 1 if i > 0 else nx - 1
-        ip = i + 1 if i < nx - 1 else 0
-        for j in range(j_start, j_stop):
-            jm = j - 1 if j > 0 else ny - 1
-            jp = j + 1 if j < ny - 1 else 0
-            if np.isnan(h[i, j] + h[im, j] + h[ip, j] + h[i, jm] + h[i, jp]):
+        return 0, 0
+    candidates = 0
+    area = 0
+    for i in range(nx):
+        edge_i = not periodic and (i == 0 or i == nx - 1)
+        for j in range(ny):
+            if np.isnan(h[i, j]):
                 continue
-            if eight and np.isnan(h[im, jm] + h[im, jp] + h[ip, jm] + h[ip, jp]):
+            if (
+                _nan_at(h, i - 1, j, periodic)
+                or _nan_at(h, i + 1, j, periodic)
+                or _nan_at(h, i, j - 1, periodic)
+                or _nan_at(h, i, j + 1, periodic)
+            ):
                 continue
-            count += 1
-    return count
+            if eight and (
+                _nan_at(h, i - 1, j - 1, periodic)
+                or _nan_at(h, i - 1, j + 1, periodic)
+                or _nan_at(h, i + 1, j - 1, periodic)
+                or _nan_at(h, i + 1, j + 1, periodic)
+            ):
+                continue
+            area += 1
+            if not (edge_i or (not periodic and (j == 0 or j == ny - 1))):
+                candidates += 1
+    return candidates, area
 
 
 @numba.njit(cache=True)
@@ -190,8 +220,8 @@ class SummitStatistics:
     dx, dy : float
         Pixel sizes of the analysed (decimated) grid (m).
     nominal_area : float
-        ``A_n`` over which the summits are counted, ``n_candidates*dx*dy`` (m^2): the area of
-        the pixels that could host a summit (the valid-area rule of the module docstring).
+        ``A_n`` over which the summits are counted (m^2): the valid area, ``nx*dx*ny*dy``
+        for a complete map (the rule of the module docstring, Appendix A).
     stride : int
         Decimation applied before the analysis.
     neighbours : int
@@ -199,7 +229,8 @@ class SummitStatistics:
     mean_summit_height : float
         Mean summit height (m), relative to the map's height datum.
     n_candidates : int
-        Pixels that could host a summit (valid, with every compared neighbour valid).
+        Pixels that could host a summit (valid, with every compared neighbour present and
+        valid: not the edge of a non-periodic map).
     grid_area : float
         Area of the whole analysed grid, ``nx*dx*ny*dy`` (m^2), holes included.
     """
@@ -219,7 +250,7 @@ class SummitStatistics:
 
     @property
     def valid_fraction(self) -> float:
-        """``nominal_area / grid_area``: the fraction of the grid that could host a summit."""
+        """``nominal_area / grid_area``: the valid fraction of the grid (1 without holes)."""
         return self.nominal_area / self.grid_area
 
     def as_dict(self) -> dict:
@@ -246,11 +277,11 @@ def summit_statistics(
     -------
     SummitStatistics
         ``eta`` in 1/m^2, ``R`` and ``sigma_s`` in m (NaN when there is no summit; eta NaN
-        when no pixel could host one). ``eta = N / A_n`` with ``A_n`` the valid area: the
-        area ``n_c dx dy`` of the ``n_c`` pixels that could host a summit (valid, with all
-        compared neighbours present and valid; the edge pixels of a non-periodic map never
-        can). Missing pixels therefore lower N and A_n together: on a map with holes eta
-        estimates the hole-free eta instead of being diluted by the holes' area.
+        when no pixel could host one). ``eta = N / A_n`` with ``A_n`` the sampling area of
+        Appendix A: ``nx dx ny dy`` for a complete map, edges included; with holes, the
+        area of the valid pixels none of whose compared neighbours is missing. Missing
+        pixels therefore lower N and A_n together: on a map with holes eta estimates the
+        hole-free eta instead of being diluted by the holes' area.
 
     Raises
     ------
@@ -261,8 +292,8 @@ def summit_statistics(
     Notes
     -----
     Appendix A of the paper: N summits by the 4-nearest-neighbour rule over the sampling
-    area ``A_n`` (complete 5001 x 5001 map: our valid-area rule counts 4999^2 pixels, 0.08 %
-    less than the whole map) give ``eta = N/A_n`` (652.1 mm^-2 for the paper's map at 2 um),
+    area ``A_n`` (the whole 10 x 10 mm^2 map; for a decimated map the ``nx x ny`` grid of
+    pixels ``stride*dx`` wide) give ``eta = N/A_n`` (652.1 mm^-2 for the paper's map at 2 um),
     ``sigma_s = sqrt(<z^2>)`` about the mean summit height (0.032 mm) and
     ``R = 1/2 <|z_xx|^-1 + |z_yy|^-1>`` by central differences (0.041 mm).
     """
@@ -273,8 +304,9 @@ def summit_statistics(
     count, mean, m2, radius_sum = _summit_moments(
         grid.heights, grid.dx, grid.dy, grid.periodic, eight
     )
-    candidates = int(_count_candidates(grid.heights, grid.periodic, eight))
-    area = candidates * grid.dx * grid.dy
+    candidates, area_pixels = _count_pixels(grid.heights, grid.periodic, eight)
+    candidates = int(candidates)
+    area = int(area_pixels) * grid.dx * grid.dy
     if count == 0:
         _check_not_all_missing(surface, grid, stride)
         radius = rms = mean_height = float("nan")

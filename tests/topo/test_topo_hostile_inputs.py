@@ -146,9 +146,10 @@ def test_all_nan_two_by_two_and_oversized_stride_are_refused():
     surface = topo.HeightMap(np.random.default_rng(0).normal(size=(30, 30)), 1e-6, 1e-6)
     with pytest.raises(ValueError, match="stride 11 leaves 3 x 3|stride 16 leaves 2 x 2"):
         topo.summit_statistics(surface, stride=16)
-    # eta is counted per area that can host a summit: the 1 interior pixel of the 3 x 3 map
-    # left by stride 10 (a summit needs its 4 neighbours), 10 um x 10 um
-    assert topo.summit_statistics(surface, stride=10).nominal_area == pytest.approx(1e-10)
+    # eta is counted over the sampling area (Appendix A): the whole 3 x 3 map left by stride
+    # 10, 30 um x 30 um, though only its 1 interior pixel can host a summit
+    stats = topo.summit_statistics(surface, stride=10)
+    assert stats.nominal_area == pytest.approx(9e-10) and stats.n_candidates == 1
     assert topo.summit_statistics(surface, stride=10).grid_area == pytest.approx(9e-10)
 
 

@@ -1,0 +1,251 @@
+"""Fit and check ``topo.synthetic.paper_surface`` against the paper's statistics.
+
+The targets (Xu et al. 2022, Appendix A, Fig 12, Section 5), SI units in the code:
+
+* 2 um:   eta 652.1 mm^-2, R 0.041 mm, sigma_s 0.032 mm;
+* 260 um: eta 2.25 mm^-2,  R 1.180 mm, sigma_s 0.0419 mm;
+* between: eta ~ Delta^-1.12, R linear in Delta (slope about 4.4), sigma_s nearly constant;
+  the PSD roll-off near 600 um and an rms height near 51 um.
+
+Resolution Delta is the decimation of the 2 um map by a stride (``topo.resolution_scan``).
+
+Usage (from the worktree root)::
+
+    .venv/bin/python benchmarks/paper_surface_fit.py            # table, patches, seeds 0, 1
+    .venv/bin/python benchmarks/paper_surface_fit.py --full     # + the 5001 x 5001 map, seed 0
+    .venv/bin/python benchmarks/paper_surface_fit.py --fit      # refit the recipe (minutes)
+
+Patches: the 2, 4, 10 um statistics on a 3 mm x 3 mm patch at 2 um (1500^2 pixels); the
+10 .. 260 um ones on the 10 mm x 10 mm domain generated at 10 um (1000^2 pixels), which
+is the 2 um map of the same domain decimated by 5 (the recipe is a function of position:
+the same seed and domain give the same surface at any resolving pixel size). ``--full``
+generates the 5001 x 5001 map at 2 um (about 1.5 GiB at peak) and scans strides 1..130.
+The fit (``--fit``) is a Nelder-Mead search, seed 0, on the log-misfits of eta, R and
+sigma_s at 2 and 260 um (weight 3) and of eta and R at 20, 40 and 100 um against the
+paper's power law and straight line through the end points (weight 1).
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from asperity import topo  # noqa: E402
+from asperity.topo import psd, synthetic  # noqa: E402
+from asperity.topo.resampling import decimate  # noqa: E402
+
+#: The paper's values at 2 and 260 um (SI: 1/m^2, m, m).
+PAPER = {
+    2e-6: {"eta": 652.1e6, "R": 0.041e-3, "sigma_s": 0.032e-3},
+    260e-6: {"eta": 2.25e6, "R": 1.180e-3, "sigma_s": 0.0419e-3},
+}
+PAPER_EXPONENT = -1.12
+PAPER_SLOPE = (1.180e-3 - 0.041e-3) / 258e-6  # 4.41, Fig 12a
+RMS_TARGET = 51e-6
+ROLLOFF_TARGET = 600e-6
+
+#: Parameters the fit moves (log scale), with the recipe's current values as a start.
+FITTED = (
+    "base_rms",
+    "waviness_rms",
+    "cap_density",
+    "cap_slope",
+    "coarse_cap_slope",
+    "size_exponent",
+    "threshold",
+)
+
+
+def interpolated_targets(resolution: float) -> tuple[float, float]:
+    """eta (1/m^2) and R (m) on the straight lines through the paper's end points."""
+    (d0, p0), (d1, p1) = sorted(PAPER.items())
+    t = math.log(resolution / d0) / math.log(d1 / d0)
+    eta = math.exp((1 - t) * math.log(p0["eta"]) + t * math.log(p1["eta"]))
+    radius = p0["R"] + (resolution - d0) * (p1["R"] - p0["R"]) / (d1 - d0)
+    return eta, radius
+
+
+def patch_statistics(recipe, seed: int) -> dict:
+    """Summit statistics per resolution (key: um) from the two patches (module docstring)."""
+    out = {}
+    fine = synthetic.paper_surface(n=1500, pixel_size=2e-6, seed=seed, recipe=recipe)
+    for stride in (1, 2, 5):
+        out[2 * stride] = topo.summit_statistics(fine, stride=stride)
+    del fine
+    coarse = synthetic.paper_surface(n=1000, pixel_size=10e-6, seed=seed, recipe=recipe)
+    for stride in (2, 4, 10, 26):
+        out[10 * stride] = topo.summit_statistics(coarse, stride=stride)
+    out["rms"] = float(np.std(coarse.heights))
+    out["scan"] = topo.resolution_scan(coarse, 26)
+    return out
+
+
+def misfit(recipe, seed: int = 0) -> float:
+    """Weighted sum of squared log-misfits (module docstring)."""
+    stats = patch_statistics(recipe, seed)
+    total = 0.0
+    for resolution, target in PAPER.items():
+        s = stats[round(resolution * 1e6)]
+        total += 3 * math.log(s.asperity_density / target["eta"]) ** 2
+        total += 3 * math.log(s.summit_radius / target["R"]) ** 2
+        total += 3 * math.log(s.summit_height_rms / target["sigma_s"]) ** 2
+    for resolution in (20e-6, 40e-6, 100e-6):
+        eta, radius = interpolated_targets(resolution)
+        s = stats[round(resolution * 1e6)]
+        total += math.log(s.asperity_density / eta) ** 2
+        total += math.log(s.summit_radius / radius) ** 2
+    return total
+
+
+def fit(start) -> object:
+    """Nelder-Mead on the log of the FITTED parameters (threshold: linear)."""
+    import scipy.optimize
+
+    def unpack(x):
+        values = {}
+        for name, v in zip(FITTED, x, strict=True):
+            values[name] = v if name == "threshold" else math.exp(v)
+        values["cap_slope"] = min(values["cap_slope"], 0.95)
+        values["coarse_cap_slope"] = min(values["coarse_cap_slope"], 0.95)
+        return dataclasses.replace(start, **values)
+
+    x0 = [getattr(start, n) if n == "threshold" else math.log(getattr(start, n)) for n in FITTED]
+    calls = [0]
+
+    def objective(x):
+        calls[0] += 1
+        value = misfit(unpack(x))
+        print(f"{calls[0]:4d} {value:.4f} " + " ".join(f"{v:.4g}" for v in x), flush=True)
+        return value
+
+    result = scipy.optimize.minimize(
+        objective,
+        x0,
+        method="Nelder-Mead",
+        options={"maxfev": 120, "xatol": 1e-3, "fatol": 1e-4, "initial_simplex": None},
+    )
+    print(result.message, result.fun)
+    recipe = unpack(result.x)
+    print(recipe)
+    return recipe
+
+
+def table(rows: list[tuple[str, str, list[str]]]) -> None:
+    width = max(len(r[0]) for r in rows)
+    for name, target, values in rows:
+        print(f"{name:<{width}}  {target:>14}  " + "  ".join(f"{v:>14}" for v in values))
+
+
+def summary(stats, scan) -> dict[str, float]:
+    """The compared quantities (SI) from per-resolution statistics and a scan."""
+    small, large = stats[2], stats[260]
+    return {
+        "eta(2um)": small.asperity_density,
+        "R(2um)": small.summit_radius,
+        "sigma_s(2um)": small.summit_height_rms,
+        "eta(260um)": large.asperity_density,
+        "R(260um)": large.summit_radius,
+        "sigma_s(260um)": large.summit_height_rms,
+        "eta(260um), fit": scan.density_prefactor * 260e-6**scan.density_exponent,
+        "R(260um), fit": scan.radius_slope * 260e-6 + scan.radius_intercept,
+        "eta exponent": scan.density_exponent,
+        "dR/dDelta": scan.radius_slope,
+        "rms": stats["rms"],
+        "roll-off": stats["rolloff"],
+    }
+
+
+def rolloff_wavelength(surface) -> float:
+    """Roll-off wavelength (m) of the radial PSD: ``topo.psd.rolloff_wavelength``."""
+    return psd.rolloff_wavelength(surface)
+
+
+FORMAT = {
+    "eta(2um)": (1e-6, "mm^-2", "{:.1f}"),
+    "R(2um)": (1e3, "mm", "{:.4f}"),
+    "sigma_s(2um)": (1e3, "mm", "{:.4f}"),
+    "eta(260um)": (1e-6, "mm^-2", "{:.2f}"),
+    "R(260um)": (1e3, "mm", "{:.3f}"),
+    "sigma_s(260um)": (1e3, "mm", "{:.4f}"),
+    "eta(260um), fit": (1e-6, "mm^-2", "{:.2f}"),
+    "R(260um), fit": (1e3, "mm", "{:.3f}"),
+    "eta exponent": (1, "", "{:.3f}"),
+    "dR/dDelta": (1, "", "{:.2f}"),
+    "rms": (1e6, "um", "{:.1f}"),
+    "roll-off": (1e6, "um", "{:.0f}"),
+}
+TARGET = {
+    "eta(2um)": 652.1e6,
+    "R(2um)": 0.041e-3,
+    "sigma_s(2um)": 0.032e-3,
+    "eta(260um)": 2.25e6,
+    "R(260um)": 1.180e-3,
+    "sigma_s(260um)": 0.0419e-3,
+    "eta(260um), fit": 2.25e6,
+    "R(260um), fit": 1.180e-3,
+    "eta exponent": PAPER_EXPONENT,
+    "dR/dDelta": PAPER_SLOPE,
+    "rms": RMS_TARGET,
+    "roll-off": ROLLOFF_TARGET,
+}
+
+
+def print_table(columns: dict[str, dict[str, float]]) -> None:
+    rows = []
+    for key, (scale, unit, fmt) in FORMAT.items():
+        name = f"{key} ({unit})" if unit else key
+        values = []
+        for result in columns.values():
+            v = result[key]
+            values.append(f"{fmt.format(v * scale)} ({100 * (v / TARGET[key] - 1):+.0f}%)")
+        rows.append((name, fmt.format(TARGET[key] * scale), values))
+    table([("quantity", "paper", list(columns))] + rows)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--fit", action="store_true", help="refit the recipe (minutes)")
+    parser.add_argument("--full", action="store_true", help="also the 5001^2 maps, seeds 0, 1")
+    args = parser.parse_args()
+    recipe = synthetic.PAPER_SURFACE
+    if args.fit:
+        recipe = fit(recipe)
+    columns = {}
+    for seed in (0, 1):
+        t = time.perf_counter()
+        stats = patch_statistics(recipe, seed)
+        coarse = synthetic.paper_surface(n=1000, pixel_size=10e-6, seed=seed, recipe=recipe)
+        stats["rolloff"] = rolloff_wavelength(coarse)
+        columns[f"patches s{seed}"] = summary(stats, stats["scan"])
+        print(f"seed {seed}: patches in {time.perf_counter() - t:.1f} s", file=sys.stderr)
+    for seed in (0, 1) if args.full else ():
+        t = time.perf_counter()
+        surface = synthetic.paper_surface(n=5001, pixel_size=2e-6, seed=seed, recipe=recipe)
+        scan = topo.resolution_scan(surface, 130)
+        stats = {
+            2: topo.summit_statistics(surface, stride=1),
+            260: topo.summit_statistics(surface, stride=130),
+            "rms": float(np.std(surface.heights)),
+            "rolloff": rolloff_wavelength(decimate(surface, 5)),
+        }
+        del surface
+        columns[f"5001^2 s{seed}"] = summary(stats, scan)
+        print(f"full map, seed {seed}: {time.perf_counter() - t:.1f} s", file=sys.stderr)
+    print_table(columns)
+    print(
+        "patches: 2 um statistics on 3 mm at 2 um, the rest, the fits (strides 1..26, 10..260 um)"
+        " and the roll-off on 10 mm at 10 um; 5001^2: the 2 um map, fits over strides 1..130;"
+        " 'fit' rows: the power law and the straight line of the scan at 260 um"
+    )
+
+
+if __name__ == "__main__":
+    main()

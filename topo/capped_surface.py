@@ -1,0 +1,286 @@
+"""A non-Gaussian synthetic surface: spherical caps on caps, carried by a smooth wavy base.
+
+The surface is a function of the physical position (m), sampled on the requested grid:
+
+    z(x) = B(x) + sum_k F_k(x),        B = sigma_L L(x) + sigma_W W(x),
+
+* ``L`` and ``W`` are periodic Gaussian fields of unit variance, trigonometric sums over
+  the wavevectors ``q = 2 pi (i / X, j / Y)`` of the ``X x Y`` domain: ``L`` with the
+  spectrum ``C(q) = 1`` below the roll-off ``q_r = 2 pi / rolloff_wavelength`` and
+  ``(q / q_r)^(-2(1 + H))`` above it, cut at ``2 pi / base_cutoff``; ``W`` (the waviness)
+  with ``C(q) = 1`` below ``2 pi / waviness_wavelength`` and ``(q / q_w)^-8`` above, cut
+  at the same wavenumber. Their coefficients are drawn in a fixed order from
+  ``numpy.random.default_rng(seed)``, so ``B`` does not depend on the pixel size.
+* ``F_k`` (level k = 0, 1, ...) is the upper envelope (the maximum) of spherical caps of
+  base radius ``a_k = a_0 2^k`` (up to ``max_cap_radius``) and sphere radius
+  ``rho_k = a_k / s_k`` (``s_0 = cap_slope``, ``s_k = coarse_cap_slope`` for k >= 1; the
+  slope of a cap's rim is ``s_k / sqrt(1 - s_k^2)``), centred at Poisson points of density
+  ``n_k = cap_density 2^(-k size_exponent)`` (1/m^2). Level k + 1 carries level k: the
+  levels are added, a "protuberance on protuberance" structure.
+* A cap is kept with the probability ``Phi((B(c) / sigma_B - threshold) / width)`` at its
+  centre ``c`` (``Phi`` the normal distribution function, ``sigma_B`` the rms of ``B``): the
+  caps, and with them the small-scale summits, sit preferentially on the high parts of the
+  base. ``B(c)`` is read from the base sampled on a fixed reference grid (bilinear), so the
+  choice does not depend on the output grid either.
+
+The same ``seed`` and domain therefore give the same surface at any pixel size that
+resolves the base (``pixel_size <= base_cutoff / 2``): a map made at ``k dx`` equals the
+map made at ``dx`` decimated by k, up to rounding and the subtracted mean. All lengths are
+in metres.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+import numba
+import numpy as np
+import scipy.fft
+import scipy.special
+
+from asperity.errors import InputError
+
+#: Pixel of the reference grid on which the base is read at the cap centres (m), at most.
+REFERENCE_PIXEL = 25e-6
+
+
+@dataclass(frozen=True)
+class CappedSurfaceRecipe:
+    """Parameters of :func:`capped_surface` (SI units: m, 1/m^2).
+
+    Attributes
+    ----------
+    base_rms : float
+        ``sigma_L``, rms of the rolled-off Gaussian component L (m).
+    waviness_rms : float
+        ``sigma_W``, rms of the long-wave component W (m).
+    rolloff_wavelength : float
+        Roll-off wavelength of L (m).
+    base_hurst : float
+        Exponent H of L's power law above the roll-off, ``C ~ q^-2(1+H)``.
+    base_cutoff : float
+        Shortest wavelength of L and W (m).
+    waviness_wavelength : float
+        Wavelength below which W's spectrum falls as ``q^-8`` (m).
+    cap_radius : float
+        ``a_0``, base radius of the smallest caps (m).
+    max_cap_radius : float
+        Largest cap base radius (m): levels ``a_0 2^k <= max_cap_radius``.
+    cap_slope : float
+        ``s_0 = a_0 / rho_0`` of the smallest caps, in (0, 1).
+    coarse_cap_slope : float
+        ``s_k = a_k / rho_k`` of the larger levels, in (0, 1).
+    cap_density : float
+        ``n_0``, density of the smallest caps before thinning (1/m^2).
+    size_exponent : float
+        Density of level k: ``n_0 2^(-k size_exponent)``.
+    threshold : float
+        Height (in units of the base rms) around which caps start being kept.
+    width : float
+        Width of that transition (base rms units), > 0.
+    """
+
+    base_rms: float
+    waviness_rms: float
+    rolloff_wavelength: float
+    base_hurst: float
+    base_cutoff: float
+    waviness_wavelength: float
+    cap_radius: float
+    max_cap_radius: float
+    cap_slope: float
+    coarse_cap_slope: float
+    cap_density: float
+    size_exponent: float
+    threshold: float
+    width: float
+
+    def as_dict(self) -> dict:
+        """The parameters as a plain dict."""
+        return asdict(self)
+
+
+def _check_recipe(recipe: CappedSurfaceRecipe, name: str) -> None:
+    positive = (
+        "base_rms",
+        "rolloff_wavelength",
+        "base_hurst",
+        "base_cutoff",
+        "waviness_wavelength",
+        "cap_radius",
+        "max_cap_radius",
+        "width",
+    )
+    for key in positive:
+        value = getattr(recipe, key)
+        if not (math.isfinite(value) and value > 0):
+            raise InputError(f"{name}: {key} must be a finite value > 0, got {value!r}")
+    for key in ("waviness_rms", "cap_density", "size_exponent"):
+        value = getattr(recipe, key)
+        if not (math.isfinite(value) and value >= 0):
+            raise InputError(f"{name}: {key} must be a finite value >= 0, got {value!r}")
+    for key in ("cap_slope", "coarse_cap_slope"):
+        value = getattr(recipe, key)
+        if not 0 < value < 1:
+            raise InputError(
+                f"{name}: {key} must be in (0, 1) (cap radius / sphere radius), got {value!r}"
+            )
+    if not math.isfinite(recipe.threshold):
+        raise InputError(f"{name}: threshold must be finite, got {recipe.threshold!r}")
+
+
+def _mode_coefficients(
+    side_x: float, side_y: float, recipe: CappedSurfaceRecipe, rng: np.random.Generator
+) -> tuple[np.ndarray, int, int]:
+    """Complex coefficients of ``B`` on the half plane of mode indices (i in -M..M, j in 0..N).
+
+    Unit-variance L and W scaled by their rms; the j = 0 column is made Hermitian so that
+    the trigonometric sum is real. Depends on the domain and the recipe only.
+    """
+    q_max = 2 * math.pi / recipe.base_cutoff
+    m_x = int(side_x / recipe.base_cutoff)
+    m_y = int(side_y / recipe.base_cutoff)
+    i = np.arange(-m_x, m_x + 1)
+    j = np.arange(0, m_y + 1)
+    qx = 2 * math.pi * i[:, None] / side_x
+    qy = 2 * math.pi * j[None, :] / side_y
+    q = np.hypot(qx, qy)
+    inside = (q > 0) & (q <= q_max)
+    lower = (j[None, :] == 0) & (i[:, None] < 0)  # conjugates of the i > 0, j = 0 modes
+    keep = inside & ~lower
+    weight = np.where(j[None, :] == 0, 1.0, 2.0)  # a j > 0 mode appears with its conjugate
+
+    def unit_field(amplitude: np.ndarray) -> np.ndarray:
+        noise = rng.standard_normal(q.shape + (2,))
+        coef = np.where(keep, amplitude * (noise[..., 0] + 1j * noise[..., 1]), 0.0)
+        coef[:m_x, 0] = np.conj(coef[:m_x:-1, 0])  # i < 0 from i > 0 on j = 0
+        variance = float(np.sum(weight * np.abs(coef) ** 2))
+        return coef / math.sqrt(variance) if variance > 0 else coef
+
+    q_r = 2 * math.pi / recipe.rolloff_wavelength
+    q_w = 2 * math.pi / recipe.waviness_wavelength
+    base = unit_field(
+        np.where(q < q_r, 1.0, (np.maximum(q, q_r) / q_r) ** -(1 + recipe.base_hurst))
+    )
+    wave = unit_field(np.where(q < q_w, 1.0, (np.maximum(q, q_w) / q_w) ** -4.0))
+    return recipe.base_rms * base + recipe.waviness_rms * wave, m_x, m_y
+
+
+def _sample_base(coef: np.ndarray, m_x: int, m_y: int, nx: int, ny: int) -> np.ndarray:
+    """The trigonometric sum with coefficients ``coef`` on an ``nx x ny`` periodic grid."""
+    if nx <= 2 * m_x or ny // 2 <= m_y:
+        raise InputError(
+            f"capped_surface: a {nx} x {ny} grid does not resolve the base (needs more than "
+            f"{2 * m_x} x {2 * m_y} pixels: a pixel at most half the base cut-off wavelength)"
+        )
+    spectrum = np.zeros((nx, ny // 2 + 1), dtype=np.complex128)
+    rows = np.arange(-m_x, m_x + 1) % nx
+    spectrum[rows, : m_y + 1] = coef
+    heights = scipy.fft.irfft2(spectrum, s=(nx, ny), overwrite_x=True)
+    heights *= nx * ny
+    return heights
+
+
+@numba.njit(cache=True)
+def _paint_caps(level, dx, dy, cx, cy, radius, sphere):
+    """Upper envelope of spherical caps (base radius ``radius``, sphere radii ``sphere``)
+    centred at (cx, cy) (m) on the periodic grid ``level`` (pixel (i, j) at (i dx, j dy))."""
+    nx, ny = level.shape
+    r2max = radius * radius
+    for k in range(cx.size):
+        s2 = sphere[k] * sphere[k]
+        rim = math.sqrt(s2 - r2max)
+        i0 = int(math.ceil((cx[k] - radius) / dx))
+        i1 = int(math.floor((cx[k] + radius) / dx))
+        j0 = int(math.ceil((cy[k] - radius) / dy))
+        j1 = int(math.floor((cy[k] + radius) / dy))
+        for i in range(i0, i1 + 1):
+            ddx = i * dx - cx[k]
+            for j in range(j0, j1 + 1):
+                ddy = j * dy - cy[k]
+                r2 = ddx * ddx + ddy * ddy
+                if r2 < r2max:
+                    value = math.sqrt(s2 - r2) - rim
+                    ii = i % nx
+                    jj = j % ny
+                    if value > level[ii, jj]:
+                        level[ii, jj] = value
+
+
+def _bilinear(grid: np.ndarray, pixel_x: float, pixel_y: float, x: np.ndarray, y: np.ndarray):
+    """Periodic bilinear interpolation of ``grid`` (pixel (i, j) at (i px, j py)) at (x, y)."""
+    nx, ny = grid.shape
+    fx = x / pixel_x
+    fy = y / pixel_y
+    i0 = np.floor(fx).astype(np.int64)
+    j0 = np.floor(fy).astype(np.int64)
+    tx = fx - i0
+    ty = fy - j0
+    i0 %= nx
+    j0 %= ny
+    i1 = (i0 + 1) % nx
+    j1 = (j0 + 1) % ny
+    return (
+        grid[i0, j0] * (1 - tx) * (1 - ty)
+        + grid[i1, j0] * tx * (1 - ty)
+        + grid[i0, j1] * (1 - tx) * ty
+        + grid[i1, j1] * tx * ty
+    )
+
+
+def capped_surface(
+    nx: int, ny: int, dx: float, dy: float, recipe: CappedSurfaceRecipe, seed: int
+) -> np.ndarray:
+    """Heights (m) of the caps-on-caps surface on an ``nx x ny`` periodic grid (see module).
+
+    Parameters
+    ----------
+    nx, ny : int
+        Pixels along x and y.
+    dx, dy : float
+        Pixel sizes (m); the domain is ``nx dx`` by ``ny dy``.
+    recipe : CappedSurfaceRecipe
+        The parameters (SI units).
+    seed : int
+        Seed of ``numpy.random.default_rng``.
+
+    Returns
+    -------
+    ndarray, shape (nx, ny)
+        Heights in m, mean subtracted.
+
+    Raises
+    ------
+    InputError
+        A parameter out of range, or a grid too coarse to resolve the base.
+    """
+    _check_recipe(recipe, "capped_surface")
+    side_x, side_y = nx * dx, ny * dy
+    rng = np.random.default_rng(seed)
+    coef, m_x, m_y = _mode_coefficients(side_x, side_y, recipe, rng)
+    heights = _sample_base(coef, m_x, m_y, nx, ny)
+    ref_nx = max(2 * m_x + 1, math.ceil(side_x / REFERENCE_PIXEL))
+    ref_ny = max(2 * m_y + 2, math.ceil(side_y / REFERENCE_PIXEL))
+    reference = _sample_base(coef, m_x, m_y, ref_nx, ref_ny)
+    base_sigma = math.hypot(recipe.base_rms, recipe.waviness_rms)
+    level = np.empty_like(heights)
+    radius = recipe.cap_radius
+    k = 0
+    while radius <= recipe.max_cap_radius * (1 + 1e-12):
+        density = recipe.cap_density * 2.0 ** (-k * recipe.size_exponent)
+        count = int(rng.poisson(density * side_x * side_y))
+        cx = rng.random(count) * side_x
+        cy = rng.random(count) * side_y
+        draw = rng.random(count)
+        slope = recipe.cap_slope if k == 0 else recipe.coarse_cap_slope
+        base_at = _bilinear(reference, side_x / ref_nx, side_y / ref_ny, cx, cy)
+        keep = draw < scipy.special.ndtr((base_at / base_sigma - recipe.threshold) / recipe.width)
+        sphere = np.full(int(keep.sum()), radius / slope)
+        level.fill(0.0)
+        _paint_caps(level, dx, dy, cx[keep], cy[keep], radius, sphere)
+        heights += level
+        radius *= 2.0
+        k += 1
+    heights -= heights.mean()
+    return heights
