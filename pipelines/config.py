@@ -129,7 +129,8 @@ class SyntheticRecipe:
     Attributes
     ----------
     recipe : str
-        Generator name, ``"paper_like"`` (:func:`topo.synthetic.paper_like`).
+        Generator name: ``"paper_like"`` (:func:`topo.synthetic.paper_like`, the default job)
+        or ``"paper_surface"`` (:func:`topo.synthetic.paper_surface`, the paper preset).
     n : int
         Pixels per side.
     pixel_size : float

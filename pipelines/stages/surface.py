@@ -58,12 +58,25 @@ def file_sha256(path: str | Path, chunk: int = 1 << 20) -> str:
     return digest.hexdigest()
 
 
+#: The parameters behind each synthetic recipe, part of its hash: a change of a recipe's
+#: constants recomputes the stored stages instead of reusing those of the old surface.
+RECIPE_CONSTANTS: dict[str, object] = {
+    "paper_like": topo.synthetic.PAPER_LIKE,
+    "paper_surface": topo.synthetic.PAPER_SURFACE,
+}
+
+
 def input_sha256(config: SurfaceConfig) -> str:
-    """Provenance hash of the input: the file's SHA-256, or that of the synthetic recipe."""
+    """Provenance hash of the input: the file's SHA-256, or that of the synthetic recipe (its
+    configuration and the recipe's constants, :data:`RECIPE_CONSTANTS`)."""
     if config.file is not None:
         return file_sha256(config.file)
-    recipe = json.dumps(config.synthetic.__dict__, sort_keys=True)
-    return hashlib.sha256(("synthetic:" + recipe).encode()).hexdigest()
+    recipe = config.synthetic
+    constants = RECIPE_CONSTANTS[recipe.recipe]
+    if dataclasses.is_dataclass(constants):
+        constants = dataclasses.asdict(constants)
+    document = json.dumps({**recipe.__dict__, "constants": constants}, sort_keys=True)
+    return hashlib.sha256(("synthetic:" + document).encode()).hexdigest()
 
 
 def read_input(config: SurfaceConfig) -> topo.HeightMap | topo.LineProfile:
