@@ -42,14 +42,29 @@ calibrated on cannot be right:
 * ``plastic_asperities`` / ``contact_pressure_above_yield`` (with ``material.hardness``): the
   plasticity index above 1 (a warning above 0.6), the mean contact pressure above H (a warning
   above 0.39 H): :func:`check_hardness`, thresholds in :mod:`asperity.statmodel.plausibility`.
+* ``static_friction_ratio`` (F_s/F_d above 100; a warning above 10), ``junction_shear_yield``
+  (the mean junction shear at the static peak above the solid's shear limit: glassy yield
+  0.0173 E*, rubbery G = E*/4, or H/(2.8 sqrt 3); a warning above half of it) and
+  ``static_friction_coefficient`` (mu_s = F_s/F_z above 1 with the junction shear past that
+  limit; a warning above 1 otherwise): :func:`check_friction_plausibility`, the thresholds
+  and their reasons in :data:`asperity.statmodel.plausibility.THRESHOLDS`.
+* ``bem_adhesive_range`` (:func:`check_bem_adhesive_range`): in the full-contact regime, or
+  where the adhesive BEM's A_r/A_n reaches 0.9, the adhesive BEM column is decided by its
+  Maugis-Dugdale range h_0 (grid-sized with ``"auto"``), not by the roughness; invalid when
+  the effective resolution was chosen against the BEM, else a warning. Its cells are marked
+  ``range-decided:`` (:func:`asperity.pipelines.report.verdict_marks.mark_adhesive_bem`).
+
+The adhesion regime is also judged before the BEM stage runs (:func:`preview_adhesion_regime`,
+the stage's :class:`~asperity.pipelines.engine.stage.Preview`): one terminal line and the
+preliminary reason stored in ``results.h5`` (file attribute :data:`PREVIEW_ATTRIBUTE`).
 
 Warnings: ``measured_load_unmatched`` (a measured curve at a load more than
 :data:`LOAD_MATCH` from every configured load; the job refuses such a curve before any stage,
 :func:`asperity.pipelines.measured.check_curve_loads`), ``bem_grid`` (the grid check found no
 converged stride), ``lambda_fit`` (the optimiser did not report success),
-``surface_preparation`` (the preparation record's warnings), ``static_friction_ratio`` and
-``junction_shear_at_peak`` (F_s/F_d or the junction shear at the peak over tau_0 above 10,
-naming tau_0 and lambda: :func:`check_friction_plausibility`), ``profile_isotropy`` (always
+``surface_preparation`` (the preparation record's warnings), ``junction_shear_at_peak`` (the
+junction shear at the peak over tau_0 above 10, naming tau_0 and lambda:
+:func:`check_friction_plausibility`), ``profile_isotropy`` (always
 for a line profile as input: its statistics and the maps synthesised from it assume an
 isotropic surface, which one line cannot check).
 
