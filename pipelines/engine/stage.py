@@ -100,8 +100,9 @@ class StageContext:
             )
         return self.results[stage.name]
 
-    def for_stage(self, stage: Stage) -> StageContext:
-        """The context ``stage.compute`` sees: its declared keys, inputs and measurements."""
+    def for_stage(self, stage: Stage | Preview) -> StageContext:
+        """The context ``stage.compute`` (or a preview's ``run``) sees: its declared keys,
+        inputs and measurements."""
         measured_keys = {k.split(".", 1)[1]: k for k in stage.config if k.startswith("measured.")}
         measured: Measurements | DeclaredView = self.measured
         if "measured" not in stage.config:

@@ -916,17 +916,19 @@ def compute_verdict(context: StageContext) -> Verdict:
 PREVIEW_ATTRIBUTE = "preview_adhesion_regime"
 
 
-def preview_adhesion_regime(context: StageContext) -> PreviewNote | None:
+def preview_adhesion_regime(context: StageContext) -> PreviewNote:
     """The adhesion regime judged from the levelled map before the BEM stage (a second,
     against the BEM's minutes): one log line, and the preliminary reason stored at once in
     ``results.h5`` (file attribute :data:`PREVIEW_ATTRIBUTE`, JSON with ``codes``,
     ``severities``, ``reasons``, ``adhesion_energy_ratio``, ``stickiness``). The job still
     runs every stage the configuration asks for; the final verdict repeats the reason.
-    None without adhesion (w = 0)."""
+    Without adhesion (w = 0) no line, and a record without reasons (it replaces one a former
+    run of the same folder stored)."""
     config = context.config
     regime = adhesion_regime_of(context.result(SURFACE), config.material, None)
     if regime is None:
-        return None
+        empty = {"codes": [], "severities": [], "reasons": []}
+        return PreviewNote([], {**empty, "adhesion_energy_ratio": None, "stickiness": None})
     reasons = check_adhesion_regime(regime)
     numbers = (
         f"U_el/(A0 w) = {regime.energy_ratio:.3g} (Persson-Tosatti, threshold 1), "

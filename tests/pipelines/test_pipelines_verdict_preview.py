@@ -133,4 +133,5 @@ def test_the_verdict_previews_the_regime_before_the_bem():
     glassy = VERDICT.preview.run(_context({"E_star": 3.5e9}, crop))
     assert "partial contact" in glassy.lines[0] and glassy.record["codes"] == []
     assert glassy.record["adhesion_energy_ratio"] > 1
-    assert VERDICT.preview.run(_context({"work_of_adhesion": 0.0}, crop)) is None
+    silent = VERDICT.preview.run(_context({"work_of_adhesion": 0.0}, crop))  # no adhesion
+    assert silent.lines == [] and silent.record["codes"] == []
