@@ -100,8 +100,9 @@ class StageContext:
             )
         return self.results[stage.name]
 
-    def for_stage(self, stage: Stage) -> StageContext:
-        """The context ``stage.compute`` sees: its declared keys, inputs and measurements."""
+    def for_stage(self, stage: Stage | Preview) -> StageContext:
+        """The context ``stage.compute`` (or a preview's ``run``) sees: its declared keys,
+        inputs and measurements."""
         measured_keys = {k.split(".", 1)[1]: k for k in stage.config if k.startswith("measured.")}
         measured: Measurements | DeclaredView = self.measured
         if "measured" not in stage.config:
@@ -115,6 +116,54 @@ class StageContext:
             measured=measured,
             inputs=tuple(s.name for s in stage.inputs),
         )
+
+
+@dataclass(frozen=True)
+class PreviewNote:
+    """What a :class:`Preview` found: lines for the log and a record for ``results.h5``.
+
+    Attributes
+    ----------
+    lines : list of str
+        Logged before the stage the preview precedes.
+    record : dict
+        JSON-ready; stored as the file attribute ``preview_<name>`` of ``results.h5`` (JSON
+        text) at once, before that stage runs.
+    """
+
+    lines: list[str]
+    record: dict[str, Any]
+
+
+@dataclass(frozen=True)
+class Preview:
+    """A cheap part of a later stage's judgement, made and said before an expensive stage.
+
+    E.g. the verdict's adhesion regime (a second, from the map) before the BEM stage
+    (minutes): the user learns at once what the BEM's numbers will mean, and the job still
+    runs every stage asked for. Declared on the later stage (``Stage.preview``); it reads only
+    what it declares, as a stage does.
+
+    Attributes
+    ----------
+    name : str
+        Its name: the file attribute ``preview_<name>`` holds its record.
+    before : str
+        The group name of the stage it runs before (each time that stage is computed or
+        taken from the store; not when that stage is disabled).
+    config : tuple of str
+        Configuration keys it reads.
+    inputs : tuple of Stage
+        Earlier stages it reads (all before ``before``).
+    run : callable
+        ``run(context) -> PreviewNote | None`` (None: nothing to say).
+    """
+
+    name: str
+    before: str
+    config: tuple[str, ...]
+    inputs: tuple[Stage, ...]
+    run: Callable[[StageContext], PreviewNote | None]
 
 
 @dataclass(frozen=True)
@@ -145,6 +194,8 @@ class Stage(Generic[R]):
         A deprecated second name of the stage on ``JobResult`` and ``Results`` (asperity 0.3's
         ``run.bem`` for ``run.bem_reference``), answered with a ``DeprecationWarning``; None
         for a stage that only has its group name (every new stage).
+    preview : Preview or None
+        A part of this stage's judgement made early, before an earlier stage runs.
     """
 
     name: str
@@ -156,6 +207,7 @@ class Stage(Generic[R]):
     enabled: Callable[[JobConfig], bool] = _always
     check: Callable[[StageContext, R], None] | None = None
     attribute: str | None = None
+    preview: Preview | None = None
 
     def __post_init__(self) -> None:
         field_specs(self.result)  # a faulty result declaration fails at import
@@ -268,10 +320,16 @@ class Runner:
     runs: list[StageRun] = field(default_factory=list)
     pending: list[tuple[Stage, object, float]] = field(default_factory=list)
     labels: dict[str, str] = field(default_factory=dict)
+    previews: dict[str, list[Preview]] = field(default_factory=dict)
 
     def plan(self, stages: Sequence[Stage]) -> None:
-        """Key every stage before any runs (keys depend on the configuration alone)."""
+        """Key every stage before any runs (keys depend on the configuration alone), and
+        gather the previews by the stage they precede."""
         self.labels = {stage.name: stage_label(stage, stages) for stage in stages}
+        self.previews = {}
+        for stage in stages:
+            if stage.preview is not None and stage.enabled(self.context.config):
+                self.previews.setdefault(stage.preview.before, []).append(stage.preview)
         for stage in stages:
             if not stage.enabled(self.context.config):
                 self.keys[stage.name], self.documents[stage.name] = DISABLED, ""
@@ -316,6 +374,8 @@ class Runner:
             self.context.results[stage.name] = None
             self.log(f"{label}: disabled")
             return None
+        for preview in self.previews.get(stage.name, ()):
+            self.run_preview(preview, label)
         result, seconds, note = self.reuse(stage, key)
         if result is not None:
             self.runs.append(StageRun(stage.name, key, "stored", seconds))
@@ -333,6 +393,22 @@ class Runner:
         if stage.check is not None:
             stage.check(self.context, result)
         return result
+
+    def run_preview(self, preview: Preview, before: str) -> PreviewNote | None:
+        """Run ``preview`` before the stage labelled ``before``: log its lines, and store its
+        record as the file attribute ``preview_<name>`` (JSON) in ``results.h5``: at once when
+        every result computed so far is written (an interrupted run keeps it), else with them
+        once the checks that hold them back passed."""
+        note = preview.run(self.context.for_stage(preview))
+        if note is None:
+            return None
+        for line in note.lines:
+            self.log(f"before {before}: {line}")
+        record = {"before": preview.before, **note.record}
+        self.root_attrs[f"preview_{preview.name}"] = json.dumps(record, default=str)
+        if not self.pending:
+            self.store.write(root_attrs=self.root_attrs, drop=self.stale())
+        return note
 
     def flush(self) -> None:
         """Write the computed results held so far, each in one atomic write."""

@@ -24,6 +24,7 @@ from asperity.pipelines.report.uncertainty import (
     resolution_text,
     uncertainty_rows,
 )
+from asperity.pipelines.report.verdict_marks import mark_adhesive_bem
 from asperity.pipelines.stages import stage_number
 from asperity.pipelines.stages.bem import BemReference
 from asperity.pipelines.stages.surface import LevelledSurface
@@ -201,7 +202,12 @@ def load_table(result: Run) -> tuple[list[str], list[list[str]]]:
             rows[-1].append(f"{persson[i]:.4g}")
     verdict = getattr(result, "verdict", None)
     # the statistical model's columns carry the verdict; BEM and Persson are references
-    rows = [[*row[:3], *(mark(cell, verdict) for cell in row[3:7]), *row[7:]] for row in rows]
+    # the adhesive BEM column is marked where its range decides it (verdict_marks)
+    rows = [
+        [*row[:2], mark_adhesive_bem(row[2], verdict), *(mark(c, verdict) for c in row[3:7])]
+        + row[7:]
+        for row in rows
+    ]
     return non_adhesive_column(result, header, rows)
 
 

@@ -14,6 +14,12 @@ misfit 0.2 and 0.7) as horizontal lines where they fall inside the axis, and nam
 axis title those that lie outside it (the axis is not stretched to show them, which would
 squash the data). :func:`separate_bem_markers` keeps the non-adhesive BEM points visible
 beside the adhesive ones where the two coincide.
+
+:func:`mark_adhesive_bem` marks the cells of the adhesive BEM column of the load table
+(report.md, report.html, the terminal summary) ``range-decided: <value>`` when the verdict
+holds the ``bem_adhesive_range`` reason: in the full-contact regime, or where that column's
+A_r/A_n reaches ~1, its values are set by the Maugis-Dugdale range h_0 (grid-sized with
+``"auto"``), not by the physics of the rough contact.
 """
 
 from __future__ import annotations
@@ -24,6 +30,7 @@ from typing import TYPE_CHECKING
 from asperity.pipelines.stages.verdict import (
     MAX_AREA_FRACTION,
     MAX_MISFIT,
+    RANGE_DECIDED_REASON,
     WARN_AREA_FRACTION,
     WARN_MISFIT,
     Verdict,
@@ -49,6 +56,19 @@ MISFIT_THRESHOLDS: tuple[tuple[float, str], ...] = (
     (WARN_MISFIT, "warning"),
     (MAX_MISFIT, "invalid"),
 )
+
+
+#: The prefix of an adhesive BEM cell whose value the range decides (``bem_adhesive_range``).
+RANGE_DECIDED_MARK = "range-decided"
+
+
+def mark_adhesive_bem(value: str, verdict: Verdict | None) -> str:
+    """An adhesive BEM cell of the load table: ``range-decided: <value>`` when the verdict
+    holds the ``bem_adhesive_range`` reason, else the value ("-" and "" stay as they are)."""
+    codes = getattr(verdict, "codes", None) or []
+    if RANGE_DECIDED_REASON not in codes or value in ("-", ""):
+        return value
+    return f"{RANGE_DECIDED_MARK}: {value}"
 
 
 def verdict_summary(verdict: Verdict) -> str:

@@ -42,14 +42,29 @@ calibrated on cannot be right:
 * ``plastic_asperities`` / ``contact_pressure_above_yield`` (with ``material.hardness``): the
   plasticity index above 1 (a warning above 0.6), the mean contact pressure above H (a warning
   above 0.39 H): :func:`check_hardness`, thresholds in :mod:`asperity.statmodel.plausibility`.
+* ``static_friction_ratio`` (F_s/F_d above 100; a warning above 10), ``junction_shear_yield``
+  (the mean junction shear at the static peak above the solid's shear limit: glassy yield
+  0.0173 E*, rubbery G = E*/4, or H/(2.8 sqrt 3); a warning above half of it) and
+  ``static_friction_coefficient`` (mu_s = F_s/F_z above 1 with the junction shear past that
+  limit; a warning above 1 otherwise): :func:`check_friction_plausibility`, the thresholds
+  and their reasons in :data:`asperity.statmodel.plausibility.THRESHOLDS`.
+* ``bem_adhesive_range`` (:func:`check_bem_adhesive_range`): in the full-contact regime, or
+  where the adhesive BEM's A_r/A_n reaches 0.9, the adhesive BEM column is decided by its
+  Maugis-Dugdale range h_0 (grid-sized with ``"auto"``), not by the roughness; invalid when
+  the effective resolution was chosen against the BEM, else a warning. Its cells are marked
+  ``range-decided:`` (:func:`asperity.pipelines.report.verdict_marks.mark_adhesive_bem`).
+
+The adhesion regime is also judged before the BEM stage runs (:func:`preview_adhesion_regime`,
+the stage's :class:`~asperity.pipelines.engine.stage.Preview`): one terminal line and the
+preliminary reason stored in ``results.h5`` (file attribute :data:`PREVIEW_ATTRIBUTE`).
 
 Warnings: ``measured_load_unmatched`` (a measured curve at a load more than
 :data:`LOAD_MATCH` from every configured load; the job refuses such a curve before any stage,
 :func:`asperity.pipelines.measured.check_curve_loads`), ``bem_grid`` (the grid check found no
 converged stride), ``lambda_fit`` (the optimiser did not report success),
-``surface_preparation`` (the preparation record's warnings), ``static_friction_ratio`` and
-``junction_shear_at_peak`` (F_s/F_d or the junction shear at the peak over tau_0 above 10,
-naming tau_0 and lambda: :func:`check_friction_plausibility`), ``profile_isotropy`` (always
+``surface_preparation`` (the preparation record's warnings), ``junction_shear_at_peak`` (the
+junction shear at the peak over tau_0 above 10, naming tau_0 and lambda:
+:func:`check_friction_plausibility`), ``profile_isotropy`` (always
 for a line profile as input: its statistics and the maps synthesised from it assume an
 isotropic surface, which one line cannot check).
 
@@ -77,7 +92,7 @@ from asperity.bem.grid_refinement import EDGE_MISMATCH_LIMIT
 from asperity.errors import ExitStatus
 from asperity.fields import document_fields, scalar, text
 from asperity.pipelines import measured
-from asperity.pipelines.engine.stage import Stage, StageContext
+from asperity.pipelines.engine.stage import Preview, PreviewNote, Stage, StageContext
 from asperity.pipelines.stages.bem import BEM, BemReference
 from asperity.pipelines.stages.friction import (
     FRICTION,
@@ -554,11 +569,12 @@ def check_profile_isotropy(surface: LevelledSurface) -> list[Reason]:
 
 
 def adhesion_regime_of(
-    surface: LevelledSurface, material: Material, summit_radius: float
+    surface: LevelledSurface, material: Material, summit_radius: float | None
 ) -> AdhesionRegime | None:
     """:func:`asperity.statmodel.regimes.adhesion_regime` of the levelled map (missing pixels
     at the mean height) with E* (Pa), w (J/m^2) and, as the range of Pastewka and Robbins and
-    of Tabor's parameter, epsilon (m); Tabor's mu at ``summit_radius`` (m). None when w = 0."""
+    of Tabor's parameter, epsilon (m); Tabor's mu at ``summit_radius`` (m; None: NaN). None
+    when w = 0."""
     if material.work_of_adhesion <= 0:
         return None
     heights, _ = complete_map(surface)
@@ -587,6 +603,96 @@ def check_adhesion_regime(regime: AdhesionRegime | None) -> list[Reason]:
         "111, 3298 (2014))"
     )
     return [Reason(check.code, "invalid", text_)]
+
+
+#: Reason code: the adhesive BEM column is decided by the Maugis-Dugdale range, not physics.
+RANGE_DECIDED_REASON = "bem_adhesive_range"
+#: The adhesive BEM's A_r/A_n from which its contact counts as closed over the map.
+BEM_FULL_CONTACT_FRACTION = 0.9
+
+
+def check_bem_adhesive_range(
+    bem: BemReference | None,
+    regime: AdhesionRegime | None,
+    configured_range: float | None = None,
+    basis: str = "",
+) -> list[Reason]:
+    """``bem_adhesive_range``: the adhesive BEM's A_r/A_n is decided by its range h_0.
+
+    In the full-contact regime (Persson-Tosatti, :func:`check_adhesion_regime`), or where the
+    adhesive BEM's A_r/A_n reaches :data:`BEM_FULL_CONTACT_FRACTION` = 0.9, the loading-branch
+    Maugis-Dugdale solve closes every gap the cohesive zone reaches: how far the contact
+    spreads is set by the range h_0 (the zone's reach), not by the roughness. With
+    ``[bem] adhesion_range = "auto"`` h_0 is chosen by the grid (a cohesive zone of 3 pixels),
+    so the column measures the grid. The column is marked in the load table
+    (:func:`asperity.pipelines.report.verdict_marks.mark_adhesive_bem`).
+
+    Parameters
+    ----------
+    bem : BemReference or None
+        The BEM stage's result (A_r/A_n, the range h_0 in m and its sensitivity).
+    regime : AdhesionRegime or None
+        The map's adhesion regime.
+    configured_range : float or None
+        ``[bem] adhesion_range`` (m); None: "auto" (chosen by the grid).
+    basis : str
+        What chose the effective resolution ("bem" or "measured"): against the BEM the
+        reason is invalid (the calibration rests on the range-decided column), else a warning.
+
+    Returns
+    -------
+    list of Reason
+        Empty when the adhesive column is not Maugis-Dugdale, or neither condition holds.
+    """
+    if bem is None or getattr(bem, "adhesion", None) != "maugis":
+        return []
+    adhesive = getattr(bem, "contact_fraction_adhesive", None)
+    if adhesive is None or not np.isfinite(adhesive).any():
+        return []
+    top = float(np.nanmax(adhesive))
+    full = regime is not None and regime.full_contact.level == "invalid"
+    if not full and top < BEM_FULL_CONTACT_FRACTION:
+        return []
+    why = []
+    if full:
+        why.append(
+            "the map's adhesion regime is full contact "
+            f"(U_el/(A0 w) = {regime.energy_ratio:.3g} < 1)"
+        )
+    if top >= BEM_FULL_CONTACT_FRACTION:
+        why.append(
+            f"the adhesive BEM's A_r/A_n reaches {top:.3g} (>= {BEM_FULL_CONTACT_FRACTION:g})"
+        )
+    h0 = getattr(bem, "adhesion_range", None)
+    source = (
+        'chosen by the grid ([bem] adhesion_range = "auto": a cohesive zone of 3 pixels)'
+        if configured_range is None
+        else "[bem] adhesion_range"
+    )
+    spread = getattr(bem, "range_sensitivity", None)
+    moves = ""
+    if spread is not None and np.size(spread) == 3:
+        moves = (
+            f"; at the check load A_r/A_n = {spread[0]:.3g}, {spread[1]:.3g}, {spread[2]:.3g} "
+            "at h_0/2, h_0, 2 h_0"
+        )
+    range_text = "its range" if h0 is None else f"its range h_0 = {h0:.3g} m"
+    severity = "invalid" if basis == "bem" else "warning"
+    consequence = (
+        "; the effective resolution was chosen against it, so the calibration rests on the range"
+        if severity == "invalid"
+        else ""
+    )
+    return [
+        Reason(
+            RANGE_DECIDED_REASON,
+            severity,
+            f"the adhesive BEM column (A_r/A_n BEM adh., marked 'range-decided') is decided by "
+            f"{range_text}, {source}, not by the physics of the rough contact: "
+            f"{' and '.join(why)}, so the loading-branch Maugis-Dugdale solve closes the gaps "
+            f"its cohesive zone reaches{moves}{consequence}",
+        )
+    ]
 
 
 def in_place_of_coalescence(reasons: list[Reason], regime: list[Reason]) -> list[Reason]:
@@ -648,15 +754,21 @@ def _positive_or_nan(values: ArrayLike) -> np.ndarray:
     return np.where(np.isfinite(array) & (array > 0), array, np.nan)
 
 
-def check_friction_plausibility(friction: FrictionPrediction) -> list[Reason]:
-    """Static over sliding friction and the junction shear at the peak over tau_0 (warnings).
+def check_friction_plausibility(
+    friction: FrictionPrediction, e_star: float | None = None, hardness: float | None = None
+) -> list[Reason]:
+    """Static over sliding friction, the junction shear at the peak, and mu_s = F_s/F_z.
 
-    F_s/F_d and (F_s / A_r at the peak) / tau_0 per load
-    (:func:`statmodel.plausibility.static_to_sliding_check`,
-    :func:`statmodel.plausibility.junction_shear_check`: warning above 10, an order of
-    magnitude beyond the adhesive friction experiments the model is built on; they name
-    ``material.shear_strength`` (tau_0) and ``material.mode_mixity`` (lambda)). Nothing is
-    said where no load has a static or sliding friction (``no_full_sliding`` covers that).
+    Per load (:mod:`statmodel.plausibility`, thresholds and reasons in its ``THRESHOLDS``):
+    F_s/F_d (:func:`~statmodel.plausibility.static_to_sliding_check`: warning above 10,
+    invalid above 100); (F_s / A_r at the peak) / tau_0
+    (:func:`~statmodel.plausibility.junction_shear_check`: warning above 10); with E* (Pa) the
+    same junction shear against the solid's shear limit
+    (:func:`~statmodel.plausibility.junction_yield_check`: glassy yield 0.0173 E*, rubbery G =
+    E*/4, or H/(2.8 sqrt 3) with the hardness H in Pa; invalid above it) and mu_s
+    (:func:`~statmodel.plausibility.friction_coefficient_check`: warning above 1, invalid
+    above 1 when the junction shear is past the shear limit). Nothing is said where no load
+    has a static or sliding friction (``no_full_sliding`` covers that).
     """
     static = _positive_or_nan(friction.static_friction)
     sliding = _positive_or_nan(friction.sliding_friction)
@@ -672,10 +784,18 @@ def check_friction_plausibility(friction: FrictionPrediction) -> list[Reason]:
     if np.isfinite(static / sliding).any():
         checks.append(plausibility.static_to_sliding_check(static, sliding))
     area_at_peak = _positive_or_nan(area_at_peak)
-    if friction.shear_strength > 0 and np.isfinite(static / area_at_peak).any():
+    sheared = np.isfinite(static / area_at_peak).any()
+    if friction.shear_strength > 0 and sheared:
         checks.append(
             plausibility.junction_shear_check(static, area_at_peak, friction.shear_strength)
         )
+    yield_check = None
+    if e_star is not None and sheared:
+        yield_check = plausibility.junction_yield_check(static, area_at_peak, e_star, hardness)
+        checks.append(yield_check)
+    load = _positive_or_nan(friction.normal_load)
+    if np.isfinite(static / load).any():
+        checks.append(plausibility.friction_coefficient_check(static, load, yield_check))
     return _reasons_from_checks(checks)
 
 
@@ -738,7 +858,9 @@ def job_reasons(context: StageContext) -> list[Reason]:
     reasons += check_sliding_displacement(context.result(FRICTION))
     reasons += check_sliding(context.result(FRICTION))
     reasons += check_shape_scale(lam)
-    reasons += check_friction_plausibility(context.result(FRICTION))
+    reasons += check_friction_plausibility(
+        context.result(FRICTION), config.material.e_star, config.material.hardness
+    )
     reasons += check_hardness(
         config.material.hardness, config.material.e_star, res.roughness, context.result(FRICTION)
     )
@@ -774,16 +896,66 @@ def resolution_direction(res: ResolutionChoice, bem: BemReference | None) -> str
 
 def compute_verdict(context: StageContext) -> Verdict:
     """The job's PSD stage: :func:`job_reasons` summed up, the adhesion regime in place of
-    junction coalescence where it is full contact."""
+    junction coalescence where it is full contact, and the adhesive BEM column marked where
+    the range decides it (:func:`check_bem_adhesive_range`)."""
     res = context.result(STATISTICAL_MODEL)
     regime = adhesion_regime_of(context.result(SURFACE), context.config.material, res.summit_radius)
     reasons = in_place_of_coalescence(job_reasons(context), check_adhesion_regime(regime))
+    reasons += check_bem_adhesive_range(
+        context.result(BEM), regime, context.config.bem.adhesion_range, res.basis
+    )
     verdict = Verdict.from_reasons(reasons)
     if regime is not None:
         verdict.adhesion_energy_ratio = float(regime.energy_ratio)
         verdict.stickiness = float(regime.stickiness)
         verdict.regime_tabor_parameter = float(regime.tabor_parameter)
     return verdict
+
+
+#: The file attribute of results.h5 holding the regime judged before the BEM (JSON).
+PREVIEW_ATTRIBUTE = "preview_adhesion_regime"
+
+
+def preview_adhesion_regime(context: StageContext) -> PreviewNote:
+    """The adhesion regime judged from the levelled map before the BEM stage (a second,
+    against the BEM's minutes): one log line, and the preliminary reason stored at once in
+    ``results.h5`` (file attribute :data:`PREVIEW_ATTRIBUTE`, JSON with ``codes``,
+    ``severities``, ``reasons``, ``adhesion_energy_ratio``, ``stickiness``). The job still
+    runs every stage the configuration asks for; the final verdict repeats the reason.
+    Without adhesion (w = 0) no line, and a record without reasons (it replaces one a former
+    run of the same folder stored)."""
+    config = context.config
+    regime = adhesion_regime_of(context.result(SURFACE), config.material, None)
+    if regime is None:
+        empty = {"codes": [], "severities": [], "reasons": []}
+        return PreviewNote([], {**empty, "adhesion_energy_ratio": None, "stickiness": None})
+    reasons = check_adhesion_regime(regime)
+    numbers = (
+        f"U_el/(A0 w) = {regime.energy_ratio:.3g} (Persson-Tosatti, threshold 1), "
+        f"stickiness S_PR = {regime.stickiness:.3g}"
+    )
+    if reasons:
+        bem = (
+            "; the adhesive BEM's A_r/A_n will be decided by its range h_0, not by the roughness"
+            if config.bem.adhesive and config.bem.adhesion == "maugis"
+            else ""
+        )
+        line = (
+            f"adhesion regime judged from the map: FULL CONTACT expected at any load ({numbers}"
+            f"): the asperity model and a loading-branch BEM do not apply{bem}. The verdict "
+            f"will be INVALID ({reasons[0].code}); the BEM runs as configured "
+            "([bem] enabled = false skips it)"
+        )
+    else:
+        line = f"adhesion regime judged from the map: partial contact ({numbers})"
+    record = {
+        "codes": [r.code for r in reasons],
+        "severities": [r.severity for r in reasons],
+        "reasons": [r.text for r in reasons],
+        "adhesion_energy_ratio": float(regime.energy_ratio),
+        "stickiness": float(regime.stickiness),
+    }
+    return PreviewNote([line], record)
 
 
 def exit_status(converged: bool, verdict: Verdict | None) -> ExitStatus:
@@ -876,7 +1048,21 @@ VERDICT = Stage(
         "material.E_star",
         "material.work_of_adhesion",
         "material.equilibrium_distance",
+        "bem.adhesion_range",
     ),
     inputs=(SURFACE, SCAN, BEM, STATISTICAL_MODEL, MODE_MIXITY, FRICTION),
     compute=compute_verdict,
+    preview=Preview(
+        name="adhesion_regime",
+        before=BEM.name,
+        config=(
+            "material.E_star",
+            "material.work_of_adhesion",
+            "material.equilibrium_distance",
+            "bem.adhesive",
+            "bem.adhesion",
+        ),
+        inputs=(SURFACE,),
+        run=preview_adhesion_regime,
+    ),
 )

@@ -47,16 +47,22 @@ def test_the_papers_own_case_raises_nothing():
     assert check_friction_plausibility(friction) == []
 
 
-def test_a_glassy_polymer_with_pdms_tau0_is_warned_naming_tau0_and_lambda():
+def test_a_glassy_polymer_with_pdms_tau0_is_flagged_naming_tau0_and_lambda():
     """x3p-2 with E* = 4 GPa: F_s 1.2-1.5 x the load, ~700 x the sliding friction, 78 MPa of
     junction shear against tau_0 = 0.13 MPa."""
     loads = np.array([0.2, 1.75])
     static = 1.3 * loads
     friction = _friction(static, static / 700, static / 78e6, loads=loads)
     reasons = {r.code: r for r in check_friction_plausibility(friction)}
-    assert set(reasons) == {"static_friction_ratio", "junction_shear_at_peak"}
+    assert set(reasons) == {
+        "static_friction_ratio",
+        "junction_shear_at_peak",
+        "static_friction_coefficient",  # mu_s = 1.3: a warning without E* to judge the shear
+    }
+    # past 100, F_s/F_d is invalid (issue 24, section 5); tau_0 alone only warns
+    assert reasons["static_friction_ratio"].severity == "invalid"
+    assert reasons["junction_shear_at_peak"].severity == "warning"
     for reason in reasons.values():
-        assert reason.severity == "warning"
         assert "material.shear_strength (tau_0)" in reason.text
         assert "material.mode_mixity (lambda)" in reason.text
         assert "Sahli et al." in reason.text  # the experiments the limit is set against

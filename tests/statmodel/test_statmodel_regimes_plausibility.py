@@ -56,12 +56,12 @@ def test_contact_pressure_against_hardness():
     assert "load index 1" in invalid.message
 
 
-def test_friction_ratio_of_the_default_job_is_ok_and_a_glassy_polymer_warns():
+def test_friction_ratio_of_the_default_job_is_ok_and_a_glassy_polymer_is_invalid():
     # the default job's static and sliding friction at 0.56 and 3.12 N (report, 2026-11-25)
     ok = static_to_sliding_check([0.2753, 1.374], [0.105, 0.5437])
     assert ok.level == "ok" and ok.value == pytest.approx(0.2753 / 0.105)
     glassy = static_to_sliding_check([2.4], [2.4 / 700])  # x3p-2 with E* = 4 GPa: ~700
-    assert glassy.level == "warning" and glassy.invalid_threshold == math.inf
+    assert glassy.level == "invalid" and glassy.invalid_threshold == 100.0  # issue 24, sec. 5
     assert glassy.parameters == ("material.shear_strength", "material.mode_mixity")
     assert "tau_0" in glassy.message and "lambda" in glassy.message
 
