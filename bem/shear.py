@@ -472,6 +472,12 @@ def solve_tangential(
     if contact.ndim != 2:
         raise BemInputError(f"contact: expected a 2D boolean array, got shape {contact.shape}")
     shape = contact.shape
+    if periodic and contact.all():
+        raise BemInputError(
+            "contact: covers the whole periodic cell; the periodic tangential operator has no "
+            "stiffness for a uniform traction (its q = 0 mode is the reference), so the problem "
+            "is singular: use a free domain or a partial contact"
+        )
     if not math.isfinite(tangential_displacement):
         raise BemInputError(
             f"tangential_displacement: expected a finite number (m), got {tangential_displacement}"
