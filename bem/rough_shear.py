@@ -8,7 +8,8 @@ pressure and the contact set of the preload hold through the whole sweep):
   Pohrt-Popov adhesion);
 * each contact element sticks (moves with the flat, keeping its slip) or slides carrying its
   bound: the paper's constant shear strength tau_0 (E:Hertz_theory) or Coulomb mu p;
-* each step is warm-started from the previous tractions and carries the slip history.
+* each step carries the slip history and is warm-started from the tractions extrapolated
+  linearly from the two previous steps (exact for elements that keep sticking).
 
 Junctions are the connected clusters of the contact set (4-connected, merged across the periodic
 boundary); a junction slides when none of its elements sticks; the interface slides when every
@@ -91,6 +92,8 @@ class ShearCurve:
         The step's solve converged.
     nit : ndarray of int
         Iterations of each step.
+    convolutions : ndarray of int
+        FFT convolutions of each step.
     seconds : ndarray
         Wall time of each step (s).
     normal_seconds : float
@@ -110,6 +113,7 @@ class ShearCurve:
     sliding: np.ndarray
     converged: np.ndarray
     nit: np.ndarray
+    convolutions: np.ndarray
     seconds: np.ndarray
     normal_seconds: float
     final_traction: np.ndarray = field(repr=False)
@@ -212,7 +216,18 @@ def shear_curve(
     )
     rows: list[tuple] = []
     prev = None
+    older = None
     for value in d_t:
+        guess = None
+        if prev is not None and older is not None:
+            # linear extrapolation of the tractions: exact for elements that keep sticking
+            # (the problem is linear while no element changes status); clipped to the bounds
+            span = prev.tangential_displacement - older.tangential_displacement
+            if span != 0.0:
+                rate = (float(value) - prev.tangential_displacement) / span
+                guess = prev.traction + rate * (prev.traction - older.traction)
+        elif prev is not None:
+            guess = prev.traction
         step = solve_tangential(
             contact,
             bound,
@@ -221,7 +236,7 @@ def shear_curve(
             e_star,
             float(value),
             slip=None if prev is None else prev.slip,
-            initial=prev,
+            initial=guess,
             periodic=periodic,
             options=opts,
             operator=op,
@@ -241,10 +256,11 @@ def shear_curve(
                 n_stick == 0,
                 step.success,
                 step.nit,
+                step.convolutions,
                 step.seconds,
             )
         )
-        prev = step
+        older, prev = prev, step
         if stop_when_sliding and n_stick == 0:
             break
     cols = list(zip(*rows, strict=True))
@@ -260,7 +276,8 @@ def shear_curve(
         sliding=np.array(cols[8], dtype=bool),
         converged=np.array(cols[9], dtype=bool),
         nit=np.array(cols[10], dtype=int),
-        seconds=np.array(cols[11]),
+        convolutions=np.array(cols[11], dtype=int),
+        seconds=np.array(cols[12]),
         normal_seconds=normal_seconds,
         final_traction=prev.traction,
     )
