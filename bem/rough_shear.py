@@ -32,6 +32,7 @@ from scipy import ndimage
 
 from asperity.bem.errors import BemInputError
 from asperity.bem.options import SolverOptions
+from asperity.bem.result import ContactResult
 from asperity.bem.shear import ShearOptions, TangentialOperator, solve_tangential, traction_bound
 from asperity.bem.tangential_influence import check_poisson
 
@@ -140,6 +141,7 @@ def shear_curve(
     normal_options: SolverOptions | None = None,
     options: ShearOptions | None = None,
     stop_when_sliding: bool = False,
+    preload: ContactResult | None = None,
 ) -> ShearCurve:
     """Normal preload at F_z, then the tangential displacements in order, warm-started.
 
@@ -168,6 +170,10 @@ def shear_curve(
     stop_when_sliding : bool
         Stop after the first step in gross sliding (the remaining entries are not computed:
         the arrays are as long as the steps done).
+    preload : ContactResult, optional
+        A normal solve of these heights at ``normal_force`` to start from (e.g. to shear one
+        preload with several laws); then ``work_of_adhesion`` and ``normal_options`` are unused
+        and ``normal_seconds`` is 0.
 
     Returns
     -------
@@ -183,18 +189,28 @@ def shear_curve(
     if not (math.isfinite(normal_force) and normal_force > 0):
         raise BemInputError(f"normal_force: expected a positive number (N), got {normal_force}")
     h = np.asarray(heights, dtype=np.float64)
-    t0 = time.perf_counter()
-    normal = solve_contact(
-        h,
-        dx,
-        dy,
-        e_star,
-        normal_force=normal_force,
-        work_of_adhesion=work_of_adhesion,
-        periodic=periodic,
-        options=normal_options,
-    )
-    normal_seconds = time.perf_counter() - t0
+    if preload is None:
+        t0 = time.perf_counter()
+        normal = solve_contact(
+            h,
+            dx,
+            dy,
+            e_star,
+            normal_force=normal_force,
+            work_of_adhesion=work_of_adhesion,
+            periodic=periodic,
+            options=normal_options,
+        )
+        normal_seconds = time.perf_counter() - t0
+    else:
+        normal, normal_seconds = preload, 0.0
+        if normal.pressure.shape != h.shape or not math.isclose(
+            normal.normal_force, normal_force, rel_tol=1e-6
+        ):
+            raise BemInputError(
+                f"preload: expected a solve of shape {h.shape} at {normal_force} N, got shape "
+                f"{normal.pressure.shape} at {normal.normal_force} N"
+            )
     if not normal.converged:
         raise BemInputError(f"normal preload did not converge: {normal.message}")
     contact = normal.contact_mask

@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from asperity.bem import solve_contact
 from asperity.bem.errors import BemInputError
 from asperity.bem.rough_shear import label_junctions, shear_curve
 
@@ -73,6 +74,15 @@ def test_stop_when_sliding_and_errors():
         stop_when_sliding=True,
     )
     assert c.sliding[-1] and not np.any(c.sliding[:-1]) and c.sliding.size < 40
+    # a given preload is used as is: the same curve, no normal solve
+    pre = solve_contact(h, dx, dx, E_STAR, normal_force=force)
+    again = shear_curve(
+        h, dx, dx, E_STAR, force, c.tangential_displacement, preload=pre, shear_strength=TAU0
+    )
+    assert again.normal_seconds == 0.0
+    assert np.allclose(again.tangential_force, c.tangential_force, rtol=1e-6)
+    with pytest.raises(BemInputError, match="preload"):
+        shear_curve(h, dx, dx, E_STAR, 2 * force, [1e-7], preload=pre, shear_strength=TAU0)
     with pytest.raises(BemInputError, match="exactly one"):
         shear_curve(h, dx, dx, E_STAR, force, [1e-7])
     with pytest.raises(BemInputError, match="normal_force"):
