@@ -145,3 +145,23 @@ def test_pc_sphere_fixed_grip(lam):
     assert sweep.jump_index is not None
     ref = pc_sphere(DELTA, 0.0, R, W, E_STAR, lam, shear_strength=TAU0)
     assert sweep.states[-1].tangential_force == pytest.approx(ref.hertz_sliding_force, rel=0.02)
+
+
+@pytest.mark.slow
+def test_cerruti_energy_is_pc_with_three_halves_lambda():
+    """With chi_T from the Cerruti patch (the released energy, mode III included) the BEM follows
+    PC with lambda replaced by 1.5 lambda (the circumferential average of G_II and G_III = 2 G_II
+    at nu = 1/2): 40 el./radius, a and T within 2 % of PC(1.5 lambda) up to 0.9 of its
+    delta_T^max (measured 0.9 %, 1.0 %), its fold within 5 % (measured 2 %)."""
+    lam = 0.2
+    d_max_eff = pc_sphere(DELTA, 0.0, R, W, E_STAR, 1.5 * lam).max_tangential_displacement
+    d_max = pc_sphere(DELTA, 0.0, R, W, E_STAR, lam).max_tangential_displacement
+    fractions = np.r_[np.arange(0.1, 0.91, 0.2), np.arange(0.92, 1.1, 0.02)] * d_max_eff / d_max
+    sweep, _ = _sweep(40, lam, fractions, tol=1e-6, energy="cerruti", load=1.05)
+    for state in sweep.states:
+        if state.tangential_displacement > 0.905 * d_max_eff:
+            break
+        ref = pc_sphere(DELTA, state.tangential_displacement, R, W, E_STAR, 1.5 * lam)
+        assert state.contact_radius == pytest.approx(ref.contact_radius, rel=0.02)
+        assert state.tangential_force == pytest.approx(ref.tangential_force, rel=0.02)
+    assert sweep.fold_displacement() == pytest.approx(d_max_eff, rel=0.05)
