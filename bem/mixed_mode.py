@@ -37,9 +37,11 @@ Both are mesh-dependent in the way Pohrt-Popov's criterion is (the element energ
 the release rate of a crack-tip field resolved over one element); their error against the
 closed forms falls as the mesh is refined (measured in the tests).
 
-The state (nu = 1/2: normal and tangential elasticity uncoupled, coupled only through the
-contact set): on Omega_c the flat sticks in both directions, ``u_z = h - d`` and
-``u_x = delta_T - s``; elements outside carry nothing. One solve at given (d, delta_T) is an
+Domain: free (non-periodic, zero-padded FFT), for isolated junctions such as the sphere of
+Section 2; periodic rough surfaces under this law are not covered here. The state (nu = 1/2:
+normal and tangential elasticity uncoupled, coupled only through the contact set): on Omega_c
+the flat sticks in both directions, ``u_z = h - d`` and ``u_x = delta_T - s``; elements outside
+carry nothing. One solve at given (d, delta_T) is an
 active-set iteration (Pohrt-Popov's): with Omega_c frozen, the two linear problems are solved by
 conjugate gradients (:func:`asperity.bem.shear.box_conjugate_gradients` without bounds, warm
 started); then every element meeting the criterion detaches and every element outside that
@@ -208,10 +210,9 @@ def _operators(
     dx: float,
     dy: float,
     e_star: float,
-    periodic: bool,
     opts: ShearOptions,
 ) -> _Operators:
-    kw = {"periodic": periodic, "fft_backend": opts.fft_backend, "threads": opts.threads}
+    kw = {"periodic": False, "fft_backend": opts.fft_backend, "threads": opts.threads}
     return _Operators(
         TangentialOperator(shape, dx, dy, e_star, normal=True, **kw),
         TangentialOperator(shape, dx, dy, e_star, **kw),
@@ -238,7 +239,6 @@ def adhesive_shear_solve(
     *,
     contact: np.ndarray | AdhesiveShearState,
     slip: np.ndarray | None = None,
-    periodic: bool = False,
     poisson_ratio: float = 0.5,
     collapse_fraction: float = 0.5,
     max_active_set: int = 500,
@@ -267,8 +267,6 @@ def adhesive_shear_solve(
         slip is used), or a set such as :func:`overlap_contact` for the preload.
     slip : ndarray, optional
         Tangential references s (m); default: the previous state's, or zero.
-    periodic : bool
-        Periodic domain, or free (default; an isolated sphere).
     poisson_ratio : float
         Must be 0.5.
     collapse_fraction : float
@@ -278,7 +276,8 @@ def adhesive_shear_solve(
     options : ShearOptions, optional
         Tolerance of the linear solves, FFT backend.
     operators
-        Reuse the FFT operators of an earlier call (from ``state``-free ``_operators``).
+        Internal: the normal and tangential FFT operators of this grid, passed by
+        :func:`tangential_sweep` so that its steps share one FFT plan; None builds them.
 
     Returns
     -------
@@ -312,7 +311,7 @@ def adhesive_shear_solve(
         s = np.zeros(shape) if slip is None else np.asarray(slip, dtype=np.float64).copy()
     if c.shape != shape or s.shape != shape:
         raise BemInputError(f"contact/slip: expected shape {shape}, got {c.shape} and {s.shape}")
-    ops = operators if operators is not None else _operators(shape, dx, dy, e_star, periodic, opts)
+    ops = operators if operators is not None else _operators(shape, dx, dy, e_star, opts)
     scale = e_star / math.sqrt(dx * dy)
     max_iter = opts.max_iterations(shape)
     inf = np.full(shape, np.inf)
@@ -368,7 +367,6 @@ def adhesive_shear_solve(
         gap = u_z - h + separation
         attach = ~c & (gap < 0.0)
         if not detach.any() and not attach.any():
-            u_x = ops.tangential(q)
             g_one = law.release_rate(p, np.zeros(shape), dx, dy, e_star)
             if area0 > 0 and float(g_one.max()) < ADHESION_LOST * law.work_of_adhesion:
                 stable = False
@@ -388,6 +386,7 @@ def adhesive_shear_solve(
         if nit >= max_active_set:
             status, message = 1, "active set did not settle"
             break
+    u_x = ops.tangential(q)
     gap = np.where(c, 0.0, gap)
     s = np.where(c, s, tangential_displacement - u_x)
     area = dx * dy
@@ -421,7 +420,6 @@ def sliding_state(
     tangential_displacement: float,
     shear_strength: float,
     *,
-    periodic: bool = False,
     options: ShearOptions | None = None,
     operators: _Operators | None = None,
 ) -> AdhesiveShearState:
@@ -441,7 +439,7 @@ def sliding_state(
             f"shear_strength: expected a finite number >= 0 (Pa), got {shear_strength}"
         )
     shape = h.shape
-    ops = operators if operators is not None else _operators(shape, dx, dy, e_star, periodic, opts)
+    ops = operators if operators is not None else _operators(shape, dx, dy, e_star, opts)
     everywhere = np.ones(shape, dtype=bool)
     rn = box_conjugate_gradients(
         ops.normal,
@@ -545,7 +543,6 @@ def tangential_sweep(
     *,
     preload_separation: float,
     shear_strength: float | None = None,
-    periodic: bool = False,
     poisson_ratio: float = 0.5,
     options: ShearOptions | None = None,
 ) -> ShearSweep:
@@ -553,7 +550,7 @@ def tangential_sweep(
 
     Parameters
     ----------
-    heights, dx, dy, e_star, separation, law, periodic, poisson_ratio, options
+    heights, dx, dy, e_star, separation, law, poisson_ratio, options
         As :func:`adhesive_shear_solve`.
     tangential_displacements : array_like
         Increasing delta_T values (m), >= 0.
@@ -581,8 +578,8 @@ def tangential_sweep(
         raise BemInputError(
             f"preload_separation: expected d' < d = {separation} m, got {preload_separation}"
         )
-    ops = _operators(h.shape, dx, dy, e_star, periodic, opts)
-    kw = {"periodic": periodic, "options": opts, "operators": ops}
+    ops = _operators(h.shape, dx, dy, e_star, opts)
+    kw = {"options": opts, "operators": ops}
     state = adhesive_shear_solve(
         h,
         dx,
