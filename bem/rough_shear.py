@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import ndimage
 
+from asperity.bem.contact import solve_contact
 from asperity.bem.errors import BemInputError
 from asperity.bem.options import SolverOptions
 from asperity.bem.result import ContactResult
@@ -179,8 +180,6 @@ def shear_curve(
     -------
     ShearCurve
     """
-    from asperity.bem.polonsky_keer import solve_contact
-
     check_poisson(poisson_ratio)
     opts = options if options is not None else ShearOptions()
     d_t = np.asarray(tangential_displacements, dtype=np.float64).ravel()

@@ -16,7 +16,7 @@ with K the Cerruti compliance: its gradient ``g = u_x - delta_T + s_prev`` is mi
 increment, so the optimality conditions are exactly stick (g = 0 where |q| < q_max) and slip in
 the direction of the traction (g <= 0 where q = q_max, g >= 0 where q = -q_max). The history
 enters through s only: for monotonic loading a single step from s = 0 gives the same state as
-many (Cattaneo-Mindlin, :mod:`asperity.bem.shear_reference`).
+many (Cattaneo-Mindlin, :mod:`asperity.bem.reference_solutions`).
 
 Solver: constrained conjugate gradients in the style of Polonsky & Keer, for two-sided bounds:
 Dostal's MPRGP (modified proportioning with reduced gradient projections; Dostal & Schoeberl

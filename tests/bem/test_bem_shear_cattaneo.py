@@ -8,12 +8,12 @@ import pytest
 
 from asperity.bem import SolverOptions, solve_contact
 from asperity.bem.errors import BemInputError
-from asperity.bem.shear import ShearOptions, TangentialOperator, solve_tangential, traction_bound
-from asperity.bem.shear_reference import (
+from asperity.bem.reference_solutions import (
     cattaneo_mindlin_displacement,
     cattaneo_mindlin_force,
     cattaneo_mindlin_stick_radius,
 )
+from asperity.bem.shear import ShearOptions, TangentialOperator, solve_tangential, traction_bound
 
 R, E_STAR, A_H, MU = 1.0, 1.0e6, 0.01, 0.3
 P_H = 4 * E_STAR * A_H**3 / (3 * R)
