@@ -22,9 +22,10 @@ Refinement (``max_refinement``, ``refinement_pixels``)
 
     A level is solved only if its grid has at most ``refinement_pixels`` pixels. When even the
     x2 grid of the whole map is larger, the sequence is solved on a centred window of the grid
-    used whose x2 grid fits (its own level-1 solve included; wrapped periodically like the map,
-    so that all its levels share the same seam): the window's relative error stands for the
-    map's.
+    used whose x2 grid fits (its own level-1 solve included): the window's relative error
+    stands for the map's. Its finer levels are cut from the whole map's interpolation
+    (:func:`fourier_upsample_window`), not interpolated from the window alone, which would ring
+    at the window's edges; each level is wrapped periodically, so all share the same seam.
 
 Adhesion range at a resolved zone (:func:`refine_by_interpolation` ``half_range``)
     The range rule makes the cohesive zone at h_0 span 3 elements of the grid used, so at h_0/2
@@ -59,6 +60,7 @@ __all__ = [
     "REFINEMENT_PIXELS",
     "InterpolatedRefinement",
     "fourier_upsample",
+    "fourier_upsample_window",
     "refine_by_interpolation",
     "refinement_window",
 ]
@@ -121,6 +123,60 @@ def _upsample_axis(values: np.ndarray, factor: int, axis: int) -> np.ndarray:
         index[axis] = n // 2
         padded[tuple(index)] *= 0.5
     return np.fft.irfft(padded, n=factor * n, axis=axis) * factor
+
+
+def fourier_upsample_window(
+    heights: np.ndarray, factor: int, corner: tuple[int, int], shape: tuple[int, int]
+) -> np.ndarray:
+    """A window of the map's band-limited interpolation ``factor`` times finer, without forming
+    the whole finer map (:func:`fourier_upsample` of the whole map, cut to the window).
+
+    Unlike the interpolation of the window alone (which treats the window as one period and
+    rings at its edges, where the heights jump), this is the same surface as the whole map's
+    interpolation: the window's finer grid adds no content. Rows and columns are processed in
+    blocks, so the memory is about ``factor^2`` windows plus ``factor`` times the map.
+
+    Parameters
+    ----------
+    heights : ndarray (nx, ny)
+        The map, m, finite (one period).
+    factor : int
+        Refinement factor >= 1.
+    corner : tuple of int
+        First row and column of the window, pixels of the map.
+    shape : tuple of int
+        Rows and columns of the window, pixels of the map.
+
+    Returns
+    -------
+    ndarray (factor shape[0], factor shape[1])
+        The interpolated heights on the window, m; ``[::factor, ::factor]`` is the map's window.
+    """
+    heights = np.asarray(heights, dtype=float)
+    (x0, y0), (wx, wy) = corner, shape
+    if not (0 <= x0 and x0 + wx <= heights.shape[0] and 0 <= y0 and y0 + wy <= heights.shape[1]):
+        raise InputError(
+            f"window: expected rows {x0}..{x0 + wx} and columns {y0}..{y0 + wy} inside the "
+            f"{heights.shape} map"
+        )
+    factor = int(factor)
+    block = 256
+    columns = slice(factor * y0, factor * (y0 + wy))
+    along_y = np.concatenate(
+        [
+            _upsample_axis(heights[i : i + block], factor, 1)[:, columns]
+            for i in range(0, heights.shape[0], block)
+        ],
+        axis=0,
+    )
+    rows = slice(factor * x0, factor * (x0 + wx))
+    return np.concatenate(
+        [
+            _upsample_axis(along_y[:, j : j + block], factor, 0)[rows]
+            for j in range(0, along_y.shape[1], block)
+        ],
+        axis=1,
+    )
 
 
 def refinement_window(shape: tuple[int, int], factor: int, max_pixels: int) -> tuple[int, int]:
@@ -246,13 +302,8 @@ def refine_by_interpolation(
     tic = time.perf_counter()
     nx, ny = refinement_window(grid.heights.shape, 2, max_pixels)
     windowed = (nx, ny) != grid.heights.shape
-    if windowed:
-        x0 = (grid.heights.shape[0] - nx) // 2
-        y0 = (grid.heights.shape[1] - ny) // 2
-        heights = np.array(grid.heights[x0 : x0 + nx, y0 : y0 + ny])
-        previous = np.array(start[x0 : x0 + nx, y0 : y0 + ny])
-    else:
-        heights, previous = grid.heights, start
+    x0, y0 = (grid.heights.shape[0] - nx) // 2, (grid.heights.shape[1] - ny) // 2
+    previous = np.array(start[x0 : x0 + nx, y0 : y0 + ny]) if windowed else start
     factors = [1]
     for factor in (2, 4):
         if factor <= max_refinement and nx * ny * factor**2 <= max_pixels:
@@ -263,7 +314,11 @@ def refine_by_interpolation(
         if factor == 1 and not windowed:
             solves.append(list(level_one))
             continue
-        level = Grid(fourier_upsample(heights, factor), grid.dx / factor, grid.dy / factor)
+        if windowed:
+            fine = fourier_upsample_window(grid.heights, factor, (x0, y0), (nx, ny))
+        else:
+            fine = fourier_upsample(grid.heights, factor)
+        level = Grid(fine, grid.dx / factor, grid.dy / factor)
         force = pressure * level.area
         ratio = 2 if factor > 1 else 1
         initial = upsample_pressure(previous, level.heights.shape, ratio)
@@ -284,7 +339,7 @@ def refine_by_interpolation(
             del adhesive
         solves.append(row)
         previous = plain.pressure
-        del plain, level
+        del plain, level, fine
     fraction = np.array([[s.contact_fraction for s in row] for row in solves])
     pixel = grid.dx / np.asarray(factors, dtype=float)
     extrapolations = [
