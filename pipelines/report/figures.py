@@ -696,15 +696,15 @@ def bem_grid_figure(result: Run) -> Figure:
     for k in range(bem.check_contact_fraction.shape[1]):
         ax1.plot(pixel, bem.check_contact_fraction[:, k], "o-", color=f"C{k}", label=BEM_MODES[k])
         if refined is not None:
-            label = "interpolated (same roughness)" if k == 0 else None
-            ax1.plot(pu(refined[0]), refined[1][:, k], "s--", color=f"C{k}", mfc="none",
-                     label=label)  # fmt: skip
+            label = "interpolated, same roughness (^)" if k == 0 else None
+            ax1.plot(pu(refined[0]), refined[1][:, k], "^--", color=f"C{k}",
+                     mfc="none" if k == 0 else None, label=label)  # fmt: skip
     _draw_extrapolation(ax1, bem)
     ax1.axvline(used, color="k", ls="--", label="used")
     separate_bem_markers(ax1, ("non-adhesive", "adhesive"))
     ax1.set_xlabel(pu.label("BEM pixel size"))
     ax1.set_ylabel(f"$A_r/A_n$ at $F_z$ = {bem.check_load:.3g} N")
-    ax1.set_title(f"decimated (o) and interpolated (s) grids ({bem.boundary})", fontsize=9)
+    ax1.set_title(f"decimated (solid) and interpolated (dashed) grids ({bem.boundary})", fontsize=9)
     ax1.legend(fontsize=7)
     _draw_grid_error(ax3, bem, pixel_m, refined, pu)
     mask = bem.contact_mask
@@ -757,7 +757,7 @@ def _draw_grid_error(
         level = np.asarray(refined[1])
         with np.errstate(divide="ignore", invalid="ignore"):
             inner = np.nanmax(np.abs(level[1:] - level[0]) / level[0], axis=1)
-        ax.loglog(pu(refined[0][1:]), inner * 100, "s--", label="interpolated: discretisation")
+        ax.loglog(pu(refined[0][1:]), inner * 100, "^--", label="interpolated: discretisation")
     rel = getattr(bem, "discretisation_relative_uncertainty", None)
     if rel is not None and np.isfinite(rel).any():
         ax.axhline(
