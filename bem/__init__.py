@@ -49,6 +49,11 @@ _EXPORTS: dict[str, str] = {
     "ReferenceSolves": "asperity.bem.reference",
     "solve_reference": "asperity.bem.reference",
     "discretisation_estimate": "asperity.bem.grid_refinement",
+    "resolution_dependence": "asperity.bem.grid_refinement",
+    "InterpolatedRefinement": "asperity.bem.interpolated_refinement",
+    "fourier_upsample": "asperity.bem.interpolated_refinement",
+    "fourier_upsample_window": "asperity.bem.interpolated_refinement",
+    "refine_by_interpolation": "asperity.bem.interpolated_refinement",
 }
 
 __all__ = [
@@ -88,6 +93,11 @@ __all__ = [
     "ReferenceSolves",
     "solve_reference",
     "discretisation_estimate",
+    "resolution_dependence",
+    "InterpolatedRefinement",
+    "fourier_upsample",
+    "fourier_upsample_window",
+    "refine_by_interpolation",
 ]
 
 
