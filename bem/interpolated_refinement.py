@@ -352,10 +352,14 @@ def refine_by_interpolation(
         if windowed
         else "the whole grid used"
     )
+    left = [f for f in (2, 4) if f <= max_refinement and f not in factors]
+    omitted = "".join(
+        f"; x{f} left out ({nx * ny * f**2} pixels > refinement_pixels {max_pixels})" for f in left
+    )
     message = (
         f"the check load solved on {where} Fourier-interpolated by "
         f"{', '.join(f'x{f}' for f in factors[1:]) or 'nothing (no level fits)'} (same "
-        f"roughness, pixel {', '.join(f'{p * 1e6:.3g}' for p in pixel)} um)"
+        f"roughness, pixel {', '.join(f'{p * 1e6:.3g}' for p in pixel)} um{omitted})"
     )
     return InterpolatedRefinement(
         factors=np.asarray(factors),

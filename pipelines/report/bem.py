@@ -98,8 +98,10 @@ def discretisation_lines(bem: BemReference) -> list[str]:
         )
     ]
     refined = getattr(bem, "refinement_message", None)
+    seconds = getattr(bem, "refinement_seconds", None)
+    cost = f", {seconds:.1f} s" if seconds is not None else ""
     source = (
-        f"{refined}; Richardson extrapolation to zero pixel size, grid convergence index"
+        f"{refined}{cost}; Richardson extrapolation to zero pixel size, grid convergence index"
         if refined
         else "Richardson extrapolation of the check load's A_r/A_n over strides "
         f"{', '.join(str(int(s)) for s in bem.check_stride)}, grid convergence index"
