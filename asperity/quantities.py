@@ -347,6 +347,18 @@ _ENTRIES = (
     _count("bem.threads", 1, 1024, "FFT threads of one machine"),
     _q("bem.area_tolerance", "", 0, 1, "a relative change of A_r", open_low=True),
     _count("bem.max_stride", 1, 64, "coarsest decimation of the grid check"),
+    _count(
+        "bem.max_refinement",
+        1,
+        4,
+        "largest Fourier-interpolation factor of the discretisation check (1: none, 2, 4)",
+    ),
+    _count(
+        "bem.refinement_pixels",
+        64,
+        100_000_000,
+        "pixels of the largest refinement grid: the BEM takes ~240 bytes a pixel",
+    ),
     _q(
         "bem.adhesion_range",
         "m",

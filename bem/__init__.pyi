@@ -26,6 +26,11 @@ from .grid_refinement import check_grids as check_grids
 from .grid_refinement import discretisation_estimate as discretisation_estimate
 from .grid_refinement import edge_mismatch as edge_mismatch
 from .grid_refinement import grid_extrapolations as grid_extrapolations
+from .grid_refinement import resolution_dependence as resolution_dependence
+from .interpolated_refinement import InterpolatedRefinement as InterpolatedRefinement
+from .interpolated_refinement import fourier_upsample as fourier_upsample
+from .interpolated_refinement import fourier_upsample_window as fourier_upsample_window
+from .interpolated_refinement import refine_by_interpolation as refine_by_interpolation
 from .load_sweeps import ContactSetup as ContactSetup
 from .load_sweeps import Grid as Grid
 from .load_sweeps import LoadChain as LoadChain

@@ -14,9 +14,14 @@ with h_0, not as h_0^2 as on a JKR sphere) until the solved zone spans 3 element
 solve is the check load's adhesive solve on that grid.
 
 Sensitivity (:func:`measure_sensitivity`): the check load is solved again at half and double
-the range on the same grid (from the same non-adhesive start); ``half_spread`` of the three
-A_r/A_n (:func:`asperity.bem.discretisation.half_spread`) is the range part of the BEM's
-uncertainty (:attr:`RangeChoice.uncertainty`).
+the range (from the same non-adhesive start); ``half_spread`` of the three A_r/A_n
+(:func:`asperity.bem.discretisation.half_spread`) is the range part of the BEM's uncertainty
+(:attr:`RangeChoice.uncertainty`). At 2 h_0 the zone spans about 6 elements of the search's
+grid; at h_0/2 only about 1.5, which under-resolves it (on the default job the three values came
+out non-monotone, 0.005001, 0.004992, 0.004998). So h_0/2 is solved on the x2 Fourier-interpolated
+grid of the same surface (zone about 3 elements again) and its ratio to h_0 there is applied;
+where that grid is not solved (the range grid is not the grid used), it is solved on the
+search's grid and the spread is flagged a lower bound (:attr:`RangeChoice.lower_bound`).
 """
 
 from __future__ import annotations
@@ -86,8 +91,16 @@ class RangeChoice:
     tried : list of RangeTry
         Each search solve, in order.
     sensitivity : tuple of float
-        A_r/A_map at h_0 / 2, h_0, 2 h_0 on the search's grid at the check load (empty until
+        A_r/A_map at h_0 / 2, h_0, 2 h_0 at the check load on the search's grid (h_0 / 2 from
+        its ratio to h_0 on the x2 interpolated grid when resolved there; empty until
         :func:`measure_sensitivity`).
+    half_range_zone_elements : float
+        Cohesive-zone width of the h_0 / 2 solve, elements of the grid it was solved on.
+    sensitivity_resolved : bool
+        The h_0 / 2 zone spans at least 3 elements of its grid; False: the spread is a lower
+        bound of the range's effect (:attr:`lower_bound`).
+    sensitivity_note : str
+        One phrase for a report: where h_0 / 2 was solved and its zone.
     result : ContactResult or None
         The adhesive solve at the chosen range (dropped once used: not stored).
     """
@@ -97,7 +110,15 @@ class RangeChoice:
     zone_elements: float
     tried: list[RangeTry] = field(default_factory=list)
     sensitivity: tuple[float, ...] = ()
+    half_range_zone_elements: float = math.nan
+    sensitivity_resolved: bool = False
+    sensitivity_note: str = ""
     result: ContactResult | None = field(default=None, repr=False)
+
+    @property
+    def lower_bound(self) -> bool:
+        """The sensitivity is a lower bound: h_0 / 2 was solved with an under-resolved zone."""
+        return bool(self.sensitivity) and not self.sensitivity_resolved
 
     @property
     def uncertainty(self) -> float:
@@ -113,8 +134,10 @@ class RangeChoice:
     @property
     def solves(self) -> int:
         """Maugis solves beyond the check load's own adhesive solve: the other search solves
-        and the sensitivity's two."""
-        return len(self.tried) - 1 + len(self.sensitivity) - 1
+        and the sensitivity's on the search's grid (two, or one when h_0 / 2 was solved on
+        the interpolated grid, counted with the refinement)."""
+        own = 0 if not self.sensitivity else 1 + int(not self.sensitivity_resolved)
+        return len(self.tried) - 1 + own
 
 
 def _zone(result: ContactResult) -> float:
@@ -197,15 +220,41 @@ def given_range(
 
 
 def measure_sensitivity(
-    choice: RangeChoice, grid: Grid, setup: ContactSetup, plain: ContactResult, force: float
+    choice: RangeChoice,
+    grid: Grid,
+    setup: ContactSetup,
+    plain: ContactResult,
+    force: float,
+    resolved_half: tuple[float, float] | None = None,
 ) -> RangeChoice:
-    """Solve ``force`` (N) at half and double the chosen range (same grid and start) and store
-    the three A_r/A_map in ``choice.sensitivity`` (arguments as :func:`search_range`)."""
-    fractions = []
-    for factor in (0.5, 2.0):
-        result = _solve_at(grid, setup, plain, force, factor * choice.adhesion_range)
-        fractions.append(float(result.contact_fraction))
-        del result
+    """Solve ``force`` (N) at half and double the chosen range and store the three A_r/A_map
+    in ``choice.sensitivity`` (arguments as :func:`search_range`; ``choice.result`` must still
+    hold the solve at h_0 on ``grid``).
+
+    Double the range is solved on ``grid`` (its zone is about twice the 3 elements of h_0).
+    Half the range: with ``resolved_half = (ratio, zone)``, the ratio A_r(h_0/2) / A_r(h_0)
+    measured on a finer grid of the same surface where the h_0/2 zone spans ``zone`` elements
+    (:func:`asperity.bem.interpolated_refinement.refine_by_interpolation`), applied to the
+    A_r/A_map at h_0 on ``grid``; otherwise solved on ``grid``, where its zone spans about 1.5
+    elements: the sensitivity is then a lower bound (:attr:`RangeChoice.lower_bound`).
+    """
     middle = float(choice.result.contact_fraction)
-    choice.sensitivity = (fractions[0], middle, fractions[1])
+    result = _solve_at(grid, setup, plain, force, 2.0 * choice.adhesion_range)
+    double = float(result.contact_fraction)
+    del result
+    if resolved_half is not None and math.isfinite(resolved_half[0]):
+        half, zone = middle * resolved_half[0], float(resolved_half[1])
+        where = "the x2 Fourier-interpolated grid"
+    else:
+        result = _solve_at(grid, setup, plain, force, 0.5 * choice.adhesion_range)
+        half, zone = float(result.contact_fraction), _zone(result)
+        where = f"the {grid.dx * 1e6:.3g} um range grid"
+        del result
+    choice.sensitivity = (half, middle, double)
+    choice.half_range_zone_elements = zone
+    resolved = not zone < MIN_ZONE_ELEMENTS  # NaN (no contact line) counts as resolved
+    choice.sensitivity_resolved = bool(resolved and resolved_half is not None)
+    choice.sensitivity_note = f"h_0/2 solved on {where}, cohesive zone {zone:.2f} elements" + (
+        "" if choice.sensitivity_resolved else " (under-resolved: the spread is a lower bound)"
+    )
     return choice

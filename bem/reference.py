@@ -3,7 +3,10 @@
 :func:`solve_reference` chains the pieces: the grid check at the check load (the middle load,
 :func:`~asperity.bem.load_sweeps.check_load_index`) with the Maugis range rule
 (:func:`~asperity.bem.grid_refinement.check_grids`), then the other loads in two chains outwards
-from it on the chosen grid (:func:`~asperity.bem.load_sweeps.solve_chain`). The check's solve at
+from it on the chosen grid (:func:`~asperity.bem.load_sweeps.solve_chain`). The check load is
+also solved on the chosen grid's Fourier interpolations (x2, x4 where affordable), whose
+Richardson extrapolation is the discretisation error of every load
+(:mod:`~asperity.bem.interpolated_refinement`). The check's solve at
 the chosen stride is the sweep's solve at the check load. The map covers only part of the
 experiment's nominal area A_n, so each load is scaled to the solved grid at equal nominal
 pressure, F_map = F_z A_map / A_n; A_r / A_map is then the A_r / A_n of the experiment.
@@ -18,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from asperity.bem.grid_refinement import GridCheck, check_grids
+from asperity.bem.interpolated_refinement import MAX_REFINEMENT, REFINEMENT_PIXELS
 from asperity.bem.load_sweeps import (
     ContactSetup,
     Grid,
@@ -83,18 +87,22 @@ class ReferenceSolves:
 
     def totals(self) -> tuple[int, int, int]:
         """Solves made (each once: the check's at the chosen stride is the check load's; the
-        range search's and sensitivity's included), their iterations and FFT convolutions (the
-        last two without the range solves)."""
+        range search's, sensitivity's and interpolated refinement's included), their iterations
+        and FFT convolutions (the last two without the range solves)."""
         k = self.check_index
+        refinement = self.check.refinement
+        extra = [] if refinement is None else refinement.solves[0 if refinement.windowed else 1 :]
         counts = []
         for name in ("iterations", "convolutions"):
             sweep = self.field(name, int)
             check = self.check.field(name, int)
-            counts.append(int(check.sum() + sweep.sum() - sweep[:, k].sum()))
+            refined = sum(getattr(s, name) for row in extra for s in row)
+            counts.append(int(check.sum() + sweep.sum() - sweep[:, k].sum() + refined))
         sweep_size = self.field("iterations", int).size
         check_size = sum(len(row) for row in self.check.solves)
         choice = self.check.range_choice
         solves = check_size + sweep_size - len(self.solves) + (choice.solves if choice else 0)
+        solves += 0 if refinement is None else refinement.extra_solves
         return solves, counts[0], counts[1]
 
 
@@ -111,6 +119,8 @@ def solve_reference(
     coarsen: bool,
     adhesion: str,
     adhesion_range: float | None,
+    max_refinement: int = MAX_REFINEMENT,
+    refinement_pixels: int = REFINEMENT_PIXELS,
     map_chains: ChainMap = serial_map,
 ) -> ReferenceSolves:
     """Solve a map's BEM reference: the grid check, then every load once (module notes).
@@ -129,6 +139,9 @@ def solve_reference(
         A_n of the experiment, m^2.
     max_stride, area_tolerance, coarsen, adhesion, adhesion_range
         The grid check and the adhesive law (:func:`bem.grid_refinement.check_grids`).
+    max_refinement, refinement_pixels
+        The discretisation check at the check load on the chosen grid's Fourier
+        interpolations (:mod:`bem.interpolated_refinement`).
     map_chains : callable
         Runs the (at most two) load chains: ``map_chains(solve_chain, jobs)``, e.g. on two
         worker processes; default :func:`serial_map`.
@@ -138,7 +151,8 @@ def solve_reference(
     check = check_grids(
         heights, dx, dy, setup, float(loads[k]) / nominal_area, max_stride=max_stride,
         area_tolerance=area_tolerance, coarsen=coarsen, adhesion=adhesion,
-        adhesion_range=adhesion_range,
+        adhesion_range=adhesion_range, max_refinement=max_refinement,
+        refinement_pixels=refinement_pixels,
     )  # fmt: skip
     if check.range_choice is not None:
         setup = dataclasses.replace(setup, adhesion_range=check.range_choice.adhesion_range)

@@ -266,6 +266,13 @@ class BemConfig:
     adhesion_range : float or None
         Maugis-Dugdale range h_0, m; None ("auto" in the job file): the shortest range whose
         cohesive zone the grid resolves (:mod:`asperity.bem.adhesion_range`).
+    max_refinement : int
+        The discretisation error: the check load is solved again on the grid used
+        Fourier-interpolated by 2 and 4 (same roughness,
+        :mod:`asperity.bem.interpolated_refinement`), up to this factor (1: no estimate).
+    refinement_pixels : int
+        Largest grid of a refinement solve, pixels (a level beyond it is left out; when even
+        the x2 grid of the whole map is larger, a centred window is refined).
     """
 
     tol: float = 1e-6
@@ -278,6 +285,8 @@ class BemConfig:
     coarsen: bool = True
     adhesion: str = "maugis"
     adhesion_range: float | None = None
+    max_refinement: int = 4
+    refinement_pixels: int = 2048 * 2048
 
 
 def bem_settings(settings: BemConfig | None, caller: str, keywords: Mapping[str, Any]) -> BemConfig:
@@ -580,6 +589,8 @@ JOB_SCHEMA = Schema(
                 Key("coarsen", Flag(), BemConfig.coarsen),
                 Key("adhesion", Choice(("maugis", "pohrt-popov")), BemConfig.adhesion),
                 Key("adhesion_range", OrAuto(quantity("bem.adhesion_range").kind), None),
+                _bounded("bem.max_refinement", BemConfig.max_refinement),
+                _bounded("bem.refinement_pixels", BemConfig.refinement_pixels),
             ),
         ),
         Section(

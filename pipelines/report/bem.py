@@ -1,9 +1,11 @@
 """The BEM section of report.md (the BEM stage, Appendix B).
 
 The section states the boundary condition and the seam mismatch, the branch each number lies
-on, the refinement curve of the grid check (A_r/A_n and its error against the finest grid
-solved, per stride) and the error of the grid used; the ``bem_grid`` figure
-(:func:`asperity.pipelines.report.figures.bem_grid_figure`) draws the same curve.
+on, the decimation sequence of the grid check (A_r/A_n per stride: the resolution dependence,
+roughness each grid carries, which chooses the grid), the discretisation error of the grid used
+(the check load on its Fourier interpolations, same roughness: the error bar) and the adhesion
+range's sensitivity; the ``bem_grid`` figure
+(:func:`asperity.pipelines.report.figures.bem_grid_figure`) draws both sequences.
 """
 
 from __future__ import annotations
@@ -58,7 +60,7 @@ def bem_section(result: Run) -> list[str]:
         f"- Error of the grid used against the finest grid solved: {bem.grid_error:.2%} "
         f"(check load {bem.check_load:.4g} N; its solve is the sweep's solve at that load"
         + (
-            "; the grid used is the finest, so this says nothing of its own error)."
+            "; the grid used is the finest: its own error is the discretisation error below)."
             if bem.stride <= int(min(bem.check_stride))
             else ")."
         ),
@@ -73,10 +75,15 @@ def bem_section(result: Run) -> list[str]:
 
 
 def discretisation_lines(bem: BemReference) -> list[str]:
-    """Report lines: the grid check's A_r/A_n extrapolated to zero pixel size (Richardson,
-    Roache's grid convergence index) and the relative uncertainty applied to every load."""
+    """Report lines: the resolution dependence (decimation), the discretisation error of the
+    grid used (Richardson extrapolation over its Fourier interpolations, Roache's grid
+    convergence index) applied to every load, and where the range's sensitivity was solved."""
+    lines = []
+    message = getattr(bem, "resolution_message", None)
+    if message:
+        lines.append(f"- Resolution dependence (decimation sequence): {message}.")
     if getattr(bem, "check_extrapolated_fraction", None) is None:
-        return []
+        return lines
     modes = BEM_MODES[: len(bem.check_extrapolated_fraction)]
     parts = [
         f"{m}: {f0:.4g} +- {u:.2g} (p = {p:.3g}, safety factor {fs:g}); grid used +- {rel:.1%}"
@@ -90,10 +97,40 @@ def discretisation_lines(bem: BemReference) -> list[str]:
             strict=True,
         )
     ]
-    return [
-        "- Discretisation error (Richardson extrapolation of the check load's A_r/A_n over "
-        f"strides {', '.join(str(int(s)) for s in bem.check_stride)}, grid convergence "
-        "index): " + "; ".join(parts) + ". The grid used's relative uncertainty "
-        "(|f - f_0| + u) / f is applied to every load of the same grid (the A_r/A_n +- u of the "
-        "load table)."
-    ]
+    refined = getattr(bem, "refinement_message", None)
+    seconds = getattr(bem, "refinement_seconds", None)
+    cost = f", {seconds:.1f} s" if seconds is not None else ""
+    source = (
+        f"{refined}{cost}; Richardson extrapolation to zero pixel size, grid convergence index"
+        if refined
+        else "Richardson extrapolation of the check load's A_r/A_n over strides "
+        f"{', '.join(str(int(s)) for s in bem.check_stride)}, grid convergence index"
+    )
+    lines.append(
+        f"- Discretisation error, the BEM's error bar ({source}): " + "; ".join(parts) + ". "
+        "The grid used's relative uncertainty (|f - f_0| + u) / f, measured at the check load "
+        f"({bem.check_load:.4g} N), is applied to every load of the same grid (the A_r/A_n +- u "
+        "of the load table), with the adhesion range's part in quadrature for the adhesive one."
+    )
+    if refined:
+        header = ["factor", "pixel (um)", *(f"A_r/A_n {m}" for m in modes)]
+        rows = [
+            [f"x{int(k)}", f"{h * 1e6:.4g}", *(f"{f:.5g}" for f in row)]
+            for k, h, row in zip(
+                bem.refinement_factor,
+                bem.refinement_pixel_size,
+                bem.refinement_contact_fraction,
+                strict=True,
+            )
+        ]
+        lines += ["", *_table(header, rows), ""]
+    note = getattr(bem, "range_sensitivity_note", None)
+    if note and bem.range_sensitivity is not None:
+        flag = getattr(bem, "range_sensitivity_resolved", None)
+        lines.append(
+            "- Adhesion range's sensitivity (A_r/A_n at h_0/2, h_0, 2 h_0: "
+            + ", ".join(f"{f:.4g}" for f in bem.range_sensitivity)
+            + f"): {note}"
+            + ("." if flag else "; **a lower bound** of the range's effect.")
+        )
+    return lines

@@ -379,16 +379,25 @@ def draw_misfit(result: Run) -> tuple[Figure, FigureTable]:
 
 
 def draw_bem_grid(result: Run) -> tuple[Figure, FigureTable]:
-    """The BEM stage: the refinement curve, its error against the finest grid, the contact mask."""
+    """The BEM stage: the decimation sequence (resolution dependence) and the interpolated
+    refinement (discretisation error) of the check load, their movement from the grid used, the
+    contact mask."""
     bem = result.bem_reference
     table = FigureTable()
     pixel = np.asarray(bem.check_stride) * result.surface.dx
+    refined = _refinement(bem)
     for k, mode in enumerate(BEM_MODES[: bem.check_contact_fraction.shape[1]]):
         table.add(
             "refinement",
             mode,
             {"BEM pixel size (m)": pixel, "A_r/A_n (1)": bem.check_contact_fraction[:, k]},
         )
+        if refined is not None:
+            table.add(
+                "interpolated refinement",
+                mode,
+                {"BEM pixel size (m)": refined[0], "A_r/A_n (1)": refined[1][:, k]},
+            )
     table.add(
         "error",
         "larger of the modes",
@@ -663,25 +672,41 @@ def draw_psd(result: Run) -> tuple[Figure, FigureTable]:
     return fig, table
 
 
+def _refinement(bem: BemReference) -> tuple[np.ndarray, np.ndarray] | None:
+    """(pixel sizes m, A_r/A_n per level and mode) of the interpolated refinement, or None."""
+    factors = getattr(bem, "refinement_factor", None)
+    if factors is None:
+        return None
+    return np.asarray(bem.refinement_pixel_size), np.asarray(bem.refinement_contact_fraction)
+
+
 def bem_grid_figure(result: Run) -> Figure:
-    """The refinement curve (A_r/A_n and error against the finest grid per pixel size) and the
-    contact mask at the largest load; axis units chosen from the data (um, mm, ...)."""
+    """The check load's A_r/A_n against pixel size on the decimated grids (roughness lost with
+    the pixels) and on the Fourier-interpolated grid used (same roughness: the discretisation
+    error), their movement from the grid used, and the contact mask at the largest load; axis
+    units chosen from the data (um, mm, ...)."""
     bem = result.bem_reference
     fig = new_figure(14, 4.4)
     ax1, ax3, ax2 = fig.subplots(1, 3)
     pixel_m = np.asarray(bem.check_stride) * result.surface.dx
-    pu = display_unit(pixel_m, "m")
+    refined = _refinement(bem)
+    every = pixel_m if refined is None else np.concatenate([pixel_m, refined[0]])
+    pu = display_unit(every, "m")
     pixel, used = pu(pixel_m), pu(bem.stride * result.surface.dx)
     for k in range(bem.check_contact_fraction.shape[1]):
-        ax1.plot(pixel, bem.check_contact_fraction[:, k], "o-", label=BEM_MODES[k])
+        ax1.plot(pixel, bem.check_contact_fraction[:, k], "o-", color=f"C{k}", label=BEM_MODES[k])
+        if refined is not None:
+            label = "interpolated, same roughness (^)" if k == 0 else None
+            ax1.plot(pu(refined[0]), refined[1][:, k], "^--", color=f"C{k}",
+                     mfc="none" if k == 0 else None, label=label)  # fmt: skip
     _draw_extrapolation(ax1, bem)
     ax1.axvline(used, color="k", ls="--", label="used")
     separate_bem_markers(ax1, ("non-adhesive", "adhesive"))
     ax1.set_xlabel(pu.label("BEM pixel size"))
     ax1.set_ylabel(f"$A_r/A_n$ at $F_z$ = {bem.check_load:.3g} N")
-    ax1.set_title(f"grid refinement ({bem.boundary} boundary)")
-    ax1.legend(fontsize=8)
-    _draw_grid_error(ax3, bem, pixel, used, pu.symbol)
+    ax1.set_title(f"decimated (solid) and interpolated (dashed) grids ({bem.boundary})", fontsize=9)
+    ax1.legend(fontsize=7)
+    _draw_grid_error(ax3, bem, pixel_m, refined, pu)
     mask = bem.contact_mask
     lengths = (mask.shape[0] * bem.dx, mask.shape[1] * bem.dy)
     xu = display_unit(lengths, "m")
@@ -705,26 +730,50 @@ def _draw_extrapolation(ax: Axes, bem: BemReference) -> None:
 
 
 def _draw_grid_error(
-    ax: Axes, bem: BemReference, pixel: np.ndarray, used: float, symbol: str
+    ax: Axes,
+    bem: BemReference,
+    pixel_m: np.ndarray,
+    refined: tuple[np.ndarray, np.ndarray] | None,
+    pu: DisplayUnit,
 ) -> None:
-    """The error of each coarser grid against the finest solved, in %, on log axes."""
-    coarse = bem.check_error > 0
-    ax.loglog(pixel[coarse], bem.check_error[coarse] * 100, "o-", label="larger of the modes")
+    """How far A_r/A_n moves from the grid used (larger of the modes, %), on log axes: on the
+    decimated grids (roughness lost) and on the interpolated ones (discretisation), with the
+    error bar applied (the discretisation band of the grid used)."""
+    used_m = float(pixel_m[list(np.asarray(bem.check_stride)).index(int(bem.stride))])
+    fraction = np.asarray(bem.check_contact_fraction)
+    chosen = list(np.asarray(bem.check_stride)).index(int(bem.stride))
+    base = fraction[chosen]
+
+    def move(rows: np.ndarray) -> np.ndarray:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.nanmax(np.abs(rows - base) / base, axis=1)
+
+    coarse = pixel_m > used_m * (1 + 1e-9)
+    if coarse.any():
+        ax.loglog(pu(pixel_m[coarse]), move(fraction[coarse]) * 100, "o-",
+                  label="decimated: roughness lost")  # fmt: skip
+    if refined is not None and len(refined[0]) > 1:
+        # the window's own level 1 when windowed: the movement is within the window
+        level = np.asarray(refined[1])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            inner = np.nanmax(np.abs(level[1:] - level[0]) / level[0], axis=1)
+        ax.loglog(pu(refined[0][1:]), inner * 100, "^--", label="interpolated: discretisation")
+    rel = getattr(bem, "discretisation_relative_uncertainty", None)
+    if rel is not None and np.isfinite(rel).any():
+        ax.axhline(
+            float(np.nanmax(rel)) * 100, color="C3", ls="-.", label="error bar of the grid used"
+        )
     if bem.area_tolerance is not None:  # stored with the stage: redrawn without the config
         ax.axhline(bem.area_tolerance * 100, color="gray", ls=":", label="area_tolerance")
-    ax.axvline(used, color="k", ls="--", label="used")
+    ax.axvline(pu(used_m), color="k", ls="--", label="used")
     for axis in (ax.xaxis, ax.yaxis):
         axis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
         axis.set_major_formatter(ScalarFormatter())
         axis.set_minor_formatter(NullFormatter())
-    ax.legend(fontsize=8)
-    ax.set_xlabel(f"BEM pixel size ({symbol})")
-    ax.set_ylabel("$|A_r - A_r^{finest}| / A_r^{finest}$ (%)")
-    finest = float(pixel.min())
-    if used <= finest:
-        ax.set_title(f"error against {finest:.3g} {symbol}; the grid used is the finest")
-    else:
-        ax.set_title(f"error against {finest:.3g} {symbol}; grid used: {bem.grid_error:.2%}")
+    ax.legend(fontsize=7)
+    ax.set_xlabel(pu.label("BEM pixel size"))
+    ax.set_ylabel("$|A_r - A_r^{used}| / A_r^{used}$ (%)")
+    ax.set_title("movement from the grid used", fontsize=9)
 
 
 def draw_resolution_interval(

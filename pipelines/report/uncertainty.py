@@ -112,8 +112,8 @@ def uncertainty_rows(result: Run) -> list[tuple[str, str]]:
     return [
         (
             "error bars (+- u)",
-            f"model, one sigma: {message}; BEM: grid convergence index of the grid check "
-            "(Richardson extrapolation, about 95 %)",
+            f"model, one sigma: {message}; BEM: grid convergence index of the grid used "
+            "refined by Fourier interpolation (Richardson extrapolation, about 95 %)",
         )
     ]
 

@@ -21,7 +21,9 @@ from asperity.bem.grid_refinement import (
     boundary_warning,
     discretisation_estimate,
     edge_mismatch,
+    resolution_dependence,
 )
+from asperity.bem.interpolated_refinement import InterpolatedRefinement
 from asperity.bem.load_sweeps import ContactSetup, LoadChain
 from asperity.bem.options import SolverOptions
 from asperity.bem.reference import ChainMap, solve_reference
@@ -70,13 +72,30 @@ class BemReference:
     area_range_uncertainty : float or None
         Half the spread of ``range_sensitivity`` (absolute A_r/A_n): the range part of the
         BEM's uncertainty (:func:`asperity.bem.discretisation.half_spread`).
+    check_contact_fraction, check_error, check_relative_change : ndarray
+        The decimation sequence (strides of the map): how A_r/A_n depends on the resolution,
+        i.e. on the roughness each grid carries. It chooses the grid (``area_tolerance``) but is
+        not the error bar.
+    resolution_dependence : ndarray or None
+        Per mode: relative move of the check load's A_r/A_n from the next coarser stride to the
+        grid used, ``(f_coarse - f) / f`` (roughness the coarser grid does not carry); NaN when
+        the grid used is the coarsest. ``resolution_message`` says it in words.
+    refinement_factor, refinement_pixel_size, refinement_contact_fraction : ndarray or None
+        The discretisation check: the grid used Fourier-interpolated by these factors (same
+        roughness; 1 is the grid used, or its window when ``refinement_windowed``), their pixel
+        size (m) and the check load's A_r/A_n per (level, mode)
+        (:mod:`asperity.bem.interpolated_refinement`).
     check_extrapolated_fraction, check_extrapolation_uncertainty : ndarray or None
-        Per mode: the grid check's A_r/A_n extrapolated to zero pixel size and its band
+        Per mode: the refinement's A_r/A_n extrapolated to zero pixel size and its band
         (:func:`bem.richardson_extrapolation`, Roache's grid convergence index, about 95 %).
     discretisation_relative_uncertainty : ndarray or None
         Per mode: the relative uncertainty of the A_r/A_n of the grid the sweeps use,
-        ``(|f - f_0| + u) / f`` (the band holds the whole extrapolated band), applied to every
-        load of the same grid (stated, not solved per load).
+        ``(|f - f_0| + u) / f`` over the interpolated refinement (the band holds the whole
+        extrapolated band), measured at the check load and applied to every load of the same
+        grid (stated, not solved per load).
+    range_sensitivity_resolved : bool or None
+        The h_0 / 2 solve of ``range_sensitivity`` resolved its cohesive zone (>= 3 elements,
+        on the x2 interpolated grid); False: the range part is a lower bound.
     contact_fraction_discretisation_uncertainty : ndarray or None, shape (n_mode, n_load)
         A_r/A_n discretisation part per mode and load.
     contact_fraction_adhesion_range_uncertainty : ndarray or None, shape (n_load,)
@@ -150,6 +169,36 @@ class BemReference:
         "1", "half spread of A_r / A_n over h_0 / 2 .. 2 h_0 (check load)", optional=True
     )
     range_solves: int = scalar("1", "Maugis solves of the range search and sensitivity", default=0)
+    range_sensitivity_resolved: bool | None = scalar(
+        "1", "the h_0 / 2 solve resolved its cohesive zone (else a lower bound)", optional=True
+    )
+    range_half_zone_elements: float | None = scalar(
+        "1", "cohesive-zone width of the h_0 / 2 solve, elements of its grid", optional=True
+    )
+    range_sensitivity_note: str | None = text("where h_0 / 2 was solved", optional=True)
+    resolution_dependence: np.ndarray | None = array(
+        "1",
+        ("mode",),
+        "A_r / A_n move from the next coarser stride to the grid used",
+        optional=True,
+    )
+    resolution_message: str | None = text("what the decimation sequence shows", optional=True)
+    refinement_factor: np.ndarray | None = array(
+        "1", ("refinement_level",), "Fourier-interpolation factors of the grid used", optional=True
+    )
+    refinement_pixel_size: np.ndarray | None = array(
+        "m", ("refinement_level",), "pixel size of each refinement level", optional=True
+    )
+    refinement_contact_fraction: np.ndarray | None = array(
+        "1", ("refinement_level", "mode"), "check A_r / A_n per refinement level", optional=True
+    )
+    refinement_windowed: bool | None = scalar(
+        "1", "the refinement was solved on a window of the grid used", optional=True
+    )
+    refinement_message: str | None = text("how the discretisation was checked", optional=True)
+    refinement_seconds: float | None = scalar(
+        "s", "wall time of the refinement solves", optional=True
+    )
     check_extrapolated_fraction: np.ndarray | None = array(
         "1", ("mode",), "check A_r / A_n extrapolated to zero pixel size", optional=True
     )
@@ -269,7 +318,8 @@ def bem_reference(
         The ``[bem]`` table (default ``BemConfig()``): the solver's ``tol`` and ``max_iter``,
         the grid check's ``max_stride``, ``area_tolerance``, ``coarsen``, the ``boundary``,
         ``adhesive``, the law ``adhesion`` and its range ``adhesion_range`` (m; None: the rule
-        of :func:`bem.adhesion_range.search_range`).
+        of :func:`bem.adhesion_range.search_range`), the discretisation check's
+        ``max_refinement`` and ``refinement_pixels``.
     executor : Executor, optional
         Runs the two load chains in parallel.
     **deprecated_settings
@@ -284,7 +334,8 @@ def bem_reference(
         surface.heights, surface.dx, surface.dy, _with_worker_threads(setup), loads,
         nominal_area, max_stride=settings.max_stride, area_tolerance=settings.area_tolerance,
         coarsen=settings.coarsen, adhesion=settings.adhesion,
-        adhesion_range=settings.adhesion_range, map_chains=_chain_map(executor, progress),
+        adhesion_range=settings.adhesion_range, max_refinement=settings.max_refinement,
+        refinement_pixels=settings.refinement_pixels, map_chains=_chain_map(executor, progress),
     )  # fmt: skip
     check, grid, k = run.check, run.grid, run.check_index
     mismatch = edge_mismatch(grid.heights)
@@ -294,6 +345,7 @@ def bem_reference(
         law == "pohrt-popov" and POHRT_POPOV_NOTE,
     )
     extrapolations, relative = discretisation_estimate(check, surface.dx)
+    dependence, dependence_message = resolution_dependence(check, surface.dx)
     fraction = run.field("contact_fraction")
     solves, iterations, convolutions = run.totals()
     reference = BemReference(
@@ -342,9 +394,26 @@ def bem_reference(
         discretisation_relative_uncertainty=relative,
         contact_fraction_discretisation_uncertainty=relative[:, None] * fraction,
         adhesion=law,
+        resolution_dependence=dependence,
+        resolution_message=dependence_message,
+        **_refinement_fields(check.refinement),
         **_range_fields(check.range_choice, fraction[-1]),
     )
     return reference
+
+
+def _refinement_fields(refinement: InterpolatedRefinement | None) -> dict:
+    """The interpolated refinement's fields of :class:`BemReference` (none without one)."""
+    if refinement is None:
+        return {}
+    return {
+        "refinement_factor": np.asarray(refinement.factors, dtype=int),
+        "refinement_pixel_size": np.asarray(refinement.pixel_size, dtype=float),
+        "refinement_contact_fraction": refinement.fractions(),
+        "refinement_windowed": bool(refinement.windowed),
+        "refinement_message": refinement.message,
+        "refinement_seconds": float(refinement.seconds),
+    }
 
 
 def _range_fields(choice: RangeChoice | None, adhesive: np.ndarray) -> dict:
@@ -359,6 +428,9 @@ def _range_fields(choice: RangeChoice | None, adhesive: np.ndarray) -> dict:
         "range_sensitivity": np.asarray(choice.sensitivity, dtype=float),
         "area_range_uncertainty": choice.uncertainty,
         "range_solves": choice.solves,
+        "range_sensitivity_resolved": bool(choice.sensitivity_resolved),
+        "range_half_zone_elements": float(choice.half_range_zone_elements),
+        "range_sensitivity_note": choice.sensitivity_note,
         "contact_fraction_adhesion_range_uncertainty": choice.relative_uncertainty * adhesive,
     }
 
