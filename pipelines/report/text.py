@@ -134,6 +134,7 @@ def adhesion_key_numbers(result: Run) -> list[tuple[str, str]]:
         )
     elif law == "pohrt-popov":
         rows.append(("BEM adhesion", "Pohrt-Popov (Appendix B): no adhesion on loading"))
+    rows += bem_law_key_numbers(res, bem)
     index = getattr(res, "effective_index_non_adhesive", None)
     if index is not None:
         rows.append(
@@ -144,7 +145,86 @@ def adhesion_key_numbers(result: Run) -> list[tuple[str, str]]:
                 "adhesive pair chooses)",
             )
         )
+    rows += gain_key_numbers(result)
     return rows + regime_key_numbers(getattr(result, "verdict", None))
+
+
+def _gain_text(gain: np.ndarray) -> str:
+    """Relative gains (1) as ``+a .. +b %`` over the loads."""
+    gain = np.asarray(gain, dtype=float) * 100
+    if not np.isfinite(gain).any():
+        return "?"
+    low, high = float(np.nanmin(gain)), float(np.nanmax(gain))
+    return f"{low:+.3g} %" if np.isclose(low, high, rtol=0.05) else f"{low:+.3g} .. {high:+.3g} %"
+
+
+def adhesive_gains(result: Run) -> dict[str, np.ndarray] | None:
+    """The adhesive gains over the non-adhesive partner per load (1) at the effective
+    resolution: the BEM's (adhesive / non-adhesive - 1), the model's under the BEM's law
+    (Maugis-Dugdale / Greenwood-Williamson - 1) and the JKR model's (JKR / GW - 1); None
+    without the pairs."""
+    res, bem, fr = result.statistical_model, result.bem_reference, result.friction
+    plain = getattr(res, "effective_real_area_non_adhesive", None)
+    if bem is None or plain is None or bem.contact_fraction_adhesive is None:
+        return None
+    jkr = getattr(fr, "model_real_area", None)
+    if jkr is None:
+        jkr = getattr(res, "optimum_real_area", None)
+    out = {
+        "bem": np.asarray(bem.contact_fraction_adhesive) / np.asarray(bem.contact_fraction) - 1,
+        "model": np.asarray(res.effective_real_area_bem_law) / plain - 1,
+    }
+    if jkr is not None:
+        out["jkr"] = np.asarray(jkr) / plain - 1
+    return out
+
+
+def bem_law_key_numbers(res: object, bem: BemReference | None) -> list[tuple[str, str]]:
+    """Rows of the like-for-like calibration: the model's law paired with the BEM, the
+    adhesive gains at the effective resolution, the BEM's Maugis parameter beside the JKR
+    model's Tabor parameter and what follows (empty without a BEM)."""
+    law = getattr(res, "bem_law", None)
+    if law is None:
+        return []
+    if law == "maugis-dugdale":
+        h0 = res.bem_law_adhesion_range
+        pair = (
+            f"Maugis-Dugdale statistical model at the BEM's h_0 = {h0 * 1e6:.4g} um (sigma_0 = "
+            "w / h_0) against the Maugis-Dugdale BEM; Greenwood-Williamson against the "
+            "non-adhesive BEM; the JKR/PC model makes the predictions at that resolution"
+        )
+    else:
+        pair = (
+            "Greenwood-Williamson (w = 0) against the BEM (its loading branch carries no "
+            "adhesion); the JKR/PC model makes the predictions at that resolution"
+        )
+    rows = [("calibration pair (like for like)", pair)]
+    return rows
+
+
+def gain_key_numbers(result: Run) -> list[tuple[str, str]]:
+    """The adhesive gains at the effective resolution and the regime statement."""
+    res = result.statistical_model
+    rows = []
+    gains = adhesive_gains(result)
+    if gains is not None:
+        text = (
+            f"BEM {_gain_text(gains['bem'])}; model under the BEM's law "
+            f"{_gain_text(gains['model'])}"
+        )
+        if "jkr" in gains:
+            text += f"; JKR model (predictions) {_gain_text(gains['jkr'])}"
+        rows.append(("adhesive gain over non-adhesive at the effective resolution", text))
+    lam = getattr(res, "maugis_parameter", None)
+    if lam is not None:
+        rows.append(
+            (
+                "BEM Maugis parameter / model Tabor parameter",
+                f"lambda = {lam:.3g} / mu = {res.tabor_parameter:.4g} at R = "
+                f"{res.summit_radius * 1e3:.4g} mm: {res.adhesion_statement}",
+            )
+        )
+    return rows
 
 
 def regime_key_numbers(verdict: Verdict) -> list[tuple[str, str]]:
@@ -208,19 +288,33 @@ def load_table(result: Run) -> tuple[list[str], list[list[str]]]:
 def non_adhesive_column(
     result: Run, header: list[str], rows: list[list[str]]
 ) -> tuple[list[str], list[list[str]]]:
-    """The load table with the non-adhesive pair's model column (w = 0, Greenwood-Williamson,
-    at that pair's least-misfit resolution) appended: its partner is "A_r/A_n BEM"; the
-    adhesive pair is "A_r/A_n BEM adh." and "A_r/A_n model"."""
+    """The load table with the like-for-like partners at the effective resolution appended:
+    Greenwood-Williamson (w = 0; partner of "A_r/A_n BEM") and, with a Maugis-Dugdale BEM,
+    the Maugis-Dugdale model (partner of "A_r/A_n BEM adh."); "A_r/A_n model" is the JKR
+    model that makes the predictions. Without them (a run stored before), the w = 0 model at
+    the non-adhesive pair's least-misfit stride."""
     res = result.statistical_model
-    index = getattr(res, "effective_index_non_adhesive", None)
-    if index is None or res.real_area_non_adhesive is None:
-        return header, rows
-    fraction = res.real_area_non_adhesive[index] / res.nominal_area
     verdict = getattr(result, "verdict", None)
-    header = [*header, f"A_r/A_n model w=0 ({res.resolution[index] * 1e6:.3g} um)"]
-    return header, [
-        [*row, mark(f"{f:.4g}", verdict)] for row, f in zip(rows, fraction, strict=True)
+    columns: list[tuple[str, np.ndarray]] = []
+    plain = getattr(res, "effective_real_area_non_adhesive", None)
+    at = f"{res.effective_resolution * 1e6:.4g} um"
+    if plain is not None:
+        columns.append((f"A_r/A_n model w=0 (GW, {at})", plain / res.nominal_area))
+        if getattr(res, "bem_law", None) == "maugis-dugdale":
+            md = res.effective_real_area_bem_law / res.nominal_area
+            columns.append((f"A_r/A_n model MD (BEM's law, {at})", md))
+    else:
+        index = getattr(res, "effective_index_non_adhesive", None)
+        if index is None or res.real_area_non_adhesive is None:
+            return header, rows
+        fraction = res.real_area_non_adhesive[index] / res.nominal_area
+        columns.append((f"A_r/A_n model w=0 ({res.resolution[index] * 1e6:.3g} um)", fraction))
+    header = [*header, *(name for name, _ in columns)]
+    rows = [
+        [*row, *(mark(f"{values[i]:.4g}", verdict) for _, values in columns)]
+        for i, row in enumerate(rows)
     ]
+    return header, rows
 
 
 def surface_section(result: Run) -> list[str]:
