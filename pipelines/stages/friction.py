@@ -168,6 +168,11 @@ def _curve_job(
     )
 
 
+#: delta_T steps of the first curve of :func:`model_shear_area`, which only finds the static peak
+#: (the model refines the peak of the continuous F_x(delta_T) between grid points).
+PEAK_SEARCH_STEPS = 51
+
+
 def model_shear_area(
     mode_mixity: float,
     normal_load: float,
@@ -179,15 +184,33 @@ def model_shear_area(
     steps: int,
     knobs: Mapping[str, float],
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Model A_r(F_x) along the shear path for one lambda and load: (F_x N, A_r m^2)."""
-    curve = shear_curve_auto(
-        dataclasses.replace(material, mode_mixity=float(mode_mixity)),
+    """Model A_r(F_x) on its stick branch for one lambda and load: (F_x N, A_r m^2).
+
+    A first curve (on the given or automatic path, :data:`PEAK_SEARCH_STEPS` steps) finds the
+    static peak delta_s (:func:`statmodel.shear.static_friction_peak`, the continuous curve's
+    peak); the returned curve has ``steps`` equal steps from delta_T = 0 to delta_s, so its
+    last point is the static peak (F_x = static friction) and every node moves smoothly with
+    lambda. The lambda fit interpolates this curve at the measured F_x: its objective is then
+    smooth in lambda (on a path of fixed nodes in delta_T the interpolation nodes and the
+    grid peak jump as lambda moves, and the objective is jagged at the 1e-3 level). Where the
+    first curve finds no peak inside its path, that curve is returned.
+    """
+    changed = dataclasses.replace(material, mode_mixity=float(mode_mixity))
+    first = shear_curve_auto(
+        changed,
         roughness,
         nominal_area,
         normal_load,
         max_tangential_displacement=max_tangential_displacement,
-        steps=steps,
+        steps=min(steps, PEAK_SEARCH_STEPS),
         knobs=knobs,
+    )
+    peak = float(first.static_displacement)
+    path = np.asarray(first.tangential_displacement, dtype=float)
+    if not (math.isfinite(peak) and 0 < peak < path[-1]):
+        return np.asarray(first.tangential_force, float), np.asarray(first.real_area, float)
+    curve = statmodel.shear_curve(
+        changed, roughness, nominal_area, normal_load, np.linspace(0.0, peak, steps), **knobs
     )
     return np.asarray(curve.tangential_force, float), np.asarray(curve.real_area, float)
 
