@@ -151,9 +151,19 @@ def area_up_to_peak(
 def interpolate_area(
     fx_model: np.ndarray, ar_model: np.ndarray, fx_measured: np.ndarray
 ) -> np.ndarray:
-    """Model A_r (m^2) at measured tangential forces (N), held at the end values outside."""
+    """Model A_r (m^2) at measured tangential forces (N) on the stick branch, held at the end
+    values outside.
+
+    Linear in s = sqrt(F_peak - F_x), not in F_x: near the static peak F_x is quadratic in
+    delta_T, so A_r(F_x) has a square-root end point, on which linear interpolation in F_x
+    errs by up to a node's change of A_r (and the error jumps as the nodes move with lambda:
+    a jagged fit objective), while A_r is smooth in s (s is linear in delta_T there).
+    """
     fx, ar = area_up_to_peak(fx_model, ar_model)
-    return np.interp(fx_measured, fx, ar)
+    peak = float(fx[-1])
+    s_model = np.sqrt(np.maximum(peak - fx, 0.0))[::-1]  # increasing
+    s_measured = np.sqrt(np.maximum(peak - np.asarray(fx_measured, dtype=float), 0.0))
+    return np.interp(s_measured, s_model, ar[::-1])
 
 
 def first_peak_end(tangential_force: np.ndarray, drop: float = PEAK_DROP) -> int:
