@@ -292,12 +292,14 @@ def _draw_area_vs_load(ax: Axes, result: Run, table: FigureTable) -> None:
         non_adhesive_series(series, res)
     drawn = draw_model_band(ax, fu, result, table, (x_col, y_col))
     strides = {0, len(res.stride) - 1} | (set() if drawn else {res.index})
+    colors = {0: "C9", len(res.stride) - 1: "C6"}
     for i in sorted(strides):
         if np.all(np.isfinite(res.real_area[i])):
             ru = display_unit(res.resolution[i], "m")
             name = f"JKR model, {ru(res.resolution[i]):.3g} {ru.symbol}"
             name += " (stride of least misfit)" if i == res.index else ""
-            series(name, loads, res.real_area[i] / a_n, "-" if i == res.index else ":")
+            style = "-" if i == res.index else ":"
+            series(name, loads, res.real_area[i] / a_n, style, color=colors.get(i, "C3"))
     persson = persson_fraction(result)
     if persson is not None:
         series("Persson, non-adhesive", result.psd.normal_load, persson, "-.", color="C4")
@@ -757,6 +759,25 @@ def draw_resolution_interval(
     low, high = np.asarray(res.optimum_interval, dtype=float)
     if math.isfinite(low) and math.isfinite(high):
         ax.axvspan(xu(low), xu(high), color="C2", alpha=0.2, label="one-sigma interval")
+    shift = getattr(res, "optimum_reference_shift", None)
+    if shift is not None:
+        own = np.asarray(res.optimum_misfit_interval, dtype=float)
+        if np.all(np.isfinite(own)):
+            ax.axvspan(xu(own[0]), xu(own[1]), color="C2", alpha=0.25, label="misfit's own")
+        for j, end in enumerate(shift):
+            if math.isfinite(end):
+                label = "optimum against BEM x (1 -/+ u)" if j == 0 else None
+                ax.axvline(xu(end), color="C2", ls=":", lw=1.2, label=label)
+        table.add(
+            "misfit",
+            "reference band",
+            {
+                "misfit interval low (m)": own[0],
+                "misfit interval high (m)": own[1],
+                "optimum against reference x (1 - u) (m)": shift[0],
+                "optimum against reference x (1 + u) (m)": shift[1],
+            },
+        )
     if res.sampled_resolution is not None:
         ax.plot(xu(res.sampled_resolution), res.sampled_misfit, "x", color="C2", ms=5)
         table.add(

@@ -81,7 +81,7 @@ def key_numbers(result: Run) -> list[tuple[str, str]]:
             )
         )
     else:
-        rows.append(("mode mixity lambda (configured)", f"{lam.mode_mixity:.4g}"))
+        rows.append(("mode mixity lambda (configured)", assumed_lambda_text(result)))
     rows += shape_scale_key_numbers(result)
     if bem is None:
         rows.append(("BEM", "not run ([bem] enabled = false): calibrated on the measurement"))
@@ -113,6 +113,28 @@ def key_numbers(result: Run) -> list[tuple[str, str]]:
         "mode mixity lambda (fitted)",
     )
     return [(k, mark(v, verdict) if k.startswith(judged) else v) for k, v in rows]
+
+
+def assumed_lambda_text(result: Run) -> str:
+    """The configured lambda, said to be assumed, and what a decade of it does to the static
+    friction at the lightest and heaviest loads (the friction stage's
+    ``static_friction_mode_mixity_decade``)."""
+    lam, fr = result.mode_mixity, result.friction
+    text = (
+        f"{lam.mode_mixity:.4g}, assumed: no measured A_r(F_x) curves, so lambda is not "
+        "fitted, carries no uncertainty and the error bars leave it out"
+    )
+    decade = getattr(fr, "static_friction_mode_mixity_decade", None)
+    if decade is None:
+        return text
+    low, high = fr.mode_mixity_decade
+    ends = [int(np.argmin(fr.normal_load)), int(np.argmax(fr.normal_load))]
+    moves = "; ".join(
+        f"F_s({fr.normal_load[i]:.3g} N) = {decade[0, i]:.3g} / {fr.static_friction[i]:.3g} / "
+        f"{decade[1, i]:.3g} N"
+        for i in dict.fromkeys(ends)
+    )
+    return f"{text}; a decade of lambda ({low:.3g} / {lam.mode_mixity:.3g} / {high:.3g}): {moves}"
 
 
 def adhesion_key_numbers(result: Run) -> list[tuple[str, str]]:
@@ -282,7 +304,23 @@ def load_table(result: Run) -> tuple[list[str], list[list[str]]]:
     verdict = getattr(result, "verdict", None)
     # the statistical model's columns carry the verdict; BEM and Persson are references
     rows = [[*row[:3], *(mark(cell, verdict) for cell in row[3:7]), *row[7:]] for row in rows]
-    return non_adhesive_column(result, header, rows)
+    header, rows = non_adhesive_column(result, header, rows)
+    return decade_column(result, header, rows)
+
+
+def decade_column(
+    result: Run, header: list[str], rows: list[list[str]]
+) -> tuple[list[str], list[list[str]]]:
+    """With an assumed lambda, the static friction at lambda / sqrt(10) and x sqrt(10) per load
+    (what a decade of the unfitted lambda does; not an error bar)."""
+    fr = result.friction
+    decade = getattr(fr, "static_friction_mode_mixity_decade", None)
+    if decade is None:
+        return header, rows
+    low, high = fr.mode_mixity_decade
+    name = f"static F_x at lambda {low:.3g} .. {high:.3g} (N, lambda assumed)"
+    cells = [f"{decade[0, i]:.4g} .. {decade[1, i]:.4g}" for i in range(decade.shape[1])]
+    return [*header, name], [[*row, cell] for row, cell in zip(rows, cells, strict=True)]
 
 
 def non_adhesive_column(

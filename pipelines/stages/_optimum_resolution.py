@@ -189,10 +189,11 @@ def _shifted_optima(
     """The optimum located against the reference times (1 - u) and (1 + u) (u relative, per
     load; a factor below 0.1 is held at 0.1); None where it fails.
 
-    No model is evaluated again: the misfit against each shifted reference is taken at every
-    resolution already sampled (the strides' A_r and the refinement's, cached) and its least
-    value placed by the parabola of rule 1 of
-    :func:`statmodel.effective_resolution.locate_least_misfit`.
+    The misfit against each shifted reference is taken at every resolution already sampled
+    (the strides' A_r and the refinement's, cached) and its least value placed by the parabola
+    of rule 1 of :func:`statmodel.effective_resolution.locate_least_misfit`; only when that
+    least value is at an end of the samples is the model evaluated again, between the end and
+    its neighbour (rule 2: the optimum may lie there).
     """
     strides = np.asarray(resolution, dtype=float)
     extra = [r for r in np.asarray(located.sampled_resolution, float) if not np.isclose(
@@ -210,7 +211,15 @@ def _shifted_optima(
             [log_misfit(row, shifted) if np.all(np.isfinite(row)) else np.nan for row in tables]
         )
         try:
-            out.append(locate_least_misfit(points, misfit, n_loads))
+            found = locate_least_misfit(points, misfit, n_loads)
+            if found.direction:
+                found = locate_least_misfit(
+                    points,
+                    misfit,
+                    n_loads,
+                    misfit_at=misfit_function(model_at, shifted, log_misfit),
+                )
+            out.append(found)
         except InputError:
             out.append(None)
     return out

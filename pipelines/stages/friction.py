@@ -604,6 +604,14 @@ class FrictionPrediction:
         0 every uncertainty finite from closed intervals, 1 otherwise.
     uncertainty_message : str or None
         What limits the uncertainties, one sentence.
+    mode_mixity_assumed : bool or None
+        lambda is the configured value, not fitted to measured A_r(F_x): it carries no
+        uncertainty, and the error bars leave it out.
+    mode_mixity_decade : ndarray or None
+        With an assumed lambda: lambda / sqrt(10) and lambda x sqrt(10) (a decade about it).
+    static_friction_mode_mixity_decade : ndarray or None
+        The static friction (N) at those two lambdas, shape (2, n_load): what a decade of the
+        assumed lambda does to the prediction.
 
     The uncertainties come from :func:`statmodel.uncertainty.propagate_to_predictions`: the
     model at the roughness of both ends of the effective resolution's interval and at both ends
@@ -651,6 +659,18 @@ class FrictionPrediction:
     )
     uncertainty_status: int | None = scalar("1", "status of the uncertainties", optional=True)
     uncertainty_message: str | None = text("what limits the uncertainties", optional=True)
+    mode_mixity_assumed: bool | None = scalar(
+        "1", "lambda configured, not fitted (no uncertainty)", optional=True
+    )
+    mode_mixity_decade: np.ndarray | None = array(
+        "1", ("mode_mixity_end",), "lambda / sqrt(10) and lambda x sqrt(10)", optional=True
+    )
+    static_friction_mode_mixity_decade: np.ndarray | None = array(
+        "N",
+        ("mode_mixity_end", "normal_load"),
+        "static friction at lambda / sqrt(10) and x sqrt(10)",
+        optional=True,
+    )
 
     def __post_init__(self) -> None:
         self.constant_shear_strength_force = self.shear_strength * np.asarray(self.real_area)
@@ -673,6 +693,7 @@ def friction_prediction(
     roughness_interval: Sequence[statmodel.Roughness] | None = None,
     mode_mixity_interval: tuple[float, float] | None = None,
     interval_open: bool = False,
+    mode_mixity_assumed: bool = False,
     executor: Executor | None = None,
     progress: bool = False,
 ) -> FrictionPrediction:
@@ -702,6 +723,9 @@ def friction_prediction(
         lambda's one-sigma interval (default: lambda itself, no lambda part).
     interval_open : bool
         The effective resolution's interval is open on a side (uncertainties: lower bounds).
+    mode_mixity_assumed : bool
+        lambda is configured, not fitted: the static friction is also computed at a decade
+        about it (lambda / sqrt(10), lambda x sqrt(10)) and stored beside the predictions.
     executor : Executor, optional
         Runs the loads in parallel.
     """
@@ -728,6 +752,11 @@ def friction_prediction(
         for f in loads
     ]
     results = run_map(_curve_job, jobs, executor, desc="shear curves", progress=progress)
+    decade = (
+        _mode_mixity_decade(material, jobs, executor)
+        if mode_mixity_assumed and material.mode_mixity > 0
+        else {}
+    )
     names = (*CURVE_FIELDS, *CURVE_SCALARS)
     per_load = {name: np.array([r[name] for r in results]) for name in names}
     return FrictionPrediction(
@@ -742,6 +771,7 @@ def friction_prediction(
         quadrature_knobs=quad.knobs,
         quadrature_ladder=quad.ladder,
         quadrature_reason=quad.reason,
+        **decade,
         **per_load,
         **prediction_uncertainty(
             material,
@@ -760,6 +790,28 @@ def friction_prediction(
             ),
         ),
     )
+
+
+#: The factor about an assumed lambda shown in the report (a decade: sqrt(10) each way).
+DECADE_FACTOR = math.sqrt(10.0)
+
+
+def _mode_mixity_decade(
+    material: statmodel.Material, jobs: list[tuple], executor: Executor | None
+) -> dict[str, np.ndarray | bool]:
+    """The static friction (N) per load at lambda / sqrt(10) and lambda x sqrt(10) (the
+    friction stage's own path and quadrature), with those lambdas and the assumed flag."""
+    lams = np.array([material.mode_mixity / DECADE_FACTOR, material.mode_mixity * DECADE_FACTOR])
+    rows = []
+    for lam in lams:
+        changed = dataclasses.replace(material, mode_mixity=float(lam))
+        moved = [(changed, *job[1:]) for job in jobs]
+        rows.append([r["static_friction"] for r in run_map(_curve_job, moved, executor)])
+    return {
+        "mode_mixity_assumed": True,
+        "mode_mixity_decade": lams,
+        "static_friction_mode_mixity_decade": np.array(rows, dtype=float),
+    }
 
 
 def _shear_curve_at(
@@ -882,6 +934,7 @@ def compute_friction(context: StageContext) -> FrictionPrediction:
         roughness_interval=res.roughness_interval,
         mode_mixity_interval=mode_mixity_interval(lam),
         interval_open=res.interval_open,
+        mode_mixity_assumed=not lam.fitted,
         executor=context.executor,
         progress=context.progress,
     )
