@@ -72,12 +72,20 @@ def key_numbers(result: Run) -> list[tuple[str, str]]:
         ("misfit at effective resolution", misfit_text(res)),
     ]
     if lam.fitted:
+        shift = getattr(lam, "mode_mixity_roughness_shift", None)
+        united = (
+            ""
+            if shift is None
+            else f"; interval {lam.interval_low:.4g}..{lam.interval_high:.4g}: the profile's "
+            f"united with lambda fitted at the resolution interval's ends ({shift[0]:.4g}, "
+            f"{shift[1]:.4g})"
+        )
         rows.append(
             (
                 "mode mixity lambda (fitted)",
                 f"{lam.mode_mixity:.4g} +/- {lam.mode_mixity_std:.2g} "
                 f"(rms relative residual {lam.residual_rms:.3g}, "
-                f"{lam.n_points} points)",
+                f"{lam.n_points} points{united})",
             )
         )
     else:

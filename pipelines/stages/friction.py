@@ -355,6 +355,14 @@ class ModeMixityChoice:
     model_real_area_at_measured : ndarray or None
         The model's A_r (m^2) at each measured (F_z, F_x) point with the fitted lambda
         (beside ``measured_real_area``).
+    profile_interval : ndarray or None
+        The fit's own one-sigma profile interval (low, high) at the effective resolution's
+        statistics (``interval_low`` / ``interval_high`` unite it with
+        ``mode_mixity_roughness_shift``).
+    mode_mixity_roughness_shift : ndarray or None
+        lambda fitted at the statistics of the effective resolution's interval ends (finer,
+        coarser; NaN where unknown): the roughness's uncertainty carried into lambda's
+        interval, so that it covers a lambda fitted to another resolution inside it.
     shape_scale, shape_scale_normal_load : ndarray or None
         The shape fit's least-squares factor c of each measured curve (A_measured ~ c
         A_model, dimensionless; 1 in mode ``absolute``) and that curve's F_z (N). A factor
@@ -414,6 +422,12 @@ class ModeMixityChoice:
     )
     shape_scale_normal_load: np.ndarray | None = array(
         "N", ("measured_curve",), "normal load of each measured curve", optional=True
+    )
+    profile_interval: np.ndarray | None = array(
+        "1", ("interval_end",), "the fit's own profile interval of lambda", optional=True
+    )
+    mode_mixity_roughness_shift: np.ndarray | None = array(
+        "1", ("interval_end",), "lambda fitted at the resolution interval's ends", optional=True
     )
 
     @classmethod
@@ -511,6 +525,7 @@ def calibrate_mode_mixity(
     executor: Executor | None = None,
     mode: str = "shape",
     trim: bool = True,
+    roughness_interval: Sequence[statmodel.Roughness] | None = None,
 ) -> ModeMixityChoice:
     """The lambda stage: fit lambda to measured A_r(F_x) curves, or keep ``material.mode_mixity``.
 
@@ -532,21 +547,39 @@ def calibrate_mode_mixity(
         Evaluates the loads in parallel.
     mode, trim
         Fit mode and trimming of :func:`pipelines.stages.fitting.fit_mode_mixity`.
+    roughness_interval : sequence of two statmodel.Roughness, optional
+        The statistics at the effective resolution's interval ends: lambda is fitted there too
+        and its interval is the union of the profile interval with those two fits (the
+        roughness's uncertainty reaches lambda; ``mode_mixity_roughness_shift``).
     """
     if not curves:
         return ModeMixityChoice(mode_mixity=material.mode_mixity, fitted=False)
-    model = functools.partial(
-        model_shear_area,
-        material=material,
-        roughness=roughness,
-        nominal_area=nominal_area,
-        max_tangential_displacement=max_tangential_displacement,
-        steps=max(steps, MIN_FIT_STEPS),
-        knobs=dict(knobs or {}),
-    )
+
+    def model_at(rough: statmodel.Roughness) -> functools.partial:
+        return functools.partial(
+            model_shear_area,
+            material=material,
+            roughness=rough,
+            nominal_area=nominal_area,
+            max_tangential_displacement=max_tangential_displacement,
+            steps=max(steps, MIN_FIT_STEPS),
+            knobs=dict(knobs or {}),
+        )
+
+    def fitted_at(rough: statmodel.Roughness) -> LambdaFit:
+        return fit_mode_mixity(
+            list(curves), model_at(rough), bounds=bounds, map_fn=map_fn, mode=mode, trim=trim
+        )
+
     map_fn = map if executor is None else executor.map
-    fit = fit_mode_mixity(list(curves), model, bounds=bounds, map_fn=map_fn, mode=mode, trim=trim)
+    fit = fitted_at(roughness)
     choice = ModeMixityChoice.from_fit(fit, curves)
+    choice.profile_interval = np.asarray(fit.interval, dtype=float)
+    if roughness_interval is not None:
+        _unite_with_roughness(
+            choice, [fitted_at(r) if _known(r) else None for r in roughness_interval]
+        )
+    model = model_at(roughness)
     outputs = map_fn(model, [fit.mode_mixity] * len(curves), [c.normal_load for c in curves])
     choice.model_real_area_at_measured = np.concatenate(
         [
@@ -555,6 +588,27 @@ def calibrate_mode_mixity(
         ]
     )
     return choice
+
+
+def _known(roughness: statmodel.Roughness) -> bool:
+    """eta, R, sigma_s all finite (an interval end that is known)."""
+    values = (roughness.asperity_density, roughness.summit_radius, roughness.summit_height_rms)
+    return bool(np.all(np.isfinite(values)))
+
+
+def _unite_with_roughness(choice: ModeMixityChoice, fits: list[LambdaFit | None]) -> None:
+    """lambda's interval united with the lambdas fitted at the resolution interval's ends (an
+    unknown end leaves that side as it is); ``mode_mixity_std`` half the new width."""
+    shift = np.array([math.nan if f is None else f.mode_mixity for f in fits], dtype=float)
+    choice.mode_mixity_roughness_shift = shift
+    low, high = float(choice.interval_low), float(choice.interval_high)
+    known = shift[np.isfinite(shift)]
+    if known.size and math.isfinite(low) and math.isfinite(high):
+        low, high = min(low, float(known.min())), max(high, float(known.max()))
+    choice.interval_low, choice.interval_high = low, high
+    choice.mode_mixity_std = (
+        0.5 * (high - low) if math.isfinite(low) and math.isfinite(high) else math.inf
+    )
 
 
 @document_fields
@@ -914,6 +968,7 @@ def compute_mode_mixity(context: StageContext) -> ModeMixityChoice:
         executor=context.executor,
         mode=config.fit.mode,
         trim=config.fit.trim_after_first_peak,
+        roughness_interval=context.result(STATISTICAL_MODEL).roughness_interval,
     )
 
 
