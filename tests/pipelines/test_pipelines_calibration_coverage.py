@@ -6,7 +6,7 @@ made by the model at a known resolution between the strides (25 um on a 256^2 pa
 resolution against the measured A_r(F_z); the lambda stage fits lambda at the located
 statistics, its interval united with the fits at the resolution interval's ends. Each one-sigma
 interval must hold its truth in at least the expected fraction of ten seeds (68 %: 7 of 10).
-Measured: resolution 7 / 10, lambda 7 / 10 (lambda 4 / 10 before the roughness's interval
+Measured: resolution 7 / 10, lambda 7 / 10 (lambda 6 / 10 before the roughness's interval
 reached lambda's: the fit at the located statistics alone is biased by the resolution's own
 error).
 """
