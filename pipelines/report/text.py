@@ -159,7 +159,9 @@ def adhesion_key_numbers(result: Run) -> list[tuple[str, str]]:
                 "BEM range uncertainty",
                 f"A_r/A_n +/- {bem.area_range_uncertainty:.3g} (half spread over h_0/2, h_0, "
                 f"2 h_0: {spread[0]:.4g}, {spread[1]:.4g}, {spread[2]:.4g} at "
-                f"{bem.check_load:.4g} N on the range search's grid)",
+                f"{bem.check_load:.4g} N on the range search's grid; a lower bound: at h_0 / 2 "
+                "the cohesive zone spans fewer elements than the rule asks, and the area keeps "
+                "rising as the range shortens with the zone resolved)",
             )
         )
     elif law == "pohrt-popov":
