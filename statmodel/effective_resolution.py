@@ -296,6 +296,9 @@ def locate_least_misfit(
     status = 2 if n_loads < 2 else (1 if direction or open_low or open_high else 0)
     ends_of_scan = {"finer": float(res[0]), "coarser": float(res[-1])}
     optimum = ends_of_scan.get(direction, math.exp(vertex[0]))
+    on_stride = np.isclose(res, optimum, rtol=1e-12, atol=0.0)
+    if on_stride.any():  # a stride kept (rule 2): its own value, not exp(log(value))
+        optimum = float(res[np.argmax(on_stride)])
     return EffectiveResolution(
         resolution=optimum,
         interval=ends,
@@ -327,7 +330,8 @@ def roughness_at_resolution(
 
     The map is resampled at the step ``resolution / sqrt(dx dy)`` (the scan's definition of
     resolution, :mod:`topo.scan`) by :func:`topo.fractional_resampling.fractional_resample`
-    and analysed by the Appendix A rule; at an integer step it is the scan's stride.
+    and analysed by the Appendix A rule; at an integer step (within 1e-9 relative, round-off)
+    it is the scan's stride.
 
     Raises
     ------
@@ -338,8 +342,8 @@ def roughness_at_resolution(
 
     pixel = math.sqrt(surface.dx * surface.dy)
     step = float(resolution) / pixel
-    if 1.0 - 1e-9 < step < 1.0:
-        step = 1.0
+    if abs(step - round(step)) < 1e-9 * step:  # a stride up to round-off (e.g. exp(log(x)))
+        step = float(round(step))
     stats = fractional_summit_statistics(
         surface, step, interpolation=interpolation, neighbours=neighbours
     )

@@ -249,3 +249,15 @@ def test_configured_lambda_is_said_assumed_with_a_decade(small_run):
     assert "lambda assumed" in fr.uncertainty_message
     header, _ = load_table(result)
     assert any("lambda assumed" in h for h in header)
+
+
+def test_a_stride_up_to_round_off_is_the_stride(small_map):
+    """exp(log(20 um)) is the stride 2, not a resampling 1e-16 off it: the statistics are the
+    scan's own (a kept stride reports the stride's statistics)."""
+    surface, scan, _, _ = small_map
+    index = int(np.flatnonzero(np.asarray(scan.stride) == 2)[0])
+    near = math.exp(math.log(float(scan.resolution[index])))
+    assert near != float(scan.resolution[index])  # round-off, as in the location
+    rough = roughness_at_resolution(surface, near)
+    assert rough.summit_radius == pytest.approx(float(scan.summit_radius[index]), rel=1e-12)
+    assert rough.asperity_density == pytest.approx(float(scan.asperity_density[index]), rel=1e-12)
