@@ -18,7 +18,10 @@ between them by these rules:
    (the default job's mean log ratio changes sign between 10 and 20 um). The least misfit
    m_min is then the model's own misfit evaluated at the vertex, never the parabola's value
    there (the summit statistics are jagged between strides, and a parabola through three
-   jagged points can dip to 0 where no resolution fits perfectly).
+   jagged points can dip to 0 where no resolution fits perfectly). **Never worse than a point
+   measured:** when that misfit exceeds the least misfit sampled (a stride or a refined
+   resolution), the vertex is dropped and the sampled resolution is the optimum
+   (``kept_sample`` says so, with both misfits).
 3. **Interval** (the profile rule of the lambda fit, :mod:`pipelines.fitting`): with
    S = n m^2 the residual sum of squares and s^2 = S_min/(n - 1) its one-parameter estimate of
    the residual variance, the one-sigma interval is where S <= S_min + s^2, i.e.
@@ -89,6 +92,9 @@ class EffectiveResolution:
         One of :data:`RESOLUTION_STATUS`.
     message : str
         One sentence: the optimum, the interval and any open side.
+    kept_sample : str
+        Empty, or the sentence saying that the parabola's vertex fitted worse than a sampled
+        resolution, which is reported instead (rule 2).
     """
 
     resolution: float
@@ -105,6 +111,7 @@ class EffectiveResolution:
     success: bool
     status: int
     message: str
+    kept_sample: str = ""
 
     @property
     def half_width(self) -> float:
@@ -267,8 +274,19 @@ def locate_least_misfit(
         raise InputError(f"n_loads: expected an integer >= 1, got {n_loads!r}")
     res, m = _check_curve(resolution, misfit)
     x, y2, vertex, direction, refined = _optimum(np.log(res), m**2, misfit_at)
+    kept = ""
     if misfit_at is not None and not direction:  # the model's own misfit there, not the
-        vertex = (vertex[0], float(misfit_at(math.exp(vertex[0]))) ** 2)  # parabola's floor
+        own = float(misfit_at(math.exp(vertex[0]))) ** 2  # parabola's floor
+        best = int(np.argmin(y2))
+        if own <= y2[best]:
+            vertex = (vertex[0], own)
+        else:  # never report a worse point than one measured (NaN: the vertex has no value)
+            kept = (
+                f"the parabola's vertex {math.exp(vertex[0]) * 1e6:.4g} um fits worse (misfit "
+                f"{math.sqrt(own):.3g}) than the resolution {math.exp(x[best]) * 1e6:.4g} um "
+                f"measured (misfit {math.sqrt(y2[best]):.3g}), which is reported instead"
+            )
+            vertex = (float(x[best]), float(y2[best]))
     low, high, threshold, open_low, open_high = _interval(x, y2, vertex, int(n_loads))
     open_low = open_low or (direction == "finer" and n_loads > 1)
     open_high = open_high or (direction == "coarser" and n_loads > 1)
@@ -276,6 +294,9 @@ def locate_least_misfit(
     status = 2 if n_loads < 2 else (1 if direction or open_low or open_high else 0)
     ends_of_scan = {"finer": float(res[0]), "coarser": float(res[-1])}
     optimum = ends_of_scan.get(direction, math.exp(vertex[0]))
+    on_stride = np.isclose(res, optimum, rtol=1e-12, atol=0.0)
+    if on_stride.any():  # a stride kept (rule 2): its own value, not exp(log(value))
+        optimum = float(res[np.argmax(on_stride)])
     return EffectiveResolution(
         resolution=optimum,
         interval=ends,
@@ -290,7 +311,9 @@ def locate_least_misfit(
         sampled_misfit=np.sqrt(y2),
         success=status == 0,
         status=status,
-        message=_message(optimum, ends, (open_low, open_high), direction),
+        message=_message(optimum, ends, (open_low, open_high), direction)
+        + (f"; {kept}" if kept else ""),
+        kept_sample=kept,
     )
 
 
@@ -305,7 +328,8 @@ def roughness_at_resolution(
 
     The map is resampled at the step ``resolution / sqrt(dx dy)`` (the scan's definition of
     resolution, :mod:`topo.scan`) by :func:`topo.fractional_resampling.fractional_resample`
-    and analysed by the Appendix A rule; at an integer step it is the scan's stride.
+    and analysed by the Appendix A rule; at an integer step (within 1e-9 relative, round-off)
+    it is the scan's stride.
 
     Raises
     ------
@@ -314,8 +338,8 @@ def roughness_at_resolution(
     """
     pixel = math.sqrt(surface.dx * surface.dy)
     step = float(resolution) / pixel
-    if 1.0 - 1e-9 < step < 1.0:
-        step = 1.0
+    if abs(step - round(step)) < 1e-9 * step:  # a stride up to round-off (e.g. exp(log(x)))
+        step = float(round(step))
     stats = fractional_summit_statistics(
         surface, step, interpolation=interpolation, neighbours=neighbours
     )

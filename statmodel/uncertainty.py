@@ -7,7 +7,9 @@ two calibrated inputs, each known within an interval:
 * the roughness (eta, R, sigma_s) over the effective resolution's interval
   (:func:`statmodel.effective_resolution.locate_least_misfit`, the statistics at its ends from
   :func:`statmodel.effective_resolution.roughness_at_resolution`);
-* the mode mixity lambda over its one-sigma profile interval (the lambda fit).
+* the mode mixity lambda over its one-sigma profile interval (the lambda fit). A configured
+  lambda (an interval of zero width, ends equal to lambda) carries no uncertainty: the message
+  says that lambda is assumed and left out of u.
 
 Rule (:func:`propagate_to_predictions`): the model is evaluated at the optimum and at both ends
 of each interval, the other input held at its optimum. The part of a source is the largest
@@ -209,7 +211,10 @@ def propagate_to_predictions(
         None if m is None else _predictions(curve, m, roughness, nominal_area, loads)
         for m in _lambda_ends(material, mode_mixity_interval)
     ]
-    return _assemble(loads, best, by_roughness, by_lambda, interval_open)
+    assumed = all(
+        end is not None and float(end) == material.mode_mixity for end in mode_mixity_interval
+    )
+    return _assemble(loads, best, by_roughness, by_lambda, interval_open, assumed)
 
 
 def _assemble(
@@ -218,6 +223,7 @@ def _assemble(
     by_roughness: list[dict[str, np.ndarray]],
     by_lambda: list[dict[str, np.ndarray] | None],
     interval_open: bool,
+    lambda_assumed: bool = False,
 ) -> PredictionUncertainty:
     """Parts, their quadrature sum and the status."""
     parts: dict[str, dict[str, np.ndarray]] = {}
@@ -238,10 +244,18 @@ def _assemble(
     if interval_open:
         notes.insert(0, "the effective resolution's interval is open: u is a lower bound")
     status = 1 if notes else 0
-    message = "; ".join(notes) or (
-        "roughness over the effective resolution's interval and lambda over its interval, "
-        "largest excursion each, in quadrature"
+    lam_text = (
+        "lambda assumed (configured, not fitted: it carries no uncertainty and u leaves it out)"
+        if lambda_assumed
+        else "lambda over its interval"
     )
+    if notes:
+        message = "; ".join([*notes, lam_text] if lambda_assumed else notes)
+    else:
+        message = (
+            f"roughness over the effective resolution's interval and {lam_text}, "
+            "largest excursion each, in quadrature"
+        )
     return PredictionUncertainty(
         normal_load=loads,
         value=best,

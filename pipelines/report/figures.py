@@ -174,8 +174,10 @@ def fit_excluded(scan: ScanResult) -> np.ndarray:
 def _mark_resolution(
     ax: Axes, xu: DisplayUnit, res: ResolutionChoice, scan: ScanResult, y: np.ndarray
 ) -> None:
-    """The effective resolution (dashed) and the strides left out of the fits (grey)."""
-    ax.axvline(xu(res.effective_resolution), color="k", ls="--", lw=1, label="effective")
+    """The effective resolution (dashed; the located one, whose statistics the model uses) and
+    the strides left out of the fits (grey)."""
+    at = xu(res.effective_resolution)
+    ax.axvline(at, color="k", ls="--", lw=1, label=f"effective, {at:.3g} {xu.symbol}")
     out = fit_excluded(scan)
     if out.any():
         ax.plot(
@@ -288,13 +290,16 @@ def _draw_area_vs_load(ax: Axes, result: Run, table: FigureTable) -> None:
         if bem.contact_fraction_adhesive is not None:
             series("BEM, adhesive", bem.normal_load, bem.contact_fraction_adhesive, "s", bars[1])
         non_adhesive_series(series, res)
-    draw_model_band(ax, fu, result, table, (x_col, y_col))
-    for i in sorted({0, res.index, len(res.stride) - 1}):
+    drawn = draw_model_band(ax, fu, result, table, (x_col, y_col))
+    strides = {0, len(res.stride) - 1} | (set() if drawn else {res.index})
+    colors = {0: "C9", len(res.stride) - 1: "C6"}
+    for i in sorted(strides):
         if np.all(np.isfinite(res.real_area[i])):
             ru = display_unit(res.resolution[i], "m")
-            name = f"model, {ru(res.resolution[i]):.3g} {ru.symbol}"
+            name = f"JKR model, {ru(res.resolution[i]):.3g} {ru.symbol}"
             name += " (stride of least misfit)" if i == res.index else ""
-            series(name, loads, res.real_area[i] / a_n, "-" if i == res.index else ":")
+            style = "-" if i == res.index else ":"
+            series(name, loads, res.real_area[i] / a_n, style, color=colors.get(i, "C3"))
     persson = persson_fraction(result)
     if persson is not None:
         series("Persson, non-adhesive", result.psd.normal_load, persson, "-.", color="C4")
@@ -310,9 +315,24 @@ def _draw_area_vs_load(ax: Axes, result: Run, table: FigureTable) -> None:
 
 
 def non_adhesive_series(series: Callable[..., None], res: ResolutionChoice) -> None:
-    """Fig 12d's non-adhesive pair: the model at w -> 0 (Greenwood-Williamson) at that pair's
-    least-misfit resolution, a grey dashed line with open triangles beside the open markers
-    of the non-adhesive BEM (the adhesive pair: the filled markers and the effective model)."""
+    """Fig 12d's like-for-like pairs at the effective resolution: Greenwood-Williamson (w = 0;
+    grey dashed, open triangles) beside the open markers of the non-adhesive BEM, and with a
+    Maugis-Dugdale BEM the Maugis-Dugdale model at its h_0 (dashed, filled triangles) beside the
+    filled markers. A run stored before these fields: the w = 0 model at the non-adhesive
+    pair's least-misfit stride."""
+    plain = getattr(res, "effective_real_area_non_adhesive", None)
+    if plain is not None:
+        ru = display_unit(res.effective_resolution, "m")
+        at = f"{ru(res.effective_resolution):.3g} {ru.symbol}"
+        name = f"GW model (w=0), {at} (pair of the non-adhesive BEM)"
+        series(name, res.normal_load, plain / res.nominal_area, "v--", color="0.4", mfc="none")
+        if getattr(res, "bem_law", None) == "maugis-dugdale":
+            hu = display_unit(res.bem_law_adhesion_range, "m")
+            h0 = f"{hu(res.bem_law_adhesion_range):.3g} {hu.symbol}"
+            name = f"MD model, h_0 = {h0}, {at} (pair of the adhesive BEM)"
+            md = res.effective_real_area_bem_law / res.nominal_area
+            series(name, res.normal_load, md, "^--", color="C2")
+        return
     index = getattr(res, "effective_index_non_adhesive", None)
     if index is None or res.real_area_non_adhesive is None:
         return
@@ -356,18 +376,21 @@ def draw_misfit(result: Run) -> tuple[Figure, FigureTable]:
     fig = new_figure(6, 4)
     ax = fig.subplots()
     table = FigureTable()
-    curves = [("against BEM", res.misfit_bem, "o-")]
+    law = getattr(res, "bem_law", None)
+    partner = {"maugis-dugdale": "MD model", "greenwood-williamson": "GW model"}.get(law, "model")
+    curves = [(f"{partner} against BEM", res.misfit_bem, "o-")]
     if res.misfit_measured is not None:
         curves.append(("against measured A_r(F_z)", res.misfit_measured, "s-"))
     for name, misfit, style in curves:
         if np.isfinite(misfit).any():
             ax.plot(xu(res.resolution), misfit, style, label=name)
             table.add("misfit", name, {"resolution (m)": res.resolution, "misfit (1)": misfit})
+    at_stride = res.resolution[res.effective_index]
     ax.axvline(
-        xu(res.effective_resolution),
+        xu(at_stride),
         color="k",
         ls="--",
-        label=f"stride of least misfit {xu(res.effective_resolution):.3g} {xu.symbol}",
+        label=f"stride of least misfit {xu(at_stride):.3g} {xu.symbol}",
     )
     draw_resolution_interval(ax, xu, res, table)
     ax.set_xlabel(xu.label("resolution"))
@@ -785,6 +808,25 @@ def draw_resolution_interval(
     low, high = np.asarray(res.optimum_interval, dtype=float)
     if math.isfinite(low) and math.isfinite(high):
         ax.axvspan(xu(low), xu(high), color="C2", alpha=0.2, label="one-sigma interval")
+    shift = getattr(res, "optimum_reference_shift", None)
+    if shift is not None:
+        own = np.asarray(res.optimum_misfit_interval, dtype=float)
+        if np.all(np.isfinite(own)):
+            ax.axvspan(xu(own[0]), xu(own[1]), color="C2", alpha=0.25, label="misfit's own")
+        for j, end in enumerate(shift):
+            if math.isfinite(end):
+                label = "optimum against BEM x (1 -/+ u)" if j == 0 else None
+                ax.axvline(xu(end), color="C2", ls=":", lw=1.2, label=label)
+        table.add(
+            "misfit",
+            "reference band",
+            {
+                "misfit interval low (m)": own[0],
+                "misfit interval high (m)": own[1],
+                "optimum against reference x (1 - u) (m)": shift[0],
+                "optimum against reference x (1 + u) (m)": shift[1],
+            },
+        )
     if res.sampled_resolution is not None:
         ax.plot(xu(res.sampled_resolution), res.sampled_misfit, "x", color="C2", ms=5)
         table.add(
@@ -821,11 +863,11 @@ def draw_model_band(
     a_n = fr.nominal_area
     value = np.asarray(fr.model_real_area, dtype=float) / a_n
     u = np.asarray(fr.model_real_area_uncertainty, dtype=float) / a_n
-    at = result.statistical_model.optimum_resolution
+    at = result.statistical_model.effective_resolution
     ru = display_unit(at, "m")
     lower_bound = bool(getattr(fr, "uncertainty_lower_bound", False))
     band = "u a lower bound, band not drawn" if lower_bound else "+- u"
-    name = f"model ({band}), {ru(at):.3g} {ru.symbol} (located optimum)"
+    name = f"JKR model ({band}), {ru(at):.3g} {ru.symbol} (effective: the predictions)"
     (line,) = ax.plot(fu(fr.normal_load), value, "-", color="C3", label=name)
     if not lower_bound:  # a lower bound has no upper edge to draw: a band would claim one
         low = np.maximum(value - u, 0.1 * value)  # a log axis: at most a decade below

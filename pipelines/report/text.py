@@ -38,10 +38,29 @@ from asperity.pipelines.stages.verdict import (
 
 
 def _grid_error_text(bem: BemReference) -> str:
-    """The grid used against the finest grid solved; the finest grid's own error is unknown."""
+    """The grid used: its discretisation error from the interpolated refinement where it was
+    measured; else against the finest grid solved (the finest grid's own error then unknown)."""
+    relative = getattr(bem, "discretisation_relative_uncertainty", None)
+    if relative is not None and np.all(np.isfinite(relative)):
+        return (
+            f"discretisation error +/- {float(np.max(relative)):.1%} (the grid used against its "
+            "Fourier-interpolated refinement, at the check load)"
+        )
     if bem.stride <= int(np.min(bem.check_stride)):
         return "the finest grid solved (its own error is not known)"
     return f"A_r {bem.grid_error:.2%} from the finest grid solved"
+
+
+def _range_resolution_text(bem: BemReference) -> str:
+    """Whether the h_0 / 2 solve resolved its cohesive zone (else the range part is a lower
+    bound)."""
+    note = getattr(bem, "range_sensitivity_note", None) or ""
+    if getattr(bem, "range_sensitivity_resolved", None):
+        return f"h_0 / 2 with its cohesive zone resolved{': ' + note if note else ''}"
+    return (
+        "a lower bound: at h_0 / 2 the cohesive zone spans fewer elements than the rule asks"
+        f"{': ' + note if note else ''}"
+    )
 
 
 def pixel_size_text(surface: LevelledSurface) -> str:
@@ -73,16 +92,24 @@ def key_numbers(result: Run) -> list[tuple[str, str]]:
         ("misfit at effective resolution", misfit_text(res)),
     ]
     if lam.fitted:
+        shift = getattr(lam, "mode_mixity_roughness_shift", None)
+        united = (
+            ""
+            if shift is None
+            else f"; interval {lam.interval_low:.4g}..{lam.interval_high:.4g}: the profile's "
+            f"united with lambda fitted at the resolution interval's ends ({shift[0]:.4g}, "
+            f"{shift[1]:.4g})"
+        )
         rows.append(
             (
                 "mode mixity lambda (fitted)",
                 f"{lam.mode_mixity:.4g} +/- {lam.mode_mixity_std:.2g} "
                 f"(rms relative residual {lam.residual_rms:.3g}, "
-                f"{lam.n_points} points)",
+                f"{lam.n_points} points{united})",
             )
         )
     else:
-        rows.append(("mode mixity lambda (configured)", f"{lam.mode_mixity:.4g}"))
+        rows.append(("mode mixity lambda (configured)", assumed_lambda_text(result)))
     rows += shape_scale_key_numbers(result)
     if bem is None:
         rows.append(("BEM", "not run ([bem] enabled = false): calibrated on the measurement"))
@@ -116,6 +143,28 @@ def key_numbers(result: Run) -> list[tuple[str, str]]:
     return [(k, mark(v, verdict) if k.startswith(judged) else v) for k, v in rows]
 
 
+def assumed_lambda_text(result: Run) -> str:
+    """The configured lambda, said to be assumed, and what a decade of it does to the static
+    friction at the lightest and heaviest loads (the friction stage's
+    ``static_friction_mode_mixity_decade``)."""
+    lam, fr = result.mode_mixity, result.friction
+    text = (
+        f"{lam.mode_mixity:.4g}, assumed: no measured A_r(F_x) curves, so lambda is not "
+        "fitted, carries no uncertainty and the error bars leave it out"
+    )
+    decade = getattr(fr, "static_friction_mode_mixity_decade", None)
+    if decade is None:
+        return text
+    low, high = fr.mode_mixity_decade
+    ends = [int(np.argmin(fr.normal_load)), int(np.argmax(fr.normal_load))]
+    moves = "; ".join(
+        f"F_s({fr.normal_load[i]:.3g} N) = {decade[0, i]:.3g} / {fr.static_friction[i]:.3g} / "
+        f"{decade[1, i]:.3g} N"
+        for i in dict.fromkeys(ends)
+    )
+    return f"{text}; a decade of lambda ({low:.3g} / {lam.mode_mixity:.3g} / {high:.3g}): {moves}"
+
+
 def adhesion_key_numbers(result: Run) -> list[tuple[str, str]]:
     """Rows of the adhesive BEM's law and range, the non-adhesive pair's resolution, and the
     adhesion regime (Persson-Tosatti, Pastewka-Robbins, Tabor); empty where not run."""
@@ -130,11 +179,12 @@ def adhesion_key_numbers(result: Run) -> list[tuple[str, str]]:
                 "BEM range uncertainty",
                 f"A_r/A_n +/- {bem.area_range_uncertainty:.3g} (half spread over h_0/2, h_0, "
                 f"2 h_0: {spread[0]:.4g}, {spread[1]:.4g}, {spread[2]:.4g} at "
-                f"{bem.check_load:.4g} N on the range search's grid)",
+                f"{bem.check_load:.4g} N; {_range_resolution_text(bem)})",
             )
         )
     elif law == "pohrt-popov":
         rows.append(("BEM adhesion", "Pohrt-Popov (Appendix B): no adhesion on loading"))
+    rows += bem_law_key_numbers(res, bem)
     index = getattr(res, "effective_index_non_adhesive", None)
     if index is not None:
         rows.append(
@@ -145,7 +195,86 @@ def adhesion_key_numbers(result: Run) -> list[tuple[str, str]]:
                 "adhesive pair chooses)",
             )
         )
+    rows += gain_key_numbers(result)
     return rows + regime_key_numbers(getattr(result, "verdict", None))
+
+
+def _gain_text(gain: np.ndarray) -> str:
+    """Relative gains (1) as ``+a .. +b %`` over the loads."""
+    gain = np.asarray(gain, dtype=float) * 100
+    if not np.isfinite(gain).any():
+        return "?"
+    low, high = float(np.nanmin(gain)), float(np.nanmax(gain))
+    return f"{low:+.3g} %" if np.isclose(low, high, rtol=0.05) else f"{low:+.3g} .. {high:+.3g} %"
+
+
+def adhesive_gains(result: Run) -> dict[str, np.ndarray] | None:
+    """The adhesive gains over the non-adhesive partner per load (1) at the effective
+    resolution: the BEM's (adhesive / non-adhesive - 1), the model's under the BEM's law
+    (Maugis-Dugdale / Greenwood-Williamson - 1) and the JKR model's (JKR / GW - 1); None
+    without the pairs."""
+    res, bem, fr = result.statistical_model, result.bem_reference, result.friction
+    plain = getattr(res, "effective_real_area_non_adhesive", None)
+    if bem is None or plain is None or bem.contact_fraction_adhesive is None:
+        return None
+    jkr = getattr(fr, "model_real_area", None)
+    if jkr is None:
+        jkr = getattr(res, "optimum_real_area", None)
+    out = {
+        "bem": np.asarray(bem.contact_fraction_adhesive) / np.asarray(bem.contact_fraction) - 1,
+        "model": np.asarray(res.effective_real_area_bem_law) / plain - 1,
+    }
+    if jkr is not None:
+        out["jkr"] = np.asarray(jkr) / plain - 1
+    return out
+
+
+def bem_law_key_numbers(res: object, bem: BemReference | None) -> list[tuple[str, str]]:
+    """Rows of the like-for-like calibration: the model's law paired with the BEM, the
+    adhesive gains at the effective resolution, the BEM's Maugis parameter beside the JKR
+    model's Tabor parameter and what follows (empty without a BEM)."""
+    law = getattr(res, "bem_law", None)
+    if law is None:
+        return []
+    if law == "maugis-dugdale":
+        h0 = res.bem_law_adhesion_range
+        pair = (
+            f"Maugis-Dugdale statistical model at the BEM's h_0 = {h0 * 1e6:.4g} um (sigma_0 = "
+            "w / h_0) against the Maugis-Dugdale BEM; Greenwood-Williamson against the "
+            "non-adhesive BEM; the JKR/PC model makes the predictions at that resolution"
+        )
+    else:
+        pair = (
+            "Greenwood-Williamson (w = 0) against the BEM (its loading branch carries no "
+            "adhesion); the JKR/PC model makes the predictions at that resolution"
+        )
+    rows = [("calibration pair (like for like)", pair)]
+    return rows
+
+
+def gain_key_numbers(result: Run) -> list[tuple[str, str]]:
+    """The adhesive gains at the effective resolution and the regime statement."""
+    res = result.statistical_model
+    rows = []
+    gains = adhesive_gains(result)
+    if gains is not None:
+        text = (
+            f"BEM {_gain_text(gains['bem'])}; model under the BEM's law "
+            f"{_gain_text(gains['model'])}"
+        )
+        if "jkr" in gains:
+            text += f"; JKR model (predictions) {_gain_text(gains['jkr'])}"
+        rows.append(("adhesive gain over non-adhesive at the effective resolution", text))
+    lam = getattr(res, "maugis_parameter", None)
+    if lam is not None:
+        rows.append(
+            (
+                "BEM Maugis parameter / model Tabor parameter",
+                f"lambda = {lam:.3g} / mu = {res.tabor_parameter:.4g} at R = "
+                f"{res.summit_radius * 1e3:.4g} mm: {res.adhesion_statement}",
+            )
+        )
+    return rows
 
 
 def regime_key_numbers(verdict: Verdict) -> list[tuple[str, str]]:
@@ -208,25 +337,55 @@ def load_table(result: Run) -> tuple[list[str], list[list[str]]]:
         + row[7:]
         for row in rows
     ]
-    return non_adhesive_column(result, header, rows)
+    header, rows = non_adhesive_column(result, header, rows)
+    return decade_column(result, header, rows)
+
+
+def decade_column(
+    result: Run, header: list[str], rows: list[list[str]]
+) -> tuple[list[str], list[list[str]]]:
+    """With an assumed lambda, the static friction at lambda / sqrt(10) and x sqrt(10) per load
+    (what a decade of the unfitted lambda does; not an error bar)."""
+    fr = result.friction
+    decade = getattr(fr, "static_friction_mode_mixity_decade", None)
+    if decade is None:
+        return header, rows
+    low, high = fr.mode_mixity_decade
+    name = f"static F_x at lambda {low:.3g} .. {high:.3g} (N, lambda assumed)"
+    cells = [f"{decade[0, i]:.4g} .. {decade[1, i]:.4g}" for i in range(decade.shape[1])]
+    return [*header, name], [[*row, cell] for row, cell in zip(rows, cells, strict=True)]
 
 
 def non_adhesive_column(
     result: Run, header: list[str], rows: list[list[str]]
 ) -> tuple[list[str], list[list[str]]]:
-    """The load table with the non-adhesive pair's model column (w = 0, Greenwood-Williamson,
-    at that pair's least-misfit resolution) appended: its partner is "A_r/A_n BEM"; the
-    adhesive pair is "A_r/A_n BEM adh." and "A_r/A_n model"."""
+    """The load table with the like-for-like partners at the effective resolution appended:
+    Greenwood-Williamson (w = 0; partner of "A_r/A_n BEM") and, with a Maugis-Dugdale BEM,
+    the Maugis-Dugdale model (partner of "A_r/A_n BEM adh."); "A_r/A_n model" is the JKR
+    model that makes the predictions. Without them (a run stored before), the w = 0 model at
+    the non-adhesive pair's least-misfit stride."""
     res = result.statistical_model
-    index = getattr(res, "effective_index_non_adhesive", None)
-    if index is None or res.real_area_non_adhesive is None:
-        return header, rows
-    fraction = res.real_area_non_adhesive[index] / res.nominal_area
     verdict = getattr(result, "verdict", None)
-    header = [*header, f"A_r/A_n model w=0 ({res.resolution[index] * 1e6:.3g} um)"]
-    return header, [
-        [*row, mark(f"{f:.4g}", verdict)] for row, f in zip(rows, fraction, strict=True)
+    columns: list[tuple[str, np.ndarray]] = []
+    plain = getattr(res, "effective_real_area_non_adhesive", None)
+    at = f"{res.effective_resolution * 1e6:.4g} um"
+    if plain is not None:
+        columns.append((f"A_r/A_n model w=0 (GW, {at})", plain / res.nominal_area))
+        if getattr(res, "bem_law", None) == "maugis-dugdale":
+            md = res.effective_real_area_bem_law / res.nominal_area
+            columns.append((f"A_r/A_n model MD (BEM's law, {at})", md))
+    else:
+        index = getattr(res, "effective_index_non_adhesive", None)
+        if index is None or res.real_area_non_adhesive is None:
+            return header, rows
+        fraction = res.real_area_non_adhesive[index] / res.nominal_area
+        columns.append((f"A_r/A_n model w=0 ({res.resolution[index] * 1e6:.3g} um)", fraction))
+    header = [*header, *(name for name, _ in columns)]
+    rows = [
+        [*row, *(mark(f"{values[i]:.4g}", verdict) for _, values in columns)]
+        for i, row in enumerate(rows)
     ]
+    return header, rows
 
 
 def surface_section(result: Run) -> list[str]:

@@ -81,9 +81,8 @@ def model_cells(result: Run, i: int) -> list[str]:
 def resolution_text(res: ResolutionChoice) -> str:
     """The effective resolution row: the located optimum with its interval (um), and the
     stride of least misfit."""
-    stride = (
-        f"stride of least misfit {res.effective_stride}: {res.effective_resolution * 1e6:.4g} um"
-    )
+    at_stride = float(res.resolution[res.effective_index])
+    stride = f"stride of least misfit {res.effective_stride}: {at_stride * 1e6:.4g} um"
     if getattr(res, "optimum_resolution", None) is None:
         return f"{res.effective_resolution * 1e6:.4g} um (stride {res.effective_stride})"
     low, high = np.asarray(res.optimum_interval, dtype=float) * 1e6
@@ -92,7 +91,17 @@ def resolution_text(res: ResolutionChoice) -> str:
     interval = f"interval {low:.4g}..{high:.4g} um" if math.isfinite(low) else "no interval"
     if sides:
         interval += f", open on the {' and '.join(sides)} side"
-    return f"{res.optimum_resolution * 1e6:.4g} um ({interval}; {stride})"
+    shift = getattr(res, "optimum_reference_shift", None)
+    if shift is not None:
+        misfit_low, misfit_high = np.asarray(res.optimum_misfit_interval, dtype=float) * 1e6
+        interval += (
+            f": the misfit's {misfit_low:.4g}..{misfit_high:.4g} um united with the optima "
+            f"against the BEM reference times (1 -/+ u), {shift[0] * 1e6:.4g} and "
+            f"{shift[1] * 1e6:.4g} um"
+        )
+    if getattr(res, "optimum_kept_sample", None):
+        stride += "; a measured resolution fitted better than the parabola's vertex"
+    return f"{res.effective_resolution * 1e6:.4g} um ({interval}; {stride})"
 
 
 def misfit_text(res: ResolutionChoice) -> str:

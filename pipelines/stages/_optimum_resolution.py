@@ -58,9 +58,29 @@ def roughness_between_strides(surface: topo.HeightMap) -> Callable[[float], stat
     return roughness
 
 
-def misfit_function(
+def model_function(
     roughness: Callable[[float], statmodel.Roughness],
     areas: Callable[[statmodel.Roughness], np.ndarray],
+) -> Callable[[float], np.ndarray | None]:
+    """``model_at(resolution_m)``: the model's A_r (m^2) at the reference's loads there (None
+    when the map has no summits there), each resolution evaluated once (every reference the
+    stage tries reuses it)."""
+    cache: dict[float, np.ndarray | None] = {}
+
+    def model_at(resolution: float) -> np.ndarray | None:
+        key = float(resolution)
+        if key not in cache:
+            try:
+                cache[key] = np.asarray(areas(roughness(key)), dtype=float)
+            except InputError:
+                cache[key] = None
+        return cache[key]
+
+    return model_at
+
+
+def misfit_function(
+    model_at: Callable[[float], np.ndarray | None],
     reference: np.ndarray,
     log_misfit: Callable[[np.ndarray, np.ndarray], float],
 ) -> Callable[[float], float]:
@@ -68,11 +88,8 @@ def misfit_function(
     has no summits there or the model refuses the loads)."""
 
     def misfit_at(resolution: float) -> float:
-        try:
-            model = areas(roughness(resolution))
-        except InputError:
-            return math.nan
-        if not np.all(np.isfinite(model)):
+        model = model_at(resolution)
+        if model is None or not np.all(np.isfinite(model)):
             return math.nan
         return log_misfit(model, reference)
 
@@ -159,6 +176,78 @@ def _message(
     return text
 
 
+def _shifted_optima(
+    located: EffectiveResolution,
+    resolution: np.ndarray,
+    stride_areas: np.ndarray,
+    n_loads: int,
+    model_at: Callable[[float], np.ndarray | None],
+    reference: np.ndarray,
+    relative: np.ndarray,
+    log_misfit: Callable[[np.ndarray, np.ndarray], float],
+) -> list[EffectiveResolution | None]:
+    """The optimum located against the reference times (1 - u) and (1 + u) (u relative, per
+    load; a factor below 0.1 is held at 0.1); None where it fails.
+
+    The misfit against each shifted reference is taken at every resolution already sampled
+    (the strides' A_r and the refinement's, cached) and its least value placed by the parabola
+    of rule 1 of :func:`statmodel.effective_resolution.locate_least_misfit`; only when that
+    least value is at an end of the samples is the model evaluated again, between the end and
+    its neighbour (rule 2: the optimum may lie there).
+    """
+    strides = np.asarray(resolution, dtype=float)
+    extra = [r for r in np.asarray(located.sampled_resolution, float) if not np.isclose(
+        r, strides, rtol=1e-9, atol=0.0).any()]  # fmt: skip
+    points = np.concatenate([strides, extra])
+    tables = [np.asarray(row, dtype=float) for row in stride_areas]
+    for r in extra:
+        model = model_at(float(r))
+        tables.append(np.full(len(reference), np.nan) if model is None else model)
+    out: list[EffectiveResolution | None] = []
+    for sign in (-1.0, 1.0):
+        factor = np.maximum(1.0 + sign * np.nan_to_num(relative, nan=0.0), 0.1)
+        shifted = np.asarray(reference, dtype=float) * factor
+        misfit = np.array(
+            [log_misfit(row, shifted) if np.all(np.isfinite(row)) else np.nan for row in tables]
+        )
+        try:
+            found = locate_least_misfit(points, misfit, n_loads)
+            if found.direction:
+                found = locate_least_misfit(
+                    points,
+                    misfit,
+                    n_loads,
+                    misfit_at=misfit_function(model_at, shifted, log_misfit),
+                )
+            out.append(found)
+        except InputError:
+            out.append(None)
+    return out
+
+
+def unite_with_reference(
+    interval: np.ndarray,
+    opens: tuple[bool, bool],
+    shifted: list[EffectiveResolution | None],
+) -> tuple[np.ndarray, bool, bool, np.ndarray]:
+    """The interval (finer, coarser; m) united with the optima against the reference's band,
+    the open flags (a shifted optimum at an end of the scan opens that side; one not found
+    opens both), and those optima (m; NaN where not found)."""
+    low, high = (float(v) for v in interval)
+    open_finer, open_coarser = opens
+    points = np.full(2, np.nan)
+    for j, located in enumerate(shifted):
+        if located is None:
+            open_finer = open_coarser = True
+            continue
+        points[j] = located.resolution
+        if math.isfinite(low):
+            low, high = min(low, located.resolution), max(high, located.resolution)
+        open_finer = open_finer or located.direction == "finer"
+        open_coarser = open_coarser or located.direction == "coarser"
+    return np.array([low, high]), bool(open_finer), bool(open_coarser), points
+
+
 def optimum_fields(
     surface: topo.HeightMap,
     resolution: np.ndarray,
@@ -167,6 +256,9 @@ def optimum_fields(
     areas: Callable[[statmodel.Roughness], np.ndarray],
     reference: np.ndarray,
     log_misfit: Callable[[np.ndarray, np.ndarray], float],
+    *,
+    stride_areas: np.ndarray | None = None,
+    reference_relative_uncertainty: np.ndarray | None = None,
 ) -> OptimumFields:
     """The ``optimum_*`` and ``interval_*`` fields of the stage result (SI).
 
@@ -184,6 +276,15 @@ def optimum_fields(
         The reference A_r (m^2) at those loads.
     log_misfit : callable
         The stage's misfit rule.
+    stride_areas : ndarray, optional
+        The model's A_r (m^2) at the reference's loads per stride, shape (n_stride, n_loads):
+        with ``reference_relative_uncertainty`` the strides' misfits against the shifted
+        references.
+    reference_relative_uncertainty : ndarray, optional
+        The reference's relative one-sigma uncertainty per load (1): the optimum is also
+        located against the reference times (1 - u) and (1 + u) and the interval united with
+        those two optima (``optimum_reference_shift``; the misfit's own interval is
+        ``optimum_misfit_interval``).
 
     Returns
     -------
@@ -191,7 +292,8 @@ def optimum_fields(
         Empty when the misfit curve has no finite point to start from.
     """
     roughness = roughness_between_strides(surface)
-    misfit_at = misfit_function(roughness, areas, reference, log_misfit)
+    model_at = model_function(roughness, areas)
+    misfit_at = misfit_function(model_at, reference, log_misfit)
     try:
         located = locate_least_misfit(resolution, misfit, n_loads, misfit_at=misfit_at)
         best = roughness(located.resolution)
@@ -202,9 +304,30 @@ def optimum_fields(
     interval, open_finer, open_coarser = widen_interval(
         located, half_width, (float(finite.min()), float(finite.max()))
     )
+    extra: OptimumFields = {"optimum_misfit_interval": interval.copy()}
+    relative = reference_relative_uncertainty
+    if relative is not None and stride_areas is not None and np.any(np.nan_to_num(relative) > 0):
+        shifted = _shifted_optima(
+            located, resolution, stride_areas, n_loads, model_at, reference, relative, log_misfit
+        )
+        interval, open_finer, open_coarser, points = unite_with_reference(
+            interval, (open_finer, open_coarser), shifted
+        )
+        extra["optimum_reference_shift"] = points
     ends = _ends_roughness(interval, roughness)
     status = max(located.status, 1 if open_finer or open_coarser else 0)
+    message = _message(located, interval, (open_finer, open_coarser), half_width)
+    if "optimum_reference_shift" in extra:
+        points = extra["optimum_reference_shift"] * 1e6
+        message += (
+            f"; united with the optima against the reference's band, times (1 - u): "
+            f"{points[0]:.4g} um and (1 + u): {points[1]:.4g} um"
+        )
+    if located.kept_sample:
+        message += "; " + located.kept_sample
     return {
+        **extra,
+        "optimum_kept_sample": bool(located.kept_sample),
         "optimum_resolution": float(located.resolution),
         "optimum_interval": interval,
         "optimum_profile_interval": np.asarray(located.interval, dtype=float),
@@ -214,7 +337,7 @@ def optimum_fields(
         "optimum_open_coarser": open_coarser,
         "optimum_direction": located.direction,
         "optimum_status": int(status),
-        "optimum_message": _message(located, interval, (open_finer, open_coarser), half_width),
+        "optimum_message": message,
         "optimum_asperity_density": float(best.asperity_density),
         "optimum_summit_radius": float(best.summit_radius),
         "optimum_summit_height_rms": float(best.summit_height_rms),

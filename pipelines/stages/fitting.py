@@ -23,8 +23,15 @@ A_r(F_x)/A_r(F_x = 0), after the normal-contact step has fixed the resolution. H
 4. The model curve A_r(F_x) at each load is its stick branch (delta_T = 0 up to the static
    peak), interpolated at the measured F_x and held at the peak value beyond it. Residuals are
    r = (c A_model - A_measured) / max(A_measured) (every load weighs the same), minimised
-   together over q = log10(lambda) with :func:`scipy.optimize.least_squares`, started from the
-   best point of a coarse log grid so that a local minimum is not mistaken for the answer.
+   together over q = log10(lambda): a coarse log grid picks the best point (so that a local
+   minimum elsewhere is not mistaken for the answer), and a bounded Brent search
+   (:func:`scipy.optimize.minimize_scalar`, ``method="bounded"``) of the residual sum of
+   squares between that point's neighbours places the optimum between grid points; the result
+   is never worse than the best grid point. The objective must be smooth in lambda for this:
+   the job's model curve has its nodes at fixed fractions of the static peak's displacement
+   (:func:`pipelines.stages.friction.model_shear_area`), so the interpolated areas move
+   smoothly with lambda (a curve on nodes fixed in delta_T gave a jagged objective, on which a
+   gradient step stopped at its starting grid point).
 
 Uncertainty (profile likelihood): with S(q) the residual sum of squares and
 s^2 = S_min / (m - 1 - k) (m merged points, k fitted scale factors), the one-sigma interval is
@@ -43,7 +50,7 @@ from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.optimize import OptimizeResult, least_squares
+from scipy.optimize import OptimizeResult, minimize_scalar
 
 from asperity.errors import InputError
 from asperity.pipelines.measured import ShearAreaCurve
@@ -144,9 +151,19 @@ def area_up_to_peak(
 def interpolate_area(
     fx_model: np.ndarray, ar_model: np.ndarray, fx_measured: np.ndarray
 ) -> np.ndarray:
-    """Model A_r (m^2) at measured tangential forces (N), held at the end values outside."""
+    """Model A_r (m^2) at measured tangential forces (N) on the stick branch, held at the end
+    values outside.
+
+    Linear in s = sqrt(F_peak - F_x), not in F_x: near the static peak F_x is quadratic in
+    delta_T, so A_r(F_x) has a square-root end point, on which linear interpolation in F_x
+    errs by up to a node's change of A_r (and the error jumps as the nodes move with lambda:
+    a jagged fit objective), while A_r is smooth in s (s is linear in delta_T there).
+    """
     fx, ar = area_up_to_peak(fx_model, ar_model)
-    return np.interp(fx_measured, fx, ar)
+    peak = float(fx[-1])
+    s_model = np.sqrt(np.maximum(peak - fx, 0.0))[::-1]  # increasing
+    s_measured = np.sqrt(np.maximum(peak - np.asarray(fx_measured, dtype=float), 0.0))
+    return np.interp(s_measured, s_model, ar[::-1])
 
 
 def first_peak_end(tangential_force: np.ndarray, drop: float = PEAK_DROP) -> int:
@@ -220,6 +237,11 @@ class _Objective:
 
     def residuals(self, lam: float) -> np.ndarray:
         return self.parts(lam)[0]
+
+    @property
+    def n_residuals(self) -> int:
+        """Number of residuals (merged points over all curves)."""
+        return sum(len(c.real_area) for c in self.curves)
 
     def ssr(self, q: float) -> float:
         return float(np.sum(self.residuals(10.0**q) ** 2))
@@ -345,21 +367,23 @@ def fit_mode_mixity(
 def _refine(
     objective: _Objective, grid: np.ndarray, grid_rms: np.ndarray, log_bounds: tuple
 ) -> OptimizeResult:
-    """Least squares in log10(lambda) from the best grid point, within one grid step of it."""
+    """Bounded Brent search of the residual sum of squares in q = log10(lambda) between the
+    best grid point's neighbours (``x`` a one-element array); the best grid point when the
+    search ends above it (never worse than a point evaluated)."""
     q_low, q_high = log_bounds
-    start = math.log10(grid[int(np.argmin(grid_rms))])
+    best = int(np.argmin(grid_rms))
+    start = math.log10(grid[best])
     step = (q_high - q_low) / max(len(grid) - 1, 1)
     lo, hi = max(q_low, start - step), min(q_high, start + step)
-    return least_squares(
-        lambda q: objective.residuals(10.0 ** q[0]),
-        x0=[min(max(start, lo + 1e-9), hi - 1e-9)],
-        bounds=([lo], [hi]),
-        diff_step=[1e-3],
-        x_scale=[0.1],
-        xtol=1e-10,
-        ftol=1e-12,
-        gtol=1e-12,
+    result = minimize_scalar(
+        objective.ssr, bounds=(lo, hi), method="bounded", options={"xatol": 1e-6}
     )
+    grid_ssr = float(grid_rms[best]) ** 2 * objective.n_residuals
+    if not float(result.fun) <= grid_ssr:
+        result.x, result.fun = start, grid_ssr
+        result.message = f"{result.message}; the best grid point kept (the search ended above it)"
+    result.x = np.array([float(result.x)])
+    return result
 
 
 def _fitted_points(prepared: Sequence[ShearAreaCurve], fitted: np.ndarray) -> dict:

@@ -168,6 +168,11 @@ def _curve_job(
     )
 
 
+#: delta_T steps of the first curve of :func:`model_shear_area`, which only finds the static peak
+#: (the model refines the peak of the continuous F_x(delta_T) between grid points).
+PEAK_SEARCH_STEPS = 51
+
+
 def model_shear_area(
     mode_mixity: float,
     normal_load: float,
@@ -179,15 +184,33 @@ def model_shear_area(
     steps: int,
     knobs: Mapping[str, float],
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Model A_r(F_x) along the shear path for one lambda and load: (F_x N, A_r m^2)."""
-    curve = shear_curve_auto(
-        dataclasses.replace(material, mode_mixity=float(mode_mixity)),
+    """Model A_r(F_x) on its stick branch for one lambda and load: (F_x N, A_r m^2).
+
+    A first curve (on the given or automatic path, :data:`PEAK_SEARCH_STEPS` steps) finds the
+    static peak delta_s (:func:`statmodel.shear.static_friction_peak`, the continuous curve's
+    peak); the returned curve has ``steps`` equal steps from delta_T = 0 to delta_s, so its
+    last point is the static peak (F_x = static friction) and every node moves smoothly with
+    lambda. The lambda fit interpolates this curve at the measured F_x: its objective is then
+    smooth in lambda (on a path of fixed nodes in delta_T the interpolation nodes and the
+    grid peak jump as lambda moves, and the objective is jagged at the 1e-3 level). Where the
+    first curve finds no peak inside its path, that curve is returned.
+    """
+    changed = dataclasses.replace(material, mode_mixity=float(mode_mixity))
+    first = shear_curve_auto(
+        changed,
         roughness,
         nominal_area,
         normal_load,
         max_tangential_displacement=max_tangential_displacement,
-        steps=steps,
+        steps=min(steps, PEAK_SEARCH_STEPS),
         knobs=knobs,
+    )
+    peak = float(first.static_displacement)
+    path = np.asarray(first.tangential_displacement, dtype=float)
+    if not (math.isfinite(peak) and 0 < peak < path[-1]):
+        return np.asarray(first.tangential_force, float), np.asarray(first.real_area, float)
+    curve = statmodel.shear_curve(
+        changed, roughness, nominal_area, normal_load, np.linspace(0.0, peak, steps), **knobs
     )
     return np.asarray(curve.tangential_force, float), np.asarray(curve.real_area, float)
 
@@ -332,6 +355,14 @@ class ModeMixityChoice:
     model_real_area_at_measured : ndarray or None
         The model's A_r (m^2) at each measured (F_z, F_x) point with the fitted lambda
         (beside ``measured_real_area``).
+    profile_interval : ndarray or None
+        The fit's own one-sigma profile interval (low, high) at the effective resolution's
+        statistics (``interval_low`` / ``interval_high`` unite it with
+        ``mode_mixity_roughness_shift``).
+    mode_mixity_roughness_shift : ndarray or None
+        lambda fitted at the statistics of the effective resolution's interval ends (finer,
+        coarser; NaN where unknown): the roughness's uncertainty carried into lambda's
+        interval, so that it covers a lambda fitted to another resolution inside it.
     shape_scale, shape_scale_normal_load : ndarray or None
         The shape fit's least-squares factor c of each measured curve (A_measured ~ c
         A_model, dimensionless; 1 in mode ``absolute``) and that curve's F_z (N). A factor
@@ -391,6 +422,12 @@ class ModeMixityChoice:
     )
     shape_scale_normal_load: np.ndarray | None = array(
         "N", ("measured_curve",), "normal load of each measured curve", optional=True
+    )
+    profile_interval: np.ndarray | None = array(
+        "1", ("interval_end",), "the fit's own profile interval of lambda", optional=True
+    )
+    mode_mixity_roughness_shift: np.ndarray | None = array(
+        "1", ("interval_end",), "lambda fitted at the resolution interval's ends", optional=True
     )
 
     @classmethod
@@ -488,6 +525,7 @@ def calibrate_mode_mixity(
     executor: Executor | None = None,
     mode: str = "shape",
     trim: bool = True,
+    roughness_interval: Sequence[statmodel.Roughness] | None = None,
 ) -> ModeMixityChoice:
     """The lambda stage: fit lambda to measured A_r(F_x) curves, or keep ``material.mode_mixity``.
 
@@ -509,21 +547,39 @@ def calibrate_mode_mixity(
         Evaluates the loads in parallel.
     mode, trim
         Fit mode and trimming of :func:`pipelines.stages.fitting.fit_mode_mixity`.
+    roughness_interval : sequence of two statmodel.Roughness, optional
+        The statistics at the effective resolution's interval ends: lambda is fitted there too
+        and its interval is the union of the profile interval with those two fits (the
+        roughness's uncertainty reaches lambda; ``mode_mixity_roughness_shift``).
     """
     if not curves:
         return ModeMixityChoice(mode_mixity=material.mode_mixity, fitted=False)
-    model = functools.partial(
-        model_shear_area,
-        material=material,
-        roughness=roughness,
-        nominal_area=nominal_area,
-        max_tangential_displacement=max_tangential_displacement,
-        steps=max(steps, MIN_FIT_STEPS),
-        knobs=dict(knobs or {}),
-    )
+
+    def model_at(rough: statmodel.Roughness) -> functools.partial:
+        return functools.partial(
+            model_shear_area,
+            material=material,
+            roughness=rough,
+            nominal_area=nominal_area,
+            max_tangential_displacement=max_tangential_displacement,
+            steps=max(steps, MIN_FIT_STEPS),
+            knobs=dict(knobs or {}),
+        )
+
+    def fitted_at(rough: statmodel.Roughness) -> LambdaFit:
+        return fit_mode_mixity(
+            list(curves), model_at(rough), bounds=bounds, map_fn=map_fn, mode=mode, trim=trim
+        )
+
     map_fn = map if executor is None else executor.map
-    fit = fit_mode_mixity(list(curves), model, bounds=bounds, map_fn=map_fn, mode=mode, trim=trim)
+    fit = fitted_at(roughness)
     choice = ModeMixityChoice.from_fit(fit, curves)
+    choice.profile_interval = np.asarray(fit.interval, dtype=float)
+    if roughness_interval is not None:
+        _unite_with_roughness(
+            choice, [fitted_at(r) if _known(r) else None for r in roughness_interval]
+        )
+    model = model_at(roughness)
     outputs = map_fn(model, [fit.mode_mixity] * len(curves), [c.normal_load for c in curves])
     choice.model_real_area_at_measured = np.concatenate(
         [
@@ -532,6 +588,27 @@ def calibrate_mode_mixity(
         ]
     )
     return choice
+
+
+def _known(roughness: statmodel.Roughness) -> bool:
+    """eta, R, sigma_s all finite (an interval end that is known)."""
+    values = (roughness.asperity_density, roughness.summit_radius, roughness.summit_height_rms)
+    return bool(np.all(np.isfinite(values)))
+
+
+def _unite_with_roughness(choice: ModeMixityChoice, fits: list[LambdaFit | None]) -> None:
+    """lambda's interval united with the lambdas fitted at the resolution interval's ends (an
+    unknown end leaves that side as it is); ``mode_mixity_std`` half the new width."""
+    shift = np.array([math.nan if f is None else f.mode_mixity for f in fits], dtype=float)
+    choice.mode_mixity_roughness_shift = shift
+    low, high = float(choice.interval_low), float(choice.interval_high)
+    known = shift[np.isfinite(shift)]
+    if known.size and math.isfinite(low) and math.isfinite(high):
+        low, high = min(low, float(known.min())), max(high, float(known.max()))
+    choice.interval_low, choice.interval_high = low, high
+    choice.mode_mixity_std = (
+        0.5 * (high - low) if math.isfinite(low) and math.isfinite(high) else math.inf
+    )
 
 
 @document_fields
@@ -581,6 +658,14 @@ class FrictionPrediction:
         0 every uncertainty finite from closed intervals, 1 otherwise.
     uncertainty_message : str or None
         What limits the uncertainties, one sentence.
+    mode_mixity_assumed : bool or None
+        lambda is the configured value, not fitted to measured A_r(F_x): it carries no
+        uncertainty, and the error bars leave it out.
+    mode_mixity_decade : ndarray or None
+        With an assumed lambda: lambda / sqrt(10) and lambda x sqrt(10) (a decade about it).
+    static_friction_mode_mixity_decade : ndarray or None
+        The static friction (N) at those two lambdas, shape (2, n_load): what a decade of the
+        assumed lambda does to the prediction.
 
     The uncertainties come from :func:`statmodel.uncertainty.propagate_to_predictions`: the
     model at the roughness of both ends of the effective resolution's interval and at both ends
@@ -628,6 +713,18 @@ class FrictionPrediction:
     )
     uncertainty_status: int | None = scalar("1", "status of the uncertainties", optional=True)
     uncertainty_message: str | None = text("what limits the uncertainties", optional=True)
+    mode_mixity_assumed: bool | None = scalar(
+        "1", "lambda configured, not fitted (no uncertainty)", optional=True
+    )
+    mode_mixity_decade: np.ndarray | None = array(
+        "1", ("mode_mixity_end",), "lambda / sqrt(10) and lambda x sqrt(10)", optional=True
+    )
+    static_friction_mode_mixity_decade: np.ndarray | None = array(
+        "N",
+        ("mode_mixity_end", "normal_load"),
+        "static friction at lambda / sqrt(10) and x sqrt(10)",
+        optional=True,
+    )
 
     def __post_init__(self) -> None:
         self.constant_shear_strength_force = self.shear_strength * np.asarray(self.real_area)
@@ -650,6 +747,7 @@ def friction_prediction(
     roughness_interval: Sequence[statmodel.Roughness] | None = None,
     mode_mixity_interval: tuple[float, float] | None = None,
     interval_open: bool = False,
+    mode_mixity_assumed: bool = False,
     executor: Executor | None = None,
     progress: bool = False,
 ) -> FrictionPrediction:
@@ -679,6 +777,9 @@ def friction_prediction(
         lambda's one-sigma interval (default: lambda itself, no lambda part).
     interval_open : bool
         The effective resolution's interval is open on a side (uncertainties: lower bounds).
+    mode_mixity_assumed : bool
+        lambda is configured, not fitted: the static friction is also computed at a decade
+        about it (lambda / sqrt(10), lambda x sqrt(10)) and stored beside the predictions.
     executor : Executor, optional
         Runs the loads in parallel.
     """
@@ -705,6 +806,11 @@ def friction_prediction(
         for f in loads
     ]
     results = run_map(_curve_job, jobs, executor, desc="shear curves", progress=progress)
+    decade = (
+        _mode_mixity_decade(material, jobs, executor)
+        if mode_mixity_assumed and material.mode_mixity > 0
+        else {}
+    )
     names = (*CURVE_FIELDS, *CURVE_SCALARS)
     per_load = {name: np.array([r[name] for r in results]) for name in names}
     return FrictionPrediction(
@@ -719,6 +825,7 @@ def friction_prediction(
         quadrature_knobs=quad.knobs,
         quadrature_ladder=quad.ladder,
         quadrature_reason=quad.reason,
+        **decade,
         **per_load,
         **prediction_uncertainty(
             material,
@@ -737,6 +844,28 @@ def friction_prediction(
             ),
         ),
     )
+
+
+#: The factor about an assumed lambda shown in the report (a decade: sqrt(10) each way).
+DECADE_FACTOR = math.sqrt(10.0)
+
+
+def _mode_mixity_decade(
+    material: statmodel.Material, jobs: list[tuple], executor: Executor | None
+) -> dict[str, np.ndarray | bool]:
+    """The static friction (N) per load at lambda / sqrt(10) and lambda x sqrt(10) (the
+    friction stage's own path and quadrature), with those lambdas and the assumed flag."""
+    lams = np.array([material.mode_mixity / DECADE_FACTOR, material.mode_mixity * DECADE_FACTOR])
+    rows = []
+    for lam in lams:
+        changed = dataclasses.replace(material, mode_mixity=float(lam))
+        moved = [(changed, *job[1:]) for job in jobs]
+        rows.append([r["static_friction"] for r in run_map(_curve_job, moved, executor)])
+    return {
+        "mode_mixity_assumed": True,
+        "mode_mixity_decade": lams,
+        "static_friction_mode_mixity_decade": np.array(rows, dtype=float),
+    }
 
 
 def _shear_curve_at(
@@ -839,6 +968,7 @@ def compute_mode_mixity(context: StageContext) -> ModeMixityChoice:
         executor=context.executor,
         mode=config.fit.mode,
         trim=config.fit.trim_after_first_peak,
+        roughness_interval=context.result(STATISTICAL_MODEL).roughness_interval,
     )
 
 
@@ -859,6 +989,7 @@ def compute_friction(context: StageContext) -> FrictionPrediction:
         roughness_interval=res.roughness_interval,
         mode_mixity_interval=mode_mixity_interval(lam),
         interval_open=res.interval_open,
+        mode_mixity_assumed=not lam.fitted,
         executor=context.executor,
         progress=context.progress,
     )

@@ -1,18 +1,38 @@
 """The statistical-model stage: the statistical model at every resolution, and the effective
 resolution (Fig 12d).
 
-For each stride of the resolution scan, the summit statistics (eta, R, sigma_s) feed
-:func:`statmodel.real_area_at_loads` (E:Ar_Greenwood with the load fixed by E:Fy_Greenwood) at
-the job's normal loads. The misfit of a resolution is the root mean square over loads of
+For each stride of the resolution scan, the summit statistics (eta, R, sigma_s) feed the
+statistical model (E:Ar_Greenwood with the load fixed by E:Fy_Greenwood) at the job's normal
+loads. The misfit of a resolution is the root mean square over loads of
 ln(A_model / A_reference): a relative error, so light and heavy loads weigh the same. The
-reference is the user's measured A_r(F_z) when given (the paper's choice, Section 5), otherwise
-the BEM on the map (adhesive when run). The effective resolution is the one of least misfit.
+reference is the user's measured A_r(F_z) when given (the paper's choice, Section 5), compared
+with the JKR model; otherwise the BEM on the map, compared with the model under the BEM's own
+adhesion law. The effective resolution is the least misfit located between the strides
+(:mod:`~asperity.pipelines.stages._optimum_resolution`); ``effective_resolution`` and the summit
+statistics of the result are those there, and ``effective_stride`` is the scan's stride of least
+misfit.
 
-Two pairs are compared when the BEM ran: the adhesive model (JKR asperities, E:JKR_load)
-against the adhesive BEM (Maugis-Dugdale by default: adhesive on loading), which chooses the
-effective resolution; and the non-adhesive model (w -> 0: Greenwood-Williamson) against the
-non-adhesive BEM, whose own least-misfit resolution is stored beside it
-(``effective_resolution_non_adhesive``) and reported, not used.
+**Like for like** (the calibration against the BEM). Each BEM reference is compared with the
+statistical model under the same law:
+
+* the Maugis-Dugdale BEM (``[bem] adhesion = "maugis"``) with the Maugis-Dugdale statistical
+  model at the BEM's range h_0 and cohesive stress sigma_0 = w / h_0
+  (:func:`statmodel.maugis_rough.maugis_rough_contact`, ``real_area_bem_law``): this pair
+  chooses the effective resolution;
+* the non-adhesive BEM with Greenwood-Williamson (w = 0, ``real_area_non_adhesive``), whose own
+  least-misfit stride is stored beside it (``effective_resolution_non_adhesive``);
+* a Pohrt-Popov BEM (``adhesion = "pohrt-popov"``, no adhesion on its loading branch) or a BEM
+  without its adhesive solves with Greenwood-Williamson, which then chooses.
+
+The JKR/PC model (``real_area``, E:JKR_load) is the one that makes the predictions (the friction
+stage) at that effective resolution; the BEM at a grid-resolved range cannot check its larger
+adhesive gain, and the report says so (:func:`statmodel.maugis_rough.adhesion_regime`).
+
+**The reference's uncertainty.** With a BEM reference the effective resolution is also located
+against the reference times (1 - u) and (1 + u), u its relative one-sigma or grid-convergence
+band per load (``BemReference.reference_fraction_uncertainty``), and the interval is the union of
+the misfit interval with those two optima (``optimum_reference_shift``); the predictions' error
+bars follow from the interval's ends (the friction stage).
 """
 
 from __future__ import annotations
@@ -38,6 +58,7 @@ from asperity.pipelines.stages._optimum_resolution import OptimumFields, optimum
 from asperity.pipelines.stages._pull_off import has_summits, pull_off_forces, roughness_from_scan
 from asperity.pipelines.stages.bem import BEM, BemReference
 from asperity.pipelines.stages.surface import SCAN, SURFACE, ScanResult
+from asperity.statmodel.maugis_rough import adhesion_regime, maugis_rough_contact
 
 #: Above this A_r/A_n the asperities of the statistical model would overlap: independent
 #: asperities (the Greenwood-Williamson / Fuller-Tabor picture) are no longer a fair model.
@@ -107,6 +128,61 @@ def areas_at_loads(
         return np.full(len(normal_loads), np.nan), str(exc)
 
 
+#: ``ResolutionChoice.bem_law`` values: the statistical model's law paired with the BEM reference.
+MAUGIS_DUGDALE, GREENWOOD_WILLIAMSON = "maugis-dugdale", "greenwood-williamson"
+
+
+def bem_law_of(bem: BemReference | None, work_of_adhesion: float) -> tuple[str, float | None]:
+    """The statistical model's law that the BEM reference is compared with, and its range (m).
+
+    ``(MAUGIS_DUGDALE, h_0)`` for a Maugis-Dugdale BEM with its adhesive solves (w > 0);
+    ``(GREENWOOD_WILLIAMSON, None)`` otherwise: a Pohrt-Popov BEM (its loading branch carries
+    no adhesion), a BEM without adhesive solves, or w = 0.
+    """
+    if (
+        bem is not None
+        and work_of_adhesion > 0
+        and getattr(bem, "adhesion", None) == "maugis"
+        and bem.contact_fraction_adhesive is not None
+        and getattr(bem, "adhesion_range", None)
+    ):
+        return MAUGIS_DUGDALE, float(bem.adhesion_range)
+    return GREENWOOD_WILLIAMSON, None
+
+
+def bem_law_areas_at_loads(
+    material: statmodel.Material,
+    roughness: statmodel.Roughness,
+    nominal_area: float,
+    normal_loads: Sequence[float],
+    adhesion_range: float | None,
+) -> tuple[np.ndarray, str]:
+    """A_r (m^2) of the statistical model under the BEM's law at the loads, and a refusal.
+
+    With ``adhesion_range`` h_0 (m): Maugis-Dugdale asperities at sigma_0 = w / h_0
+    (:func:`statmodel.maugis_rough.maugis_rough_contact`, the BEM's loading branch); with None:
+    Greenwood-Williamson (w = 0, E:Ar_Greenwood with Hertzian asperities). NaN where the model
+    gives no value, with its message.
+    """
+    if adhesion_range is None:
+        plain = dataclasses.replace(material, work_of_adhesion=0.0)
+        return areas_at_loads(plain, roughness, nominal_area, normal_loads)
+    try:
+        out = maugis_rough_contact(
+            roughness,
+            material.e_star,
+            material.work_of_adhesion,
+            adhesion_range,
+            nominal_area,
+            np.asarray(normal_loads, dtype=float),
+        )
+    except (ValueError, ArithmeticError) as exc:
+        return np.full(len(normal_loads), np.nan), str(exc)
+    area = np.where(out.success, out.real_area, np.nan)
+    failed = [m for m, ok in zip(out.message, out.success, strict=True) if not ok]
+    return area, "; ".join(sorted(set(failed)))
+
+
 def log_misfit(model: np.ndarray, reference: np.ndarray) -> float:
     """Root mean square of ln(model / reference) over entries where both are positive.
 
@@ -134,21 +210,23 @@ class ResolutionChoice:
     normal_load : ndarray
         F_z, N.
     real_area, real_area_fraction : ndarray, shape (n_stride, n_load)
-        Model A_r (m^2) and A_r/A_n.
+        JKR model A_r (m^2) and A_r/A_n: the model that makes the predictions.
     misfit_bem : ndarray
-        RMS ln-ratio misfit against the BEM fraction at each stride (NaN without BEM).
+        RMS ln-ratio misfit of the model under the BEM's law (``real_area_bem_law``) against
+        the BEM reference at each stride (NaN without BEM).
     pull_off : ndarray
         Pull-off force at each stride, N.
     basis : str
         What chose the effective resolution: "measured" or "bem".
     effective_index, effective_stride : int
-        Index and stride of the effective resolution.
+        Index and stride of the scan's stride of least misfit.
     effective_resolution : float
-        Its pixel size, m.
+        The effective resolution, m: the least misfit located between the strides when the
+        map was given (``optimum_resolution``), else the stride of least misfit's pixel size.
     asperity_density, summit_radius, summit_height_rms : float
-        eta (1/m^2), R (m), sigma_s (m) at the effective resolution.
+        eta (1/m^2), R (m), sigma_s (m) at ``effective_resolution`` (the map resampled there).
     tabor_parameter : float
-        mu at the effective resolution (the located optimum when there is one).
+        mu at ``effective_resolution``.
     nominal_area : float
         A_n, m^2.
     messages : list of str
@@ -164,6 +242,32 @@ class ResolutionChoice:
         RMS ln-ratio misfit against the measured A_r(F_z).
     real_area_non_adhesive : ndarray or None
         Non-adhesive (w -> 0, Greenwood-Williamson) model A_r (m^2), shape (n_stride, n_load).
+    bem_law : str or None
+        The statistical model's law paired with the BEM reference: ``"maugis-dugdale"`` (a
+        Maugis-Dugdale BEM) or ``"greenwood-williamson"`` (Pohrt-Popov, no adhesive solves).
+    bem_law_adhesion_range : float or None
+        Its range h_0 (m), the BEM stage's (sigma_0 = w / h_0); None for Greenwood-Williamson.
+    real_area_bem_law : ndarray or None
+        The model under the BEM's law, A_r (m^2), shape (n_stride, n_load): the BEM
+        reference's like-for-like partner (its misfit is ``misfit_bem``).
+    effective_real_area_bem_law, effective_real_area_non_adhesive : ndarray or None
+        The model under the BEM's law and Greenwood-Williamson at ``effective_resolution``,
+        A_r (m^2) per load (Fig 12d's pairs; their ratio is the model's adhesive gain).
+    maugis_parameter : float or None
+        The BEM's Maugis parameter lambda at the effective resolution's summit radius.
+    adhesion_statement : str or None
+        The BEM's law beside the JKR model's Tabor parameter, and what follows for the
+        predictions (:func:`statmodel.maugis_rough.adhesion_regime`).
+    reference_relative_uncertainty : ndarray or None
+        The BEM reference's relative uncertainty per reference load (1), propagated into the
+        effective resolution's interval.
+    optimum_misfit_interval : ndarray or None
+        The interval from the misfit alone (finer, coarser end), m.
+    optimum_reference_shift : ndarray or None
+        The effective resolution located against the reference times (1 - u) and (1 + u), m.
+    optimum_kept_sample : bool or None
+        The parabola's vertex fitted worse than a resolution measured (a stride or a refined
+        sample): that resolution is reported instead.
     misfit_bem_non_adhesive : ndarray or None
         RMS ln-ratio misfit of the non-adhesive model against the non-adhesive BEM.
     effective_index_non_adhesive : int or None
@@ -173,12 +277,11 @@ class ResolutionChoice:
     optimum_resolution : float or None
         The effective resolution between the strides (m): the least misfit located by
         :func:`statmodel.effective_resolution.locate_least_misfit` (parabola in ln resolution,
-        refined on the map resampled at non-integer steps). ``effective_resolution`` and
-        ``effective_stride`` stay the scan's stride of least misfit (Fig 12).
+        refined on the map resampled at non-integer steps); equal to ``effective_resolution``.
     optimum_interval : ndarray or None
         Its one-sigma interval (finer end, coarser end), m; on an open side the scan's end:
-        the profile interval widened by the misfit's scatter between strides
-        (:mod:`~asperity.pipelines.stages._optimum_resolution`).
+        the profile interval widened by the misfit's scatter between strides, united with the
+        optima against the reference's band (:mod:`~asperity.pipelines.stages._optimum_resolution`).
     optimum_profile_interval : ndarray or None
         The profile interval of the loads' residuals alone, m.
     optimum_sampling_half_width : float or None
@@ -195,8 +298,8 @@ class ResolutionChoice:
     optimum_message : str or None
         One sentence: the optimum, its interval and any open side.
     optimum_asperity_density, optimum_summit_radius, optimum_summit_height_rms : float or None
-        eta (1/m^2), R (m), sigma_s (m) at ``optimum_resolution``: the roughness the lambda
-        and friction stages use.
+        eta (1/m^2), R (m), sigma_s (m) at ``optimum_resolution`` (the same as
+        ``asperity_density``, ``summit_radius``, ``summit_height_rms``).
     interval_asperity_density, interval_summit_radius, interval_summit_height_rms : ndarray
         The same at the interval's (finer, coarser) ends (NaN where unknown).
     optimum_real_area : ndarray or None
@@ -213,12 +316,12 @@ class ResolutionChoice:
         "m^2", ("stride", "normal_load"), "statistical-model real contact area"
     )
     real_area_fraction: np.ndarray = array("1", ("stride", "normal_load"), "A_r / A_n")
-    misfit_bem: np.ndarray = array("1", ("stride",), "rms ln(A_model / A_bem) over loads")
+    misfit_bem: np.ndarray = array("1", ("stride",), "rms ln(A_model,BEM law / A_bem) over loads")
     pull_off: np.ndarray = array("N", ("stride",), "pull-off force")
     basis: str = text("what chose the effective resolution: measured or bem")
-    effective_index: int = scalar("1", "index of the effective resolution")
-    effective_stride: int = scalar("1", "stride of the effective resolution")
-    effective_resolution: float = scalar("m", "pixel size of the effective resolution")
+    effective_index: int = scalar("1", "index of the stride of least misfit")
+    effective_stride: int = scalar("1", "stride of least misfit")
+    effective_resolution: float = scalar("m", "effective resolution (located between strides)")
     asperity_density: float = scalar("1/m^2", "eta at the effective resolution")
     summit_radius: float = scalar("m", "R at the effective resolution")
     summit_height_rms: float = scalar("m", "sigma_s at the effective resolution")
@@ -249,6 +352,46 @@ class ResolutionChoice:
     )
     misfit_bem_non_adhesive: np.ndarray | None = array(
         "1", ("stride",), "rms ln(A_model,w=0 / A_bem,non-adhesive) over loads", optional=True
+    )
+    bem_law: str | None = text("the model's law paired with the BEM reference", optional=True)
+    bem_law_adhesion_range: float | None = scalar(
+        "m", "Maugis-Dugdale range h_0 of that law", optional=True
+    )
+    real_area_bem_law: np.ndarray | None = array(
+        "m^2", ("stride", "normal_load"), "model A_r under the BEM's adhesion law", optional=True
+    )
+    effective_real_area_bem_law: np.ndarray | None = array(
+        "m^2",
+        ("normal_load",),
+        "model A_r under the BEM's law at the effective resolution",
+        optional=True,
+    )
+    effective_real_area_non_adhesive: np.ndarray | None = array(
+        "m^2",
+        ("normal_load",),
+        "Greenwood-Williamson A_r at the effective resolution",
+        optional=True,
+    )
+    maugis_parameter: float | None = scalar(
+        "1", "BEM's Maugis parameter at the effective resolution's summit radius", optional=True
+    )
+    adhesion_statement: str | None = text(
+        "the BEM's law beside the JKR model, and what follows", optional=True
+    )
+    reference_relative_uncertainty: np.ndarray | None = array(
+        "1", ("reference_load",), "relative uncertainty of the BEM reference", optional=True
+    )
+    optimum_misfit_interval: np.ndarray | None = array(
+        "m", ("interval_end",), "interval from the misfit alone", optional=True
+    )
+    optimum_reference_shift: np.ndarray | None = array(
+        "m",
+        ("interval_end",),
+        "optima against the reference times (1 - u), (1 + u)",
+        optional=True,
+    )
+    optimum_kept_sample: bool | None = scalar(
+        "1", "a measured resolution fitted better than the parabola's vertex", optional=True
     )
     effective_index_non_adhesive: int | None = scalar(
         "1", "index of the non-adhesive pair's least misfit", optional=True
@@ -309,14 +452,7 @@ class ResolutionChoice:
 
     @property
     def roughness(self) -> statmodel.Roughness:
-        """eta, R, sigma_s at the effective resolution: the located optimum between the
-        strides when there is one, else the stride of least misfit."""
-        if self.optimum_summit_radius is not None:
-            return statmodel.Roughness(
-                self.optimum_asperity_density,
-                self.optimum_summit_radius,
-                self.optimum_summit_height_rms,
-            )
+        """eta (1/m^2), R (m), sigma_s (m) at the effective resolution."""
         return statmodel.Roughness(
             self.asperity_density, self.summit_radius, self.summit_height_rms
         )
@@ -361,18 +497,25 @@ def _model_areas(
     material: statmodel.Material,
     roughness: dict[int, statmodel.Roughness],
     nominal_area: float,
-    loads: np.ndarray,
-    measured: NormalAreaCurve | None,
+    load_sets: list[np.ndarray],
     executor: Executor | None,
     progress: bool,
-) -> tuple[np.ndarray, np.ndarray | None, list[str]]:
-    """Model A_r (m^2) at the loads and at the measured loads, per stride; refusals."""
+    adhesion_range: float | None | bool = False,
+) -> tuple[list[np.ndarray], list[str]]:
+    """Model A_r (m^2) per stride at each set of loads (one table per set), and the refusals.
+
+    ``adhesion_range`` False: the JKR model (:func:`areas_at_loads`); None or h_0 (m): the model
+    under the BEM's law (:func:`bem_law_areas_at_loads`: Greenwood-Williamson, Maugis-Dugdale).
+    """
     n = len(scan.stride)
-    load_sets = [loads] if measured is None else [loads, measured.normal_load]
-    jobs = [(material, roughness[i], nominal_area, ls) for i in roughness for ls in load_sets]
-    results = iter(
-        run_map(areas_at_loads, jobs, executor, desc="statistical model", progress=progress)
-    )
+    if adhesion_range is False:
+        function, extra, desc = areas_at_loads, (), "statistical model"
+    else:
+        function, extra, desc = bem_law_areas_at_loads, (adhesion_range,), "model, BEM's law"
+    jobs = [
+        (material, roughness[i], nominal_area, ls, *extra) for i in roughness for ls in load_sets
+    ]
+    results = iter(run_map(function, jobs, executor, desc=desc, progress=progress))
     tables = [np.full((n, len(ls)), np.nan) for ls in load_sets]
     messages = []
     for i in roughness:
@@ -381,7 +524,7 @@ def _model_areas(
             if message:
                 messages.append(f"stride {int(scan.stride[i])}: {message}")
             table[i] = values
-    return tables[0], (tables[1] if measured is not None else None), messages
+    return tables, messages
 
 
 def _misfit_curve(
@@ -432,6 +575,53 @@ def _best_index(curve: np.ndarray, messages: list[str]) -> int:
     return int(np.nanargmin(np.where(np.isfinite(curve), curve, np.nan)))
 
 
+def _bem_pairs(
+    scan: ScanResult,
+    material: statmodel.Material,
+    roughness: dict[int, statmodel.Roughness],
+    nominal_area: float,
+    loads: np.ndarray,
+    bem: BemReference,
+    executor: Executor | None,
+    progress: bool,
+) -> tuple[dict, list[str]]:
+    """The like-for-like pairs' fields: Greenwood-Williamson against the non-adhesive BEM, and
+    the model under the BEM's law (``real_area_bem_law``) against the BEM reference."""
+    law, h0 = bem_law_of(bem, material.work_of_adhesion)
+    (plain,), messages = _model_areas(
+        scan, material, roughness, nominal_area, [loads], executor, progress, None
+    )
+    fields: dict = {"bem_law": law, "bem_law_adhesion_range": h0, "real_area_non_adhesive": plain}
+    if law == MAUGIS_DUGDALE:
+        (with_law,), more = _model_areas(
+            scan, material, roughness, nominal_area, [loads], executor, progress, h0
+        )
+        messages += more
+    else:
+        with_law = plain
+    fields["real_area_bem_law"] = with_law
+    fields["misfit_bem"] = _misfit_curve(
+        with_law, roughness, bem.reference_fraction() * nominal_area
+    )
+    misfit_plain = _misfit_curve(plain, roughness, bem.contact_fraction * nominal_area)
+    fields["misfit_bem_non_adhesive"] = misfit_plain
+    if np.isfinite(misfit_plain).any():
+        index = _best_index(misfit_plain, messages)
+        fields["effective_index_non_adhesive"] = index
+        fields["effective_resolution_non_adhesive"] = float(scan.resolution[index])
+    return fields, messages
+
+
+def _reference_relative_uncertainty(bem: BemReference) -> np.ndarray | None:
+    """The BEM reference's relative uncertainty per load (1), None when not estimated."""
+    u = bem.reference_fraction_uncertainty()
+    if u is None:
+        return None
+    reference = np.asarray(bem.reference_fraction(), dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(reference > 0, np.asarray(u, dtype=float) / reference, np.nan)
+
+
 def statistical_model_scan(
     scan: ScanResult,
     material: statmodel.Material,
@@ -444,8 +634,8 @@ def statistical_model_scan(
     executor: Executor | None = None,
     progress: bool = False,
 ) -> ResolutionChoice:
-    """The statistical-model stage: A_r(F_z) of the statistical model at every resolution; pick the
-    best one.
+    """The statistical-model stage: A_r(F_z) of the statistical model at every resolution; the
+    effective resolution.
 
     Parameters
     ----------
@@ -458,13 +648,15 @@ def statistical_model_scan(
     normal_loads : sequence of float
         F_z, N.
     bem : BemReference, optional
-        The BEM stage result; its A_r/A_n (adhesive when run) is a reference.
+        The BEM stage result: its adhesive A_r/A_n (when run) is the reference of the model
+        under its law, its non-adhesive one that of Greenwood-Williamson (module notes).
     measured : NormalAreaCurve, optional
-        Measured A_r(F_z); when given it chooses the effective resolution.
+        Measured A_r(F_z); when given it chooses the effective resolution (JKR model).
     surface : topo.HeightMap, optional
-        The levelled map (m) the scan decimated: with it the least misfit is also located
-        between the strides, with its interval (``optimum_*`` fields,
-        :mod:`~asperity.pipelines.stages._optimum_resolution`).
+        The levelled map (m) the scan decimated: with it the least misfit is located between
+        the strides, with its interval (``optimum_*`` fields,
+        :mod:`~asperity.pipelines.stages._optimum_resolution`), and the effective resolution
+        and its statistics are those there.
     executor : Executor, optional
         Runs the strides in parallel.
 
@@ -476,26 +668,41 @@ def statistical_model_scan(
         raise InputError("statistical_model_scan: expected bem= or measured=, got neither")
     loads = np.asarray(normal_loads, dtype=float)
     roughness = _scan_roughness(scan)
-    area, at_measured, messages = _model_areas(
-        scan, material, roughness, nominal_area, loads, measured, executor, progress
+    load_sets = [loads] if measured is None else [loads, measured.normal_load]
+    tables, messages = _model_areas(
+        scan, material, roughness, nominal_area, load_sets, executor, progress
     )
-    misfit_bem = _misfit_curve(
-        area, roughness, None if bem is None else bem.reference_fraction() * nominal_area
-    )
+    area, at_measured = tables[0], (tables[1] if measured is not None else None)
+    pairs: dict = {"misfit_bem": np.full(len(scan.stride), np.nan)}
+    if bem is not None:
+        found, more = _bem_pairs(
+            scan, material, roughness, nominal_area, loads, bem, executor, progress
+        )
+        pairs.update(found)
+        messages += more
     misfit_measured = None
     if measured is not None:
         misfit_measured = _misfit_curve(at_measured, roughness, measured.real_area)
     basis = "measured" if measured is not None else "bem"
-    index = _best_index(misfit_measured if measured is not None else misfit_bem, messages)
+    misfit = misfit_measured if measured is not None else pairs["misfit_bem"]
+    index = _best_index(misfit, messages)
     pull_off, pull_off_refusals = pull_off_forces(material, scan, nominal_area)
-    best = roughness[index]
-    located = {}
+    located: OptimumFields = {}
     if surface is not None:
         located = _locate_optimum(
-            surface, scan, misfit_measured if measured is not None else misfit_bem,
-            material, nominal_area, loads, measured, bem,
+            surface, scan, misfit, material, nominal_area, loads, measured, bem, pairs,
+            at_measured,
         )  # fmt: skip
-    mu, validity = _validity_at_optimum(located, best, area[index], material, nominal_area)
+    best = roughness[index]
+    effective = float(scan.resolution[index])
+    if located:
+        best = _located_roughness(located)
+        effective = float(located["optimum_resolution"])
+        located.update(_pairs_at(best, material, nominal_area, loads, pairs))
+    elif bem is not None:
+        located.update(_pairs_at(best, material, nominal_area, loads, pairs))
+    mu, validity = _validity_at(located, best, area[index], material, nominal_area)
+    located.update(_regime_fields(best, material, pairs))
     for note in validity:
         warnings.warn(note, ModelValidityWarning, stacklevel=2)
     return ResolutionChoice(
@@ -504,12 +711,11 @@ def statistical_model_scan(
         resolution=np.asarray(scan.resolution, dtype=float),
         real_area=area,
         real_area_fraction=area / nominal_area,
-        misfit_bem=misfit_bem,
         pull_off=pull_off,
         basis=basis,
         effective_index=index,
         effective_stride=int(scan.stride[index]),
-        effective_resolution=float(scan.resolution[index]),
+        effective_resolution=effective,
         asperity_density=best.asperity_density,
         summit_radius=best.summit_radius,
         summit_height_rms=best.summit_height_rms,
@@ -521,56 +727,73 @@ def statistical_model_scan(
         measured_real_area=None if measured is None else measured.real_area,
         model_real_area_at_measured=at_measured,
         misfit_measured=misfit_measured,
+        **pairs,
         **located,
     )
 
 
-def non_adhesive_pair(
-    choice: ResolutionChoice,
-    scan: ScanResult,
-    material: statmodel.Material,
-    bem: BemReference | None,
-    executor: Executor | None = None,
-) -> ResolutionChoice:
-    """``choice`` with the non-adhesive pair: the model at w -> 0 (Greenwood-Williamson,
-    E:Ar_Greenwood with Hertzian asperities) at every resolution against the non-adhesive BEM,
-    and that pair's least-misfit resolution (stored beside the effective one, not used).
-    Unchanged without a BEM or when the model is already non-adhesive."""
-    if bem is None or material.work_of_adhesion == 0:
-        return choice
-    plain = dataclasses.replace(material, work_of_adhesion=0.0)
-    roughness = _scan_roughness(scan)
-    area, _, messages = _model_areas(
-        scan, plain, roughness, choice.nominal_area, choice.normal_load, None, executor, False
+def _located_roughness(located: OptimumFields) -> statmodel.Roughness:
+    """eta (1/m^2), R (m), sigma_s (m) at the located optimum."""
+    return statmodel.Roughness(
+        located["optimum_asperity_density"],
+        located["optimum_summit_radius"],
+        located["optimum_summit_height_rms"],
     )
-    misfit = _misfit_curve(area, roughness, bem.contact_fraction * choice.nominal_area)
-    choice.real_area_non_adhesive = area
-    choice.misfit_bem_non_adhesive = misfit
-    if np.isfinite(misfit).any():
-        index = _best_index(misfit, messages)
-        choice.effective_index_non_adhesive = index
-        choice.effective_resolution_non_adhesive = float(scan.resolution[index])
-    return choice
 
 
-def _validity_at_optimum(
+def _pairs_at(
+    roughness: statmodel.Roughness,
+    material: statmodel.Material,
+    nominal_area: float,
+    loads: np.ndarray,
+    pairs: dict,
+) -> dict:
+    """The model under the BEM's law and Greenwood-Williamson at the effective resolution's
+    statistics, A_r (m^2) per load (empty without a BEM)."""
+    if "bem_law" not in pairs:
+        return {}
+    plain = bem_law_areas_at_loads(material, roughness, nominal_area, loads, None)[0]
+    h0 = pairs["bem_law_adhesion_range"]
+    with_law = (
+        plain
+        if h0 is None
+        else bem_law_areas_at_loads(material, roughness, nominal_area, loads, h0)[0]
+    )
+    return {"effective_real_area_bem_law": with_law, "effective_real_area_non_adhesive": plain}
+
+
+def _regime_fields(
+    roughness: statmodel.Roughness, material: statmodel.Material, pairs: dict
+) -> dict:
+    """The BEM's Maugis parameter at the effective summit radius and the statement beside the
+    JKR model's Tabor parameter (empty without a Maugis-Dugdale BEM)."""
+    if pairs.get("bem_law") != MAUGIS_DUGDALE:
+        return {}
+    regime = adhesion_regime(
+        roughness.summit_radius,
+        material.e_star,
+        material.work_of_adhesion,
+        pairs["bem_law_adhesion_range"],
+        material.equilibrium_distance,
+    )
+    return {
+        "maugis_parameter": float(regime.maugis_parameter),
+        "adhesion_statement": regime.statement,
+    }
+
+
+def _validity_at(
     located: OptimumFields,
     stride_best: statmodel.Roughness,
     stride_area: np.ndarray,
     material: statmodel.Material,
     nominal_area: float,
 ) -> tuple[float, list[str]]:
-    """The Tabor parameter (1) and the validity notes at the roughness the later stages use:
-    the located optimum when there is one, else the stride of least misfit."""
-    area = stride_area
-    best = stride_best
-    if located:
-        area = located["optimum_real_area"]
-        best = statmodel.Roughness(
-            located["optimum_asperity_density"],
-            located["optimum_summit_radius"],
-            located["optimum_summit_height_rms"],
-        )
+    """The Tabor parameter (1) and the validity notes at the effective resolution: the located
+    optimum when there is one, else the stride of least misfit."""
+    area, best = stride_area, stride_best
+    if "optimum_real_area" in located:
+        area, best = located["optimum_real_area"], _located_roughness(located)
     mu = _quiet_tabor_parameter(best, material)
     return mu, validity_notes(np.asarray(area) / nominal_area, mu)
 
@@ -584,29 +807,45 @@ def _locate_optimum(
     loads: np.ndarray,
     measured: NormalAreaCurve | None,
     bem: BemReference | None,
+    pairs: dict,
+    at_measured: np.ndarray | None,
 ) -> OptimumFields:
     """The ``optimum_*`` fields: the least misfit between strides against the same reference
-    (measured A_r(F_z) when given, else the BEM), and the model's A_r (m^2) at the job's loads
-    there."""
+    as the strides (measured A_r(F_z) with the JKR model when given, else the BEM with the
+    model under its law, with the BEM's uncertainty), and the JKR model's A_r (m^2) at the
+    job's loads there."""
+    relative = None
     if measured is not None:
-        ref_loads, reference = measured.normal_load, measured.real_area
+        ref_loads, reference, stride_areas = measured.normal_load, measured.real_area, at_measured
+
+        def areas(roughness: statmodel.Roughness) -> np.ndarray:
+            return areas_at_loads(material, roughness, nominal_area, ref_loads)[0]
+
     else:
-        ref_loads, reference = loads, bem.reference_fraction() * nominal_area
+        reference = bem.reference_fraction() * nominal_area
+        stride_areas, h0 = pairs["real_area_bem_law"], pairs["bem_law_adhesion_range"]
+        relative = _reference_relative_uncertainty(bem)
+
+        def areas(roughness: statmodel.Roughness) -> np.ndarray:
+            return bem_law_areas_at_loads(material, roughness, nominal_area, loads, h0)[0]
+
     n_loads = int(np.sum(np.asarray(reference) > 0))
-
-    def areas(roughness: statmodel.Roughness) -> np.ndarray:
-        return areas_at_loads(material, roughness, nominal_area, ref_loads)[0]
-
     fields = optimum_fields(
-        surface, np.asarray(scan.resolution, float), misfit, n_loads, areas, reference, log_misfit
+        surface,
+        np.asarray(scan.resolution, float),
+        misfit,
+        n_loads,
+        areas,
+        reference,
+        log_misfit,
+        stride_areas=stride_areas,
+        reference_relative_uncertainty=relative,
     )
     if fields:
-        best = statmodel.Roughness(
-            fields["optimum_asperity_density"],
-            fields["optimum_summit_radius"],
-            fields["optimum_summit_height_rms"],
-        )
+        best = _located_roughness(fields)
         fields["optimum_real_area"] = areas_at_loads(material, best, nominal_area, loads)[0]
+        if relative is not None:
+            fields["reference_relative_uncertainty"] = np.asarray(relative, dtype=float)
     return fields
 
 
@@ -644,10 +883,9 @@ def normal_contact_material(material: statmodel.Material | DeclaredView) -> stat
 def _statistical_model_of_job(
     context: StageContext, config: JobConfig | ConfigView
 ) -> ResolutionChoice:
-    material = normal_contact_material(config.material)
-    choice = statistical_model_scan(
+    return statistical_model_scan(
         context.result(SCAN),
-        material,
+        normal_contact_material(config.material),
         config.loading.nominal_area,
         config.loading.normal_loads,
         bem=context.result(BEM),
@@ -655,9 +893,6 @@ def _statistical_model_of_job(
         surface=context.result(SURFACE).scanned_height_map(),
         executor=context.executor,
         progress=context.progress,
-    )
-    return non_adhesive_pair(
-        choice, context.result(SCAN), material, context.result(BEM), context.executor
     )
 
 

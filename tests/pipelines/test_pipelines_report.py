@@ -139,7 +139,8 @@ def test_fig12_marks_units_and_log_axes(small_run):
     for ax in fig.axes[:3]:
         assert "(µm)" in ax.get_xlabel()
         labels = {line.get_label(): line for line in ax.get_lines()}
-        effective = labels["effective"].get_xdata()[0]
+        (name,) = [k for k in labels if k.startswith("effective")]  # "effective, 20 µm"
+        effective = labels[name].get_xdata()[0]
         assert effective == pytest.approx(result.statistical_model.effective_resolution * 1e6)
         excluded = labels["not fitted (< 10 summits)"].get_xdata()
         assert list(excluded) == pytest.approx([result.resolution_scan.resolution[-1] * 1e6])
