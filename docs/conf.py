@@ -43,6 +43,8 @@ from __future__ import annotations
 import importlib
 import inspect
 import sys
+import types
+import typing
 import warnings
 from pathlib import Path
 
@@ -119,6 +121,19 @@ def public_names(package: str) -> list[str]:
         elif getattr(obj, "__module__", None) and hasattr(obj, "__qualname__"):
             targets.append(f"{obj.__module__}.{obj.__qualname__}")
     return [target.removeprefix(f"{package}.") for target in targets]
+
+
+def skip_type_aliases(app, what, name, obj, skip, options):  # Sphinx calls it so
+    """Leave module-level type aliases (``Document = dict[str, TomlValue]``) out of the API pages:
+    autodoc takes them for classes and fails on their signature; the functions that use them
+    show the alias in their own signature."""
+    if isinstance(obj, (types.GenericAlias, types.UnionType, typing._GenericAlias)):
+        return True
+    return None
+
+
+def setup(app) -> None:
+    app.connect("autodoc-skip-member", skip_type_aliases)
 
 
 autosummary_context = {"public_names": public_names}
