@@ -118,6 +118,23 @@ class Quantity:
         return parse
 
 
+#: Longest piece of user input quoted in an error line, characters.
+MAX_QUOTED = 200
+
+
+def clip(text: str, limit: int = MAX_QUOTED) -> str:
+    """``text`` cut to ``limit`` characters with an ellipsis, for quoting input in an error line.
+
+    A 10 MB unknown key or value must not make a 20 MB line on stderr: every error line
+    quotes at most ``limit`` characters of what it was given (first and last halves kept).
+    """
+    text = str(text)
+    if len(text) <= limit:
+        return text
+    half = max(limit // 2 - 1, 1)
+    return f"{text[:half]}...{text[-half:]} ({len(text)} characters)"
+
+
 def add_bounded_option(
     parser: argparse.ArgumentParser | argparse._MutuallyExclusiveGroup,
     option: str,
