@@ -179,6 +179,30 @@ def _status(value: object) -> ExitStatus:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``asperity`` command; returns the process exit status (module docstring)."""
+    # Ctrl-C stops the run at its next safe point (pipelines.engine.interrupts); for the
+    # command itself (argv None) one while the interpreter shuts down still ends with 130.
+    interrupts = InterruptGuard(final=argv is None)
+    command = "?"
+    try:
+        with interrupts:
+            args = _parse(argv)
+            if isinstance(args, ExitStatus):
+                return args
+            command = args.command
+            with warnings_as_lines(command):
+                return _status(args.func(args))
+    except KeyboardInterrupt:
+        interrupts.close()
+        return _interrupted(command)
+    except Exception as exc:  # noqa: BLE001 (every exception gets a status of its own)
+        interrupts.close()
+        if interrupts.requested:  # a library turned the KeyboardInterrupt into another error
+            return _interrupted(command)
+        return _report_exception(command, exc)
+
+
+def _parse(argv: Sequence[str] | None) -> argparse.Namespace | ExitStatus:
+    """The parsed command line, or the status of a usage error (its line already printed)."""
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
@@ -189,18 +213,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if getattr(args, "func", None) is None:
         parser.print_help()
         return ExitStatus.BAD_INPUT
-    interrupts = InterruptGuard()  # Ctrl-C is never lost, even inside a finaliser
-    try:
-        with warnings_as_lines(args.command), interrupts:
-            return _status(args.func(args))
-    except KeyboardInterrupt:
-        interrupts.close()  # a late re-raise may have cut the guard's own exit short
-        return _interrupted(args.command)
-    except Exception as exc:  # noqa: BLE001 (every exception gets a status of its own)
-        interrupts.close()
-        if interrupts.requested:  # a library turned the KeyboardInterrupt into another error
-            return _interrupted(args.command)
-        return _report_exception(args.command, exc)
+    return args
 
 
 def _interrupted(command: str) -> ExitStatus:
