@@ -38,6 +38,7 @@ from asperity.errors import ExitStatus, InputError, exit_status_epilog
 from asperity.pipelines import __version__
 from asperity.pipelines.engine.interrupts import InterruptGuard
 from asperity.quantities import OneLineErrorParser
+from asperity.schema import clip
 
 #: Modules that provide ``register(subparsers)``; each adds its sub-commands.
 COMMAND_MODULES: tuple[str, ...] = (
@@ -55,6 +56,9 @@ PATH_ERRORS: tuple[type[OSError], ...] = (
     NotADirectoryError,
     PermissionError,
 )
+
+#: Longest message of an error line, characters (quoted input is cut shorter where quoted).
+MAX_LINE = 2000
 
 #: Environment variable that adds the traceback to an error line.
 DEBUG_VARIABLE = "ASPERITY_DEBUG"
@@ -158,13 +162,16 @@ def _report_exception(command: str, exc: BaseException) -> ExitStatus:
     if _debugging():
         traceback.print_exception(exc, file=sys.stderr)
     if isinstance(exc, InputError):
-        print(f"asperity {command}: error: {exc}", file=sys.stderr)
+        print(f"asperity {command}: error: {clip(str(exc), MAX_LINE)}", file=sys.stderr)
         return ExitStatus.BAD_INPUT
     if isinstance(exc, PATH_ERRORS) or _storage_failure(exc):
-        print(f"asperity {command}: error: {_path_error_text(exc)}", file=sys.stderr)
+        print(
+            f"asperity {command}: error: {clip(_path_error_text(exc), MAX_LINE)}", file=sys.stderr
+        )
         return ExitStatus.BAD_INPUT
     print(
-        f"asperity {command}: internal error: {type(exc).__name__}: {_one_line(exc)} "
+        f"asperity {command}: internal error: {type(exc).__name__}: "
+        f"{clip(_one_line(exc), MAX_LINE)} "
         f"(please report this; run with {DEBUG_VARIABLE}=1 for the traceback)",
         file=sys.stderr,
     )

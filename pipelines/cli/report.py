@@ -26,7 +26,8 @@ from pathlib import Path
 
 from asperity.errors import InputError
 from asperity.files import describe_kind, require_regular_file
-from asperity.quantities import clip, quantity
+from asperity.quantities import quantity
+from asperity.schema import clip
 
 #: Stages a report needs (attributes of :class:`pipelines.results.Results`); the verdict
 #: among them: no number is shown without it.

@@ -59,7 +59,7 @@ from asperity.h5 import (
     read_result,
     write_result,
 )
-from asperity.quantities import clip
+from asperity.schema import clip
 from asperity.topo.io.limits import memory_budget_bytes
 
 R = TypeVar("R")
