@@ -449,10 +449,13 @@ FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
 
 def _figure_path(text: str) -> Path | str:
     """``--figure``: a .png/.svg/.pdf file, a name without suffix (.png added), a folder
-    (``resolution_scan.png`` inside it) or "" (no figure); the path returned is the file
-    written."""
-    if not text:
-        return text  # "": no figure
+    (``resolution_scan.png`` inside it); the path returned is the file written. An empty name
+    is refused (it would write nothing and say nothing)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError(
+            f"expected a file name ending in {', '.join(FIGURE_SUFFIXES)} or a folder, got an "
+            "empty name"
+        )
     path = Path(text)
     if path.is_dir():
         return path / "resolution_scan.png"

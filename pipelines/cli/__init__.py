@@ -15,7 +15,12 @@ asperity, not in the input.
 What reaches stderr: ``asperity CMD: error: MESSAGE`` (status 2); ``asperity CMD: internal
 error: TYPE: MESSAGE (please report this; ...)`` (status 70), with the traceback above it when the
 environment variable ``ASPERITY_DEBUG`` is set to anything but ``0`` or empty (for any error);
-``asperity CMD: interrupted`` (status 130). Python warnings raised while a command runs (e.g.
+``asperity CMD: interrupted`` (status 130; a Ctrl-C stops the run at its next safe point,
+:mod:`asperity.pipelines.engine.interrupts`). A reader that closes the output pipe early
+(``asperity scan FILE | head -1``) ends nothing: the command goes on quietly to its own end and
+status, its further output dropped (:class:`ClosedPipeTolerant`). Error lines quote at most
+:data:`MAX_LINE` characters (quoted input is cut with an ellipsis). Python warnings raised
+while a command runs (e.g.
 :class:`asperity.statmodel.TaborWarning`, numpy's RuntimeWarnings) are printed as one line each,
 ``asperity CMD: warning: MESSAGE``, once per distinct message; the usual warning filters
 (``python -W``, ``PYTHONWARNINGS``) still decide which are shown.
@@ -32,6 +37,7 @@ import sys
 import traceback
 import warnings
 from collections.abc import Iterator, Sequence
+from typing import Any
 
 from asperity.atomic import storage_errno
 from asperity.errors import ExitStatus, InputError, exit_status_epilog
@@ -184,11 +190,52 @@ def _status(value: object) -> ExitStatus:
     return ExitStatus.OK if value is None else ExitStatus(int(value))
 
 
+class ClosedPipeTolerant:
+    """A text stream whose reader may leave: a closed pipe drops the rest of the output.
+
+    ``asperity scan FILE | head -1``: once ``head`` has exited, the next write raises
+    BrokenPipeError. The command then goes on to its end (its files written, its exit status
+    as it chose) with the stream sent to the null device, quietly, instead of ending with a
+    traceback or an internal error.
+    """
+
+    def __init__(self, stream: Any) -> None:
+        self._stream = stream
+
+    def write(self, text: str) -> int:
+        """Write ``text``; drop it (and everything after) if the reader has gone."""
+        try:
+            return self._stream.write(text)
+        except BrokenPipeError:
+            self._to_null()
+            return len(text)
+
+    def flush(self) -> None:
+        """Flush; a reader that has gone is not an error."""
+        try:
+            self._stream.flush()
+        except BrokenPipeError:
+            self._to_null()
+            self._stream.flush()
+
+    def _to_null(self) -> None:
+        null = os.open(os.devnull, os.O_WRONLY)
+        try:
+            os.dup2(null, self._stream.fileno())
+        finally:
+            os.close(null)
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._stream, name)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``asperity`` command; returns the process exit status (module docstring)."""
     # Ctrl-C stops the run at its next safe point (pipelines.engine.interrupts); for the
     # command itself (argv None) one while the interpreter shuts down still ends with 130.
     interrupts = InterruptGuard(final=argv is None)
+    if argv is None:  # the command itself: a reader that closes the pipe ends nothing
+        sys.stdout, sys.stderr = ClosedPipeTolerant(sys.stdout), ClosedPipeTolerant(sys.stderr)
     command = "?"
     try:
         with interrupts:
