@@ -230,7 +230,26 @@ class ClosedPipeTolerant:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the ``asperity`` command; returns the process exit status (module docstring)."""
+    """Run the ``asperity`` command; returns the process exit status (module docstring).
+
+    Called without ``argv`` (the ``asperity`` command and ``python -m asperity``), it ends the
+    process itself once the status is known: the output is flushed and the process exits at
+    once (:func:`os._exit`), skipping the interpreter's teardown, during which CPython restores
+    the default SIGINT action: a Ctrl-C landing there killed the process by SIGINT
+    (returncode -2) after it had printed its "outputs:" line. Every file is written and closed
+    by then (atomic writes, locks released, executors shut down).
+    """
+    status = _command(argv)
+    if argv is None:
+        for stream in (sys.stdout, sys.stderr):
+            with contextlib.suppress(OSError, ValueError):
+                stream.flush()
+        os._exit(int(status))
+    return status
+
+
+def _command(argv: Sequence[str] | None) -> int:
+    """The body of :func:`main`: parse, run the handler, turn the outcome into a status."""
     # Ctrl-C stops the run at its next safe point (pipelines.engine.interrupts); for the
     # command itself (argv None) one while the interpreter shuts down still ends with 130.
     interrupts = InterruptGuard(final=argv is None)

@@ -138,6 +138,17 @@ def _interrupted_run(config: str, out, after: str, delay: float) -> tuple[int, s
     return child.returncode, "".join(lines) + rest
 
 
+#: Environment variable naming a file where each real-process trial appends its outcome (to
+#: count how many ended 130 and how many had already finished when the signal came).
+TRIAL_LOG = "ASPERITY_INTERRUPT_TRIAL_LOG"
+
+
+def _log_trial(text: str) -> None:
+    if os.environ.get(TRIAL_LOG):
+        with open(os.environ[TRIAL_LOG], "a") as log:
+            log.write(text + "\n")
+
+
 def _assert_stages_intact(out) -> list[str]:
     """Every stored stage reads back (checksum included); they are the first stages of the
     job (the small job's disabled ``realisations`` stage is never stored)."""
@@ -166,6 +177,7 @@ def test_fifty_interrupts_at_random_times_each_end_130_with_stored_stages_intact
     status, output = _interrupted_run(
         _config(tmp_path, small), tmp_path / "out", after, rng.uniform(0.0, 1.5)
     )
+    _log_trial(f"random {trial} after {after!r} status {status}")
     assert status in (130, 0, 3) and status != -signal.SIGINT, output
     if status != 130:  # the run had ended before the signal (its report written)
         assert "outputs:" in output, output
@@ -180,6 +192,7 @@ def test_fifty_interrupts_at_random_times_each_end_130_with_stored_stages_intact
 def test_a_ctrl_c_right_after_the_outputs_line_ends_130_never_minus_sigint(trial, small, tmp_path):
     delay = random.Random(trial).uniform(0.0, 0.4)
     status, output = _interrupted_run(_config(tmp_path, small), tmp_path / "out", "outputs:", delay)
+    _log_trial(f"outputs {trial} delay {delay:.2f} status {status}")
     assert status in (130, 0, 3), (status, output)  # 0 or 3: the process had already exited
     assert "Traceback" not in output, output
     assert len(_assert_stages_intact(tmp_path / "out")) >= 7
