@@ -19,10 +19,9 @@ thread is (for a computation with no safe point that the user will not wait for)
 run is ending (:meth:`InterruptGuard.acknowledge`), further SIGINTs are ignored, so the lock is
 released and the status reported undisturbed. A guard made with ``final=True`` (the
 ``asperity`` command itself) leaves :func:`exit_interrupted` as the handler when it closes:
-every output is written by then, and a Ctrl-C while the interpreter shuts down ends the
-process with status 130 at once instead of killing it by SIGINT (returncode -2).
-:func:`forget_escaped_interrupts` covers ``python -m asperity`` after a KeyboardInterrupt that
-crossed an ``exec``.
+every output is written by then, and a Ctrl-C before the command ends its process
+(:func:`asperity.pipelines.cli.main` exits at once, skipping the interpreter's teardown, where
+CPython restores the default SIGINT action) ends it with status 130, never by SIGINT (-2).
 
 Guards nest: an inner guard joins the active one. Off the main thread (a job run by a thread of
 ``batch``) a guard installs nothing (signals reach the main thread only); the flag is
@@ -41,20 +40,9 @@ from typing import Any
 from asperity.bem.cancel import Cancelled, clear_cancel, request_cancel
 from asperity.errors import ExitStatus
 
-__all__ = [
-    "InterruptGuard",
-    "active_guard",
-    "checkpoint",
-    "exit_interrupted",
-    "forget_escaped_interrupts",
-]
+__all__ = ["InterruptGuard", "checkpoint", "exit_interrupted"]
 
 _active: InterruptGuard | None = None
-
-
-def active_guard() -> InterruptGuard | None:
-    """The guard installed in this process, or None."""
-    return _active
 
 
 def checkpoint() -> None:
@@ -72,17 +60,6 @@ def exit_interrupted(signum: int = signal.SIGINT, frame: FrameType | None = None
         except (OSError, ValueError, AttributeError):  # closed or gone: nothing to flush
             pass
     os._exit(ExitStatus.INTERRUPTED)
-
-
-def forget_escaped_interrupts() -> None:
-    """Clear CPython's record of a KeyboardInterrupt that escaped an ``exec`` of source text.
-
-    CPython notes, process-wide, any KeyboardInterrupt that leaves code run from a source
-    string (dataclass creation during a lazy import, numba's generated wrappers), even when
-    the caller catches it; under ``python -m`` the process then kills itself with SIGINT after
-    finalising (-2 in place of the chosen status). Running an empty source string resets it.
-    """
-    exec("", {})  # noqa: S102 (an empty, constant source: the reset itself)
 
 
 class InterruptGuard:

@@ -688,34 +688,6 @@ def test_a_final_guard_leaves_a_handler_that_exits_130_not_minus_sigint():
         signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
-_ESCAPED_EXEC_MODULE = """
-import sys
-from asperity.pipelines.engine.interrupts import forget_escaped_interrupts
-try:
-    exec("raise KeyboardInterrupt")  # as a dataclass built during a lazy import, hit by Ctrl-C
-except KeyboardInterrupt:
-    pass  # seen and handled: the run reports "interrupted", status 130
-if sys.argv[1:] == ["forget"]:
-    forget_escaped_interrupts()
-sys.exit(130)
-"""
-
-
-def test_python_m_keeps_status_130_after_a_ctrl_c_escaped_a_librarys_exec(tmp_path):
-    """CPython turns ``python -m``'s exit into -SIGINT after such an exec (a slow CI run saw
-    -2); ``python -m asperity`` clears that record before it exits."""
-    package = tmp_path / "escaped"
-    package.mkdir()
-    (package / "__main__.py").write_text(_ESCAPED_EXEC_MODULE)
-
-    def status(*argv):
-        command = [sys.executable, "-m", "escaped", *argv]
-        return subprocess.run(command, cwd=tmp_path, capture_output=True, timeout=60).returncode
-
-    assert status() == -signal.SIGINT  # the quirk itself: the fix below is needed
-    assert status("forget") == 130
-
-
 def test_a_swallowed_ctrl_c_at_a_stage_boundary_ends_the_job_keeping_written_stages(
     small, tmp_path, monkeypatch
 ):
