@@ -120,8 +120,14 @@ def _interrupted_run(config: str, out, after: str, delay: float) -> tuple[int, s
     """``python -m asperity run``; SIGINT ``delay`` s after the first stderr/stdout line
     starting with ``after``; (returncode, all output)."""
     command = [sys.executable, "-m", "asperity", "run", config, "--out", str(out)]
-    child = subprocess.Popen(
-        command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, bufsize=1
+    environment = {**os.environ, "PYTHONUNBUFFERED": "1"}  # each line seen when printed,
+    child = subprocess.Popen(  # as on a terminal
+        command,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        bufsize=1,
+        env=environment,
     )
     lines = []
     for line in child.stdout:
