@@ -96,16 +96,21 @@ def _text(value: Any) -> str:
 
 
 @contextlib.contextmanager
-def _open_checked(path: Path, max_bytes: int) -> Iterator[tuple[h5py.File, Any]]:
+def _open_checked(
+    path: Path, max_bytes: int, checked: set[tuple[int, ...]]
+) -> Iterator[tuple[h5py.File, Any]]:
     """``(handle, raw file)`` of a checked ``results.h5`` (:class:`ResultStore`'s docstring).
 
     libhdf5 gets the descriptor opened here (without blocking: a FIFO swapped in after the
-    caller's check is refused, not waited on), never the name.
+    caller's check is refused, not waited on), never the name. ``checked`` holds the identity
+    (device, inode, size, modification time) of the versions already walked: each version is
+    walked once (the store replaces the file at every write: a new version, a new identity).
     """
     with open(os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0)), "rb") as raw:
-        mode = os.fstat(raw.fileno()).st_mode
-        if not stat.S_ISREG(mode):
+        status = os.fstat(raw.fileno())
+        if not stat.S_ISREG(status.st_mode):
             raise SpecialFileError(f"{path} is not a regular file")
+        identity = (status.st_dev, status.st_ino, status.st_size, status.st_mtime_ns, max_bytes)
         try:
             handle = h5py.File(raw, "r")
         except READ_ERRORS as exc:
@@ -113,7 +118,8 @@ def _open_checked(path: Path, max_bytes: int) -> Iterator[tuple[h5py.File, Any]]
                 f"{path}: unreadable HDF5 file ({clip(str(exc))})"
             ) from None
         with handle:
-            check_self_contained(handle, path, max_bytes)
+            if identity not in checked:
+                check_self_contained(handle, path, max_bytes)
             for key in handle.attrs:  # provenance: text only (random bytes are refused)
                 try:
                     value = attribute_value(handle.attrs[key])
@@ -123,6 +129,7 @@ def _open_checked(path: Path, max_bytes: int) -> Iterator[tuple[h5py.File, Any]]
                     raise UnreadableResultsError(
                         f"{path}: attribute {clip(key)!r} of '/' is not UTF-8 text; refused"
                     )
+            checked.add(identity)
             yield handle, raw
 
 
@@ -174,6 +181,7 @@ class ResultStore:
         self.path = Path(path)
         self.set_aside = set_aside
         self.max_bytes = memory_budget_bytes() if max_bytes is None else int(max_bytes)
+        self._checked: set[tuple[int, ...]] = set()
 
     @contextlib.contextmanager
     def _reading(self) -> Iterator[h5py.File | None]:
@@ -194,7 +202,9 @@ class ResultStore:
             raise SpecialFileError(f"{self.path} is {kind}, expected a regular file")
         with contextlib.ExitStack() as stack:
             try:
-                handle, _ = stack.enter_context(_open_checked(self.path, self.max_bytes))
+                handle, _ = stack.enter_context(
+                    _open_checked(self.path, self.max_bytes, self._checked)
+                )
             except UntrustedContentError as exc:
                 if not self.set_aside:
                     raise
@@ -342,7 +352,9 @@ class ResultStore:
         """
         with contextlib.ExitStack() as stack:
             try:
-                _, raw = stack.enter_context(_open_checked(self.path, self.max_bytes))
+                _, raw = stack.enter_context(
+                    _open_checked(self.path, self.max_bytes, self._checked)
+                )
             except FileNotFoundError:
                 return b""
             except UntrustedContentError:
