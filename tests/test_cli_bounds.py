@@ -113,3 +113,16 @@ def test_batch_refuses_a_directory_and_a_fifo_entry_and_runs_the_rest(
     assert ran == [str(map_file)]
     assert status == 2 and err.count("REFUSED") == 2, err
     assert "a directory" in err and "FIFO" in err, err
+
+
+def test_scan_out_on_a_full_disk_leaves_neither_file(tmp_path, capsys, monkeypatch):
+    import asperity.topo.scan as scan_module
+
+    def full(*args, **kwargs):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(tmp_path / "scan.png"))
+
+    monkeypatch.setattr(scan_module, "plot_resolution_scan", full)
+    out = tmp_path / "scan.h5"
+    status, err = _run(capsys, "scan", DATA / "sur-3.sur", "--max-stride", "3", "--out", out)
+    assert status == 2 and "No space left" in err, err
+    assert list(tmp_path.iterdir()) == []

@@ -246,7 +246,12 @@ def _scan(args: argparse.Namespace) -> int:
         if figure is None:
             figure = str(Path(args.out).with_suffix(".png"))
     if figure:
-        figure = plot_resolution_scan(scan, figure, title=str(args.file))
+        try:
+            figure = plot_resolution_scan(scan, figure, title=str(args.file))
+        except OSError:  # a full disk: the pair is written whole or not at all
+            if args.out:
+                Path(args.out).unlink(missing_ok=True)
+            raise
     if args.json:
         data = {
             key: (_json_number(v) if not isinstance(v, list) else [_json_number(x) for x in v])
