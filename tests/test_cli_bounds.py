@@ -126,3 +126,19 @@ def test_scan_out_on_a_full_disk_leaves_neither_file(tmp_path, capsys, monkeypat
     status, err = _run(capsys, "scan", DATA / "sur-3.sur", "--max-stride", "3", "--out", out)
     assert status == 2 and "No space left" in err, err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_bad_map_error_names_the_file(tmp_path, capsys):
+    import h5py
+    import numpy as np
+
+    single = tmp_path / "one.txt"
+    single.write_text("1.5e-6\n")
+    empty = tmp_path / "empty.h5"
+    with h5py.File(empty, "w") as f:
+        f.create_dataset("heights", data=np.zeros((0, 0)))
+        attrs = {"format": "asperity-heightmap", "version": 1, "dx": 1e-6, "dy": 1e-6}
+        f.attrs.update(attrs | {"periodic": True, "units": "m", "provenance": "{}"})
+    for argv in (["stats", single, "--pixel-size", "1e-6"], ["scan", empty, "--max-stride", "2"]):
+        status, err = _run(capsys, *argv)
+        assert status == 2 and str(argv[1]) in err and err.count("\n") == 1, err

@@ -8,11 +8,13 @@ A thin shell over :func:`topo.read_surface`, :func:`topo.level`,
 from __future__ import annotations
 
 import argparse
+import functools
 import io
 import json
 import math
 import re
 import sys
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -197,6 +199,24 @@ def _print_preparation(record: dict) -> None:
         print(f"  WARNING: {warning}")
 
 
+def _naming_the_file(handler: Callable[[argparse.Namespace], int]):
+    """``handler`` whose bad-input errors name FILE when their message does not (an empty
+    heights dataset, a profile with a single value): ``FILE: message``."""
+
+    @functools.wraps(handler)
+    def run(args: argparse.Namespace) -> int:
+        try:
+            return handler(args)
+        except InputError as exc:
+            text = str(exc)
+            if str(args.file) in text or text.startswith("-"):  # named, or about an option
+                raise
+            raise InputError(f"{args.file}: {text}") from exc
+
+    return run
+
+
+@_naming_the_file
 def _stats(args: argparse.Namespace) -> int:
     surface = _read(args)
     if isinstance(surface, LineProfile):  # Nayak's theory: asperity.topo.profile_cli
@@ -226,6 +246,7 @@ def _stats(args: argparse.Namespace) -> int:
     return ExitStatus.OK
 
 
+@_naming_the_file
 def _scan(args: argparse.Namespace) -> int:
     from asperity.topo.scan import plot_resolution_scan, resolution_scan, write_scan_hdf5
 
