@@ -17,8 +17,14 @@ group=stage, engine="h5netcdf")`` opens it with named dimensions and units. Bool
 booleans. What goes in a group is the stage's result dataclass, field by field, as its
 metadata declares (:mod:`asperity.fields`), written and read back by :mod:`asperity.h5`.
 
-Crash safety: every write builds the new file in memory (the current file, the new group, the
-file's provenance, stale groups dropped), writes those bytes to ``.results.h5.<pid>.tmp`` in the
+Untrusted input: a run folder may come from someone else, so every open checks the file first
+(:class:`ResultStore`: a regular file, self-contained, declared sizes bounded, provenance
+text); a file that fails is refused naming the object (``asperity report``) or set aside and
+recomputed (``asperity run``).
+
+Crash safety: every write builds the new file in memory (the current file up to the end its
+superblock declares, never a padded tail; the new group; the file's provenance; stale groups
+dropped), writes those bytes to ``.results.h5.<pid>.tmp`` in the
 same directory, flushes it to disk and renames it over ``results.h5`` (:mod:`asperity.atomic`,
 the one atomic writer of every output file; :func:`os.replace` is atomic on POSIX), so an
 interruption leaves either the old file or the new one, never a
