@@ -212,3 +212,49 @@ def test_strace_report_of_a_hostile_file_opens_nothing_outside(small_run, tmp_pa
     assert str(secret) not in opened and str(planted) not in opened
     paths = [line.split('"')[1] for line in opened.splitlines() if '"' in line]
     assert {p for p in paths if p.startswith(str(tmp_path))} == {str(folder / "results.h5")}
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(shutil.which("strace") is None, reason="needs strace")
+def test_strace_report_of_a_valid_run_opens_only_the_folder_and_the_packages(small_run, tmp_path):
+    """Every file ``asperity report`` opens is in the run folder, or belongs to Python, the
+    installed packages, asperity itself or the system's libraries and configuration."""
+    import asperity
+
+    folder = _run_copy(small_run, tmp_path)
+    trace = tmp_path / "trace"
+    command = [sys.executable, "-m", "asperity", "report", str(folder)]
+    strace = ["strace", "-f", "-qq", "-e", "trace=open,openat,openat2", "-o", str(trace)]
+    done = subprocess.run(strace + command, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    opened = {
+        line.split('"')[1]
+        for line in trace.read_text().splitlines()
+        if '"' in line and "= -1" not in line
+    }
+    allowed = (
+        str(folder),
+        sys.prefix,
+        sys.base_prefix,
+        str(Path(asperity.__file__).resolve().parents[1]),
+        os.path.expanduser("~/.config/matplotlib"),
+        os.path.expanduser("~/.cache"),
+        "/usr/",
+        "/lib",
+        "/etc/ld.so",
+        "/etc/localtime",
+        "/etc/ssl/",  # a CA bundle named by the environment (SSL_CERT_FILE)
+        "/etc/matplotlibrc",
+        "/proc/",
+        "/sys/",
+        "/dev/",
+        "/tmp/matplotlib",
+        "/tmp/numba",
+    )
+    outside = sorted(
+        p
+        for p in opened
+        if not any(os.path.realpath(p).startswith(a) or p.startswith(a) for a in allowed)
+        and p not in (".", "")
+    )
+    assert outside == [], outside
