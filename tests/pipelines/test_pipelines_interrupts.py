@@ -136,11 +136,13 @@ def _interrupted_run(config: str, out, after: str, delay: float) -> tuple[int, s
             break
     time.sleep(delay)
     child.send_signal(signal.SIGINT)
+    signalled = time.perf_counter()
     try:
         rest = child.communicate(timeout=120)[0]
     except subprocess.TimeoutExpired:  # pragma: no cover (a hang: the bug)
         child.kill()
         rest = child.communicate()[0] + "\n[still running 120 s after SIGINT: killed]"
+    _log_trial(f"  ended {time.perf_counter() - signalled:.2f} s after the signal")
     return child.returncode, "".join(lines) + rest
 
 
