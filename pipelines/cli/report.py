@@ -73,6 +73,7 @@ def stored_report_section(config_toml: str) -> dict:
 
 def handle_report(args: argparse.Namespace) -> int:
     """Redraw the report of ``args.out_dir``; the stored run's exit status (module docstring)."""
+    from asperity.pipelines.engine.interrupts import interruptible
     from asperity.pipelines.engine.outdir import OutputLock
     from asperity.pipelines.report import write_report
     from asperity.pipelines.report.figure_output import FigureOptions
@@ -110,7 +111,8 @@ def handle_report(args: argparse.Namespace) -> int:
     with OutputLock(
         results.out_dir, log=lambda line: print(line, file=sys.stderr), option="OUT_DIR"
     ):
-        report = write_report(results, results.out_dir, options)
+        with interruptible():  # no safe point in the drawing: a Ctrl-C stops it at once
+            report = write_report(results, results.out_dir, options)
     print(f"{report}, {report.with_suffix('.html')} and the figures ({', '.join(options.formats)})")
     print(verdict_wording(results.verdict))
     return int(exit_status(results.converged, results.verdict))

@@ -14,6 +14,9 @@ KeyboardInterrupt):
   (:func:`checkpoint`), so every finished stage is stored, then the run ends;
 * when the guarded block ends (the request is raised then, at the latest).
 
+Inside :func:`interruptible` (plain Python without a safe point: drawing and writing the
+report, whose files are written atomically), the first Ctrl-C raises at once.
+
 A second Ctrl-C before the run has stopped raises KeyboardInterrupt at once, wherever the main
 thread is (for a computation with no safe point that the user will not wait for). Once the
 run is ending (:meth:`InterruptGuard.acknowledge`), further SIGINTs are ignored, so the lock is
@@ -30,17 +33,19 @@ process-wide, so the solvers of those threads stop too.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import sys
 import threading
+from collections.abc import Iterator
 from types import FrameType
 from typing import Any
 
 from asperity.bem.cancel import Cancelled, clear_cancel, request_cancel
 from asperity.errors import ExitStatus
 
-__all__ = ["InterruptGuard", "checkpoint", "exit_interrupted"]
+__all__ = ["InterruptGuard", "checkpoint", "exit_interrupted", "interruptible"]
 
 _active: InterruptGuard | None = None
 
@@ -50,6 +55,23 @@ def checkpoint() -> None:
     and the run has not yet stopped for it."""
     if _active is not None:
         _active.checkpoint()
+
+
+@contextlib.contextmanager
+def interruptible() -> Iterator[None]:
+    """A block of plain Python with no safe point, where a Ctrl-C may raise at once (drawing
+    and writing the report: every file is written atomically). A request made before the block
+    stops the run at its start."""
+    guard = _active
+    if guard is None:
+        yield
+        return
+    guard.checkpoint()
+    guard.immediate = True
+    try:
+        yield
+    finally:
+        guard.immediate = False
 
 
 def exit_interrupted(signum: int = signal.SIGINT, frame: FrameType | None = None) -> None:
@@ -83,6 +105,7 @@ class InterruptGuard:
         self.final = final
         self.requested = False
         self.acknowledged = False
+        self.immediate = False
         self._previous: Any = None
         self._installed = False
         self._guard: InterruptGuard = self
@@ -121,13 +144,16 @@ class InterruptGuard:
         self._installed, _active = False, None
 
     def _handle(self, signum: int, frame: FrameType | None) -> None:
-        """The SIGINT handler: the first one requests, a second one raises at once."""
+        """The SIGINT handler: the first one requests (and raises inside
+        :func:`interruptible`), a second one raises at once."""
         if self.acknowledged:
             return
         if self.requested:
             raise KeyboardInterrupt
         self.requested = True
         request_cancel()
+        if self.immediate:  # inside :func:`interruptible`
+            raise Cancelled("interrupted (Ctrl-C)")
 
     def acknowledge(self) -> None:
         """The run has stopped for the interrupt (or ended otherwise): ignore further ones."""

@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 from asperity.bem.cancel import Cancelled, cancel_requested, clear_cancel, request_cancel
-from asperity.pipelines.engine.interrupts import InterruptGuard
+from asperity.pipelines.engine.interrupts import InterruptGuard, interruptible
 from asperity.pipelines.engine.parallel import SerialExecutor
 from asperity.pipelines.engine.stage import Runner, Stage, StageContext
 from asperity.pipelines.engine.store import ResultStore
@@ -105,6 +105,21 @@ def test_the_bem_solver_stops_at_its_next_iteration_when_cancelled():
     finally:
         clear_cancel()
     assert solve_contact(heights, 1e-6, 1e-6, 1e9, normal_force=1e-4).success
+
+
+def test_inside_interruptible_a_ctrl_c_raises_at_once_and_a_pending_one_at_the_start():
+    reached = []
+    with pytest.raises(Cancelled), InterruptGuard():
+        with interruptible():  # as while the report is drawn
+            signal.raise_signal(signal.SIGINT)
+            reached.append("after")  # pragma: no cover
+    assert reached == []
+    with pytest.raises(Cancelled), InterruptGuard():
+        signal.raise_signal(signal.SIGINT)  # recorded only
+        with interruptible():
+            reached.append("inside")  # pragma: no cover
+    assert reached == []
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
 
 
 # --- real processes ---------------------------------------------------------------------------
