@@ -34,6 +34,7 @@ import h5py
 import numpy as np
 
 from asperity.atomic import write_bytes_atomic
+from asperity.errors import InputError
 from asperity.fields import FieldSpec, canonical, field_specs
 
 R = TypeVar("R")
@@ -205,3 +206,175 @@ def read_result(group: h5py.Group, cls: type[R]) -> R:
     for name, value in derived.items():  # stored copies of derived values must agree
         object.__setattr__(result, name, value)
     return result
+
+
+class UntrustedContentError(InputError):
+    """An HDF5 file that would make a reader open another file, loop, or read more than it holds.
+
+    Raised before anything is read from the file (:func:`check_self_contained`); the message
+    names the file and the object.
+    """
+
+
+#: HDF5 filters built into libhdf5 and h5py (deflate, shuffle, fletcher32, n-bit,
+#: scale-offset, LZF): nothing is loaded from disk to decode them.
+BUILTIN_FILTERS = frozenset((1, 2, 3, 5, 6, 32000))
+#: Largest number of objects (groups, datasets, attributes) walked in one file.
+MAX_OBJECTS = 100_000
+#: Deflate cannot expand more than about 1032 bytes per stored byte.
+MAX_EXPANSION = 1100
+
+
+def _declared_bytes(shape: tuple[int, ...] | None, itemsize: int) -> int:
+    """Bytes an array of ``shape`` (None: scalar) and ``itemsize`` takes in memory."""
+    count = 1
+    for n in shape or ():
+        count *= int(n)
+    return count * int(itemsize)
+
+
+def check_self_contained(handle: h5py.File, where: str | Path, max_bytes: int) -> int:
+    """Refuse an HDF5 file whose reading would leave it, loop, or allocate beyond a bound.
+
+    Every object is visited through the low-level API without following any link that is
+    not a hard link, before any value is read, so an untrusted file (a ``results.h5``
+    received from someone else) cannot make libhdf5 open another file or a reader allocate
+    more than the file declares and holds. Refused, naming the object:
+
+    * a soft, external or user-defined link (asperity writes hard links only; a soft link
+      can loop, an external link opens another file);
+    * a dataset with external raw storage (reads another file, e.g. ``/etc/passwd``), a
+      virtual dataset, or a filter that needs a plugin;
+    * a dataset that declares more than :data:`MAX_EXPANSION` bytes per stored byte (a
+      1e12-element chunked dataset with no chunk written reads as fill values);
+    * more than ``max_bytes`` of declared datasets and attributes in all, or more than
+      :data:`MAX_OBJECTS` objects.
+
+    Parameters
+    ----------
+    handle : h5py.File
+        The open file (nothing has been read from it yet).
+    where : str or Path
+        The file, for the messages.
+    max_bytes : int
+        Largest total of declared dataset and attribute bytes accepted.
+
+    Returns
+    -------
+    int
+        The declared bytes of every dataset and attribute (at most ``max_bytes``).
+
+    Raises
+    ------
+    UntrustedContentError (an InputError)
+        The first offending object, named.
+    """
+    total, count, seen = 0, 0, set()
+    stack: list[tuple[str, Any]] = [("/", handle.id)]
+
+    def refuse(name: str, why: str) -> UntrustedContentError:
+        return UntrustedContentError(f"{where}: object {name!r} {why}; refused")
+
+    def add(name: str, nbytes: int) -> None:
+        nonlocal total, count
+        total, count = total + nbytes, count + 1
+        if total > max_bytes:
+            raise refuse(name, f"takes the declared data past {max_bytes} bytes")
+        if count > MAX_OBJECTS:
+            raise refuse(name, f"is past the {MAX_OBJECTS}th object of the file")
+
+    try:
+        while stack:
+            name, obj = stack.pop()
+            for index in range(h5py.h5a.get_num_attrs(obj)):
+                attr = h5py.h5a.open(obj, index=index)
+                label = f"{name} (attribute {attr.name.decode(errors='replace')!r})"
+                add(label, _declared_bytes(attr.shape, attr.dtype.itemsize))
+            if not isinstance(obj, h5py.h5g.GroupID):
+                continue
+            members: list[bytes] = []
+            obj.links.iterate(members.append)
+            for member in members:
+                child = f"{name.rstrip('/')}/{member.decode(errors='replace')}"
+                kind = obj.links.get_info(member).type
+                if kind != h5py.h5l.TYPE_HARD:
+                    words = {h5py.h5l.TYPE_SOFT: "soft", h5py.h5l.TYPE_EXTERNAL: "external"}
+                    raise refuse(
+                        child,
+                        f"is a {words.get(kind, 'user-defined')} link; only hard links are "
+                        "read (a reader never opens another file nor follows a link loop)",
+                    )
+                target = h5py.h5o.open(obj, member)
+                if hash(target) in seen:  # a second hard link to one object (or a cycle)
+                    continue
+                seen.add(hash(target))
+                if isinstance(target, h5py.h5d.DatasetID):
+                    add(child, _check_dataset(target, refuse, child))
+                stack.append((child, target))
+    except UntrustedContentError:
+        raise
+    except (OSError, KeyError, RuntimeError, ValueError, TypeError) as exc:
+        raise UntrustedContentError(f"{where}: cannot be inspected ({exc}); refused") from None
+    return total
+
+
+def _check_dataset(dataset: Any, refuse: Any, name: str) -> int:
+    """The declared bytes of a low-level dataset, after refusing foreign storage."""
+    plist = dataset.get_create_plist()
+    if plist.get_layout() == h5py.h5d.VIRTUAL:
+        raise refuse(name, "is a virtual dataset (its data live in other files)")
+    if plist.get_external_count() > 0:
+        raise refuse(name, "stores its data in another file (external raw storage)")
+    filters = [plist.get_filter(i)[0] for i in range(plist.get_nfilters())]
+    unknown = [f for f in filters if f not in BUILTIN_FILTERS]
+    if unknown:
+        raise refuse(name, f"needs HDF5 filter {unknown[0]}, a plugin (built-in filters only)")
+    needed = _declared_bytes(dataset.shape, dataset.dtype.itemsize)
+    stored = int(dataset.get_storage_size())
+    if needed > MAX_EXPANSION * stored + 4096:
+        raise refuse(
+            name,
+            f"declares shape {dataset.shape} ({needed} bytes) but stores {stored} bytes "
+            "(truncated, corrupt or hostile)",
+        )
+    return needed
+
+
+#: The HDF5 format signature that starts a superblock.
+SIGNATURE = b"\x89HDF\r\n\x1a\n"
+
+
+def allocated_size(head: bytes) -> int | None:
+    """The end-of-file address an HDF5 superblock at offset 0 declares, bytes.
+
+    libhdf5 reads nothing past it, so bytes beyond (a padded or sparse tail) are not part of
+    the file and need not be copied when the file is rewritten.
+
+    Parameters
+    ----------
+    head : bytes
+        The first bytes of the file (64 are enough).
+
+    Returns
+    -------
+    int or None
+        The size, or None when ``head`` does not start with a superblock of version 0 to 3
+        with 2-, 4- or 8-byte offsets and a zero base address.
+    """
+    if not head.startswith(SIGNATURE) or len(head) < 16:
+        return None
+    version = head[8]
+    if version in (0, 1):
+        offsets, start = head[13], 24 + 4 * version
+    elif version in (2, 3):
+        offsets, start = head[9], 12
+    else:
+        return None
+    if offsets not in (2, 4, 8) or len(head) < start + 3 * offsets:
+        return None
+    fields = [
+        int.from_bytes(head[start + i * offsets : start + (i + 1) * offsets], "little")
+        for i in range(3)
+    ]
+    base, eof = fields[0], fields[2]
+    return eof if base == 0 else None

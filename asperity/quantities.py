@@ -30,7 +30,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from asperity.errors import InputError
-from asperity.schema import Integer, Invalid, Real, interval_text
+from asperity.schema import Integer, Invalid, Real, interval_text, tiny_text
 
 
 @dataclass(frozen=True)
@@ -61,18 +61,30 @@ class Quantity:
     open_low: bool = False
     open_high: bool = False
     integer: bool = False
+    tiny: float = 0.0
 
     @property
     def kind(self) -> Real | Integer:
         """The schema :class:`~asperity.schema.Kind` that converts and bounds a TOML value."""
         if self.integer:
             return Integer(int(self.low), int(self.high), why=self.why)
-        return Real(self.unit, self.low, self.high, self.open_low, self.open_high, why=self.why)
+        return Real(
+            self.unit,
+            self.low,
+            self.high,
+            self.open_low,
+            self.open_high,
+            why=self.why,
+            tiny=self.tiny,
+        )
 
     @property
     def interval(self) -> str:
-        """The range as ``[low, high]`` with open ends as parentheses."""
-        return interval_text(self.low, self.high, self.open_low, self.open_high)
+        """The range as ``[low, high]`` with open ends as parentheses (and the floor of nonzero
+        magnitudes, when there is one)."""
+        return interval_text(self.low, self.high, self.open_low, self.open_high) + tiny_text(
+            self.tiny
+        )
 
     def expected(self) -> str:
         """What a valid value is, in words, with the reason."""
@@ -153,7 +165,7 @@ def _plain_number(value: Any, integer: bool) -> Any:
     return float(value)
 
 
-def _q(key: str, unit: str, low: float, high: float, why: str, **ends: bool) -> Quantity:
+def _q(key: str, unit: str, low: float, high: float, why: str, **ends: Any) -> Quantity:
     return Quantity(key, unit, low, high, why, **ends)
 
 
@@ -237,7 +249,15 @@ _ENTRIES = (
     ),
     _count("accuracy.max_iter", 1, 10_000, "a separation solve needs about 10-40 Brent iterations"),
     # loading ([loading] of the job and friction files; bem --load, --mean-pressure)
-    _q("loading.normal_load", "N", -1e6, 1e6, "a laboratory or machine contact"),
+    _q(
+        "loading.normal_load",
+        "N",
+        -1e6,
+        1e6,
+        "a laboratory or machine contact; a nonzero force under 1 pN is below any instrument "
+        "and underflows the solvers' residuals",
+        tiny=1e-12,
+    ),
     _q("loading.nominal_area", "m^2", 0, 100, "up to 10 m x 10 m", open_low=True),
     _q(
         "loading.max_tangential_displacement",
@@ -265,7 +285,9 @@ _ENTRIES = (
         "Pa",
         -1e11,
         1e11,
-        "no contact carries a mean pressure above the theoretical strength of solids, 1e11 Pa",
+        "no contact carries a mean pressure above the theoretical strength of solids, 1e11 Pa; "
+        "a nonzero one under 1e-14 Pa (1 pN on 100 m^2) underflows the solver's residual",
+        tiny=1e-14,
     ),
     # surface preparation ([surface] of the job; topo and bem options)
     _q(

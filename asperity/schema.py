@@ -70,6 +70,48 @@ class Invalid(Exception):
         self.value = value
 
 
+#: Longest piece of user input quoted in an error line, characters.
+MAX_QUOTED = 200
+#: Deepest nesting of tables and arrays accepted in a TOML file (a job file nests 3 levels).
+MAX_TOML_DEPTH = 32
+
+
+def clip(text: str, limit: int = MAX_QUOTED) -> str:
+    """``text`` cut to ``limit`` characters with an ellipsis, for quoting input in an error line.
+
+    A 10 MB unknown key or value must not make a 20 MB line on stderr: every error line
+    quotes at most about ``limit`` characters of what it was given (its first and last
+    halves) and says how long it was.
+    """
+    text = str(text)
+    if len(text) <= limit:
+        return text
+    half = max(limit // 2 - 1, 1)
+    return f"{text[:half]}...{text[-half:]} ({len(text)} characters)"
+
+
+def quoted(value: Any) -> str:
+    """``repr(value)``, clipped (:func:`clip`); a structure too deep to print is said so."""
+    try:
+        return clip(repr(value))
+    except RecursionError:
+        return f"a {type(value).__name__} nested too deeply to print"
+
+
+def nesting_depth(data: Any) -> int:
+    """How deeply tables (mappings) and arrays (lists) nest in ``data`` (a scalar: 0)."""
+    deepest, stack = 0, [(data, 0)]
+    while stack:
+        value, depth = stack.pop()
+        if isinstance(value, Mapping):
+            stack += [(v, depth + 1) for v in value.values()]
+        elif isinstance(value, list):
+            stack += [(v, depth + 1) for v in value]
+        else:
+            deepest = max(deepest, depth)
+    return deepest
+
+
 @dataclass(frozen=True)
 class Context:
     """Where values come from: the file name for messages, the directory for relative files."""
@@ -79,7 +121,7 @@ class Context:
 
     def fail(self, key: str, expected: str, value: Any) -> ConfigError:
         """The one error format: ``source: section.key: expected ..., got ...``."""
-        return ConfigError(f"{self.source}: {key}: expected {expected}, got {value!r}")
+        return ConfigError(f"{self.source}: {clip(key)}: expected {expected}, got {quoted(value)}")
 
 
 class Kind(ABC):
@@ -125,22 +167,29 @@ class Real(Kind):
     open_low: bool = False
     open_high: bool = False
     why: str = ""
+    tiny: float = 0.0
 
     def expected(self) -> str:
         """What a valid value is, in words."""
         unit = f" {self.unit}" if self.unit else ""
         why = f" ({self.why})" if self.why else ""
         interval = interval_text(self.low, self.high, self.open_low, self.open_high)
-        return f"a number in {interval}{unit}{why}"
+        return f"a number in {interval}{unit}{tiny_text(self.tiny)}{why}"
 
     def convert(self, value: Any, context: Context) -> float:
         if not _is_number(value) or not math.isfinite(value):
             raise Invalid(self.expected())
         low_ok = value > self.low if self.open_low else value >= self.low
         high_ok = value < self.high if self.open_high else value <= self.high
-        if not (low_ok and high_ok):
+        if not (low_ok and high_ok) or 0 < abs(value) < self.tiny:
             raise Invalid(self.expected())
         return float(value)
+
+
+def tiny_text(tiny: float) -> str:
+    """``", 0 or of magnitude >= TINY"`` for a bound with a floor on nonzero magnitudes (a
+    value that would underflow the computation), else ``""``."""
+    return f", 0 or of magnitude >= {tiny:g}" if tiny else ""
 
 
 @dataclass(frozen=True)
@@ -452,9 +501,16 @@ def read_toml(path: str | Path, what: str) -> dict[str, Any]:
         reason = getattr(exc, "strerror", None) or exc
         raise ConfigError(f"{path}: cannot read the {what}: {reason}") from None
     try:
-        return tomllib.loads(text)
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"{path}: not valid TOML: {exc}") from None
+        raise ConfigError(f"{path}: not valid TOML: {clip(str(exc))}") from None
+    except RecursionError:  # tomllib recurses once per level of nesting
+        data = None
+    if data is None or nesting_depth(data) > MAX_TOML_DEPTH:
+        raise ConfigError(
+            f"{path}: not a {what}: tables or arrays nested more than {MAX_TOML_DEPTH} levels deep"
+        )
+    return data
 
 
 def _toml_value(value: Any) -> str:

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import os
 import re
 import sys
@@ -114,7 +113,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
             "(Maugis-Dugdale: tension w/H0 wherever the gap is below --adhesion-range)"
         ),
     )
-    p.add_argument("--adhesion-range", help="Maugis-Dugdale range H0 (m), with --adhesion maugis")
+    add_bounded_option(
+        p,
+        "--adhesion-range",
+        "bem.adhesion_range",
+        help="Maugis-Dugdale range H0 (m), with --adhesion maugis",
+    )
     add_bounded_option(
         p,
         "--pixel-size",
@@ -162,24 +166,13 @@ def _solver_options(args: argparse.Namespace):
     return SolverOptions(tol=args.tol, max_iter=args.max_iter)
 
 
-def _adhesion_range(text: str) -> float:
-    """``--adhesion-range``: a positive finite length (m)."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise _bad(f"--adhesion-range: expected a length in m, got {text!r}") from None
-    if not (math.isfinite(value) and value > 0):
-        raise _bad(f"--adhesion-range: expected a finite length > 0 (m), got {text!r}")
-    return value
-
-
 def _adhesion_law(args: argparse.Namespace) -> dict:
     """The ``adhesion`` and ``adhesion_range`` keywords of the command line (none for the
     default Pohrt-Popov criterion)."""
     if args.adhesion != "maugis":
         if args.adhesion_range is not None:
             raise _bad(
-                f"--adhesion-range: applies to --adhesion maugis only, got {args.adhesion_range!r} "
+                f"--adhesion-range: applies to --adhesion maugis only, got {args.adhesion_range:g} "
                 f"with --adhesion {args.adhesion}"
             )
         return {}
@@ -187,7 +180,7 @@ def _adhesion_law(args: argparse.Namespace) -> dict:
         raise _bad("--adhesion maugis: needs --adhesion-range H0 (m), got none")
     return {
         "adhesion": "maugis",
-        "adhesion_range": _adhesion_range(args.adhesion_range),
+        "adhesion_range": args.adhesion_range,
     }
 
 

@@ -27,6 +27,7 @@ from typing import NamedTuple
 import numpy as np
 
 from asperity.bem import kernels as kr
+from asperity.bem.cancel import check_cancelled
 from asperity.bem.fft_backend import Convolution
 from asperity.bem.operators import influence_operator, stiffness_preconditioner
 from asperity.bem.options import SolverOptions
@@ -542,8 +543,16 @@ def preconditioned_pk_iteration(
 
 
 def iterate(s: IterationState, problem: ContactProblem, options: SolverOptions) -> Stop | None:
-    """Iterate until a step stops the loop; None when the iteration cap was reached."""
+    """Iterate until a step stops the loop; None when the iteration cap was reached.
+
+    Raises
+    ------
+    asperity.bem.cancel.Cancelled
+        A cancellation (Ctrl-C) was requested: checked before every iteration, between the
+        compiled kernels, never inside one.
+    """
     for _ in range(options.max_iterations(problem.heights.shape)):
+        check_cancelled()
         step = plain_pk_iteration if s.pre is None else preconditioned_pk_iteration
         stop = step(s, problem, options)
         if stop is not None:

@@ -150,7 +150,7 @@ def run_job(
         make_executor(workers, scheduler=scheduler) as executor,
     ):
         runner = InterruptibleRunner(
-            store=ResultStore(out_dir / "results.h5"),
+            store=ResultStore(out_dir / "results.h5", set_aside=True),
             context=StageContext(config, {}, executor, progress, measured),
             config_document=config.key_document(),
             version=asperity.__version__,

@@ -8,11 +8,13 @@ A thin shell over :func:`topo.read_surface`, :func:`topo.level`,
 from __future__ import annotations
 
 import argparse
+import functools
 import io
 import json
 import math
 import re
 import sys
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -167,6 +169,24 @@ def _print_preparation(record: dict) -> None:
         print(f"  WARNING: {warning}")
 
 
+def _naming_the_file(handler: Callable[[argparse.Namespace], int]):
+    """``handler`` whose bad-input errors name FILE when their message does not (an empty
+    heights dataset, a profile with a single value): ``FILE: message``."""
+
+    @functools.wraps(handler)
+    def run(args: argparse.Namespace) -> int:
+        try:
+            return handler(args)
+        except InputError as exc:
+            text = str(exc)
+            if str(args.file) in text or text.startswith("-"):  # named, or about an option
+                raise
+            raise InputError(f"{args.file}: {text}") from exc
+
+    return run
+
+
+@_naming_the_file
 def _stats(args: argparse.Namespace) -> int:
     surface = _read(args)
     if isinstance(surface, LineProfile):  # Nayak's theory: asperity.topo.profile_cli
@@ -194,6 +214,7 @@ def _stats(args: argparse.Namespace) -> int:
     return ExitStatus.OK
 
 
+@_naming_the_file
 def _scan(args: argparse.Namespace) -> int:
     # deferred: numba kernels, scipy and h5py, loaded by the command, not by --help
     from asperity.topo.scan import plot_resolution_scan, resolution_scan, write_scan_hdf5
@@ -213,7 +234,12 @@ def _scan(args: argparse.Namespace) -> int:
         if figure is None:
             figure = str(Path(args.out).with_suffix(".png"))
     if figure:
-        figure = plot_resolution_scan(scan, figure, title=str(args.file))
+        try:
+            figure = plot_resolution_scan(scan, figure, title=str(args.file))
+        except OSError:  # a full disk: the pair is written whole or not at all
+            if args.out:
+                Path(args.out).unlink(missing_ok=True)
+            raise
     if args.json:
         data = {
             key: (json_number(v) if not isinstance(v, list) else [json_number(x) for x in v])
@@ -384,10 +410,13 @@ FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
 
 def _figure_path(text: str) -> Path | str:
     """``--figure``: a .png/.svg/.pdf file, a name without suffix (.png added), a folder
-    (``resolution_scan.png`` inside it) or "" (no figure); the path returned is the file
-    written."""
-    if not text:
-        return text  # "": no figure
+    (``resolution_scan.png`` inside it); the path returned is the file written. An empty name
+    is refused (it would write nothing and say nothing)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError(
+            f"expected a file name ending in {', '.join(FIGURE_SUFFIXES)} or a folder, got an "
+            "empty name"
+        )
     path = Path(text)
     if path.is_dir():
         return path / "resolution_scan.png"

@@ -111,6 +111,8 @@ def profile_stats(args: argparse.Namespace, profile: LineProfile) -> int:
     record["preparation"] = preparation
     if args.json:
         print(json.dumps(record, allow_nan=False))
+        if record["status"] >= 2:  # the status 1 says why on stderr too, not only in the JSON
+            print(f"asperity stats: {args.file}: {record['message']}", file=sys.stderr)
     else:
         _print_record(args, record)
     return ExitStatus.OK if record["status"] < 2 else ExitStatus.NOT_CONVERGED

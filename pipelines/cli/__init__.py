@@ -15,7 +15,12 @@ asperity, not in the input.
 What reaches stderr: ``asperity CMD: error: MESSAGE`` (status 2); ``asperity CMD: internal
 error: TYPE: MESSAGE (please report this; ...)`` (status 70), with the traceback above it when the
 environment variable ``ASPERITY_DEBUG`` is set to anything but ``0`` or empty (for any error);
-``asperity CMD: interrupted`` (status 130). Python warnings raised while a command runs (e.g.
+``asperity CMD: interrupted`` (status 130; a Ctrl-C stops the run at its next safe point,
+:mod:`asperity.pipelines.engine.interrupts`). A reader that closes the output pipe early
+(``asperity scan FILE | head -1``) ends nothing: the command goes on quietly to its own end and
+status, its further output dropped (:class:`ClosedPipeTolerant`). Error lines quote at most
+:data:`MAX_LINE` characters (quoted input is cut with an ellipsis). Python warnings raised
+while a command runs (e.g.
 :class:`asperity.statmodel.TaborWarning`, numpy's RuntimeWarnings) are printed as one line each,
 ``asperity CMD: warning: MESSAGE``, once per distinct message; the usual warning filters
 (``python -W``, ``PYTHONWARNINGS``) still decide which are shown.
@@ -32,12 +37,14 @@ import sys
 import traceback
 import warnings
 from collections.abc import Iterator, Sequence
+from typing import Any
 
 from asperity.atomic import storage_errno
 from asperity.errors import ExitStatus, InputError, exit_status_epilog
 from asperity.pipelines import __version__
 from asperity.pipelines.engine.interrupts import InterruptGuard
 from asperity.quantities import OneLineErrorParser
+from asperity.schema import clip
 
 #: Modules that provide ``register(subparsers)``; each adds its sub-commands.
 COMMAND_MODULES: tuple[str, ...] = (
@@ -55,6 +62,9 @@ PATH_ERRORS: tuple[type[OSError], ...] = (
     NotADirectoryError,
     PermissionError,
 )
+
+#: Longest message of an error line, characters (quoted input is cut shorter where quoted).
+MAX_LINE = 2000
 
 #: Environment variable that adds the traceback to an error line.
 DEBUG_VARIABLE = "ASPERITY_DEBUG"
@@ -158,13 +168,16 @@ def _report_exception(command: str, exc: BaseException) -> ExitStatus:
     if _debugging():
         traceback.print_exception(exc, file=sys.stderr)
     if isinstance(exc, InputError):
-        print(f"asperity {command}: error: {exc}", file=sys.stderr)
+        print(f"asperity {command}: error: {clip(str(exc), MAX_LINE)}", file=sys.stderr)
         return ExitStatus.BAD_INPUT
     if isinstance(exc, PATH_ERRORS) or _storage_failure(exc):
-        print(f"asperity {command}: error: {_path_error_text(exc)}", file=sys.stderr)
+        print(
+            f"asperity {command}: error: {clip(_path_error_text(exc), MAX_LINE)}", file=sys.stderr
+        )
         return ExitStatus.BAD_INPUT
     print(
-        f"asperity {command}: internal error: {type(exc).__name__}: {_one_line(exc)} "
+        f"asperity {command}: internal error: {type(exc).__name__}: "
+        f"{clip(_one_line(exc), MAX_LINE)} "
         f"(please report this; run with {DEBUG_VARIABLE}=1 for the traceback)",
         file=sys.stderr,
     )
@@ -177,8 +190,92 @@ def _status(value: object) -> ExitStatus:
     return ExitStatus.OK if value is None else ExitStatus(int(value))
 
 
+class ClosedPipeTolerant:
+    """A text stream whose reader may leave: a closed pipe drops the rest of the output.
+
+    ``asperity scan FILE | head -1``: once ``head`` has exited, the next write raises
+    BrokenPipeError. The command then goes on to its end (its files written, its exit status
+    as it chose) with the stream sent to the null device, quietly, instead of ending with a
+    traceback or an internal error.
+    """
+
+    def __init__(self, stream: Any) -> None:
+        self._stream = stream
+
+    def write(self, text: str) -> int:
+        """Write ``text``; drop it (and everything after) if the reader has gone."""
+        try:
+            return self._stream.write(text)
+        except BrokenPipeError:
+            self._to_null()
+            return len(text)
+
+    def flush(self) -> None:
+        """Flush; a reader that has gone is not an error."""
+        try:
+            self._stream.flush()
+        except BrokenPipeError:
+            self._to_null()
+            self._stream.flush()
+
+    def _to_null(self) -> None:
+        null = os.open(os.devnull, os.O_WRONLY)
+        try:
+            os.dup2(null, self._stream.fileno())
+        finally:
+            os.close(null)
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._stream, name)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the ``asperity`` command; returns the process exit status (module docstring)."""
+    """Run the ``asperity`` command; returns the process exit status (module docstring).
+
+    Called without ``argv`` (the ``asperity`` command and ``python -m asperity``), it ends the
+    process itself once the status is known: the output is flushed and the process exits at
+    once (:func:`os._exit`), skipping the interpreter's teardown, during which CPython restores
+    the default SIGINT action: a Ctrl-C landing there killed the process by SIGINT
+    (returncode -2) after it had printed its "outputs:" line. Every file is written and closed
+    by then (atomic writes, locks released, executors shut down).
+    """
+    status = _command(argv)
+    if argv is None:
+        for stream in (sys.stdout, sys.stderr):
+            with contextlib.suppress(OSError, ValueError):
+                stream.flush()
+        os._exit(int(status))
+    return status
+
+
+def _command(argv: Sequence[str] | None) -> int:
+    """The body of :func:`main`: parse, run the handler, turn the outcome into a status."""
+    # Ctrl-C stops the run at its next safe point (pipelines.engine.interrupts); for the
+    # command itself (argv None) one while the interpreter shuts down still ends with 130.
+    interrupts = InterruptGuard(final=argv is None)
+    if argv is None:  # the command itself: a reader that closes the pipe ends nothing
+        sys.stdout, sys.stderr = ClosedPipeTolerant(sys.stdout), ClosedPipeTolerant(sys.stderr)
+    command = "?"
+    try:
+        with interrupts:
+            args = _parse(argv)
+            if isinstance(args, ExitStatus):
+                return args
+            command = args.command
+            with warnings_as_lines(command):
+                return _status(args.func(args))
+    except KeyboardInterrupt:
+        interrupts.close()
+        return _interrupted(command)
+    except Exception as exc:  # noqa: BLE001 (every exception gets a status of its own)
+        interrupts.close()
+        if interrupts.requested:  # a library turned the KeyboardInterrupt into another error
+            return _interrupted(command)
+        return _report_exception(command, exc)
+
+
+def _parse(argv: Sequence[str] | None) -> argparse.Namespace | ExitStatus:
+    """The parsed command line, or the status of a usage error (its line already printed)."""
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
@@ -189,18 +286,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if getattr(args, "func", None) is None:
         parser.print_help()
         return ExitStatus.BAD_INPUT
-    interrupts = InterruptGuard()  # Ctrl-C is never lost, even inside a finaliser
-    try:
-        with warnings_as_lines(args.command), interrupts:
-            return _status(args.func(args))
-    except KeyboardInterrupt:
-        interrupts.close()  # a late re-raise may have cut the guard's own exit short
-        return _interrupted(args.command)
-    except Exception as exc:  # noqa: BLE001 (every exception gets a status of its own)
-        interrupts.close()
-        if interrupts.requested:  # a library turned the KeyboardInterrupt into another error
-            return _interrupted(args.command)
-        return _report_exception(args.command, exc)
+    return args
 
 
 def _interrupted(command: str) -> ExitStatus:

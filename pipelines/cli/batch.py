@@ -5,7 +5,9 @@ Every map (globs allowed: quote them, or let the shell expand them) through the 
 in its own folder of ``--out`` (resumable), then ``summary.csv`` and ``summary.png`` across the
 maps (:mod:`pipelines.batch`). Exit status: 0 every map ok, 1 some map did not converge, 2 a
 bad job or map argument (before any map runs) or some map failed (named in summary.csv and on
-stderr; the other maps still ran).
+stderr; the other maps still ran). A MAP named outright that is a directory, a FIFO, a device or
+a socket is refused on its own line (``REFUSED MAP: ...``) and the other maps run; the batch
+then exits 2 (the summary lists the maps that ran).
 """
 
 from __future__ import annotations
@@ -14,8 +16,10 @@ import argparse
 import os
 import sys
 
-from asperity.files import require_output_dir
+from asperity.errors import InputError
+from asperity.files import describe_kind, require_output_dir
 from asperity.quantities import quantity
+from asperity.schema import read_toml
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -56,9 +60,21 @@ def handle_batch(args: argparse.Namespace) -> int:
     from asperity.pipelines.batch import run_batch
 
     require_output_dir(args.out, "--out")  # an unwritable folder stops before any map runs
+    read_toml(args.job, "job")  # a FIFO, an oversized or too deeply nested file: exit 2 now
+    maps, refused = [], []
+    for pattern in args.maps:
+        kind = describe_kind(pattern) if not any(c in pattern for c in "*?[") else None
+        if kind is not None and kind != "a regular file":
+            refused.append(f"  REFUSED {pattern}: is {kind}, expected a height-map file")
+        else:
+            maps.append(pattern)
+    for line in refused:
+        print(line, file=sys.stderr)
+    if not maps:
+        raise InputError(f"MAP: none of the {len(args.maps)} entries is a height-map file")
     result = run_batch(
         args.job,
-        args.maps,
+        maps,
         args.out,
         workers=args.workers,
         scheduler=args.scheduler,
@@ -71,4 +87,4 @@ def handle_batch(args: argparse.Namespace) -> int:
         if record["status"] in ("failed", "invalid", "not converged"):
             state = record["status"].upper()
             print(f"  {state} {record['map']}: {record['message']}", file=sys.stderr)
-    return result.status
+    return 2 if refused else result.status  # a refused map counts as a failed one

@@ -3,22 +3,36 @@
 Reads ``OUT_DIR/results.h5`` (:func:`asperity.open_results`) and writes every figure (each
 format, with its CSV), ``report.md`` and ``report.html`` again, without recomputing anything:
 no solver runs. Formats and dpi default to the run's ``[report]`` section (stored in the
-file's resolved configuration), else PNG at 150 dpi. Exit status 0, or 2 when the folder
-holds no complete run, another run holds its lock, or it cannot be written (read-only, full).
-Every file is written atomically; temporaries left by a killed run are removed first.
+file's resolved configuration), else PNG at 150 dpi. Every file is written atomically;
+temporaries left by a killed run are removed first.
+
+``results.h5`` is untrusted input (a run folder may come from someone else): it is read only
+if it is a regular file that refers to nothing outside itself and declares no more data than
+it holds (:class:`asperity.pipelines.engine.store.ResultStore`); otherwise exit 2 names the
+object. A report never shows numbers without their verdict: a file without a stored
+``verdict`` stage is refused.
+
+Exit status: the one ``asperity run`` gave for the stored run: 0, 1 when a stored solve did
+not converge, 3 when the stored verdict is invalid (the report is written in every case, and
+marked); 2 when the folder holds no complete run (the verdict included), an unsafe or damaged
+``results.h5``, another run holds its lock, or it cannot be written (read-only, full).
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 
 from asperity.errors import InputError
+from asperity.files import describe_kind, require_regular_file
 from asperity.pipelines.engine.outdir import OutputLock
 from asperity.quantities import quantity
+from asperity.schema import clip
 
-#: Stages a report needs (attributes of :class:`pipelines.results.Results`).
-REQUIRED = ("surface", "resolution_scan", "statistical_model", "mode_mixity", "friction")
+#: Stages a report needs (attributes of :class:`pipelines.results.Results`); the verdict
+#: among them: no number is shown without it.
+REQUIRED = ("surface", "resolution_scan", "statistical_model", "mode_mixity", "friction", "verdict")
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -52,18 +66,25 @@ def stored_report_section(config_toml: str) -> dict:
     import tomllib
 
     try:
-        return dict(tomllib.loads(config_toml).get("report", {}))
-    except tomllib.TOMLDecodeError:
+        section = tomllib.loads(config_toml).get("report", {})
+    except (tomllib.TOMLDecodeError, RecursionError):  # damaged, or nested past the stack
         return {}
+    return dict(section) if isinstance(section, dict) else {}
 
 
 def handle_report(args: argparse.Namespace) -> int:
-    """Redraw the report of ``args.out_dir``; 0 on success."""
+    """Redraw the report of ``args.out_dir``; the stored run's exit status (module docstring)."""
     # deferred: matplotlib and h5py, only for the command, not for --help
+    from asperity.pipelines.engine.interrupts import interruptible
     from asperity.pipelines.report import write_report
     from asperity.pipelines.report.figure_output import FigureOptions
     from asperity.pipelines.results import open_results
+    from asperity.pipelines.stages.verdict import exit_status, verdict_wording
 
+    named = Path(args.out_dir)
+    path = named / "results.h5" if named.is_dir() else named
+    if describe_kind(path) is not None:  # a FIFO would be "not found" below, or block
+        require_regular_file(path, "OUT_DIR")
     results = open_results(args.out_dir)
     missing = [name for name in REQUIRED if getattr(results, name) is None]
     if missing:
@@ -72,20 +93,27 @@ def handle_report(args: argparse.Namespace) -> int:
             "stored (run `asperity run` first)"
         )
     stored = stored_report_section(results.config_toml)
-    formats = (
-        tuple(f.strip().lower() for f in args.formats.split(",") if f.strip())
-        if args.formats is not None
-        else tuple(stored.get("formats", ("png",)))
-    )
-    dpi = args.dpi if args.dpi is not None else int(stored.get("dpi", 150))
     try:
+        formats = (
+            tuple(f.strip().lower() for f in args.formats.split(",") if f.strip())
+            if args.formats is not None
+            else tuple(str(f) for f in stored.get("formats", ("png",)))
+        )
+        dpi = args.dpi if args.dpi is not None else int(stored.get("dpi", 150))
         options = FigureOptions(formats, dpi)
     except InputError as exc:
         raise InputError(f"--{exc}") from None
+    except (TypeError, ValueError) as exc:  # the stored [report] section is damaged
+        raise InputError(
+            f"{results.path}: the stored configuration's [report] section is not valid "
+            f"({clip(str(exc))}); give --formats and --dpi"
+        ) from None
     # The folder's lock: no run writes there meanwhile, and temporaries of a killed run are removed.
     with OutputLock(
         results.out_dir, log=lambda line: print(line, file=sys.stderr), option="OUT_DIR"
     ):
-        report = write_report(results, results.out_dir, options)
+        with interruptible():  # no safe point in the drawing: a Ctrl-C stops it at once
+            report = write_report(results, results.out_dir, options)
     print(f"{report}, {report.with_suffix('.html')} and the figures ({', '.join(options.formats)})")
-    return 0
+    print(verdict_wording(results.verdict))
+    return int(exit_status(results.converged, results.verdict))

@@ -116,6 +116,7 @@ def _run_and_report(args: argparse.Namespace, config: JobConfig) -> JobResult:
     # loads the OpenMP runtime, i.e. before the solvers run.
     os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
     # Heavy imports only after the configuration passed validation.
+    from asperity.pipelines.engine.interrupts import interruptible
     from asperity.pipelines.job import progress_enabled, run_job
     from asperity.pipelines.report import write_report
 
@@ -129,7 +130,8 @@ def _run_and_report(args: argparse.Namespace, config: JobConfig) -> JobResult:
         log=_log_line,
     )
     try:
-        write_report(result, args.out)
+        with interruptible():  # no safe point in the drawing: a Ctrl-C stops it at once
+            write_report(result, args.out)
     except OSError as exc:  # a full disk while writing the figures: results.h5 is complete
         error = write_error(Path(args.out), exc, "results.h5 holds every stage")
         if error is None:

@@ -1,104 +1,113 @@
-"""Ctrl-C that is never lost: a SIGINT ends the run with KeyboardInterrupt, whatever it hits.
+"""Ctrl-C by cooperative cancellation: the handler only sets a flag; safe points raise.
 
-Python raises KeyboardInterrupt wherever the main thread happens to be when SIGINT arrives. When
-that is a ``__del__`` method or a weakref callback (a ``WeakValueDictionary`` of numba or h5py
-dropping an entry during garbage collection), the interpreter cannot propagate it: it prints
-"Exception ignored in: ... KeyboardInterrupt" and carries on, and the job ran to its end with
-exit status 0. A library's ``except BaseException`` or ``finally`` can swallow it the same way.
+Raising KeyboardInterrupt wherever the main thread happens to be is unsafe in a numerical run:
+it can land in a finaliser (where the interpreter prints "Exception ignored" and carries on:
+the interrupt is lost) or between calls into compiled, multithreaded solvers (the previous
+design re-raised it from a watchdog thread, and the BEM stage then crashed with a segfault in
+4 of 25 trials). So while an :class:`InterruptGuard` is active, the first SIGINT only records
+the request and sets the solvers' flag (:func:`asperity.bem.cancel.request_cancel`); the run
+stops at the next safe point, by :class:`asperity.bem.cancel.Cancelled` (a
+KeyboardInterrupt):
 
-Design (:class:`InterruptGuard`): while a guard is active, SIGINT runs its handler, which
-records the request and raises KeyboardInterrupt at once (an interrupt is as prompt as before).
-Until the request has been seen, i.e. until a KeyboardInterrupt leaves the guarded block or
-the code that catches it calls :meth:`InterruptGuard.acknowledge`, the request is raised again:
+* in the BEM solver, before every iteration (:func:`asperity.bem.iteration.iterate`);
+* in the stage engine, before each stage and after each write of ``results.h5``
+  (:func:`checkpoint`), so every finished stage is stored, then the run ends;
+* when the guarded block ends (the request is raised then, at the latest).
 
-* by a watchdog thread, every :data:`RETRY_SECONDS`, through :func:`_thread.interrupt_main`
-  (the same handler, so a re-raise swallowed in another finaliser is raised once more);
-* at each safe point, :func:`checkpoint`: after every write of ``results.h5`` (the finished
-  stages are kept, then the run ends; ``pipelines.job.InterruptibleRunner``);
-* when the guarded block ends normally (the request is raised then, at the latest).
+Inside :func:`interruptible` (plain Python without a safe point: drawing and writing the
+report, whose files are written atomically), the first Ctrl-C raises at once.
 
-A KeyboardInterrupt that a finaliser could not raise is not printed as "Exception ignored in"
-with its traceback (the guard's :func:`sys.unraisablehook` drops those: the request is raised
-again); every other unraisable exception still goes to the previous hook.
+A second Ctrl-C before the run has stopped raises KeyboardInterrupt at once, wherever the main
+thread is (for a computation with no safe point that the user will not wait for). Once the
+run is ending (:meth:`InterruptGuard.acknowledge`), further SIGINTs are ignored, so the lock is
+released and the status reported undisturbed. A guard made with ``final=True`` (the
+``asperity`` command itself) leaves :func:`exit_interrupted` as the handler when it closes:
+every output is written by then, and a Ctrl-C before the command ends its process
+(:func:`asperity.pipelines.cli.main` exits at once, skipping the interpreter's teardown, where
+CPython restores the default SIGINT action) ends it with status 130, never by SIGINT (-2).
 
-Once acknowledged, further SIGINTs are ignored while the run ends (finished stages are kept,
-the lock is released). :meth:`InterruptGuard.close` ends a guard whose exit a late re-raise cut
-short, and :func:`forget_escaped_interrupts` keeps ``python -m asperity``'s status 130 (CPython
-would otherwise end the process by SIGINT after a Ctrl-C seen inside a library's ``exec``).
-
-Guards nest: an inner guard joins the active one. Off the main thread
-(a job run by a thread of ``batch``) a guard does nothing: signals reach the main thread only.
+Guards nest: an inner guard joins the active one. Off the main thread (a job run by a thread of
+``batch``) a guard installs nothing (signals reach the main thread only); the flag is
+process-wide, so the solvers of those threads stop too.
 """
 
 from __future__ import annotations
 
-import _thread
+import contextlib
+import os
 import signal
 import sys
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from types import FrameType
 
-__all__ = [
-    "RETRY_SECONDS",
-    "InterruptGuard",
-    "active_guard",
-    "checkpoint",
-    "forget_escaped_interrupts",
-]
+from asperity.bem.cancel import Cancelled, clear_cancel, request_cancel
+from asperity.errors import ExitStatus
 
-#: Seconds between re-raises of an interrupt that was not seen (swallowed in a finaliser).
-RETRY_SECONDS = 0.5
+__all__ = ["InterruptGuard", "checkpoint", "exit_interrupted", "interruptible"]
 
 _active: InterruptGuard | None = None
 
 
-def active_guard() -> InterruptGuard | None:
-    """The guard installed in this process, or None."""
-    return _active
-
-
 def checkpoint() -> None:
-    """A safe point: raise KeyboardInterrupt if a Ctrl-C was requested and not yet seen."""
+    """A safe point: raise :class:`~asperity.bem.cancel.Cancelled` if a Ctrl-C was requested
+    and the run has not yet stopped for it."""
     if _active is not None:
         _active.checkpoint()
 
 
-def forget_escaped_interrupts() -> None:
-    """Clear CPython's record of a KeyboardInterrupt that escaped an ``exec`` of source text.
+@contextlib.contextmanager
+def interruptible() -> Iterator[None]:
+    """A block of plain Python with no safe point, where a Ctrl-C may raise at once (drawing
+    and writing the report: every file is written atomically). A request made before the block
+    stops the run at its start."""
+    guard = _active
+    if guard is None:
+        yield
+        return
+    guard.checkpoint()
+    guard.immediate = True
+    try:
+        yield
+    finally:
+        guard.immediate = False
 
-    CPython notes, process-wide, any KeyboardInterrupt that leaves code run from a source string
-    (``exec`` of a string: dataclass and namedtuple creation during a lazy import, numba's
-    generated wrappers), even when the caller catches it later. Under ``python -m`` the note
-    outlives ``sys.exit``: the process then kills itself with SIGINT after finalising, and its
-    parent sees -2 in place of the status the run chose (130, 0, ...). Running an empty source
-    string resets the note. ``python -m asperity`` calls this just before it exits; the
-    ``asperity`` script does not need it (a script's ``sys.exit`` ends the process at once).
-    """
-    exec("", {})  # noqa: S102 (an empty, constant source: the reset itself)
+
+def exit_interrupted(signum: int = signal.SIGINT, frame: FrameType | None = None) -> None:
+    """SIGINT handler of a command that has finished its work: flush, exit 130 at once."""
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError, AttributeError):  # closed or gone: nothing to flush
+            pass
+    os._exit(ExitStatus.INTERRUPTED)
 
 
 class InterruptGuard:
-    """SIGINT handling that cannot lose an interrupt (a context manager; module docstring).
+    """SIGINT as a cancellation request while active (a context manager; module docstring).
+
+    Parameters
+    ----------
+    final : bool
+        Leave SIGINT ignored when the guard closes (the process is about to exit), instead of
+        restoring the previous handler.
 
     Attributes
     ----------
     requested : bool
         A SIGINT arrived while the guard was active.
     acknowledged : bool
-        The resulting KeyboardInterrupt was seen by the run (it is ending).
+        The run has stopped for it (it is ending).
     """
 
-    def __init__(self) -> None:
+    def __init__(self, *, final: bool = False) -> None:
+        self.final = final
         self.requested = False
         self.acknowledged = False
+        self.immediate = False
         self._previous: Callable[[int, FrameType | None], object] | int | None = None
-        self._previous_hook: Callable[[sys.UnraisableHookArgs], object] = sys.unraisablehook
         self._installed = False
-        self._lock = threading.RLock()  # re-entered when a SIGINT interrupts the handler
         self._guard: InterruptGuard = self
-        self._stopped = threading.Event()
-        self._watchdog: threading.Thread | None = None
 
     def __enter__(self) -> InterruptGuard:
         global _active
@@ -107,10 +116,9 @@ class InterruptGuard:
             return _active
         if threading.current_thread() is not threading.main_thread():
             return self
+        clear_cancel()
         self._previous = signal.signal(signal.SIGINT, self._handle)
-        self._previous_hook, sys.unraisablehook = sys.unraisablehook, self._unraisable
-        self._installed = True
-        _active = self
+        self._installed, _active = True, self
         return self
 
     def __exit__(self, exc_type: type[BaseException] | None, *details: object) -> None:
@@ -120,73 +128,38 @@ class InterruptGuard:
             return
         pending = self.requested and not self.acknowledged
         self.close()
-        if pending:  # every raise was swallowed: the run must still end as interrupted
+        if pending:  # no safe point was reached: the run still ends as interrupted
             raise KeyboardInterrupt
 
     def close(self) -> None:
-        """Acknowledge, stop the watchdog and give SIGINT back; idempotent.
-
-        A re-raise that lands while the guard is being closed (the watchdog fired just before
-        the acknowledgement) is absorbed and the closing done again, so no KeyboardInterrupt
-        is left pending once the run has reported itself interrupted. Callers that catch the
-        KeyboardInterrupt call this first (a re-raise can cut ``__exit__`` short).
-        """
-        while True:
-            try:
-                self.acknowledge()
-                self._uninstall()
-                return
-            except KeyboardInterrupt:
-                continue
-
-    def _uninstall(self) -> None:
-        """Join the watchdog, then restore the previous SIGINT handler and unraisable hook."""
+        """Acknowledge, withdraw the solvers' flag and give SIGINT back (to
+        :func:`exit_interrupted` when ``final``); idempotent."""
         global _active
+        self.acknowledge()
         if not self._installed:
             return
-        if self._watchdog is not None:
-            self._watchdog.join()
-        signal.signal(signal.SIGINT, self._previous)  # runs a pending re-raise first (a no-op)
-        sys.unraisablehook = self._previous_hook
+        signal.signal(signal.SIGINT, exit_interrupted if self.final else self._previous)
+        clear_cancel()
         self._installed, _active = False, None
 
     def _handle(self, signum: int, frame: FrameType | None) -> None:
-        """The SIGINT handler: record, and raise unless the run is already ending."""
-        self.requested = True
+        """The SIGINT handler: the first one requests (and raises inside
+        :func:`interruptible`), a second one raises at once."""
         if self.acknowledged:
             return
-        self._start_watchdog()
-        raise KeyboardInterrupt
-
-    def _unraisable(self, unraisable: sys.UnraisableHookArgs) -> None:
-        """Drop a KeyboardInterrupt a finaliser swallowed (raised again); pass the rest on."""
-        if isinstance(unraisable.exc_value, KeyboardInterrupt) and self.requested:
-            return
-        self._previous_hook(unraisable)
-
-    def _start_watchdog(self) -> None:
-        with self._lock:
-            if self._watchdog is None:
-                self._watchdog = threading.Thread(
-                    target=self._raise_until_seen, name="asperity-interrupt", daemon=True
-                )
-                self._watchdog.start()
-
-    def _raise_until_seen(self) -> None:
-        while not self._stopped.wait(RETRY_SECONDS):
-            with self._lock:
-                if self.acknowledged:
-                    return
-                _thread.interrupt_main(signal.SIGINT)
+        if self.requested:
+            raise KeyboardInterrupt
+        self.requested = True
+        request_cancel()
+        if self.immediate:  # inside :func:`interruptible`
+            raise Cancelled("interrupted (Ctrl-C)")
 
     def acknowledge(self) -> None:
-        """The KeyboardInterrupt was seen: stop raising it again (the run is ending)."""
+        """The run has stopped for the interrupt (or ended otherwise): ignore further ones."""
         self.acknowledged = True
-        with self._lock:
-            self.acknowledged = True
-            self._stopped.set()
 
     def checkpoint(self) -> None:
-        """Raise KeyboardInterrupt if a Ctrl-C was requested and not yet seen."""
+        """Raise :class:`~asperity.bem.cancel.Cancelled` if a Ctrl-C was requested and the run
+        has not yet stopped for it."""
         if self.requested and not self.acknowledged:
-            raise KeyboardInterrupt
+            raise Cancelled("interrupted (Ctrl-C) at a safe point")

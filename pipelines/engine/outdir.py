@@ -51,6 +51,7 @@ from asperity.atomic import (  # noqa: F401 (re-exported: their documented home)
     write_error,
 )
 from asperity.errors import InputError
+from asperity.schema import clip
 
 #: Name of the lock file in the output directory.
 LOCK_NAME = ".asperity.lock"
@@ -224,7 +225,15 @@ class OutputLock:
             raise OutputLockedError(self._locked_message(holder))
         previous = _read_record(self.path)
         self._handle = handle
-        self._write_record()
+        try:
+            self._write_record()
+        except OSError as exc:  # a full disk or quota: name the lock file, hold nothing
+            self._handle = None
+            handle.close()
+            raise OutputDirError(
+                f"{self.option} {self.directory}: cannot write the lock file {self.path} "
+                f"({exc.strerror or exc})"
+            ) from exc
         if previous.get("pid") and previous.get("pid") != os.getpid():
             self.log(
                 f"{self.path}: took over the lock of pid {previous.get('pid')} on "
@@ -249,7 +258,7 @@ class OutputLock:
             "pid": os.getpid(),
             "host": socket.gethostname(),
             "started": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
-            "command": " ".join(sys.argv),
+            "command": clip(" ".join(sys.argv)),
         }
         handle = self._handle
         handle.seek(0)

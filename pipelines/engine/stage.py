@@ -42,6 +42,7 @@ from typing import Any, Generic, TypeVar
 
 from asperity.fields import field_specs
 from asperity.pipelines.config import JOB_SCHEMA, Document, JobConfig, TomlValue
+from asperity.pipelines.engine.interrupts import checkpoint
 from asperity.pipelines.engine.store import ResultStore, StoredStageError
 from asperity.pipelines.engine.views import ConfigView, DeclaredView, UndeclaredReadError
 from asperity.pipelines.measured import Measurements
@@ -367,7 +368,12 @@ class Runner:
             return None, 0.0, f"stored result not reused: {exc}"
 
     def run(self, stage: Stage[R]) -> R | None:
-        """Compute, or take from the store, one stage (its write waits for :meth:`flush`)."""
+        """Compute, or take from the store, one stage (its write waits for :meth:`flush`).
+
+        A Ctrl-C requested meanwhile stops the run here, before the stage (a safe point:
+        :mod:`~asperity.pipelines.engine.interrupts`).
+        """
+        checkpoint()
         key, label = self.keys[stage.name], self.labels.get(stage.name, stage.title)
         if key == DISABLED:
             self.runs.append(StageRun(stage.name, key, "disabled", 0.0))
@@ -423,3 +429,4 @@ class Runner:
                 root_attrs=self.root_attrs,
                 drop=[name for name in self.stale() if name != stage.name],
             )
+            checkpoint()  # the stage is stored: a Ctrl-C stops the run here

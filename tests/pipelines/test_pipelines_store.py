@@ -146,7 +146,7 @@ def test_crash_during_write_keeps_previous_file(tmp_path, monkeypatch):
 def test_unreadable_file_is_moved_aside(tmp_path):
     path = tmp_path / "results.h5"
     path.write_bytes(b"not an HDF5 file at all")
-    store = ResultStore(path)
+    store = ResultStore(path, set_aside=True)  # as `asperity run` opens it
     with pytest.warns(RuntimeWarning, match="unreadable"):
         assert store.stored() == {}
     assert (tmp_path / "results.h5.unreadable").exists()

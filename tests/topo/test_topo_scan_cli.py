@@ -195,9 +195,7 @@ def test_stats_preparation_options_on_real_files(capsys):
 
 
 def test_scan_json_carries_the_preparation_and_the_valid_area(capsys):
-    status, out, _ = run_cli(
-        capsys, "scan", DATA / "sur-3.sur", "--max-stride", 3, "--json", "--figure", ""
-    )
+    status, out, _ = run_cli(capsys, "scan", DATA / "sur-3.sur", "--max-stride", 3, "--json")
     data = json.loads(out)
     assert status == 0 and data["preparation"]["missing_fraction"] > 0.88
     assert any("missing" in w for w in data["preparation"]["warnings"])

@@ -12,7 +12,9 @@ negated when ``sign`` is set (the format's own inversion). S, O and W must be fi
 within the instrument's range (W 150 nm .. 2 um and equal to ``wavelength_in_1`` when set;
 S 0.001 .. 1; O 0.9 .. 2), the resulting height step 1e-24 .. 1 m per count; ``lateral_res``
 1 pm .. 1 m. ``phase_res`` cannot be cross-checked (no other field of a format-1 header
-repeats it): its three legal values are taken as written.
+repeats it): its three legal values are taken as written. Nor can the phase bytes: the format
+carries no checksum, so corrupted data read as heights (only values past the bounds are
+refused). Both are said in ``provenance["unchecked"]`` (:data:`UNCHECKED`).
 """
 
 from __future__ import annotations
@@ -41,6 +43,13 @@ from asperity.topo.io.limits import check_height_step
 MAGICS = (b"\x88\x1b\x03\x6f", b"\x88\x1b\x03\x70", b"\x88\x1b\x03\x71")
 _PHASE_RESOLUTION = {0: 4096, 1: 32768, 2: 131072}
 _INVALID_PHASE = 2147483640
+#: What no other field of the file can confirm, listed in every map's ``provenance["unchecked"]``.
+UNCHECKED = (
+    "phase_res: taken as written (no other header field repeats it; a wrong code scales every "
+    "height by 1/8, 8, 1/32 or 32)",
+    "phase data: the format has no checksum (corrupted bytes read as heights; only values past "
+    "the height bounds are refused)",
+)
 #: Wavelengths of the interferometers' sources accepted, m (UV to near infrared).
 WAVELENGTH_BOUNDS_M = (150e-9, 2e-6)
 #: Obliquity factors accepted (1 for a low-aperture objective, about 1.2 at NA 0.9).
@@ -91,6 +100,7 @@ def read_metropro(path: str | Path) -> HeightMap:
         inverted=bool(sign),
         units={"lateral": "m", "wavelength": "m", "phase_resolution": resolution},
         warnings=_optics_warnings(data, lateral),
+        unchecked=list(UNCHECKED),
     )
     sizes = (("lateral_res", lateral), ("lateral_res", lateral))
     return make_surface(path, heights.reshape(cn_h, cn_w).T, sizes, provenance)

@@ -116,7 +116,8 @@ def read_x3p(path: str | Path) -> HeightMap | LineProfile:
     ------
     TopographyFileError
         Not a zip archive, missing ``main.xml`` records, a point-data member whose size
-        does not match ``SizeX*SizeY*SizeZ`` times the item size, a failed MD5 or CRC.
+        does not match ``SizeX*SizeY*SizeZ`` times the item size, a failed MD5 or CRC, a
+        ``PRF`` (profile) feature type over a grid of more than one row.
     """
     path = Path(path)
     with open_zip(path, "X3P") as archive:
@@ -124,6 +125,13 @@ def read_x3p(path: str | Path) -> HeightMap | LineProfile:
         record1, record3, revision, feature = _records(path, root)
         spacing, data_type, z_increment, z_offset = _axes(path, record1)
         nx, ny = _matrix_size(path, record3)
+        if feature == "PRF" and ny != 1:  # which of the two lies cannot be told: refuse
+            raise CorruptFileError(
+                path,
+                "Record1/FeatureType",
+                f"is 'PRF' (a line profile) but Record3/MatrixDimension is {nx} x {ny}; a "
+                "profile has SizeY = 1",
+            )
         values = _point_values(path, archive, record3, nx * ny, data_type)
         if data_type in "IL":
             values = values * z_increment + z_offset
