@@ -372,7 +372,9 @@ def mixed_mode_shear_curve(
     depth = preload_depth
     for _ in range(4):
         # 'load': the rigid overlap (1 + depth) times deeper than the non-adhesive contact at F_z
-        start = overlap_contact(h, plain.separation - depth * (top - plain.separation))
+        # (at most half of the map: a whole-map bonded set has no periodic solution)
+        floor = float(np.quantile(h, 0.5))
+        start = overlap_contact(h, max(plain.separation - depth * (top - plain.separation), floor))
         state.update(
             c=start.copy(),
             slide=np.zeros(shape, dtype=bool),
@@ -389,6 +391,11 @@ def mixed_mode_shear_curve(
         rim = start & ~_shrink(start, periodic)
         if not (state["c"] & rim).any():
             break
+        if plain.separation - depth * (top - plain.separation) <= floor:
+            raise BemInputError(
+                "preload: the adhesive contact at F_z reaches past half of the map; the junction-"
+                "wise mixed-mode law needs separate junctions (lower w or F_z)"
+            )
         depth *= 2.0
     else:
         raise BemInputError(
