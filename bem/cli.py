@@ -274,7 +274,6 @@ def handler(args: argparse.Namespace) -> int:
     # before pyFFTW loads libgomp (it is imported lazily by bem.fft_backend).
     os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
     from asperity.bem import load_sweep, solve_contact
-
     from asperity.bem.shear_cli import check_shear_arguments, run_shear
 
     check_shear_arguments(args)

@@ -15,7 +15,9 @@ delta_T (m) in order, warm-started (:func:`asperity.bem.rough_shear.shear_curve`
 
 ``--json`` prints a list, one object per displacement, with the keys of :data:`JSON_KEYS`
 (SI units: m, N, m^2). Exit status 0, 1 when a step did not converge (results still printed),
-2 for bad input. Only the light standard library is imported until the handler runs.
+2 for bad input. ``--tol`` applies to the preload and the shear solves, ``--max-iter`` to the
+shear solves only (the preload keeps its default cap: a failed preload is reported as an error).
+Only the light standard library is imported until the handler runs.
 """
 
 from __future__ import annotations
@@ -117,9 +119,7 @@ def check_shear_arguments(args: argparse.Namespace) -> None:
         got = "--mean-pressure" if args.load is None else f"{len(args.load)} loads"
         raise _bad(f"--tangential-displacement: needs one --load P (N, held), got {got}")
     if args.adhesion != "pohrt-popov":
-        raise _bad(
-            f"--adhesion: a shear curve uses the Pohrt-Popov criterion, got {args.adhesion}"
-        )
+        raise _bad(f"--adhesion: a shear curve uses the Pohrt-Popov criterion, got {args.adhesion}")
     if args.mode_mixity is not None:
         if args.work_of_adhesion <= 0:
             raise _bad("--mode-mixity: needs --work-of-adhesion > 0 (J/m^2), got 0")
@@ -152,7 +152,7 @@ def run_shear(args: argparse.Namespace, heights, dx: float, dy: float) -> int:
         work_of_adhesion=args.work_of_adhesion,
         mode_mixity=args.mode_mixity,
         periodic=not args.free_boundary,
-        normal_options=SolverOptions(tol=args.tol, max_iter=args.max_iter),
+        normal_options=SolverOptions(tol=args.tol),
         options=ShearOptions(tol=args.tol, max_iter=args.max_iter),
     )
     rows = [

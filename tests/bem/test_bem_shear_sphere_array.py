@@ -43,7 +43,7 @@ def _model_curve(lam: float) -> np.ndarray:
     args = (R, W, E_STAR, lam)
     d_end = 3.0 * float(pc.pc_max_tangential_displacement(DELTA, *args))
     rows = []
-    for dt in np.linspace(0.0, d_end, 3001):
+    for dt in np.linspace(0.0, d_end, 1201):
         d_min = float(pc.pc_min_indentation(dt, *args))
         low = d_min + abs(d_min) * 1e-9
         best = minimize_scalar(
