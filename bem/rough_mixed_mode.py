@@ -215,7 +215,8 @@ def mixed_mode_shear_curve(
         >= 0: elements added round a sliding junction's footprint (its Hertz contact may
         spread when the load redistributes).
     load_tolerance : float
-        Relative error allowed on F_z.
+        Relative error allowed on F_z (at least 10 times ``options.tol``: the load cannot be
+        closer than the conjugate-gradient solves).
     max_active_set : int
         Cap on active-set iterations per step.
     normal_options : SolverOptions, optional
@@ -313,7 +314,7 @@ def mixed_mode_shear_curve(
         normal.failed = ""
         while True:
             nit += 1
-            p, d = normal.solve(d, c, slide, p, load_tolerance)
+            p, d = normal.solve(d, c, slide, p, max(load_tolerance, 10.0 * opts.tol))
             slide_contact = slide & (p > 0.0)
             q_slide = sliding_traction(p, slide_contact)
             q_c = np.where(c, q, 0.0)
