@@ -158,16 +158,19 @@ def test_real_file_bad_input_exits_2(capsys):
 
 @pytest.mark.slow
 def test_real_file_mixed_mode(capsys):
-    """A measured map (di-3.di, 256 x 256): the load held, the area dropping, exit 0."""
+    """A measured map (di-3.di, 256 x 256, 39 nm pixels): the load held, the junctions shrinking
+    and ending in gross sliding at tau_0 times the (Hertz-like) sliding area, exit 0 (9 s)."""
     status, out, _ = _run(
         capsys,
-        ["bem", "tests/data/di-3.di", "--e-star", "1e6", "--load", "5e-8", "--json"]
-        + ["--work-of-adhesion", "1e-3", "--mode-mixity", "0.2", "--shear-strength", "1e5"]
-        + ["--tangential-displacement", "0,2e-8,4e-8", "--tol", "1e-6"],
+        ["bem", "tests/data/di-3.di", "--e-star", "1e8", "--load", "5e-6", "--json"]
+        + ["--work-of-adhesion", "1e-3", "--mode-mixity", "0.2", "--shear-strength", "1e6"]
+        + ["--tangential-displacement", "0,4e-9,1.6e-8,6.4e-8", "--tol", "1e-6"],
     )
     assert status == 0
     rows = json.loads(out)
-    assert len(rows) == 3 and all(r["converged"] for r in rows)
-    assert all(r["normal_force"] == pytest.approx(5e-8, rel=1e-6) for r in rows)
-    assert rows[2]["real_area"] < rows[0]["real_area"]
-    assert 0 < rows[1]["tangential_force"]
+    assert len(rows) == 4 and all(r["converged"] for r in rows)
+    assert all(r["normal_force"] == pytest.approx(5e-6, rel=1e-5) for r in rows)
+    assert not rows[0]["sliding"] and rows[-1]["sliding"]
+    assert rows[-1]["real_area"] < rows[0]["real_area"]
+    assert rows[-1]["tangential_force"] == pytest.approx(1e6 * rows[-1]["real_area"], rel=1e-9)
+    assert rows[1]["tangential_force"] > rows[-1]["tangential_force"]  # a static peak
