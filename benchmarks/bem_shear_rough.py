@@ -56,8 +56,17 @@ def main() -> None:
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         c = shear_curve(
-            h, dx, dx, e_star, force, d_t, shear_strength=tau0, work_of_adhesion=w,
-            mode_mixity=args.lam, options=ShearOptions(tol=args.tol), stop_when_sliding=True,
+            h,
+            dx,
+            dx,
+            e_star,
+            force,
+            d_t,
+            shear_strength=tau0,
+            work_of_adhesion=w,
+            mode_mixity=args.lam,
+            options=ShearOptions(tol=args.tol),
+            stop_when_sliding=True,
         )
     total = time.perf_counter() - t0
     for warning in caught:
@@ -66,8 +75,10 @@ def main() -> None:
         f"{args.n}^2 px of {dx * 1e6:.1f} um, F_z = {force:.4g} N, non-adhesive A_r = "
         f"{plain.real_area * 1e6:.4g} mm^2 in {n} junctions; lambda = {args.lam}"
     )
-    print(f"{'delta_T um':>10} {'F_x N':>10} {'A_r mm2':>9} {'stick':>9} {'slide':>9} "
-          f"{'junct':>5} {'sliding':>7} {'nit':>4} {'s':>6}")
+    print(
+        f"{'delta_T um':>10} {'F_x N':>10} {'A_r mm2':>9} {'stick':>9} {'slide':>9} "
+        f"{'junct':>5} {'sliding':>7} {'nit':>4} {'s':>6}"
+    )
     for i in range(c.tangential_displacement.size):
         print(
             f"{c.tangential_displacement[i] * 1e6:10.3f} {c.tangential_force[i]:10.4g} "
