@@ -143,8 +143,6 @@ def shear_curve(
     options: ShearOptions | None = None,
     stop_when_sliding: bool = False,
     preload: ContactResult | None = None,
-    mode_mixity: float | None = None,
-    tangential_energy: str = "pc",
 ) -> ShearCurve:
     """Normal preload at F_z, then the tangential displacements in order, warm-started.
 
@@ -177,40 +175,12 @@ def shear_curve(
         A normal solve of these heights at ``normal_force`` to start from (e.g. to shear one
         preload with several laws); then ``work_of_adhesion`` and ``normal_options`` are unused
         and ``normal_seconds`` is 0.
-    mode_mixity : float, optional
-        lambda in [0, 1]: use the paper's mixed-mode edge law G_I + lambda G_II = w with
-        ``work_of_adhesion`` > 0 (:func:`asperity.bem.rough_mixed_mode.mixed_mode_shear_curve`:
-        junctions shrink under shear and slide past their instability, the real area drops);
-        ``tangential_displacements`` then non-decreasing, ``preload`` unused. None (default):
-        the preload's contact set is held.
-    tangential_energy : {"pc", "cerruti"}
-        chi_T of the mixed-mode law (:class:`asperity.bem.mixed_mode.MixedModeLaw`).
 
     Returns
     -------
     ShearCurve
     """
     check_poisson(poisson_ratio)
-    if mode_mixity is not None:
-        # function-level import: rough_mixed_mode imports this module (ShearCurve)
-        from asperity.bem.mixed_mode import MixedModeLaw
-        from asperity.bem.rough_mixed_mode import mixed_mode_shear_curve
-
-        return mixed_mode_shear_curve(
-            heights,
-            dx,
-            dy,
-            e_star,
-            normal_force,
-            tangential_displacements,
-            MixedModeLaw(work_of_adhesion, mode_mixity, tangential_energy),
-            shear_strength=shear_strength,
-            friction_coefficient=friction_coefficient,
-            periodic=periodic,
-            normal_options=normal_options,
-            options=options,
-            stop_when_sliding=stop_when_sliding,
-        )
     opts = options if options is not None else ShearOptions()
     d_t = np.asarray(tangential_displacements, dtype=np.float64).ravel()
     if d_t.size == 0 or not np.all(np.isfinite(d_t)):

@@ -4,14 +4,15 @@
 (--shear-strength TAU | --friction-coefficient MU) --tangential-displacement D1,D2,... [--json]``
 
 The normal preload at P (N, held during shear), then the flat displaced along x by each
-delta_T (m) in order, warm-started (:func:`asperity.bem.rough_shear.shear_curve`):
+delta_T (m) in order, warm-started:
 
 * with ``--mode-mixity`` (needs ``--work-of-adhesion`` > 0): the paper's mixed-mode edge law
   G_I + lambda G_II = w (E:failure_locus), junctions shrink under shear and one past its
   instability slides with tau_0 (or mu p) on its non-adhesive contact
-  (:mod:`asperity.bem.rough_mixed_mode`); the displacements must be non-decreasing;
+  (:func:`asperity.bem.rough_mixed_mode.mixed_mode_shear_curve`); the displacements must be
+  non-decreasing;
 * without it: the preload's contact set is held (Pohrt-Popov preload if w > 0) and each element
-  sticks or slips under tau_0 or Coulomb mu p.
+  sticks or slips under tau_0 or Coulomb mu p (:func:`asperity.bem.rough_shear.shear_curve`).
 
 ``--json`` prints a list, one object per displacement, with the keys of :data:`JSON_KEYS`
 (SI units: m, N, m^2). Exit status 0, 1 when a step did not converge (results still printed),
@@ -135,26 +136,26 @@ def run_shear(args: argparse.Namespace, heights, dx: float, dy: float) -> int:
     """The shear curve of the command line on levelled ``heights`` (m); returns the exit status."""
     import sys
 
+    from asperity.bem.mixed_mode import MixedModeLaw
     from asperity.bem.options import SolverOptions
+    from asperity.bem.rough_mixed_mode import mixed_mode_shear_curve
     from asperity.bem.rough_shear import shear_curve
     from asperity.bem.shear import ShearOptions
 
     force = args.load[0]
-    curve = shear_curve(
-        heights,
-        dx,
-        dy,
-        args.e_star,
-        force,
-        args.tangential_displacement,
+    common = dict(
         shear_strength=args.shear_strength,
         friction_coefficient=args.friction_coefficient,
-        work_of_adhesion=args.work_of_adhesion,
-        mode_mixity=args.mode_mixity,
         periodic=not args.free_boundary,
         normal_options=SolverOptions(tol=args.tol),
         options=ShearOptions(tol=args.tol, max_iter=args.max_iter),
     )
+    path = (heights, dx, dy, args.e_star, force, args.tangential_displacement)
+    if args.mode_mixity is not None:
+        law = MixedModeLaw(args.work_of_adhesion, args.mode_mixity)
+        curve = mixed_mode_shear_curve(*path, law, **common)
+    else:
+        curve = shear_curve(*path, work_of_adhesion=args.work_of_adhesion, **common)
     rows = [
         {
             "tangential_displacement": float(curve.tangential_displacement[i]),

@@ -27,7 +27,9 @@ import numpy as np
 
 
 def main() -> None:
-    from asperity.bem.rough_shear import label_junctions, shear_curve
+    from asperity.bem.mixed_mode import MixedModeLaw
+    from asperity.bem.rough_mixed_mode import mixed_mode_shear_curve
+    from asperity.bem.rough_shear import label_junctions
     from asperity.bem.shear import ShearOptions
     from asperity.topo.synthetic import paper_like
 
@@ -55,16 +57,15 @@ def main() -> None:
     t0 = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        c = shear_curve(
+        c = mixed_mode_shear_curve(
             h,
             dx,
             dx,
             e_star,
             force,
             d_t,
+            MixedModeLaw(w, args.lam),
             shear_strength=tau0,
-            work_of_adhesion=w,
-            mode_mixity=args.lam,
             options=ShearOptions(tol=args.tol),
             stop_when_sliding=True,
         )

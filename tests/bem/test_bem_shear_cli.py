@@ -6,7 +6,8 @@ import json
 import numpy as np
 import pytest
 
-from asperity.bem.rough_shear import shear_curve
+from asperity.bem.mixed_mode import MixedModeLaw
+from asperity.bem.rough_mixed_mode import mixed_mode_shear_curve
 from asperity.bem.shear_cli import JSON_KEYS
 from asperity.pipelines.cli import main
 
@@ -65,16 +66,8 @@ def test_mixed_mode_json_contract(capsys, caps):
     a_h = (3 * 1e-6 * 40e-6 / (4 * 1e6)) ** (1 / 3)
     assert rows[-1]["tangential_force"] == pytest.approx(2e4 * 4 * np.pi * a_h**2, rel=0.1)
     # the same as the Python function behind it
-    curve = shear_curve(
-        h,
-        1e-6,
-        1e-6,
-        1e6,
-        4e-6,
-        d_t,
-        shear_strength=2e4,
-        work_of_adhesion=0.002,
-        mode_mixity=0.2,
+    curve = mixed_mode_shear_curve(
+        h, 1e-6, 1e-6, 1e6, 4e-6, d_t, MixedModeLaw(0.002, 0.2), shear_strength=2e4
     )
     assert [r["tangential_force"] for r in rows] == pytest.approx(curve.tangential_force)
     assert [r["real_area"] for r in rows] == pytest.approx(curve.real_area)
