@@ -206,8 +206,8 @@ def mixed_mode_shear_curve(
         > 1: the preload loads to this multiple of F_z, then unloads to F_z (Pohrt-Popov,
         :func:`asperity.bem.load_sweep`); doubled while more than :data:`RIM_TOLERANCE` of the
         unloaded contact still lies on the rim of the loaded one (at most 3 times, and not
-        past a loaded contact of a quarter of the map: then a warning says how much of the
-        preload is on that rim).
+        past a loaded contact of a quarter of the map, periodic, or 90 %, free: then a warning
+        says how much of the preload is on that rim).
     collapse_fraction : float
         In (0, 1): a junction whose area falls below this fraction of its area at the step's
         start has passed its instability.
@@ -431,7 +431,8 @@ def mixed_mode_shear_curve(
         held = int((state["c"] & rim).sum())
         if held <= RIM_TOLERANCE * max(int(state["c"].sum()), 1):
             break
-        if up.contact_fraction >= 0.25 or factor >= 8 * preload_load_factor:
+        # periodic: a bonded set near the whole map has no solution (the zero mode)
+        if up.contact_fraction >= (0.25 if periodic else 0.9) or factor >= 8 * preload_load_factor:
             warnings.warn(
                 f"preload: {held / state['c'].sum():.1%} of the unloaded contact lies on the rim "
                 f"of the contact loaded to {factor:g} F_z (the junctions of a few elements keep "
