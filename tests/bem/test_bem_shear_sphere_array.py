@@ -207,8 +207,9 @@ def test_sphere_array_two_heights():
 def test_free_single_cap_follows_pc_in_delta_t():
     """One cap in the free domain (delta_T from the far field, no images): T(delta_T) and
     a(delta_T) follow the fixed-load PC curve within 7 % up to 0.95 of its fold at 12 elements
-    per radius (measured 5.4 % and 4.5 %, the largest near the fold; 1-2 % below half of it); it slides between 1.0 and 1.05 of the
-    fold, then T = tau_0 pi a_H^2 within 2 % (measured +1.0 %)."""
+    per radius (measured 5.4 % and 4.5 %, the largest near the fold; 1-2 % below half of it);
+    it slides between 1.0 and 1.05 of the fold, then T = tau_0 pi a_H^2 within 2 % (measured
+    +1.0 %)."""
     model = _model_curve(LAM)
     fold = model[-1, 0]
     dx = A_JKR / 12
