@@ -194,6 +194,7 @@ _ENTRIES = (
         1e11,
         "no solid shears above its theoretical strength, < 1e11 Pa",
     ),
+    _q("material.friction_coefficient", "", 0, 10, "Coulomb mu; measured values are below ~5"),
     _q("material.equilibrium_distance", "m", 1e-11, 1e-8, "interatomic distances are 0.1-1 nm"),
     _q(
         "material.hardness",
@@ -267,6 +268,7 @@ _ENTRIES = (
         "a shear path up to 1 m",
         open_low=True,
     ),
+    _q("loading.tangential_displacement", "m", 0, 1, "a shear path up to 1 m"),
     _count(
         "loading.steps",
         3,

@@ -50,6 +50,7 @@ from .reference import ReferenceSolves as ReferenceSolves
 from .reference import solve_reference as solve_reference
 from .result import ContactResult as ContactResult
 from .result import SolverStatus as SolverStatus
+from .rough_mixed_mode import mixed_mode_shear_curve as mixed_mode_shear_curve
 from .rough_shear import ShearCurve as ShearCurve
 from .rough_shear import label_junctions as label_junctions
 from .rough_shear import shear_curve as shear_curve

@@ -156,7 +156,15 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="crop the map to FFT-friendly sizes (warns what was cut)",
     )
     p.add_argument("--json", action="store_true", help="print the results as JSON")
+    _add_shear_options(p)
     p.set_defaults(func=handler)
+
+
+def _add_shear_options(p: argparse.ArgumentParser) -> None:
+    """The shear curve's options (:mod:`asperity.bem.shear_cli`)."""
+    from asperity.bem.shear_cli import add_shear_options
+
+    add_shear_options(p)
 
 
 def _solver_options(args: argparse.Namespace):
@@ -259,7 +267,9 @@ def handler(args: argparse.Namespace) -> int:
     # before pyFFTW loads libgomp (it is imported lazily by bem.fft_backend).
     os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
     from asperity.bem import load_sweep, solve_contact
+    from asperity.bem.shear_cli import check_shear_arguments, run_shear
 
+    check_shear_arguments(args)
     e_star = args.e_star
     options = _solver_options(args)
     w = args.work_of_adhesion
@@ -269,6 +279,8 @@ def handler(args: argparse.Namespace) -> int:
     forces = [v if kind == "normal_force" else v * nominal for v in loads]
     if kind == "normal_force":
         _check_mean_pressure("--load", forces, nominal)
+    if args.tangential_displacement is not None:
+        return run_shear(args, heights, dx, dy)
     common = dict(work_of_adhesion=w, options=options, periodic=not args.free_boundary)
     common.update(_adhesion_law(args))
     if len(forces) == 1:

@@ -18,7 +18,8 @@ junction does (no stick element left).
 What this model leaves out: with adhesion the mixed-mode edge law of the paper
 (:mod:`asperity.bem.mixed_mode`) would shrink the junctions under shear; here the contact set of
 the preload is held, so the real area does not drop and the static peak equals the sliding
-force tau_0 A_r (the paper's constant-shear-strength reference of Fig 13).
+force tau_0 A_r (the paper's constant-shear-strength reference of Fig 13). The mixed-mode law
+junction by junction is :func:`asperity.bem.rough_mixed_mode.mixed_mode_shear_curve`.
 """
 
 from __future__ import annotations
