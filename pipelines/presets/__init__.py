@@ -1,1 +1,1 @@
-"""Shipped job configurations (TOML): ``default`` and ``paper``; see pipelines.config."""
+"""Shipped job configurations (TOML): ``default``, ``paper`` and ``paper-two-step`` (with its CSV files); see pipelines.config."""
