@@ -136,7 +136,8 @@ def main() -> None:
     normal, shear = write(args.out)
     areas = normal_area_curve()
     for load, area in zip(NORMAL_LOADS, areas, strict=True):
-        print(f"F_z = {load:.2f} N: A_r = {area * 1e6:.4f} mm^2, A_r/A_n = {area / NOMINAL_AREA:.5f}")
+        fraction = area / NOMINAL_AREA
+        print(f"F_z = {load:.2f} N: A_r = {area * 1e6:.4f} mm^2, A_r/A_n = {fraction:.5f}")
     print(f"wrote {normal} and {shear}")
 
 
