@@ -24,11 +24,20 @@ Writes two CSV files (the ``[measured]`` format of pipelines.measured; units in 
 Usage (seconds; no lock needed)::
 
     .venv/bin/python benchmarks/paper_reproduction_data.py [--out pipelines/presets]
+
+``--summarise RESULTS.h5`` instead reads a finished ``paper-two-step`` job and writes the small
+stored result the gallery page reads (``--json``, default
+``pipelines/presets/paper_two_step_result.json``): the scan's statistics and misfit, the
+located effective resolution and its interval with the summit statistics there, the fitted
+lambda and its interval, and lambda refitted (the job's own fit,
+:func:`pipelines.stages.friction.calibrate_mode_mixity`) at the summit statistics of the
+interval's two ends and at the paper's own 260 um statistics (step 2 alone: must give 0.03).
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import math
 from pathlib import Path
 
@@ -129,10 +138,82 @@ def write(out: Path) -> tuple[Path, Path]:
     return normal, shear
 
 
+def _lambda_at(roughness: statmodel.Roughness, shear_csv: Path) -> dict[str, float]:
+    """Lambda and its one-sigma interval fitted to the shear CSV at ``roughness`` (SI)."""
+    from asperity.pipelines.measured import read_shear_area
+    from asperity.pipelines.stages.friction import calibrate_mode_mixity
+
+    curves = read_shear_area(shear_csv, nominal_area=NOMINAL_AREA)
+    choice = calibrate_mode_mixity(
+        PAPER_MATERIAL, roughness, NOMINAL_AREA, curves, knobs={"nodes": 8, "panels": 4}
+    )
+    return {
+        "mode_mixity": float(choice.mode_mixity),
+        "interval_low": float(choice.interval_low),
+        "interval_high": float(choice.interval_high),
+    }
+
+
+def summarise(results: Path, shear_csv: Path) -> dict:
+    """The stored result of a finished ``paper-two-step`` job (SI units, plain lists)."""
+    import h5py
+
+    with h5py.File(results, "r") as f:
+        scan, sm, mm = f["resolution_scan"], f["statistical_model"], f["mode_mixity"]
+        ends = [
+            statmodel.Roughness(
+                float(sm["interval_asperity_density"][i]),
+                float(sm["interval_summit_radius"][i]),
+                float(sm["interval_summit_height_rms"][i]),
+            )
+            for i in range(2)
+        ]
+        out = {
+            "note": HEADER_NOTE.replace("# ", "").replace("\n", " ").strip(),
+            "scan": {
+                "resolution": scan["resolution"][:].tolist(),
+                "asperity_density": scan["asperity_density"][:].tolist(),
+                "summit_radius": scan["summit_radius"][:].tolist(),
+                "summit_height_rms": scan["summit_height_rms"][:].tolist(),
+                "misfit": sm["misfit_measured"][:].tolist(),
+            },
+            "sampled_resolution": sm["sampled_resolution"][:].tolist(),
+            "sampled_misfit": sm["sampled_misfit"][:].tolist(),
+            "effective_resolution": float(sm.attrs["optimum_resolution"]),
+            "interval": [float(v) for v in sm["optimum_interval"][:]],
+            "misfit": float(sm.attrs["optimum_misfit"]),
+            "roughness": [
+                float(sm.attrs["optimum_asperity_density"]),
+                float(sm.attrs["optimum_summit_radius"]),
+                float(sm.attrs["optimum_summit_height_rms"]),
+            ],
+            "interval_roughness": [
+                [r.asperity_density, r.summit_radius, r.summit_height_rms] for r in ends
+            ],
+            "mode_mixity": float(mm.attrs["mode_mixity"]),
+            "mode_mixity_interval": [
+                float(mm.attrs["interval_low"]),
+                float(mm.attrs["interval_high"]),
+            ],
+        }
+    out["mode_mixity_at_interval_ends"] = [_lambda_at(r, shear_csv) for r in ends]
+    out["mode_mixity_at_paper_statistics"] = _lambda_at(PAPER_ROUGHNESS_260UM, shear_csv)
+    return out
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=Path("pipelines/presets"))
+    parser.add_argument("--summarise", type=Path, default=None, metavar="RESULTS.h5")
+    parser.add_argument(
+        "--json", type=Path, default=Path("pipelines/presets/paper_two_step_result.json")
+    )
     args = parser.parse_args()
+    if args.summarise is not None:
+        summary = summarise(args.summarise, args.out / "paper_two_step_shear_area.csv")
+        args.json.write_text(json.dumps(summary, indent=1) + "\n", encoding="utf-8")
+        print(json.dumps({k: v for k, v in summary.items() if k not in ("scan",)}, indent=1))
+        return
     normal, shear = write(args.out)
     areas = normal_area_curve()
     for load, area in zip(NORMAL_LOADS, areas, strict=True):
