@@ -168,7 +168,15 @@ def summarise(results: Path, shear_csv: Path) -> dict:
             )
             for i in range(2)
         ]
+        surface = f["surface"]
+        provenance = json.loads(surface.attrs["provenance"])
         out = {
+            "map": {
+                "shape": list(surface["heights"].shape),
+                "pixel_size": float(surface.attrs["dx"]),
+                "seed": provenance.get("seed"),
+                "generator": provenance.get("generator"),
+            },
             "note": HEADER_NOTE.replace("# ", "").replace("\n", " ").strip(),
             "scan": {
                 "resolution": scan["resolution"][:].tolist(),

@@ -43,6 +43,11 @@ shear = read_shear_area(str(presets.joinpath("paper_two_step_shear_area.csv")), 
 low, high = stored["interval"]
 lam_low, lam_high = stored["mode_mixity_interval"]
 ends = stored["mode_mixity_at_interval_ends"]
+grid = stored["map"]
+print(
+    f"stored run: {grid['generator']}, seed {grid['seed']}, {grid['shape'][0]} x "
+    f"{grid['shape'][1]} px of {grid['pixel_size'] * 1e6:.0f} um"
+)
 print("truth (the reproduction): 260 um, lambda = 0.03")
 print(
     f"step 1, effective resolution: {stored['effective_resolution'] * 1e6:.0f} um "
