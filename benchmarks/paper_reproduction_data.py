@@ -189,6 +189,9 @@ def summarise(results: Path, shear_csv: Path) -> dict:
             "sampled_misfit": sm["sampled_misfit"][:].tolist(),
             "effective_resolution": float(sm.attrs["optimum_resolution"]),
             "interval": [float(v) for v in sm["optimum_interval"][:]],
+            "interval_open": bool(
+                sm.attrs["optimum_open_finer"] or sm.attrs["optimum_open_coarser"]
+            ),
             "misfit": float(sm.attrs["optimum_misfit"]),
             "roughness": [
                 float(sm.attrs["optimum_asperity_density"]),
@@ -205,6 +208,20 @@ def summarise(results: Path, shear_csv: Path) -> dict:
             ],
         }
     out["mode_mixity_at_interval_ends"] = [_lambda_at(r, shear_csv) for r in ends]
+    at = int(np.argmin(np.abs(np.asarray(out["scan"]["resolution"]) - 260e-6)))
+    surface_260 = statmodel.Roughness(
+        *(out["scan"][k][at] for k in ("asperity_density", "summit_radius", "summit_height_rms"))
+    )
+    out["surface_at_260um"] = {
+        "resolution": out["scan"]["resolution"][at],
+        "roughness": [
+            surface_260.asperity_density,
+            surface_260.summit_radius,
+            surface_260.summit_height_rms,
+        ],
+        "misfit": out["scan"]["misfit"][at],
+        **_lambda_at(surface_260, shear_csv),
+    }
     out["mode_mixity_at_paper_statistics"] = _lambda_at(PAPER_ROUGHNESS_260UM, shear_csv)
     return out
 
