@@ -29,17 +29,15 @@ from pathlib import Path
 import pytest
 
 from asperity import statmodel
-from asperity.pipelines.config import config_from_dict, preset_text
+from asperity.pipelines.config import config_from_dict, load_preset, preset_text
 from asperity.pipelines.job import run_job
-from asperity.pipelines.measured import read_shear_area
+from asperity.pipelines.measured import read_normal_area, read_shear_area
 from asperity.pipelines.stages.friction import calibrate_mode_mixity
 
 try:
     import tomllib
 except ModuleNotFoundError:  # pragma: no cover
     import tomli as tomllib
-
-pytestmark = pytest.mark.slow
 
 TRUE_RESOLUTION = 260e-6  # m
 TRUE_MODE_MIXITY = 0.03
@@ -65,6 +63,22 @@ def _lambda_at(roughness: statmodel.Roughness):
     return calibrate_mode_mixity(_material(), roughness, A_N, _shear_curves(), knobs=QUADRATURE)
 
 
+def test_preset_reads_its_shipped_reproduction_wherever_it_is_run(tmp_path, monkeypatch):
+    """The measured files resolve from the presets folder, not the working directory, are
+    labelled a reproduction, and hold the model at the paper's 260 um statistics."""
+    monkeypatch.chdir(tmp_path)
+    job = load_preset("paper-two-step")
+    assert not job.bem.enabled
+    assert job.measured.normal_area == PRESETS / "paper_two_step_normal_area.csv"
+    for path in (job.measured.normal_area, job.measured.shear_area[0].file):
+        assert path.read_text("utf-8").startswith("# REPRODUCTION, not an experiment")
+    curve = read_normal_area(job.measured.normal_area, A_N)
+    material = _material()
+    model = statmodel.real_area_at_loads(material, PAPER_260UM, A_N, curve.normal_load)
+    assert curve.real_area == pytest.approx(model, rel=1e-6)
+
+
+@pytest.mark.slow
 def test_step_two_alone_recovers_the_paper_lambda():
     fit = _lambda_at(PAPER_260UM)
     assert fit.fitted
@@ -72,6 +86,7 @@ def test_step_two_alone_recovers_the_paper_lambda():
     assert fit.mode_mixity == pytest.approx(TRUE_MODE_MIXITY, rel=1e-3)
 
 
+@pytest.mark.slow
 def test_reduced_preset_recovers_260_um_and_lambda(tmp_path):
     data = tomllib.loads(preset_text("paper-two-step"))
     data["surface"]["synthetic"].update(n=1001, pixel_size=10e-6)
