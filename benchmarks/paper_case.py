@@ -14,6 +14,14 @@ Then the FFT floor of the BEM grid, timed in the same run: two bare real convolu
 i.e. the cost of one two-convolution iteration, and the BEM stage's convolutions times the
 cost of one bare convolution. Writes ``paper_case.png`` (time per stage; for N = 5001 beside
 the asperity 0.1 measurement, before the solver levers) into ``--out``.
+
+Then the paper's Fig 12d at 2 um (:func:`fig12d_rows`): per load, the BEM's A_r/A_n
+(non-adhesive, and Maugis-Dugdale at its range h_0) beside the statistical model at the map's
+2 um summit statistics (JKR, the job's model; GW; Maugis-Dugdale at the BEM's h_0, the like-for-like
+partner) and at the paper's 2 um statistics (Appendix A: eta 652.1 mm^-2, R 0.041 mm, sigma_s
+0.032 mm), and the reproduction of the paper's measured curve (the model at its 260 um
+statistics, benchmarks/paper_reproduction_data.py). ``--from RESULTS.h5`` prints only that
+table from a finished ``--preset paper`` job (seconds, no lock).
 """
 
 from __future__ import annotations
@@ -185,12 +193,80 @@ def plot(rows: list[list], n: int, convolution: float, path: Path) -> None:
     fig.savefig(path, dpi=120)
 
 
+#: The paper's summit statistics at 2 um (Appendix A, Fig 4 caption), SI.
+PAPER_2UM = (652.1e6, 0.041e-3, 0.032e-3)
+
+
+def fig12d_rows(results: Path) -> list[str]:
+    """Fig 12d at 2 um from a finished paper job's results.h5: BEM vs model vs reproduction."""
+    import sys
+
+    import h5py
+
+    from asperity import statmodel
+    from asperity.statmodel.maugis_rough import maugis_rough_contact
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from paper_reproduction_data import NORMAL_LOADS, normal_area_curve
+
+    with h5py.File(results, "r") as f:
+        bem, scan, sm = f["bem_reference"], f["resolution_scan"], f["statistical_model"]
+        loads = sm["normal_load"][:]
+        a_n = float(sm.attrs["nominal_area"])
+        bem_dry = bem["contact_fraction"][:]
+        bem_md = bem["contact_fraction_adhesive"][:] if "contact_fraction_adhesive" in bem else None
+        h0 = float(bem.attrs.get("adhesion_range", float("nan")))
+        stride = int(bem.attrs["stride"])
+        pixel = float(scan["resolution"][0])
+        rough = statmodel.Roughness(
+            float(scan["asperity_density"][0]),
+            float(scan["summit_radius"][0]),
+            float(scan["summit_height_rms"][0]),
+        )
+        material = statmodel.Material(
+            2.133e6, 0.040, 0.03, 0.13e6, 0.2e-9
+        )  # the preset's (normal contact reads E*, w, epsilon)
+    paper = statmodel.Roughness(*PAPER_2UM)
+    jkr = np.asarray(statmodel.real_area_at_loads(material, rough, a_n, loads)) / a_n
+    jkr_paper = np.asarray(statmodel.real_area_at_loads(material, paper, a_n, loads)) / a_n
+    gw = maugis_rough_contact(rough, material.e_star, 0.0, 1e-9, a_n, loads).real_area / a_n
+    md = (
+        maugis_rough_contact(
+            rough, material.e_star, material.work_of_adhesion, h0, a_n, loads
+        ).real_area
+        / a_n
+        if np.isfinite(h0)
+        else np.full(loads.shape, np.nan)
+    )
+    reproduction = dict(zip(NORMAL_LOADS, normal_area_curve() / 700e-6, strict=True))
+    lines = [
+        f"Fig 12d at 2 um: BEM on the {pixel * stride * 1e6:.0f} um grid (stride {stride}), "
+        f"Maugis range h_0 = {h0 * 1e9:.0f} nm; model at the map's 2 um statistics eta = "
+        f"{rough.asperity_density * 1e-6:.1f} mm^-2, R = {rough.summit_radius * 1e3:.4f} mm, "
+        f"sigma_s = {rough.summit_height_rms * 1e3:.4f} mm; A_r/A_n (%)",
+        f"{'F_z (N)':>8} {'BEM dry':>8} {'BEM MD':>8} {'GW 2um':>8} {'MD 2um':>8} {'JKR 2um':>8}"
+        f" {'JKR paper 2um':>14} {'reproduction':>13}",
+    ]
+    for i, load in enumerate(loads):
+        md_bem = bem_md[i] if bem_md is not None else float("nan")
+        rep = reproduction.get(round(float(load), 2), float("nan"))
+        lines.append(
+            f"{load:8.2f} {100 * bem_dry[i]:8.3f} {100 * md_bem:8.3f} {100 * gw[i]:8.3f} "
+            f"{100 * md[i]:8.3f} {100 * jkr[i]:8.3f} {100 * jkr_paper[i]:14.3f} {100 * rep:13.3f}"
+        )
+    return lines
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=5001, help="pixels per side (5001: the paper)")
     parser.add_argument("--workers", type=int, default=1)
     parser.add_argument("--out", type=Path, default=Path("benchmarks"))
+    parser.add_argument("--from", dest="results", type=Path, default=None, metavar="RESULTS.h5")
     args = parser.parse_args()
+    if args.results is not None:
+        print("\n".join(fig12d_rows(args.results)))
+        return
     config = paper_config(args.n, args.workers)
     marks: list[float] = []
     with tempfile.TemporaryDirectory() as tmp, MemorySampler() as memory:
@@ -198,6 +274,7 @@ def main() -> None:
         result = run_job(
             config, tmp, force=True, log=lambda line: marks.append(time.perf_counter())
         )
+        fig12d = fig12d_rows(Path(tmp) / "results.h5")
     rows = stage_table(result, marks, start, memory)
     bem = result.bem_reference
     print(
@@ -225,6 +302,7 @@ def main() -> None:
         f"{bem.total_convolutions} convolutions = {bem_seconds / floor:.2f} x the floor "
         f"({floor:.1f} s)"
     )
+    print("\n".join(fig12d))
     args.out.mkdir(parents=True, exist_ok=True)
     plot(rows, args.n, conv, args.out / "paper_case.png")
     print(f"figure: {args.out / 'paper_case.png'}")

@@ -64,7 +64,7 @@ else:  # pragma: no cover - exercised on Python 3.10 only
 __all__ = ["ConfigError", "JobConfig", "config_from_dict", "dump_toml", "load_config"]
 
 #: Names of the shipped presets (``pipelines/presets/<name>.toml``).
-PRESETS: tuple[str, ...] = ("default", "paper")
+PRESETS: tuple[str, ...] = ("default", "paper", "paper-two-step")
 
 DETREND_METHODS: tuple[str, ...] = ("none", "mean", "plane", "quadratic")
 SYNTHETIC_RECIPES: tuple[str, ...] = ("paper_like", "paper_surface")
@@ -656,7 +656,8 @@ def preset_text(name: str) -> str:
 def load_preset(name: str) -> JobConfig:
     """The resolved configuration of a shipped preset."""
     data = tomllib.loads(preset_text(name))
-    return config_from_dict(data, source=f"preset {name}", base_dir=Path.cwd())
+    presets = Path(str(resources.files("asperity.pipelines.presets")))  # its measured CSV files
+    return config_from_dict(data, source=f"preset {name}", base_dir=presets)
 
 
 def load_config(path: str | Path) -> JobConfig:
