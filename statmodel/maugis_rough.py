@@ -89,8 +89,12 @@ __all__ = [
 
 #: Path kinds: in range but out of contact (parameter C = c / l), in contact (theta).
 NONCONTACT, CONTACT = 0, 1
-#: Bisection steps of the contact-piece inverse (interval pi/2 -> below the spacing of doubles).
-BISECTION_STEPS = 80
+#: Most steps of the contact-piece inverse (safeguarded Newton from a tabulated start; from
+#: step NEWTON_STEPS on it bisects, interval pi/2 -> below the spacing of doubles).
+NEWTON_STEPS, INVERSE_STEPS = 20, 120
+#: Points of the per-piece table of Delta(theta) that starts and brackets the inverse.
+TABLE_POINTS = 400
+EPS = float(np.finfo(float).eps)
 #: Maugis parameters bounding the DMT and JKR sides (Johnson & Greenwood 1997's map).
 DMT_SIDE, JKR_SIDE = 0.1, 5.0
 
@@ -181,6 +185,7 @@ class MaugisAsperity:
                 raise InputError(f"MaugisAsperity.{name}: expected a finite number, got {value!r}")
             if not value > 0:
                 raise InputError(f"MaugisAsperity.{name}: expected > 0 (SI), got {value!r}")
+        object.__setattr__(self, "_tables", {})
         object.__setattr__(self, "_pieces", self._build_pieces())
 
     # --- scales -------------------------------------------------------------------------
@@ -276,21 +281,67 @@ class MaugisAsperity:
         return tuple(pieces)
 
     def _inverse(self, kind: int, p_a: float, p_b: float, delta: np.ndarray) -> np.ndarray:
-        """The path parameter at Delta on the monotone piece from p_a to p_b."""
+        """The path parameter at Delta on the monotone piece from p_a to p_b.
+
+        Out of contact the quadratic's root; in contact theta by Newton's method on Delta(theta)
+        (dDelta/dtheta is explicit), started by linear interpolation in a table of the piece and
+        kept inside the table's bracket (a step that leaves it bisects instead), converged to
+        the spacing of doubles.
+        """
         lam = self.lam
         delta = np.asarray(delta, dtype=float)
         if kind == NONCONTACT:
             kappa = 8.0 * lam / (3.0 * math.pi)
             disc = kappa * kappa + 2.0 * (delta + 2.0 / (math.pi * lam))
             return np.clip(kappa + np.sqrt(np.maximum(disc, 0.0)), p_a, p_b)
-        hi = np.full(delta.shape, p_a)  # larger theta: smaller Delta
-        lo = np.full(delta.shape, p_b)
-        for _ in range(BISECTION_STEPS):
-            mid = 0.5 * (lo + hi)
-            below = _contact_path(mid, lam)[3] < delta
-            hi = np.where(below, mid, hi)
-            lo = np.where(below, lo, mid)
-        return 0.5 * (lo + hi)
+        t_tab, d_tab = self._table(p_a, p_b)
+        i = np.clip(np.searchsorted(d_tab, delta, side="right") - 1, 0, t_tab.size - 2)
+        big, small = t_tab[i], t_tab[i + 1]  # Delta(big) <= delta < Delta(small)
+        d_big, d_small = d_tab[i], d_tab[i + 1]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            frac = np.where(np.isfinite(d_small), (delta - d_big) / (d_small - d_big), 0.5)
+        t = big + np.clip(frac, 0.0, 1.0) * (small - big)
+        for step in range(INVERSE_STEPS):
+            _, _, _, d_t, slope = _contact_path(t, lam)
+            above = d_t >= delta
+            small = np.where(above, t, small)
+            big = np.where(above, big, t)
+            with np.errstate(invalid="ignore", divide="ignore"):
+                change = (d_t - delta) / slope
+            newton = t - change
+            inside = (newton >= small) & (newton <= big)
+            done = inside & (np.abs(change) <= 4.0 * EPS * t) | (big - small <= EPS * t)
+            if step >= NEWTON_STEPS:
+                inside &= done
+            t = np.where(inside, newton, 0.5 * (small + big))
+            if np.all(done):
+                break
+        out = np.where(delta <= d_tab[0], p_a, t)
+        return np.where(delta >= d_tab[-1], np.where(np.isfinite(d_tab[-1]), p_b, out), out)
+
+    def _table(self, p_a: float, p_b: float) -> tuple[np.ndarray, np.ndarray]:
+        """theta (descending from p_a to p_b) and Delta there (increasing) on a contact piece:
+        points refined towards both ends, Delta(p_b = 0) = infinity."""
+        key = (p_a, p_b)
+        tables = self._tables  # type: ignore[attr-defined]
+        if key not in tables:
+            s = np.concatenate(
+                [
+                    np.geomspace(1e-12, 1.0, TABLE_POINTS),
+                    1.0 - np.geomspace(1e-12, 1.0, TABLE_POINTS),
+                    np.linspace(0.0, 1.0, TABLE_POINTS),
+                ]
+            )
+            s = np.unique(np.clip(s, 0.0, 1.0))[::-1]  # 1 -> 0: p_a -> p_b
+            theta = p_b + s * (p_a - p_b)
+            theta[0], theta[-1] = p_a, p_b
+            inner = _contact_path(theta[1:-1], self.lam)[3] if theta.size > 2 else np.array([])
+            d_a = float(_contact_path(np.array([p_a]), self.lam)[3][0])
+            d_b = math.inf if p_b == 0.0 else float(_contact_path(np.array([p_b]), self.lam)[3][0])
+            values = np.concatenate([[d_a], inner, [d_b]])
+            keep = np.concatenate([[True], values[1:] > np.maximum.accumulate(values)[:-1]])
+            tables[key] = (theta[keep], values[keep])
+        return tables[key]
 
     def _evaluate(self, kind: int, p: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(P, A, |dDelta/dp|) at path parameters p of one kind (dimensionless)."""
