@@ -298,16 +298,13 @@ class MaugisAsperity:
         i = np.clip(np.searchsorted(d_tab, delta, side="right") - 1, 0, t_tab.size - 2)
         big, small = t_tab[i], t_tab[i + 1]  # Delta(big) <= delta < Delta(small)
         d_big, d_small = d_tab[i], d_tab[i + 1]
-        with np.errstate(invalid="ignore", divide="ignore"):
-            frac = np.where(np.isfinite(d_small), (delta - d_big) / (d_small - d_big), 0.5)
-        t = big + np.clip(frac, 0.0, 1.0) * (small - big)
+        t = big + np.clip((delta - d_big) / (d_small - d_big), 0.0, 1.0) * (small - big)
         for step in range(INVERSE_STEPS):
             _, _, _, d_t, slope = _contact_path(t, lam)
             above = d_t >= delta
             small = np.where(above, t, small)
             big = np.where(above, big, t)
-            with np.errstate(invalid="ignore", divide="ignore"):
-                change = (d_t - delta) / slope
+            change = (d_t - delta) / np.minimum(slope, -1e-200)  # slope < 0 on the piece
             newton = t - change
             inside = (newton >= small) & (newton <= big)
             done = inside & (np.abs(change) <= 4.0 * EPS * t) | (big - small <= EPS * t)
@@ -343,13 +340,13 @@ class MaugisAsperity:
             tables[key] = (theta[keep], values[keep])
         return tables[key]
 
-    def _evaluate(self, kind: int, p: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(P, A, |dDelta/dp|) at path parameters p of one kind (dimensionless)."""
+    def _evaluate(self, kind: int, p: np.ndarray) -> tuple[np.ndarray, ...]:
+        """(P, A, |dDelta/dp|, Delta) at path parameters p of one kind (dimensionless)."""
         if kind == NONCONTACT:
-            force, _, slope = self._noncontact(p)
-            return force, np.zeros_like(p), np.abs(slope)
-        _, a, force, _, slope = _contact_path(p, self.lam)
-        return force, a, np.abs(slope)
+            force, delta, slope = self._noncontact(p)
+            return force, np.zeros_like(p), np.abs(slope), delta
+        _, a, force, delta, slope = _contact_path(p, self.lam)
+        return force, a, np.abs(slope), delta
 
     # --- the law -------------------------------------------------------------------------
     def loading_state(self, approach: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
@@ -365,7 +362,7 @@ class MaugisAsperity:
             sel = (delta >= piece.delta_start) & (delta < piece.delta_end)
             if np.any(sel):
                 p = self._inverse(piece.kind, piece.start, piece.end, delta[sel])
-                f, a, _ = self._evaluate(piece.kind, p)
+                f, a, _, _ = self._evaluate(piece.kind, p)
                 force[sel], radius[sel] = f, a
         return force * self.force_scale, radius * self.length_scale
 
@@ -386,19 +383,13 @@ class MaugisAsperity:
             edges = self._inverse(piece.kind, piece.start, piece.end, np.linspace(a, b, panels + 1))
             half = 0.5 * (edges[1:] - edges[:-1])
             p = (0.5 * (edges[1:] + edges[:-1]))[:, None] + half[:, None] * gl_x[None, :]
-            force, rad, slope = self._evaluate(piece.kind, p)
-            delta = self._delta(piece.kind, p)
+            force, rad, slope, delta = self._evaluate(piece.kind, p)
             z = separation + delta * ds
             weight = np.abs(half)[:, None] * gl_w[None, :] * slope * np.exp(-0.5 * (z / sigma) ** 2)
             fz += float(np.sum(weight * force))
             ar += float(np.sum(weight * rad * rad))
         norm = ds / (math.sqrt(2.0 * math.pi) * sigma)
         return fz * norm * self.force_scale, ar * norm * math.pi * self.length_scale**2
-
-    def _delta(self, kind: int, p: np.ndarray) -> np.ndarray:
-        if kind == NONCONTACT:
-            return self._noncontact(p)[1]
-        return _contact_path(p, self.lam)[3]
 
 
 def _hertz_integrals(
@@ -504,9 +495,17 @@ class _Law:
         self.panels = int(knobs.get("panels", 16))
         self.cutoff = float(knobs.get("cutoff_sigma", 10.0))
         self.asperity = MaugisAsperity(radius, e_star, work, h0) if work > 0 else None
+        self._seen: dict[float, tuple[float, float, float, float]] = {}
 
     def state(self, d: float) -> tuple[float, float, float, float]:
-        """(F_z N, A_r m^2, n_contact, n_attracted) at separation d (m)."""
+        """(F_z N, A_r m^2, n_contact, n_attracted) at separation d (m), each separation
+        evaluated once (the bracket ends and the root come back to the solver)."""
+        d = float(d)
+        if d not in self._seen:
+            self._seen[d] = self._state(d)
+        return self._seen[d]
+
+    def _state(self, d: float) -> tuple[float, float, float, float]:
         if self.heights is not None:
             approach = self.heights - d
             if self.asperity is None:
