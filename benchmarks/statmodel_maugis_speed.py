@@ -134,7 +134,10 @@ def main() -> None:
     ref = cases(reference_module(args.rev))
     new = cases(current)
     print(f"reference: statmodel/maugis_rough.py at {args.rev}; best of {args.repeat} runs")
-    head = f"{'case':38s} {'calls':>5s} {'ref s':>8s} {'new s':>8s} {'speed-up':>8s} {'max rel':>9s}"
+    head = (
+        f"{'case':38s} {'calls':>5s} {'ref s':>8s} {'new s':>8s} {'speed-up':>8s} "
+        + "max rel".rjust(9)
+    )
     print(head)
     print("-" * len(head))
     total_ref = total_new = 0.0
