@@ -95,6 +95,8 @@ NEWTON_STEPS, INVERSE_STEPS = 20, 120
 #: Points of the per-piece table of Delta(theta) that starts and brackets the inverse.
 TABLE_POINTS = 400
 EPS = float(np.finfo(float).eps)
+#: Relative Newton step after which the inverse stops (the next would be below EPS).
+NEWTON_LAST = 1e-9
 #: Maugis parameters bounding the DMT and JKR sides (Johnson & Greenwood 1997's map).
 DMT_SIDE, JKR_SIDE = 0.1, 5.0
 
@@ -284,9 +286,10 @@ class MaugisAsperity:
         """The path parameter at Delta on the monotone piece from p_a to p_b.
 
         Out of contact the quadratic's root; in contact theta by Newton's method on Delta(theta)
-        (dDelta/dtheta is explicit), started by linear interpolation in a table of the piece and
-        kept inside the table's bracket (a step that leaves it bisects instead), converged to
-        the spacing of doubles.
+        (dDelta/dtheta is explicit), started by cubic Hermite interpolation of theta(Delta) in a
+        table of the piece and kept inside the table's bracket (a step that leaves it bisects
+        instead); a Newton step below NEWTON_LAST theta is the last (its error is of order its
+        square: below the spacing of doubles).
         """
         lam = self.lam
         delta = np.asarray(delta, dtype=float)
@@ -294,11 +297,22 @@ class MaugisAsperity:
             kappa = 8.0 * lam / (3.0 * math.pi)
             disc = kappa * kappa + 2.0 * (delta + 2.0 / (math.pi * lam))
             return np.clip(kappa + np.sqrt(np.maximum(disc, 0.0)), p_a, p_b)
-        t_tab, d_tab = self._table(p_a, p_b)
+        t_tab, d_tab, m_tab = self._table(p_a, p_b)
         i = np.clip(np.searchsorted(d_tab, delta, side="right") - 1, 0, t_tab.size - 2)
         big, small = t_tab[i], t_tab[i + 1]  # Delta(big) <= delta < Delta(small)
-        d_big, d_small = d_tab[i], d_tab[i + 1]
-        t = big + np.clip((delta - d_big) / (d_small - d_big), 0.0, 1.0) * (small - big)
+        width = d_tab[i + 1] - d_tab[i]
+        finite = np.isfinite(width)
+        width = np.where(finite, width, 1.0)
+        u = np.clip((delta - d_tab[i]) / width, 0.0, 1.0)
+        u2, u3 = u * u, u * u * u
+        t = (
+            (2.0 * u3 - 3.0 * u2 + 1.0) * big
+            + (u3 - 2.0 * u2 + u) * width * m_tab[i]
+            + (3.0 * u2 - 2.0 * u3) * small
+            + (u3 - u2) * width * m_tab[i + 1]
+        )
+        linear = big + u * (small - big)
+        t = np.where(finite & (t >= small) & (t <= big), t, np.where(finite, linear, 0.5 * big))
         for step in range(INVERSE_STEPS):
             _, _, _, d_t, slope = _contact_path(t, lam)
             above = d_t >= delta
@@ -307,7 +321,7 @@ class MaugisAsperity:
             change = (d_t - delta) / np.minimum(slope, -1e-200)  # slope < 0 on the piece
             newton = t - change
             inside = (newton >= small) & (newton <= big)
-            done = inside & (np.abs(change) <= 4.0 * EPS * t) | (big - small <= EPS * t)
+            done = inside & (np.abs(change) <= NEWTON_LAST * t) | (big - small <= EPS * t)
             if step >= NEWTON_STEPS:
                 inside &= done
             t = np.where(inside, newton, 0.5 * (small + big))
@@ -316,9 +330,9 @@ class MaugisAsperity:
         out = np.where(delta <= d_tab[0], p_a, t)
         return np.where(delta >= d_tab[-1], np.where(np.isfinite(d_tab[-1]), p_b, out), out)
 
-    def _table(self, p_a: float, p_b: float) -> tuple[np.ndarray, np.ndarray]:
-        """theta (descending from p_a to p_b) and Delta there (increasing) on a contact piece:
-        points refined towards both ends, Delta(p_b = 0) = infinity."""
+    def _table(self, p_a: float, p_b: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """theta (descending from p_a to p_b), Delta there (increasing) and dtheta/dDelta on a
+        contact piece: points refined towards both ends, Delta(p_b = 0) = infinity."""
         key = (p_a, p_b)
         tables = self._tables  # type: ignore[attr-defined]
         if key not in tables:
@@ -336,8 +350,11 @@ class MaugisAsperity:
             d_a = float(_contact_path(np.array([p_a]), self.lam)[3][0])
             d_b = math.inf if p_b == 0.0 else float(_contact_path(np.array([p_b]), self.lam)[3][0])
             values = np.concatenate([[d_a], inner, [d_b]])
+            slope = np.full(theta.shape, -math.inf)  # dDelta/dtheta, infinite at theta = 0
+            slope[theta > 0.0] = _contact_path(theta[theta > 0.0], self.lam)[4]
             keep = np.concatenate([[True], values[1:] > np.maximum.accumulate(values)[:-1]])
-            tables[key] = (theta[keep], values[keep])
+            # dtheta/dDelta, bounded where the piece starts at a fold (dDelta/dtheta = 0)
+            tables[key] = (theta[keep], values[keep], 1.0 / np.minimum(slope[keep], -1e-200))
         return tables[key]
 
     def _evaluate(self, kind: int, p: np.ndarray) -> tuple[np.ndarray, ...]:
@@ -386,8 +403,8 @@ class MaugisAsperity:
             force, rad, slope, delta = self._evaluate(piece.kind, p)
             z = separation + delta * ds
             weight = np.abs(half)[:, None] * gl_w[None, :] * slope * np.exp(-0.5 * (z / sigma) ** 2)
-            fz += float(np.sum(weight * force))
-            ar += float(np.sum(weight * rad * rad))
+            fz += float((weight * force).sum())
+            ar += float((weight * rad * rad).sum())
         norm = ds / (math.sqrt(2.0 * math.pi) * sigma)
         return fz * norm * self.force_scale, ar * norm * math.pi * self.length_scale**2
 
@@ -408,8 +425,8 @@ def _hertz_integrals(
     z = separation + a * a / radius
     weight = half[:, None] * gl_w[None, :] * (2.0 * a / radius) * np.exp(-0.5 * (z / sigma) ** 2)
     norm = 1.0 / (math.sqrt(2.0 * math.pi) * sigma)
-    fz = float(np.sum(weight * a**3)) * 4.0 * e_star / (3.0 * radius) * norm
-    return fz, float(np.sum(weight * a * a)) * math.pi * norm
+    fz = float((weight * a**3).sum()) * 4.0 * e_star / (3.0 * radius) * norm
+    return fz, float((weight * a * a).sum()) * math.pi * norm
 
 
 @dataclass(frozen=True)
