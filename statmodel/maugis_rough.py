@@ -50,13 +50,15 @@ instead: the two loading branches agree for lambda -> infinity except for asperi
 few nm of first contact (on the default job's statistics the areas agree to 6e-5 at h_0 = 5 nm,
 lambda = 61).
 
-Quadrature: each monotone piece of the loading branch within |z| <= cutoff_sigma sigma_s is cut
-into ``panels`` panels of equal width in delta, their ends mapped to the path parameter (the
-contact piece by bisection), and each panel integrated by Gauss-Legendre (``nodes``) in the path
-parameter (C out of contact, theta in contact; w = 0: the Hertz radius a), where the integrand is
-smooth (no square-root end point at first contact or at a fold). The defaults (16 panels of 16
-nodes, cut-off 10 sigma_s) agree with scipy.integrate.quad of an independent integrand to
-1.2e-11 relative in F_z and A_r (tests/statmodel/test_statmodel_maugis_rough.py).
+Quadrature: each monotone piece of the loading branch within |z| <= cutoff_sigma sigma_s is cut into
+``panels`` panels of equal width in delta, their ends mapped to the path parameter (the contact
+piece by Newton's method on Delta(theta), started from a cubic Hermite interpolant of a table of the
+piece built once per asperity and kept inside its bracket), and each panel integrated by
+Gauss-Legendre (``nodes``) in the path parameter (C out of contact, theta in contact; w = 0: the
+Hertz radius a), where the integrand is smooth (no square-root end point at first contact or at a
+fold). The defaults (16 panels of 16 nodes, cut-off 10 sigma_s) agree with scipy.integrate.quad of
+an independent integrand to 1.2e-11 relative in F_z and A_r
+(tests/statmodel/test_statmodel_maugis_rough.py).
 
 SI units throughout: m, Pa, N, J/m^2, m^2, 1/m^2.
 """
