@@ -50,13 +50,15 @@ instead: the two loading branches agree for lambda -> infinity except for asperi
 few nm of first contact (on the default job's statistics the areas agree to 6e-5 at h_0 = 5 nm,
 lambda = 61).
 
-Quadrature: each monotone piece of the loading branch within |z| <= cutoff_sigma sigma_s is cut
-into ``panels`` panels of equal width in delta, their ends mapped to the path parameter (the
-contact piece by bisection), and each panel integrated by Gauss-Legendre (``nodes``) in the path
-parameter (C out of contact, theta in contact; w = 0: the Hertz radius a), where the integrand is
-smooth (no square-root end point at first contact or at a fold). The defaults (16 panels of 16
-nodes, cut-off 10 sigma_s) agree with scipy.integrate.quad of an independent integrand to
-1.2e-11 relative in F_z and A_r (tests/statmodel/test_statmodel_maugis_rough.py).
+Quadrature: each monotone piece of the loading branch within |z| <= cutoff_sigma sigma_s is cut into
+``panels`` panels of equal width in delta, their ends mapped to the path parameter (the contact
+piece by Newton's method on Delta(theta), started from a cubic Hermite interpolant of a table of the
+piece built once per asperity and kept inside its bracket), and each panel integrated by
+Gauss-Legendre (``nodes``) in the path parameter (C out of contact, theta in contact; w = 0: the
+Hertz radius a), where the integrand is smooth (no square-root end point at first contact or at a
+fold). The defaults (16 panels of 16 nodes, cut-off 10 sigma_s) agree with scipy.integrate.quad of
+an independent integrand to 1.2e-11 relative in F_z and A_r
+(tests/statmodel/test_statmodel_maugis_rough.py).
 
 SI units throughout: m, Pa, N, J/m^2, m^2, 1/m^2.
 """
@@ -89,8 +91,14 @@ __all__ = [
 
 #: Path kinds: in range but out of contact (parameter C = c / l), in contact (theta).
 NONCONTACT, CONTACT = 0, 1
-#: Bisection steps of the contact-piece inverse (interval pi/2 -> below the spacing of doubles).
-BISECTION_STEPS = 80
+#: Most steps of the contact-piece inverse (safeguarded Newton from a tabulated start; from
+#: step NEWTON_STEPS on it bisects, interval pi/2 -> below the spacing of doubles).
+NEWTON_STEPS, INVERSE_STEPS = 20, 120
+#: Points of the per-piece table of Delta(theta) that starts and brackets the inverse.
+TABLE_POINTS = 400
+EPS = float(np.finfo(float).eps)
+#: Relative Newton step after which the inverse stops (the next would be below EPS).
+NEWTON_LAST = 1e-9
 #: Maugis parameters bounding the DMT and JKR sides (Johnson & Greenwood 1997's map).
 DMT_SIDE, JKR_SIDE = 0.1, 5.0
 
@@ -181,6 +189,7 @@ class MaugisAsperity:
                 raise InputError(f"MaugisAsperity.{name}: expected a finite number, got {value!r}")
             if not value > 0:
                 raise InputError(f"MaugisAsperity.{name}: expected > 0 (SI), got {value!r}")
+        object.__setattr__(self, "_tables", {})
         object.__setattr__(self, "_pieces", self._build_pieces())
 
     # --- scales -------------------------------------------------------------------------
@@ -276,29 +285,87 @@ class MaugisAsperity:
         return tuple(pieces)
 
     def _inverse(self, kind: int, p_a: float, p_b: float, delta: np.ndarray) -> np.ndarray:
-        """The path parameter at Delta on the monotone piece from p_a to p_b."""
+        """The path parameter at Delta on the monotone piece from p_a to p_b.
+
+        Out of contact the quadratic's root; in contact theta by Newton's method on Delta(theta)
+        (dDelta/dtheta is explicit), started by cubic Hermite interpolation of theta(Delta) in a
+        table of the piece and kept inside the table's bracket (a step that leaves it bisects
+        instead); a Newton step below NEWTON_LAST theta is the last (its error is of order its
+        square: below the spacing of doubles).
+        """
         lam = self.lam
         delta = np.asarray(delta, dtype=float)
         if kind == NONCONTACT:
             kappa = 8.0 * lam / (3.0 * math.pi)
             disc = kappa * kappa + 2.0 * (delta + 2.0 / (math.pi * lam))
             return np.clip(kappa + np.sqrt(np.maximum(disc, 0.0)), p_a, p_b)
-        hi = np.full(delta.shape, p_a)  # larger theta: smaller Delta
-        lo = np.full(delta.shape, p_b)
-        for _ in range(BISECTION_STEPS):
-            mid = 0.5 * (lo + hi)
-            below = _contact_path(mid, lam)[3] < delta
-            hi = np.where(below, mid, hi)
-            lo = np.where(below, lo, mid)
-        return 0.5 * (lo + hi)
+        t_tab, d_tab, m_tab = self._table(p_a, p_b)
+        i = np.clip(np.searchsorted(d_tab, delta, side="right") - 1, 0, t_tab.size - 2)
+        big, small = t_tab[i], t_tab[i + 1]  # Delta(big) <= delta < Delta(small)
+        width = d_tab[i + 1] - d_tab[i]
+        finite = np.isfinite(width)
+        width = np.where(finite, width, 1.0)
+        u = np.clip((delta - d_tab[i]) / width, 0.0, 1.0)
+        u2, u3 = u * u, u * u * u
+        t = (
+            (2.0 * u3 - 3.0 * u2 + 1.0) * big
+            + (u3 - 2.0 * u2 + u) * width * m_tab[i]
+            + (3.0 * u2 - 2.0 * u3) * small
+            + (u3 - u2) * width * m_tab[i + 1]
+        )
+        linear = big + u * (small - big)
+        t = np.where(finite & (t >= small) & (t <= big), t, np.where(finite, linear, 0.5 * big))
+        for step in range(INVERSE_STEPS):
+            _, _, _, d_t, slope = _contact_path(t, lam)
+            above = d_t >= delta
+            small = np.where(above, t, small)
+            big = np.where(above, big, t)
+            change = (d_t - delta) / np.minimum(slope, -1e-200)  # slope < 0 on the piece
+            newton = t - change
+            inside = (newton >= small) & (newton <= big)
+            done = inside & (np.abs(change) <= NEWTON_LAST * t) | (big - small <= EPS * t)
+            if step >= NEWTON_STEPS:
+                inside &= done
+            t = np.where(inside, newton, 0.5 * (small + big))
+            if np.all(done):
+                break
+        out = np.where(delta <= d_tab[0], p_a, t)
+        return np.where(delta >= d_tab[-1], np.where(np.isfinite(d_tab[-1]), p_b, out), out)
 
-    def _evaluate(self, kind: int, p: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(P, A, |dDelta/dp|) at path parameters p of one kind (dimensionless)."""
+    def _table(self, p_a: float, p_b: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """theta (descending from p_a to p_b), Delta there (increasing) and dtheta/dDelta on a
+        contact piece: points refined towards both ends, Delta(p_b = 0) = infinity."""
+        key = (p_a, p_b)
+        tables = self._tables  # type: ignore[attr-defined]
+        if key not in tables:
+            s = np.concatenate(
+                [
+                    np.geomspace(1e-12, 1.0, TABLE_POINTS),
+                    1.0 - np.geomspace(1e-12, 1.0, TABLE_POINTS),
+                    np.linspace(0.0, 1.0, TABLE_POINTS),
+                ]
+            )
+            s = np.unique(np.clip(s, 0.0, 1.0))[::-1]  # 1 -> 0: p_a -> p_b
+            theta = p_b + s * (p_a - p_b)
+            theta[0], theta[-1] = p_a, p_b
+            inner = _contact_path(theta[1:-1], self.lam)[3] if theta.size > 2 else np.array([])
+            d_a = float(_contact_path(np.array([p_a]), self.lam)[3][0])
+            d_b = math.inf if p_b == 0.0 else float(_contact_path(np.array([p_b]), self.lam)[3][0])
+            values = np.concatenate([[d_a], inner, [d_b]])
+            slope = np.full(theta.shape, -math.inf)  # dDelta/dtheta, infinite at theta = 0
+            slope[theta > 0.0] = _contact_path(theta[theta > 0.0], self.lam)[4]
+            keep = np.concatenate([[True], values[1:] > np.maximum.accumulate(values)[:-1]])
+            # dtheta/dDelta, bounded where the piece starts at a fold (dDelta/dtheta = 0)
+            tables[key] = (theta[keep], values[keep], 1.0 / np.minimum(slope[keep], -1e-200))
+        return tables[key]
+
+    def _evaluate(self, kind: int, p: np.ndarray) -> tuple[np.ndarray, ...]:
+        """(P, A, |dDelta/dp|, Delta) at path parameters p of one kind (dimensionless)."""
         if kind == NONCONTACT:
-            force, _, slope = self._noncontact(p)
-            return force, np.zeros_like(p), np.abs(slope)
-        _, a, force, _, slope = _contact_path(p, self.lam)
-        return force, a, np.abs(slope)
+            force, delta, slope = self._noncontact(p)
+            return force, np.zeros_like(p), np.abs(slope), delta
+        _, a, force, delta, slope = _contact_path(p, self.lam)
+        return force, a, np.abs(slope), delta
 
     # --- the law -------------------------------------------------------------------------
     def loading_state(self, approach: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
@@ -314,7 +381,7 @@ class MaugisAsperity:
             sel = (delta >= piece.delta_start) & (delta < piece.delta_end)
             if np.any(sel):
                 p = self._inverse(piece.kind, piece.start, piece.end, delta[sel])
-                f, a, _ = self._evaluate(piece.kind, p)
+                f, a, _, _ = self._evaluate(piece.kind, p)
                 force[sel], radius[sel] = f, a
         return force * self.force_scale, radius * self.length_scale
 
@@ -335,19 +402,13 @@ class MaugisAsperity:
             edges = self._inverse(piece.kind, piece.start, piece.end, np.linspace(a, b, panels + 1))
             half = 0.5 * (edges[1:] - edges[:-1])
             p = (0.5 * (edges[1:] + edges[:-1]))[:, None] + half[:, None] * gl_x[None, :]
-            force, rad, slope = self._evaluate(piece.kind, p)
-            delta = self._delta(piece.kind, p)
+            force, rad, slope, delta = self._evaluate(piece.kind, p)
             z = separation + delta * ds
             weight = np.abs(half)[:, None] * gl_w[None, :] * slope * np.exp(-0.5 * (z / sigma) ** 2)
-            fz += float(np.sum(weight * force))
-            ar += float(np.sum(weight * rad * rad))
+            fz += float((weight * force).sum())
+            ar += float((weight * rad * rad).sum())
         norm = ds / (math.sqrt(2.0 * math.pi) * sigma)
         return fz * norm * self.force_scale, ar * norm * math.pi * self.length_scale**2
-
-    def _delta(self, kind: int, p: np.ndarray) -> np.ndarray:
-        if kind == NONCONTACT:
-            return self._noncontact(p)[1]
-        return _contact_path(p, self.lam)[3]
 
 
 def _hertz_integrals(
@@ -366,8 +427,8 @@ def _hertz_integrals(
     z = separation + a * a / radius
     weight = half[:, None] * gl_w[None, :] * (2.0 * a / radius) * np.exp(-0.5 * (z / sigma) ** 2)
     norm = 1.0 / (math.sqrt(2.0 * math.pi) * sigma)
-    fz = float(np.sum(weight * a**3)) * 4.0 * e_star / (3.0 * radius) * norm
-    return fz, float(np.sum(weight * a * a)) * math.pi * norm
+    fz = float((weight * a**3).sum()) * 4.0 * e_star / (3.0 * radius) * norm
+    return fz, float((weight * a * a).sum()) * math.pi * norm
 
 
 @dataclass(frozen=True)
@@ -453,9 +514,17 @@ class _Law:
         self.panels = int(knobs.get("panels", 16))
         self.cutoff = float(knobs.get("cutoff_sigma", 10.0))
         self.asperity = MaugisAsperity(radius, e_star, work, h0) if work > 0 else None
+        self._seen: dict[float, tuple[float, float, float, float]] = {}
 
     def state(self, d: float) -> tuple[float, float, float, float]:
-        """(F_z N, A_r m^2, n_contact, n_attracted) at separation d (m)."""
+        """(F_z N, A_r m^2, n_contact, n_attracted) at separation d (m), each separation
+        evaluated once (the bracket ends and the root come back to the solver)."""
+        d = float(d)
+        if d not in self._seen:
+            self._seen[d] = self._state(d)
+        return self._seen[d]
+
+    def _state(self, d: float) -> tuple[float, float, float, float]:
         if self.heights is not None:
             approach = self.heights - d
             if self.asperity is None:
