@@ -122,6 +122,12 @@ class IterationState:
         for conv in (self.op, self.pre):
             self.count(conv)
 
+    def release_work(self) -> None:
+        """Drop the direction and the work array (the state then only describes p, c, w):
+        called once the iteration ended, before the result is assembled."""
+        self.t = self.r = self.s_arr = self.z_arr = None  # type: ignore[assignment]
+        self.tf = self.rf = self.sf = self.zf = None
+
     def count(self, conv: Convolution | None) -> None:
         """Count the convolutions ``conv`` does from now on in this solve's diagnostics."""
         if conv is not None and id(conv) not in self.counted:
@@ -154,16 +160,20 @@ def new_state(
     nx, ny = problem.heights.shape
     load = problem.load_control
     offset = 0.0 if load else -problem.separation
+    # one work array holds r = K t, the preconditioner's input s and its output z: their
+    # lifetimes within an iteration do not overlap (s -> z in place, z is consumed by the
+    # direction update before r = K t is transformed back)
+    work = op.empty()
     return IterationState(
         p=p,
         c=c,
         w=w,
         t=op.zeros(),
-        r=op.empty(),
+        r=work,
         op=op,
         pre=pre,
-        s_arr=op.empty() if pre is not None else None,
-        z_arr=op.empty() if pre is not None else None,
+        s_arr=work if pre is not None else None,
+        z_arr=work if pre is not None else None,
         psq=kr.dot(p.ravel(), p.ravel()),
         offset=offset,
         shift=float(np.mean(w[:nx, :ny] - problem.heights)) if load else offset,
