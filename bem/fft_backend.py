@@ -547,7 +547,22 @@ class Convolution:
             )
             if pyfftw.export_wisdom() != before:
                 _save_wisdom()
+            if self._workspace is not None:
+                # release the planning arrays now rather than at the first transform (a plan
+                # made late in a solve would otherwise hold two grids more at its peak): the
+                # plans point at a real grid viewed in the workspace until their first use,
+                # which always passes its own arrays (update_arrays)
+                parked = self._parked_real()
+                self._fwd.update_arrays(parked, self._spec)
+                self._inv.update_arrays(self._spec, parked)
+            del real_in, real_out
         self._align = pyfftw.simd_alignment
+
+    def _parked_real(self) -> np.ndarray:
+        """A real grid of this precision viewed in the workspace (it fits: the workspace holds
+        a complex128 half-spectrum), never transformed: see :meth:`_setup_pyfftw`."""
+        n = self.shape[0] * self.shape[1] * np.dtype(self.dtype).itemsize
+        return self._workspace[:n].view(self.dtype).reshape(self.shape)
 
     # -- public --------------------------------------------------------------------------
     def empty(self) -> np.ndarray:
