@@ -17,7 +17,8 @@ into a float32 buffer and the result cast back, so callers keep float64 arrays. 
 The relative error of a single-precision convolution is ~1e-7 of the largest value: the
 solver uses it only while its residual is far above that (:mod:`asperity.bem.iteration`).
 
-``"auto"`` times pyfftw (requested threads and one thread) and scipy on the grid once per process
+``"auto"`` times pyfftw (requested threads and one thread) and scipy (below 2048^2 points: above,
+scipy's per-call spectrum and output arrays cost 16 B a point) on the grid once per process
 and shape and keeps the fastest: pyfftw when installed and measured faster.
 
 Pitfall handled here: the pyFFTW wheel threads through OpenMP, so ``OMP_NUM_THREADS=1`` silently
@@ -60,6 +61,7 @@ _PLANNING_TIMELIMIT = 300.0  # s: FFTW keeps the best plan found so far beyond i
 PRECISIONS = {"double": (np.float64, np.complex128), "single": (np.float32, np.complex64)}
 _WISDOM_LOADED = False
 _AUTO_CHOICE: dict[tuple, tuple[str, int]] = {}
+_PYFFTW_ONLY = 2048 * 2048  # grid points from which "auto" does not consider scipy
 _ALIGN = 64  # bytes: the alignment of workspace views (>= any SIMD alignment FFTW asks)
 
 
@@ -431,8 +433,9 @@ class Convolution:
         self.transforms = 0  # FFTs done, forward and inverse (2 per full convolution)
         self._pending: np.ndarray | None = None  # the product of the last forward transform
         self.seconds = 0.0  # wall time spent in them (s)
+        self._workspace = workspace
         if backend == "auto":
-            backend = self._choose_backend(threads_given=bool(threads))
+            backend = self._choose_backend(multiplier, threads_given=bool(threads))
         self.backend = backend
         # fold the 1/N normalisation of the unnormalised inverse transform into the multiplier
         # (a radial one divides by N where it is evaluated)
@@ -442,7 +445,6 @@ class Convolution:
         else:
             self._radial = None
             self._mult = np.ascontiguousarray(multiplier / (nx * ny), dtype=self.dtype)
-        self._workspace = workspace
         if backend == "pyfftw":
             self._setup_pyfftw()
         else:  # release plans made while measuring
@@ -462,7 +464,9 @@ class Convolution:
         return spec, ws[off : off + 4 * n].view(np.float32).reshape(self.shape)
 
     # -- backend selection -------------------------------------------------------------
-    def _choose_backend(self, threads_given: bool) -> str:
+    def _choose_backend(
+        self, multiplier: np.ndarray | RadialMultiplier, threads_given: bool
+    ) -> str:
         """Time the candidate (backend, threads) pairs on this grid and keep the fastest.
 
         Candidates: pyfftw with the requested threads, pyfftw with one thread (OpenMP threads
@@ -478,20 +482,30 @@ class Convolution:
             self.threads = known[1]
             return known[0]
         candidates = [("scipy", self.threads)]
+        if "pyfftw" in available_backends() and self.shape[0] * self.shape[1] >= _PYFFTW_ONLY:
+            # scipy allocates a spectrum and an output grid at every call (16 B a point above
+            # the shared workspace at the solver's peak): large grids keep to pyfftw
+            candidates = []
         if "pyfftw" in available_backends():
             candidates.insert(0, ("pyfftw", self.threads))
             if self.threads > 1 and not threads_given:
                 candidates.insert(1, ("pyfftw", 1))
-        x = np.random.default_rng(0).standard_normal(self.shape)
-        ones = np.ones(self.spectral_shape)
-        reps = 5 if x.size <= 2048 * 2048 else 2
+        # timed with this operator's own multiplier and workspace: the candidates add two
+        # real grids (input and output) to the memory, nothing else
+        rng = np.random.default_rng(0)
+        reps = 5 if self.shape[0] * self.shape[1] <= 2048 * 2048 else 2
         timings = []
         for name, nthreads in candidates:
             conv = Convolution(
-                ones, self.shape, backend=name, threads=nthreads, precision=self.precision
+                multiplier,
+                self.shape,
+                backend=name,
+                threads=nthreads,
+                precision=self.precision,
+                workspace=self._workspace,
             )
             buf = conv.empty()
-            buf[...] = x
+            rng.standard_normal(out=buf)
             out = conv.empty()
             conv(buf, out)  # warm up
             # the median, not the minimum: threads that wait on a busy core show up as a
@@ -499,6 +513,7 @@ class Convolution:
             elapsed = float(np.median([_timed(conv, buf, out) for _ in range(reps)]))
             # prefer fewer threads unless more are clearly (15 %) faster
             timings.append((elapsed * (1.0 if nthreads == 1 else 1.15), name, nthreads))
+            del conv, buf, out
         _, name, nthreads = min(timings)
         with _LOCK:
             _AUTO_CHOICE[key] = (name, nthreads)
@@ -557,6 +572,17 @@ class Convolution:
                 self._inv.update_arrays(self._spec, parked)
             del real_in, real_out
         self._align = pyfftw.simd_alignment
+
+    def _park(self, plan) -> None:
+        """Point ``plan`` back at the workspace after a transform, so that it does not keep the
+        caller's array alive (a cached operator would otherwise hold the last solve's
+        direction and work arrays until the next one)."""
+        if self._workspace is None:
+            return
+        if plan is self._fwd:
+            plan.update_arrays(self._parked_real(), self._spec)
+        else:
+            plan.update_arrays(self._spec, self._parked_real())
 
     def _parked_real(self) -> np.ndarray:
         """A real grid of this precision viewed in the workspace (it fits: the workspace holds
@@ -644,6 +670,7 @@ class Convolution:
                 target = self._scratch
             self._inv.update_arrays(spec, target)
             self._inv.execute()
+            self._park(self._inv)
             if target is not out:
                 out[...] = target
         else:
@@ -667,6 +694,7 @@ class Convolution:
                 x = self._scratch
             self._fwd.update_arrays(x, self._spec)
             self._fwd.execute()
+            self._park(self._fwd)
             spec = self._spec
         else:
             import scipy.fft

@@ -152,14 +152,29 @@ def new_state(
     (in single precision when the solve starts mixed, :meth:`SolverOptions.mixed_precision`)."""
     single = options.mixed_precision(problem.op.shape)
     op = single_precision_operator(problem, options) if single else problem.op
-    w = op.empty()
-    op(p, out=w)
     pre = None
     if options.precondition:
+        # every operator of the solve exists before its arrays do: planning one allocates
+        # two real grids for a moment (the double preconditioner of a mixed solve would
+        # otherwise be planned at the switch, on top of the whole state)
+        if single:
+            stiffness_preconditioner(problem.op, problem.dx, problem.dy, problem.e_star)
         pre = stiffness_preconditioner(op, problem.dx, problem.dy, problem.e_star)
+    w = op.empty()
+    op(p, out=w)
     nx, ny = problem.heights.shape
     load = problem.load_control
     offset = 0.0 if load else -problem.separation
+    shift, stats = offset, None
+    if load and w.shape == (nx, ny):
+        # periodic: w = K p - h in place (no full-size temporary), the mean gap about which
+        # the first statistics are taken, and those statistics (as the first measure_gap
+        # would compute them from the deflection)
+        np.subtract(w, problem.grid_heights, out=w)
+        shift = float(np.mean(w))
+        stats = kr.gap_stats(w.ravel(), c.ravel(), shift)
+    elif load:
+        shift = float(np.mean(w[:nx, :ny] - problem.heights))
     # one work array holds r = K t, the preconditioner's input s and its output z: their
     # lifetimes within an iteration do not overlap (s -> z in place, z is consumed by the
     # direction update before r = K t is transformed back)
@@ -176,7 +191,8 @@ def new_state(
         z_arr=work if pre is not None else None,
         psq=kr.dot(p.ravel(), p.ravel()),
         offset=offset,
-        shift=float(np.mean(w[:nx, :ny] - problem.heights)) if load else offset,
+        shift=shift,
+        stats=stats,
         last_allowed=not problem.adhesive,
         single=single,
     )
