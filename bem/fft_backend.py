@@ -471,11 +471,16 @@ class Convolution:
 
         Candidates: pyfftw with the requested threads, pyfftw with one thread (OpenMP threads
         that wait on a busy core make 2 threads slower than 1 on a shared 2-core machine) unless
-        ``threads`` was given explicitly, and scipy with the requested workers. The choice is
-        remembered for this process (it depends on the machine's current load, so it is not
+        ``threads`` was given explicitly, and scipy with the requested workers (below 2048^2
+        points). The choice is made once per grid shape for both precisions and remembered
+        for this process (it depends on the machine's current load, so it is not
         written to disk; the FFTW plans are, as wisdom).
         """
-        key = (self.shape, self.threads, threads_given, self.precision)
+        # one timing per grid and process, whatever the precision (the double and single
+        # precision operators of a mixed solve were timed apart: with three candidates, a
+        # warm-up and two timed convolutions each, about 18 convolutions of 0.4-0.7 s at
+        # 5000^2 in every fresh process; now 2 candidates x 2 convolutions there)
+        key = (self.shape, self.threads, threads_given)
         with _LOCK:
             known = _AUTO_CHOICE.get(key)
         if known is not None:
@@ -493,7 +498,7 @@ class Convolution:
         # timed with this operator's own multiplier and workspace: the candidates add two
         # real grids (input and output) to the memory, nothing else
         rng = np.random.default_rng(0)
-        reps = 5 if self.shape[0] * self.shape[1] <= 2048 * 2048 else 2
+        reps = 5 if self.shape[0] * self.shape[1] <= 2048 * 2048 else 1
         timings = []
         for name, nthreads in candidates:
             conv = Convolution(
