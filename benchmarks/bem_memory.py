@@ -6,8 +6,11 @@ the paper preset's 2.08 N scaled to the map's area, tol 1e-6, default options; n
 Maugis-Dugdale (w = 0.040 J/m^2, h_0 = 0.5 um); periodic or free boundary (zero-padded
 transforms on the doubled grid). Printed per case: peak RSS over the number of height points
 (B/element, everything the process holds, the interpreter and the input heights included), the
-same above the interpreter's own peak before the solve, the floor, iterations, seconds, the
-contact fraction, and a digest of the pressure (bit-identity between two versions).
+same above the interpreter's own peak before the solve, the floor, iterations, seconds,
+seconds per iteration over two bare real convolutions of the solver's own double-precision
+operator timed in the same process after the solve (``s/it/2conv``: the row that catches a
+speed regression such as issue 28's 2.4 against 1.0), the contact fraction, and a digest of the
+pressure (bit-identity between two versions).
 
 The floor counts the arrays the algorithm cannot do without, in bytes per height point:
 
@@ -94,6 +97,7 @@ def run_case(n: int, boundary: str, adhesion: str, precision: str) -> dict:
     )
     seconds = time.perf_counter() - t0
     peak = _peak_bytes()
+    conv = _bare_convolution_seconds(heights.shape, boundary == "periodic")
     return {
         "n": n,
         "boundary": boundary,
@@ -102,12 +106,33 @@ def run_case(n: int, boundary: str, adhesion: str, precision: str) -> dict:
         "before_bytes": before,
         "seconds": seconds,
         "nit": int(res.nit),
+        "conv_seconds": conv,
         "status": int(res.status),
         "contact_fraction": float(res.contact_fraction),
         "pressure_sha1": hashlib.sha1(np.ascontiguousarray(res.pressure).tobytes()).hexdigest()[
             :12
         ],
     }
+
+
+def _bare_convolution_seconds(shape: tuple[int, int], periodic: bool) -> float:
+    """Median seconds of one bare real convolution (forward, multiplication, inverse) with the
+    solver's own double-precision operator, measured after the solve in the same process."""
+    import numpy as np
+
+    from asperity.bem import SolverOptions
+    from asperity.bem.operators import influence_operator
+
+    o = SolverOptions()
+    op = influence_operator(shape, PIXEL, PIXEL, E_STAR, o.kernel, periodic, o.fft_backend, None)
+    x = op.zeros()
+    out = op.empty()
+    times = []
+    for _ in range(3):
+        t0 = time.perf_counter()
+        op(x, out)
+        times.append(time.perf_counter() - t0)
+    return float(np.median(times))
 
 
 def main() -> None:
@@ -125,7 +150,8 @@ def main() -> None:
         return
     header = (
         f"{'n':>6} {'boundary':>8} {'adhesion':>8} {'peak GiB':>8} {'B/el':>6} "
-        f"{'B/el solve':>10} {'floor':>5} {'nit':>4} {'s':>7} {'contact':>9} {'sha1':>12}"
+        f"{'B/el solve':>10} {'floor':>5} {'nit':>4} {'s':>7} {'s/it/2conv':>10} {'contact':>9} "
+        f"{'sha1':>12}"
     )
     print(header)
     rows = []
@@ -146,6 +172,7 @@ def main() -> None:
                     f"{r['peak_bytes'] / size:6.1f} "
                     f"{(r['peak_bytes'] - r['before_bytes']) / size:10.1f} "
                     f"{FLOOR[(boundary, adhesion)]:5d} {r['nit']:4d} {r['seconds']:7.1f} "
+                    f"{r['seconds'] / max(r['nit'], 1) / (2 * r['conv_seconds']):10.2f} "
                     f"{r['contact_fraction']:9.6f} {r['pressure_sha1']:>12}",
                     flush=True,
                 )
