@@ -140,17 +140,24 @@ def assemble_result(
     operator's ``calls`` and ``seconds`` at the start of the solve;
     ``extra``: further diagnostics (coarse start, loading ramp).
     """
+    s.release_work()
     problem.op(s.p, out=s.w)
     s.w -= problem.grid_heights
     nx, ny = problem.heights.shape
-    pressure = np.array(s.p[:nx, :ny])
-    mask = s.c[:nx, :ny].astype(bool)
+    # on a periodic grid the state's arrays become the result's (no copies at the peak);
+    # padded grids copy the map's part out
+    own = s.p.shape == (nx, ny)
+    pressure = s.p if own else np.array(s.p[:nx, :ny])
+    mask = s.c.view(bool) if own else s.c[:nx, :ny].astype(bool)
     offset = s.offset
     if problem.load_control and mask.any():
         offset = float(s.w[:nx, :ny][mask].mean())
     if stop is None:
         stop = _iteration_cap(s, problem, options, offset)
-    gap = np.array(s.w[:nx, :ny] - offset)
+    if own:
+        gap = np.subtract(s.w, offset, out=s.w)
+    else:
+        gap = np.array(s.w[:nx, :ny] - offset)
     total_force = float(pressure.sum()) * problem.pixel_area
     stop = _load_check(problem, stop, pressure, total_force)
     n_contact = int(np.count_nonzero(mask))

@@ -17,7 +17,8 @@ into a float32 buffer and the result cast back, so callers keep float64 arrays. 
 The relative error of a single-precision convolution is ~1e-7 of the largest value: the
 solver uses it only while its residual is far above that (:mod:`asperity.bem.iteration`).
 
-``"auto"`` times pyfftw (requested threads and one thread) and scipy on the grid once per process
+``"auto"`` times pyfftw (requested threads and one thread) and scipy (below 2048^2 points: above,
+scipy's per-call spectrum and output arrays cost 16 B a point) on the grid once per process
 and shape and keeps the fastest: pyfftw when installed and measured faster.
 
 Pitfall handled here: the pyFFTW wheel threads through OpenMP, so ``OMP_NUM_THREADS=1`` silently
@@ -30,11 +31,13 @@ Awkward sizes (e.g. 5001 = 3 x 1667) transform more slowly than nearby smooth si
 
 from __future__ import annotations
 
+import math
 import os
 import threading
 import time
 import warnings
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -43,11 +46,13 @@ from asperity.bem.errors import BemInputError
 
 __all__ = [
     "Convolution",
+    "RadialMultiplier",
     "available_backends",
     "cache_dir",
     "crop_to_fast_size",
     "default_threads",
     "fast_size",
+    "new_workspace",
 ]
 
 _LOCK = threading.Lock()
@@ -56,6 +61,8 @@ _PLANNING_TIMELIMIT = 300.0  # s: FFTW keeps the best plan found so far beyond i
 PRECISIONS = {"double": (np.float64, np.complex128), "single": (np.float32, np.complex64)}
 _WISDOM_LOADED = False
 _AUTO_CHOICE: dict[tuple, tuple[str, int]] = {}
+_PYFFTW_ONLY = 2048 * 2048  # grid points from which "auto" does not consider scipy
+_ALIGN = 64  # bytes: the alignment of workspace views (>= any SIMD alignment FFTW asks)
 
 
 def _planning_effort(shape: tuple[int, int]) -> str:
@@ -90,6 +97,114 @@ def _multiply_with_energy(spec, mult, ny):  # pragma: no cover - compiled
                 e1 += a
             spec[i, j] = z * m
     return e0 + 2.0 * e1
+
+
+class RadialMultiplier(NamedTuple):
+    """A Fourier multiplier that depends on |q| alone, evaluated where it is used instead of
+    stored (a stored half-spectrum costs 4 B per grid point in double precision).
+
+    ``m(q) = coef / |q|`` (``power = -1``; zero at q = 0: the periodic point-force compliance
+    2 / (E* |q|), m/Pa) or ``coef |q|`` (``power = 1``; |q| = ``q00`` at q = 0: the stiffness
+    E* |q| / 2, Pa/m), with |q| = sqrt(qx2[i] + qy2[j]) on the half-spectrum grid.
+    """
+
+    qx2: np.ndarray  # (nx,) qx^2 (rad^2/m^2), in numpy's FFT order
+    qy2: np.ndarray  # (ny // 2 + 1,) qy^2 (rad^2/m^2)
+    coef: float
+    power: int
+    q00: float = 0.0
+
+    def materialise(self) -> np.ndarray:
+        """The multiplier as a float64 half-spectrum array (for checks and small grids)."""
+        out = np.empty((self.qx2.size, self.qy2.size))
+        _radial_fill(out, self.qx2, self.qy2, self.coef, self.power, self.q00, 1.0)
+        return out
+
+
+@njit(inline="always")
+def _radial_value(qx2, qy2, i, j, coef, power, q00, nn):  # pragma: no cover - compiled
+    q = math.sqrt(qx2[i] + qy2[j])
+    if i == 0 and j == 0 and q00 > 0.0:
+        q = q00
+    if power < 0:
+        m = coef / q if q > 0.0 else 0.0
+    else:
+        m = coef * q
+    return m / nn
+
+
+@njit(cache=True, fastmath=False)
+def _radial_fill(out, qx2, qy2, coef, power, q00, nn):  # pragma: no cover - compiled
+    for i in range(out.shape[0]):
+        for j in range(out.shape[1]):
+            out[i, j] = _radial_value(qx2, qy2, i, j, coef, power, q00, nn)
+
+
+@njit(cache=True, fastmath=False)
+def _radial_multiply_double(spec, qx2, qy2, coef, power, q00, nn, ny, energy):  # pragma: no cover
+    """spec *= m in place (complex128, m float64); returns sum mult |spec|^2 (Parseval) when
+    ``energy``, as :func:`_multiply_with_energy` with a stored multiplier."""
+    nx, nyh = spec.shape
+    e0 = 0.0
+    e1 = 0.0
+    last = nyh - 1 if ny % 2 == 0 else -1
+    for i in range(nx):
+        for j in range(nyh):
+            m = _radial_value(qx2, qy2, i, j, coef, power, q00, nn)
+            z = spec[i, j]
+            if energy:
+                a = m * (z.real * z.real + z.imag * z.imag)
+                if j == 0 or j == last:
+                    e0 += a
+                else:
+                    e1 += a
+            spec[i, j] = z * m
+    return e0 + 2.0 * e1
+
+
+@njit(cache=True, fastmath=False)
+def _radial_multiply_single(spec, qx2, qy2, coef, power, q00, nn, ny, energy):  # pragma: no cover
+    """As :func:`_radial_multiply_double` for a complex64 spectrum: the multiplier is rounded
+    to float32 as a stored float32 one would be."""
+    nx, nyh = spec.shape
+    e0 = 0.0
+    e1 = 0.0
+    last = nyh - 1 if ny % 2 == 0 else -1
+    for i in range(nx):
+        for j in range(nyh):
+            m = np.float32(_radial_value(qx2, qy2, i, j, coef, power, q00, nn))
+            z = spec[i, j]
+            if energy:
+                a = m * (z.real * z.real + z.imag * z.imag)
+                if j == 0 or j == last:
+                    e0 += a
+                else:
+                    e1 += a
+            spec[i, j] = z * m
+    return e0 + 2.0 * e1
+
+
+def workspace_bytes(shape: tuple[int, int]) -> int:
+    """Bytes of the transform workspace of a real grid ``shape``: a complex128 half-spectrum,
+    which in single precision holds the complex64 half-spectrum and a float32 real grid."""
+    nx, ny = int(shape[0]), int(shape[1])
+    return max(16 * nx * (ny // 2 + 1), _single_offset(shape) + 4 * nx * ny) + _ALIGN
+
+
+def _single_offset(shape: tuple[int, int]) -> int:
+    nx, ny = int(shape[0]), int(shape[1])
+    return -(-8 * nx * (ny // 2 + 1) // _ALIGN) * _ALIGN
+
+
+def new_workspace(shape: tuple[int, int]) -> np.ndarray:
+    """A transform workspace for the real grid ``shape`` (uint8, 64-byte aligned) that the
+    :class:`Convolution` objects of one grid share (``workspace=``): one half-spectrum for all
+    of them, double and single precision, the influence kernel and the preconditioner. They
+    must then not interleave: a forward transform's pending product lives in it until its
+    inverse (every caller in :mod:`asperity.bem` completes one convolution before the next)."""
+    raw = np.empty(workspace_bytes(shape) + _ALIGN, dtype=np.uint8)
+    start = (-raw.ctypes.data) % _ALIGN
+    return raw[start : start + workspace_bytes(shape)]
 
 
 def cache_dir() -> Path:
@@ -271,12 +386,13 @@ class Convolution:
 
     def __init__(
         self,
-        multiplier: np.ndarray,
+        multiplier: np.ndarray | RadialMultiplier,
         shape: tuple[int, int],
         *,
         backend: str = "auto",
         threads: int | None = None,
         precision: str = "double",
+        workspace: np.ndarray | None = None,
     ) -> None:
         nx, ny = (int(shape[0]), int(shape[1]))
         self.shape = (nx, ny)
@@ -287,11 +403,23 @@ class Convolution:
             )
         self.precision = precision
         self.dtype, self.cdtype = PRECISIONS[precision]
-        multiplier = np.asarray(multiplier, dtype=np.float64)
-        if multiplier.shape != self.spectral_shape:
+        if isinstance(multiplier, RadialMultiplier):
+            found = (multiplier.qx2.size, multiplier.qy2.size)
+        else:
+            multiplier = np.asarray(multiplier, dtype=np.float64)
+            found = multiplier.shape
+        if found != self.spectral_shape:
             raise BemInputError(
-                f"Convolution: multiplier shape {multiplier.shape} does not match the half "
+                f"Convolution: multiplier shape {found} does not match the half "
                 f"spectrum {self.spectral_shape} of the grid {self.shape}"
+            )
+        if workspace is not None and (
+            workspace.dtype != np.uint8 or workspace.size < workspace_bytes(self.shape)
+        ):
+            raise BemInputError(
+                f"Convolution: workspace must be a uint8 array of at least "
+                f"{workspace_bytes(self.shape)} bytes (new_workspace), got {workspace.dtype} "
+                f"of {workspace.size}"
             )
         self.threads = int(threads) if threads else default_threads()
         if backend not in ("auto", "pyfftw", "scipy"):
@@ -305,47 +433,84 @@ class Convolution:
         self.transforms = 0  # FFTs done, forward and inverse (2 per full convolution)
         self._pending: np.ndarray | None = None  # the product of the last forward transform
         self.seconds = 0.0  # wall time spent in them (s)
+        self._workspace = workspace
         if backend == "auto":
-            backend = self._choose_backend(threads_given=bool(threads))
+            backend = self._choose_backend(multiplier, threads_given=bool(threads))
         self.backend = backend
         # fold the 1/N normalisation of the unnormalised inverse transform into the multiplier
-        self._mult = np.ascontiguousarray(multiplier / (nx * ny), dtype=self.dtype)
+        # (a radial one divides by N where it is evaluated)
+        if isinstance(multiplier, RadialMultiplier):
+            self._radial: RadialMultiplier | None = multiplier
+            self._mult = None
+        else:
+            self._radial = None
+            self._mult = np.ascontiguousarray(multiplier / (nx * ny), dtype=self.dtype)
         if backend == "pyfftw":
             self._setup_pyfftw()
         else:  # release plans made while measuring
             self._fwd = self._inv = None
 
+    def _workspace_views(self) -> tuple[np.ndarray, np.ndarray | None]:
+        """The half-spectrum (this precision) in the workspace and, in single precision, the
+        float32 real scratch grid after it (None in double precision)."""
+        ws = self._workspace
+        nspec = self.spectral_shape[0] * self.spectral_shape[1]
+        csize = np.dtype(self.cdtype).itemsize
+        spec = ws[: nspec * csize].view(self.cdtype).reshape(self.spectral_shape)
+        if self.precision == "double":
+            return spec, None
+        off = _single_offset(self.shape)
+        n = self.shape[0] * self.shape[1]
+        return spec, ws[off : off + 4 * n].view(np.float32).reshape(self.shape)
+
     # -- backend selection -------------------------------------------------------------
-    def _choose_backend(self, threads_given: bool) -> str:
+    def _choose_backend(
+        self, multiplier: np.ndarray | RadialMultiplier, threads_given: bool
+    ) -> str:
         """Time the candidate (backend, threads) pairs on this grid and keep the fastest.
 
         Candidates: pyfftw with the requested threads, pyfftw with one thread (OpenMP threads
         that wait on a busy core make 2 threads slower than 1 on a shared 2-core machine) unless
-        ``threads`` was given explicitly, and scipy with the requested workers. The choice is
-        remembered for this process (it depends on the machine's current load, so it is not
+        ``threads`` was given explicitly, and scipy with the requested workers (below 2048^2
+        points). The choice is made once per grid shape for both precisions and remembered
+        for this process (it depends on the machine's current load, so it is not
         written to disk; the FFTW plans are, as wisdom).
         """
-        key = (self.shape, self.threads, threads_given, self.precision)
+        # one timing per grid and process, whatever the precision (the double and single
+        # precision operators of a mixed solve were timed apart: with three candidates, a
+        # warm-up and two timed convolutions each, about 18 convolutions of 0.4-0.7 s at
+        # 5000^2 in every fresh process; now 2 candidates x 2 convolutions there)
+        key = (self.shape, self.threads, threads_given)
         with _LOCK:
             known = _AUTO_CHOICE.get(key)
         if known is not None:
             self.threads = known[1]
             return known[0]
         candidates = [("scipy", self.threads)]
+        if "pyfftw" in available_backends() and self.shape[0] * self.shape[1] >= _PYFFTW_ONLY:
+            # scipy allocates a spectrum and an output grid at every call (16 B a point above
+            # the shared workspace at the solver's peak): large grids keep to pyfftw
+            candidates = []
         if "pyfftw" in available_backends():
             candidates.insert(0, ("pyfftw", self.threads))
             if self.threads > 1 and not threads_given:
                 candidates.insert(1, ("pyfftw", 1))
-        x = np.random.default_rng(0).standard_normal(self.shape)
-        ones = np.ones(self.spectral_shape)
-        reps = 5 if x.size <= 2048 * 2048 else 2
+        # timed with this operator's own multiplier and workspace: the candidates add two
+        # real grids (input and output) to the memory, nothing else
+        rng = np.random.default_rng(0)
+        reps = 5 if self.shape[0] * self.shape[1] <= 2048 * 2048 else 1
         timings = []
         for name, nthreads in candidates:
             conv = Convolution(
-                ones, self.shape, backend=name, threads=nthreads, precision=self.precision
+                multiplier,
+                self.shape,
+                backend=name,
+                threads=nthreads,
+                precision=self.precision,
+                workspace=self._workspace,
             )
             buf = conv.empty()
-            buf[...] = x
+            rng.standard_normal(out=buf)
             out = conv.empty()
             conv(buf, out)  # warm up
             # the median, not the minimum: threads that wait on a busy core show up as a
@@ -353,6 +518,7 @@ class Convolution:
             elapsed = float(np.median([_timed(conv, buf, out) for _ in range(reps)]))
             # prefer fewer threads unless more are clearly (15 %) faster
             timings.append((elapsed * (1.0 if nthreads == 1 else 1.15), name, nthreads))
+            del conv, buf, out
         _, name, nthreads = min(timings)
         with _LOCK:
             _AUTO_CHOICE[key] = (name, nthreads)
@@ -367,9 +533,18 @@ class Convolution:
         _check_omp(self.threads)
         with _LOCK:
             _load_wisdom()
+            self._scratch = None
+            if self._workspace is not None:
+                self._spec, self._scratch = self._workspace_views()
+            else:
+                self._spec = pyfftw.empty_aligned(self.spectral_shape, dtype=self.cdtype)
+            # the planning arrays are released at the first transform (update_arrays)
             real_in = pyfftw.empty_aligned(self.shape, dtype=self.dtype)
-            self._spec = pyfftw.empty_aligned(self.spectral_shape, dtype=self.cdtype)
-            real_out = pyfftw.empty_aligned(self.shape, dtype=self.dtype)
+            real_out = (
+                self._scratch
+                if self._scratch is not None
+                else pyfftw.empty_aligned(self.shape, dtype=self.dtype)
+            )
             before = pyfftw.export_wisdom()
             effort = _planning_effort(self.shape)
             self._fwd = pyfftw.FFTW(
@@ -392,8 +567,33 @@ class Convolution:
             )
             if pyfftw.export_wisdom() != before:
                 _save_wisdom()
+            if self._workspace is not None:
+                # release the planning arrays now rather than at the first transform (a plan
+                # made late in a solve would otherwise hold two grids more at its peak): the
+                # plans point at a real grid viewed in the workspace until their first use,
+                # which always passes its own arrays (update_arrays)
+                parked = self._parked_real()
+                self._fwd.update_arrays(parked, self._spec)
+                self._inv.update_arrays(self._spec, parked)
+            del real_in, real_out
         self._align = pyfftw.simd_alignment
-        self._scratch = None
+
+    def _park(self, plan) -> None:
+        """Point ``plan`` back at the workspace after a transform, so that it does not keep the
+        caller's array alive (a cached operator would otherwise hold the last solve's
+        direction and work arrays until the next one)."""
+        if self._workspace is None:
+            return
+        if plan is self._fwd:
+            plan.update_arrays(self._parked_real(), self._spec)
+        else:
+            plan.update_arrays(self._spec, self._parked_real())
+
+    def _parked_real(self) -> np.ndarray:
+        """A real grid of this precision viewed in the workspace (it fits: the workspace holds
+        a complex128 half-spectrum), never transformed: see :meth:`_setup_pyfftw`."""
+        n = self.shape[0] * self.shape[1] * np.dtype(self.dtype).itemsize
+        return self._workspace[:n].view(self.dtype).reshape(self.shape)
 
     # -- public --------------------------------------------------------------------------
     def empty(self) -> np.ndarray:
@@ -416,7 +616,11 @@ class Convolution:
     def diagonal(self) -> float:
         """The real-space kernel at zero offset, ``irfft2(multiplier)[0, 0]`` (for an
         influence kernel: the deflection of a pixel under its own unit pressure, m/Pa)."""
-        mult = self._mult  # already divided by the number of grid points
+        if self._radial is not None:
+            n = self.shape[0] * self.shape[1]
+            mult = (self._radial.materialise() / n).astype(self.dtype)
+        else:
+            mult = self._mult  # already divided by the number of grid points
         ny = self.shape[1]
         total = 2.0 * float(mult.sum()) - float(mult[:, 0].sum())
         if ny % 2 == 0:
@@ -471,6 +675,7 @@ class Convolution:
                 target = self._scratch
             self._inv.update_arrays(spec, target)
             self._inv.execute()
+            self._park(self._inv)
             if target is not out:
                 out[...] = target
         else:
@@ -494,13 +699,22 @@ class Convolution:
                 x = self._scratch
             self._fwd.update_arrays(x, self._spec)
             self._fwd.execute()
+            self._park(self._fwd)
             spec = self._spec
         else:
             import scipy.fft
 
             spec = scipy.fft.rfft2(np.asarray(x, dtype=self.dtype), workers=self.threads)
         e = 0.0
-        if energy:
+        if self._radial is not None:
+            rm = self._radial
+            kernel = (
+                _radial_multiply_double if self.precision == "double" else _radial_multiply_single
+            )
+            nn = float(self.shape[0] * self.shape[1])
+            e = kernel(spec, rm.qx2, rm.qy2, rm.coef, rm.power, rm.q00, nn, self.shape[1], energy)
+            e = e if energy else 0.0
+        elif energy:
             e = _multiply_with_energy(spec, self._mult, self.shape[1])
         else:
             np.multiply(spec, self._mult, out=spec)

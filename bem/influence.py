@@ -46,6 +46,7 @@ __all__ = [
     "love_periodic_multiplier",
     "padded_love_multiplier",
     "point_force_multiplier",
+    "wavevectors_squared",
 ]
 
 
@@ -53,6 +54,14 @@ def _wavevectors(nx: int, ny: int, dx: float, dy: float) -> tuple[np.ndarray, np
     qx = 2.0 * np.pi * np.fft.fftfreq(nx, d=dx)
     qy = 2.0 * np.pi * np.fft.rfftfreq(ny, d=dy)
     return qx, qy
+
+
+def wavevectors_squared(nx: int, ny: int, dx: float, dy: float) -> tuple[np.ndarray, np.ndarray]:
+    """qx^2 (nx,) and qy^2 (ny // 2 + 1,) (rad^2/m^2) of the real-to-complex spectrum of an
+    (nx, ny) grid of pixels dx, dy (m): |q| = sqrt(qx^2[i] + qy^2[j]) (a radial multiplier
+    evaluated from them is bit-identical to one built from the 2D |q| array)."""
+    qx, qy = _wavevectors(nx, ny, dx, dy)
+    return qx**2, qy**2
 
 
 def _check(nx: int, ny: int, dx: float, dy: float, e_star: float) -> None:

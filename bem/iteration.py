@@ -123,6 +123,12 @@ class IterationState:
         for conv in (self.op, self.pre):
             self.count(conv)
 
+    def release_work(self) -> None:
+        """Drop the direction and the work array (the state then only describes p, c, w):
+        called once the iteration ended, before the result is assembled."""
+        self.t = self.r = self.s_arr = self.z_arr = None  # type: ignore[assignment]
+        self.tf = self.rf = self.sf = self.zf = None
+
     def count(self, conv: Convolution | None) -> None:
         """Count the convolutions ``conv`` does from now on in this solve's diagnostics."""
         if conv is not None and id(conv) not in self.counted:
@@ -147,27 +153,47 @@ def new_state(
     (in single precision when the solve starts mixed, :meth:`SolverOptions.mixed_precision`)."""
     single = options.mixed_precision(problem.op.shape)
     op = single_precision_operator(problem, options) if single else problem.op
-    w = op.empty()
-    op(p, out=w)
     pre = None
     if options.precondition:
+        # every operator of the solve exists before its arrays do: planning one allocates
+        # two real grids for a moment (the double preconditioner of a mixed solve would
+        # otherwise be planned at the switch, on top of the whole state)
+        if single:
+            stiffness_preconditioner(problem.op, problem.dx, problem.dy, problem.e_star)
         pre = stiffness_preconditioner(op, problem.dx, problem.dy, problem.e_star)
+    w = op.empty()
+    op(p, out=w)
     nx, ny = problem.heights.shape
     load = problem.load_control
     offset = 0.0 if load else -problem.separation
+    shift, stats = offset, None
+    if load and w.shape == (nx, ny):
+        # periodic: w = K p - h in place (no full-size temporary), the mean gap about which
+        # the first statistics are taken, and those statistics (as the first measure_gap
+        # would compute them from the deflection)
+        np.subtract(w, problem.grid_heights, out=w)
+        shift = float(np.mean(w))
+        stats = kr.gap_stats(w.ravel(), c.ravel(), shift)
+    elif load:
+        shift = float(np.mean(w[:nx, :ny] - problem.heights))
+    # one work array holds r = K t, the preconditioner's input s and its output z: their
+    # lifetimes within an iteration do not overlap (s -> z in place, z is consumed by the
+    # direction update before r = K t is transformed back)
+    work = op.empty()
     return IterationState(
         p=p,
         c=c,
         w=w,
         t=op.zeros(),
-        r=op.empty(),
+        r=work,
         op=op,
         pre=pre,
-        s_arr=op.empty() if pre is not None else None,
-        z_arr=op.empty() if pre is not None else None,
+        s_arr=work if pre is not None else None,
+        z_arr=work if pre is not None else None,
         psq=kr.dot(p.ravel(), p.ravel()),
         offset=offset,
-        shift=float(np.mean(w[:nx, :ny] - problem.heights)) if load else offset,
+        shift=shift,
+        stats=stats,
         last_allowed=not problem.adhesive,
         single=single,
     )

@@ -32,9 +32,10 @@ import numpy as np
 from asperity.bem.errors import BemInputError
 from asperity.bem.operators import influence_operator
 from asperity.bem.options import SolverOptions
-from asperity.bem.polonsky_keer import solve_polonsky_keer
-from asperity.bem.problem import ContactProblem, real_scalar
+from asperity.bem.polonsky_keer import solve_problem, solve_started
+from asperity.bem.problem import ContactProblem, real_scalar, set_up_problem
 from asperity.bem.result import ContactResult, SolverStatus
+from asperity.bem.start import starting_state
 
 __all__ = [
     "ADHESION_MODELS",
@@ -153,6 +154,8 @@ def _attraction_lift(
     nx, ny = attractive.shape
     field[:nx, :ny] = attractive
     field *= sigma0
+    if field.shape == (nx, ny):  # periodic: transform in place, no copy
+        return op(field, out=field)
     return np.array(op(field)[:nx, :ny])
 
 
@@ -211,7 +214,6 @@ def _inner_solve(case: _Case, it: _SetIteration, opts: SolverOptions) -> Contact
     dx, dy, e_star, periodic = case.grid
     load_control, force, separation = case.loads
     sigma0 = case.law.cohesive_stress
-    lifted = case.heights + _attraction_lift(it.attractive, sigma0, dx, dy, e_star, periodic, opts)
     if load_control:
         contact_force = force + sigma0 * float(np.count_nonzero(it.attractive)) * dx * dy
         if not contact_force > 0:
@@ -219,22 +221,27 @@ def _inner_solve(case: _Case, it: _SetIteration, opts: SolverOptions) -> Contact
         load = {"normal_force": contact_force}
     else:
         load = {"separation": separation}
-    return solve_polonsky_keer(
-        lifted,
-        dx,
-        dy,
-        e_star,
-        load,
-        initial=it.inner,
-        periodic=periodic,
-        options=dataclasses.replace(opts, tol=it.tol),
-    )
+    started = time.perf_counter()
+    # h + sigma_0 K * 1_S, summed into the lift's array (addition commutes bit for bit)
+    lifted = _attraction_lift(it.attractive, sigma0, dx, dy, e_star, periodic, opts)
+    lifted += case.heights
+    inner_opts = dataclasses.replace(opts, tol=it.tol)
+    problem = set_up_problem(lifted, dx, dy, e_star, load, 0.0, periodic, inner_opts)
+    del lifted
+    if it.inner is None:
+        return solve_problem(problem, None, inner_opts, started)
+    p, c = starting_state(problem, it.inner)
+    # the warm start now lives in p and c: drop the previous solution (pressure, gap, mask)
+    # before the iteration allocates its arrays
+    it.inner = None
+    return solve_started(problem, p, c, inner_opts, started)
 
 
 def _iterate_set(case: _Case, it: _SetIteration, opts: SolverOptions) -> tuple[SolverStatus, str]:
     """Inner solves until S = {gap <= h_0} is unchanged by a solve at ``tol``."""
     seen: set[bytes] = set()
     while it.solves < MAX_SET_SOLVES:
+        inner = None  # the previous solution is held by ``it`` alone (the solve may drop it)
         inner = _inner_solve(case, it, opts)
         if inner is None:
             return SolverStatus.CONTACT_LOST, (

@@ -3,17 +3,26 @@
 Planning FFTW and building a kernel cost more than a small solve, so operators are kept per
 thread (a :class:`~asperity.bem.fft_backend.Convolution` owns work buffers and must never serve
 two solves at once).
+
+Memory: the operators of one grid (the influence kernel and the preconditioner, double and
+single precision) share one transform workspace, a complex128 half-spectrum (8 B per grid
+point; :func:`~asperity.bem.fft_backend.new_workspace`), and the multipliers that depend on |q|
+alone (the periodic point-force kernel 2 / (E* |q|) and the stiffness E* |q| / 2) are evaluated
+where they are applied from two 1D arrays instead of being stored (4 B per grid point each in
+double precision, 2 B in single). Measured at 5000^2: before, the four operators held 24 B per
+point of spectra, 12 B of multipliers and 8 B of single-precision scratch.
 """
 
 from __future__ import annotations
 
 import threading
+import weakref
 from collections import OrderedDict
 
 import numpy as np
 
-from asperity.bem.fft_backend import Convolution
-from asperity.bem.influence import influence_multiplier
+from asperity.bem.fft_backend import Convolution, RadialMultiplier, new_workspace
+from asperity.bem.influence import influence_multiplier, wavevectors_squared
 
 __all__ = ["influence_operator", "stiffness_preconditioner"]
 
@@ -31,6 +40,19 @@ def _operator_cache() -> OrderedDict:
     if cache is None:
         cache = _THREAD_STATE.operators = OrderedDict()
     return cache
+
+
+def _workspace(shape: tuple[int, int]) -> np.ndarray:
+    """This thread's transform workspace for the FFT grid ``shape``: shared by the operators of
+    that grid while any of them is alive (they are used one convolution at a time)."""
+    pool = getattr(_THREAD_STATE, "workspaces", None)
+    if pool is None:
+        pool = _THREAD_STATE.workspaces = weakref.WeakValueDictionary()
+    ws = pool.get(tuple(shape))
+    if ws is None:
+        ws = new_workspace(shape)
+        pool[tuple(shape)] = ws
+    return ws
 
 
 def influence_operator(
@@ -61,8 +83,22 @@ def influence_operator(
     cache = _operator_cache()
     op = cache.get(key)
     if op is None:
-        mult, grid = influence_multiplier(shape, dx, dy, e_star, kernel=kernel, periodic=periodic)
-        op = Convolution(mult, grid, backend=fft_backend, threads=threads, precision=precision)
+        if periodic and kernel == "point":
+            # 2 / (E* |q|), zero at q = 0 (influence.point_force_multiplier), not stored
+            qx2, qy2 = wavevectors_squared(shape[0], shape[1], dx, dy)
+            mult, grid = RadialMultiplier(qx2, qy2, 2.0 / e_star, -1), tuple(shape)
+        else:
+            mult, grid = influence_multiplier(
+                shape, dx, dy, e_star, kernel=kernel, periodic=periodic
+            )
+        op = Convolution(
+            mult,
+            grid,
+            backend=fft_backend,
+            threads=threads,
+            precision=precision,
+            workspace=_workspace(grid),
+        )
         cache[key] = op
         while len(cache) > _MAX_OPERATORS:
             cache.popitem(last=False)
@@ -89,16 +125,15 @@ def stiffness_preconditioner(op: Convolution, dx: float, dy: float, e_star: floa
     pre = cache.get(key)
     if pre is None:
         gx, gy = op.shape
-        qx = 2.0 * np.pi * np.fft.fftfreq(gx, d=dx)
-        qy = 2.0 * np.pi * np.fft.rfftfreq(gy, d=dy)
-        q = np.sqrt(qx[:, None] ** 2 + qy[None, :] ** 2)
-        q[0, 0] = min(2.0 * np.pi / (gx * dx), 2.0 * np.pi / (gy * dy))
+        qx2, qy2 = wavevectors_squared(gx, gy, dx, dy)
+        q00 = min(2.0 * np.pi / (gx * dx), 2.0 * np.pi / (gy * dy))
         pre = Convolution(
-            0.5 * e_star * q,
+            RadialMultiplier(qx2, qy2, 0.5 * e_star, 1, q00),
             op.shape,
             backend=op.backend,
             threads=op.threads,
             precision=op.precision,
+            workspace=_workspace(op.shape),
         )
         cache[key] = pre
         while len(cache) > 2 * _MAX_OPERATORS:

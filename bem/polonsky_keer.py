@@ -66,7 +66,7 @@ from asperity.bem.problem import ContactProblem, set_up_problem
 from asperity.bem.result import ContactResult
 from asperity.bem.start import starting_state
 
-__all__ = ["solve_polonsky_keer", "solve_problem"]
+__all__ = ["solve_polonsky_keer", "solve_problem", "solve_started"]
 
 #: Tolerance of the coarse-grid solves of ``coarse_start`` (or ``tol`` if looser): their
 #: solution differs from the fine one by the discretisation anyway.
@@ -172,10 +172,46 @@ def _iterate_from(
         coarse, coarse_info = _coarse_start(problem, opts)
         extra = {**extra, **coarse_info}
     p, c = starting_state(problem, initial, coarse)
+    del coarse
+    return solve_started(
+        problem, p, c, opts, started, branch=branch, extra=extra, counters=counters
+    )
+
+
+def solve_started(
+    problem: ContactProblem,
+    p: np.ndarray,
+    c: np.ndarray,
+    opts: SolverOptions,
+    started: float,
+    *,
+    branch: str = "unique",
+    extra: dict | None = None,
+    counters: dict | None = None,
+) -> ContactResult:
+    """Iterate and assemble one validated problem from its starting pressure ``p`` (Pa) and
+    int8 contact set ``c`` on the FFT grid (:func:`~asperity.bem.start.starting_state`); the
+    arrays become the iteration's (and, on a periodic grid, the result's). A caller that
+    built them from a warm start may drop the warm start first (the Maugis iteration does:
+    its previous inner solution is then not held through the next one)."""
+    if counters is None:
+        counters = {
+            "calls": problem.op.calls,
+            "seconds": problem.op.seconds,
+            "transforms": problem.op.transforms,
+        }
     state = new_state(problem, p, c, opts)
+    del p, c
     stop = iterate(state, problem, opts)
     return assemble_result(
-        problem, state, stop, opts, started=started, counters=counters, extra=extra, branch=branch
+        problem,
+        state,
+        stop,
+        opts,
+        started=started,
+        counters=counters,
+        extra=extra or {},
+        branch=branch,
     )
 
 

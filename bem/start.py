@@ -43,8 +43,10 @@ def _warm_start(p: np.ndarray, c: np.ndarray, problem: ContactProblem, initial: 
     pressure, mask = _initial_fields(initial, (nx, ny))
     p[:nx, :ny] = pressure
     c[:nx, :ny] = mask
-    np.maximum(p, np.where(c, -problem.critical_tension, 0.0), out=p)
-    p[c == 0] = 0.0
+    # p >= -Sigma on the contact set, 0 outside (without a full-size temporary)
+    in_c = c.view(bool) if c.dtype == np.int8 and c.max(initial=0) <= 1 else c != 0
+    np.maximum(p, -problem.critical_tension, out=p, where=in_c)
+    p[~in_c] = 0.0
     if problem.load_control and not problem.adhesive and not p.sum() > 0:
         # nothing compressive to rescale to the imposed force: start cold instead
         p[...] = 0.0

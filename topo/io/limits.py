@@ -6,14 +6,17 @@ it allocates or decompresses anything, and refuses a file outside them with a
 
 * memory: a map is refused (:class:`~asperity.topo.errors.OverBudgetError`) from its
   declared grid, before anything is read or decompressed, when what the pipeline does with
-  it would not fit the memory budget: :data:`PIPELINE_BYTES_PER_PIXEL` (200) bytes a pixel
+  it would not fit the memory budget: :data:`PIPELINE_BYTES_PER_PIXEL` (128) bytes a pixel
   plus :data:`PIPELINE_BASE_BYTES` (0.5 GiB) must fit in the budget, 16 GiB unless the
   environment variable ``ASPERITY_MEMORY_BUDGET`` says otherwise (bytes, or a number with
   ``KiB``/``MiB``/``GiB``/``TiB`` or ``kB``/``MB``/``GB``/``TB``), i.e. at most
-  :func:`max_map_points` points (about 9100^2 by default). The bytes a pixel were measured:
+  :func:`max_map_points` points (about 11,400^2 by default). The bytes a pixel were measured:
   the peak resident memory of ``asperity run`` (the default job: resolution scan, BEM,
   calibration, PSD) on maps of 500^2 .. 3000^2 pixels, measured with ``/usr/bin/time -v``,
-  fits 171 bytes a pixel + 0.48 GiB (scatter 8 %), rounded up to 200. A file is read whole
+  fitted 171 bytes a pixel + 0.48 GiB (scatter 8 %), rounded up to 200; since the BEM's
+  memory work (issue 28: one shared transform workspace, no stored |q| multipliers, results
+  taken from the solver's state) the default job on a 2000^2 map (5 um pixels) peaks at
+  0.856 GiB, 101 bytes a pixel above the same 0.48 GiB, rounded up to 128. A file is read whole
   only up to :data:`MAX_FILE_BYTES`; a compressed member (zip, HDF5 chunk) may not claim
   more than :data:`MAX_DEFLATE_RATIO` bytes per stored byte (deflate's limit).
 * lateral pixel size: finite, in :data:`PIXEL_SIZE_BOUNDS_M` (1 pm .. 1 m)
@@ -52,7 +55,7 @@ _BYTE_UNITS = {
 }
 
 #: Peak memory of the pipeline per pixel of the map, bytes (measured: see the module notes).
-PIPELINE_BYTES_PER_PIXEL = 200
+PIPELINE_BYTES_PER_PIXEL = 128
 #: Memory of the pipeline that does not grow with the map (interpreter, libraries), bytes.
 PIPELINE_BASE_BYTES = 512 * 1024**2
 #: Memory budget when ``ASPERITY_MEMORY_BUDGET`` is not set, bytes (16 GiB).

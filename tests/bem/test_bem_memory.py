@@ -1,0 +1,148 @@
+"""Memory of the BEM solver: what it holds per grid point, and that the savings keep the numbers.
+
+The footprint is measured with tracemalloc (numpy's and pyFFTW's arrays are traced) on
+small grids, in bytes per height point above the heights themselves; the floors named in the
+messages are the arrays :mod:`asperity.bem.iteration` keeps (p, w, t, one work array: 8 B each,
+the contact set: 1 B) and the transform workspace shared by the operators (8 B).
+"""
+
+from __future__ import annotations
+
+import gc
+import tracemalloc
+
+import numpy as np
+import pytest
+
+from asperity import bem
+from asperity.bem.fft_backend import (
+    Convolution,
+    RadialMultiplier,
+    available_backends,
+    new_workspace,
+)
+from asperity.bem.influence import point_force_multiplier, wavevectors_squared
+
+E_STAR = 2.133e6  # Pa
+DX = 2e-6  # m
+
+needs_pyfftw = pytest.mark.skipif(
+    "pyfftw" not in available_backends(), reason="the shared workspace is pyFFTW's"
+)
+
+
+def _rough(n: int, seed: int = 3) -> np.ndarray:
+    """A random periodic rough surface (m), rms about 1 um, red spectrum."""
+    rng = np.random.default_rng(seed)
+    q = np.hypot(*np.meshgrid(np.fft.fftfreq(n), np.fft.rfftfreq(n), indexing="ij"))
+    q[0, 0] = 1.0
+    spec = (rng.standard_normal(q.shape) + 1j * rng.standard_normal(q.shape)) * q**-1.8
+    spec[0, 0] = 0.0
+    h = np.fft.irfft2(spec, s=(n, n))
+    return h * (1e-6 / h.std())
+
+
+def test_radial_multipliers_equal_the_stored_ones_bit_for_bit():
+    nx, ny, dx, dy = 48, 30, 2e-6, 3e-6
+    qx2, qy2 = wavevectors_squared(nx, ny, dx, dy)
+    point = RadialMultiplier(qx2, qy2, 2.0 / E_STAR, -1).materialise()
+    assert np.array_equal(point, point_force_multiplier(nx, ny, dx, dy, E_STAR))
+    # the stiffness E* |q| / 2 with |q| at q = 0 replaced (the preconditioner)
+    qx = 2.0 * np.pi * np.fft.fftfreq(nx, d=dx)
+    qy = 2.0 * np.pi * np.fft.rfftfreq(ny, d=dy)
+    q = np.sqrt(qx[:, None] ** 2 + qy[None, :] ** 2)
+    q[0, 0] = 0.1 * q[0, 1]
+    stiff = RadialMultiplier(qx2, qy2, 0.5 * E_STAR, 1, q[0, 0]).materialise()
+    assert np.array_equal(stiff, 0.5 * E_STAR * q)
+
+
+@pytest.mark.parametrize("precision", ["double", "single"])
+@pytest.mark.parametrize("backend", available_backends())
+def test_radial_and_stored_multipliers_convolve_identically(precision, backend):
+    nx, ny = 40, 26
+    qx2, qy2 = wavevectors_squared(nx, ny, DX, DX)
+    radial = RadialMultiplier(qx2, qy2, 2.0 / E_STAR, -1)
+    a = Convolution(radial, (nx, ny), backend=backend, threads=1, precision=precision)
+    b = Convolution(radial.materialise(), (nx, ny), backend=backend, threads=1, precision=precision)
+    x = np.random.default_rng(1).standard_normal((nx, ny))
+    ya, yb = a.empty(), b.empty()
+    assert a.with_energy(x, ya) == b.with_energy(x, yb)
+    assert np.array_equal(ya, yb)
+    assert np.array_equal(a(x), b(x))
+
+
+@needs_pyfftw
+def test_operators_sharing_a_workspace_give_their_own_results():
+    """Double and single precision, kernel and stiffness, on one workspace, interleaved: each
+    result equals that of an operator with buffers of its own."""
+    n = 64
+    qx2, qy2 = wavevectors_squared(n, n, DX, DX)
+    mults = [
+        RadialMultiplier(qx2, qy2, 2.0 / E_STAR, -1),
+        RadialMultiplier(qx2, qy2, 0.5 * E_STAR, 1, 1.0),
+    ]
+    ws = new_workspace((n, n))
+    x = np.random.default_rng(2).standard_normal((n, n))
+    shared, alone = [], []
+    for m in mults:
+        for precision in ("double", "single"):
+            kw = dict(backend="pyfftw", threads=1, precision=precision)
+            shared.append(Convolution(m, (n, n), workspace=ws, **kw))
+            alone.append(Convolution(m, (n, n), **kw))
+    for _ in range(2):
+        for s, a in zip(shared, alone, strict=True):
+            ys, ya = s.empty(), a.empty()
+            assert s.with_energy(x, ys) == a.with_energy(x, ya)
+            assert np.array_equal(ys, ya)
+
+
+def test_a_workspace_too_small_is_refused():
+    n = 16
+    qx2, qy2 = wavevectors_squared(n, n, DX, DX)
+    with pytest.raises(bem.BemInputError, match="workspace"):
+        Convolution(
+            RadialMultiplier(qx2, qy2, 1.0, -1),
+            (n, n),
+            backend="scipy",
+            workspace=np.empty(10, dtype=np.uint8),
+        )
+
+
+def _traced_solve(h: np.ndarray, **kw) -> tuple[float, float, bem.ContactResult]:
+    """Peak and held-after traced bytes per point of one solve (operators warmed first)."""
+    n = h.shape[0]
+    load = 2e-4 * E_STAR * h.size * DX * DX
+    opts = bem.SolverOptions(tol=1e-6, fft_backend="pyfftw", threads=1, precision="mixed")
+    bem.solve_contact(h, DX, DX, E_STAR, normal_force=load, options=opts, **kw)
+    gc.collect()
+    tracemalloc.start()
+    try:
+        res = bem.solve_contact(h, DX, DX, E_STAR, normal_force=load, options=opts, **kw)
+        cur, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    return peak / n**2, cur / n**2, res
+
+
+@needs_pyfftw
+def test_a_periodic_solve_holds_its_state_and_one_spectrum():
+    """Peak <= p, w, t, work (8 B each) and the contact set (1 B) plus 3 B of slack (the
+    operators and their shared workspace were made by the warm-up solve); after the solve the
+    result alone (pressure, gap, mask: 17 B, taken from the state without copies).
+    """
+    peak, held, res = _traced_solve(_rough(256))
+    assert res.converged and 0.01 < res.contact_fraction < 0.5
+    assert peak <= 36.0, f"peak {peak:.1f} B/point"
+    assert held <= 18.0, f"held {held:.1f} B/point"
+
+
+@needs_pyfftw
+def test_a_periodic_maugis_solve_drops_its_warm_start():
+    """The Maugis iteration adds the lifted heights (8 B) and the attractive set (1 B), not the
+    previous inner solution (17 B) while the next one iterates."""
+    peak, _, res = _traced_solve(
+        _rough(256), work_of_adhesion=0.002, adhesion="maugis", adhesion_range=0.5e-6
+    )
+    assert res.converged and 0.01 < res.contact_fraction < 0.5
+    assert res.extra["set_solves"] >= 2
+    assert peak <= 48.0, f"peak {peak:.1f} B/point"
