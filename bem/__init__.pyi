@@ -42,3 +42,4 @@ from .reference import solve_reference as solve_reference
 from .result import ContactResult as ContactResult
 from .result import SolverStatus as SolverStatus
 from .sweep import load_sweep as load_sweep
+from .validity import BemWarning as BemWarning
