@@ -121,6 +121,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "surface.pixel_size",
         help="pixel size (m) for formats without one (.npy, text)",
     )
+    p.add_argument("--unit", help="length unit of a plain-text file (m, mm, um, nm): required")
     p.add_argument(
         "--detrend",
         choices=("none", "mean", "plane"),
@@ -228,7 +229,7 @@ def _read_heights(args: argparse.Namespace):
     from asperity import topo
     from asperity.bem import crop_to_fast_size
 
-    surface = topo.read_surface(args.file, pixel_size=args.pixel_size)
+    surface = topo.read_surface(args.file, pixel_size=args.pixel_size, unit=args.unit)
     if not isinstance(surface, topo.HeightMap):
         raise _bad(f"{args.file}: bem needs a 2D height map, the file holds a line profile")
     surface = topo.level(surface, method=args.detrend)

@@ -66,7 +66,12 @@ def _read(args: argparse.Namespace):
     # deferred: topo.io loads h5py; `asperity --help` must not
     from asperity.topo.io import read_surface
 
-    return read_surface(args.file, channel=args.channel, pixel_size=_pixel_size(args.pixel_size))
+    return read_surface(
+        args.file,
+        channel=args.channel,
+        pixel_size=_pixel_size(args.pixel_size),
+        unit=getattr(args, "unit", None),
+    )
 
 
 def _load_prepared(args: argparse.Namespace, what: str, surface=None):
@@ -343,6 +348,13 @@ def _add_input_options(parser: argparse.ArgumentParser) -> None:
         metavar="DX",
         default=None,
         help="pixel size in m (DX, or DX,DY), for files that carry none (npy, npz, text)",
+    )
+    parser.add_argument(
+        "--unit",
+        default=None,
+        metavar="UNIT",
+        help="length unit of a plain-text file's numbers (m, mm, um, nm): text states none, "
+        "and asperity never guesses it (required for text matrices and x y z / x z columns)",
     )
     parser.add_argument(
         "--channel",
