@@ -104,6 +104,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     f = subparsers.add_parser(
         "figures",
         help="write the paper's Figs. 1, 2, 4, 5 (PNG) and their data (HDF5)",
+        description="Draw the paper's Figs. 1 (a single asperity: JKR indentation and "
+        "Papangelo-Ciavarella shear), 2 (the stick/slip status map), 4 (a rough-contact shear "
+        "curve: F_z, counts, A_r, F_x against delta_T, stick and slip parts) and 5 (shear "
+        "curves as w, lambda, tau0 and F_z vary) with the captions' parameters, as PNG in "
+        "--out, with every curve's data in DIR/statmodel_figures.h5 (SI units).",
     )
     f.add_argument("--out", type=Path, required=True, help="output directory")
     f.set_defaults(func=run_figures)

@@ -158,15 +158,20 @@ def _print_preparation(record: dict) -> None:
         f"    levelling          {record['levelling']} (form rms {record['form_rms']:.4g} m, "
         f"form/roughness {record['form_to_roughness']:.3g})"
     )
+    masked = record["n_outliers"] if record["outlier_action"] == "mask" else 0
     print(
-        f"    missing pixels     {record['n_missing']} ({100 * record['missing_fraction']:.3g} %),"
-        f" policy {record['missing_policy']}, {record['n_filled']} filled"
+        f"    missing pixels     {record['n_missing']} measured "
+        f"({100 * record['missing_fraction']:.3g} %) + {masked} masked outliers; policy "
+        f"{record['missing_policy']}: {record['n_filled']} filled, "
+        f"{record['n_missing_left']} left (n_missing above)"
     )
+    ratio = record.get("outlier_rms_ratio")
+    effect = "" if ratio is None else f", rms height x{ratio:.3g}"
     print(
         f"    outliers           {record['n_outliers']} "
         f"({100 * record['outlier_fraction']:.3g} %) "
         f"{'masked' if record['outlier_action'] == 'mask' else 'clipped'}, rule "
-        f"{record['outlier_rule']}"
+        f"{record['outlier_rule']}{effect}"
     )
     for warning in record["warnings"]:
         print(f"  WARNING: {warning}")
@@ -286,7 +291,9 @@ def _write_numpy(surface, out: Path) -> None:  # noqa: ANN001 (a HeightMap)
 
 def _add_input_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
-        "file", help="height map: x3p, sur, dat, datx, plu, opd, di, mi, gwy, txt, npy, npz, h5"
+        "file",
+        help="height map or line profile: x3p, sur, dat, datx, plu, opd, di/spm, mi, gwy, "
+        "csv (Dektak profile), txt/asc/xyz (text: needs --unit), npy, npz, h5",
     )
     form = parser.add_mutually_exclusive_group()
     form.add_argument(
