@@ -37,6 +37,7 @@ from .maugis import cohesive_zone_width as cohesive_zone_width
 from .maugis import resolving_range as resolving_range
 from .options import SolverOptions as SolverOptions
 from .pohrt_popov import critical_tension as critical_tension
+from .progress import solve_progress as solve_progress
 from .reference import ReferenceSolves as ReferenceSolves
 from .reference import solve_reference as solve_reference
 from .result import ContactResult as ContactResult

@@ -23,6 +23,7 @@ from asperity.bem.maugis import check_adhesion, solve_maugis_problem
 from asperity.bem.options import SolverOptions, resolve_options
 from asperity.bem.polonsky_keer import solve_problem
 from asperity.bem.problem import set_up_problem
+from asperity.bem.progress import solve_finished
 from asperity.bem.result import ContactResult
 from asperity.bem.validity import BemWarning, contact_findings
 from asperity.validity import raise_findings
@@ -149,6 +150,7 @@ def with_validity(result: ContactResult, e_star: float) -> ContactResult:
     in ``extra["validity_codes"]`` / ``extra["validity_notes"]``; full contact is also raised
     as a :class:`~asperity.bem.validity.BemWarning` (code ``bem_full_contact``). The solver's
     ``status`` is left as it is: it says whether the solve converged."""
+    solve_finished(result)  # the bar of an enclosing bem.progress.solve_progress, if any
     findings = contact_findings(result, e_star)
     result.extra["validity_codes"] = [f.code for f in findings]
     result.extra["validity_notes"] = [f.message for f in findings]
