@@ -32,8 +32,11 @@ from asperity.validity import ValidityWarning
 
 
 class TopoWarning(ValidityWarning):
-    """A topography result to be read with care; ``code`` names it (:data:`asperity.validity.
-    CODES`: ``hurst_out_of_range``, ``outlier_effect``, ...)."""
+    """A topography result to be read with care; ``code`` names it.
+
+    The codes are those of :data:`asperity.validity.CODES` (``hurst_out_of_range``,
+    ``outlier_effect``, ...).
+    """
 
 
 class TopographyFileError(InputError):

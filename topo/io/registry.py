@@ -243,6 +243,7 @@ def read_text_table(
 
 #: The native formats, in the order their magic tests are tried: the first that claims the
 #: file names its format. The order matters only where a test is loose:
+#:
 #: - the fixed magic numbers first (Digital Surf, MetroPro, HDF5, Gwyddion, Nanoscope,
 #:   PicoView, NPY, Wyko OPD): each is a prefix no other format starts with;
 #: - then the zip archives: X3P (has ``main.xml``) before NPZ (only ``.npy`` members); an
