@@ -142,6 +142,9 @@ sphinx_gallery_conf = {
     "within_subsection_order": "FileNameSortKey",
     "matplotlib_animations": False,
     "min_reported_time": 1,
+    # the execution-times pages load DataTables and Bootstrap from CDNs: not written, so that
+    # every page reads offline
+    "write_computation_times": False,
 }
 
 # -- Maths ---------------------------------------------------------------------------------------
