@@ -46,6 +46,7 @@ from .mixed_mode import sliding_state as sliding_state
 from .mixed_mode import tangential_sweep as tangential_sweep
 from .options import SolverOptions as SolverOptions
 from .pohrt_popov import critical_tension as critical_tension
+from .progress import solve_progress as solve_progress
 from .reference import ReferenceSolves as ReferenceSolves
 from .reference import solve_reference as solve_reference
 from .result import ContactResult as ContactResult
@@ -60,3 +61,4 @@ from .shear import solve_tangential as solve_tangential
 from .shear import traction_bound as traction_bound
 from .sweep import load_sweep as load_sweep
 from .tangential_influence import tangential_chi as tangential_chi
+from .validity import BemWarning as BemWarning

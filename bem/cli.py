@@ -2,8 +2,8 @@
 :func:`bem.load_sweep`.
 
 ``asperity bem FILE --e-star E (--load F | --mean-pressure P) [--work-of-adhesion W
-[--adhesion maugis --adhesion-range H0]] [--pixel-size DX] [--detrend none|mean|plane]
-[--tol T] [--json]``
+[--adhesion maugis --adhesion-range H0]] [--pixel-size DX] [--unit U]
+[--detrend none|mean|plane|quadratic | --form-order N] [--tol T] [--json]``
 
 Several loads (``--load 0.5,1,2``) give a warm-started sweep. ``--json`` prints
 ``contact_fraction``, ``real_area`` (m^2), ``normal_force`` (N), ``mean_gap`` (m), ``iterations``,
@@ -73,8 +73,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="real contact area of a height map pressed on a rigid flat (FFT-BEM)",
         description=(
             "Polonsky-Keer FFT boundary elements (paper Appendix B): an elastic half-space with "
-            "the measured surface against a rigid flat, periodic domain, optional Pohrt-Popov "
-            "adhesion. SI units: m, Pa, N, J/m^2."
+            "the measured surface against a rigid flat, periodic domain, optional adhesion. "
+            "Adhesion defaults to Pohrt-Popov (the paper's Appendix B, no adhesion on loading), "
+            "while `asperity run` defaults to Maugis-Dugdale ([bem] adhesion): give --adhesion "
+            "maugis --adhesion-range H0 to compare with a job. SI units: m, Pa, N, J/m^2."
         ),
     )
     p._negative_number_matcher = _NEGATIVE_NUMBER
@@ -125,11 +127,16 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "surface.pixel_size",
         help="pixel size (m) for formats without one (.npy, text)",
     )
-    p.add_argument(
+    p.add_argument("--unit", help="length unit of a plain-text file (m, mm, um, nm): required")
+    form = p.add_mutually_exclusive_group()
+    form.add_argument(
         "--detrend",
-        choices=("none", "mean", "plane"),
+        choices=("none", "mean", "plane", "quadratic"),
         default="plane",
         help="form removed before the solve (default plane; mean only for periodic maps)",
+    )
+    form.add_argument(
+        "--form-order", type=int, choices=range(9), metavar="N", help="polynomial form 0..8"
     )
     add_bounded_option(
         p,
@@ -229,10 +236,11 @@ def _read_heights(args: argparse.Namespace):
     from asperity import topo
     from asperity.bem import crop_to_fast_size
 
-    surface = topo.read_surface(args.file, pixel_size=args.pixel_size)
+    surface = topo.read_surface(args.file, pixel_size=args.pixel_size, unit=args.unit)
     if not isinstance(surface, topo.HeightMap):
         raise _bad(f"{args.file}: bem needs a 2D height map, the file holds a line profile")
-    surface = topo.level(surface, method=args.detrend)
+    form = args.detrend if args.form_order is None else args.form_order
+    surface = topo.level(surface, method=form)
     heights = np.asarray(surface.heights, dtype=np.float64)
     if surface.n_missing:
         raise _bad(

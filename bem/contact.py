@@ -23,7 +23,10 @@ from asperity.bem.maugis import check_adhesion, solve_maugis_problem
 from asperity.bem.options import SolverOptions, resolve_options
 from asperity.bem.polonsky_keer import solve_problem
 from asperity.bem.problem import set_up_problem
+from asperity.bem.progress import solve_finished
 from asperity.bem.result import ContactResult
+from asperity.bem.validity import BemWarning, contact_findings
+from asperity.validity import raise_findings
 
 __all__ = ["KNOBS", "options_with_deprecated_knobs", "solve_contact"]
 
@@ -116,7 +119,10 @@ def solve_contact(
     ContactResult
         Pressure (Pa), gap (m), contact mask, areas (m^2), force (N), ``status`` (0 converged,
         1 iteration cap, 2 stalled, 3 contact lost, 4 load not carried), ``success``,
-        ``message``, ``nit``. Non-convergence is reported, never raised.
+        ``message``, ``nit``. Non-convergence is reported, never raised. Its validity is in
+        ``extra["validity_codes"]`` and ``extra["validity_notes"]`` (:mod:`asperity.bem.validity`:
+        ``bem_full_contact``, ``bem_cohesive_zone``); a full contact is also raised as a
+        :class:`~asperity.bem.validity.BemWarning`.
 
     Raises
     ------
@@ -133,5 +139,20 @@ def solve_contact(
     law = check_adhesion(adhesion, work_of_adhesion, adhesion_range)
     problem = set_up_problem(heights, dx, dy, e_star, loads, work_of_adhesion, periodic, opts)
     if law is not None:
-        return solve_maugis_problem(problem, law, initial, opts)
-    return solve_problem(problem, initial, opts, started)
+        result = solve_maugis_problem(problem, law, initial, opts)
+    else:
+        result = solve_problem(problem, initial, opts, started)
+    return with_validity(result, float(e_star))
+
+
+def with_validity(result: ContactResult, e_star: float) -> ContactResult:
+    """``result`` with its validity findings (:func:`asperity.bem.validity.contact_findings`)
+    in ``extra["validity_codes"]`` / ``extra["validity_notes"]``; full contact is also raised
+    as a :class:`~asperity.bem.validity.BemWarning` (code ``bem_full_contact``). The solver's
+    ``status`` is left as it is: it says whether the solve converged."""
+    solve_finished(result)  # the bar of an enclosing bem.progress.solve_progress, if any
+    findings = contact_findings(result, e_star)
+    result.extra["validity_codes"] = [f.code for f in findings]
+    result.extra["validity_notes"] = [f.message for f in findings]
+    raise_findings([f for f in findings if f.code == "bem_full_contact"], BemWarning, stacklevel=4)
+    return result

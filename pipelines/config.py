@@ -157,6 +157,9 @@ class SurfaceConfig:
         Channel of a multi-channel file; None picks the height channel.
     pixel_size : float or None
         Pixel size, m, for formats that do not store one (.npy, plain text).
+    unit : str or None
+        Length unit of a plain-text file's numbers ("m", "mm", "um", "nm"): text states none
+        and is refused without it (:func:`topo.read_surface`); None for every other format.
     synthetic : SyntheticRecipe or None
         The recipe used when ``file`` is None.
     detrend : str
@@ -192,6 +195,7 @@ class SurfaceConfig:
     file: Path | None = None
     channel: str | None = None
     pixel_size: float | None = None
+    unit: str | None = None
     synthetic: SyntheticRecipe | None = None
     detrend: str = "plane"
     max_stride: int = 20
@@ -516,6 +520,9 @@ def _ordered_bounds(values: dict[str, Any]) -> None:
         raise Invalid("[low, high] with 0 < low < high <= 1", "mode_mixity_bounds", [low, high])
 
 
+#: The length units ``[surface] unit`` accepts for a plain-text file.
+TEXT_UNITS = ("m", "mm", "um", "µm", "nm")
+
 SYNTHETIC = Section(
     "surface.synthetic",
     SyntheticRecipe,
@@ -536,6 +543,7 @@ JOB_SCHEMA = Schema(
                 Key("file", ExistingFile(), None),
                 Key("channel", Text(), None),
                 Key("pixel_size", PIXEL, None),
+                Key("unit", Choice(TEXT_UNITS), None),
                 Key("synthetic", SYNTHETIC, None),
                 Key("detrend", Choice(DETREND_METHODS), "plane"),
                 _bounded("surface.max_stride", SurfaceConfig.max_stride),

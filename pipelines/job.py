@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import asperity
+from asperity.bem.progress import solve_progress
 from asperity.errors import InputError
 from asperity.pipelines.config import ConfigError, JobConfig
 from asperity.pipelines.engine.interrupts import InterruptGuard, checkpoint
@@ -159,7 +160,9 @@ def run_job(
             log=log,
         )
         try:
-            run_stages(runner)
+            # a long BEM stage shows its solves as they finish (terminal only)
+            with solve_progress("BEM solves", enabled=progress):
+                run_stages(runner)
         except KeyboardInterrupt:
             interrupts.acknowledge()  # seen: the lock and the executor are released undisturbed
             raise

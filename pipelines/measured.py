@@ -336,8 +336,48 @@ def read_shear_area(
     for load in np.unique(loads):
         pick = loads == load
         fx, ar = cols["tangential_force"][pick], cols["real_area"][pick]
+        check_friction_magnitude(path, load, fx, cols["_line"][pick])
         curves.append(ShearAreaCurve(float(load), fx, ar, str(path)))
     return curves
+
+
+#: Largest |F_x| / F_z a measured shear curve may show: adhesive elastomer contacts reach
+#: friction coefficients of a few to some tens at light loads; a hundred or more is what a
+#: tangential force in mN (or uN) under an SI header (``tangential_force`` means N) looks like.
+MAX_FRICTION_COEFFICIENT = 100.0
+
+
+def check_friction_magnitude(
+    path: str | Path, normal_load: float, tangential_force: np.ndarray, lines: np.ndarray
+) -> None:
+    """Refuse a curve whose |F_x| / F_z exceeds :data:`MAX_FRICTION_COEFFICIENT`.
+
+    The magnitude check of the ``tangential_force`` column, as the configured loads check
+    the ``normal_load`` one: the message names the file's line and, when a force unit would
+    bring the ratio into the plausible range, that unit (``tangential_force [mN]``). Curves
+    at F_z <= 0 N (adhesive contacts under tension) are not checked: any ratio is possible.
+    """
+    if not normal_load > 0 or tangential_force.size == 0:
+        return
+    ratio = np.abs(tangential_force) / normal_load
+    worst = int(np.argmax(ratio))
+    if ratio[worst] <= MAX_FRICTION_COEFFICIENT:
+        return
+    hint = next(
+        (
+            f"; if the column holds {unit}, say so in the header ('tangential_force [{unit}]'): "
+            f"|F_x|/F_z would be {ratio[worst] * factor:.3g}"
+            for factor, unit in ((1e-3, "mN"), (1e-6, "uN"))
+            if ratio[worst] * factor <= MAX_FRICTION_COEFFICIENT
+        ),
+        "",
+    )
+    raise MeasuredFileError(
+        f"{path}: line {lines[worst]}, column 'tangential_force': F_x = "
+        f"{tangential_force[worst]:.6g} N at F_z = {normal_load:.6g} N is |F_x|/F_z = "
+        f"{ratio[worst]:.3g} > {MAX_FRICTION_COEFFICIENT:g}, beyond any measured friction "
+        "coefficient ('tangential_force' means N)" + hint
+    )
 
 
 def _unit_hint(load: float, configured: np.ndarray) -> str:

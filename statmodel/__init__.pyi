@@ -7,6 +7,7 @@ re-export for type checkers.
 """
 
 from .checks import Check as Check
+from .checks import StatmodelWarning as StatmodelWarning
 from .effective_resolution import EffectiveResolution as EffectiveResolution
 from .effective_resolution import locate_least_misfit as locate_least_misfit
 from .effective_resolution import roughness_at_resolution as roughness_at_resolution

@@ -14,8 +14,62 @@ from dataclasses import dataclass
 from typing import Literal
 
 from asperity.quantities import Quantity
+from asperity.validity import Finding, ValidityWarning
 
-__all__ = ["Check", "Level", "grade", "positive_number", "positive_numbers", "upward_check"]
+__all__ = [
+    "MAX_AREA_FRACTION",
+    "WARN_AREA_FRACTION",
+    "Check",
+    "Level",
+    "StatmodelWarning",
+    "area_fraction_finding",
+    "grade",
+    "positive_number",
+    "positive_numbers",
+    "upward_check",
+]
+
+#: A_r/A_n above which independent asperities mean nothing (junctions merge): "invalid". The
+#: job's verdict uses the same value (``pipelines.stages.verdict.MAX_AREA_FRACTION``).
+MAX_AREA_FRACTION = 0.15
+#: A_r/A_n above which junction coalescence starts to matter: a warning.
+WARN_AREA_FRACTION = 0.10
+
+
+class StatmodelWarning(ValidityWarning):
+    """A statistical-model result outside the model's validity; ``code`` names the reason
+    (:data:`asperity.validity.CODES`: ``area_fraction``, ``tabor``, ...)."""
+
+
+def area_fraction_finding(fraction: float, what: str = "the model's") -> Finding | None:
+    """The ``area_fraction`` finding of an A_r/A_n (dimensionless), or None below 0.10.
+
+    Invalid above :data:`MAX_AREA_FRACTION` (and always above 1: a real area larger than the
+    nominal one is impossible), a warning above :data:`WARN_AREA_FRACTION` (paper, Section 5:
+    an independent-asperity model, E:Ar_Greenwood, neglects junction coalescence).
+    """
+    if not math.isfinite(fraction) or fraction <= WARN_AREA_FRACTION:
+        return None
+    why = (
+        "an independent-asperity model (E:Ar_Greenwood) neglects the coalescence of junctions, "
+        "which dominates beyond 10-15 % contact (paper, Section 5)"
+    )
+    if fraction > 1.0:
+        why = (
+            "a real contact area larger than the nominal one is impossible: the summit "
+            "statistics (eta, R, sigma_s) or the load are far outside the model's range; "
+            "check the map's units, its levelling and the resolution of the statistics"
+        )
+    invalid = fraction > MAX_AREA_FRACTION
+    threshold = MAX_AREA_FRACTION if invalid else WARN_AREA_FRACTION
+    return Finding(
+        "area_fraction",
+        "invalid" if invalid else "warning",
+        f"{what} A_r/A_n reaches {fraction:.3g} > {threshold:g}: {why}",
+        fraction,
+        threshold,
+    )
+
 
 Level = Literal["ok", "warning", "invalid"]
 

@@ -19,19 +19,20 @@ import warnings
 from pathlib import Path
 
 from asperity.errors import ExitStatus
+from asperity.statmodel.checks import StatmodelWarning
 from asperity.statmodel.config import read_friction_parameters
-from asperity.statmodel.parameters import TaborWarning
 
 
 def run_friction(args: argparse.Namespace) -> int:
     """Handler of ``asperity friction``; returns the exit status."""
     # deferred: numba kernels and h5py, loaded by the command, not by --help
     from asperity.statmodel.results_io import curve_to_json, write_curve_hdf5
-    from asperity.statmodel.shear import shear_curve
+    from asperity.statmodel.shear import OUTSIDE_MODEL, shear_curve
 
     params = read_friction_parameters(args.params)
     # A model outside its validity must say so on stderr whatever the user's warning filters
-    # (a TaborWarning is printed once as "asperity friction: warning: ..."; others pass through).
+    # (a StatmodelWarning, TaborWarning included, is printed once as "asperity friction:
+    # warning: ..."; others pass through). A curve outside the model (status 3) exits 3.
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         curve = shear_curve(
@@ -44,7 +45,7 @@ def run_friction(args: argparse.Namespace) -> int:
         )
     seen: set[str] = set()
     for w in caught:
-        if issubclass(w.category, TaborWarning):
+        if issubclass(w.category, StatmodelWarning):  # TaborWarning, area_fraction, ...
             text = str(w.message)
             if text not in seen:
                 seen.add(text)
@@ -75,6 +76,8 @@ def run_friction(args: argparse.Namespace) -> int:
     if not curve.converged:
         print(f"asperity friction: {curve.message}", file=sys.stderr)
         return ExitStatus.NOT_CONVERGED
+    if curve.status == OUTSIDE_MODEL:
+        return ExitStatus.INVALID_RESULT
     return ExitStatus.OK
 
 
@@ -104,6 +107,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     f = subparsers.add_parser(
         "figures",
         help="write the paper's Figs. 1, 2, 4, 5 (PNG) and their data (HDF5)",
+        description="Draw the paper's Figs. 1 (a single asperity: JKR indentation and "
+        "Papangelo-Ciavarella shear), 2 (the stick/slip status map), 4 (a rough-contact shear "
+        "curve: F_z, counts, A_r, F_x against delta_T, stick and slip parts) and 5 (shear "
+        "curves as w, lambda, tau0 and F_z vary) with the captions' parameters, as PNG in "
+        "--out, with every curve's data in DIR/statmodel_figures.h5 (SI units).",
     )
     f.add_argument("--out", type=Path, required=True, help="output directory")
     f.set_defaults(func=run_figures)

@@ -14,13 +14,18 @@ import warnings
 from dataclasses import dataclass, fields
 
 from asperity.quantities import quantity
+from asperity.statmodel.checks import StatmodelWarning
 
 #: Below this Tabor parameter the JKR limit no longer applies (paper, Section 2).
 TABOR_JKR_LIMIT = 5.0
 
 
-class TaborWarning(UserWarning):
-    """The Tabor parameter is below 5: the JKR-based asperity laws are outside their validity."""
+class TaborWarning(StatmodelWarning):
+    """The Tabor parameter is below 5: the JKR-based asperity laws are outside their validity
+    (a :class:`~asperity.statmodel.checks.StatmodelWarning` with code ``"tabor"``)."""
+
+    code = "tabor"
+    level = "invalid"
 
 
 #: (class, field) -> the key of its bound in :data:`asperity.quantities.QUANTITIES`, where the

@@ -23,6 +23,7 @@ delta_T at which the expected number of sticking asperities falls to one). SI un
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -36,9 +37,11 @@ from scipy.special import gamma, ndtr, pbdv
 from asperity.errors import InputError
 from asperity.fields import array, document_fields, scalar, text
 from asperity.statmodel import integrals as _k
+from asperity.statmodel.checks import StatmodelWarning, area_fraction_finding
 from asperity.statmodel.options import ModelSetup, QuadratureOptions, setup_model
-from asperity.statmodel.parameters import Material, Roughness
+from asperity.statmodel.parameters import TABOR_JKR_LIMIT, Material, Roughness
 from asperity.statmodel.preloading import PreloadResult, pull_off_point, solve_preload
+from asperity.validity import Finding, raise_findings
 
 
 @document_fields
@@ -63,9 +66,15 @@ class ShearCurve:
     in fixed grip), ``pull_off_force`` (loading branch, N). Steps after a failed solve are NaN.
 
     Status, as scipy.optimize's results: ``success`` (bool), ``status`` (int, one of
-    :data:`SHEAR_STATUS`: 0 every step solved, 1 the preload separation solve did not converge,
-    2 a separation solve under shear failed, e.g. the load can no longer be carried), ``message``;
-    ``converged`` is an alias of ``success``.
+    :data:`SHEAR_STATUS`: 0 every step solved and inside the model, 1 the preload separation
+    solve did not converge, 2 a separation solve under shear failed, e.g. the load can no longer
+    be carried, 3 every step solved but a number is outside what the model means: A_r/A_n above
+    0.15 (A_r > A_n at worst) or a Tabor parameter below 5), ``message``; ``converged`` is True
+    when every step was solved (status 0 or 3), whatever the validity.
+
+    Validity: ``validity_codes`` and ``validity_notes``, one entry per finding (codes of
+    :data:`asperity.validity.CODES`, shared with the job's verdict: ``area_fraction``,
+    ``tabor``), each also raised as a :class:`~asperity.statmodel.checks.StatmodelWarning`.
     """
 
     tangential_displacement: np.ndarray = array("m", ("step",), "tangential displacement delta_T")
@@ -97,11 +106,13 @@ class ShearCurve:
     success: bool = scalar("1", "every step solved")
     status: int = scalar("1", "status code (SHEAR_STATUS)")
     message: str = text("solver message")
+    validity_codes: tuple[str, ...] = text("validity finding codes", default_factory=tuple)
+    validity_notes: tuple[str, ...] = text("validity finding messages", default_factory=tuple)
 
     @property
     def converged(self) -> bool:
-        """Alias of ``success`` (the name of asperity 0.1)."""
-        return self.success
+        """Every step was solved (status 0, or 3: solved but outside the model's validity)."""
+        return self.status in (0, OUTSIDE_MODEL)
 
 
 #: ``ShearCurve.status`` codes and their meaning.
@@ -109,7 +120,10 @@ SHEAR_STATUS: dict[int, str] = {
     0: "converged: the preload and every step were solved",
     1: "the preload separation solve did not converge",
     2: "a separation solve under shear failed (the load cannot be carried, or no convergence)",
+    3: "solved, but outside the model's validity (A_r/A_n above 0.15, or Tabor parameter < 5)",
 }
+#: The status of a curve solved at every step whose numbers the model cannot stand behind.
+OUTSIDE_MODEL = 3
 
 #: Most tangential-displacement steps of one curve: a curve needs a few hundred (the static
 #: friction is refined between them); 1e5 steps take about 1 s and 30 MB.
@@ -492,7 +506,7 @@ def shear_curve(
     results, separations, nits, n_ok = _march_load_control(setup, prm, dts, pre, target, ftol)
     status, message = _load_control_status(pre, n_ok, dts, target)
     f_slide, d_slide, _ = sliding_limit(setup, target)
-    return _assemble(
+    curve = _assemble(
         setup,
         dts,
         results,
@@ -507,6 +521,55 @@ def shear_curve(
         success=status == 0,
         status=status,
         message=message,
+    )
+    return _with_validity(curve, setup)
+
+
+def curve_findings(curve: ShearCurve, setup: ModelSetup) -> list[Finding]:
+    """The validity findings of a solved curve: its largest A_r/A_n (``area_fraction``) and
+    its Tabor parameter (``tabor``, adhesive interfaces only); see :mod:`asperity.validity`."""
+    findings = []
+    area = np.asarray(curve.real_area, dtype=float)
+    area = area[np.isfinite(area)]
+    if area.size:
+        found = area_fraction_finding(float(area.max()) / setup.nominal_area)
+        if found is not None:
+            findings.append(found)
+    mu = float(curve.tabor_parameter)
+    if setup.material.work_of_adhesion > 0.0 and mu < TABOR_JKR_LIMIT:
+        findings.append(
+            Finding(
+                "tabor",
+                "invalid",
+                f"Tabor parameter mu = {mu:.3g} < {TABOR_JKR_LIMIT:g}: the JKR asperity laws "
+                "(E:JKR_indent, E:PC_indent) hold for mu > 5 (paper, Section 2)",
+                mu,
+                TABOR_JKR_LIMIT,
+            )
+        )
+    return findings
+
+
+def _with_validity(curve: ShearCurve, setup: ModelSetup) -> ShearCurve:
+    """``curve`` with its findings recorded (status 3 when one is invalid and every step was
+    solved) and raised as :class:`StatmodelWarning` (the Tabor finding is raised by
+    :func:`setup_model` already, as a :class:`TaborWarning`)."""
+    findings = curve_findings(curve, setup)
+    if not findings:
+        return curve
+    raise_findings([f for f in findings if f.code != "tabor"], StatmodelWarning, stacklevel=4)
+    status, success, message = curve.status, curve.success, curve.message
+    invalid = [f for f in findings if f.level == "invalid"]
+    if status == 0 and invalid:
+        status, success = OUTSIDE_MODEL, False
+        message = f"solved, but outside the model: {invalid[0].message}"
+    return dataclasses.replace(
+        curve,
+        status=status,
+        success=success,
+        message=message,
+        validity_codes=tuple(f.code for f in findings),
+        validity_notes=tuple(f.message for f in findings),
     )
 
 
@@ -618,7 +681,7 @@ def shear_curve_fixed_separation(
     _k.fixed_separation_path(dts, d, prm, setup.gl_x, setup.gl_w, setup.panels, results)
     separations = np.full(dts.size, d)
     area = _hertz_sliding_area(setup, d)
-    return _assemble(
+    curve = _assemble(
         setup,
         dts,
         results,
@@ -634,3 +697,4 @@ def shear_curve_fixed_separation(
         status=0,
         message="fixed grip: no solve needed",
     )
+    return _with_validity(curve, setup)

@@ -15,7 +15,14 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 #: The import names of the ``docs`` extra's packages.
-DOCS_TOOLS = ("sphinx", "numpydoc", "myst_parser", "sphinx_gallery")
+DOCS_TOOLS = (
+    "sphinx",
+    "numpydoc",
+    "myst_parser",
+    "sphinx_gallery",
+    "furo",
+    "sphinx-mathjax-offline",
+)
 #: Gallery scripts (docs/examples) and tutorials (docs/tutorials): each must draw a figure.
 EXAMPLES = sorted(
     path.stem
@@ -45,7 +52,8 @@ def test_docs_build_with_warnings_as_errors(tmp_path: Path) -> None:
     assert done.returncode == 0, f"sphinx -W failed:\n{done.stderr[-6000:]}"
 
     # the guides, the API reference of every package and the namespace's modules
-    pages = ["index", "topo", "bem", "statmodel", "pipelines", "paper", "DEVELOPING"]
+    pages = ["index", "job", "performance", "topo", "bem", "statmodel", "pipelines", "paper"]
+    pages += ["DEVELOPING"]
     pages += [f"api/generated/asperity.{name}" for name in ("topo", "bem", "statmodel")]
     pages += [f"api/generated/asperity.{name}" for name in ("pipelines", "errors", "plotting")]
     for page in pages:
@@ -57,3 +65,12 @@ def test_docs_build_with_warnings_as_errors(tmp_path: Path) -> None:
     # an API page carries a numpy-style section rendered as such, with its units
     shear = (html / "api/generated/asperity.statmodel.shear.html").read_text("utf-8")
     assert "shear_curve" in shear and "Parameters" in shear
+
+    # maths render offline: MathJax is in the build, and no page loads anything from a CDN
+    assert (html / "_static" / "mathjax" / "tex-chtml.js").is_file()
+    for page in html.rglob("*.html"):
+        text = page.read_text("utf-8")
+        assert "https://cdn" not in text and "mathjax@" not in text, page
+    index = (html / "index.html").read_text("utf-8")
+    assert "fig13_area_vs_force.png" in index  # the index is its own page, not the README
+    assert (html / "_static" / "fig13_area_vs_force.png").is_file()

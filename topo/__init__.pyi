@@ -13,6 +13,7 @@ from .cleaning import crop_surface as crop_surface
 from .cleaning import fill_missing as fill_missing
 from .cleaning import find_outliers as find_outliers
 from .errors import TopographyFileError as TopographyFileError
+from .errors import TopoWarning as TopoWarning
 from .fractional_resampling import fractional_resample as fractional_resample
 from .fractional_resampling import fractional_summit_statistics as fractional_summit_statistics
 from .heightmap import HeightMap as HeightMap
@@ -33,6 +34,8 @@ from .profile_scan import profile_resolution_scan as profile_resolution_scan
 from .profile_synthesis import RealisationSpread as RealisationSpread
 from .profile_synthesis import realisation_spread as realisation_spread
 from .profile_synthesis import synthesise_from_profile as synthesise_from_profile
+from .psd import HurstEstimate as HurstEstimate
+from .psd import hurst_from_psd_exponent as hurst_from_psd_exponent
 from .psd import radial_psd as radial_psd
 from .psd import rms_curvature as rms_curvature
 from .psd import rms_height as rms_height

@@ -235,12 +235,14 @@ class OutlierRule:
 
 @dataclass(frozen=True, eq=False)
 class OutlierSearch:
-    """Where the rule found outliers and the bounds it used (levelled heights, m)."""
+    """Where the rule found outliers and the bounds it used (levelled heights, m); the rms
+    height (m) of the heights searched, before any outlier is treated."""
 
     mask: np.ndarray
     low: float
     high: float
     scale: float
+    rms_before: float = float("nan")
 
     @property
     def count(self) -> int:

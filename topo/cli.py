@@ -68,7 +68,12 @@ def _read(args: argparse.Namespace):
     # deferred: topo.io loads h5py; `asperity --help` must not
     from asperity.topo.io import read_surface
 
-    return read_surface(args.file, channel=args.channel, pixel_size=_pixel_size(args.pixel_size))
+    return read_surface(
+        args.file,
+        channel=args.channel,
+        pixel_size=_pixel_size(args.pixel_size),
+        unit=getattr(args, "unit", None),
+    )
 
 
 def _load_prepared(args: argparse.Namespace, what: str, surface=None):
@@ -155,15 +160,20 @@ def _print_preparation(record: dict) -> None:
         f"    levelling          {record['levelling']} (form rms {record['form_rms']:.4g} m, "
         f"form/roughness {record['form_to_roughness']:.3g})"
     )
+    masked = record["n_outliers"] if record["outlier_action"] == "mask" else 0
     print(
-        f"    missing pixels     {record['n_missing']} ({100 * record['missing_fraction']:.3g} %),"
-        f" policy {record['missing_policy']}, {record['n_filled']} filled"
+        f"    missing pixels     {record['n_missing']} measured "
+        f"({100 * record['missing_fraction']:.3g} %) + {masked} masked outliers; policy "
+        f"{record['missing_policy']}: {record['n_filled']} filled, "
+        f"{record['n_missing_left']} left (n_missing above)"
     )
+    ratio = record.get("outlier_rms_ratio")
+    effect = "" if ratio is None else f", rms height x{ratio:.3g}"
     print(
         f"    outliers           {record['n_outliers']} "
         f"({100 * record['outlier_fraction']:.3g} %) "
         f"{'masked' if record['outlier_action'] == 'mask' else 'clipped'}, rule "
-        f"{record['outlier_rule']}"
+        f"{record['outlier_rule']}{effect}"
     )
     for warning in record["warnings"]:
         print(f"  WARNING: {warning}")
@@ -307,7 +317,9 @@ def _write_numpy(surface, out: Path) -> None:  # noqa: ANN001 (a HeightMap)
 
 def _add_input_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
-        "file", help="height map: x3p, sur, dat, datx, plu, opd, di, mi, gwy, txt, npy, npz, h5"
+        "file",
+        help="height map or line profile: x3p, sur, dat, datx, plu, opd, di/spm, mi, gwy, "
+        "csv (Dektak profile), txt/asc/xyz (text: needs --unit), npy, npz, h5",
     )
     form = parser.add_mutually_exclusive_group()
     form.add_argument(
@@ -369,6 +381,13 @@ def _add_input_options(parser: argparse.ArgumentParser) -> None:
         metavar="DX",
         default=None,
         help="pixel size in m (DX, or DX,DY), for files that carry none (npy, npz, text)",
+    )
+    parser.add_argument(
+        "--unit",
+        default=None,
+        metavar="UNIT",
+        help="length unit of a plain-text file's numbers (m, mm, um, nm): text states none, "
+        "and asperity never guesses it (required for text matrices and x y z / x z columns)",
     )
     parser.add_argument(
         "--channel",

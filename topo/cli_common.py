@@ -76,7 +76,8 @@ def print_scan_table(scan, count: str = "N", extra: tuple[str, object] | None = 
             f"{row[5]:12.4e}" + (f" {row[6]:9.3g}" if extra else "")
         )
     print(
-        f"R = {scan.radius_slope:.4g} * resolution + {scan.radius_intercept:.4g} m; "
+        f"R = {scan.radius_slope:.4g} * resolution "
+        f"{'-' if scan.radius_intercept < 0 else '+'} {abs(scan.radius_intercept):.4g} m; "
         f"eta = {scan.density_prefactor:.4g} * resolution^{scan.density_exponent:.4g} 1/m^2; "
         f"sigma_s = {scan.height_rms_mean:.4g} m "
         f"(spread {100 * scan.height_rms_relative_spread:.2f} %)"

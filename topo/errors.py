@@ -28,6 +28,15 @@ from __future__ import annotations
 from pathlib import Path
 
 from asperity.errors import InputError
+from asperity.validity import ValidityWarning
+
+
+class TopoWarning(ValidityWarning):
+    """A topography result to be read with care; ``code`` names it.
+
+    The codes are those of :data:`asperity.validity.CODES` (``hurst_out_of_range``,
+    ``outlier_effect``, ...).
+    """
 
 
 class TopographyFileError(InputError):

@@ -321,6 +321,41 @@ def _densities(moments: SpectralMoments) -> dict[str, float]:
     }
 
 
+#: Largest rms of the straight line through a profile over the rms about it, for a profile
+#: that did not go through :func:`asperity.topo.prepare_profile`: above it the tilt, not the
+#: roughness, would set the moments (dektak-1.csv as read: 50).
+MAX_UNLEVELLED_TILT = 1.0
+
+
+def check_levelled(profile: LineProfile) -> None:
+    """Refuse a profile that was not prepared and whose tilt dominates its roughness.
+
+    ``asperity stats`` levels a profile (a straight line removed, the outlier rule applied)
+    before the statistics; called on a profile as read, :func:`profile_statistics` would
+    describe the tilt instead (dektak-1.csv: sigma_s 4.77 um against the command's 94 nm).
+    A profile from :func:`asperity.topo.prepare_profile` (``provenance["preparation"]``) is
+    taken as prepared; any other is refused when the rms of its least-squares line exceeds
+    :data:`MAX_UNLEVELLED_TILT` times the rms about it (heights in m).
+    """
+    if "preparation" in profile.provenance:
+        return
+    heights = np.asarray(profile.heights, dtype=float)
+    valid = np.flatnonzero(~np.isnan(heights))
+    if valid.size < 3:
+        return
+    line = np.polyval(np.polyfit(valid.astype(float), heights[valid], 1), valid.astype(float))
+    tilt, rough = float(np.std(line)), float(np.std(heights[valid] - line))
+    if tilt > MAX_UNLEVELLED_TILT * rough:
+        raise InputError(
+            f"profile statistics: {profile.provenance.get('file', 'the profile')} is not "
+            f"levelled: its straight-line trend has rms {tilt:.3g} m, {tilt / rough:.3g} times "
+            f"the roughness about it ({rough:.3g} m), so the statistics would describe the "
+            "tilt; prepare it first, as `asperity stats` does: "
+            "topo.profile_statistics(topo.prepare_profile(profile, "
+            "topo.PreparationOptions())[0])"
+        )
+
+
 def profile_statistics(profile: LineProfile, *, stride: int = 1) -> ProfileStatistics:
     """Asperity density, summit radius and rms summit height from a line profile (Nayak).
 
@@ -341,7 +376,8 @@ def profile_statistics(profile: LineProfile, *, stride: int = 1) -> ProfileStati
     Raises
     ------
     InputError
-        A stride that leaves fewer than 3 points; a flat profile (m2 or m4 zero).
+        A stride that leaves fewer than 3 points; a flat profile (m2 or m4 zero); a profile
+        not levelled (:func:`check_levelled`), whose statistics would describe its tilt.
     """
     moments = spectral_moments(profile, stride=stride)
     if not (moments.m2 > 0 and moments.m4 > 0):
@@ -349,6 +385,7 @@ def profile_statistics(profile: LineProfile, *, stride: int = 1) -> ProfileStati
             f"profile statistics: {profile.provenance.get('file', 'the profile')} is flat at "
             f"sampling interval {moments.spacing:.4g} m (no slope or curvature)"
         )
+    check_levelled(profile)
     warnings, status = [ISOTROPY_WARNING, NEIGHBOUR_RULE_NOTE], 0
     alpha = moments.bandwidth
     if alpha >= 1.5:

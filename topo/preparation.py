@@ -19,7 +19,7 @@ step dominates the result: see :data:`WARN_LIMITS`.
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 
@@ -129,6 +129,12 @@ class PreparationRecord:
         The rule in words and ``mask``/``clip``.
     n_outliers, outlier_fraction : int, float
         Pixels changed by the rule and their fraction of the valid pixels.
+    rms_before_outliers : float
+        The rms height (m) of the levelled map with every pixel kept (before the outlier rule).
+    outlier_rms_ratio : float
+        ``roughness_rms / rms_before_outliers``: the rule's effect on the rms height, and so
+        on eta, R and sigma_s, which scale with the heights (1: no effect; a warning beyond
+        :data:`asperity.topo.preparation_checks.WARN_LIMITS` ``"outlier_rms_change"``).
     outlier_low, outlier_high : float
         Bounds of the rule on the levelled heights (m; -inf/inf when no rule).
     warnings : tuple of str
@@ -162,6 +168,8 @@ class PreparationRecord:
     outlier_low: float
     outlier_high: float
     warnings: tuple[str, ...] = ()
+    rms_before_outliers: float = math.nan
+    outlier_rms_ratio: float = 1.0
 
     def as_dict(self) -> dict:
         """Plain Python values: tuples as lists, non-finite floats as None (JSON null)."""
@@ -305,6 +313,7 @@ def _level_and_treat_outliers(
     """
     levelled, form_rms = _level(surface.heights, order)
     found = find_outliers(levelled, options.outliers)
+    found = replace(found, rms_before=_rms_about_mean(levelled))
     check_outlier_fraction(surface, found.count, n_missing, options.outliers.describe())
     raw = surface.heights
     if found.count and options.outliers.action == "mask":
@@ -365,6 +374,8 @@ def _preparation_record(
         outlier_fraction=found.count / n_valid if n_valid else 0.0,
         outlier_low=found.low,
         outlier_high=found.high,
+        rms_before_outliers=found.rms_before,
+        outlier_rms_ratio=roughness_rms / found.rms_before if found.rms_before > 0 else 1.0,
     )
     reader_warnings = [str(w) for w in surface.provenance.get("warnings", [])]
     return _with_warnings(record, found.scale, reader_warnings + grid_warnings(levelled))

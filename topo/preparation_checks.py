@@ -20,6 +20,9 @@ WARN_LIMITS = {
     "form_to_roughness": 10.0,
     # outliers changed: 0.1 % of the valid pixels is more than artefacts (real roughness)
     "outlier_fraction": 1e-3,
+    # |ln(rms after / rms before)| of the outlier rule: beyond 5 % the rule, not the surface,
+    # sets the rms height, and with it eta, R and sigma_s (code "outlier_effect")
+    "outlier_rms_change": 0.05,
     # |dx/dy - 1|: non-square pixels make the 4-neighbour rule anisotropic
     "pixel_aspect": 0.01,
     # the next polynomial order leaves less than half the rms: form taken as roughness
@@ -135,6 +138,16 @@ def _form(record: PreparationRecord) -> list[str]:
 
 def _outliers(record: PreparationRecord, scale: float) -> list[str]:
     messages = []
+    ratio = record.outlier_rms_ratio
+    if record.n_outliers and abs(math.log(ratio)) > WARN_LIMITS["outlier_rms_change"]:
+        messages.append(
+            f"outlier_effect: the outlier rule ({record.outlier_rule}) changed "
+            f"{record.n_outliers} pixels ({100 * record.outlier_fraction:.3g} % of the valid "
+            f"ones) and the rms height by a factor {ratio:.3g} "
+            f"({record.rms_before_outliers:.4g} m -> {record.roughness_rms:.4g} m): the rule "
+            "decides the statistics (sigma_s scales with the heights, R inversely); compare "
+            'with --outliers none (or [surface] outliers = "none") before trusting them'
+        )
     if record.outlier_fraction > WARN_LIMITS["outlier_fraction"]:
         messages.append(
             f"the outlier rule ({record.outlier_rule}) changed {record.n_outliers} pixels, "

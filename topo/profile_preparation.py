@@ -134,7 +134,8 @@ def prepare_profile(profile: LineProfile, options: object) -> tuple[LineProfile,
         "outlier_fraction": n_outliers / max(int(valid.sum()), 1),
         "warnings": _warnings(n_missing, heights.size, n_outliers),
     }
-    return LineProfile(prepared, profile.dx, dict(profile.provenance)), record
+    provenance = dict(profile.provenance, preparation=record)
+    return LineProfile(prepared, profile.dx, provenance), record
 
 
 def _warnings(n_missing: int, n_points: int, n_outliers: int) -> list[str]:

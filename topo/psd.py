@@ -21,7 +21,9 @@ import numpy as np
 import scipy.fft
 
 from asperity.errors import InputError
+from asperity.topo.errors import TopoWarning
 from asperity.topo.heightmap import HeightMap, require_height_map
+from asperity.validity import Finding, raise_findings
 
 
 def _filled(surface: HeightMap) -> np.ndarray:
@@ -277,3 +279,70 @@ def rms_curvature(surface: HeightMap) -> float:
     return float(
         np.sqrt(_mean_square_curvature(surface.heights, surface.dx, surface.dy, surface.periodic))
     )
+
+
+@dataclass(frozen=True)
+class HurstEstimate:
+    """The Hurst exponent of a power-law PSD ``C(q) ~ q**psd_exponent`` (2D, m^4), if any.
+
+    Attributes
+    ----------
+    psd_exponent : float
+        The fitted slope of log C against log q (dimensionless; -2(1 + H) for a self-affine
+        surface).
+    slope_hurst : float
+        ``-psd_exponent / 2 - 1`` whatever its value (what asperity 0.3 reported as H).
+    hurst_exponent : float
+        ``slope_hurst`` when it lies in (0, 1), the range of a self-affine surface; NaN
+        otherwise (the slope is then no Hurst exponent: see ``validity_notes``).
+    validity_codes, validity_notes : tuple of str
+        ``("hurst_out_of_range",)`` and its sentence when ``slope_hurst`` is outside (0, 1).
+    """
+
+    psd_exponent: float
+    slope_hurst: float
+    hurst_exponent: float
+    validity_codes: tuple[str, ...] = ()
+    validity_notes: tuple[str, ...] = ()
+
+
+def hurst_from_psd_exponent(psd_exponent: float, *, warn: bool = True) -> HurstEstimate:
+    """The Hurst exponent H = -psd_exponent/2 - 1 of a 2D PSD slope, only where it is one.
+
+    A self-affine surface has 0 < H < 1, a PSD falling as q^-2 to q^-4. A steeper PSD (H > 1)
+    is that of a smooth surface over the fitted band: the band lies at or below the roll-off,
+    or a low-pass (the instrument's lateral resolution, a filter, a form left in) dominates it.
+    A flatter one (H < 0) is noise-like (a noise floor, spikes). Neither is a Hurst exponent.
+
+    Parameters
+    ----------
+    psd_exponent : float
+        Slope of log C(q) against log q (dimensionless).
+    warn : bool
+        Raise the ``hurst_out_of_range`` finding as a :class:`asperity.topo.TopoWarning`.
+
+    Returns
+    -------
+    HurstEstimate
+    """
+    exponent = float(psd_exponent)
+    slope_hurst = -exponent / 2.0 - 1.0
+    if not math.isfinite(slope_hurst) or 0.0 < slope_hurst < 1.0:
+        return HurstEstimate(exponent, slope_hurst, slope_hurst)
+    if slope_hurst >= 1.0:
+        what = (
+            f"the PSD falls as q^{exponent:.3g}, steeper than q^-4 (the slope's H = "
+            f"{slope_hurst:.3g} >= 1 is not a Hurst exponent, which lies in (0, 1)): the "
+            "surface is smooth over the fitted band (the band is at or below the roll-off, or "
+            "the instrument's lateral resolution, a filter or a form left in dominates it)"
+        )
+    else:
+        what = (
+            f"the PSD falls as q^{exponent:.3g}, flatter than q^-2 (the slope's H = "
+            f"{slope_hurst:.3g} <= 0 is not a Hurst exponent, which lies in (0, 1)): the "
+            "spectrum is noise-like over the fitted band (a noise floor, spikes)"
+        )
+    finding = Finding("hurst_out_of_range", "invalid", what, slope_hurst, 1.0)
+    if warn:
+        raise_findings([finding], TopoWarning, stacklevel=3)
+    return HurstEstimate(exponent, slope_hurst, math.nan, (finding.code,), (finding.message,))

@@ -52,6 +52,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "asperity.bem.cli",  # bem
     "asperity.statmodel.cli",  # friction, figures
     "asperity.pipelines.cli.run",  # run
+    "asperity.pipelines.cli.init",  # init
 )
 
 #: File-system errors that concern a path the user named: reported as bad input (status 2).

@@ -27,10 +27,15 @@ PROFILE_METHOD = "nayak-profile"
 
 @functools.lru_cache(maxsize=32)
 def _file_is_profile(
-    path: str, size: int, mtime_ns: int, channel: str | None, pixel_size: float | None
+    path: str,
+    size: int,
+    mtime_ns: int,
+    channel: str | None,
+    pixel_size: float | None,
+    unit: str | None = None,
 ) -> bool:
     """Whether the file reads as a :class:`topo.LineProfile` (keyed by its size and mtime)."""
-    surface = topo.read_surface(path, channel=channel, pixel_size=pixel_size)
+    surface = topo.read_surface(path, channel=channel, pixel_size=pixel_size, unit=unit)
     return isinstance(surface, topo.LineProfile)
 
 
@@ -46,7 +51,12 @@ def input_is_profile(config: SurfaceConfig) -> bool:
     try:
         stat = path.stat()
         return _file_is_profile(
-            str(path), stat.st_size, stat.st_mtime_ns, config.channel, config.pixel_size
+            str(path),
+            stat.st_size,
+            stat.st_mtime_ns,
+            config.channel,
+            config.pixel_size,
+            config.unit,
         )
     except (InputError, OSError):
         return False

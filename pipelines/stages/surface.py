@@ -83,7 +83,9 @@ def read_input(config: SurfaceConfig) -> topo.HeightMap | topo.LineProfile:
     """The raw input of the configuration: the file's map or line profile, or the synthetic
     recipe's map (heights in m)."""
     if config.file is not None:
-        return topo.read_surface(config.file, channel=config.channel, pixel_size=config.pixel_size)
+        return topo.read_surface(
+            config.file, channel=config.channel, pixel_size=config.pixel_size, unit=config.unit
+        )
     recipe = config.synthetic
     generator = getattr(topo.synthetic, recipe.recipe)
     return generator(n=recipe.n, pixel_size=recipe.pixel_size, seed=recipe.seed)
@@ -416,6 +418,7 @@ SURFACE = Stage(
         "surface.file",
         "surface.channel",
         "surface.pixel_size",
+        "surface.unit",
         "surface.synthetic",
         "surface.detrend",
         "surface.crop",

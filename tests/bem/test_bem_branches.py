@@ -3,10 +3,13 @@ the same branch a load sweep follows, and every result says which branch it is o
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 
 from asperity.bem import SolverStatus, load_sweep, solve_contact
+from asperity.bem.validity import BemWarning
 
 W = 0.02  # J/m^2 with E* = 1 Pa and 1 m pixels: Sigma = 0.21 Pa, ~5 x the mean pressure
 
@@ -50,9 +53,10 @@ def test_unloading_then_reloading_branches():
     h = np.zeros((16, 16))
     h[6:10, 6:10] = 1e-3
     kw = dict(work_of_adhesion=1e-3)
-    loaded = solve_contact(h, 1.0, 1.0, 1.0, normal_force=0.1, **kw)
-    unloaded = solve_contact(h, 1.0, 1.0, 1.0, normal_force=0.01, initial=loaded, **kw)
-    reloaded = solve_contact(h, 1.0, 1.0, 1.0, normal_force=0.05, initial=unloaded, **kw)
+    with pytest.warns(BemWarning, match="full contact"):  # adhesion pulls the bump in flat
+        loaded = solve_contact(h, 1.0, 1.0, 1.0, normal_force=0.1, **kw)
+        unloaded = solve_contact(h, 1.0, 1.0, 1.0, normal_force=0.01, initial=loaded, **kw)
+        reloaded = solve_contact(h, 1.0, 1.0, 1.0, normal_force=0.05, initial=unloaded, **kw)
     assert (loaded.branch, unloaded.branch, reloaded.branch) == (
         "loading",
         "unloading",
@@ -83,6 +87,10 @@ def test_zero_load_first_contact_and_through_zero_on_unloading(rough, contact_ok
 )
 def test_settled_adhesive_states_are_converged(heights, contact_ok):
     """A flat map in full contact and a 2x2 map were reported "stalled at residual 0 > tol"."""
-    res = solve_contact(heights, 1.0, 1.0, 1.0, normal_force=0.1, work_of_adhesion=0.01)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", BemWarning)
+        res = solve_contact(heights, 1.0, 1.0, 1.0, normal_force=0.1, work_of_adhesion=0.01)
     assert res.converged and res.status == 0, res.message
+    full = res.contact_fraction == 1.0  # the flat map: said, as a warning and on the result
+    assert [w.message.code for w in caught] == (["bem_full_contact"] if full else [])
     contact_ok(res, heights, force=0.1)

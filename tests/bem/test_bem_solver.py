@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from asperity.bem import ContactResult, SolverOptions, load_sweep, solve_contact
+from asperity.bem.validity import BemWarning
 
 N = 128
 
@@ -153,9 +154,10 @@ def test_high_load_near_full_contact(rough, contact_ok):
 
 def test_full_contact_reached(rough, contact_ok):
     h = rough(32, seed=4)
-    res = solve_contact(h, 1.0, 1.0, 1.0, mean_pressure=20.0, options=SolverOptions(tol=1e-10))
+    with pytest.warns(BemWarning, match="full contact"):
+        res = solve_contact(h, 1.0, 1.0, 1.0, mean_pressure=20.0, options=SolverOptions(tol=1e-10))
     assert res.converged, res.message
-    assert res.contact_fraction == 1.0
+    assert res.contact_fraction == 1.0 and res.extra["validity_codes"] == ["bem_full_contact"]
     contact_ok(res, h, force=20.0 * h.size)
 
 

@@ -84,7 +84,8 @@ def test_unit_headers_converted_to_si(tmp_path, header, force_factor, area_facto
     path = tmp_path / "units.csv"
     for sep in (",", ";"):
         path.write_text(f"{header.replace(',', sep)}\n0{sep}3\n2{sep}1.5\n", encoding="utf-8")
-        (curve,) = read_shear_area(path, normal_load=1.0)
+        # a load at which 2 of the header's force unit is a plausible friction force
+        (curve,) = read_shear_area(path, normal_load=max(1.0, 10 * force_factor))
         np.testing.assert_allclose(curve.tangential_force, [0.0, 2 * force_factor])
         np.testing.assert_allclose(curve.real_area, [3 * area_factor, 1.5 * area_factor])
 

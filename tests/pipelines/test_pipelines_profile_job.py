@@ -19,6 +19,7 @@ from asperity.pipelines.report.profile import profile_section
 from asperity.pipelines.stages import STAGES
 from asperity.pipelines.stages.realisations import REALISATIONS
 from asperity.pipelines.stages.verdict import verdict_markdown
+from asperity.statmodel import StatmodelWarning, TaborWarning
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 PROFILE = DATA / "dektak-1.csv"
@@ -53,7 +54,12 @@ def measured_run(tmp_path_factory):
     data["bem"] = {"enabled": False}
     data["measured"] = {"normal_area": str(_measured_csv(out))}
     config = config_from_dict(data, source="profile.toml", base_dir=out)
-    return config, out, run_job(config, out)
+    # the profile's summits give mu < 5 (the verdict's "tabor") and A_r/A_n > 0.1: said by
+    # the model itself, as StatmodelWarnings
+    with pytest.warns(StatmodelWarning) as caught:
+        result = run_job(config, out)
+    assert any(issubclass(w.category, TaborWarning) for w in caught)
+    return config, out, result
 
 
 @pytest.fixture(scope="module")
@@ -63,7 +69,10 @@ def synthesis_run(measured_run):
     _, out, _ = measured_run
     data = _data(out, profile_realisations=3, profile_seed=7)
     config = config_from_dict(data, source="profile.toml", base_dir=out)
-    return config, out, run_job(config, out)
+    with pytest.warns(StatmodelWarning) as caught:
+        result = run_job(config, out)
+    assert any(issubclass(w.category, TaborWarning) for w in caught)
+    return config, out, result
 
 
 def _prepared_profile(result) -> topo.LineProfile:

@@ -22,6 +22,7 @@ from asperity.statmodel import (
     tabor_parameter,
     unloading_pull_off_force,
 )
+from asperity.statmodel.checks import StatmodelWarning
 
 MAT = Material(e_star=2.133e6, work_of_adhesion=0.040, mode_mixity=0.2, shear_strength=0.13e6)
 ROUGH = Roughness(asperity_density=652.1e6, summit_radius=0.041e-3, summit_height_rms=0.032e-3)
@@ -161,8 +162,12 @@ def test_weak_adhesion_warns_on_every_entry_point():
         lambda: shear_curve(mat, ROUGH, AREA, LOAD, [0.0]),
         lambda: shear_curve_fixed_separation(mat, ROUGH, AREA, 0.0, [0.0]),
     ):
-        with pytest.warns(TaborWarning, match="Tabor parameter"):
-            call()
+        with warnings.catch_warnings():
+            # the shear curves of this weak adhesion also exceed A_n (area_fraction): not the
+            # subject here, the Tabor warning of every entry point is
+            warnings.filterwarnings("ignore", "the model's A_r/A_n", StatmodelWarning)
+            with pytest.warns(TaborWarning, match="Tabor parameter"):
+                call()
 
 
 @pytest.mark.parametrize(
@@ -242,8 +247,9 @@ def test_smooth_limit_sliding_friction_is_the_single_hertz_contact():
     # Hertz load F/N at delta = (3 F / (4 N E* sqrt(R)))^(2/3) and the friction is
     # tau0 N pi R delta (E:Hertz_theory). The closed-form GW load used to overflow (NaN) here.
     rough = smooth(1e-10)
-    c = shear_curve(SMOOTH_MAT, rough, SMOOTH_AREA, 1.0, np.linspace(0.0, 50e-6, 11))
-    assert c.converged
+    with pytest.warns(StatmodelWarning, match="A_r/A_n"):  # this limit is beyond A_n: said
+        c = shear_curve(SMOOTH_MAT, rough, SMOOTH_AREA, 1.0, np.linspace(0.0, 50e-6, 11))
+    assert c.converged and c.status == 3
     delta = (3 * 1.0 / (4 * N_SMOOTH * SMOOTH_MAT.e_star * math.sqrt(SMOOTH_R))) ** (2 / 3)
     # height spread: E[(Z - h)^(3/2)] = |h|^(3/2) (1 + 3/(8 h^2) + ...) -> d = -delta (1 - s^2/4)
     # with s = sigma_s / delta (here 1.2e-4: a 4e-9 correction)

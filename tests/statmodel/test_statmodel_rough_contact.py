@@ -12,6 +12,7 @@ from asperity.errors import InputError
 from asperity.statmodel import (
     Material,
     Roughness,
+    StatmodelWarning,
     TaborWarning,
     preload,
     pull_off_force,
@@ -326,7 +327,9 @@ def test_default_accuracy_on_random_parameters(seed):
         10 ** rng.uniform(6, 9), 10 ** rng.uniform(-5.5, -3), 10 ** rng.uniform(-6.5, -4.5)
     )
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore", TaborWarning)
+        # random parameters: some are outside the model (mu < 5, A_r/A_n > 0.1); the accuracy
+        # against the reference is the subject here, and holds there too
+        warnings.simplefilter("ignore", StatmodelWarning)
         probe = shear_curve(mat, rough, 1e-4, 1.0, [0.0, 1e-9])
         end = 1.5 * probe.sliding_displacement
         dts = np.linspace(0.0, end if np.isfinite(end) else 1e-5, 7)

@@ -230,19 +230,19 @@ def test_text_matrix_needs_pixel_size_and_refuses_ragged_rows(tmp_path):
     np.savetxt(path, HEIGHTS)
     with pytest.raises(ValueError, match="pixel_size"):
         topo.read_surface(path)
-    surface = topo.read_surface(path, pixel_size=1e-6)
+    surface = topo.read_surface(path, pixel_size=1e-6, unit="m")
     np.testing.assert_allclose(surface.heights, HEIGHTS, rtol=1e-15)
     cut = tmp_path / "cut.txt"
     cut.write_text(path.read_text()[:-30])  # drops the last value and a half
     with pytest.raises(TopographyFileError, match="ragged or truncated"):
-        topo.read_surface(cut, pixel_size=1e-6)
+        topo.read_surface(cut, pixel_size=1e-6, unit="m")
 
 
 def test_text_xyz_columns(tmp_path):
     x, y = np.meshgrid(np.arange(7) * 2e-6, np.arange(5) * 3e-6, indexing="ij")
     path = tmp_path / "map.xyz"
     np.savetxt(path, np.column_stack([x.ravel(), y.ravel(), HEIGHTS.ravel()]))
-    surface = topo.read_surface(path)
+    surface = topo.read_surface(path, unit="m")
     np.testing.assert_allclose(surface.heights, HEIGHTS, rtol=1e-15)
     assert (surface.dx, surface.dy) == pytest.approx((2e-6, 3e-6))
 

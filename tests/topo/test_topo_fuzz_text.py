@@ -21,7 +21,7 @@ def test_any_text_is_a_typed_error_or_a_valid_map(tmp_path_factory, text, suffix
     path = tmp_path_factory.mktemp("text") / f"fuzz{suffix}"
     path.write_text(text)
     try:
-        surface = topo.read_surface(path, pixel_size=1e-6 if suffix == ".txt" else None)
+        surface = topo.read_surface(path, pixel_size=1e-6 if suffix == ".txt" else None, unit="m")
     except TopographyFileError as exc:
         assert str(path) in str(exc)
         return
@@ -45,5 +45,5 @@ def test_stated_format_is_read_exactly(tmp_path_factory, values, separator, trai
     text = "\n".join(separator.join(repr(v) for v in row) + end for row in values)
     path = tmp_path_factory.mktemp("text") / "exact.txt"
     path.write_text("# m\n" + text + "\n")
-    surface = topo.read_surface(path, pixel_size=1e-6)
+    surface = topo.read_surface(path, pixel_size=1e-6, unit="m")
     np.testing.assert_array_equal(surface.heights, np.array(values))

@@ -107,7 +107,7 @@ def test_xyz_with_an_absent_node_is_a_grid_with_a_missing_pixel(tmp_path):
     rows, z = xyz_rows()
     path = tmp_path / "holes.xyz"
     np.savetxt(path, np.delete(rows, 7, axis=0))  # node (1, 3) absent
-    surface = topo.read_surface(path)  # formerly read as a 19 x 3 height *matrix*
+    surface = topo.read_surface(path, unit="m")  # formerly read as a 19 x 3 height *matrix*
     assert surface.heights.shape == (5, 4) and surface.n_missing == 1
     assert np.isnan(surface.heights[1, 3])
     expected = z.copy()
@@ -172,7 +172,7 @@ def test_cli_hostile_inputs_exit_2_with_a_clear_message(capsys, tmp_path):
         (("stats", wrong), "mislabelled"),
         (("stats", nan_map, "--pixel-size", "1e-6", "--detrend", "none"), "every pixel"),
         (("stats", nan_map, "--pixel-size", "1e-6"), "has 0 valid (non-NaN) pixels"),
-        (("stats", tiny, "--pixel-size", "1e-6"), "3 x 3 pixels"),
+        (("stats", tiny, "--pixel-size", "1e-6", "--unit", "m"), "3 x 3 pixels"),
         (("stats", noisy, "--pixel-size", "1e-6", "--stride", "50"), "3 x 3 pixels"),
         (("scan", noisy, "--pixel-size", "1e-6", "--max-stride", "50"), "max_stride 50"),
         (("stats", noisy, "--pixel-size", "-1e-6"), "--pixel-size: expected finite lengths"),
@@ -397,7 +397,7 @@ def test_text_separators_and_nan_in_the_stated_format(tmp_path):
     ):
         path = tmp_path / "map.csv"
         path.write_text("# heights in m\n" + body)
-        surface = topo.read_surface(path, pixel_size=1e-6)
+        surface = topo.read_surface(path, pixel_size=1e-6, unit="m")
         np.testing.assert_array_equal(surface.heights, expected)
         assert surface.provenance["missing_pixels"] == 1
 

@@ -25,7 +25,7 @@ def test_two_column_stylus_export_is_a_profile_with_its_own_step(tmp_path):
     step = 9.95613e-5
     x = step * np.arange(10001)
     z = 1e-6 * np.sin(2 * np.pi * x / 0.05) + 3.6e-3
-    profile = topo.read_surface(write_xz(tmp_path / "xz.txt", x, z))
+    profile = topo.read_surface(write_xz(tmp_path / "xz.txt", x, z), unit="m")
     assert isinstance(profile, topo.LineProfile)
     assert profile.nx == 10001
     assert profile.dx == pytest.approx(step, rel=1e-6)
@@ -42,7 +42,9 @@ def test_two_column_profile_refuses_a_pixel_size_instead_of_becoming_a_map(tmp_p
 def test_profile_with_a_missing_height_counts_it(tmp_path):
     z = RNG.normal(size=12) * 1e-7
     z[3] = np.nan
-    profile = topo.read_surface(write_xz(tmp_path / "holes.txt", 1e-6 * np.arange(12), z, "%.9g"))
+    profile = topo.read_surface(
+        write_xz(tmp_path / "holes.txt", 1e-6 * np.arange(12), z, "%.9g"), unit="m"
+    )
     assert profile.n_missing == 1 == profile.provenance["missing_pixels"]
 
 
@@ -124,7 +126,7 @@ def test_any_uniform_xz_profile_reads_back_its_heights_and_step(
     x = origin + step * np.arange(len(heights))
     path = tmp_path_factory.mktemp("xz") / "profile.txt"
     path.write_text("".join(f"{float(a)!r} {b!r}\n" for a, b in zip(x, heights, strict=True)))
-    profile = topo.read_surface(path)
+    profile = topo.read_surface(path, unit="m")
     assert isinstance(profile, topo.LineProfile)
     np.testing.assert_array_equal(profile.heights, heights)
     assert profile.dx == pytest.approx(step, rel=1e-6)
@@ -136,7 +138,7 @@ def test_any_two_column_text_is_a_profile_a_matrix_or_a_typed_error(tmp_path_fac
     path = tmp_path_factory.mktemp("xz") / "two.txt"
     path.write_text("".join(f"{a!r}\t{b!r}\n" for a, b in columns))
     try:
-        surface = topo.read_surface(path)
+        surface = topo.read_surface(path, unit="m")
     except InputError as exc:  # TopographyFileError included
         assert str(path) in str(exc) and "\n" not in str(exc)
         return

@@ -58,6 +58,7 @@ def read_surface(
     *,
     channel: str | int | None = None,
     pixel_size: float | tuple[float, float] | None = None,
+    unit: str | None = None,
 ) -> HeightMap | LineProfile:
     """Read a measured surface; heights and pixel sizes in metres, missing pixels NaN.
 
@@ -76,6 +77,10 @@ def read_surface(
     pixel_size : float or (float, float), optional
         Pixel size ``dx`` or ``(dx, dy)`` in m (finite, > 0) for formats that do not carry
         one (.npy, .npz, text matrix); refused for files with their own calibration.
+    unit : str, optional
+        The length unit ("m", "mm", "um", "nm", ...) of a plain-text file's numbers (matrix,
+        x y z or x z columns), which state none: such a file is refused without it, never
+        read in a guessed unit. Refused for a format that states its own units.
 
     Returns
     -------
@@ -89,7 +94,8 @@ def read_surface(
         was expected; subclasses in :mod:`asperity.topo.errors`).
     InputError
         A missing, invalid or superfluous ``pixel_size``; a ``channel`` given for a
-        single-channel format.
+        single-channel format; a ``unit`` that is not a length, or given for a format that
+        states its own.
     FileNotFoundError
         If ``path`` does not exist.
     """
@@ -99,7 +105,7 @@ def read_surface(
         raise TopographyFileError(path, "file", "is empty (0 bytes)")
     with np.errstate(all="ignore"):
         try:
-            return _read_checked(path, channel, pixel_size)
+            return _read_checked(path, channel, pixel_size, unit)
         except InputError:
             raise
         except MemoryError:
@@ -115,7 +121,10 @@ def read_surface(
 
 
 def _read_checked(
-    path: Path, channel: str | int | None, pixel_size: float | tuple[float, float] | None
+    path: Path,
+    channel: str | int | None,
+    pixel_size: float | tuple[float, float] | None,
+    unit: str | None = None,
 ) -> HeightMap | LineProfile:
     """Detect the format, check the arguments against it, and run its reader.
 
@@ -129,16 +138,23 @@ def _read_checked(
     such a file with :func:`asperity.topo.io.surfacetopography.read_with_extra` directly.
     """
     detected = _checked_format(path)
+    if unit is not None and detected != "text":
+        raise InputError(
+            f"{path}: unit {unit!r} given, but a {detected or 'non-native'} file states its own "
+            "units; leave unit (--unit) out"
+        )
     if detected is None:
         return read_with_extra(path, channel=channel, pixel_size=pixel_size)
     if detected == "text" and path.suffix.lower() not in FORMATS_BY_EXTENSION:
         try:  # text under a foreign extension (.sdf, .nid, .asc exports, ...)
-            return read_text_table(path, pixel_size=pixel_size)
+            return read_text_table(path, pixel_size=pixel_size, unit=unit)
         except UnsupportedContentError as exc:
             if "unsupported format" not in exc.problem:
                 raise
             return read_with_extra(path, channel=channel, pixel_size=pixel_size)
     _check_arguments(path, detected, channel, pixel_size)
+    if detected == "text":
+        return read_text_table(path, pixel_size=pixel_size, unit=unit)
     return _read_native(path, detected, channel, pixel_size)
 
 

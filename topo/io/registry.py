@@ -201,7 +201,10 @@ def _read_hdf5(path: Path) -> HeightMap:
 
 
 def read_text_table(
-    path: Path, *, pixel_size: float | tuple[float, float] | None = None
+    path: Path,
+    *,
+    pixel_size: float | tuple[float, float] | None = None,
+    unit: str | None = None,
 ) -> HeightMap | LineProfile:
     """A text file: a Dektak CSV profile (own lateral positions) or a matrix / x y z table.
 
@@ -211,6 +214,10 @@ def read_text_table(
         The file.
     pixel_size : float or (float, float), optional
         Pixel size in m of a matrix; refused for a Dektak CSV profile.
+    unit : str, optional
+        The length unit of a matrix / x y z / x z table (:func:`asperity.topo.io.text.
+        read_text` refuses such a table without it); refused for a Dektak CSV profile,
+        whose header states its units.
 
     Returns
     -------
@@ -225,8 +232,13 @@ def read_text_table(
                 f"{path}: pixel_size {pixel_size!r} given, but a Dektak CSV file carries its "
                 "own lateral positions; leave pixel_size (--pixel-size) out"
             )
+        if unit is not None:
+            raise InputError(
+                f"{path}: unit {unit!r} given, but a Dektak CSV file states its own units; "
+                "leave unit (--unit) out"
+            )
         return read_dektak(path)
-    return read_text(path, pixel_size=pixel_size)
+    return read_text(path, pixel_size=pixel_size, unit=unit)
 
 
 #: The native formats, in the order their magic tests are tried: the first that claims the

@@ -2,9 +2,12 @@
 ``x z`` line profile, or a Gwyddion text export (the last two in
 :mod:`asperity.topo.io.text_layouts`).
 
-All are in metres (SI) unless a Gwyddion header states the units; lines starting with ``#``
-or ``%`` are comments. A line of words before the first number (a header asperity does not
-know) is refused as an unsupported format, not as a badly written number.
+Units are never guessed: a Gwyddion export states its own; any other layout carries no unit,
+so the caller states it (``unit="um"``: heights and x, y columns in that length unit; the
+command line's ``--unit``, the job's ``[surface] unit``), or the file is refused with an error
+naming it and saying how to state the unit. Lines starting with ``#`` or ``%`` are comments.
+A line of words before the first number (a header asperity does not know) is refused as an
+unsupported format, not as a badly written number.
 
 The one number format (stated, never guessed): ``[+-]digits[.digits][(e|E)[+-]digits]``
 with ``.`` as the decimal point, or ``nan`` (a missing pixel). Decimal commas, digit
@@ -55,6 +58,7 @@ from asperity.topo.io.text_layouts import (
     is_xz_profile,
     profile_step,
 )
+from asperity.topo.io.units import length_unit_in_metres
 
 #: Largest relative deviation of an x or y step from the mean step of an x-y-z grid.
 _STEP_TOLERANCE = 1e-4
@@ -202,7 +206,24 @@ def _grid_step(path: Path, values: np.ndarray, name: str) -> float:
     return step
 
 
-def _read_xyz(path: Path, rows: list[np.ndarray]) -> HeightMap:
+def _metres_per_unit(path: Path, unit: str | None, layout: str) -> float:
+    """Metres per the stated ``unit``; a refusal naming the file when none is stated."""
+    if unit is None:
+        raise TopographyFileError(
+            path,
+            "unit",
+            f"is not stated ({layout}): a text file carries no length unit, and asperity "
+            "never guesses one "
+            "(metres or micrometres differ by 1e6); state it: read_surface(path, unit='um'), "
+            '--unit um on the command line, or unit = "um" under [surface] in the job file',
+        )
+    factor = length_unit_in_metres(str(unit))
+    if factor is None:
+        raise InputError(f"{path}: unit: expected a length unit (m, mm, um, nm, ...), got {unit!r}")
+    return factor
+
+
+def _read_xyz(path: Path, rows: list[np.ndarray], unit: str | None) -> HeightMap:
     array = np.vstack(rows)
     if np.isnan(array[:, :2]).any():
         line = int(np.flatnonzero(np.isnan(array[:, :2]).any(axis=1))[0]) + 1
@@ -224,14 +245,16 @@ def _read_xyz(path: Path, rows: list[np.ndarray]) -> HeightMap:
             f"{counts[first]} times; expected every grid node at most once "
             "(if this is a 3-column height matrix, save it as .npy instead)",
         )
+    factor = _metres_per_unit(path, unit, "x y z columns")  # after the layout's own checks
+    dx, dy = dx * factor, dy * factor
     heights = np.full((xs.size, ys.size), np.nan)
-    heights[ix, iy] = array[:, 2]
+    heights[ix, iy] = array[:, 2] * factor
     missing = int(xs.size * ys.size - len(rows))
     provenance = make_provenance(
         path,
         "xyz-text",
         channel="z",
-        units={"all": "m (assumed)"},
+        units={"all": f"{unit} (stated)"},
         missing_nodes=missing or None,
     )
     return make_surface(path, heights, (("x column step", dx), ("y column step", dy)), provenance)
@@ -245,8 +268,8 @@ def _refuse_pixel_size(path: Path, pixel_size: object, layout: str) -> None:
         )
 
 
-def _read_xz_profile(path: Path, rows: list[np.ndarray]) -> LineProfile:
-    """Two columns ``x z`` (m) with uniform, increasing x -> LineProfile."""
+def _read_xz_profile(path: Path, rows: list[np.ndarray], unit: str | None) -> LineProfile:
+    """Two columns ``x z`` (in ``unit``) with uniform, increasing x -> LineProfile (m)."""
     array = np.vstack(rows)
     if np.isnan(array[:, 0]).any():
         line = int(np.flatnonzero(np.isnan(array[:, 0]))[0]) + 1
@@ -254,7 +277,11 @@ def _read_xz_profile(path: Path, rows: list[np.ndarray]) -> LineProfile:
             path, "x column", f"data row {line} has a nan position; expected x in m"
         )
     dx = profile_step(path, array[:, 0])
-    provenance = make_provenance(path, "xz-profile-text", channel="z", units={"all": "m (assumed)"})
+    factor = _metres_per_unit(path, unit, "x z profile columns")  # after the layout's checks
+    array, dx = array * factor, dx * factor
+    provenance = make_provenance(
+        path, "xz-profile-text", channel="z", units={"all": f"{unit} (stated)"}
+    )
     return make_surface(path, array[:, 1], (("x column step", dx),), provenance, profile=True)
 
 
@@ -285,11 +312,14 @@ def _matrix(path: Path, rows: list[np.ndarray]) -> np.ndarray:
 
 
 def read_text(
-    path: str | Path, *, pixel_size: float | tuple[float, float] | None = None
+    path: str | Path,
+    *,
+    pixel_size: float | tuple[float, float] | None = None,
+    unit: str | None = None,
 ) -> HeightMap | LineProfile:
     """Read a text height matrix, ``x y z`` columns, an ``x z`` profile or a Gwyddion export.
 
-    Layouts (all in m; the rules in this module's docstring and in
+    Layouts (values in ``unit``, converted to m; the rules in this module's docstring and in
     :mod:`asperity.topo.io.text_layouts`):
 
     * a Gwyddion text export (``# Width:``/``# Height:`` header): a map whose pixel sizes
@@ -303,10 +333,14 @@ def read_text(
     Parameters
     ----------
     path : str or Path
-        The text file (heights and coordinates in m).
+        The text file.
     pixel_size : float or (float, float), optional
         ``dx`` or ``(dx, dy)`` in m for a plain matrix; refused for the layouts that carry
         their own calibration.
+    unit : str, optional
+        The length unit of the file's numbers (heights and x, y columns): "m", "mm", "um",
+        "nm", ... Required for every layout but a Gwyddion export (which states its own, and
+        refuses a second statement).
 
     Returns
     -------
@@ -318,7 +352,7 @@ def read_text(
         Text not in the stated number format (:class:`NumberFormatError`, naming line and
         column), a header asperity does not know (:class:`UnsupportedContentError`,
         "unsupported format"), ragged rows (e.g. a truncated file), a non-uniform x-y grid
-        or profile, a node given twice.
+        or profile, a node given twice; no ``unit`` stated for a layout without one.
     InputError
         A matrix without ``pixel_size``, an invalid ``pixel_size``, or ``pixel_size``
         given for a layout with its own calibration.
@@ -328,13 +362,18 @@ def read_text(
     header = comment_header(comments)
     if is_gwyddion_header(header):
         _refuse_pixel_size(path, pixel_size, "the Gwyddion header lines (# Width, # Height)")
+        if unit is not None:
+            raise InputError(
+                f"{path}: unit {unit!r} given, but a Gwyddion text export states its own "
+                "units in its header; leave unit (--unit) out"
+            )
         return _read_gwyddion(path, rows, header)
     if _looks_like_xyz(rows):
         _refuse_pixel_size(path, pixel_size, "x y z columns (the pixel sizes are their steps)")
-        return _read_xyz(path, rows)
+        return _read_xyz(path, rows, unit)
     if is_xz_profile(rows):
         _refuse_pixel_size(path, pixel_size, "the x positions of an x z profile")
-        return _read_xz_profile(path, rows)
+        return _read_xz_profile(path, rows, unit)
     if path.suffix.lower() == ".xyz":
         raise TopographyFileError(
             path,
@@ -344,8 +383,9 @@ def read_text(
         )
     heights = _matrix(path, rows)
     dx, dy = _pixel_sizes(path, pixel_size, heights.shape)
+    heights = heights * _metres_per_unit(path, unit, "a plain height matrix")
     provenance = make_provenance(
-        path, "matrix-text", channel="heights", units={"all": "m (assumed)"}
+        path, "matrix-text", channel="heights", units={"z": f"{unit} (stated)", "xy": "m"}
     )
     profile = heights.shape[1] == 1 or heights.shape[0] == 1
     sizes = (("pixel_size dx", dx), ("pixel_size dy", dy))
