@@ -72,6 +72,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         metavar="ADDRESS",
         help="dask.distributed scheduler address (needs the 'dask' extra)",
     )
+    parser.add_argument(
+        "--quiet",
+        action="store_true",
+        help="no progress bars (they show only on a terminal anyway); the summary is printed",
+    )
     parser.set_defaults(func=handle_run)
     register_companions(subparsers)
 
@@ -126,7 +131,7 @@ def _run_and_report(args: argparse.Namespace, config: JobConfig) -> JobResult:
         force=args.force,
         workers=args.workers,
         scheduler=args.scheduler,
-        progress=progress_enabled(),
+        progress=progress_enabled() and not args.quiet,
         log=_log_line,
     )
     try:

@@ -6,10 +6,12 @@ each row (um, mm, N).
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
 
+from asperity import topo
 from asperity.pipelines.report._run import Run, persson_fraction
 from asperity.pipelines.report.bem import bem_section
 from asperity.pipelines.report.measured import shape_scale_key_numbers
@@ -293,6 +295,14 @@ def regime_key_numbers(verdict: Verdict) -> list[tuple[str, str]]:
     ]
 
 
+def hurst_text(slope_hurst: float) -> str:
+    """The PSD slope's H = -exponent/2 - 1, called a Hurst exponent only inside (0, 1)."""
+    if not math.isfinite(slope_hurst) or 0 < slope_hurst < 1:
+        return f"{slope_hurst:.3g}"
+    estimate = topo.hurst_from_psd_exponent(-2.0 * (slope_hurst + 1.0), warn=False)
+    return f"none: {estimate.validity_notes[0]}"
+
+
 def psd_key_numbers(result: Run) -> list[tuple[str, str]]:
     """Rows of the PSD stage (empty when the result has none)."""
     psd = getattr(result, "psd", None)
@@ -300,7 +310,7 @@ def psd_key_numbers(result: Run) -> list[tuple[str, str]]:
         return []
     return [
         ("PSD roll-off wavelength", f"{psd.rolloff_wavelength * 1e6:.4g} um"),
-        ("Hurst exponent H (PSD above roll-off)", f"{psd.hurst_exponent:.3g}"),
+        ("Hurst exponent H (PSD above roll-off)", hurst_text(psd.hurst_exponent)),
         (
             "effective Nyquist wavelength 2x",
             f"{psd.effective_nyquist_wavelength * 1e6:.4g} um",
@@ -499,7 +509,11 @@ def summary_text(result: Run) -> str:
     if problems:
         lines.append("  NOT CONVERGED:")
         lines += [f"    {p}" for p in problems[:8]]
-    lines.append(f"  outputs: {result.out_dir / 'results.h5'}, {result.out_dir / 'report.md'}")
+    out = result.out_dir
+    lines.append(
+        f"  outputs: {out / 'results.h5'}, {out / 'report.md'}, {out / 'report.html'} and the "
+        f"figures in {out} (each with its data as CSV)"
+    )
     return "\n".join(lines)
 
 
