@@ -13,14 +13,18 @@ from asperity.pipelines.batch import expand_maps, run_batch
 from asperity.pipelines.cli import main
 from asperity.schema import dump_toml
 
+#: Seeds of maps whose calibration is bracketed: with seeds 4 and 7 the least misfit lies at the
+#: scan's finest stride and the verdict calls the run invalid, which is not this file's subject.
+SEEDS = (3, 5)
+
 
 def _maps_and_job(small, tmp_path, n_maps=2):
     """``n_maps`` 64 x 64 paper-like maps (.npy, heights in m) and the small job reading them."""
     folder = tmp_path / "maps"
     folder.mkdir()
-    for seed in range(n_maps):
-        surface = topo.synthetic.paper_like(n=64, pixel_size=40e-6, seed=seed + 3)
-        np.save(folder / f"map{seed}.npy", surface.heights)
+    for index, seed in enumerate(SEEDS[:n_maps]):
+        surface = topo.synthetic.paper_like(n=64, pixel_size=40e-6, seed=seed)
+        np.save(folder / f"map{index}.npy", surface.heights)
     data = small.data()
     data["surface"] = {"pixel_size": 40e-6, "max_stride": 4, "detrend": "plane"}
     data["loading"]["normal_loads"] = [1.0, 3.0]
