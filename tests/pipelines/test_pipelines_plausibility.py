@@ -124,7 +124,8 @@ def test_small_job_with_a_soft_hardness_is_invalid(small_run, small, tmp_path):
 @pytest.mark.slow
 def test_x3p_map_with_a_glassy_polymer_warns_of_its_friction(tmp_path, capsys):
     """x3p-2 with E* = 4 GPa and PDMS's tau_0: static friction hundreds of times the sliding
-    friction and of tau_0 on the junctions: both warnings, naming tau_0 and lambda."""
+    friction (invalid past 100) and of tau_0 on the junctions (a warning), naming tau_0 and
+    lambda."""
     from asperity.pipelines.cli import main
 
     config = tmp_path / "job.toml"
@@ -135,7 +136,7 @@ def test_x3p_map_with_a_glassy_polymer_warns_of_its_friction(tmp_path, capsys):
     )
     status = main(["run", str(config), "--out", str(tmp_path / "out")])
     out = capsys.readouterr().out
-    assert status in (ExitStatus.OK, ExitStatus.INVALID_RESULT)
-    assert "warning (static_friction_ratio): static over sliding friction F_s/F_d = " in out
+    assert status == ExitStatus.INVALID_RESULT
+    assert "INVALID (static_friction_ratio): static over sliding friction F_s/F_d = " in out
     assert "warning (junction_shear_at_peak): mean junction shear at the peak F_s/A_r over" in out
-    assert out.count("check material.shear_strength (tau_0) and material.mode_mixity") == 2
+    assert out.count("check material.shear_strength (tau_0) and material.mode_mixity") >= 2
