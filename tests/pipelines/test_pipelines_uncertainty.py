@@ -182,7 +182,8 @@ def test_plus_minus_states_unknown_and_lower_bound_uncertainties():
 @pytest.mark.slow
 def test_default_job_load_rows_carry_uncertainties(tmp_path):
     """The default job (about a minute): every model and BEM cell of the load table is
-    value +- u, and the friction stage uses the located resolution between 10 and 20 um."""
+    value +- u, and the friction stage uses the located resolution, above 10 um and at most
+    20 um (the 20 um stride itself since the located point may not fit worse than a stride)."""
     from asperity.pipelines.job import run_job
 
     result = run_job(load_preset("default"), tmp_path)
@@ -190,5 +191,5 @@ def test_default_job_load_rows_carry_uncertainties(tmp_path):
     assert len(rows) == 6
     for row in rows:
         assert all("+-" in cell for cell in row[1:7]), row
-    assert 10e-6 < result.statistical_model.optimum_resolution < 20e-6
+    assert 10e-6 < result.statistical_model.optimum_resolution <= 20e-6
     assert result.statistical_model.optimum_misfit < result.statistical_model.misfit[0]
