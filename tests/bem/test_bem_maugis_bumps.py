@@ -63,9 +63,11 @@ def solve_pair(spacing: float, dx: float):
         work_of_adhesion=WORK,
         adhesion="maugis",
         adhesion_range=H0,
-        tol=1e-8,
+        options=bem.SolverOptions(tol=1e-8),
     )
-    plain = bem.solve_contact(h, dx, dx, E_STAR, normal_force=FORCE, tol=1e-8)
+    plain = bem.solve_contact(
+        h, dx, dx, E_STAR, normal_force=FORCE, options=bem.SolverOptions(tol=1e-8)
+    )
     assert md.success, md.message
     assert plain.success, plain.message
     half = h.shape[0] // 2

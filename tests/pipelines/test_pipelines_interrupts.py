@@ -20,11 +20,11 @@ import numpy as np
 import pytest
 
 from asperity.bem.cancel import Cancelled, cancel_requested, clear_cancel, request_cancel
+from asperity.fields import array, scalar
 from asperity.pipelines.engine.interrupts import InterruptGuard, interruptible
 from asperity.pipelines.engine.parallel import SerialExecutor
 from asperity.pipelines.engine.stage import Runner, Stage, StageContext
 from asperity.pipelines.engine.store import ResultStore
-from asperity.pipelines.fields import array, scalar
 from asperity.pipelines.job import STAGES
 
 #: Seconds each toy stage computes (in slices of 1 ms, no safe point inside).

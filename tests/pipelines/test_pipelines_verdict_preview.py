@@ -15,9 +15,8 @@ from asperity.pipelines.config import config_from_dict
 from asperity.pipelines.engine.parallel import SerialExecutor
 from asperity.pipelines.engine.stage import Preview, PreviewNote, Runner, Stage, StageContext
 from asperity.pipelines.engine.store import ResultStore
-from asperity.pipelines.stages.surface import SURFACE
+from asperity.pipelines.stages.surface import SURFACE, LevelledSurface, prepare
 from asperity.pipelines.stages.verdict import PREVIEW_ATTRIBUTE, VERDICT
-from asperity.pipelines.surface_stage import LevelledSurface, prepare
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 
