@@ -1,4 +1,5 @@
-"""``asperity bem FILE ... --tangential-displacement D1,D2,...``: a shear curve under load control.
+"""The shear options of ``asperity bem`` (``--tangential-displacement``): a shear curve in load
+control.
 
 ``asperity bem FILE --e-star E --load P [--work-of-adhesion W [--mode-mixity LAMBDA]]
 (--shear-strength TAU | --friction-coefficient MU) --tangential-displacement D1,D2,... [--json]``
