@@ -11,6 +11,7 @@ from .adhesion import pull_off_force as pull_off_force
 from .adhesion_range import RangeChoice as RangeChoice
 from .adhesion_range import measure_sensitivity as measure_sensitivity
 from .adhesion_range import search_range as search_range
+from .array_solver import solve_periodic_array as solve_periodic_array
 from .contact import solve_contact as solve_contact
 from .discretisation import GridExtrapolation as GridExtrapolation
 from .discretisation import UncertaintyBudget as UncertaintyBudget
