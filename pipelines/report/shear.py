@@ -82,9 +82,10 @@ def shear_table(shear: BemShearComparison) -> tuple[list[str], list[list[str]]]:
     return header, rows
 
 
-def model_judgement(shear: BemShearComparison) -> str:
+def model_judgement(shear: BemShearComparison, model_area: np.ndarray) -> str:
     """What the comparison says about the model, in one paragraph of numbers: the model over
-    the BEM for F_s and F_d, and the area drops side by side (ranges over the loads)."""
+    the BEM (grid used) for F_s, its delta_T, F_d and A_r(F_x = 0) (``model_area``, m^2 per
+    load sheared), and the area drops side by side (ranges over the loads)."""
 
     def span(values: np.ndarray) -> str:
         values = values[np.isfinite(values)]
@@ -96,13 +97,16 @@ def model_judgement(shear: BemShearComparison) -> str:
     with np.errstate(divide="ignore", invalid="ignore"):
         static = shear.model_static_friction / shear.static_friction[0]
         sliding = shear.model_sliding_friction / shear.sliding_friction[0]
+        shift = shear.model_static_displacement / shear.static_displacement[0]
+        area = model_area / shear.real_area[0, :, 0]
     drop_bem, drop_model = shear.area_drop[0], shear.model_area_drop
     bem_ratio = shear.static_friction[0] / shear.sliding_friction[0]
     model_ratio = shear.model_static_friction / shear.model_sliding_friction
     return (
-        f"Model over BEM: static friction x {span(static)}, sliding friction x {span(sliding)}; "
-        f"F_s/F_d BEM {span(bem_ratio)}, model {span(model_ratio)}; area drop "
-        f"A_r(peak)/A_r(0) BEM {span(drop_bem)}, model {span(drop_model)}."
+        f"Model over BEM: static friction x {span(static)}, its delta_T x {span(shift)}, "
+        f"sliding friction x {span(sliding)}, A_r(F_x = 0) x {span(area)}; F_s/F_d BEM "
+        f"{span(bem_ratio)}, model {span(model_ratio)}; area drop A_r(peak)/A_r(0) BEM "
+        f"{span(drop_bem)}, model {span(drop_model)}."
     )
 
 
@@ -160,7 +164,7 @@ def shear_section(result: Run) -> list[str]:
         "",
         _md_table(header, rows),
         "",
-        f"- {model_judgement(shear)}",
+        f"- {model_judgement(shear, _model_area(result, shear))}",
         f"- Discretisation: {_grid_text(shear)}.",
         f"- Cost: {_cost_text(shear)}.",
         "- Limits: linear elasticity, quasi-static, the mesh-dependent edge law "
@@ -184,7 +188,11 @@ def shear_html(result: Run) -> str:
     shear = _shear(result)
     if shear is None:
         return ""
-    items = [model_judgement(shear), f"Discretisation: {_grid_text(shear)}.", _cost_text(shear)]
+    items = [
+        model_judgement(shear, _model_area(result, shear)),
+        f"Discretisation: {_grid_text(shear)}.",
+        _cost_text(shear),
+    ]
     items += [f"Warning: {w}" for w in shear.warnings]
     items += [f"Not converged: {m}" for m in shear.messages]
     listed = "".join(f"<li>{html.escape(i)}</li>" for i in items)
@@ -200,6 +208,13 @@ def _colours(n: int) -> np.ndarray:
 
 def _model_index(result: Run, load: float) -> int:
     return int(np.argmin(np.abs(np.asarray(result.friction.normal_load) - load)))
+
+
+def _model_area(result: Run, shear: BemShearComparison) -> np.ndarray:
+    """The model's A_r at F_x = 0 (m^2) at each load sheared (the friction stage's curves)."""
+    return np.array(
+        [result.friction.real_area[_model_index(result, f)][0] for f in shear.normal_load]
+    )
 
 
 def draw_bem_shear_force(result: Run) -> tuple[Figure, FigureTable]:

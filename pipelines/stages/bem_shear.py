@@ -314,9 +314,15 @@ def _solve_curve(
             stop_when_sliding=True,
         )
         seconds = time.perf_counter() - t0
+    notes = []
+    for c in caught:  # the preload's own warnings are the stage's record; others go on
+        if str(c.message).startswith("preload"):
+            notes.append(str(c.message))
+        else:
+            warnings.warn_explicit(c.message, c.category, c.filename, c.lineno)
     return {
         "curve": dataclasses.replace(curve, final_traction=np.zeros(0)),
-        "warnings": [str(c.message) for c in caught],
+        "warnings": notes,
         "seconds": seconds,
     }
 
