@@ -198,6 +198,18 @@ def test_small_job_with_the_stage_reports_it(tmp_path):
     assert "Shear BEM against the model" in (tmp_path / "report.html").read_text()
     for stem in ("fig4_bem_shear", "fig13_bem_shear"):
         assert (tmp_path / f"{stem}.png").is_file() and (tmp_path / f"{stem}.csv").is_file()
+    from asperity.pipelines.report.figures import draw_figure
+    from asperity.plotting import layout_problems
+
+    for name in ("bem_shear_force", "bem_shear_area"):
+        fig, table = draw_figure(again, name)  # redrawn from results.h5 alone
+        assert layout_problems(fig) == [], name
+        bem = table.series(
+            "all",
+            "BEM stride 1 F_z = 3 N",
+            "tangential force F_x (N)" if name == "bem_shear_force" else "tangential load F_x (N)",
+        )
+        np.testing.assert_array_equal(bem, result.bem_shear.tangential_force[0, 1])
     assert "bem_shear" in {s.name for s in result.stages if s.status == "computed"}
 
 
