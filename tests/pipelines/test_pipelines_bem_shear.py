@@ -21,8 +21,6 @@ from asperity.pipelines.stages.bem_shear import (
 from asperity.pipelines.stages.friction import friction_prediction
 from asperity.pipelines.stages.verdict import check_bem_shear
 
-from .conftest import small_data
-
 E_STAR, W, LAMBDA, TAU0 = 2.133e6, 0.040, 0.03, 0.13e6
 A_N = 700e-6
 LOADS = (1.0, 3.0)
@@ -155,34 +153,34 @@ def test_a_grid_too_coarse_is_refused(tiny):
         _run(tiny, stride=2)  # 20 px, check grid 10 px
 
 
-def test_section_absent_is_off_and_leaves_the_configuration_as_it_was(tmp_path):
-    config = config_from_dict(small_data(), source="small", base_dir=tmp_path)
+def test_section_absent_is_off_and_leaves_the_configuration_as_it_was(small, tmp_path):
+    config = config_from_dict(small.data(), source="small", base_dir=tmp_path)
     assert config.bem_shear is None
     assert not BEM_SHEAR.enabled(config)
     assert "bem_shear" not in config.to_toml()
-    data = small_data()
+    data = small.data()
     data["bem_shear"] = {"enabled": True, "loads": [2.0], "steps": 10}
     on = config_from_dict(data, source="small", base_dir=tmp_path)
     assert BEM_SHEAR.enabled(on) and on.bem_shear.loads == (2.0,)
     assert "[bem_shear]" in on.to_toml()
 
 
-def test_shear_loads_must_be_job_loads(tmp_path):
-    data = small_data()
+def test_shear_loads_must_be_job_loads(small, tmp_path):
+    data = small.data()
     data["bem_shear"] = {"enabled": True, "loads": [2.5]}
     with pytest.raises(ConfigError, match=r"bem_shear\.loads: expected loads among"):
         config_from_dict(data, source="small", base_dir=tmp_path)
 
 
 @pytest.mark.slow
-def test_small_job_with_the_stage_reports_it(tmp_path):
+def test_small_job_with_the_stage_reports_it(small, tmp_path):
     """The whole job with [bem_shear] on: stage stored, re-read by open_results, its table in
     report.md and report.html, its two figures with their CSV data."""
     import asperity
     from asperity.pipelines.job import run_job
     from asperity.pipelines.report import write_report
 
-    data = small_data(normal_loads=[1.0, 3.0])
+    data = small.data(normal_loads=[1.0, 3.0])
     data["bem_shear"] = {"enabled": True, "stride": 1, "steps": 25}
     config = config_from_dict(data, source="small", base_dir=tmp_path)
     result = run_job(config, tmp_path)
