@@ -391,6 +391,17 @@ _ENTRIES = (
         "the Maugis-Dugdale range h_0: from an atomic distance to a coarse-grained range of "
         "a millimetre",
     ),
+    # the shear BEM stage ([bem_shear] of the job)
+    _count("bem_shear.stride", 1, 64, "decimation of the map for the shear solves"),
+    _count("bem_shear.steps", 3, 10_000, "delta_T values per curve, each a mixed-mode solve"),
+    _q("bem_shear.max_displacement", "m", 0, 1, "a shear path up to 1 m", open_low=True),
+    _q(
+        "bem_shear.tol",
+        "",
+        1e-14,
+        1e-2,
+        "relative rms traction residual of the shear solves (bem.ShearOptions's bounds)",
+    ),
     # bem.solve_contact's arguments: the solver is scale-free (linear in E*, in any consistent
     # units), so the library takes any finite positive value; the job and the CLI bound the SI
     # values by material.E_star, surface.pixel_size and material.work_of_adhesion

@@ -20,6 +20,7 @@ statistics; it runs right after the resolution scan (stage 2), before the BEM, a
 from __future__ import annotations
 
 import dataclasses
+import math
 import sys
 import warnings
 from collections.abc import Mapping
@@ -64,7 +65,7 @@ else:  # pragma: no cover - exercised on Python 3.10 only
 __all__ = ["ConfigError", "JobConfig", "config_from_dict", "dump_toml", "load_config"]
 
 #: Names of the shipped presets (``pipelines/presets/<name>.toml``).
-PRESETS: tuple[str, ...] = ("default", "paper", "paper-two-step")
+PRESETS: tuple[str, ...] = ("default", "paper", "paper-two-step", "shear")
 
 DETREND_METHODS: tuple[str, ...] = ("none", "mean", "plane", "quadratic")
 SYNTHETIC_RECIPES: tuple[str, ...] = ("paper_like", "paper_surface")
@@ -316,6 +317,51 @@ def bem_settings(settings: BemConfig | None, caller: str, keywords: Mapping[str,
     return dataclasses.replace(settings, **keywords)
 
 
+#: ``bem_shear.law``: chi_T of the mixed-mode edge law (:class:`asperity.bem.MixedModeLaw`
+#: ``tangential_energy``): "pc", the paper's K_II (chi_T = chi), or "cerruti", the energy of the
+#: Cerruti patch (chi_T = 1.5 chi; docs/bem_shear.md).
+SHEAR_LAWS: tuple[str, ...] = ("pc", "cerruti")
+
+
+@dataclass(frozen=True)
+class BemShearConfig:
+    """The shear BEM stage (``[bem_shear]``, :mod:`asperity.pipelines.stages.bem_shear`).
+
+    Absent from a job file, the section is None on :class:`JobConfig` and the stage is off.
+
+    Attributes
+    ----------
+    enabled : bool
+        Run the stage (default false: minutes on the default surface, docs/job.md).
+    loads : tuple of float or None
+        Experiment loads F_z (N) sheared, each one of ``loading.normal_loads``; None ("auto"):
+        all of them.
+    stride : int
+        The map decimated by this stride is the grid of the shear solves.
+    grid_check : bool
+        Solve again on the grid twice as coarse (stride x 2): the discretisation error.
+    steps : int
+        delta_T values per curve, the first at 0.
+    max_displacement : float or None
+        Last delta_T, m; None ("auto"): :data:`~asperity.pipelines.stages.bem_shear.PATH_FACTOR`
+        times the model's sliding displacement at that load.
+    law : str
+        chi_T of the paper's mixed-mode law (:data:`SHEAR_LAWS`); lambda and tau_0 are the
+        job's.
+    tol : float
+        Tolerance of the conjugate-gradient solves (:class:`asperity.bem.ShearOptions`).
+    """
+
+    enabled: bool = False
+    loads: tuple[float, ...] | None = None
+    stride: int = 4
+    grid_check: bool = True
+    steps: int = 40
+    max_displacement: float | None = None
+    law: str = "pc"
+    tol: float = 1e-6
+
+
 @dataclass(frozen=True)
 class StatmodelConfig:
     """Accuracy of the statistical model (stages 4-6).
@@ -409,6 +455,8 @@ class JobConfig:
     fit: FitConfig
     run: RunConfig
     report: ReportConfig = ReportConfig()
+    #: None when the job file has no ``[bem_shear]`` table (the stage is then off).
+    bem_shear: BemShearConfig | None = None
     source: str = "<dict>"
     #: The ``section.key`` names the file gave (the rest are defaults): a line profile has no
     #: area, so its job must give ``loading.nominal_area`` itself.
@@ -602,6 +650,28 @@ JOB_SCHEMA = Schema(
             ),
         ),
         Section(
+            "bem_shear",
+            BemShearConfig,
+            (
+                Key("enabled", Flag(), BemShearConfig.enabled),
+                Key(
+                    "loads",
+                    OrAuto(ListOf(LOAD, 1, 100, why="each load is a shear curve")),
+                    None,
+                ),
+                _bounded("bem_shear.stride", BemShearConfig.stride),
+                Key("grid_check", Flag(), BemShearConfig.grid_check),
+                _bounded("bem_shear.steps", BemShearConfig.steps),
+                Key(
+                    "max_displacement",
+                    OrAuto(quantity("bem_shear.max_displacement").kind),
+                    None,
+                ),
+                Key("law", Choice(SHEAR_LAWS), BemShearConfig.law),
+                _bounded("bem_shear.tol", BemShearConfig.tol),
+            ),
+        ),
+        Section(
             "statmodel",
             StatmodelConfig,
             (_bounded("statmodel.area_tolerance", StatmodelConfig.area_tolerance),),
@@ -711,6 +781,10 @@ def config_from_dict(
             False,
         )
     _compressive_loads_for_the_bem(sections, source)
+    if "bem_shear" not in data:  # the optional stage's table absent: the stage is off
+        sections["bem_shear"] = None
+    else:
+        _shear_loads_among_the_job_loads(sections, source)
     return JobConfig(**sections, source=source, given_keys=given_keys(data))
 
 
@@ -730,6 +804,29 @@ def _compressive_loads_for_the_bem(sections: Mapping[str, Any], source: str) -> 
             "predict at tensile loads above the pull-off force)",
             tensile[0],
         )
+
+
+def _shear_loads_among_the_job_loads(sections: Mapping[str, Any], source: str) -> None:
+    """``bem_shear.loads`` must be loads of ``loading.normal_loads`` (the model's shear curves
+    it is compared with are computed there), and > 0 N (the preload is compressive)."""
+    shear, loads = sections["bem_shear"], sections["loading"].normal_loads
+    for value in shear.loads or ():
+        if not any(math.isclose(value, f, rel_tol=1e-9) for f in loads):
+            raise Context(source).fail(
+                "bem_shear.loads",
+                "loads among loading.normal_loads ("
+                + ", ".join(f"{f:g}" for f in loads)
+                + " N: the model's shear curves are computed there)",
+                value,
+            )
+    if shear.enabled:
+        tensile = [f for f in (shear.loads or loads) if not f > 0]
+        if tensile:
+            raise Context(source).fail(
+                "bem_shear.loads",
+                "loads > 0 N (the shear BEM holds a compressive preload)",
+                tensile[0],
+            )
 
 
 def given_keys(data: Mapping[str, TomlValue]) -> frozenset[str]:

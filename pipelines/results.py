@@ -37,6 +37,7 @@ from asperity.pipelines.engine.stage import StageRun
 from asperity.pipelines.engine.store import ResultStore, StoredStageError
 from asperity.pipelines.stages import STAGES
 from asperity.pipelines.stages.bem import BemReference
+from asperity.pipelines.stages.bem_shear import BemShearComparison
 from asperity.pipelines.stages.friction import FrictionPrediction, ModeMixityChoice
 from asperity.pipelines.stages.psd import PsdResult
 from asperity.pipelines.stages.realisations import RealisationSpread
@@ -95,8 +96,10 @@ class StageResults:
         Stage 7, the power spectral density.
     realisations : RealisationSpread or None
         Stage 8, the spread over synthesised maps (line-profile input only).
+    bem_shear : BemShearComparison or None
+        Stage 9, the shear BEM against the model (None unless ``[bem_shear] enabled = true``).
     verdict : Verdict or None
-        Stage 9, whether the report stands behind the numbers.
+        Stage 10, whether the report stands behind the numbers.
     """
 
     surface: LevelledSurface | None = None
@@ -107,6 +110,7 @@ class StageResults:
     friction: FrictionPrediction | None = None
     psd: PsdResult | None = None
     realisations: RealisationSpread | None = None
+    bem_shear: BemShearComparison | None = None
     verdict: Verdict | None = None
 
     # asperity 0.3's second names (docs/pipelines.md promised run.scan and run.resolution)
@@ -145,6 +149,11 @@ def solver_problems(result: StageResults) -> list[str]:
         ]
     if mode_mixity is not None and mode_mixity.fitted and not mode_mixity.success:
         lines.append(f"lambda fit: {mode_mixity.message}")
+    shear = getattr(result, "bem_shear", None)
+    if shear is not None:
+        lines += [f"shear BEM {m}" for m in shear.messages]
+        if not shear.all_converged and not shear.messages:
+            lines.append("shear BEM: a curve did not converge")
     return lines
 
 
@@ -157,7 +166,7 @@ class Results(StageResults):
     path : Path
         The file read.
     surface, resolution_scan, bem_reference, statistical_model, mode_mixity, friction, psd, \
-realisations, verdict
+realisations, bem_shear, verdict
         One field per stage of :data:`asperity.pipelines.stages.STAGES`, named by its group in
         results.h5 (:class:`StageResults`; see ``docs/pipelines.md``).
     stages : list of StageRun

@@ -34,7 +34,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "run",
         help="the main job: surface -> resolution -> BEM -> statistical model -> lambda -> "
         "friction",
-        description="Run (or resume) the nine stages and write results.h5, the figures and "
+        description="Run (or resume) the stages and write results.h5, the figures and "
         "report.md in --out. SI units throughout.",
     )
     parser.add_argument(

@@ -22,7 +22,7 @@ values it declares (a whole section, ``"bem"``, or one key, ``"material.E_star"`
 by those keys enter by their SHA-256), the keys of its input stages and the package version
 (:data:`asperity.__version__`), so that a result of an older solver is recomputed, never
 relabelled. A disabled stage (``enabled(config)`` false) has no result (None) and its key is
-"disabled".
+"disabled"; a disabled input enters no key (its result, None, does not depend on its keys).
 
 ``compute`` sees only what it declares (:mod:`~asperity.pipelines.engine.views`): its
 configuration keys, its input stages and the measured curves named by its ``measured.*`` keys;
@@ -271,7 +271,11 @@ def key_document(
         "stage": stage.name,
         "asperity_version": version,
         "config": {path: config_value(config_document, path) for path in stage.config},
-        "inputs": {s.name: input_keys[s.name] for s in stage.inputs},
+        # a disabled input enters no key: a stage reading an optional stage (bem_shear) keeps
+        # the key it had before that stage existed while the stage is off
+        "inputs": {
+            s.name: input_keys[s.name] for s in stage.inputs if input_keys[s.name] != DISABLED
+        },
     }
 
 

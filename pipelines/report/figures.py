@@ -56,6 +56,7 @@ from asperity.pipelines.report.profile import (
     scan_label,
     surface_title,
 )
+from asperity.pipelines.report.shear import SHEAR_FIGURES
 from asperity.pipelines.report.uncertainty import (
     bem_error_bars,
     friction_error_bars,
@@ -926,6 +927,7 @@ FIGURES: dict[str, tuple[str, Drawer, Callable[[Run], bool]]] = {
         lambda r: getattr(r.mode_mixity, "fitted_model_area", None) is not None,
     ),
     "psd": ("psd", draw_psd, lambda r: getattr(r, "psd", None) is not None),
+    **SHEAR_FIGURES,
 }
 
 

@@ -23,6 +23,7 @@ import numpy as np
 from asperity.atomic import write_text_atomic
 from asperity.pipelines.report._run import Run
 from asperity.pipelines.report.figures import draw_figure
+from asperity.pipelines.report.shear import shear_html
 from asperity.pipelines.report.text import key_numbers, load_table
 from asperity.pipelines.stages.verdict import Verdict
 
@@ -171,6 +172,7 @@ def write_html(
         table_html(["quantity", "value"], [list(r) for r in key_numbers(result)]),
         "<h2>Per normal load</h2>",
         table_html(*load_table(result)),
+        shear_html(result),
         f"<h2>Validity</h2><p><b>{html.escape(_wording(verdict))}</b> (reasons at the top).</p>"
         if verdict is not None
         else _notes(

@@ -19,6 +19,7 @@ from asperity.pipelines.report.profile import (
     profile_key_numbers,
     profile_section,
 )
+from asperity.pipelines.report.shear import SHEAR_CAPTIONS, shear_section
 from asperity.pipelines.report.uncertainty import (
     bem_cells,
     misfit_text,
@@ -462,6 +463,7 @@ CAPTIONS: dict[str, str] = {
     "psd": f"Stage {stage_number('psd')}: radially averaged PSD with the roll-off, the power-law "
     "(Hurst) fit and "
     "the Nyquist wavenumbers of the map and of the effective resolution.",
+    **SHEAR_CAPTIONS,
 }
 
 
@@ -546,6 +548,7 @@ def report_markdown(result: Run, figures: dict[str, Path]) -> str:
         *surface_section(result),
         *profile_section(result),
         *bem_section(result),
+        *shear_section(result),
         "## Validity",
         "",
         f"**{verdict_wording(verdict)}** (reasons at the top)."

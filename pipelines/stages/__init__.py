@@ -11,7 +11,8 @@
  6     friction                :mod:`~asperity.pipelines.stages.friction`
  7     psd                     :mod:`~asperity.pipelines.stages.psd`
  8     realisations            :mod:`~asperity.pipelines.stages.realisations`
- 9     verdict                 :mod:`~asperity.pipelines.stages.verdict`
+ 9     bem_shear               :mod:`~asperity.pipelines.stages.bem_shear`
+ 10    verdict                 :mod:`~asperity.pipelines.stages.verdict`
 =====  ======================  ====================================================
 
 (a test holds this table to :data:`STAGES`.) Each module declares its stages with
@@ -21,6 +22,7 @@
 
 from asperity.pipelines.engine.stage import Stage
 from asperity.pipelines.stages.bem import BEM
+from asperity.pipelines.stages.bem_shear import BEM_SHEAR
 from asperity.pipelines.stages.friction import FRICTION, MODE_MIXITY
 from asperity.pipelines.stages.psd import PSD
 from asperity.pipelines.stages.realisations import REALISATIONS
@@ -38,6 +40,7 @@ STAGES: tuple[Stage, ...] = (
     FRICTION,
     PSD,
     REALISATIONS,
+    BEM_SHEAR,
     VERDICT,
 )
 #: Their group names in results.h5.

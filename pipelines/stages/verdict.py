@@ -68,6 +68,13 @@ junction shear at the peak over tau_0 above 10, naming tau_0 and lambda:
 for a line profile as input: its statistics and the maps synthesised from it assume an
 isotropic surface, which one line cannot check).
 
+The shear BEM (``[bem_shear]``, :func:`check_bem_shear`; thresholds and reasons in
+:data:`asperity.pipelines.stages.bem_shear.SHEAR_THRESHOLDS`): ``bem_shear_stall`` (a shear
+step did not converge: invalid, and the exit status says it as for any solver),
+``bem_shear_no_sliding`` (junctions still stick at the end of the path on the grid used: its
+sliding friction is not a result; a warning), ``bem_shear_model_misfit`` (the model's static
+friction more than a factor 2 from the BEM's beyond the BEM's grid error; a warning).
+
 The exit status (:func:`exit_status`): 1 (:attr:`ExitStatus.NOT_CONVERGED`) when a solver
 did not converge, else 3 (:attr:`ExitStatus.INVALID_RESULT`) when the verdict is invalid,
 else 0. Non-convergence takes precedence: it is the first thing to fix (more iterations, a
@@ -94,6 +101,7 @@ from asperity.fields import document_fields, scalar, text
 from asperity.pipelines import measured
 from asperity.pipelines.engine.stage import Preview, PreviewNote, Stage, StageContext
 from asperity.pipelines.stages.bem import BEM, BemReference
+from asperity.pipelines.stages.bem_shear import BEM_SHEAR, SHEAR_THRESHOLDS, BemShearComparison
 from asperity.pipelines.stages.friction import (
     FRICTION,
     MODE_MIXITY,
@@ -540,6 +548,62 @@ def check_bem(bem: BemReference) -> list[Reason]:
     return reasons
 
 
+def check_bem_shear(shear: BemShearComparison | None) -> list[Reason]:
+    """The shear BEM stage's failures and its judgement of the model (none when not run)."""
+    if shear is None:
+        return []
+    reasons = []
+    stall = SHEAR_THRESHOLDS["bem_shear_stall"]
+    failed = int(np.size(shear.converged) - np.sum(shear.converged))
+    if failed:
+        first = f": {shear.messages[0]}" if shear.messages else ""
+        reasons.append(
+            Reason(
+                stall.code,
+                "invalid",
+                f"{failed} of {np.size(shear.converged)} shear BEM curves did not converge"
+                f"{first} ({stall.reason})",
+            )
+        )
+    stuck = np.asarray(shear.stuck_junctions[0])
+    slide = SHEAR_THRESHOLDS["bem_shear_no_sliding"]
+    if np.any(stuck > slide.warning):
+        where = ", ".join(
+            f"{f:.4g} N ({int(n)} at {shear.tangential_displacement[i, -1] * 1e6:.3g} um)"
+            for i, (f, n) in enumerate(zip(shear.normal_load, stuck, strict=True))
+            if n > slide.warning
+        )
+        reasons.append(
+            Reason(
+                slide.code,
+                "warning",
+                f"shear BEM (stride {int(shear.grid_stride[0])}): junctions still stick at the "
+                f"end of the path at F_z = {where}: {slide.reason}",
+            )
+        )
+    misfit = SHEAR_THRESHOLDS["bem_shear_model_misfit"]
+    bem = np.asarray(shear.static_friction[0], dtype=float)
+    model = np.asarray(shear.model_static_friction, dtype=float)
+    error = shear.static_friction_error
+    error = np.zeros_like(bem) if error is None else np.nan_to_num(np.asarray(error), nan=0.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        gap = np.abs(np.log(model / bem))
+        band = np.log1p(error / bem)
+    beyond = np.where(np.isfinite(gap), gap - np.nan_to_num(band, nan=0.0), np.nan)
+    if np.any(beyond > misfit.warning):
+        i = int(np.nanargmax(beyond))
+        reasons.append(
+            Reason(
+                misfit.code,
+                "warning",
+                f"static friction at F_z = {shear.normal_load[i]:.4g} N: model "
+                f"{model[i]:.4g} N, BEM {bem[i]:.4g} +- {error[i]:.2g} N (|ln ratio| "
+                f"{gap[i]:.2f} > {misfit.warning:g} beyond the grid error): {misfit.reason}",
+            )
+        )
+    return reasons
+
+
 def check_surface(preparation: dict | None) -> list[Reason]:
     """The surface preparation record's warnings."""
     if not preparation:
@@ -865,6 +929,7 @@ def job_reasons(context: StageContext) -> list[Reason]:
         config.material.hardness, config.material.e_star, res.roughness, context.result(FRICTION)
     )
     reasons += check_profile_isotropy(context.result(SURFACE))
+    reasons += check_bem_shear(context.result(BEM_SHEAR))
     return reasons
 
 
@@ -1050,7 +1115,7 @@ VERDICT = Stage(
         "material.equilibrium_distance",
         "bem.adhesion_range",
     ),
-    inputs=(SURFACE, SCAN, BEM, STATISTICAL_MODEL, MODE_MIXITY, FRICTION),
+    inputs=(SURFACE, SCAN, BEM, STATISTICAL_MODEL, MODE_MIXITY, FRICTION, BEM_SHEAR),
     compute=compute_verdict,
     preview=Preview(
         name="adhesion_regime",

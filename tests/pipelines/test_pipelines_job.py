@@ -81,7 +81,7 @@ def test_results_file_has_units_dims_and_provenance(small_run):
     cfg, out, result = small_run
     with h5py.File(out / "results.h5", "r") as f:
         ran = {s.name for s in result.stages if s.status != "disabled"}
-        assert ran <= set(f) and ran >= set(STAGE_NAMES) - {"realisations"}
+        assert ran <= set(f) and ran >= set(STAGE_NAMES) - {"realisations", "bem_shear"}
         assert f.attrs["input_sha256"] == result.input_sha256
         assert "[material]" in f.attrs["config_toml"]
         assert f.attrs["asperity_version"]
@@ -152,6 +152,7 @@ def test_resume_after_interruption_skips_finished_stages(tmp_path, monkeypatch, 
         False,
         False,
         False,  # the line-profile realisations: disabled on a map
+        False,  # the shear BEM: off without [bem_shear]
         False,
     ]
 
@@ -177,6 +178,7 @@ def test_resume_after_interruption_skips_finished_stages(tmp_path, monkeypatch, 
         False,
         False,
         False,  # the line-profile realisations: disabled on a map
+        False,  # the shear BEM: off without [bem_shear]
         False,
     ]
     assert calls == {"surface": 1, "bem": 2}

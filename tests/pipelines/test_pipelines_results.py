@@ -87,7 +87,7 @@ def test_report_command_redraws_without_solving(small_run, tmp_path, monkeypatch
     monkeypatch.setattr(job, "run_job", refuse)
     assert main(["report", str(tmp_path), "--formats", "png", "--dpi", "40"]) == 0
     for stem, _, _ in FIGURES.values():
-        if stem not in ("lambda_fit", "lambda_residuals"):
+        if stem not in ("lambda_fit", "lambda_residuals", "fig4_bem_shear", "fig13_bem_shear"):
             for suffix in (".png", ".csv"):
                 assert (tmp_path / stem).with_suffix(suffix).exists(), stem + suffix
     assert (tmp_path / "report.md").exists() and (tmp_path / "report.html").exists()
@@ -130,7 +130,8 @@ def _parse(path) -> _Page:
 def test_html_report_holds_every_figure_and_number(small_run):
     _, out, result = small_run
     page = _parse(out / "report.html")
-    expected = [n for n in FIGURES if n not in ("lambda_fit", "lambda_residuals")]
+    absent = ("lambda_fit", "lambda_residuals", "bem_shear_force", "bem_shear_area")
+    expected = [n for n in FIGURES if n not in absent]
     assert sorted(page.figures) == sorted(expected)
     assert page.images + page.svgs == len(expected)
     text = " ".join(page.text)
@@ -213,7 +214,8 @@ def test_html_embeds_svg_or_a_drawn_png_without_png_files(small_run, tmp_path):
     from asperity.pipelines.report.figure_output import FigureOptions
 
     _, _, result = small_run
-    expected = len([n for n in FIGURES if n not in ("lambda_fit", "lambda_residuals")])
+    absent = ("lambda_fit", "lambda_residuals", "bem_shear_force", "bem_shear_area")
+    expected = len([n for n in FIGURES if n not in absent])
     write_report(result, tmp_path, FigureOptions(("svg",)))
     page = _parse(tmp_path / "report.html")
     assert (page.svgs, page.images) == (expected, 0)

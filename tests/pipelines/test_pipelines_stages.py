@@ -167,6 +167,7 @@ def test_version_change_recomputes_and_a_corrupted_stage_is_not_reused(
         **dict.fromkeys(ALL, "stored"),
         "friction": "computed",
         "realisations": "disabled",  # a line-profile stage; the small job is a map
+        "bem_shear": "disabled",  # off without [bem_shear]
     }
     assert "checksum" in next(s for s in again.stages if s.name == "friction").note
     assert again.friction.static_friction[0] < 10.0

@@ -1,0 +1,313 @@
+"""The shear BEM's part of the report (stage ``bem_shear``): its markdown and HTML section, the
+BEM-vs-model table and its two figures, a BEM version of Fig 4 (F_x against delta_T) and of
+Fig 13 (A_r/A_n against F_x), each beside the model's curves.
+
+Everything here reads the stored results (:class:`~asperity.pipelines.stages.bem_shear.
+BemShearComparison` and the friction stage's curves), so ``asperity report`` redraws it from
+``results.h5``; each figure's data is written beside it as CSV, and is in ``results.h5``
+(groups ``bem_shear`` and ``friction``). Nothing is shown when the stage did not run.
+"""
+
+from __future__ import annotations
+
+import html
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+from matplotlib import colormaps
+
+from asperity.pipelines.report.figure_output import FigureTable
+from asperity.pipelines.stages import stage_number
+from asperity.pipelines.stages.bem_shear import BemShearComparison
+from asperity.plotting import display_unit, new_figure
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from asperity.pipelines.report._run import Run
+
+__all__ = [
+    "SHEAR_CAPTIONS",
+    "SHEAR_FIGURES",
+    "draw_bem_shear_area",
+    "draw_bem_shear_force",
+    "model_judgement",
+    "shear_html",
+    "shear_section",
+    "shear_table",
+]
+
+
+def _shear(result: Run) -> BemShearComparison | None:
+    return getattr(result, "bem_shear", None)
+
+
+def _pm(value: float, error: float, digits: int = 4) -> str:
+    if not math.isfinite(value):
+        return "not reached"
+    if not math.isfinite(error):
+        return f"{value:.{digits}g}"
+    return f"{value:.{digits}g} +- {error:.2g}"
+
+
+def shear_table(shear: BemShearComparison) -> tuple[list[str], list[list[str]]]:
+    """The BEM-vs-model table: per load, static friction, sliding friction and area drop of
+    the BEM (grid used, +- its grid error) and of the model, with the junctions still
+    sticking at the end of the BEM's path."""
+    header = [
+        "F_z (N)",
+        "F_s BEM (N)",
+        "F_s model (N)",
+        "F_d BEM (N)",
+        "F_d model (N)",
+        "A_r(peak)/A_r(0) BEM",
+        "A_r(peak)/A_r(0) model",
+        "stuck at end",
+    ]
+    rows = []
+    for i, row in enumerate(shear.table()):
+        rows.append(
+            [
+                f"{row['normal_load']:.4g}",
+                _pm(row["bem_static_friction"], row["bem_static_friction_error"]),
+                f"{row['model_static_friction']:.4g}",
+                _pm(row["bem_sliding_friction"], row["bem_sliding_friction_error"]),
+                f"{row['model_sliding_friction']:.4g}",
+                _pm(row["bem_area_drop"], row["bem_area_drop_error"], 3),
+                f"{row['model_area_drop']:.3g}",
+                str(int(shear.stuck_junctions[0, i])),
+            ]
+        )
+    return header, rows
+
+
+def model_judgement(shear: BemShearComparison, model_area: np.ndarray) -> str:
+    """What the comparison says about the model, in one paragraph of numbers: the model over
+    the BEM (grid used) for F_s, its delta_T, F_d and A_r(F_x = 0) (``model_area``, m^2 per
+    load sheared), and the area drops side by side (ranges over the loads)."""
+
+    def span(values: np.ndarray) -> str:
+        values = values[np.isfinite(values)]
+        if not values.size:
+            return "n/a"
+        low, high = float(values.min()), float(values.max())
+        return f"{low:.3g}" if math.isclose(low, high, rel_tol=5e-3) else f"{low:.3g}-{high:.3g}"
+
+    with np.errstate(divide="ignore", invalid="ignore"):
+        static = shear.model_static_friction / shear.static_friction[0]
+        sliding = shear.model_sliding_friction / shear.sliding_friction[0]
+        shift = shear.model_static_displacement / shear.static_displacement[0]
+        area = model_area / shear.real_area[0, :, 0]
+    drop_bem, drop_model = shear.area_drop[0], shear.model_area_drop
+    bem_ratio = shear.static_friction[0] / shear.sliding_friction[0]
+    model_ratio = shear.model_static_friction / shear.model_sliding_friction
+    return (
+        f"Model over BEM: static friction x {span(static)}, its delta_T x {span(shift)}, "
+        f"sliding friction x {span(sliding)}, A_r(F_x = 0) x {span(area)}; F_s/F_d BEM "
+        f"{span(bem_ratio)}, model {span(model_ratio)}; area drop A_r(peak)/A_r(0) BEM "
+        f"{span(drop_bem)}, model {span(drop_model)}."
+    )
+
+
+def _grid_text(shear: BemShearComparison) -> str:
+    grids = ", ".join(
+        f"stride {int(s)} ({p * 1e6:.3g} um)"
+        for s, p in zip(shear.grid_stride, shear.grid_pixel_size, strict=True)
+    )
+    check = (
+        "the +- is the difference from the grid twice as coarse (the error of the grid used "
+        "at first order)"
+        if shear.grid_stride.size > 1
+        else "no check grid ([bem_shear] grid_check = false): the discretisation error is unknown"
+    )
+    return f"grids {grids}; {check}"
+
+
+def _cost_text(shear: BemShearComparison) -> str:
+    total = float(np.sum(shear.preload_seconds) + np.sum(shear.curve_seconds))
+    return (
+        f"{total:.1f} s in all ({np.sum(shear.steps_solved)} steps, "
+        f"{int(np.sum(shear.convolutions))} conjugate-gradient iterations; grid used: preloads "
+        f"{float(np.sum(shear.preload_seconds[0])):.1f} s, curves "
+        f"{float(np.sum(shear.curve_seconds[0])):.1f} s)"
+    )
+
+
+def _md_table(header: list[str], rows: list[list[str]]) -> str:
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    lines += ["| " + " | ".join(row) + " |" for row in rows]
+    return "\n".join(lines)
+
+
+def _intro(shear: BemShearComparison) -> str:
+    return (
+        f"The paper's shear experiment solved by the BEM on the map (F_z held, the flat "
+        f"displaced along x; Pohrt-Popov preload, the mixed-mode edge law G_I + lambda G_II = w "
+        f"with lambda = {shear.mode_mixity:.3g} and chi_T = {shear.law}, a junction past its "
+        f"instability slides with tau_0 = {shear.shear_strength:.4g} Pa; {shear.boundary} "
+        f"boundary), beside the statistical model at the effective resolution. Forces scaled "
+        f"to A_n = {shear.nominal_area:.4g} m^2."
+    )
+
+
+def shear_section(result: Run) -> list[str]:
+    """The report.md section of the shear BEM (empty when the stage did not run)."""
+    shear = _shear(result)
+    if shear is None:
+        return []
+    header, rows = shear_table(shear)
+    lines = [
+        f"## Shear BEM against the model (stage {stage_number('bem_shear')})",
+        "",
+        _intro(shear),
+        "",
+        _md_table(header, rows),
+        "",
+        f"- {model_judgement(shear, _model_area(result, shear))}",
+        f"- Discretisation: {_grid_text(shear)}.",
+        f"- Cost: {_cost_text(shear)}.",
+        "- Limits: linear elasticity, quasi-static, the mesh-dependent edge law "
+        "(docs/bem_shear.md).",
+    ]
+    lines += [f"- **Warning:** {w}" for w in shear.warnings]
+    lines += [f"- **Not converged:** {m}" for m in shear.messages]
+    return [*lines, ""]
+
+
+def _html_table(header: list[str], rows: list[list[str]]) -> str:
+    head = "".join(f"<th>{html.escape(h)}</th>" for h in header)
+    body = "".join(
+        "<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in row) + "</tr>" for row in rows
+    )
+    return f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
+
+
+def shear_html(result: Run) -> str:
+    """The report.html section of the shear BEM ("" when the stage did not run)."""
+    shear = _shear(result)
+    if shear is None:
+        return ""
+    items = [
+        model_judgement(shear, _model_area(result, shear)),
+        f"Discretisation: {_grid_text(shear)}.",
+        _cost_text(shear),
+    ]
+    items += [f"Warning: {w}" for w in shear.warnings]
+    items += [f"Not converged: {m}" for m in shear.messages]
+    listed = "".join(f"<li>{html.escape(i)}</li>" for i in items)
+    return (
+        f'<h2 id="bem-shear">Shear BEM against the model (stage {stage_number("bem_shear")})</h2>'
+        f"<p>{html.escape(_intro(shear))}</p>{_html_table(*shear_table(shear))}<ul>{listed}</ul>"
+    )
+
+
+def _colours(n: int) -> np.ndarray:
+    return colormaps["viridis"](np.linspace(0, 0.9, n))
+
+
+def _model_index(result: Run, load: float) -> int:
+    return int(np.argmin(np.abs(np.asarray(result.friction.normal_load) - load)))
+
+
+def _model_area(result: Run, shear: BemShearComparison) -> np.ndarray:
+    """The model's A_r at F_x = 0 (m^2) at each load sheared (the friction stage's curves)."""
+    return np.array(
+        [result.friction.real_area[_model_index(result, f)][0] for f in shear.normal_load]
+    )
+
+
+def draw_bem_shear_force(result: Run) -> tuple[Figure, FigureTable]:
+    """Fig 4 by the BEM: F_x against delta_T per load (grid used solid, check grid thin),
+    the model's dashed."""
+    shear, fr = _shear(result), result.friction
+    table = FigureTable()
+    fu = display_unit(np.nanmax(fr.tangential_force), "N")
+    du = display_unit(np.nanmax(shear.tangential_displacement), "m")
+    fig = new_figure(7, 5)
+    ax = fig.subplots()
+    x_col, y_col = "tangential displacement delta_T (m)", "tangential force F_x (N)"
+    colours = _colours(shear.normal_load.size)
+    for j, (f, colour) in enumerate(zip(shear.normal_load, colours, strict=True)):
+        path = shear.tangential_displacement[j]
+        for g, stride in enumerate(shear.grid_stride):
+            fx = shear.tangential_force[g, j]
+            style = {"lw": 1.8} if g == 0 else {"lw": 0.8, "alpha": 0.7}
+            label = f"BEM $F_z$ = {f:.3g} N" if g == 0 else None
+            ax.plot(du(path), fu(fx), "-", color=colour, label=label, **style)
+            table.add("all", f"BEM stride {int(stride)} F_z = {f:.6g} N", {x_col: path, y_col: fx})
+        i = _model_index(result, f)
+        ax.plot(du(fr.tangential_displacement[i]), fu(fr.tangential_force[i]), "--", color=colour)
+        table.add(
+            "all",
+            f"model F_z = {f:.6g} N",
+            {x_col: fr.tangential_displacement[i], y_col: fr.tangential_force[i]},
+        )
+    ax.plot([], [], "k--", label="model")
+    if shear.grid_stride.size > 1:
+        ax.plot([], [], "k-", lw=0.8, alpha=0.7, label=f"BEM stride {int(shear.grid_stride[1])}")
+    ax.set_xlim(0, du(float(np.nanmax(shear.tangential_displacement))))
+    ax.set_xlabel(du.label("tangential displacement $\\delta_T$"))
+    ax.set_ylabel(fu.label("tangential force $F_x$"))
+    ax.legend(fontsize=7)
+    return fig, table
+
+
+def draw_bem_shear_area(result: Run) -> tuple[Figure, FigureTable]:
+    """Fig 13 by the BEM: A_r/A_n against F_x per load (grid used solid, check grid thin), the
+    model's dashed, the stick part dotted (grid used)."""
+    shear, fr = _shear(result), result.friction
+    a_n = shear.nominal_area
+    table = FigureTable()
+    fu = display_unit(np.nanmax(fr.tangential_force), "N")
+    fig = new_figure(7, 5)
+    ax = fig.subplots()
+    x_col, y_col = "tangential load F_x (N)", "A_r/A_n (1)"
+    colours = _colours(shear.normal_load.size)
+    for j, (f, colour) in enumerate(zip(shear.normal_load, colours, strict=True)):
+        for g, stride in enumerate(shear.grid_stride):
+            fx, ar = shear.tangential_force[g, j], shear.real_area[g, j] / a_n
+            style = {"lw": 1.8} if g == 0 else {"lw": 0.8, "alpha": 0.7}
+            label = f"BEM $F_z$ = {f:.3g} N" if g == 0 else None
+            ax.plot(fu(fx), ar, "-", color=colour, label=label, **style)
+            table.add("all", f"BEM stride {int(stride)} F_z = {f:.6g} N", {x_col: fx, y_col: ar})
+        stick = shear.stick_area[0, j] / a_n
+        ax.plot(fu(shear.tangential_force[0, j]), stick, ":", color=colour, lw=1)
+        table.add(
+            "all",
+            f"BEM stick area stride {int(shear.grid_stride[0])} F_z = {f:.6g} N",
+            {x_col: shear.tangential_force[0, j], y_col: stick},
+        )
+        i = _model_index(result, f)
+        model = fr.real_area[i] / a_n
+        ax.plot(fu(fr.tangential_force[i]), model, "--", color=colour)
+        table.add("all", f"model F_z = {f:.6g} N", {x_col: fr.tangential_force[i], y_col: model})
+    ax.plot([], [], "k--", label="model")
+    ax.plot([], [], "k:", lw=1, label="BEM stick (adhesive) part")
+    ax.set_ylim(0, None)
+    ax.set_xlabel(fu.label("tangential load $F_x$"))
+    ax.set_ylabel("$A_r / A_n$")
+    ax.legend(fontsize=7)
+    return fig, table
+
+
+def _present(result: Run) -> bool:
+    return _shear(result) is not None
+
+
+#: The shear BEM's figures: name -> (file stem, drawing function, whether the run has it), the
+#: form of :data:`asperity.pipelines.report.figures.FIGURES`.
+SHEAR_FIGURES = {
+    "bem_shear_force": ("fig4_bem_shear", draw_bem_shear_force, _present),
+    "bem_shear_area": ("fig13_bem_shear", draw_bem_shear_area, _present),
+}
+
+#: Their captions (the form of :data:`asperity.pipelines.report.text.CAPTIONS`).
+SHEAR_CAPTIONS: dict[str, str] = {
+    "bem_shear_force": f"Stage {stage_number('bem_shear')}: Fig 4 by the BEM, F_x against "
+    "delta_T at each load sheared (solid: grid used; thin: the check grid twice as coarse; "
+    "dashed: the statistical model).",
+    "bem_shear_area": f"Stage {stage_number('bem_shear')}: Fig 13 by the BEM, A_r/A_n against "
+    "F_x (solid: grid used; thin: check grid; dotted: the BEM's sticking adhesive part; "
+    "dashed: the statistical model).",
+}
