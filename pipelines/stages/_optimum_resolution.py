@@ -121,8 +121,8 @@ def sampling_half_width(located: EffectiveResolution) -> float:
     y = np.asarray(located.sampled_misfit, dtype=float) ** 2
     centre = math.log(located.resolution)
     distance = np.abs(x - centre)
-    nearest = np.argsort(distance)[:SAMPLING_FIT_POINTS]
-    near = np.union1d(nearest, np.flatnonzero(distance <= SAMPLING_WINDOW))
+    order = np.argsort(distance)
+    near = order[: max(SAMPLING_FIT_POINTS, int(np.sum(distance <= SAMPLING_WINDOW)))]
     if near.size < 4:
         return 0.0
     coefficients, residuals, *_ = np.polyfit(x[near] - centre, y[near], 2, full=True)
