@@ -12,7 +12,9 @@ Resolution Delta is the decimation of the 2 um map by a stride (``topo.resolutio
 Usage (from the worktree root)::
 
     .venv/bin/python benchmarks/paper_surface_fit.py            # table, patches, seeds 0, 1
-    .venv/bin/python benchmarks/paper_surface_fit.py --full     # + the 5001 x 5001 map, seed 0
+    .venv/bin/python benchmarks/paper_surface_fit.py --full     # + the 5001 x 5001 maps
+    .venv/bin/python benchmarks/paper_surface_fit.py --full --seeds 0 1 2 3 4   # + spread
+    .venv/bin/python benchmarks/paper_surface_fit.py --waviness 3e-3 2e-3 1.2e-3 6e-4
     .venv/bin/python benchmarks/paper_surface_fit.py --fit      # refit the recipe (minutes)
 
 Patches: the 2, 4, 10 um statistics on a 3 mm x 3 mm patch at 2 um (1500^2 pixels); the
@@ -23,6 +25,13 @@ generates the 5001 x 5001 map at 2 um (about 1.5 GiB at peak) and scans strides 
 The fit (``--fit``) is a Nelder-Mead search, seed 0, on the log-misfits of eta, R and
 sigma_s at 2 and 260 um (weight 3) and of eta and R at 20, 40 and 100 um against the
 paper's power law and straight line through the end points (weight 1).
+
+``--seeds`` picks the seeds (default 0 1); with more than one, a last column gives the spread
+(min..max) over the full maps, or over the patches without ``--full``. ``--waviness`` prints,
+instead of the table, the trade-off between the PSD roll-off and the 260 um statistics when the
+waviness's wavelength (m) is moved towards the paper's 600 um roll-off (10 mm at 10 um, seeds
+0 and 1; eta, R, sigma_s averaged over strides 24..28, 240..280 um, to damp the single-stride
+scatter).
 """
 
 from __future__ import annotations
@@ -210,23 +219,68 @@ def print_table(columns: dict[str, dict[str, float]]) -> None:
     table([("quantity", "paper", list(columns))] + rows)
 
 
+def waviness_tradeoff(wavelengths: list[float]) -> None:
+    """Roll-off, rms and the 240..280 um statistics with the waviness at each wavelength (m)."""
+    print("waviness (um)  seed  roll-off (um)  rms (um)  eta (1/mm^2)  R (mm)  sigma_s (um)")
+    for wavelength in wavelengths:
+        recipe = dataclasses.replace(synthetic.PAPER_SURFACE, waviness_wavelength=wavelength)
+        for seed in (0, 1):
+            coarse = synthetic.paper_surface(n=1000, pixel_size=10e-6, seed=seed, recipe=recipe)
+            stats = [topo.summit_statistics(coarse, stride=k) for k in range(24, 29)]
+            print(
+                f"{wavelength * 1e6:13.0f}  {seed:4d}  {rolloff_wavelength(coarse) * 1e6:13.0f}"
+                f"  {float(np.std(coarse.heights)) * 1e6:8.1f}"
+                f"  {np.mean([s.asperity_density for s in stats]) * 1e-6:12.2f}"
+                f"  {np.mean([s.summit_radius for s in stats]) * 1e3:6.3f}"
+                f"  {np.mean([s.summit_height_rms for s in stats]) * 1e6:12.1f}"
+            )
+    print("paper: roll-off about 600 um, rms about 51 um, at 260 um eta 2.25, R 1.180, 41.9")
+
+
+def spread(columns: dict[str, dict[str, float]]) -> dict[str, float]:
+    """Per quantity, the column with the least and the greatest value (for the table)."""
+    values = list(columns.values())
+    return {k: (min(c[k] for c in values), max(c[k] for c in values)) for k in values[0]}
+
+
+def print_spread(columns: dict[str, dict[str, float]], label: str) -> None:
+    """min..max of each quantity over the columns, with the misfits to the paper."""
+    print(f"spread over {label}:")
+    for key, (low, high) in spread(columns).items():
+        scale, unit, fmt = FORMAT[key]
+        target = TARGET[key]
+        print(
+            f"  {key} ({unit}): {fmt.format(low * scale)}..{fmt.format(high * scale)}"
+            f" ({100 * (low / target - 1):+.0f} %..{100 * (high / target - 1):+.0f} %)"
+        )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--fit", action="store_true", help="refit the recipe (minutes)")
-    parser.add_argument("--full", action="store_true", help="also the 5001^2 maps, seeds 0, 1")
+    parser.add_argument("--full", action="store_true", help="also the 5001^2 maps of the seeds")
+    parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1], help="seeds (0 1)")
+    parser.add_argument(
+        "--waviness", type=float, nargs="+", default=None, metavar="M",
+        help="print the roll-off / 260 um trade-off at these waviness wavelengths (m)",
+    )  # fmt: skip
     args = parser.parse_args()
+    if args.waviness:
+        waviness_tradeoff(args.waviness)
+        return
     recipe = synthetic.PAPER_SURFACE
     if args.fit:
         recipe = fit(recipe)
     columns = {}
-    for seed in (0, 1):
+    for seed in args.seeds:
         t = time.perf_counter()
         stats = patch_statistics(recipe, seed)
         coarse = synthetic.paper_surface(n=1000, pixel_size=10e-6, seed=seed, recipe=recipe)
         stats["rolloff"] = rolloff_wavelength(coarse)
         columns[f"patches s{seed}"] = summary(stats, stats["scan"])
         print(f"seed {seed}: patches in {time.perf_counter() - t:.1f} s", file=sys.stderr)
-    for seed in (0, 1) if args.full else ():
+    full = {}
+    for seed in args.seeds if args.full else ():
         t = time.perf_counter()
         surface = synthetic.paper_surface(n=5001, pixel_size=2e-6, seed=seed, recipe=recipe)
         scan = topo.resolution_scan(surface, 130)
@@ -237,14 +291,18 @@ def main() -> None:
             "rolloff": rolloff_wavelength(decimate(surface, 5)),
         }
         del surface
-        columns[f"5001^2 s{seed}"] = summary(stats, scan)
+        full[f"5001^2 s{seed}"] = summary(stats, scan)
         print(f"full map, seed {seed}: {time.perf_counter() - t:.1f} s", file=sys.stderr)
+    columns.update(full)
     print_table(columns)
     print(
         "patches: 2 um statistics on 3 mm at 2 um, the rest, the fits (strides 1..26, 10..260 um)"
         " and the roll-off on 10 mm at 10 um; 5001^2: the 2 um map, fits over strides 1..130;"
         " 'fit' rows: the power law and the straight line of the scan at 260 um"
     )
+    if len(args.seeds) > 1:
+        label = "the 5001^2 maps" if full else "the patches"
+        print_spread(full or columns, f"{label}, seeds {args.seeds}")
 
 
 if __name__ == "__main__":

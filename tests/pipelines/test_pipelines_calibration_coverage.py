@@ -10,7 +10,8 @@ coverage of 68 % the count of ten seeds is binomial (mean 6.8; 6 or fewer in 40 
 the test fails below 5 of 10, a count a 68 % interval gives in 6 % of cases (undercoverage).
 Measured: resolution 7 / 10, lambda 6 / 10 since eta = N / A_n (7 / 10 before; 6 / 10 also
 before the roughness's interval reached lambda's: the fit at the located statistics alone is
-biased by the resolution's own error).
+biased by the resolution's own error); unchanged since the sampling half-width fits every
+sample within a factor 1.28 of the optimum.
 """
 
 from __future__ import annotations
