@@ -35,7 +35,14 @@ from asperity.bem.contact import solve_contact
 from asperity.bem.errors import BemInputError
 from asperity.bem.options import SolverOptions
 from asperity.bem.result import ContactResult
-from asperity.bem.shear import ShearOptions, TangentialOperator, solve_tangential, traction_bound
+from asperity.bem.shear import (
+    ContactMatrix,
+    JunctionPreconditioner,
+    ShearOptions,
+    TangentialOperator,
+    _mprgp,
+    traction_bound,
+)
 from asperity.bem.tangential_influence import check_poisson
 
 __all__ = ["ShearCurve", "label_junctions", "shear_curve"]
@@ -230,55 +237,96 @@ def shear_curve(
         fft_backend=opts.fft_backend,
         threads=opts.threads,
     )
+    # the contact set is held: every step works on its elements only (gathered vectors), with
+    # the operator as a dense matrix on them when it fits (ShearOptions.dense_limit_bytes)
+    idx = np.flatnonzero(contact)
+    if periodic and idx.size == contact.size:
+        raise BemInputError(
+            "contact: covers the whole periodic cell; the periodic tangential operator has no "
+            "stiffness for a uniform traction, so the problem is singular: use a free domain"
+        )
+    if idx.size and ContactMatrix.nbytes(idx.size) <= opts.dense_limit_bytes:
+        apply = ContactMatrix(op, contact)
+    else:
+        full = np.zeros(h.shape)
+        flat = full.reshape(-1)
+
+        def apply(v: np.ndarray) -> np.ndarray:
+            flat[idx] = v
+            return op(full).reshape(-1)[idx]
+
+    pre = None
+    if opts.precondition and idx.size:
+        pre = JunctionPreconditioner(
+            op.kernel(), idx, labels.reshape(-1)[idx], h.shape, periodic=periodic
+        )
+    calls = 0
+
+    def counted(v: np.ndarray) -> np.ndarray:
+        nonlocal calls
+        calls += 1
+        return apply(v)
+
+    q_max = bound.reshape(-1)[idx]
+    lab = labels.reshape(-1)[idx]
+    scale = e_star / math.sqrt(dx * dy)
+    max_iter = opts.max_iterations(h.shape)
+    area = dx * dy
+    slip = np.zeros(idx.size)
     rows: list[tuple] = []
-    prev = None
-    older = None
+    prev: tuple[float, np.ndarray] | None = None
+    older: tuple[float, np.ndarray] | None = None
+    q = np.zeros(idx.size)
     for value in d_t:
-        guess = None
+        t0 = time.perf_counter()
+        guess = q
         if prev is not None and older is not None:
             # linear extrapolation of the tractions: exact for elements that keep sticking
             # (the problem is linear while no element changes status); clipped to the bounds
-            span = prev.tangential_displacement - older.tangential_displacement
+            span = prev[0] - older[0]
             if span != 0.0:
-                rate = (float(value) - prev.tangential_displacement) / span
-                guess = prev.traction + rate * (prev.traction - older.traction)
-        elif prev is not None:
-            guess = prev.traction
-        step = solve_tangential(
-            contact,
-            bound,
-            dx,
-            dy,
-            e_star,
-            float(value),
-            slip=None if prev is None else prev.slip,
-            initial=guess,
-            periodic=periodic,
-            options=opts,
-            operator=op,
+                guess = prev[1] + (float(value) - prev[0]) / span * (prev[1] - older[1])
+        calls = 0
+        rhs = float(value) - slip
+        q, g, status, _, nit, _ = _mprgp(
+            counted,
+            rhs,
+            -q_max,
+            q_max,
+            np.clip(guess, -q_max, q_max),
+            norm=op.norm,
+            scale=scale,
+            tol=opts.tol,
+            max_iter=max_iter,
+            precondition=pre,
         )
-        sticking = np.unique(labels[step.stick])
-        n_stick = int(np.count_nonzero(sticking))
+        stick = np.abs(q) < q_max
+        # slipping elements take their new slip delta_T - u_x, u_x = g + rhs (no convolution)
+        slip = np.where(stick, slip, float(value) - (g + rhs))
+        n_stick = int(np.count_nonzero(np.unique(lab[stick])))
+        stick_area = float(np.count_nonzero(stick)) * area
         rows.append(
             (
                 float(value),
-                step.tangential_force,
+                float(q.sum() * area),
                 normal.normal_force,
                 normal.real_area,
-                step.stick_area,
-                step.slip_area,
+                stick_area,
+                (idx.size - np.count_nonzero(stick)) * area,
                 n_junctions,
                 n_junctions - n_stick,
                 n_stick == 0,
-                step.success,
-                step.nit,
-                step.convolutions,
-                step.seconds,
+                status == 0,
+                nit,
+                calls,
+                time.perf_counter() - t0,
             )
         )
-        older, prev = prev, step
+        older, prev = prev, (float(value), q)
         if stop_when_sliding and n_stick == 0:
             break
+    final = np.zeros(h.shape)
+    final.reshape(-1)[idx] = q
     cols = list(zip(*rows, strict=True))
     return ShearCurve(
         tangential_displacement=np.array(cols[0]),
@@ -295,5 +343,5 @@ def shear_curve(
         convolutions=np.array(cols[11], dtype=int),
         seconds=np.array(cols[12]),
         normal_seconds=normal_seconds,
-        final_traction=prev.traction,
+        final_traction=final,
     )

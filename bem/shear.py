@@ -39,6 +39,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 from asperity.bem.errors import BemInputError
 from asperity.bem.fft_backend import Convolution, default_threads
@@ -47,10 +48,13 @@ from asperity.bem.tangential_influence import check_poisson, tangential_multipli
 
 __all__ = [
     "BoxCGResult",
+    "ContactMatrix",
+    "JunctionPreconditioner",
     "ShearOptions",
     "TangentialOperator",
     "TangentialResult",
     "box_conjugate_gradients",
+    "kernel_block",
     "solve_tangential",
     "traction_bound",
 ]
@@ -73,14 +77,32 @@ class ShearOptions:
         FFT threads; None: one thread on FFT grids below 512^2 points (measured on 200^2 with
         pyFFTW on a busy 2-core machine: 0.4 ms per convolution on one thread against 59 ms on
         two, OpenMP threads waiting on each other), all available cores above.
+    dense_limit_bytes : int
+        Solvers that keep one contact set for many solves (:func:`asperity.bem.rough_shear.
+        shear_curve`) apply the operator as a dense matrix on that set (:class:`ContactMatrix`,
+        ``8 n_c^2`` bytes) when it fits in this many bytes, and by FFT convolutions of the whole
+        grid otherwise; 0: always FFT. Default 256 MiB: up to 5792 elements (the default
+        job's 1000^2 map at 2.08 N has 4918).
+    precondition : bool
+        Those solvers precondition the conjugate-gradient steps by junction
+        (:class:`JunctionPreconditioner`); False: plain MPRGP.
     """
 
     tol: float = 1e-8
     max_iter: int | None = None
     fft_backend: str = "auto"
     threads: int | None = None
+    dense_limit_bytes: int = 256 * 2**20
+    precondition: bool = True
 
     def __post_init__(self) -> None:
+        if not (
+            isinstance(self.dense_limit_bytes, (int, np.integer)) and self.dense_limit_bytes >= 0
+        ):
+            raise BemInputError(
+                "ShearOptions: dense_limit_bytes must be an integer >= 0 (bytes), got "
+                f"{self.dense_limit_bytes!r}"
+            )
         if not (isinstance(self.tol, (int, float)) and 1e-14 <= self.tol <= 1e-2):
             raise BemInputError(f"ShearOptions: tol must be in [1e-14, 1e-2], got {self.tol!r}")
         if self.max_iter is not None and not (
@@ -150,6 +172,15 @@ class TangentialOperator:
         self._out = self.conv.zeros()
         self.calls = 0
 
+    def kernel(self) -> np.ndarray:
+        """The real-space kernel (m/Pa) on the height-map grid: the response to a unit traction
+        (1 Pa) on element (0, 0), i.e. the displacement at offsets ``(i, j)`` pixels (modulo the
+        grid when periodic; for a free grid the offsets ``(-i, j)``, ``(i, -j)`` have the same
+        value: both kernels of this module are even in x and in y). One convolution."""
+        impulse = np.zeros(self.shape)
+        impulse[0, 0] = 1.0
+        return self(impulse)
+
     def __call__(self, q: np.ndarray) -> np.ndarray:
         """Displacement (m) of the tractions ``q`` (Pa) on the height-map grid (a new array)."""
         self.calls += 1
@@ -160,6 +191,194 @@ class TangentialOperator:
             self._buf[:nx, :ny] = q
         self.conv(self._buf, self._out)
         return self._out[: self.shape[0], : self.shape[1]].copy()
+
+
+@njit(cache=True, fastmath=False)
+def _matvec(matrix, v, out):  # pragma: no cover - compiled
+    """``out = matrix @ v`` on one thread (four partial sums per row).
+
+    BLAS would use every core: on a shared machine its threads wait on each other (a 1313^2
+    product measured 2.2 ms on one thread against 29 ms on two, load 12 on 2 cores), as the FFT
+    threads do (:class:`ShearOptions`)."""
+    n, k = matrix.shape
+    k4 = k - k % 4
+    for i in range(n):
+        a0 = 0.0
+        a1 = 0.0
+        a2 = 0.0
+        a3 = 0.0
+        for j in range(0, k4, 4):
+            a0 += matrix[i, j] * v[j]
+            a1 += matrix[i, j + 1] * v[j + 1]
+            a2 += matrix[i, j + 2] * v[j + 2]
+            a3 += matrix[i, j + 3] * v[j + 3]
+        for j in range(k4, k):
+            a0 += matrix[i, j] * v[j]
+        out[i] = (a0 + a1) + (a2 + a3)
+    return out
+
+
+def kernel_block(
+    kernel: np.ndarray,
+    ix_a: np.ndarray,
+    iy_a: np.ndarray,
+    ix_b: np.ndarray,
+    iy_b: np.ndarray,
+    *,
+    periodic: bool,
+) -> np.ndarray:
+    """Entries ``K[a, b]`` (m/Pa) between elements at pixels ``(ix_a, iy_a)`` and
+    ``(ix_b, iy_b)`` from a real-space kernel of :meth:`TangentialOperator.kernel` (offsets taken
+    modulo the grid when periodic, by absolute value when free)."""
+    di = ix_a[:, None] - ix_b[None, :]
+    dj = iy_a[:, None] - iy_b[None, :]
+    if periodic:
+        di %= kernel.shape[0]
+        dj %= kernel.shape[1]
+    else:
+        np.abs(di, out=di)
+        np.abs(dj, out=dj)
+    return kernel[di, dj]
+
+
+class JunctionPreconditioner:
+    """Block-Jacobi preconditioner of the tangential operator on the free set, one block per
+    junction (connected contact cluster).
+
+    On a rough surface the junctions are far apart compared with their size, so the operator
+    restricted to the contact set is nearly block-diagonal by junction, and its condition number
+    (which grows with the junction's size in elements, as that of the discretised 1/r kernel)
+    is in the blocks. ``M^-1 phi`` solves, for each junction J, ``K[F_J, F_J] z_J = phi_J`` on
+    its free (sticking) elements F_J by a Cholesky factorisation, kept until F_J changes; single
+    free elements and junctions above ``max_block`` free elements take the diagonal
+    ``z = phi / K_00`` instead. Symmetric positive definite for a fixed free set, as
+    :func:`_mprgp` needs.
+
+    Parameters
+    ----------
+    kernel : ndarray
+        Real-space kernel (m/Pa), :meth:`TangentialOperator.kernel`.
+    index : ndarray of int
+        Flat indices (C order, on the grid of ``shape``) of the contact elements: the entries of
+        the gathered vectors.
+    labels : ndarray of int
+        The junction of each contact element (same length as ``index``).
+    shape : (int, int)
+        The height-map grid.
+    periodic : bool
+        As the operator.
+    max_block : int
+        Largest block factorised (its cost grows as the cube).
+    """
+
+    def __init__(
+        self,
+        kernel: np.ndarray,
+        index: np.ndarray,
+        labels: np.ndarray,
+        shape: tuple[int, int],
+        *,
+        periodic: bool,
+        max_block: int = 1500,
+    ) -> None:
+        ix, iy = np.divmod(np.asarray(index), shape[1])
+        self.diagonal = float(kernel[0, 0])
+        order = np.argsort(labels, kind="stable")
+        _, starts = np.unique(labels[order], return_index=True)
+        groups = np.split(order, starts[1:])
+        self.groups = [grp for grp in groups if 1 < grp.size]
+        self.blocks = [
+            kernel_block(kernel, ix[g], iy[g], ix[g], iy[g], periodic=periodic)
+            if g.size <= max_block
+            else None
+            for g in self.groups
+        ]
+        self._factors: dict[int, tuple[bytes, object]] = {}
+        self.factorisations = 0
+
+    def __call__(self, phi: np.ndarray, free: np.ndarray) -> np.ndarray:
+        """``M^-1 phi`` (Pa) for the free gradient ``phi`` (m, zero off ``free``)."""
+        from scipy.linalg import cho_factor, cho_solve  # deferred: scipy.linalg on first use
+
+        z = phi / self.diagonal
+        for j, (members, block) in enumerate(zip(self.groups, self.blocks, strict=True)):
+            f = free[members]
+            n_f = int(np.count_nonzero(f))
+            if n_f < 2 or block is None:
+                continue
+            key = f.tobytes()
+            cached = self._factors.get(j)
+            if cached is None or cached[0] != key:
+                cached = (key, cho_factor(block[np.ix_(f, f)], check_finite=False))
+                self._factors[j] = cached
+                self.factorisations += 1
+            sel = members[f]
+            z[sel] = cho_solve(cached[1], phi[sel], check_finite=False)
+        return z
+
+
+class ContactMatrix:
+    """An operator of this module restricted to a fixed set of elements, as a dense matrix.
+
+    On a rough surface the contact set is a small part of the grid (0.5 % of the default job's
+    map), so ``K`` restricted to it, ``n_c x n_c`` entries, is cheaper to apply than an FFT
+    convolution of the whole grid whenever ``n_c^2`` is below a few times ``nx ny log(nx ny)``
+    (``benchmarks/bem_shear.py`` measures both). The entries are the operator's own real-space
+    kernel, taken from its response to one unit impulse (one convolution), so both
+    representations give the same products up to rounding (``tests/bem/test_bem_shear_speed.py``).
+    Both kernels of this module (Boussinesq's and Cerruti's u_x from q_x) are even in x and in y,
+    which gives the negative offsets of a free (non-periodic) grid.
+
+    Parameters
+    ----------
+    operator : TangentialOperator
+        The operator (tangential or normal, periodic or free) on the height-map grid.
+    mask : ndarray of bool, shape ``operator.shape``
+        The elements kept; vectors are their entries in C order (``np.flatnonzero(mask)``).
+    block_rows : int
+        Rows built at a time (bounds the temporary index arrays).
+
+    Attributes
+    ----------
+    matrix : ndarray, shape (n_c, n_c)
+        K (m/Pa) between the kept elements.
+    size : int
+        n_c.
+    norm : float
+        An upper bound of the largest eigenvalue (m/Pa): the full operator's.
+    calls : int
+        Products computed.
+    """
+
+    def __init__(self, operator: TangentialOperator, mask: np.ndarray, *, block_rows: int = 256):
+        mask = np.asarray(mask, dtype=bool)
+        if mask.shape != operator.shape:
+            raise BemInputError(
+                f"mask: expected shape {operator.shape} (the operator's grid), got {mask.shape}"
+            )
+        kernel = operator.kernel()
+        idx = np.flatnonzero(mask)
+        ix, iy = np.divmod(idx, operator.shape[1])
+        n_c = idx.size
+        self.matrix = np.empty((n_c, n_c))
+        for start in range(0, n_c, block_rows):
+            stop = min(start + block_rows, n_c)
+            self.matrix[start:stop] = kernel_block(
+                kernel, ix[start:stop], iy[start:stop], ix, iy, periodic=operator.periodic
+            )
+        self.size = n_c
+        self.norm = operator.norm
+        self.calls = 0
+
+    @staticmethod
+    def nbytes(count: int) -> int:
+        """Bytes of the matrix for ``count`` elements (float64)."""
+        return 8 * int(count) * int(count)
+
+    def __call__(self, v: np.ndarray) -> np.ndarray:
+        """``K v`` (m) for tractions ``v`` (Pa) on the kept elements."""
+        self.calls += 1
+        return _matvec(self.matrix, np.ascontiguousarray(v, dtype=np.float64), np.empty(self.size))
 
 
 @dataclass
@@ -188,6 +407,7 @@ def box_conjugate_gradients(
     scale: float,
     tol: float,
     max_iter: int,
+    restricted: Callable[[np.ndarray], np.ndarray] | None = None,
 ) -> BoxCGResult:
     """Minimise ``1/2 x.A x - x.rhs`` over ``lower <= x <= upper`` on ``mask`` (x = 0 off it).
 
@@ -197,37 +417,82 @@ def box_conjugate_gradients(
     units (``residual = rms(g_P) * scale / rms(x)``, 0 when g_P = 0). The iteration works on the
     masked entries only (gathered vectors).
 
+    Parameters
+    ----------
+    restricted : callable, optional
+        ``A`` acting directly on the gathered vectors (the masked entries in C order), e.g. a
+        :class:`ContactMatrix` built for this ``mask``; then ``apply`` is not called.
+
     Returns
     -------
     BoxCGResult
         ``x`` and ``gradient`` (A x - rhs on the mask, 0 off it) as full arrays; status 0:
         converged (residual <= tol); 1: iteration cap; 2: non-finite values or non-positive
-        curvature.
+        curvature. ``convolutions`` counts the operator applications.
     """
     shape = mask.shape
     idx = np.flatnonzero(mask)
-    n_m = max(idx.size, 1)
     lo = np.asarray(lower, dtype=np.float64).ravel()[idx]
     hi = np.asarray(upper, dtype=np.float64).ravel()[idx]
     b = np.asarray(rhs, dtype=np.float64).ravel()[idx]
     x = np.clip(np.asarray(x0, dtype=np.float64).ravel()[idx], lo, hi)
-    full = np.zeros(shape)
-    flat = full.reshape(-1)
-    alpha_bar = 1.0 / norm
     calls = 0
+    if restricted is not None:
+        if getattr(restricted, "size", idx.size) != idx.size:
+            raise BemInputError(
+                f"restricted: built for {restricted.size} elements, the mask has {idx.size}"
+            )
 
-    def a_of(v: np.ndarray) -> np.ndarray:
-        nonlocal calls
-        calls += 1
-        flat[idx] = v
-        return np.asarray(apply(full)).reshape(-1)[idx]
+        def a_of(v: np.ndarray) -> np.ndarray:
+            nonlocal calls
+            calls += 1
+            return restricted(v)
 
-    def finish(status: int, message: str, nit: int, res: float, g: np.ndarray) -> BoxCGResult:
-        xf = np.zeros(shape)
-        xf.reshape(-1)[idx] = x
-        gf = np.zeros(shape)
-        gf.reshape(-1)[idx] = g
-        return BoxCGResult(xf, gf, status == 0, status, message, nit, res, calls)
+    else:
+        full = np.zeros(shape)
+        flat = full.reshape(-1)
+
+        def a_of(v: np.ndarray) -> np.ndarray:
+            nonlocal calls
+            calls += 1
+            flat[idx] = v
+            return np.asarray(apply(full)).reshape(-1)[idx]
+
+    x, g, status, message, nit, res = _mprgp(
+        a_of, b, lo, hi, x, norm=norm, scale=scale, tol=tol, max_iter=max_iter
+    )
+    xf = np.zeros(shape)
+    xf.reshape(-1)[idx] = x
+    gf = np.zeros(shape)
+    gf.reshape(-1)[idx] = g
+    return BoxCGResult(xf, gf, status == 0, status, message, nit, res, calls)
+
+
+def _mprgp(
+    a_of: Callable[[np.ndarray], np.ndarray],
+    b: np.ndarray,
+    lo: np.ndarray,
+    hi: np.ndarray,
+    x: np.ndarray,
+    *,
+    norm: float,
+    scale: float,
+    tol: float,
+    max_iter: int,
+    precondition: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None,
+) -> tuple[np.ndarray, np.ndarray, int, str, int, float]:
+    """The MPRGP iteration on gathered vectors (``x`` feasible, modified in place or replaced).
+
+    ``precondition(phi, free)``, optional: an approximation of ``A_FF^-1 phi`` on the free set
+    (zero elsewhere), symmetric positive definite for a fixed free set; it is used in the
+    conjugate-gradient steps only (preconditioning in face, Dostal 2009, section 9.8), the
+    proportioning test and the expansion step keep the plain gradient, so the iteration's
+    monotone decrease and its stopping test are unchanged.
+
+    Returns ``(x, g, status, message, nit, residual)``.
+    """
+    n_m = max(x.size, 1)
+    alpha_bar = 1.0 / norm
 
     def residual(gp2: float) -> float:
         if gp2 == 0.0:
@@ -235,9 +500,10 @@ def box_conjugate_gradients(
         xr = math.sqrt(float(x @ x) / n_m)
         return math.sqrt(gp2 / n_m) * scale / xr if xr > 0 else math.inf
 
-    if idx.size == 0:
-        return finish(0, "converged", 0, 0.0, np.zeros(0))
+    if x.size == 0:
+        return x, np.zeros(0), 0, "converged", 0, 0.0
     g = a_of(x) - b
+
     if np.all(np.isinf(lo)) and np.all(np.isinf(hi)):
         p = g.copy()
         gg = float(g @ g)
@@ -245,17 +511,22 @@ def box_conjugate_gradients(
         nit = 0
         while True:
             if not math.isfinite(res) and res != math.inf:
-                return finish(2, "non-finite values in the iteration", nit, res, g)
+                return x, g, 2, "non-finite values in the iteration", nit, res
             if res <= tol:
-                return finish(0, "converged", nit, res, g)
+                return x, g, 0, "converged", nit, res
             if nit >= max_iter:
-                return finish(1, "iteration limit reached", nit, res, g)
+                return x, g, 1, "iteration limit reached", nit, res
             nit += 1
             ap = a_of(p)
             pap = float(p @ ap)
             if not pap > 0.0:
-                return finish(
-                    2, "non-positive curvature (operator not positive definite)", nit, res, g
+                return (
+                    x,
+                    g,
+                    2,
+                    "non-positive curvature (operator not positive definite)",
+                    nit,
+                    res,
                 )
             a = gg / pap
             x -= a * p
@@ -280,17 +551,20 @@ def box_conjugate_gradients(
             up = np.where(p < 0, (x - hi) / p, np.inf)
         return float(min(down.min(), up.min()))
 
+    def direction(phi: np.ndarray, free: np.ndarray) -> np.ndarray:
+        return phi.copy() if precondition is None else precondition(phi, free)
+
     phi, beta, free = parts(x, g)
-    p = phi.copy()
+    p = direction(phi, free)
     nit = 0
     res = residual(float(phi @ phi + beta @ beta))
     while True:
         if not math.isfinite(res) and res != math.inf:
-            return finish(2, "non-finite values in the iteration", nit, res, g)
+            return x, g, 2, "non-finite values in the iteration", nit, res
         if res <= tol:
-            return finish(0, "converged", nit, res, g)
+            return x, g, 0, "converged", nit, res
         if nit >= max_iter:
-            return finish(1, "iteration limit reached", nit, res, g)
+            return x, g, 1, "iteration limit reached", nit, res
         nit += 1
         with np.errstate(divide="ignore", invalid="ignore"):
             phi_red = np.where(
@@ -302,8 +576,13 @@ def box_conjugate_gradients(
             ap = a_of(p)
             pap = float(p @ ap)
             if not pap > 0.0:
-                return finish(
-                    2, "non-positive curvature (operator not positive definite)", nit, res, g
+                return (
+                    x,
+                    g,
+                    2,
+                    "non-positive curvature (operator not positive definite)",
+                    nit,
+                    res,
                 )
             a_cg = float(g @ p) / pap
             a_f = max_step(x, p)
@@ -311,30 +590,48 @@ def box_conjugate_gradients(
                 x -= a_cg * p
                 g -= a_cg * ap
                 phi, beta, free = parts(x, g)
-                gamma = float(phi @ ap) / pap
-                p = phi - gamma * p
+                z = phi if precondition is None else precondition(phi, free)
+                gamma = float(z @ ap) / pap
+                p = z - gamma * p
                 p[~free] = 0.0
             else:
+                x_cg = x - a_cg * p if precondition is not None else None
                 x -= a_f * p
                 g -= a_f * ap
-                phi, _, _ = parts(x, g)
-                x = np.clip(x - alpha_bar * phi, lo, hi)
-                g = a_of(x) - b
+                done = False
+                if x_cg is not None:
+                    # preconditioned: the projection of the whole conjugate-gradient step binds
+                    # every element that step pushes out at once; kept when it lowers the
+                    # energy 1/2 x.(g - b) below the feasible half step's, else the expansion
+                    x_try = np.clip(x_cg, lo, hi)
+                    g_try = a_of(x_try) - b
+                    if float(x_try @ (g_try - b)) <= float(x @ (g - b)):
+                        x, g = x_try, g_try
+                        done = True
+                if not done:
+                    phi, _, _ = parts(x, g)
+                    x = np.clip(x - alpha_bar * phi, lo, hi)
+                    g = a_of(x) - b
                 phi, beta, free = parts(x, g)
-                p = phi.copy()
+                p = direction(phi, free)
         else:
             d = beta
             ad = a_of(d)
             dad = float(d @ ad)
             if not dad > 0.0:
-                return finish(
-                    2, "non-positive curvature (operator not positive definite)", nit, res, g
+                return (
+                    x,
+                    g,
+                    2,
+                    "non-positive curvature (operator not positive definite)",
+                    nit,
+                    res,
                 )
             a = min(float(g @ d) / dad, max_step(x, d))
             x = np.clip(x - a * d, lo, hi)
             g -= a * ad
             phi, beta, free = parts(x, g)
-            p = phi.copy()
+            p = direction(phi, free)
         res = residual(float(phi @ phi + beta @ beta))
 
 
