@@ -277,6 +277,7 @@ def shear_curve(
     prev: tuple[float, np.ndarray] | None = None
     older: tuple[float, np.ndarray] | None = None
     q = np.zeros(idx.size)
+    u = np.zeros(idx.size)  # u_x = K q on the contact set (m)
     for value in d_t:
         t0 = time.perf_counter()
         guess = q
@@ -288,21 +289,28 @@ def shear_curve(
                 guess = prev[1] + (float(value) - prev[0]) / span * (prev[1] - older[1])
         calls = 0
         rhs = float(value) - slip
+        start = np.clip(guess, -q_max, q_max)
+        # the gradient at the guess from the last step's displacements and the product of the
+        # tractions' change (zero where the elements keep slipping at their bound)
+        u = u + counted(start - q) if (start - q).any() else u
         q, g, status, _, nit, _ = _mprgp(
             counted,
             rhs,
             -q_max,
             q_max,
-            np.clip(guess, -q_max, q_max),
+            start,
             norm=op.norm,
             scale=scale,
             tol=opts.tol,
             max_iter=max_iter,
             precondition=pre,
+            g0=u - rhs,
+            sparse_updates=True,
         )
+        u = g + rhs
         stick = np.abs(q) < q_max
         # slipping elements take their new slip delta_T - u_x, u_x = g + rhs (no convolution)
-        slip = np.where(stick, slip, float(value) - (g + rhs))
+        slip = np.where(stick, slip, float(value) - u)
         n_stick = int(np.count_nonzero(np.unique(lab[stick])))
         stick_area = float(np.count_nonzero(stick)) * area
         rows.append(

@@ -218,6 +218,38 @@ def _matvec(matrix, v, out):  # pragma: no cover - compiled
     return out
 
 
+@njit(cache=True, fastmath=False)
+def _matvec_rows(matrix, rows, v, out):  # pragma: no cover - compiled
+    """``out += matrix @ v`` for a symmetric ``matrix`` and ``v`` zero off ``rows``: the sum of
+    ``v[r] matrix[r, :]`` (contiguous rows), ``len(rows) n`` operations."""
+    n = matrix.shape[1]
+    for r in rows:
+        s = v[r]
+        for k in range(n):
+            out[k] += s * matrix[r, k]
+    return out
+
+
+@njit(cache=True, fastmath=False)
+def _fill_matrix(kernel, ix, iy, periodic, out):  # pragma: no cover - compiled
+    """``out[a, b] = kernel[offset(ix[a] - ix[b]), offset(iy[a] - iy[b])]`` (as
+    :func:`kernel_block` for the same elements on both sides)."""
+    nx, ny = kernel.shape
+    n = ix.size
+    for a in range(n):
+        for b in range(n):
+            di = ix[a] - ix[b]
+            dj = iy[a] - iy[b]
+            if periodic:
+                di %= nx
+                dj %= ny
+            else:
+                di = abs(di)
+                dj = abs(dj)
+            out[a, b] = kernel[di, dj]
+    return out
+
+
 def kernel_block(
     kernel: np.ndarray,
     ix_a: np.ndarray,
@@ -249,7 +281,8 @@ class JunctionPreconditioner:
     restricted to the contact set is nearly block-diagonal by junction, and its condition number
     (which grows with the junction's size in elements, as that of the discretised 1/r kernel)
     is in the blocks. ``M^-1 phi`` solves, for each junction J, ``K[F_J, F_J] z_J = phi_J`` on
-    its free (sticking) elements F_J by a Cholesky factorisation, kept until F_J changes; single
+    its free (sticking) elements F_J by a Cholesky factorisation (reused while F_J shrinks a
+    little: ``refactor_fraction``); single
     free elements and junctions above ``max_block`` free elements take the diagonal
     ``z = phi / K_00`` instead. Symmetric positive definite for a fixed free set, as
     :func:`_mprgp` needs.
@@ -269,6 +302,11 @@ class JunctionPreconditioner:
         As the operator.
     max_block : int
         Largest block factorised (its cost grows as the cube).
+    refactor_fraction : float
+        A junction's factor is kept while its free set F is a subset of the set F' it was
+        computed on (``M^-1`` on F is then the restriction of ``K[F', F']^-1``, still symmetric
+        positive definite) and has lost at most this fraction of F'; 0: refactor on every
+        change. Under increasing shear the stick zones shrink, so factors are reused.
     """
 
     def __init__(
@@ -280,7 +318,13 @@ class JunctionPreconditioner:
         *,
         periodic: bool,
         max_block: int = 1500,
+        refactor_fraction: float = 0.25,
     ) -> None:
+        if not 0.0 <= refactor_fraction < 1.0:
+            raise BemInputError(
+                f"refactor_fraction: expected a number in [0, 1), got {refactor_fraction!r}"
+            )
+        self.refactor_fraction = float(refactor_fraction)
         ix, iy = np.divmod(np.asarray(index), shape[1])
         self.diagonal = float(kernel[0, 0])
         order = np.argsort(labels, kind="stable")
@@ -298,7 +342,7 @@ class JunctionPreconditioner:
 
     def __call__(self, phi: np.ndarray, free: np.ndarray) -> np.ndarray:
         """``M^-1 phi`` (Pa) for the free gradient ``phi`` (m, zero off ``free``)."""
-        from scipy.linalg import cho_factor, cho_solve  # deferred: scipy.linalg on first use
+        from scipy.linalg.lapack import dpotrf, dpotrs  # deferred: scipy.linalg on first use
 
         z = phi / self.diagonal
         for j, (members, block) in enumerate(zip(self.groups, self.blocks, strict=True)):
@@ -306,14 +350,25 @@ class JunctionPreconditioner:
             n_f = int(np.count_nonzero(f))
             if n_f < 2 or block is None:
                 continue
-            key = f.tobytes()
             cached = self._factors.get(j)
-            if cached is None or cached[0] != key:
-                cached = (key, cho_factor(block[np.ix_(f, f)], check_finite=False))
+            if (
+                cached is None
+                or n_f < (1.0 - self.refactor_fraction) * cached[2]
+                or bool(np.any(f & ~cached[0]))
+            ):
+                factor, info = dpotrf(block[np.ix_(f, f)], lower=1, clean=0)
+                if info != 0:
+                    raise BemInputError(
+                        f"JunctionPreconditioner: the block of junction {j} is not positive "
+                        f"definite (LAPACK dpotrf info {info})"
+                    )
+                cached = (f, factor, n_f)
                 self._factors[j] = cached
                 self.factorisations += 1
-            sel = members[f]
-            z[sel] = cho_solve(cached[1], phi[sel], check_finite=False)
+            # the factor of a superset F' of the free set: phi is 0 on F' \ F, and the
+            # restriction of K[F', F']^-1 to F is symmetric positive definite
+            sol, _ = dpotrs(cached[1], phi[members[cached[0]]], lower=1)
+            z[members[f]] = sol[f[cached[0]]]
         return z
 
 
@@ -335,8 +390,6 @@ class ContactMatrix:
         The operator (tangential or normal, periodic or free) on the height-map grid.
     mask : ndarray of bool, shape ``operator.shape``
         The elements kept; vectors are their entries in C order (``np.flatnonzero(mask)``).
-    block_rows : int
-        Rows built at a time (bounds the temporary index arrays).
 
     Attributes
     ----------
@@ -350,7 +403,7 @@ class ContactMatrix:
         Products computed.
     """
 
-    def __init__(self, operator: TangentialOperator, mask: np.ndarray, *, block_rows: int = 256):
+    def __init__(self, operator: TangentialOperator, mask: np.ndarray) -> None:
         mask = np.asarray(mask, dtype=bool)
         if mask.shape != operator.shape:
             raise BemInputError(
@@ -360,12 +413,7 @@ class ContactMatrix:
         idx = np.flatnonzero(mask)
         ix, iy = np.divmod(idx, operator.shape[1])
         n_c = idx.size
-        self.matrix = np.empty((n_c, n_c))
-        for start in range(0, n_c, block_rows):
-            stop = min(start + block_rows, n_c)
-            self.matrix[start:stop] = kernel_block(
-                kernel, ix[start:stop], iy[start:stop], ix, iy, periodic=operator.periodic
-            )
+        self.matrix = _fill_matrix(kernel, ix, iy, bool(operator.periodic), np.empty((n_c, n_c)))
         self.size = n_c
         self.norm = operator.norm
         self.calls = 0
@@ -378,7 +426,13 @@ class ContactMatrix:
     def __call__(self, v: np.ndarray) -> np.ndarray:
         """``K v`` (m) for tractions ``v`` (Pa) on the kept elements."""
         self.calls += 1
-        return _matvec(self.matrix, np.ascontiguousarray(v, dtype=np.float64), np.empty(self.size))
+        v = np.ascontiguousarray(v, dtype=np.float64)
+        rows = np.flatnonzero(v)
+        if 10 * rows.size < 9 * self.size:
+            # a vector on few elements (a stick zone, the elements a step changed): only
+            # their rows, read contiguously (the matrix is symmetric)
+            return _matvec_rows(self.matrix, rows, v, np.zeros(self.size))
+        return _matvec(self.matrix, v, np.empty(self.size))
 
 
 @dataclass
@@ -480,6 +534,8 @@ def _mprgp(
     tol: float,
     max_iter: int,
     precondition: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None,
+    g0: np.ndarray | None = None,
+    sparse_updates: bool = False,
 ) -> tuple[np.ndarray, np.ndarray, int, str, int, float]:
     """The MPRGP iteration on gathered vectors (``x`` feasible, modified in place or replaced).
 
@@ -488,6 +544,12 @@ def _mprgp(
     conjugate-gradient steps only (preconditioning in face, Dostal 2009, section 9.8), the
     proportioning test and the expansion step keep the plain gradient, so the iteration's
     monotone decrease and its stopping test are unchanged.
+
+    ``g0``, optional: the gradient ``A x - b`` at the start, when the caller has it (saves a
+    product). ``sparse_updates``: after an expansion the gradient is updated by the product of
+    the change of x (non-zero on the free set only) instead of recomputed from x, so that every
+    product acts on a vector supported on the free set or on the elements released (cheap for
+    :class:`ContactMatrix`; rounding accumulates as in the conjugate-gradient updates).
 
     Returns ``(x, g, status, message, nit, residual)``.
     """
@@ -502,7 +564,7 @@ def _mprgp(
 
     if x.size == 0:
         return x, np.zeros(0), 0, "converged", 0, 0.0
-    g = a_of(x) - b
+    g = a_of(x) - b if g0 is None else g0
 
     if np.all(np.isinf(lo)) and np.all(np.isinf(hi)):
         p = g.copy()
@@ -596,6 +658,7 @@ def _mprgp(
                 p[~free] = 0.0
             else:
                 x_cg = x - a_cg * p if precondition is not None else None
+                x_old, g_old = (x.copy(), g.copy()) if sparse_updates else (x, g)
                 x -= a_f * p
                 g -= a_f * ap
                 done = False
@@ -604,14 +667,18 @@ def _mprgp(
                     # every element that step pushes out at once; kept when it lowers the
                     # energy 1/2 x.(g - b) below the feasible half step's, else the expansion
                     x_try = np.clip(x_cg, lo, hi)
-                    g_try = a_of(x_try) - b
+                    if sparse_updates:
+                        g_try = g_old + a_of(x_try - x_old)
+                    else:
+                        g_try = a_of(x_try) - b
                     if float(x_try @ (g_try - b)) <= float(x @ (g - b)):
                         x, g = x_try, g_try
                         done = True
                 if not done:
                     phi, _, _ = parts(x, g)
+                    x_half = x
                     x = np.clip(x - alpha_bar * phi, lo, hi)
-                    g = a_of(x) - b
+                    g = g + a_of(x - x_half) if sparse_updates else a_of(x) - b
                 phi, beta, free = parts(x, g)
                 p = direction(phi, free)
         else:
