@@ -24,7 +24,11 @@ Dostal's MPRGP (modified proportioning with reduced gradient projections; Dostal
 they stay feasible; a step that would cross a bound is cut there and followed by a projected
 gradient step of length 1/||K|| (the expansion, which binds elements); elements at a bound whose
 gradient points inward are released by a proportioning step when that gradient outweighs the
-free one. Each step costs one FFT convolution (two for an expansion). No preconditioner.
+free one. Each step costs one FFT convolution (two for an expansion). :func:`solve_tangential`
+is not preconditioned; the shear curve of a rough surface
+(:func:`asperity.bem.rough_shear.shear_curve`), which keeps one contact set for many steps, works
+on that set only, with the operator as a dense matrix there (:class:`ContactMatrix`) and the
+conjugate-gradient steps preconditioned by junction (:class:`JunctionPreconditioner`).
 
 Convergence residual (the ``tol`` knob), as the normal solver's: the rms of the projected
 gradient (m: stick violation on free elements, wrong-signed slip on bound ones) times the pixel
@@ -103,6 +107,10 @@ class ShearOptions:
                 "ShearOptions: dense_limit_bytes must be an integer >= 0 (bytes), got "
                 f"{self.dense_limit_bytes!r}"
             )
+        if not isinstance(self.precondition, (bool, np.bool_)):
+            raise BemInputError(
+                f"ShearOptions: precondition must be True or False, got {self.precondition!r}"
+            )
         if not (isinstance(self.tol, (int, float)) and 1e-14 <= self.tol <= 1e-2):
             raise BemInputError(f"ShearOptions: tol must be in [1e-14, 1e-2], got {self.tol!r}")
         if self.max_iter is not None and not (
@@ -170,16 +178,19 @@ class TangentialOperator:
         self.conv = Convolution(mult, grid, backend=fft_backend, threads=threads)
         self._buf = self.conv.zeros()
         self._out = self.conv.zeros()
+        self._kernel: np.ndarray | None = None
         self.calls = 0
 
     def kernel(self) -> np.ndarray:
         """The real-space kernel (m/Pa) on the height-map grid: the response to a unit traction
         (1 Pa) on element (0, 0), i.e. the displacement at offsets ``(i, j)`` pixels (modulo the
         grid when periodic; for a free grid the offsets ``(-i, j)``, ``(i, -j)`` have the same
-        value: both kernels of this module are even in x and in y). One convolution."""
-        impulse = np.zeros(self.shape)
-        impulse[0, 0] = 1.0
-        return self(impulse)
+        value: both kernels of this module are even in x and in y). One convolution, kept."""
+        if self._kernel is None:
+            impulse = np.zeros(self.shape)
+            impulse[0, 0] = 1.0
+            self._kernel = self(impulse)
+        return self._kernel
 
     def __call__(self, q: np.ndarray) -> np.ndarray:
         """Displacement (m) of the tractions ``q`` (Pa) on the height-map grid (a new array)."""
@@ -331,6 +342,8 @@ class JunctionPreconditioner:
         _, starts = np.unique(labels[order], return_index=True)
         groups = np.split(order, starts[1:])
         self.groups = [grp for grp in groups if 1 < grp.size]
+        self._order = np.concatenate(self.groups) if self.groups else np.zeros(0, dtype=int)
+        self._starts = np.cumsum([0] + [g.size for g in self.groups[:-1]]).astype(np.intp)
         self.blocks = [
             kernel_block(kernel, ix[g], iy[g], ix[g], iy[g], periodic=periodic)
             if g.size <= max_block
@@ -345,11 +358,16 @@ class JunctionPreconditioner:
         from scipy.linalg.lapack import dpotrf, dpotrs  # deferred: scipy.linalg on first use
 
         z = phi / self.diagonal
-        for j, (members, block) in enumerate(zip(self.groups, self.blocks, strict=True)):
-            f = free[members]
-            n_f = int(np.count_nonzero(f))
-            if n_f < 2 or block is None:
+        # free elements per junction in one pass; junctions with fewer than two are diagonal
+        if not self.groups:
+            return z
+        counts = np.add.reduceat(free[self._order].astype(np.intp), self._starts)
+        for j in np.flatnonzero(counts >= 2):
+            members, block = self.groups[j], self.blocks[j]
+            if block is None:
                 continue
+            f = free[members]
+            n_f = int(counts[j])
             cached = self._factors.get(j)
             if (
                 cached is None
