@@ -251,14 +251,55 @@ def _fill_matrix(kernel, ix, iy, periodic, out):  # pragma: no cover - compiled
         for b in range(n):
             di = ix[a] - ix[b]
             dj = iy[a] - iy[b]
-            if periodic:
-                di %= nx
-                dj %= ny
-            else:
-                di = abs(di)
-                dj = abs(dj)
+            if di < 0:
+                di = di + nx if periodic else -di
+            if dj < 0:
+                dj = dj + ny if periodic else -dj
             out[a, b] = kernel[di, dj]
     return out
+
+
+@njit(cache=True, fastmath=False)
+def _cholesky(a):  # pragma: no cover - compiled
+    """Lower Cholesky factor L of the symmetric positive definite ``a`` (a new array; rows of L
+    read contiguously), and 0, or the failing column + 1 when ``a`` is not positive definite.
+
+    One thread, as :func:`_matvec` (LAPACK's threads wait on each other on a shared machine:
+    a 250^2 factorisation and solve measured 64 ms under load 20)."""
+    n = a.shape[0]
+    low = np.zeros((n, n))
+    for j in range(n):
+        s = a[j, j]
+        for k in range(j):
+            s -= low[j, k] * low[j, k]
+        if not s > 0.0:
+            return low, j + 1
+        d = np.sqrt(s)
+        low[j, j] = d
+        for i in range(j + 1, n):
+            t = a[i, j]
+            for k in range(j):
+                t -= low[i, k] * low[j, k]
+            low[i, j] = t / d
+    return low, 0
+
+
+@njit(cache=True, fastmath=False)
+def _cholesky_solve(low, b):  # pragma: no cover - compiled
+    """``z`` with ``L L^T z = b`` for the factor of :func:`_cholesky` (rows read contiguously)."""
+    n = b.size
+    y = b.copy()
+    for i in range(n):
+        t = y[i]
+        for k in range(i):
+            t -= low[i, k] * y[k]
+        y[i] = t / low[i, i]
+    for i in range(n - 1, -1, -1):
+        y[i] /= low[i, i]
+        zi = y[i]
+        for k in range(i):
+            y[k] -= zi * low[i, k]
+    return y
 
 
 def kernel_block(
@@ -355,8 +396,6 @@ class JunctionPreconditioner:
 
     def __call__(self, phi: np.ndarray, free: np.ndarray) -> np.ndarray:
         """``M^-1 phi`` (Pa) for the free gradient ``phi`` (m, zero off ``free``)."""
-        from scipy.linalg.lapack import dpotrf, dpotrs  # deferred: scipy.linalg on first use
-
         z = phi / self.diagonal
         # free elements per junction in one pass; junctions with fewer than two are diagonal
         if not self.groups:
@@ -374,18 +413,18 @@ class JunctionPreconditioner:
                 or n_f < (1.0 - self.refactor_fraction) * cached[2]
                 or bool(np.any(f & ~cached[0]))
             ):
-                factor, info = dpotrf(block[np.ix_(f, f)], lower=1, clean=0)
+                factor, info = _cholesky(np.ascontiguousarray(block[np.ix_(f, f)]))
                 if info != 0:
                     raise BemInputError(
                         f"JunctionPreconditioner: the block of junction {j} is not positive "
-                        f"definite (LAPACK dpotrf info {info})"
+                        f"definite (Cholesky fails at its free element {info - 1})"
                     )
                 cached = (f, factor, n_f)
                 self._factors[j] = cached
                 self.factorisations += 1
             # the factor of a superset F' of the free set: phi is 0 on F' \ F, and the
             # restriction of K[F', F']^-1 to F is symmetric positive definite
-            sol, _ = dpotrs(cached[1], phi[members[cached[0]]], lower=1)
+            sol = _cholesky_solve(cached[1], np.ascontiguousarray(phi[members[cached[0]]]))
             z[members[f]] = sol[f[cached[0]]]
         return z
 

@@ -65,6 +65,7 @@ def caps_case():
 
 def _curve(case, **options):
     h, dx, force, pre, d_t = case
+    options.setdefault("tol", 1e-8)
     return shear_curve(
         h,
         dx,
@@ -74,20 +75,20 @@ def _curve(case, **options):
         d_t,
         shear_strength=TAU0,
         preload=pre,
-        options=ShearOptions(tol=1e-8, **options),
+        options=ShearOptions(**options),
     )
 
 
 def test_preconditioner_cuts_the_iterations(caps_case):
-    # regression guard: four junctions of ~250 elements; the plain MPRGP needed 276 iterations
-    # over the 20 steps, the junction-preconditioned one 65 (measured)
-    plain = _curve(caps_case, precondition=False)
-    fast = _curve(caps_case)
+    # regression guard: four junctions of ~250 elements; at tol 1e-6 the plain MPRGP needed 222
+    # iterations over the 20 steps, the junction-preconditioned one 55 (measured)
+    plain = _curve(caps_case, tol=1e-6, precondition=False, dense_limit_bytes=0)
+    fast = _curve(caps_case, tol=1e-6)
     assert plain.success and fast.success
-    assert plain.nit.sum() >= 200
-    assert fast.nit.sum() <= 100
+    assert plain.nit.sum() >= 150
+    assert fast.nit.sum() <= 80
     scale = TAU0 * fast.real_area[0]
-    assert np.max(np.abs(fast.tangential_force - plain.tangential_force)) < 1e-6 * scale
+    assert np.max(np.abs(fast.tangential_force - plain.tangential_force)) < 1e-5 * scale
     assert fast.sliding[-1] and not fast.sliding[0]
 
 
