@@ -9,7 +9,15 @@ pressure and the contact set of the preload hold through the whole sweep):
 * each contact element sticks (moves with the flat, keeping its slip) or slides carrying its
   bound: the paper's constant shear strength tau_0 (E:Hertz_theory) or Coulomb mu p;
 * each step carries the slip history and is warm-started from the tractions extrapolated
-  linearly from the two previous steps (exact for elements that keep sticking).
+  linearly from the two previous steps, the preload (delta_T = 0, q = 0) counting as one (exact
+  for elements that keep sticking);
+* the contact set is held, so every step works on its elements only: the Cerruti operator as a
+  dense matrix there (:class:`asperity.bem.shear.ContactMatrix`, when it fits in
+  ``ShearOptions.dense_limit_bytes``; FFT convolutions otherwise), and MPRGP preconditioned by
+  junction (:class:`asperity.bem.shear.JunctionPreconditioner`, ``ShearOptions.precondition``).
+  Both change only the cost: the curve is the one of :func:`asperity.bem.shear.solve_tangential`
+  step by step, to the tolerance (``tests/bem/test_bem_shear_speed.py``,
+  ``benchmarks/bem_shear.py``).
 
 Junctions are the connected clusters of the contact set (4-connected, merged across the periodic
 boundary); a junction slides when none of its elements sticks; the interface slides when every
@@ -103,7 +111,8 @@ class ShearCurve:
     nit : ndarray of int
         Iterations of each step.
     convolutions : ndarray of int
-        FFT convolutions of each step.
+        Operator products of each step (FFT convolutions, or products by the dense matrix on
+        the contact set: ``ShearOptions.dense_limit_bytes``).
     seconds : ndarray
         Wall time of each step (s).
     normal_seconds : float
@@ -274,7 +283,9 @@ def shear_curve(
     area = dx * dy
     slip = np.zeros(idx.size)
     rows: list[tuple] = []
-    prev: tuple[float, np.ndarray] | None = None
+    # the preload is the state delta_T = 0, q = 0 (no slip): the first step after it extrapolates
+    # from there (exact while every element sticks, the problem being linear then)
+    prev: tuple[float, np.ndarray] | None = (0.0, np.zeros(idx.size))
     older: tuple[float, np.ndarray] | None = None
     q = np.zeros(idx.size)
     u = np.zeros(idx.size)  # u_x = K q on the contact set (m)
