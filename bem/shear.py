@@ -86,7 +86,7 @@ class ShearOptions:
         shear_curve`) apply the operator as a dense matrix on that set (:class:`ContactMatrix`,
         ``8 n_c^2`` bytes) when it fits in this many bytes, and by FFT convolutions of the whole
         grid otherwise; 0: always FFT. Default 256 MiB: up to 5792 elements (the default
-        job's 1000^2 map at 2.08 N has 4918).
+        job's 1000^2 map has 4918 at 2.08 N, 7451 at 3.12 N).
     precondition : bool
         Those solvers precondition the conjugate-gradient steps by junction
         (:class:`JunctionPreconditioner`); False: plain MPRGP.
