@@ -82,8 +82,9 @@ class ShearOptions:
         pyFFTW on a busy 2-core machine: 0.4 ms per convolution on one thread against 59 ms on
         two, OpenMP threads waiting on each other), all available cores above.
     dense_limit_bytes : int
-        Solvers that keep one contact set for many solves (:func:`asperity.bem.rough_shear.
-        shear_curve`) apply the operator as a dense matrix on that set (:class:`ContactMatrix`,
+        Solvers that keep one contact set for many solves
+        (:func:`asperity.bem.rough_shear.shear_curve`) apply the operator as a dense matrix on
+        that set (:class:`ContactMatrix`,
         ``8 n_c^2`` bytes) when it fits in this many bytes, and by FFT convolutions of the whole
         grid otherwise; 0: always FFT. Default 256 MiB: up to 5792 elements (the default
         job's 1000^2 map has 4918 at 2.08 N, 7451 at 3.12 N).
@@ -597,10 +598,14 @@ def _mprgp(
     """The MPRGP iteration on gathered vectors (``x`` feasible, modified in place or replaced).
 
     ``precondition(phi, free)``, optional: an approximation of ``A_FF^-1 phi`` on the free set
-    (zero elsewhere), symmetric positive definite for a fixed free set; it is used in the
-    conjugate-gradient steps only (preconditioning in face, Dostal 2009, section 9.8), the
-    proportioning test and the expansion step keep the plain gradient, so the iteration's
-    monotone decrease and its stopping test are unchanged.
+    (zero elsewhere), symmetric positive definite for a fixed free set. It is used in the
+    conjugate-gradient steps (preconditioning in face, as in Dostal's Optimal Quadratic
+    Programming Algorithms, Springer 2009); the proportioning test, the proportioning step and
+    the stopping test keep the plain gradient. With it, a step cut by a bound first tries the
+    projection onto the box of the whole conjugate-gradient step (it binds at once every element
+    that step pushes out, where the cut step binds one): kept when its energy
+    ``1/2 x.(g - b)`` is at most the cut step's, else the usual expansion follows, so the
+    energy still decreases at every iteration.
 
     ``g0``, optional: the gradient ``A x - b`` at the start, when the caller has it (saves a
     product). ``sparse_updates``: after an expansion the gradient is updated by the product of
