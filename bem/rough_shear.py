@@ -9,7 +9,15 @@ pressure and the contact set of the preload hold through the whole sweep):
 * each contact element sticks (moves with the flat, keeping its slip) or slides carrying its
   bound: the paper's constant shear strength tau_0 (E:Hertz_theory) or Coulomb mu p;
 * each step carries the slip history and is warm-started from the tractions extrapolated
-  linearly from the two previous steps (exact for elements that keep sticking).
+  linearly from the two previous steps, the preload (delta_T = 0, q = 0) counting as one (exact
+  for elements that keep sticking);
+* the contact set is held, so every step works on its elements only: the Cerruti operator as a
+  dense matrix there (:class:`asperity.bem.shear.ContactMatrix`, when it fits in
+  ``ShearOptions.dense_limit_bytes``; FFT convolutions otherwise), and MPRGP preconditioned by
+  junction (:class:`asperity.bem.shear.JunctionPreconditioner`, ``ShearOptions.precondition``).
+  Both change only the cost: the curve is the one of :func:`asperity.bem.shear.solve_tangential`
+  step by step, to the tolerance (``tests/bem/test_bem_shear_speed.py``,
+  ``benchmarks/bem_shear.py``).
 
 Junctions are the connected clusters of the contact set (4-connected, merged across the periodic
 boundary); a junction slides when none of its elements sticks; the interface slides when every
@@ -35,7 +43,14 @@ from asperity.bem.contact import solve_contact
 from asperity.bem.errors import BemInputError
 from asperity.bem.options import SolverOptions
 from asperity.bem.result import ContactResult
-from asperity.bem.shear import ShearOptions, TangentialOperator, solve_tangential, traction_bound
+from asperity.bem.shear import (
+    ContactMatrix,
+    JunctionPreconditioner,
+    ShearOptions,
+    TangentialOperator,
+    _mprgp,
+    traction_bound,
+)
 from asperity.bem.tangential_influence import check_poisson
 
 __all__ = ["ShearCurve", "label_junctions", "shear_curve"]
@@ -96,7 +111,8 @@ class ShearCurve:
     nit : ndarray of int
         Iterations of each step.
     convolutions : ndarray of int
-        FFT convolutions of each step.
+        Operator products of each step (FFT convolutions, or products by the dense matrix on
+        the contact set: ``ShearOptions.dense_limit_bytes``).
     seconds : ndarray
         Wall time of each step (s).
     normal_seconds : float
@@ -230,55 +246,106 @@ def shear_curve(
         fft_backend=opts.fft_backend,
         threads=opts.threads,
     )
+    # the contact set is held: every step works on its elements only (gathered vectors), with
+    # the operator as a dense matrix on them when it fits (ShearOptions.dense_limit_bytes)
+    idx = np.flatnonzero(contact)
+    if periodic and idx.size == contact.size:
+        raise BemInputError(
+            "contact: covers the whole periodic cell; the periodic tangential operator has no "
+            "stiffness for a uniform traction, so the problem is singular: use a free domain"
+        )
+    if idx.size and ContactMatrix.nbytes(idx.size) <= opts.dense_limit_bytes:
+        apply = ContactMatrix(op, contact)
+    else:
+        full = np.zeros(h.shape)
+        flat = full.reshape(-1)
+
+        def apply(v: np.ndarray) -> np.ndarray:
+            flat[idx] = v
+            return op(full).reshape(-1)[idx]
+
+    pre = None
+    if opts.precondition and idx.size:
+        pre = JunctionPreconditioner(
+            op.kernel(), idx, labels.reshape(-1)[idx], h.shape, periodic=periodic
+        )
+    calls = 0
+
+    def counted(v: np.ndarray) -> np.ndarray:
+        nonlocal calls
+        calls += 1
+        return apply(v)
+
+    q_max = bound.reshape(-1)[idx]
+    lab = labels.reshape(-1)[idx]
+    scale = e_star / math.sqrt(dx * dy)
+    max_iter = opts.max_iterations(h.shape)
+    area = dx * dy
+    slip = np.zeros(idx.size)
     rows: list[tuple] = []
-    prev = None
-    older = None
+    # the preload is the state delta_T = 0, q = 0 (no slip): the first step after it extrapolates
+    # from there (exact while every element sticks, the problem being linear then)
+    prev: tuple[float, np.ndarray] | None = (0.0, np.zeros(idx.size))
+    older: tuple[float, np.ndarray] | None = None
+    q = np.zeros(idx.size)
+    u = np.zeros(idx.size)  # u_x = K q on the contact set (m)
     for value in d_t:
-        guess = None
+        t0 = time.perf_counter()
+        guess = q
         if prev is not None and older is not None:
             # linear extrapolation of the tractions: exact for elements that keep sticking
             # (the problem is linear while no element changes status); clipped to the bounds
-            span = prev.tangential_displacement - older.tangential_displacement
+            span = prev[0] - older[0]
             if span != 0.0:
-                rate = (float(value) - prev.tangential_displacement) / span
-                guess = prev.traction + rate * (prev.traction - older.traction)
-        elif prev is not None:
-            guess = prev.traction
-        step = solve_tangential(
-            contact,
-            bound,
-            dx,
-            dy,
-            e_star,
-            float(value),
-            slip=None if prev is None else prev.slip,
-            initial=guess,
-            periodic=periodic,
-            options=opts,
-            operator=op,
+                guess = prev[1] + (float(value) - prev[0]) / span * (prev[1] - older[1])
+        calls = 0
+        rhs = float(value) - slip
+        start = np.clip(guess, -q_max, q_max)
+        # the gradient at the guess from the last step's displacements and the product of the
+        # tractions' change (zero where the elements keep slipping at their bound)
+        u = u + counted(start - q) if (start - q).any() else u
+        q, g, status, _, nit, _ = _mprgp(
+            counted,
+            rhs,
+            -q_max,
+            q_max,
+            start,
+            norm=op.norm,
+            scale=scale,
+            tol=opts.tol,
+            max_iter=max_iter,
+            precondition=pre,
+            g0=u - rhs,
+            sparse_updates=True,
         )
-        sticking = np.unique(labels[step.stick])
-        n_stick = int(np.count_nonzero(sticking))
+        u = g + rhs
+        stick = np.abs(q) < q_max
+        # slipping elements take their new slip delta_T - u_x, u_x = g + rhs (no convolution)
+        slip = np.where(stick, slip, float(value) - u)
+        n_stick = int(np.count_nonzero(np.unique(lab[stick])))
+        stick_area = float(np.count_nonzero(stick)) * area
         rows.append(
             (
                 float(value),
-                step.tangential_force,
+                float(q.sum() * area),
                 normal.normal_force,
                 normal.real_area,
-                step.stick_area,
-                step.slip_area,
+                stick_area,
+                (idx.size - np.count_nonzero(stick)) * area,
                 n_junctions,
                 n_junctions - n_stick,
                 n_stick == 0,
-                step.success,
-                step.nit,
-                step.convolutions,
-                step.seconds,
+                status == 0,
+                nit,
+                calls,
+                time.perf_counter() - t0,
             )
         )
-        older, prev = prev, step
+        older, prev = prev, (float(value), q)
         if stop_when_sliding and n_stick == 0:
             break
+    final = np.zeros(h.shape)
+    final.reshape(-1)[idx] = q
     cols = list(zip(*rows, strict=True))
     return ShearCurve(
         tangential_displacement=np.array(cols[0]),
@@ -295,5 +362,5 @@ def shear_curve(
         convolutions=np.array(cols[11], dtype=int),
         seconds=np.array(cols[12]),
         normal_seconds=normal_seconds,
-        final_traction=prev.traction,
+        final_traction=final,
     )

@@ -24,7 +24,11 @@ Dostal's MPRGP (modified proportioning with reduced gradient projections; Dostal
 they stay feasible; a step that would cross a bound is cut there and followed by a projected
 gradient step of length 1/||K|| (the expansion, which binds elements); elements at a bound whose
 gradient points inward are released by a proportioning step when that gradient outweighs the
-free one. Each step costs one FFT convolution (two for an expansion). No preconditioner.
+free one. Each step costs one FFT convolution (two for an expansion). :func:`solve_tangential`
+is not preconditioned; the shear curve of a rough surface
+(:func:`asperity.bem.rough_shear.shear_curve`), which keeps one contact set for many steps, works
+on that set only, with the operator as a dense matrix there (:class:`ContactMatrix`) and the
+conjugate-gradient steps preconditioned by junction (:class:`JunctionPreconditioner`).
 
 Convergence residual (the ``tol`` knob), as the normal solver's: the rms of the projected
 gradient (m: stick violation on free elements, wrong-signed slip on bound ones) times the pixel
@@ -39,6 +43,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 from asperity.bem.errors import BemInputError
 from asperity.bem.fft_backend import Convolution, default_threads
@@ -47,10 +52,13 @@ from asperity.bem.tangential_influence import check_poisson, tangential_multipli
 
 __all__ = [
     "BoxCGResult",
+    "ContactMatrix",
+    "JunctionPreconditioner",
     "ShearOptions",
     "TangentialOperator",
     "TangentialResult",
     "box_conjugate_gradients",
+    "kernel_block",
     "solve_tangential",
     "traction_bound",
 ]
@@ -73,14 +81,37 @@ class ShearOptions:
         FFT threads; None: one thread on FFT grids below 512^2 points (measured on 200^2 with
         pyFFTW on a busy 2-core machine: 0.4 ms per convolution on one thread against 59 ms on
         two, OpenMP threads waiting on each other), all available cores above.
+    dense_limit_bytes : int
+        Solvers that keep one contact set for many solves
+        (:func:`asperity.bem.rough_shear.shear_curve`) apply the operator as a dense matrix on
+        that set (:class:`ContactMatrix`,
+        ``8 n_c^2`` bytes) when it fits in this many bytes, and by FFT convolutions of the whole
+        grid otherwise; 0: always FFT. Default 256 MiB: up to 5792 elements (the default
+        job's 1000^2 map has 4918 at 2.08 N, 7451 at 3.12 N).
+    precondition : bool
+        Those solvers precondition the conjugate-gradient steps by junction
+        (:class:`JunctionPreconditioner`); False: plain MPRGP.
     """
 
     tol: float = 1e-8
     max_iter: int | None = None
     fft_backend: str = "auto"
     threads: int | None = None
+    dense_limit_bytes: int = 256 * 2**20
+    precondition: bool = True
 
     def __post_init__(self) -> None:
+        if not (
+            isinstance(self.dense_limit_bytes, (int, np.integer)) and self.dense_limit_bytes >= 0
+        ):
+            raise BemInputError(
+                "ShearOptions: dense_limit_bytes must be an integer >= 0 (bytes), got "
+                f"{self.dense_limit_bytes!r}"
+            )
+        if not isinstance(self.precondition, (bool, np.bool_)):
+            raise BemInputError(
+                f"ShearOptions: precondition must be True or False, got {self.precondition!r}"
+            )
         if not (isinstance(self.tol, (int, float)) and 1e-14 <= self.tol <= 1e-2):
             raise BemInputError(f"ShearOptions: tol must be in [1e-14, 1e-2], got {self.tol!r}")
         if self.max_iter is not None and not (
@@ -148,7 +179,19 @@ class TangentialOperator:
         self.conv = Convolution(mult, grid, backend=fft_backend, threads=threads)
         self._buf = self.conv.zeros()
         self._out = self.conv.zeros()
+        self._kernel: np.ndarray | None = None
         self.calls = 0
+
+    def kernel(self) -> np.ndarray:
+        """The real-space kernel (m/Pa) on the height-map grid: the response to a unit traction
+        (1 Pa) on element (0, 0), i.e. the displacement at offsets ``(i, j)`` pixels (modulo the
+        grid when periodic; for a free grid the offsets ``(-i, j)``, ``(i, -j)`` have the same
+        value: both kernels of this module are even in x and in y). One convolution, kept."""
+        if self._kernel is None:
+            impulse = np.zeros(self.shape)
+            impulse[0, 0] = 1.0
+            self._kernel = self(impulse)
+        return self._kernel
 
     def __call__(self, q: np.ndarray) -> np.ndarray:
         """Displacement (m) of the tractions ``q`` (Pa) on the height-map grid (a new array)."""
@@ -160,6 +203,294 @@ class TangentialOperator:
             self._buf[:nx, :ny] = q
         self.conv(self._buf, self._out)
         return self._out[: self.shape[0], : self.shape[1]].copy()
+
+
+@njit(cache=True, fastmath=False)
+def _matvec(matrix, v, out):  # pragma: no cover - compiled
+    """``out = matrix @ v`` on one thread (four partial sums per row).
+
+    BLAS would use every core: on a shared machine its threads wait on each other (a 1313^2
+    product measured 2.2 ms on one thread against 29 ms on two, load 12 on 2 cores), as the FFT
+    threads do (:class:`ShearOptions`)."""
+    n, k = matrix.shape
+    k4 = k - k % 4
+    for i in range(n):
+        a0 = 0.0
+        a1 = 0.0
+        a2 = 0.0
+        a3 = 0.0
+        for j in range(0, k4, 4):
+            a0 += matrix[i, j] * v[j]
+            a1 += matrix[i, j + 1] * v[j + 1]
+            a2 += matrix[i, j + 2] * v[j + 2]
+            a3 += matrix[i, j + 3] * v[j + 3]
+        for j in range(k4, k):
+            a0 += matrix[i, j] * v[j]
+        out[i] = (a0 + a1) + (a2 + a3)
+    return out
+
+
+@njit(cache=True, fastmath=False)
+def _matvec_rows(matrix, rows, v, out):  # pragma: no cover - compiled
+    """``out += matrix @ v`` for a symmetric ``matrix`` and ``v`` zero off ``rows``: the sum of
+    ``v[r] matrix[r, :]`` (contiguous rows), ``len(rows) n`` operations."""
+    n = matrix.shape[1]
+    for r in rows:
+        s = v[r]
+        for k in range(n):
+            out[k] += s * matrix[r, k]
+    return out
+
+
+@njit(cache=True, fastmath=False)
+def _fill_matrix(kernel, ix, iy, periodic, out):  # pragma: no cover - compiled
+    """``out[a, b] = kernel[offset(ix[a] - ix[b]), offset(iy[a] - iy[b])]`` (as
+    :func:`kernel_block` for the same elements on both sides)."""
+    nx, ny = kernel.shape
+    n = ix.size
+    for a in range(n):
+        for b in range(n):
+            di = ix[a] - ix[b]
+            dj = iy[a] - iy[b]
+            if di < 0:
+                di = di + nx if periodic else -di
+            if dj < 0:
+                dj = dj + ny if periodic else -dj
+            out[a, b] = kernel[di, dj]
+    return out
+
+
+@njit(cache=True, fastmath=False)
+def _cholesky(a):  # pragma: no cover - compiled
+    """Lower Cholesky factor L of the symmetric positive definite ``a`` (a new array; rows of L
+    read contiguously), and 0, or the failing column + 1 when ``a`` is not positive definite.
+
+    One thread, as :func:`_matvec` (LAPACK's threads wait on each other on a shared machine:
+    a 250^2 factorisation and solve measured 64 ms under load 20)."""
+    n = a.shape[0]
+    low = np.zeros((n, n))
+    for j in range(n):
+        s = a[j, j]
+        for k in range(j):
+            s -= low[j, k] * low[j, k]
+        if not s > 0.0:
+            return low, j + 1
+        d = np.sqrt(s)
+        low[j, j] = d
+        for i in range(j + 1, n):
+            t = a[i, j]
+            for k in range(j):
+                t -= low[i, k] * low[j, k]
+            low[i, j] = t / d
+    return low, 0
+
+
+@njit(cache=True, fastmath=False)
+def _cholesky_solve(low, b):  # pragma: no cover - compiled
+    """``z`` with ``L L^T z = b`` for the factor of :func:`_cholesky` (rows read contiguously)."""
+    n = b.size
+    y = b.copy()
+    for i in range(n):
+        t = y[i]
+        for k in range(i):
+            t -= low[i, k] * y[k]
+        y[i] = t / low[i, i]
+    for i in range(n - 1, -1, -1):
+        y[i] /= low[i, i]
+        zi = y[i]
+        for k in range(i):
+            y[k] -= zi * low[i, k]
+    return y
+
+
+def kernel_block(
+    kernel: np.ndarray,
+    ix_a: np.ndarray,
+    iy_a: np.ndarray,
+    ix_b: np.ndarray,
+    iy_b: np.ndarray,
+    *,
+    periodic: bool,
+) -> np.ndarray:
+    """Entries ``K[a, b]`` (m/Pa) between elements at pixels ``(ix_a, iy_a)`` and
+    ``(ix_b, iy_b)`` from a real-space kernel of :meth:`TangentialOperator.kernel` (offsets taken
+    modulo the grid when periodic, by absolute value when free)."""
+    di = ix_a[:, None] - ix_b[None, :]
+    dj = iy_a[:, None] - iy_b[None, :]
+    if periodic:
+        di %= kernel.shape[0]
+        dj %= kernel.shape[1]
+    else:
+        np.abs(di, out=di)
+        np.abs(dj, out=dj)
+    return kernel[di, dj]
+
+
+class JunctionPreconditioner:
+    """Block-Jacobi preconditioner of the tangential operator on the free set, one block per
+    junction (connected contact cluster).
+
+    On a rough surface the junctions are far apart compared with their size, so the operator
+    restricted to the contact set is nearly block-diagonal by junction, and its condition number
+    (which grows with the junction's size in elements, as that of the discretised 1/r kernel)
+    is in the blocks. ``M^-1 phi`` solves, for each junction J, ``K[F_J, F_J] z_J = phi_J`` on
+    its free (sticking) elements F_J by a Cholesky factorisation (reused while F_J shrinks a
+    little: ``refactor_fraction``); single
+    free elements and junctions above ``max_block`` free elements take the diagonal
+    ``z = phi / K_00`` instead. Symmetric positive definite for a fixed free set, as
+    :func:`_mprgp` needs.
+
+    Parameters
+    ----------
+    kernel : ndarray
+        Real-space kernel (m/Pa), :meth:`TangentialOperator.kernel`.
+    index : ndarray of int
+        Flat indices (C order, on the grid of ``shape``) of the contact elements: the entries of
+        the gathered vectors.
+    labels : ndarray of int
+        The junction of each contact element (same length as ``index``).
+    shape : (int, int)
+        The height-map grid.
+    periodic : bool
+        As the operator.
+    max_block : int
+        Largest block factorised (its cost grows as the cube).
+    refactor_fraction : float
+        A junction's factor is kept while its free set F is a subset of the set F' it was
+        computed on (``M^-1`` on F is then the restriction of ``K[F', F']^-1``, still symmetric
+        positive definite) and has lost at most this fraction of F'; 0: refactor on every
+        change. Under increasing shear the stick zones shrink, so factors are reused.
+    """
+
+    def __init__(
+        self,
+        kernel: np.ndarray,
+        index: np.ndarray,
+        labels: np.ndarray,
+        shape: tuple[int, int],
+        *,
+        periodic: bool,
+        max_block: int = 1500,
+        refactor_fraction: float = 0.25,
+    ) -> None:
+        if not 0.0 <= refactor_fraction < 1.0:
+            raise BemInputError(
+                f"refactor_fraction: expected a number in [0, 1), got {refactor_fraction!r}"
+            )
+        self.refactor_fraction = float(refactor_fraction)
+        ix, iy = np.divmod(np.asarray(index), shape[1])
+        self.diagonal = float(kernel[0, 0])
+        order = np.argsort(labels, kind="stable")
+        _, starts = np.unique(labels[order], return_index=True)
+        groups = np.split(order, starts[1:])
+        self.groups = [grp for grp in groups if 1 < grp.size]
+        self._order = np.concatenate(self.groups) if self.groups else np.zeros(0, dtype=int)
+        self._starts = np.cumsum([0] + [g.size for g in self.groups[:-1]]).astype(np.intp)
+        self.blocks = [
+            kernel_block(kernel, ix[g], iy[g], ix[g], iy[g], periodic=periodic)
+            if g.size <= max_block
+            else None
+            for g in self.groups
+        ]
+        self._factors: dict[int, tuple[bytes, object]] = {}
+        self.factorisations = 0
+
+    def __call__(self, phi: np.ndarray, free: np.ndarray) -> np.ndarray:
+        """``M^-1 phi`` (Pa) for the free gradient ``phi`` (m, zero off ``free``)."""
+        z = phi / self.diagonal
+        # free elements per junction in one pass; junctions with fewer than two are diagonal
+        if not self.groups:
+            return z
+        counts = np.add.reduceat(free[self._order].astype(np.intp), self._starts)
+        for j in np.flatnonzero(counts >= 2):
+            members, block = self.groups[j], self.blocks[j]
+            if block is None:
+                continue
+            f = free[members]
+            n_f = int(counts[j])
+            cached = self._factors.get(j)
+            if (
+                cached is None
+                or n_f < (1.0 - self.refactor_fraction) * cached[2]
+                or bool(np.any(f & ~cached[0]))
+            ):
+                factor, info = _cholesky(np.ascontiguousarray(block[np.ix_(f, f)]))
+                if info != 0:
+                    raise BemInputError(
+                        f"JunctionPreconditioner: the block of junction {j} is not positive "
+                        f"definite (Cholesky fails at its free element {info - 1})"
+                    )
+                cached = (f, factor, n_f)
+                self._factors[j] = cached
+                self.factorisations += 1
+            # the factor of a superset F' of the free set: phi is 0 on F' \ F, and the
+            # restriction of K[F', F']^-1 to F is symmetric positive definite
+            sol = _cholesky_solve(cached[1], np.ascontiguousarray(phi[members[cached[0]]]))
+            z[members[f]] = sol[f[cached[0]]]
+        return z
+
+
+class ContactMatrix:
+    """An operator of this module restricted to a fixed set of elements, as a dense matrix.
+
+    On a rough surface the contact set is a small part of the grid (0.5 % of the default job's
+    map), so ``K`` restricted to it, ``n_c x n_c`` entries, is cheaper to apply than an FFT
+    convolution of the whole grid whenever ``n_c^2`` is below a few times ``nx ny log(nx ny)``
+    (``benchmarks/bem_shear.py`` measures both). The entries are the operator's own real-space
+    kernel, taken from its response to one unit impulse (one convolution), so both
+    representations give the same products up to rounding (``tests/bem/test_bem_shear_speed.py``).
+    Both kernels of this module (Boussinesq's and Cerruti's u_x from q_x) are even in x and in y,
+    which gives the negative offsets of a free (non-periodic) grid.
+
+    Parameters
+    ----------
+    operator : TangentialOperator
+        The operator (tangential or normal, periodic or free) on the height-map grid.
+    mask : ndarray of bool, shape ``operator.shape``
+        The elements kept; vectors are their entries in C order (``np.flatnonzero(mask)``).
+
+    Attributes
+    ----------
+    matrix : ndarray, shape (n_c, n_c)
+        K (m/Pa) between the kept elements.
+    size : int
+        n_c.
+    norm : float
+        An upper bound of the largest eigenvalue (m/Pa): the full operator's.
+    calls : int
+        Products computed.
+    """
+
+    def __init__(self, operator: TangentialOperator, mask: np.ndarray) -> None:
+        mask = np.asarray(mask, dtype=bool)
+        if mask.shape != operator.shape:
+            raise BemInputError(
+                f"mask: expected shape {operator.shape} (the operator's grid), got {mask.shape}"
+            )
+        kernel = operator.kernel()
+        idx = np.flatnonzero(mask)
+        ix, iy = np.divmod(idx, operator.shape[1])
+        n_c = idx.size
+        self.matrix = _fill_matrix(kernel, ix, iy, bool(operator.periodic), np.empty((n_c, n_c)))
+        self.size = n_c
+        self.norm = operator.norm
+        self.calls = 0
+
+    @staticmethod
+    def nbytes(count: int) -> int:
+        """Bytes of the matrix for ``count`` elements (float64)."""
+        return 8 * int(count) * int(count)
+
+    def __call__(self, v: np.ndarray) -> np.ndarray:
+        """``K v`` (m) for tractions ``v`` (Pa) on the kept elements."""
+        self.calls += 1
+        v = np.ascontiguousarray(v, dtype=np.float64)
+        rows = np.flatnonzero(v)
+        if 10 * rows.size < 9 * self.size:
+            # a vector on few elements (a stick zone, the elements a step changed): only
+            # their rows, read contiguously (the matrix is symmetric)
+            return _matvec_rows(self.matrix, rows, v, np.zeros(self.size))
+        return _matvec(self.matrix, v, np.empty(self.size))
 
 
 @dataclass
@@ -188,6 +519,7 @@ def box_conjugate_gradients(
     scale: float,
     tol: float,
     max_iter: int,
+    restricted: Callable[[np.ndarray], np.ndarray] | None = None,
 ) -> BoxCGResult:
     """Minimise ``1/2 x.A x - x.rhs`` over ``lower <= x <= upper`` on ``mask`` (x = 0 off it).
 
@@ -197,37 +529,94 @@ def box_conjugate_gradients(
     units (``residual = rms(g_P) * scale / rms(x)``, 0 when g_P = 0). The iteration works on the
     masked entries only (gathered vectors).
 
+    Parameters
+    ----------
+    restricted : callable, optional
+        ``A`` acting directly on the gathered vectors (the masked entries in C order), e.g. a
+        :class:`ContactMatrix` built for this ``mask``; then ``apply`` is not called.
+
     Returns
     -------
     BoxCGResult
         ``x`` and ``gradient`` (A x - rhs on the mask, 0 off it) as full arrays; status 0:
         converged (residual <= tol); 1: iteration cap; 2: non-finite values or non-positive
-        curvature.
+        curvature. ``convolutions`` counts the operator applications.
     """
     shape = mask.shape
     idx = np.flatnonzero(mask)
-    n_m = max(idx.size, 1)
     lo = np.asarray(lower, dtype=np.float64).ravel()[idx]
     hi = np.asarray(upper, dtype=np.float64).ravel()[idx]
     b = np.asarray(rhs, dtype=np.float64).ravel()[idx]
     x = np.clip(np.asarray(x0, dtype=np.float64).ravel()[idx], lo, hi)
-    full = np.zeros(shape)
-    flat = full.reshape(-1)
-    alpha_bar = 1.0 / norm
     calls = 0
+    if restricted is not None:
+        if getattr(restricted, "size", idx.size) != idx.size:
+            raise BemInputError(
+                f"restricted: built for {restricted.size} elements, the mask has {idx.size}"
+            )
 
-    def a_of(v: np.ndarray) -> np.ndarray:
-        nonlocal calls
-        calls += 1
-        flat[idx] = v
-        return np.asarray(apply(full)).reshape(-1)[idx]
+        def a_of(v: np.ndarray) -> np.ndarray:
+            nonlocal calls
+            calls += 1
+            return restricted(v)
 
-    def finish(status: int, message: str, nit: int, res: float, g: np.ndarray) -> BoxCGResult:
-        xf = np.zeros(shape)
-        xf.reshape(-1)[idx] = x
-        gf = np.zeros(shape)
-        gf.reshape(-1)[idx] = g
-        return BoxCGResult(xf, gf, status == 0, status, message, nit, res, calls)
+    else:
+        full = np.zeros(shape)
+        flat = full.reshape(-1)
+
+        def a_of(v: np.ndarray) -> np.ndarray:
+            nonlocal calls
+            calls += 1
+            flat[idx] = v
+            return np.asarray(apply(full)).reshape(-1)[idx]
+
+    x, g, status, message, nit, res = _mprgp(
+        a_of, b, lo, hi, x, norm=norm, scale=scale, tol=tol, max_iter=max_iter
+    )
+    xf = np.zeros(shape)
+    xf.reshape(-1)[idx] = x
+    gf = np.zeros(shape)
+    gf.reshape(-1)[idx] = g
+    return BoxCGResult(xf, gf, status == 0, status, message, nit, res, calls)
+
+
+def _mprgp(
+    a_of: Callable[[np.ndarray], np.ndarray],
+    b: np.ndarray,
+    lo: np.ndarray,
+    hi: np.ndarray,
+    x: np.ndarray,
+    *,
+    norm: float,
+    scale: float,
+    tol: float,
+    max_iter: int,
+    precondition: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None,
+    g0: np.ndarray | None = None,
+    sparse_updates: bool = False,
+) -> tuple[np.ndarray, np.ndarray, int, str, int, float]:
+    """The MPRGP iteration on gathered vectors (``x`` feasible, modified in place or replaced).
+
+    ``precondition(phi, free)``, optional: an approximation of ``A_FF^-1 phi`` on the free set
+    (zero elsewhere), symmetric positive definite for a fixed free set. It is used in the
+    conjugate-gradient steps (preconditioning in face, as in Dostal's Optimal Quadratic
+    Programming Algorithms, Springer 2009); the proportioning test, the proportioning step and
+    the stopping test keep the plain gradient. With it, a step cut by a bound first tries the
+    projection onto the box of the whole conjugate-gradient step (it binds at once every element
+    that step pushes out, where the cut step binds one): kept when its energy
+    ``1/2 x.(g - b)`` is at most the cut step's, else the usual expansion follows, so the
+    energy still decreases at every iteration.
+
+    ``g0``, optional: the gradient ``A x - b`` at the start, when the caller has it (saves a
+    product). ``sparse_updates``: after an expansion the gradient is updated by the product of
+    the change of x (non-zero on the free set only) instead of recomputed from x, so that every
+    product acts on a vector supported on the free set or on the elements released (cheap for
+    :class:`ContactMatrix`; rounding accumulates as in the conjugate-gradient updates).
+
+    Returns ``(x, g, status, message, nit, residual)``.
+    """
+    n_m = max(x.size, 1)
+    alpha_bar = 1.0 / norm
 
     def residual(gp2: float) -> float:
         if gp2 == 0.0:
@@ -235,9 +624,10 @@ def box_conjugate_gradients(
         xr = math.sqrt(float(x @ x) / n_m)
         return math.sqrt(gp2 / n_m) * scale / xr if xr > 0 else math.inf
 
-    if idx.size == 0:
-        return finish(0, "converged", 0, 0.0, np.zeros(0))
-    g = a_of(x) - b
+    if x.size == 0:
+        return x, np.zeros(0), 0, "converged", 0, 0.0
+    g = a_of(x) - b if g0 is None else g0
+
     if np.all(np.isinf(lo)) and np.all(np.isinf(hi)):
         p = g.copy()
         gg = float(g @ g)
@@ -245,17 +635,22 @@ def box_conjugate_gradients(
         nit = 0
         while True:
             if not math.isfinite(res) and res != math.inf:
-                return finish(2, "non-finite values in the iteration", nit, res, g)
+                return x, g, 2, "non-finite values in the iteration", nit, res
             if res <= tol:
-                return finish(0, "converged", nit, res, g)
+                return x, g, 0, "converged", nit, res
             if nit >= max_iter:
-                return finish(1, "iteration limit reached", nit, res, g)
+                return x, g, 1, "iteration limit reached", nit, res
             nit += 1
             ap = a_of(p)
             pap = float(p @ ap)
             if not pap > 0.0:
-                return finish(
-                    2, "non-positive curvature (operator not positive definite)", nit, res, g
+                return (
+                    x,
+                    g,
+                    2,
+                    "non-positive curvature (operator not positive definite)",
+                    nit,
+                    res,
                 )
             a = gg / pap
             x -= a * p
@@ -280,17 +675,20 @@ def box_conjugate_gradients(
             up = np.where(p < 0, (x - hi) / p, np.inf)
         return float(min(down.min(), up.min()))
 
+    def direction(phi: np.ndarray, free: np.ndarray) -> np.ndarray:
+        return phi.copy() if precondition is None else precondition(phi, free)
+
     phi, beta, free = parts(x, g)
-    p = phi.copy()
+    p = direction(phi, free)
     nit = 0
     res = residual(float(phi @ phi + beta @ beta))
     while True:
         if not math.isfinite(res) and res != math.inf:
-            return finish(2, "non-finite values in the iteration", nit, res, g)
+            return x, g, 2, "non-finite values in the iteration", nit, res
         if res <= tol:
-            return finish(0, "converged", nit, res, g)
+            return x, g, 0, "converged", nit, res
         if nit >= max_iter:
-            return finish(1, "iteration limit reached", nit, res, g)
+            return x, g, 1, "iteration limit reached", nit, res
         nit += 1
         with np.errstate(divide="ignore", invalid="ignore"):
             phi_red = np.where(
@@ -302,8 +700,13 @@ def box_conjugate_gradients(
             ap = a_of(p)
             pap = float(p @ ap)
             if not pap > 0.0:
-                return finish(
-                    2, "non-positive curvature (operator not positive definite)", nit, res, g
+                return (
+                    x,
+                    g,
+                    2,
+                    "non-positive curvature (operator not positive definite)",
+                    nit,
+                    res,
                 )
             a_cg = float(g @ p) / pap
             a_f = max_step(x, p)
@@ -311,30 +714,53 @@ def box_conjugate_gradients(
                 x -= a_cg * p
                 g -= a_cg * ap
                 phi, beta, free = parts(x, g)
-                gamma = float(phi @ ap) / pap
-                p = phi - gamma * p
+                z = phi if precondition is None else precondition(phi, free)
+                gamma = float(z @ ap) / pap
+                p = z - gamma * p
                 p[~free] = 0.0
             else:
+                x_cg = x - a_cg * p if precondition is not None else None
+                x_old, g_old = (x.copy(), g.copy()) if sparse_updates else (x, g)
                 x -= a_f * p
                 g -= a_f * ap
-                phi, _, _ = parts(x, g)
-                x = np.clip(x - alpha_bar * phi, lo, hi)
-                g = a_of(x) - b
+                done = False
+                if x_cg is not None:
+                    # preconditioned: the projection of the whole conjugate-gradient step binds
+                    # every element that step pushes out at once; kept when it lowers the
+                    # energy 1/2 x.(g - b) below the feasible half step's, else the expansion
+                    x_try = np.clip(x_cg, lo, hi)
+                    if sparse_updates:
+                        g_try = g_old + a_of(x_try - x_old)
+                    else:
+                        g_try = a_of(x_try) - b
+                    if float(x_try @ (g_try - b)) <= float(x @ (g - b)):
+                        x, g = x_try, g_try
+                        done = True
+                if not done:
+                    phi, _, _ = parts(x, g)
+                    x_half = x
+                    x = np.clip(x - alpha_bar * phi, lo, hi)
+                    g = g + a_of(x - x_half) if sparse_updates else a_of(x) - b
                 phi, beta, free = parts(x, g)
-                p = phi.copy()
+                p = direction(phi, free)
         else:
             d = beta
             ad = a_of(d)
             dad = float(d @ ad)
             if not dad > 0.0:
-                return finish(
-                    2, "non-positive curvature (operator not positive definite)", nit, res, g
+                return (
+                    x,
+                    g,
+                    2,
+                    "non-positive curvature (operator not positive definite)",
+                    nit,
+                    res,
                 )
             a = min(float(g @ d) / dad, max_step(x, d))
             x = np.clip(x - a * d, lo, hi)
             g -= a * ad
             phi, beta, free = parts(x, g)
-            p = phi.copy()
+            p = direction(phi, free)
         res = residual(float(phi @ phi + beta @ beta))
 
 
