@@ -39,8 +39,9 @@ import warnings
 from pathlib import Path
 from typing import NamedTuple
 
+import numba
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from asperity.bem.errors import BemInputError
 
@@ -79,14 +80,17 @@ def _timed(conv: Convolution, x: np.ndarray, out: np.ndarray) -> float:
     return time.perf_counter() - t0
 
 
-@njit(cache=True, fastmath=False)
+@njit(cache=True, fastmath=False, parallel=True)
 def _multiply_with_energy(spec, mult, ny):  # pragma: no cover - compiled
-    """spec *= mult in place; returns sum over the full spectrum of mult |spec|^2 (Parseval)."""
+    """spec *= mult in place; returns sum over the full spectrum of mult |spec|^2 (Parseval),
+    summed per row and then over the rows in order (as the radial multipliers: the same
+    energy for a stored and a radial multiplier, whatever the number of threads)."""
     nx, nyh = spec.shape
-    e0 = 0.0
-    e1 = 0.0
     last = nyh - 1 if ny % 2 == 0 else -1
-    for i in range(nx):
+    rows = np.zeros(nx)
+    for i in prange(nx):
+        e0 = 0.0
+        e1 = 0.0
         for j in range(nyh):
             z = spec[i, j]
             m = mult[i, j]
@@ -96,7 +100,11 @@ def _multiply_with_energy(spec, mult, ny):  # pragma: no cover - compiled
             else:
                 e1 += a
             spec[i, j] = z * m
-    return e0 + 2.0 * e1
+        rows[i] = e0 + 2.0 * e1
+    total = 0.0
+    for i in range(nx):
+        total += rows[i]
+    return total
 
 
 class RadialMultiplier(NamedTuple):
@@ -140,15 +148,18 @@ def _radial_fill(out, qx2, qy2, coef, power, q00, nn):  # pragma: no cover - com
             out[i, j] = _radial_value(qx2, qy2, i, j, coef, power, q00, nn)
 
 
-@njit(cache=True, fastmath=False)
+@njit(cache=True, fastmath=False, parallel=True)
 def _radial_multiply_double(spec, qx2, qy2, coef, power, q00, nn, ny, energy):  # pragma: no cover
     """spec *= m in place (complex128, m float64); returns sum mult |spec|^2 (Parseval) when
-    ``energy``, as :func:`_multiply_with_energy` with a stored multiplier."""
+    ``energy``, as :func:`_multiply_with_energy` with a stored multiplier. Rows run in
+    parallel (numba threads); the energy is summed per row, then over the rows in order, so
+    it does not depend on the number of threads."""
     nx, nyh = spec.shape
-    e0 = 0.0
-    e1 = 0.0
     last = nyh - 1 if ny % 2 == 0 else -1
-    for i in range(nx):
+    rows = np.zeros(nx)
+    for i in prange(nx):
+        e0 = 0.0
+        e1 = 0.0
         for j in range(nyh):
             m = _radial_value(qx2, qy2, i, j, coef, power, q00, nn)
             z = spec[i, j]
@@ -159,18 +170,23 @@ def _radial_multiply_double(spec, qx2, qy2, coef, power, q00, nn, ny, energy):  
                 else:
                     e1 += a
             spec[i, j] = z * m
-    return e0 + 2.0 * e1
+        rows[i] = e0 + 2.0 * e1
+    total = 0.0
+    for i in range(nx):
+        total += rows[i]
+    return total
 
 
-@njit(cache=True, fastmath=False)
+@njit(cache=True, fastmath=False, parallel=True)
 def _radial_multiply_single(spec, qx2, qy2, coef, power, q00, nn, ny, energy):  # pragma: no cover
     """As :func:`_radial_multiply_double` for a complex64 spectrum: the multiplier is rounded
     to float32 as a stored float32 one would be."""
     nx, nyh = spec.shape
-    e0 = 0.0
-    e1 = 0.0
     last = nyh - 1 if ny % 2 == 0 else -1
-    for i in range(nx):
+    rows = np.zeros(nx)
+    for i in prange(nx):
+        e0 = 0.0
+        e1 = 0.0
         for j in range(nyh):
             m = np.float32(_radial_value(qx2, qy2, i, j, coef, power, q00, nn))
             z = spec[i, j]
@@ -181,7 +197,57 @@ def _radial_multiply_single(spec, qx2, qy2, coef, power, q00, nn, ny, energy):  
                 else:
                     e1 += a
             spec[i, j] = z * m
-    return e0 + 2.0 * e1
+        rows[i] = e0 + 2.0 * e1
+    total = 0.0
+    for i in range(nx):
+        total += rows[i]
+    return total
+
+
+@njit(cache=True, fastmath=False, parallel=True)
+def _cast_rows(dst, src):  # pragma: no cover - compiled
+    """dst[...] = src for two 2D arrays of one shape (float64 <-> float32), rows in parallel:
+    the precision casts of a single-precision convolution (a serial numpy cast of a 5000^2
+    grid costs a tenth of the transform it feeds)."""
+    for i in prange(src.shape[0]):
+        for j in range(src.shape[1]):
+            dst[i, j] = src[i, j]
+
+
+class _NumbaThreads:
+    """Run numba's parallel kernels on at most ``n`` threads inside the block (numba's thread
+    mask is per calling thread; the previous count is restored on exit)."""
+
+    def __init__(self, n: int) -> None:
+        self.n = n
+        self.previous = 0
+
+    def __enter__(self) -> None:
+        self.previous = numba.get_num_threads()
+        want = max(1, min(self.n, self.previous))
+        if want != self.previous:
+            numba.set_num_threads(want)
+
+    def __exit__(self, *exc: object) -> None:
+        if numba.get_num_threads() != self.previous:
+            numba.set_num_threads(self.previous)
+
+
+def _cast_into(dst: np.ndarray, src: np.ndarray, threads: int) -> None:
+    """``dst[...] = src`` (a precision cast between real grids), on ``threads`` numba threads
+    for C-contiguous 2D arrays of one shape, by numpy otherwise."""
+    if (
+        dst.ndim == 2
+        and dst.shape == src.shape
+        and dst.flags.c_contiguous
+        and src.flags.c_contiguous
+        and dst.dtype in (np.float32, np.float64)
+        and src.dtype in (np.float32, np.float64)
+    ):
+        with _NumbaThreads(threads):
+            _cast_rows(dst, src)
+    else:
+        np.copyto(dst, src, casting="same_kind")
 
 
 def workspace_bytes(shape: tuple[int, int]) -> int:
@@ -677,7 +743,7 @@ class Convolution:
             self._inv.execute()
             self._park(self._inv)
             if target is not out:
-                out[...] = target
+                _cast_into(out, target, self.threads)
         else:
             import scipy.fft
 
@@ -695,7 +761,7 @@ class Convolution:
             if not self._usable(x):
                 if self._scratch is None:
                     self._scratch = self._aligned(self.dtype)
-                np.copyto(self._scratch, x, casting="same_kind")
+                _cast_into(self._scratch, x, self.threads)
                 x = self._scratch
             self._fwd.update_arrays(x, self._spec)
             self._fwd.execute()
@@ -712,10 +778,14 @@ class Convolution:
                 _radial_multiply_double if self.precision == "double" else _radial_multiply_single
             )
             nn = float(self.shape[0] * self.shape[1])
-            e = kernel(spec, rm.qx2, rm.qy2, rm.coef, rm.power, rm.q00, nn, self.shape[1], energy)
+            with _NumbaThreads(self.threads):
+                e = kernel(
+                    spec, rm.qx2, rm.qy2, rm.coef, rm.power, rm.q00, nn, self.shape[1], energy
+                )
             e = e if energy else 0.0
         elif energy:
-            e = _multiply_with_energy(spec, self._mult, self.shape[1])
+            with _NumbaThreads(self.threads):
+                e = _multiply_with_energy(spec, self._mult, self.shape[1])
         else:
             np.multiply(spec, self._mult, out=spec)
         self._pending = spec
