@@ -166,6 +166,9 @@ sphinx_gallery_conf = {
 # The pages are read offline (CI has no network, nor do many laboratories' machines): MathJax is
 # served from the build's own _static/mathjax (the sphinx-mathjax-offline package bundles
 # MathJax 3), never from a CDN, whose absence left raw \(A_r/A_n\) on every page.
+# tests/test_docs_offline_maths.py checks that every page loads it from the built tree, and (where
+# Playwright and a Chromium are installed) that a browser with the network cut typesets each
+# maths element, in MathJax's own fonts, with no request leaving the machine.
 mathjax_path = "mathjax/tex-chtml.js"
 
 # -- HTML ---------------------------------------------------------------------------------------

@@ -36,13 +36,15 @@ def _missing_tools() -> list[str]:
 
 
 @pytest.mark.slow
-def test_docs_build_with_warnings_as_errors(tmp_path: Path) -> None:
+def test_docs_build_with_warnings_as_errors(tmp_path_factory: pytest.TempPathFactory) -> None:
     missing = _missing_tools()
     if missing:
         pytest.skip(
             f"the docs extra is not installed (no {', '.join(missing)}): "
             'python -m pip install -e ".[docs]"'
         )
+    # kept for tests/test_docs_offline_maths.py, which checks this same site (no second build)
+    tmp_path = tmp_path_factory.getbasetemp() / "docs_build"
     html = tmp_path / "html"
     command = [sys.executable, "-m", "sphinx", "-W", "--keep-going", "-E", "-q", "-b", "html"]
     # run every example even where sphinx-gallery's cache says it is unchanged
