@@ -163,19 +163,16 @@ def new_state(
         pre = stiffness_preconditioner(op, problem.dx, problem.dy, problem.e_star)
     w = op.empty()
     op(p, out=w)
-    nx, ny = problem.heights.shape
     load = problem.load_control
     offset = 0.0 if load else -problem.separation
     shift, stats = offset, None
-    if load and w.shape == (nx, ny):
-        # periodic: w = K p - h in place (no full-size temporary), the mean gap about which
-        # the first statistics are taken, and those statistics (as the first measure_gap
-        # would compute them from the deflection)
+    if load:
+        # w = K p - h in place (no full-size temporary), the mean gap about which the first
+        # statistics are taken, and those statistics (as the first measure_gap would compute
+        # them from the deflection)
         np.subtract(w, problem.grid_heights, out=w)
         shift = float(np.mean(w))
         stats = kr.gap_stats(w.ravel(), c.ravel(), shift)
-    elif load:
-        shift = float(np.mean(w[:nx, :ny] - problem.heights))
     # one work array holds r = K t, the preconditioner's input s and its output z: their
     # lifetimes within an iteration do not overlap (s -> z in place, z is consumed by the
     # direction update before r = K t is transformed back)

@@ -150,13 +150,11 @@ def _attraction_lift(
     op = influence_operator(
         attractive.shape, dx, dy, e_star, opts.kernel, periodic, opts.fft_backend, opts.threads
     )
-    field = op.zeros()
-    nx, ny = attractive.shape
-    field[:nx, :ny] = attractive
-    field *= sigma0
-    if field.shape == (nx, ny):  # periodic: transform in place, no copy
-        return op(field, out=field)
-    return np.array(op(field)[:nx, :ny])
+    field = op.empty()
+    np.multiply(attractive, sigma0, out=field)
+    # transformed into its own array (the operators' arrays have the map's shape, periodic
+    # or not)
+    return op(field, out=field)
 
 
 def _starting_set(

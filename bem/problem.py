@@ -33,8 +33,9 @@ class ContactProblem:
     heights : ndarray (nx, ny)
         The surface heights h (m) as given.
     grid_heights : ndarray
-        Heights on the FFT grid (m): ``heights`` itself when periodic, else padded far below
-        (never in contact) to the doubled grid.
+        The heights (m) as the iteration reads them: ``heights``, C-contiguous. The solver's
+        arrays have the map's shape with either boundary (a finite specimen is padded only
+        inside the transforms, :class:`~asperity.bem.operators.PaddedConvolution`).
     dx, dy, e_star : float
         Pixel sizes (m) and reduced modulus (Pa).
     periodic : bool
@@ -47,8 +48,8 @@ class ContactProblem:
         Imposed rigid-body distance d (m); NaN under load control.
     work_of_adhesion, critical_tension : float
         w (J/m^2) and the Pohrt-Popov Sigma (Pa); both 0 without adhesion.
-    op : Convolution
-        u = K * p on the FFT grid.
+    op : Convolution or PaddedConvolution
+        u = K * p (m from Pa) on the map.
     """
 
     heights: np.ndarray
@@ -170,22 +171,6 @@ def _checked_separation(separation: float, h: np.ndarray, periodic: bool) -> flo
     return separation
 
 
-def _grid_heights(
-    h: np.ndarray, shape: tuple[int, int], separation: float, pixel_area: float
-) -> np.ndarray:
-    """Heights on the FFT grid: padding far below the surface (and the flat) is never in
-    contact."""
-    if shape == h.shape:
-        return np.ascontiguousarray(h)
-    h_rms = float(np.sqrt(np.mean((h - h.mean()) ** 2)))
-    grid = np.empty(shape)
-    grid[...] = h.min() - 1e6 * (float(np.ptp(h)) + (h_rms if h_rms > 0 else math.sqrt(pixel_area)))
-    if math.isfinite(separation):
-        grid[...] -= abs(separation)
-    grid[: h.shape[0], : h.shape[1]] = h
-    return grid
-
-
 def set_up_problem(
     heights: object,
     dx: object,
@@ -219,7 +204,7 @@ def set_up_problem(
     )
     return ContactProblem(
         heights=h,
-        grid_heights=_grid_heights(h, op.shape, separation, dx_ * dy_),
+        grid_heights=np.ascontiguousarray(h),
         dx=dx_,
         dy=dy_,
         e_star=e_,
