@@ -33,7 +33,11 @@ import numpy as np
 from asperity.bem import fft_backend as fb
 from asperity.bem.errors import BemInputError
 from asperity.bem.fft_backend import Convolution, RadialMultiplier, new_workspace
-from asperity.bem.influence import influence_multiplier, wavevectors_squared
+from asperity.bem.influence import (
+    influence_multiplier,
+    padded_love_coefficients,
+    wavevectors_squared,
+)
 
 __all__ = ["PaddedConvolution", "influence_operator", "stiffness_preconditioner"]
 
@@ -78,9 +82,11 @@ class PaddedConvolution:
 
     Parameters
     ----------
-    multiplier : ndarray, shape (gx, gy // 2 + 1), or RadialMultiplier
+    multiplier : ndarray, shape (gx, gy // 2 + 1), RadialMultiplier, or callable
         The Fourier multiplier of the FFT grid in the DFT sense (compliance m/Pa, or stiffness
-        Pa/m); an array is divided by gx * gy unless ``normalised``.
+        Pa/m); an array is divided by gx * gy unless ``normalised``. A callable ``fill(real)``
+        writes an even real-space kernel (m/Pa) on the FFT grid into ``real``: it is
+        transformed in place in the workspace and the real part kept.
     shape : (int, int)
         The map's shape (nx, ny) (pixels).
     grid : (int, int)
@@ -143,6 +149,8 @@ class PaddedConvolution:
         self.spectral_shape = (gx, gy // 2 + 1)
         if isinstance(multiplier, RadialMultiplier):
             found = (multiplier.qx2.size, multiplier.qy2.size)
+        elif callable(multiplier):
+            found = self.spectral_shape
         else:
             found = np.shape(multiplier)
         if found != self.spectral_shape:
@@ -150,15 +158,6 @@ class PaddedConvolution:
                 f"PaddedConvolution: multiplier shape {found} does not match the half "
                 f"spectrum {self.spectral_shape} of the grid {self.grid}"
             )
-        if isinstance(multiplier, RadialMultiplier):
-            self._radial: RadialMultiplier | None = multiplier
-            self._mult = None
-        else:
-            self._radial = None
-            mult = np.asarray(multiplier, dtype=np.float64)
-            if not normalised:
-                mult = mult / (gx * gy)
-            self._mult = np.ascontiguousarray(mult, dtype=self.dtype)
         nbytes = self.spectral_shape[0] * self.spectral_shape[1] * np.dtype(self.cdtype).itemsize
         self._spec = workspace[:nbytes].view(self.cdtype).reshape(self.spectral_shape)
         padded = workspace[:nbytes].view(self.dtype).reshape(gx, 2 * self.spectral_shape[1])
@@ -170,6 +169,33 @@ class PaddedConvolution:
         self._fwd = self._inv = None
         if backend == "pyfftw":
             self._plan()
+        self._radial: RadialMultiplier | None = None
+        self._mult: np.ndarray | None = None
+        if isinstance(multiplier, RadialMultiplier):
+            self._radial = multiplier
+        elif callable(multiplier):
+            self._mult = self._transformed_kernel(multiplier)
+        else:
+            mult = np.asarray(multiplier, dtype=np.float64)
+            if not normalised:
+                mult = mult / (gx * gy)
+            self._mult = np.ascontiguousarray(mult, dtype=self.dtype)
+
+    def _transformed_kernel(self, fill) -> np.ndarray:
+        """The multiplier of a real-space kernel that ``fill(real)`` writes on the FFT grid:
+        the real part of its transform (the kernel is even), divided by gx * gy, transformed
+        in place in the workspace."""
+        fill(self._real)
+        if self._fwd is not None:
+            self._fwd.execute()
+            spec = self._spec
+        else:
+            import scipy.fft
+
+            spec = scipy.fft.rfft2(self._real, workers=self.threads)
+        mult = np.empty(self.spectral_shape, dtype=self.dtype)
+        np.divide(spec.real, float(self.grid[0] * self.grid[1]), out=mult, casting="unsafe")
+        return mult
 
     def _plan(self) -> None:
         """In-place FFTW plans on the workspace (measured plans overwrite it: made here,
@@ -352,7 +378,11 @@ def _padded_influence_operator(key: tuple) -> PaddedConvolution:
         )
         mult, normalised = double._mult, True
     else:
-        mult, _ = influence_multiplier(shape, dx, dy, e_star, kernel=kernel, periodic=False)
+        # the real-space kernel written into the transform's own buffer and transformed
+        # there: no array of the doubled grid besides the workspace
+        def mult(real: np.ndarray) -> None:
+            padded_love_coefficients(real, shape[0], shape[1], dx, dy, e_star)
+
         normalised = False
     return PaddedConvolution(
         mult,
