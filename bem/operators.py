@@ -322,10 +322,14 @@ def influence_operator(
     fft_backend: str,
     threads: int | None,
     precision: str = "double",
-) -> Convolution:
+    in_place: bool = False,
+) -> Convolution | PaddedConvolution:
     """The convolution u = K * p (m from Pa) for heights of ``shape`` with pixel sizes dx, dy
     (m) and modulus E* (Pa): periodic, or zero-padded to the doubled grid; cached per thread.
-    ``precision``: "double" or "single" transforms (:class:`Convolution`)."""
+    ``precision``: "double" or "single" transforms (:class:`Convolution`). A finite specimen
+    always gets a :class:`PaddedConvolution`; a periodic grid gets one when ``in_place`` (it
+    then takes inputs and outputs of any float dtype, e.g. float32 direction and work arrays,
+    without a scratch grid, at the cost of a copy in and out of the workspace)."""
     key = (
         shape,
         float(dx),
@@ -336,12 +340,21 @@ def influence_operator(
         fft_backend,
         threads,
         precision,
+        bool(in_place) or not periodic,
     )
     cache = _operator_cache()
     op = cache.get(key)
     if op is None:
         if not periodic:
             op = _padded_influence_operator(key)
+        elif in_place:
+            qx2, qy2 = wavevectors_squared(shape[0], shape[1], dx, dy)
+            if kernel == "point":
+                mult = RadialMultiplier(qx2, qy2, 2.0 / e_star, -1)
+            else:
+                mult, _ = influence_multiplier(shape, dx, dy, e_star, kernel=kernel)
+            kw = dict(backend=fft_backend, threads=threads, precision=precision)
+            op = PaddedConvolution(mult, shape, shape, workspace=_workspace(tuple(shape)), **kw)
         else:
             if kernel == "point":
                 # 2 / (E* |q|), zero at q = 0 (influence.point_force_multiplier), not stored
@@ -370,11 +383,11 @@ def _padded_influence_operator(key: tuple) -> PaddedConvolution:
     doubled grid (:func:`~asperity.bem.influence.padded_love_multiplier`). The single-precision
     operator rounds the double one's stored multiplier (built once: it costs a doubled-grid
     transform and 64 B per map point while it is made)."""
-    shape, dx, dy, e_star, kernel, _, fft_backend, threads, precision = key
+    shape, dx, dy, e_star, kernel, _, fft_backend, threads, precision, _ = key
     grid = (2 * shape[0], 2 * shape[1])
     if precision == "single":
         double = influence_operator(
-            shape, dx, dy, e_star, kernel, False, fft_backend, threads, "double"
+            shape, dx, dy, e_star, kernel, False, fft_backend, threads, "double", True
         )
         mult, normalised = double._mult, True
     else:

@@ -16,7 +16,7 @@ import numpy as np
 
 from asperity.bem.errors import BemInputError
 from asperity.bem.fft_backend import Convolution
-from asperity.bem.operators import influence_operator
+from asperity.bem.operators import PaddedConvolution, influence_operator
 from asperity.bem.options import SolverOptions
 from asperity.bem.pohrt_popov import critical_tension
 from asperity.quantities import quantity
@@ -63,7 +63,7 @@ class ContactProblem:
     separation: float
     work_of_adhesion: float
     critical_tension: float
-    op: Convolution
+    op: Convolution | PaddedConvolution
 
     @property
     def adhesive(self) -> bool:
@@ -180,11 +180,15 @@ def set_up_problem(
     work_of_adhesion: object,
     periodic: object,
     options: SolverOptions,
+    in_place: bool = False,
 ) -> ContactProblem:
     """Validate the arguments of :func:`asperity.bem.solve_contact` and build the problem.
 
     ``loads`` maps ``normal_force`` (N), ``mean_pressure`` (Pa) and ``separation`` (m) to their
-    values, exactly one not None.
+    values, exactly one not None. ``in_place``: transform in place in the workspace also on a
+    periodic grid (a finite specimen always does), so that the iteration stores its direction
+    and work arrays in float32 (:func:`~asperity.bem.iteration.new_state`): 8 B per point
+    less, for the Maugis iteration's inner solves.
     """
     h = checked_heights(heights)
     dx_, dy_ = _bounded("dx", "dx", dx), _bounded("dx", "dy", dy)
@@ -200,7 +204,15 @@ def set_up_problem(
         nominal = h.size * dx_ * dy_
         force = _checked_force(value if name == "normal_force" else value * nominal, w > 0)
     op = influence_operator(
-        h.shape, dx_, dy_, e_, options.kernel, bool(periodic), options.fft_backend, options.threads
+        h.shape,
+        dx_,
+        dy_,
+        e_,
+        options.kernel,
+        bool(periodic),
+        options.fft_backend,
+        options.threads,
+        in_place=in_place,
     )
     return ContactProblem(
         heights=h,
