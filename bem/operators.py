@@ -29,6 +29,7 @@ import weakref
 from collections import OrderedDict
 
 import numpy as np
+from numba import njit
 
 from asperity.bem import fft_backend as fb
 from asperity.bem.errors import BemInputError
@@ -68,6 +69,31 @@ def _workspace(shape: tuple[int, int]) -> np.ndarray:
         ws = new_workspace(shape)
         pool[tuple(shape)] = ws
     return ws
+
+
+@njit(cache=True, fastmath=False)
+def _lay_in(real, x):  # pragma: no cover - compiled
+    """real[:nx, :ny] = x (cast to real's dtype), zero elsewhere: no temporary (numpy's
+    assignment may copy the source first when it cannot rule out an overlap)."""
+    nx, ny = x.shape
+    gx, gy = real.shape
+    for i in range(nx):
+        for j in range(ny):
+            real[i, j] = x[i, j]
+        for j in range(ny, gy):
+            real[i, j] = 0.0
+    for i in range(nx, gx):
+        for j in range(gy):
+            real[i, j] = 0.0
+
+
+@njit(cache=True, fastmath=False)
+def _take_out(out, real):  # pragma: no cover - compiled
+    """out = real[:nx, :ny] (cast to out's dtype), no temporary."""
+    nx, ny = out.shape
+    for i in range(nx):
+        for j in range(ny):
+            out[i, j] = real[i, j]
 
 
 class PaddedConvolution:
@@ -259,7 +285,7 @@ class PaddedConvolution:
         nx, ny = self.shape
         if self._inv is not None:
             self._inv.execute()
-            out[...] = self._real[:nx, :ny]
+            _take_out(out, self._real)
         else:
             import scipy.fft
 
@@ -279,10 +305,7 @@ class PaddedConvolution:
                 f"PaddedConvolution: input shape {np.shape(x)} does not match the map {self.shape}"
             )
         if self._fwd is not None:
-            real = self._real
-            real[:nx, :ny] = x
-            real[:nx, ny:] = 0.0
-            real[nx:, :] = 0.0
+            _lay_in(self._real, x)
             self._fwd.execute()
             spec = self._spec
         else:
@@ -304,7 +327,10 @@ class PaddedConvolution:
         elif energy:
             e = fb._multiply_with_energy(spec, self._mult, gy)
         else:
-            np.multiply(spec, self._mult, out=spec)
+            # the real and imaginary parts apart: same values as spec * mult, without the
+            # ufunc's casting buffer (64 KiB)
+            np.multiply(spec.real, self._mult, out=spec.real)
+            np.multiply(spec.imag, self._mult, out=spec.imag)
         self._pending = spec
         self.calls += 1
         self.transforms += 1
