@@ -22,6 +22,7 @@ is unchanged by a solve at ``tol``.
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import math
 import time
 from dataclasses import dataclass
@@ -220,6 +221,11 @@ def _inner_solve(case: _Case, it: _SetIteration, opts: SolverOptions) -> Contact
     else:
         load = {"separation": separation}
     started = time.perf_counter()
+    if it.inner is not None:
+        # the warm start reads the previous solution's pressure and contact set only: its gap
+        # (8 B per point; the new attractive set was taken from it) goes before the lift and
+        # the next state are allocated
+        it.inner = dataclasses.replace(it.inner, gap=None)
     # h + sigma_0 K * 1_S, summed into the lift's array (addition commutes bit for bit)
     lifted = _attraction_lift(it.attractive, sigma0, dx, dy, e_star, periodic, opts)
     lifted += case.heights
@@ -261,7 +267,8 @@ def _iterate_set(case: _Case, it: _SetIteration, opts: SolverOptions) -> tuple[S
                 )
             it.tol = opts.tol
             continue
-        key = np.packbits(new).tobytes()
+        # a digest of the set (a packed copy of every set seen would cost n/8 B per solve)
+        key = hashlib.sha256(np.packbits(new)).digest()
         if it.tol <= opts.tol and key in seen:
             return SolverStatus.STALLED, (
                 "stalled: the attractive set {gap <= h_0} cycles between states (elements "
