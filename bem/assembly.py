@@ -143,21 +143,16 @@ def assemble_result(
     s.release_work()
     problem.op(s.p, out=s.w)
     s.w -= problem.grid_heights
-    nx, ny = problem.heights.shape
-    # on a periodic grid the state's arrays become the result's (no copies at the peak);
-    # padded grids copy the map's part out
-    own = s.p.shape == (nx, ny)
-    pressure = s.p if own else np.array(s.p[:nx, :ny])
-    mask = s.c.view(bool) if own else s.c[:nx, :ny].astype(bool)
+    # the state's arrays (on the map, whatever the boundary) become the result's: no copies
+    # at the peak
+    pressure = s.p
+    mask = s.c.view(bool)
     offset = s.offset
     if problem.load_control and mask.any():
-        offset = float(s.w[:nx, :ny][mask].mean())
+        offset = float(s.w[mask].mean())
     if stop is None:
         stop = _iteration_cap(s, problem, options, offset)
-    if own:
-        gap = np.subtract(s.w, offset, out=s.w)
-    else:
-        gap = np.array(s.w[:nx, :ny] - offset)
+    gap = np.subtract(s.w, offset, out=s.w)
     total_force = float(pressure.sum()) * problem.pixel_area
     stop = _load_check(problem, stop, pressure, total_force)
     n_contact = int(np.count_nonzero(mask))

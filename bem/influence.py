@@ -44,6 +44,7 @@ __all__ = [
     "influence_multiplier",
     "love_patch_deflection",
     "love_periodic_multiplier",
+    "padded_love_coefficients",
     "padded_love_multiplier",
     "point_force_multiplier",
     "wavevectors_squared",
@@ -205,13 +206,32 @@ def padded_love_multiplier(nx: int, ny: int, dx: float, dy: float, e_star: float
         ``rfft2`` multiplier for the ``(2 nx, 2 ny)`` grid.
     """
     _check(nx, ny, dx, dy, e_star)
+    coeff = np.empty((2 * nx, 2 * ny))
+    padded_love_coefficients(coeff, nx, ny, dx, dy, e_star)
+    return np.fft.rfft2(coeff).real.copy()
+
+
+def padded_love_coefficients(
+    out: np.ndarray, nx: int, ny: int, dx: float, dy: float, e_star: float, rows: int = 64
+) -> None:
+    """Write the real-space kernel of :func:`padded_love_multiplier` into ``out``, shape
+    ``(2 nx, 2 ny)`` (m/Pa: the deflection at each pixel offset under 1 Pa on one pixel, the
+    offsets ``-(n-1) .. (n-1)`` laid out with wrap-around), ``rows`` rows at a time so that
+    the temporaries of :func:`love_patch_deflection` stay small (``out`` may be a strided view,
+    e.g. the real view of an in-place transform's buffer)."""
+    _check(nx, ny, dx, dy, e_star)
     mx, my = 2 * nx, 2 * ny
+    if out.shape != (mx, my):
+        raise BemInputError(
+            f"padded_love_coefficients: out must have shape {(mx, my)}, got {out.shape}"
+        )
     ix = np.arange(mx)
     iy = np.arange(my)
     ox = np.where(ix < nx, ix, ix - mx) * dx
     oy = np.where(iy < ny, iy, iy - my) * dy
-    coeff = love_patch_deflection(ox[:, None], oy[None, :], dx, dy, e_star)
-    return np.fft.rfft2(coeff).real.copy()
+    for i0 in range(0, mx, rows):
+        block = ox[i0 : i0 + rows, None]
+        out[i0 : i0 + rows] = love_patch_deflection(block, oy[None, :], dx, dy, e_star)
 
 
 def influence_multiplier(

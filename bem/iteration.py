@@ -29,7 +29,11 @@ import numpy as np
 from asperity.bem import kernels as kr
 from asperity.bem.cancel import check_cancelled
 from asperity.bem.fft_backend import Convolution
-from asperity.bem.operators import influence_operator, stiffness_preconditioner
+from asperity.bem.operators import (
+    PaddedConvolution,
+    influence_operator,
+    stiffness_preconditioner,
+)
 from asperity.bem.options import SolverOptions
 from asperity.bem.problem import ContactProblem
 from asperity.bem.result import SolverStatus
@@ -150,7 +154,15 @@ def new_state(
     problem: ContactProblem, p: np.ndarray, c: np.ndarray, options: SolverOptions
 ) -> IterationState:
     """The state at the starting pressure ``p`` (Pa) and contact set ``c``: u = K p computed
-    (in single precision when the solve starts mixed, :meth:`SolverOptions.mixed_precision`)."""
+    (in single precision when the solve starts mixed, :meth:`SolverOptions.mixed_precision`).
+
+    With an in-place operator (:class:`~asperity.bem.operators.PaddedConvolution`: a finite
+    specimen, or the Maugis iteration's inner solves) the conjugate direction t and the work
+    array (r = K t, the preconditioner's s and z) are stored in float32 (8 B per point less):
+    t is only a search direction (p -= tau t and w -= tau K t use the same stored t, so p and
+    the gap stay consistent in double precision), and r carries the float32 round-off of one
+    step's gap change, which the exact refresh of u = K p (every ``refresh`` iterations and at
+    the end) removes."""
     single = options.mixed_precision(problem.op.shape)
     op = single_precision_operator(problem, options) if single else problem.op
     pre = None
@@ -161,30 +173,29 @@ def new_state(
         if single:
             stiffness_preconditioner(problem.op, problem.dx, problem.dy, problem.e_star)
         pre = stiffness_preconditioner(op, problem.dx, problem.dy, problem.e_star)
+    compact = isinstance(problem.op, PaddedConvolution)
     w = op.empty()
     op(p, out=w)
-    nx, ny = problem.heights.shape
     load = problem.load_control
     offset = 0.0 if load else -problem.separation
     shift, stats = offset, None
-    if load and w.shape == (nx, ny):
-        # periodic: w = K p - h in place (no full-size temporary), the mean gap about which
-        # the first statistics are taken, and those statistics (as the first measure_gap
-        # would compute them from the deflection)
+    if load:
+        # w = K p - h in place (no full-size temporary), the mean gap about which the first
+        # statistics are taken, and those statistics (as the first measure_gap would compute
+        # them from the deflection)
         np.subtract(w, problem.grid_heights, out=w)
         shift = float(np.mean(w))
         stats = kr.gap_stats(w.ravel(), c.ravel(), shift)
-    elif load:
-        shift = float(np.mean(w[:nx, :ny] - problem.heights))
     # one work array holds r = K t, the preconditioner's input s and its output z: their
     # lifetimes within an iteration do not overlap (s -> z in place, z is consumed by the
     # direction update before r = K t is transformed back)
-    work = op.empty()
+    store = np.float32 if compact else np.float64
+    work = np.empty(p.shape, dtype=store) if compact else op.empty()
     return IterationState(
         p=p,
         c=c,
         w=w,
-        t=op.zeros(),
+        t=np.zeros(p.shape, dtype=store) if compact else op.zeros(),
         r=work,
         op=op,
         pre=pre,
@@ -213,6 +224,7 @@ def single_precision_operator(problem: ContactProblem, options: SolverOptions) -
         op.backend,
         op.threads,
         precision="single",
+        in_place=isinstance(op, PaddedConvolution),
     )
 
 

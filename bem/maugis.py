@@ -22,6 +22,7 @@ is unchanged by a solve at ``tol``.
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import math
 import time
 from dataclasses import dataclass
@@ -150,13 +151,11 @@ def _attraction_lift(
     op = influence_operator(
         attractive.shape, dx, dy, e_star, opts.kernel, periodic, opts.fft_backend, opts.threads
     )
-    field = op.zeros()
-    nx, ny = attractive.shape
-    field[:nx, :ny] = attractive
-    field *= sigma0
-    if field.shape == (nx, ny):  # periodic: transform in place, no copy
-        return op(field, out=field)
-    return np.array(op(field)[:nx, :ny])
+    field = op.empty()
+    np.multiply(attractive, sigma0, out=field)
+    # transformed into its own array (the operators' arrays have the map's shape, periodic
+    # or not)
+    return op(field, out=field)
 
 
 def _starting_set(
@@ -222,11 +221,18 @@ def _inner_solve(case: _Case, it: _SetIteration, opts: SolverOptions) -> Contact
     else:
         load = {"separation": separation}
     started = time.perf_counter()
+    if it.inner is not None:
+        # the warm start reads the previous solution's pressure and contact set only: its gap
+        # (8 B per point; the new attractive set was taken from it) goes before the lift and
+        # the next state are allocated
+        it.inner = dataclasses.replace(it.inner, gap=None)
     # h + sigma_0 K * 1_S, summed into the lift's array (addition commutes bit for bit)
     lifted = _attraction_lift(it.attractive, sigma0, dx, dy, e_star, periodic, opts)
     lifted += case.heights
     inner_opts = dataclasses.replace(opts, tol=it.tol)
-    problem = set_up_problem(lifted, dx, dy, e_star, load, 0.0, periodic, inner_opts)
+    # in-place transforms: the inner iteration stores its direction and work arrays in float32
+    # (the lifted heights and the attractive set cost 9 B per point more than a plain solve)
+    problem = set_up_problem(lifted, dx, dy, e_star, load, 0.0, periodic, inner_opts, in_place=True)
     del lifted
     if it.inner is None:
         return solve_problem(problem, None, inner_opts, started)
@@ -261,7 +267,8 @@ def _iterate_set(case: _Case, it: _SetIteration, opts: SolverOptions) -> tuple[S
                 )
             it.tol = opts.tol
             continue
-        key = np.packbits(new).tobytes()
+        # a digest of the set (a packed copy of every set seen would cost n/8 B per solve)
+        key = hashlib.sha256(np.packbits(new)).digest()
         if it.tol <= opts.tol and key in seen:
             return SolverStatus.STALLED, (
                 "stalled: the attractive set {gap <= h_0} cycles between states (elements "
@@ -328,7 +335,10 @@ def _assemble(
     dx, dy, _, periodic = grid
     inner = it.inner
     attractive = it.attractive
-    pressure = inner.pressure - law.cohesive_stress * attractive
+    # p = q - sigma_0 1_S in the inner result's own array (no full-size temporaries)
+    pressure = np.subtract(
+        inner.pressure, law.cohesive_stress, out=inner.pressure, where=attractive
+    )
     force = float(pressure.sum()) * dx * dy
     width = cohesive_zone_width(inner.contact_mask, attractive, periodic)
     warnings = _zone_warning(width, law, dx)

@@ -16,7 +16,7 @@ import numpy as np
 
 from asperity.bem.errors import BemInputError
 from asperity.bem.fft_backend import Convolution
-from asperity.bem.operators import influence_operator
+from asperity.bem.operators import PaddedConvolution, influence_operator
 from asperity.bem.options import SolverOptions
 from asperity.bem.pohrt_popov import critical_tension
 from asperity.quantities import quantity
@@ -33,8 +33,9 @@ class ContactProblem:
     heights : ndarray (nx, ny)
         The surface heights h (m) as given.
     grid_heights : ndarray
-        Heights on the FFT grid (m): ``heights`` itself when periodic, else padded far below
-        (never in contact) to the doubled grid.
+        The heights (m) as the iteration reads them: ``heights``, C-contiguous. The solver's
+        arrays have the map's shape with either boundary (a finite specimen is padded only
+        inside the transforms, :class:`~asperity.bem.operators.PaddedConvolution`).
     dx, dy, e_star : float
         Pixel sizes (m) and reduced modulus (Pa).
     periodic : bool
@@ -47,8 +48,8 @@ class ContactProblem:
         Imposed rigid-body distance d (m); NaN under load control.
     work_of_adhesion, critical_tension : float
         w (J/m^2) and the Pohrt-Popov Sigma (Pa); both 0 without adhesion.
-    op : Convolution
-        u = K * p on the FFT grid.
+    op : Convolution or PaddedConvolution
+        u = K * p (m from Pa) on the map.
     """
 
     heights: np.ndarray
@@ -62,7 +63,7 @@ class ContactProblem:
     separation: float
     work_of_adhesion: float
     critical_tension: float
-    op: Convolution
+    op: Convolution | PaddedConvolution
 
     @property
     def adhesive(self) -> bool:
@@ -170,22 +171,6 @@ def _checked_separation(separation: float, h: np.ndarray, periodic: bool) -> flo
     return separation
 
 
-def _grid_heights(
-    h: np.ndarray, shape: tuple[int, int], separation: float, pixel_area: float
-) -> np.ndarray:
-    """Heights on the FFT grid: padding far below the surface (and the flat) is never in
-    contact."""
-    if shape == h.shape:
-        return np.ascontiguousarray(h)
-    h_rms = float(np.sqrt(np.mean((h - h.mean()) ** 2)))
-    grid = np.empty(shape)
-    grid[...] = h.min() - 1e6 * (float(np.ptp(h)) + (h_rms if h_rms > 0 else math.sqrt(pixel_area)))
-    if math.isfinite(separation):
-        grid[...] -= abs(separation)
-    grid[: h.shape[0], : h.shape[1]] = h
-    return grid
-
-
 def set_up_problem(
     heights: object,
     dx: object,
@@ -195,11 +180,15 @@ def set_up_problem(
     work_of_adhesion: object,
     periodic: object,
     options: SolverOptions,
+    in_place: bool = False,
 ) -> ContactProblem:
     """Validate the arguments of :func:`asperity.bem.solve_contact` and build the problem.
 
     ``loads`` maps ``normal_force`` (N), ``mean_pressure`` (Pa) and ``separation`` (m) to their
-    values, exactly one not None.
+    values, exactly one not None. ``in_place``: transform in place in the workspace also on a
+    periodic grid (a finite specimen always does), so that the iteration stores its direction
+    and work arrays in float32 (:func:`~asperity.bem.iteration.new_state`): 8 B per point
+    less, for the Maugis iteration's inner solves.
     """
     h = checked_heights(heights)
     dx_, dy_ = _bounded("dx", "dx", dx), _bounded("dx", "dy", dy)
@@ -215,11 +204,19 @@ def set_up_problem(
         nominal = h.size * dx_ * dy_
         force = _checked_force(value if name == "normal_force" else value * nominal, w > 0)
     op = influence_operator(
-        h.shape, dx_, dy_, e_, options.kernel, bool(periodic), options.fft_backend, options.threads
+        h.shape,
+        dx_,
+        dy_,
+        e_,
+        options.kernel,
+        bool(periodic),
+        options.fft_backend,
+        options.threads,
+        in_place=in_place,
     )
     return ContactProblem(
         heights=h,
-        grid_heights=_grid_heights(h, op.shape, separation, dx_ * dy_),
+        grid_heights=np.ascontiguousarray(h),
         dx=dx_,
         dy=dy_,
         e_star=e_,
