@@ -25,7 +25,13 @@ import numpy as np
 from asperity import h5
 from asperity.errors import InputError
 from asperity.fields import array, document_fields, field_specs, scalar
-from asperity.plotting import display_unit, new_figure, plain_log_ticks, save_figure
+from asperity.plotting import (
+    display_unit,
+    legend_below,
+    new_figure,
+    plain_log_ticks,
+    save_figure,
+)
 from asperity.topo.heightmap import HeightMap, require_height_map
 from asperity.topo.summits import summit_statistics
 
@@ -250,7 +256,7 @@ def draw_resolution_scan(fig: Figure, scan: ResolutionScan, *, title: str = "") 
     Parameters
     ----------
     fig : Figure
-        A blank :class:`matplotlib.figure.Figure` (e.g. ``asperity.plotting.new_figure(13, 4)``).
+        A blank :class:`matplotlib.figure.Figure` (e.g. ``asperity.plotting.new_figure(13, 4.8)``).
     scan : ResolutionScan
         The scan (SI units: m, 1/m^2).
     title : str
@@ -294,7 +300,7 @@ def draw_resolution_scan(fig: Figure, scan: ResolutionScan, *, title: str = "") 
     for ax, tag in zip((ax_r, ax_eta, ax_sigma), "abc", strict=True):
         ax.set_xlabel(x_label)
         ax.set_title(f"({tag})")
-        ax.legend()
+        legend_below(ax, fontsize=9)  # under the axis: it hides no point and no tick
     if title:
         fig.suptitle(title)
     return fig
@@ -317,4 +323,4 @@ def plot_resolution_scan(scan: ResolutionScan, path: str | Path, *, title: str =
     Path
         The file written.
     """
-    return save_figure(draw_resolution_scan(new_figure(13, 4), scan, title=title), path)
+    return save_figure(draw_resolution_scan(new_figure(13, 4.8), scan, title=title), path)
