@@ -291,6 +291,7 @@ def draw_resolution_scan(fig: Figure, scan: ResolutionScan, *, title: str = "") 
     ax_eta.set_ylabel(u_eta.label(r"asperity density $\eta$"))
     # labels at 1, 2, 5 x 10^k: readable whether the scan spans one decade or three
     plain_log_ticks(ax_eta.xaxis, (1.0, 2.0, 5.0))
+    plain_log_ticks(ax_eta.yaxis, (1.0, 2.0, 5.0))  # 0.05, 0.1, 0.2: no 6 x 10^-2
     u_sigma = display_unit(scan.summit_height_rms, "m")
     ax_sigma.plot(res, u_sigma(scan.summit_height_rms), "o", ms=3, label="data")
     if math.isfinite(scan.height_rms_mean):

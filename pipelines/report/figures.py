@@ -622,11 +622,7 @@ def draw_area_vs_force(result: Run) -> tuple[Figure, FigureTable]:
     ax.set_xlabel(fu.label("tangential load $F_x$"))
     ax.set_ylabel("$A_r / A_n$")
     verdict_marks.threshold_lines(ax, "A_r/A_n", verdict_marks.AREA_FRACTION_THRESHOLDS)
-    # (d)'s many entries: under the whole figure, in two columns, so none covers a curve
-    handles, labels = ax.get_legend_handles_labels()
-    ax.get_figure().legend(
-        handles, labels, loc="outside lower center", ncols=2, fontsize=8, title="(d)"
-    )
+    legend_below(ax, fontsize=8, ncols=2)  # under the axis: it covers no curve
     return fig, table
 
 
@@ -635,7 +631,7 @@ def draw_friction_vs_load(result: Run) -> tuple[Figure, FigureTable]:
     fr = result.friction
     fu = display_unit(fr.normal_load, "N")
     yu = display_unit([fr.static_friction, fr.sliding_friction], "N")
-    fig = new_figure(6, 4)
+    fig = new_figure(6.5, 4.8)
     ax = fig.subplots()
     table = FigureTable()
     x_col = "normal load F_z (N)"
@@ -665,7 +661,7 @@ def draw_friction_vs_load(result: Run) -> tuple[Figure, FigureTable]:
     auto_log_scale(ax, fr.normal_load, [fr.static_friction, fr.sliding_friction])
     ax.set_xlabel(fu.label("normal load $F_z$"))
     ax.set_ylabel(yu.label("friction force"))
-    ax.legend(fontsize=8)
+    legend_below(ax, fontsize=8, ncols=2)  # under the axis: it hides no bar
     return fig, table
 
 

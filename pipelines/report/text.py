@@ -220,9 +220,14 @@ def assumed_lambda_text(result: Run) -> str:
         return text
     low, high = fr.mode_mixity_decade
     ends = [int(np.argmin(fr.normal_load)), int(np.argmax(fr.normal_load))]
+    force = text_unit(np.concatenate([np.ravel(decade), np.ravel(fr.static_friction)]), "N")
     moves = "; ".join(
-        f"F_s({fr.normal_load[i]:.3g} N) = {decade[0, i]:.3g} / {fr.static_friction[i]:.3g} / "
-        f"{decade[1, i]:.3g} N"
+        f"F_s({fr.normal_load[i]:.3g} N) = "
+        + " / ".join(
+            format_number(force(f), digits=3)
+            for f in (decade[0, i], fr.static_friction[i], decade[1, i])
+        )  # fmt: skip
+        + f" {force.text}"
         for i in dict.fromkeys(ends)
     )
     return f"{text}; a decade of lambda ({low:.3g} / {lam.mode_mixity:.3g} / {high:.3g}): {moves}"

@@ -111,6 +111,9 @@ def test_full_contact_line_where_the_model_exceeds_it(small_run):
     assert len(lines) == 1 and lines[0].get_ydata()[0] == 1.0
     fig, _ = draw_area_vs_force(result)  # the small job stays far below A_n: no line
     assert not [ln for ln in fig.axes[0].get_lines() if "A_r = A_n" in ln.get_label()]
+    renderer = _drawn(fig)  # the legend under the axes, covering no curve
+    legend = fig.axes[0].get_legend().get_window_extent(renderer)
+    assert not fig.legends and legend.y1 < fig.axes[0].get_window_extent(renderer).y0
 
 
 def test_psd_fit_is_a_hurst_exponent_only_inside_0_1():
