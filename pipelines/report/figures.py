@@ -818,8 +818,8 @@ def bem_grid_figure(result: Run) -> Figure:
 
 
 def _tick_text(value: float, _position: float | None) -> str:
-    """A log-axis tick as a short plain number (5, 40, 0.5)."""
-    return f"{value:g}"
+    """A log-axis tick as a short plain number to 3 significant digits (5, 40, 0.5, 128)."""
+    return f"{value:.3g}"
 
 
 def _draw_extrapolation(ax: Axes, bem: BemReference) -> None:

@@ -75,7 +75,7 @@ def test_bem_grid_names_every_grid_on_its_log_axis(small_run):
     pixel = np.asarray(bem.check_stride) * result.surface.dx
     unit = display_unit(np.concatenate([pixel, bem.refinement_pixel_size]), "m")
     labels = {t.get_text() for t in ax.get_xticklabels()}
-    assert {f"{v:g}" for v in unit(pixel)} <= labels
+    assert {f"{v:.3g}" for v in unit(pixel)} <= labels
     assert "larger of the modes" not in ax.get_title()
     assert layout_problems(fig) == []
 
