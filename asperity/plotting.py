@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import contextlib
 import math
+import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -53,6 +54,9 @@ SI_PREFIXES: dict[int, str] = {
 _TARGET_LOG10 = 1.5
 _TIE_BREAK = 1e-9
 
+#: Digits and minus as Unicode superscripts (the plain-text unit of :class:`DisplayUnit`).
+_SUPERSCRIPTS = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+
 
 @dataclass(frozen=True)
 class DisplayUnit:
@@ -77,6 +81,13 @@ class DisplayUnit:
     def __call__(self, values: ArrayLike) -> np.ndarray:
         """The values (SI unit) in the display unit."""
         return np.asarray(values, dtype=float) * self.factor
+
+    @property
+    def text(self) -> str:
+        """The unit as plain text for tables and reports: ``"µm"``, ``"mm²"``, ``"mm⁻²"``."""
+        return re.sub(
+            r"\$\^\{(-?\d+)\}\$", lambda m: m.group(1).translate(_SUPERSCRIPTS), self.symbol
+        )
 
 
 def _unit_symbol(prefix: str, base: str, power: int) -> str:
@@ -180,13 +191,14 @@ def auto_log_scale(ax: Axes, x: ArrayLike, y: ArrayLike) -> None:
 _STAMP_CHARS_PER_INCH = 13
 
 
-def stamp(fig: Figure, text: str, *, color: str = "#b00000", max_lines: int = 3) -> Figure:
+def stamp(fig: Figure, text: str, *, color: str = "#b00000", fontsize: float = 9) -> Figure:
     """Put ``text`` at the top of ``fig``, above any title it has, so that it travels with
     every copy of the picture (a PNG pasted into a slide keeps it).
 
     The text becomes the first lines of the figure's suptitle (placed by the constrained
-    layout, so it never overlaps the axes), wrapped to the figure's width; beyond
-    ``max_lines`` lines it ends with "...". An existing suptitle follows on its own line.
+    layout, so it never overlaps the axes), wrapped at word boundaries to the figure's width
+    and never cut: every word of ``text`` is drawn. An existing suptitle follows on its own
+    line.
 
     Parameters
     ----------
@@ -195,9 +207,9 @@ def stamp(fig: Figure, text: str, *, color: str = "#b00000", max_lines: int = 3)
     text : str
         One sentence, e.g. a verdict and its first reason.
     color : str
-        Colour of the title (matplotlib colour).
-    max_lines : int
-        Most lines of ``text`` shown.
+        Colour of the stamp (matplotlib colour).
+    fontsize : float
+        Font size of the stamp, points.
 
     Returns
     -------
@@ -206,13 +218,42 @@ def stamp(fig: Figure, text: str, *, color: str = "#b00000", max_lines: int = 3)
     """
     import textwrap
 
-    width = max(20, int(fig.get_figwidth() * _STAMP_CHARS_PER_INCH))
-    lines = textwrap.wrap(text, width)
-    if len(lines) > max_lines:
-        lines = [*lines[: max_lines - 1], lines[max_lines - 1][: width - 4] + " ..."]
+    width = max(20, int(fig.get_figwidth() * _STAMP_CHARS_PER_INCH * 9 / fontsize))
+    lines = textwrap.wrap(text, width, break_long_words=False, break_on_hyphens=False)
     existing = fig.get_suptitle()
-    fig.suptitle("\n".join([*lines, existing] if existing else lines), color=color, fontsize=9)
+    fig.suptitle(
+        "\n".join([*lines, existing] if existing else lines), color=color, fontsize=fontsize
+    )
     return fig
+
+
+def legend_below(ax: Axes, *, gap: float = 0.55, **kwargs: object) -> object:
+    """The legend of ``ax`` outside it, centred under its x-axis label, so that it hides no
+    point, curve or tick; the constrained layout makes room for it.
+
+    Parameters
+    ----------
+    ax : Axes
+        The axes whose labelled artists are listed.
+    gap : float
+        Distance from the axes' bottom edge to the legend's top, inches (clears the tick labels
+        and the axis label).
+    **kwargs
+        Passed to :meth:`matplotlib.axes.Axes.legend` (``fontsize``, ``ncols``, ...).
+
+    Returns
+    -------
+    matplotlib.legend.Legend
+        The legend drawn.
+    """
+    from matplotlib.transforms import ScaledTranslation
+
+    fig = ax.get_figure()
+    shift = ScaledTranslation(0.0, -gap, fig.dpi_scale_trans)
+    kwargs.setdefault("fontsize", 8)
+    return ax.legend(
+        loc="upper center", bbox_to_anchor=(0.5, 0.0), bbox_transform=ax.transAxes + shift, **kwargs
+    )
 
 
 def save_figure(fig: Figure, path: str | Path, *, dpi: int = DEFAULT_DPI) -> Path:

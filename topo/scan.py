@@ -25,7 +25,13 @@ import numpy as np
 from asperity import h5
 from asperity.errors import InputError
 from asperity.fields import array, document_fields, field_specs, scalar
-from asperity.plotting import display_unit, new_figure, plain_log_ticks, save_figure
+from asperity.plotting import (
+    display_unit,
+    legend_below,
+    new_figure,
+    plain_log_ticks,
+    save_figure,
+)
 from asperity.topo.heightmap import HeightMap, require_height_map
 from asperity.topo.summits import summit_statistics
 
@@ -250,7 +256,7 @@ def draw_resolution_scan(fig: Figure, scan: ResolutionScan, *, title: str = "") 
     Parameters
     ----------
     fig : Figure
-        A blank :class:`matplotlib.figure.Figure` (e.g. ``asperity.plotting.new_figure(13, 4)``).
+        A blank :class:`matplotlib.figure.Figure` (e.g. ``asperity.plotting.new_figure(13, 4.8)``).
     scan : ResolutionScan
         The scan (SI units: m, 1/m^2).
     title : str
@@ -285,6 +291,7 @@ def draw_resolution_scan(fig: Figure, scan: ResolutionScan, *, title: str = "") 
     ax_eta.set_ylabel(u_eta.label(r"asperity density $\eta$"))
     # labels at 1, 2, 5 x 10^k: readable whether the scan spans one decade or three
     plain_log_ticks(ax_eta.xaxis, (1.0, 2.0, 5.0))
+    plain_log_ticks(ax_eta.yaxis, (1.0, 2.0, 5.0))  # 0.05, 0.1, 0.2: no 6 x 10^-2
     u_sigma = display_unit(scan.summit_height_rms, "m")
     ax_sigma.plot(res, u_sigma(scan.summit_height_rms), "o", ms=3, label="data")
     if math.isfinite(scan.height_rms_mean):
@@ -294,7 +301,7 @@ def draw_resolution_scan(fig: Figure, scan: ResolutionScan, *, title: str = "") 
     for ax, tag in zip((ax_r, ax_eta, ax_sigma), "abc", strict=True):
         ax.set_xlabel(x_label)
         ax.set_title(f"({tag})")
-        ax.legend()
+        legend_below(ax, fontsize=9)  # under the axis: it hides no point and no tick
     if title:
         fig.suptitle(title)
     return fig
@@ -317,4 +324,4 @@ def plot_resolution_scan(scan: ResolutionScan, path: str | Path, *, title: str =
     Path
         The file written.
     """
-    return save_figure(draw_resolution_scan(new_figure(13, 4), scan, title=title), path)
+    return save_figure(draw_resolution_scan(new_figure(13, 4.8), scan, title=title), path)

@@ -72,6 +72,7 @@ from asperity.pipelines.report.figures import (
 from asperity.pipelines.report.html import write_html
 from asperity.pipelines.report.text import (
     CAPTIONS,
+    headline_numbers,
     key_numbers,
     load_table,
     pixel_size_text,
@@ -101,6 +102,7 @@ __all__ = [
     "draw_surface",
     "figure_options",
     "fit_excluded",
+    "headline_numbers",
     "key_numbers",
     "load_table",
     "log_axis",

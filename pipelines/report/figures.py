@@ -45,13 +45,14 @@ from typing import TYPE_CHECKING, TypedDict
 import numpy as np
 from matplotlib import colormaps
 from matplotlib.figure import Figure
-from matplotlib.ticker import LogLocator, NullFormatter, ScalarFormatter
+from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter, NullLocator
 from numpy.typing import ArrayLike
 
 from asperity.pipelines.report import verdict_marks
 from asperity.pipelines.report._run import Run, persson_fraction
 from asperity.pipelines.report.bem import BEM_MODES
 from asperity.pipelines.report.figure_output import FigureOptions, FigureTable, publish
+from asperity.pipelines.report.numbers import format_number
 from asperity.pipelines.report.profile import (
     scan_label,
     surface_title,
@@ -70,6 +71,7 @@ from asperity.plotting import (
     DisplayUnit,
     auto_log_scale,
     display_unit,
+    legend_below,
     log_axis,
     new_figure,
     spans_decades,
@@ -127,7 +129,10 @@ def draw_surface(result: Run) -> tuple[Figure, FigureTable]:
     low, high = np.nanpercentile(h, COLOUR_PERCENTILES)
     hu = display_unit([low, high], "m")
     xu = display_unit([s.lx, s.ly], "m")
-    fig = new_figure(5.8, 4.6)
+    tall = float(s.ly / s.lx)  # the map's aspect (height / width)
+    to_scale = 1 / SURFACE_MAX_ASPECT <= tall <= SURFACE_MAX_ASPECT
+    box = surface_axes_size(tall if to_scale else 1.0)
+    fig = new_figure(box[0] + 2.2, box[1] + 1.6)  # room for the colour bar, labels, title
     ax = fig.subplots()
     image = ax.imshow(
         hu(h).T,
@@ -136,6 +141,7 @@ def draw_surface(result: Run) -> tuple[Figure, FigureTable]:
         extent=(0, xu(s.lx), 0, xu(s.ly)),
         vmin=hu(low),
         vmax=hu(high),
+        aspect="equal" if to_scale else "auto",
     )
     p_low, p_high = COLOUR_PERCENTILES
     fig.colorbar(
@@ -148,7 +154,8 @@ def draw_surface(result: Run) -> tuple[Figure, FigureTable]:
     ax.set_ylabel(xu.label("y"))
     pixel = display_unit([s.dx, s.dy], "m")
     size = f"{pixel(s.dx):.3g}" if s.dx == s.dy else f"{pixel(s.dx):.3g} x {pixel(s.dy):.3g}"
-    ax.set_title(f"{surface_title(s)}, {s.nx} x {s.ny} px of {size} {pixel.symbol}")
+    scale = "" if to_scale else f"\naxes not to scale: the map is {tall:.3g} x as tall as wide"
+    ax.set_title(f"{surface_title(s)}, {s.nx} x {s.ny} px of {size} {pixel.symbol}{scale}")
     ix, iy = np.meshgrid(np.arange(h.shape[0]) * step, np.arange(h.shape[1]) * step, indexing="ij")
     table = FigureTable()
     table.add(
@@ -157,6 +164,19 @@ def draw_surface(result: Run) -> tuple[Figure, FigureTable]:
         {"x (m)": ix * s.dx, "y (m)": iy * s.dy, "height (m)": h},
     )
     return fig, table
+
+
+#: A map up to this many times taller than wide (or wider than tall) is drawn to scale; beyond
+#: it the axes are stretched (and the title says so), so that the picture is not a sliver.
+SURFACE_MAX_ASPECT = 4.0
+
+
+def surface_axes_size(tall: float, area: float = 16.0) -> tuple[float, float]:
+    """(width, height) in inches of the surface figure's image for a map ``tall`` times as
+    tall as wide: about ``area`` square inches, each side between 2.5 and 7 inches, so that
+    a non-square map fills its figure instead of leaving half of it empty."""
+    width = min(7.0, max(2.5, math.sqrt(area / tall)))
+    return width, min(7.0, max(2.5, width * tall))
 
 
 def _min_summits() -> int:
@@ -205,7 +225,7 @@ def _draw_scan_panel(ax: Axes, xu: DisplayUnit, result: Run, spec: ScanPanel) ->
     ax.set_xlabel(xu.label("resolution"))
     ax.set_ylabel(yu.label(spec["quantity"]))
     ax.set_title(spec["title"])
-    ax.legend(fontsize=7)
+    legend_below(ax, fontsize=8)  # under the panel: it hides no point
 
 
 def _scan_panels(scan: ScanResult) -> list[ScanPanel]:
@@ -278,7 +298,9 @@ def _draw_area_vs_load(ax: Axes, result: Run, table: FigureTable) -> None:
         if u is None:
             ax.plot(fu(f), fraction, style, label=name, **kw)
         else:
-            ax.errorbar(fu(f), fraction, yerr=u, fmt=style, label=name, capsize=3, **kw)
+            bars, clipped = nonnegative_bars(fraction, u)
+            name += CLIPPED_NOTE if clipped else ""
+            ax.errorbar(fu(f), fraction, yerr=bars, fmt=style, label=name, capsize=3, **kw)
             columns["A_r/A_n uncertainty (1)"] = u
             # the bars count in the choice of a log axis (none when a bar reaches 0)
             plotted.append(np.concatenate([fraction - u, fraction + u]))
@@ -293,14 +315,18 @@ def _draw_area_vs_load(ax: Axes, result: Run, table: FigureTable) -> None:
         non_adhesive_series(series, res)
     drawn = draw_model_band(ax, fu, result, table, (x_col, y_col))
     strides = {0, len(res.stride) - 1} | (set() if drawn else {res.index})
-    colors = {0: "C9", len(res.stride) - 1: "C6"}
+    # the finest and coarsest strides: each its own colour, marker and dash, so that neither
+    # hides under the effective curves it may lie on
+    styles = {0: ("d:", "C9"), len(res.stride) - 1: ("x-.", "C6")}
     for i in sorted(strides):
+        if drawn and np.isclose(res.resolution[i], res.effective_resolution, rtol=1e-9):
+            continue  # the effective curve (drawn with its band) is this one
         if np.all(np.isfinite(res.real_area[i])):
             ru = display_unit(res.resolution[i], "m")
             name = f"JKR model, {ru(res.resolution[i]):.3g} {ru.symbol}"
             name += " (stride of least misfit)" if i == res.index else ""
-            style = "-" if i == res.index else ":"
-            series(name, loads, res.real_area[i] / a_n, style, color=colors.get(i, "C3"))
+            style, color = ("-", "C3") if i == res.index else styles.get(i, (":", "C3"))
+            series(name, loads, res.real_area[i] / a_n, style, color=color, ms=5)
     persson = persson_fraction(result)
     if persson is not None:
         series("Persson, non-adhesive", result.psd.normal_load, persson, "-.", color="C4")
@@ -308,11 +334,41 @@ def _draw_area_vs_load(ax: Axes, result: Run, table: FigureTable) -> None:
         series("measured", res.measured.normal_load, res.measured.real_area / a_n, "o", color="k")
     verdict_marks.separate_bem_markers(ax)
     auto_log_scale(ax, loads, np.concatenate(plotted))
+    full_contact_line(ax, np.concatenate(plotted))
     ax.set_xlabel(fu.label("normal load $F_z$"))
     ax.set_ylabel("$A_r / A_n$")
     ax.set_title("(d)")
     verdict_marks.threshold_lines(ax, "A_r/A_n", verdict_marks.AREA_FRACTION_THRESHOLDS)
-    ax.legend(fontsize=7)
+    # (d)'s many entries: under the whole figure, in two columns, so none covers a curve
+    handles, labels = ax.get_legend_handles_labels()
+    ax.get_figure().legend(
+        handles, labels, loc="outside lower center", ncols=2, fontsize=8, title="(d)"
+    )
+
+
+#: Appended to a legend entry whose error bars were cut at zero.
+CLIPPED_NOTE = " (bars clipped at 0)"
+
+
+def nonnegative_bars(value: ArrayLike, u: ArrayLike) -> tuple[np.ndarray, bool]:
+    """Error bars (2, n) for ``value`` +- ``u`` whose lower arm stops at 0 (a force or an area
+    is never negative), and whether any arm was cut."""
+    value = np.asarray(value, dtype=float)
+    u = np.broadcast_to(np.asarray(u, dtype=float), value.shape)
+    lower = np.minimum(u, np.maximum(value, 0.0))
+    clipped = bool(np.any(np.isfinite(u) & (u > lower)))
+    return np.vstack([lower, u]), clipped
+
+
+def full_contact_line(ax: Axes, fractions: ArrayLike) -> bool:
+    """A line at A_r/A_n = 1 (labelled) where the plotted A_r/A_n exceed it: an independent-
+    asperity model that does so is outside its assumptions (the area cannot exceed A_n)."""
+    values = np.asarray(fractions, dtype=float)
+    if not np.any(values[np.isfinite(values)] > 1):
+        return False
+    ax.axhline(1.0, color="k", lw=1.2, ls=(0, (8, 2)), zorder=1.5,
+               label="$A_r = A_n$ (full contact: the model exceeds it)")  # fmt: skip
+    return True
 
 
 def non_adhesive_series(series: Callable[..., None], res: ResolutionChoice) -> None:
@@ -347,7 +403,7 @@ def draw_resolution(result: Run) -> tuple[Figure, FigureTable]:
     """Fig 12a-d with the data table (SI)."""
     scan = result.resolution_scan
     xu = display_unit(scan.resolution, "m")
-    fig = new_figure(10.5, 8.2)
+    fig = new_figure(11, 11)
     axes = fig.subplots(2, 2)
     table = FigureTable()
     used = (~fit_excluded(scan)).astype(float)
@@ -374,7 +430,7 @@ def draw_misfit(result: Run) -> tuple[Figure, FigureTable]:
     """The statistical-model stage: the misfit curve that chose the effective resolution."""
     res = result.statistical_model
     xu = display_unit(res.resolution, "m")
-    fig = new_figure(6, 4)
+    fig = new_figure(6.5, 5.6)
     ax = fig.subplots()
     table = FigureTable()
     law = getattr(res, "bem_law", None)
@@ -398,7 +454,7 @@ def draw_misfit(result: Run) -> tuple[Figure, FigureTable]:
     ax.set_ylabel("rms of ln($A_{model}$ / $A_{reference}$)")
     log_axis(ax, "y", [m for _, m, _ in curves])
     verdict_marks.threshold_lines(ax, "misfit", verdict_marks.MISFIT_THRESHOLDS)
-    ax.legend(fontsize=8)
+    legend_below(ax, fontsize=8, ncols=2)
     return fig, table
 
 
@@ -424,7 +480,7 @@ def draw_bem_grid(result: Run) -> tuple[Figure, FigureTable]:
             )
     table.add(
         "error",
-        "larger of the modes",
+        "the mode (non-adhesive or adhesive) that moves more",
         {"BEM pixel size (m)": pixel, "error against the finest grid (1)": bem.check_error},
     )
     return bem_grid_figure(result), table
@@ -440,7 +496,7 @@ def draw_lambda_fit(result: Run) -> tuple[Figure, FigureTable]:
         fit.mode_mixity,
         color="k",
         ls="--",
-        label=f"fit {fit.mode_mixity:.3g} +/- {fit.mode_mixity_std:.2g}",
+        label=f"fit {format_number(fit.mode_mixity, fit.mode_mixity_std)}",
     )
     if np.isfinite(fit.mode_mixity_std):  # an unbounded uncertainty has no band to draw
         ax.axvspan(
@@ -563,10 +619,11 @@ def draw_area_vs_force(result: Run) -> tuple[Figure, FigureTable]:
     ax.plot(fu(line), tau_line, "k:", lw=1, label="$F_x = \\tau_0 A_r$ (constant shear strength)")
     table.add("all", "F_x = tau0 A_r", {x_col: line, y_col: tau_line})
     ax.set_ylim(0, 1.15 * np.nanmax(fr.real_area) / a_n)
+    full_contact_line(ax, np.asarray(fr.real_area) / a_n)
     ax.set_xlabel(fu.label("tangential load $F_x$"))
     ax.set_ylabel("$A_r / A_n$")
     verdict_marks.threshold_lines(ax, "A_r/A_n", verdict_marks.AREA_FRACTION_THRESHOLDS)
-    ax.legend(fontsize=7)
+    legend_below(ax, fontsize=8, ncols=2)  # under the axis: it covers no curve
     return fig, table
 
 
@@ -575,11 +632,12 @@ def draw_friction_vs_load(result: Run) -> tuple[Figure, FigureTable]:
     fr = result.friction
     fu = display_unit(fr.normal_load, "N")
     yu = display_unit([fr.static_friction, fr.sliding_friction], "N")
-    fig = new_figure(6, 4)
+    fig = new_figure(6.5, 4.8)
     ax = fig.subplots()
     table = FigureTable()
     x_col = "normal load F_z (N)"
     bars = friction_error_bars(fr)
+    lower_bound = bool(getattr(fr, "uncertainty_lower_bound", False))
     for name, values, style in (
         ("static (peak)", fr.static_friction, "o-"),
         ("sliding", fr.sliding_friction, "s--"),
@@ -590,13 +648,21 @@ def draw_friction_vs_load(result: Run) -> tuple[Figure, FigureTable]:
             ax.plot(fu(fr.normal_load), yu(values), style, label=name)
         else:
             x = fu(fr.normal_load)
-            ax.errorbar(x, yu(values), yerr=yu(u), fmt=style, capsize=3, label=name)
+            arms, clipped = nonnegative_bars(values, u)
+            label = name + " +- u" + (", a lower bound" if lower_bound else "")
+            label += CLIPPED_NOTE if clipped else ""
+            if lower_bound:  # open-ended: the true bar is at least this long
+                (line,) = ax.plot(x, yu(values), style, label=label)
+                _lower_bound_arrows(ax, x, yu(values), np.zeros_like(arms), yu(arms),
+                                    line.get_color())  # fmt: skip
+            else:
+                ax.errorbar(x, yu(values), yerr=yu(arms), fmt=style, capsize=3, label=label)
             columns["friction force uncertainty (N)"] = u
         table.add("all", name, columns)
     auto_log_scale(ax, fr.normal_load, [fr.static_friction, fr.sliding_friction])
     ax.set_xlabel(fu.label("normal load $F_z$"))
     ax.set_ylabel(yu.label("friction force"))
-    ax.legend(fontsize=8)
+    legend_below(ax, fontsize=8, ncols=2)  # under the axis: it hides no bar
     return fig, table
 
 
@@ -644,6 +710,16 @@ def nyquist_marks(result: Run) -> dict[str, float]:
     }
 
 
+def psd_fit_label(psd: object) -> str:
+    """The PSD fit's legend: C ~ q^exponent, and the Hurst exponent only where it is one
+    (H = -exponent/2 - 1 inside (0, 1); docs/topo.md)."""
+    text = f"power law, $C \\propto q^{{{psd.psd_fit_exponent:.3g}}}$"
+    hurst = float(psd.hurst_exponent)
+    if math.isfinite(hurst) and 0 < hurst < 1:
+        return f"{text}, H = {hurst:.3g}"
+    return f"{text} (no Hurst exponent: H would be {hurst:.3g}, outside (0, 1))"
+
+
 def draw_psd(result: Run) -> tuple[Figure, FigureTable]:
     """The PSD stage: the radial PSD with the roll-off, the Hurst fit and the Nyquist
     wavenumbers."""
@@ -668,9 +744,7 @@ def draw_psd(result: Run) -> tuple[Figure, FigureTable]:
     if np.isfinite(psd.psd_fit_exponent):
         line = np.geomspace(q_r, psd.nyquist_wavenumber, 30)
         fit = psd.psd_fit_prefactor * line**psd.psd_fit_exponent
-        ax.loglog(
-            qu(line), cu(fit), "-", color="C1", label=f"power law, H = {psd.hurst_exponent:.3g}"
-        )
+        ax.loglog(qu(line), cu(fit), "-", color="C1", label=psd_fit_label(psd))
         table.add("all", "power-law fit", {q_col: line, c_col: fit})
     marks = nyquist_marks(result)
     for name, wavenumber in marks.items():
@@ -710,8 +784,9 @@ def bem_grid_figure(result: Run) -> Figure:
     error), their movement from the grid used, and the contact mask at the largest load; axis
     units chosen from the data (um, mm, ...)."""
     bem = result.bem_reference
-    fig = new_figure(14, 4.4)
-    ax1, ax3, ax2 = fig.subplots(1, 3)
+    # 12 inches wide with 9-10 pt text: about 12 px text once the page scales it to 1100 px
+    fig = new_figure(12, 5.6)
+    ax1, ax3, ax2 = fig.subplots(1, 3, width_ratios=(1.15, 1.15, 1))
     pixel_m = np.asarray(bem.check_stride) * result.surface.dx
     refined = _refinement(bem)
     every = pixel_m if refined is None else np.concatenate([pixel_m, refined[0]])
@@ -728,8 +803,10 @@ def bem_grid_figure(result: Run) -> Figure:
     separate_bem_markers(ax1, ("non-adhesive", "adhesive"))
     ax1.set_xlabel(pu.label("BEM pixel size"))
     ax1.set_ylabel(f"$A_r/A_n$ at $F_z$ = {bem.check_load:.3g} N")
-    ax1.set_title(f"decimated (solid) and interpolated (dashed) grids ({bem.boundary})", fontsize=9)
-    ax1.legend(fontsize=7)
+    ax1.set_title(
+        f"decimated (solid) and interpolated\n(dashed) grids ({bem.boundary})", fontsize=10
+    )
+    legend_below(ax1, fontsize=8)
     _draw_grid_error(ax3, bem, pixel_m, refined, pu)
     mask = bem.contact_mask
     lengths = (mask.shape[0] * bem.dx, mask.shape[1] * bem.dy)
@@ -737,8 +814,13 @@ def bem_grid_figure(result: Run) -> Figure:
     ax2.imshow(mask.T, origin="lower", cmap="gray_r", extent=(0, xu(lengths[0]), 0, xu(lengths[1])))
     ax2.set_xlabel(xu.label("x"))
     ax2.set_ylabel(xu.label("y"))
-    ax2.set_title(f"contact at $F_z$ = {bem.normal_load.max():.3g} N")
+    ax2.set_title(f"contact at $F_z$ = {bem.normal_load.max():.3g} N", fontsize=10)
     return fig
+
+
+def _tick_text(value: float, _position: float | None) -> str:
+    """A log-axis tick as a short plain number to 3 significant digits (5, 40, 0.5, 128)."""
+    return f"{value:.3g}"
 
 
 def _draw_extrapolation(ax: Axes, bem: BemReference) -> None:
@@ -760,7 +842,7 @@ def _draw_grid_error(
     refined: tuple[np.ndarray, np.ndarray] | None,
     pu: DisplayUnit,
 ) -> None:
-    """How far A_r/A_n moves from the grid used (larger of the modes, %), on log axes: on the
+    """How far A_r/A_n moves from the grid used (%, the mode that moves more), on log axes: on the
     decimated grids (roughness lost) and on the interpolated ones (discretisation), with the
     error bar applied (the discretisation band of the grid used)."""
     used_m = float(pixel_m[list(np.asarray(bem.check_stride)).index(int(bem.stride))])
@@ -790,14 +872,20 @@ def _draw_grid_error(
     if bem.area_tolerance is not None:  # stored with the stage: redrawn without the config
         ax.axhline(bem.area_tolerance * 100, color="gray", ls=":", label="area_tolerance")
     ax.axvline(pu(used_m), color="k", ls="--", label="used")
-    for axis in (ax.xaxis, ax.yaxis):
-        axis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
-        axis.set_major_formatter(ScalarFormatter())
-        axis.set_minor_formatter(NullFormatter())
-    ax.legend(fontsize=7)
+    ticks = np.concatenate([pixel_m, [] if refined is None else refined[0][1:]])
+    ax.set_xticks(np.unique(pu(ticks[np.isfinite(ticks) & (ticks > 0)])))  # every grid named
+    ax.xaxis.set_major_formatter(FuncFormatter(_tick_text))
+    ax.xaxis.set_minor_locator(NullLocator())
+    ax.yaxis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+    ax.yaxis.set_major_formatter(FuncFormatter(_tick_text))
+    ax.yaxis.set_minor_formatter(NullFormatter())
+    legend_below(ax, fontsize=8)
     ax.set_xlabel(pu.label("BEM pixel size"))
     ax.set_ylabel("$|A_r - A_r^{used}| / A_r^{used}$ (%)")
-    ax.set_title("movement from the grid used", fontsize=9)
+    ax.set_title(
+        "how far $A_r$ moves from the grid used\n(the mode, adhesive or not, that moves more)",
+        fontsize=10,
+    )
 
 
 def draw_resolution_interval(
@@ -829,7 +917,8 @@ def draw_resolution_interval(
             },
         )
     if res.sampled_resolution is not None:
-        ax.plot(xu(res.sampled_resolution), res.sampled_misfit, "x", color="C2", ms=5)
+        ax.plot(xu(res.sampled_resolution), res.sampled_misfit, "x", color="C2", ms=5,
+                label="sampled to locate the optimum")  # fmt: skip
         table.add(
             "misfit",
             "located (strides and refinement)",
@@ -867,12 +956,18 @@ def draw_model_band(
     at = result.statistical_model.effective_resolution
     ru = display_unit(at, "m")
     lower_bound = bool(getattr(fr, "uncertainty_lower_bound", False))
-    band = "u a lower bound, band not drawn" if lower_bound else "+- u"
-    name = f"JKR model ({band}), {ru(at):.3g} {ru.symbol} (effective: the predictions)"
+    clipped = bool(np.any(value - u < 0))
+    name = f"JKR model +- u, {ru(at):.3g} {ru.symbol} (effective: the predictions)"
     (line,) = ax.plot(fu(fr.normal_load), value, "-", color="C3", label=name)
-    if not lower_bound:  # a lower bound has no upper edge to draw: a band would claim one
-        low = np.maximum(value - u, 0.1 * value)  # a log axis: at most a decade below
-        ax.fill_between(fu(fr.normal_load), low, value + u, color=line.get_color(), alpha=0.25)
+    low = np.maximum(value - u, 0.0)  # an area is never negative
+    note = " (clipped at 0)" if clipped else ""
+    if lower_bound:  # only a lower bound: the band is at least this wide, drawn open (hatched)
+        ax.fill_between(fu(fr.normal_load), low, value + u, facecolor="none",
+                        edgecolor=line.get_color(), hatch="///", lw=0.8, ls="--",
+                        label=f"u a lower bound: the band is at least this wide{note}")  # fmt: skip
+    else:
+        ax.fill_between(fu(fr.normal_load), low, value + u, color=line.get_color(), alpha=0.25,
+                        label=f"model +- u (one sigma){note}")  # fmt: skip
     table.add("d", name, {x_col: fr.normal_load, y_col: value, "A_r/A_n uncertainty (1)": u})
     return True
 
@@ -881,21 +976,31 @@ def draw_fig13_error_bars(
     ax: Axes, fu: DisplayUnit, fr: FrictionPrediction, colors: np.ndarray, table: FigureTable
 ) -> None:
     """Fig 13: at each load, the model's A_r/A_n at F_x = 0 (vertical bar) and the static
-    friction at the peak (horizontal bar), with their CSV rows."""
+    friction at the peak (horizontal bar, at A_r of the static peak), with their CSV rows.
+
+    Bars stop at zero (the legend says where one was cut). When the uncertainties are only
+    lower bounds (the effective resolution's interval is open), each arm ends in an outward
+    arrow instead of a cap, and the legend says "lower bound": the true bar is at least this
+    long."""
     if getattr(fr, "static_friction_uncertainty", None) is None:
         return
     a_n = fr.nominal_area
+    lower_bound = bool(getattr(fr, "uncertainty_lower_bound", False))
     x_col, y_col = "tangential load F_x (N)", "A_r/A_n (1)"
+    clipped_any = False
     for i, f in enumerate(fr.normal_load):
-        peak = int(np.nanargmax(fr.tangential_force[i]))
         x = np.array([0.0, fr.static_friction[i]])
-        y = np.array([fr.model_real_area[i], fr.real_area[i][peak]]) / a_n
+        y = np.array([fr.model_real_area[i], fr.static_peak_real_area[i]]) / a_n
         xerr = np.array([0.0, fr.static_friction_uncertainty[i]])
         yerr = np.array([fr.model_real_area_uncertainty[i] / a_n, 0.0])
-        label = "model +- u (A_r at $F_x$ = 0; static peak)" if i == 0 else None
-        ax.errorbar(
-            fu(x), y, xerr=fu(xerr), yerr=yerr, fmt="none", ecolor=colors[i], capsize=3, label=label
-        )
+        xbars, x_cut = nonnegative_bars(x, xerr)
+        ybars, y_cut = nonnegative_bars(y, yerr)
+        clipped_any |= x_cut or y_cut
+        if lower_bound:
+            _lower_bound_arrows(ax, fu(x), y, fu(xbars), ybars, colors[i])
+        else:
+            ax.errorbar(fu(x), y, xerr=fu(xbars), yerr=ybars, fmt="none", ecolor=colors[i],
+                        capsize=3)  # fmt: skip
         table.add(
             "all",
             f"model uncertainty F_z = {f:.6g} N",
@@ -906,6 +1011,35 @@ def draw_fig13_error_bars(
                 "A_r/A_n uncertainty (1)": yerr,
             },
         )
+    note = CLIPPED_NOTE if clipped_any else ""
+    if lower_bound:
+        ax.plot([], [], color="0.3", marker=r"$\leftrightarrow$", ms=12, ls="none",
+                label=f"model +- u, a lower bound: at least this wide{note}")  # fmt: skip
+    else:
+        ax.errorbar([], [], xerr=[], yerr=[], fmt="none", ecolor="0.3", capsize=3,
+                    label=f"model +- u (A_r at $F_x$ = 0; static peak){note}")  # fmt: skip
+
+
+def _lower_bound_arrows(
+    ax: Axes, x: np.ndarray, y: np.ndarray, xbars: np.ndarray, ybars: np.ndarray, color: object
+) -> None:
+    """Open-ended bars: from each point, an arrow along each non-zero arm (the uncertainty is
+    at least that long; an arm beyond the axes runs off their edge)."""
+    style = {"arrowstyle": "->", "color": color, "lw": 1.2, "shrinkA": 0, "shrinkB": 0}
+    for j in range(x.size):
+        arms = [
+            (x[j] - xbars[0, j], y[j]),
+            (x[j] + xbars[1, j], y[j]),
+            (x[j], y[j] - ybars[0, j]),
+            (x[j], y[j] + ybars[1, j]),
+        ]
+        for end in arms:
+            if np.all(np.isfinite(end)) and (end[0] != x[j] or end[1] != y[j]):
+                # drawn even when it ends beyond the axes (then cut at their edge: open-ended)
+                note = ax.annotate(
+                    "", xy=end, xytext=(x[j], y[j]), arrowprops=style, annotation_clip=False
+                )
+                note.arrow_patch.set_clip_path(ax.patch)
 
 
 #: How a figure is drawn: the run in, the figure and its data table out.

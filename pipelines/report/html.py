@@ -1,10 +1,12 @@
 """``report.html``: one self-contained page (figures embedded) beside ``report.md``.
 
-The page holds the validity verdict (when the result has a verdict stage: its wording, as in
-report.md and the terminal, then its reasons as a list, each with its severity and code,
-coloured: red for invalid, amber for warnings; a verdict dataclass without reasons is shown
-field by field), the key numbers, the per-load table, the
-validity and convergence notes, the stage table and every figure, embedded as a base64 PNG
+The page holds, in this order: the validity verdict (when the result has a verdict stage: its
+wording, as in report.md and the terminal, then its reasons as a list, each with its severity
+and code, coloured: red for invalid, amber for warnings; a verdict dataclass without reasons is
+shown field by field), the few key numbers (:func:`~asperity.pipelines.report.text.
+headline_numbers`), the per-load table, then the details: every key number with its
+qualifications, the validity and convergence notes, the stage table and every figure, scaled
+to the page's width (tables wider than the page scroll in their own box), embedded as a base64 PNG
 (when PNG was written), else as inline SVG, else (PDF only) as a PNG drawn in memory. It needs
 no other file and no network: mail it, or open it from a notebook.
 """
@@ -23,8 +25,9 @@ import numpy as np
 from asperity.atomic import write_text_atomic
 from asperity.pipelines.report._run import Run
 from asperity.pipelines.report.figures import draw_figure
+from asperity.pipelines.report.numbers import plain_text
 from asperity.pipelines.report.shear import shear_html
-from asperity.pipelines.report.text import key_numbers, load_table
+from asperity.pipelines.report.text import headline_numbers, key_numbers, load_table
 from asperity.pipelines.stages.verdict import Verdict
 
 #: Attribute names under which a result may hold a verdict stage's result.
@@ -64,7 +67,7 @@ def reasons_html(verdict: Verdict) -> str:
     items = "".join(
         f'<li class="reason severity-{html.escape(sev)}" data-severity="{html.escape(sev)}">'
         f"<b>{html.escape(severity_label(sev))}</b> (<code>{html.escape(code)}</code>): "
-        f"{html.escape(text)}</li>"
+        f"{html.escape(plain_text(text))}</li>"
         for sev, code, text in zip(verdict.severities, verdict.codes, verdict.reasons, strict=True)
     )
     return (
@@ -94,11 +97,16 @@ def verdict_html(verdict: Verdict) -> str:
 
 def table_html(header: list[str], rows: list[list[str]]) -> str:
     """An HTML table of text cells (escaped)."""
-    head = "".join(f"<th>{html.escape(h)}</th>" for h in header)
+    head = "".join(f"<th>{html.escape(plain_text(h))}</th>" for h in header)
     body = "".join(
-        "<tr>" + "".join(f"<td>{html.escape(str(c))}</td>" for c in row) + "</tr>" for row in rows
+        "<tr>" + "".join(f"<td>{html.escape(plain_text(str(c)))}</td>" for c in row) + "</tr>"
+        for row in rows
     )
-    return f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
+    # a wide table scrolls inside its own box instead of widening the page
+    return (
+        f'<div class="table"><table><thead><tr>{head}</tr></thead><tbody>{body}</tbody>'
+        "</table></div>"
+    )
 
 
 def _png_bytes(result: Run, name: str) -> bytes:
@@ -123,16 +131,19 @@ def figure_html(result: Run, name: str, path: Path, caption: str) -> str:
         body = f'<img alt="{html.escape(caption)}" src="data:image/png;base64,{encoded}">'
     return (
         f'<figure id="fig-{name}" data-figure="{name}">{body}'
-        f"<figcaption>{html.escape(caption)} Data: {html.escape(path.stem)}.csv</figcaption>"
+        f"<figcaption>{html.escape(plain_text(caption))} Data: {html.escape(path.stem)}.csv"
+        "</figcaption>"
         "</figure>"
     )
 
 
 STYLE = (
-    "body{font-family:sans-serif;max-width:1100px;margin:2em auto;color:#222}"
+    "body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}"
     "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px 8px;"
-    "text-align:left}th{background:#eee}figure{margin:2em 0}figure img,figure svg{max-width:"
-    "100%;height:auto}.verdict{border:2px solid #446;padding:0 1em;background:#f4f6ff}"
+    "text-align:left}th{background:#eee}div.table{max-width:100%;overflow-x:auto}"
+    "figure{margin:2em 0}figure img,figure svg{display:block;max-width:100%;width:100%;"
+    "height:auto}.key td:first-child{font-weight:bold}.verdict{border:2px solid #446;"
+    "padding:0 1em;background:#f4f6ff}"
     ".warning{color:#a40}.verdict-word{font-size:1.3em;font-weight:bold}"
     ".verdict[data-verdict=invalid]{border-color:#b00000;background:#fff2f2}"
     ".verdict[data-verdict=invalid] .verdict-word{color:#b00000}"
@@ -145,7 +156,7 @@ STYLE = (
 def _notes(title: str, ok_text: str, notes: list[str]) -> str:
     if not notes:
         return f"<h2>{title}</h2><p>{html.escape(ok_text)}</p>"
-    items = "".join(f'<li class="warning">{html.escape(n)}</li>' for n in notes)
+    items = "".join(f'<li class="warning">{html.escape(plain_text(n))}</li>' for n in notes)
     return f"<h2>{title}</h2><ul>{items}</ul>"
 
 
@@ -165,14 +176,20 @@ def write_html(
     ]
     verdict = find_verdict(result)
     parts = [
-        "<!DOCTYPE html><html><head><meta charset='utf-8'><title>asperity run report</title>",
+        "<!DOCTYPE html><html><head><meta charset='utf-8'>",
+        "<meta name='viewport' content='width=device-width, initial-scale=1'>",
+        "<title>asperity run report</title>",
         f"<style>{STYLE}</style></head><body><h1>asperity run report</h1>",
         verdict_html(verdict) if verdict is not None else "",
         "<h2>Key numbers</h2>",
-        table_html(["quantity", "value"], [list(r) for r in key_numbers(result)]),
+        table_html(["quantity", "value"], [list(r) for r in headline_numbers(result)]).replace(
+            '<div class="table">', '<div class="table key">', 1
+        ),
         "<h2>Per normal load</h2>",
         table_html(*load_table(result)),
         shear_html(result),
+        "<h2>Details</h2>",
+        table_html(["quantity", "value"], [list(r) for r in key_numbers(result)]),
         f"<h2>Validity</h2><p><b>{html.escape(_wording(verdict))}</b> (reasons at the top).</p>"
         if verdict is not None
         else _notes(

@@ -18,6 +18,7 @@ import numpy as np
 from matplotlib import colormaps
 
 from asperity.pipelines.report.figure_output import FigureTable
+from asperity.pipelines.report.numbers import format_number, plain_text
 from asperity.pipelines.stages import stage_number
 from asperity.pipelines.stages.bem_shear import BemShearComparison
 from asperity.plotting import display_unit, new_figure
@@ -44,11 +45,11 @@ def _shear(result: Run) -> BemShearComparison | None:
 
 
 def _pm(value: float, error: float, digits: int = 4) -> str:
+    """A BEM value +- its grid error, with the digits the error supports ("not reached" for
+    a NaN value; the value alone to ``digits`` significant digits where the error is unknown)."""
     if not math.isfinite(value):
         return "not reached"
-    if not math.isfinite(error):
-        return f"{value:.{digits}g}"
-    return f"{value:.{digits}g} +- {error:.2g}"
+    return format_number(value, error if math.isfinite(error) else None, digits=digits)
 
 
 def shear_table(shear: BemShearComparison) -> tuple[list[str], list[list[str]]]:
@@ -112,7 +113,7 @@ def model_judgement(shear: BemShearComparison, model_area: np.ndarray) -> str:
 
 def _grid_text(shear: BemShearComparison) -> str:
     grids = ", ".join(
-        f"stride {int(s)} ({p * 1e6:.3g} um)"
+        f"stride {int(s)} ({p * 1e6:.3g} µm)"
         for s, p in zip(shear.grid_stride, shear.grid_pixel_size, strict=True)
     )
     check = (
@@ -195,10 +196,10 @@ def shear_html(result: Run) -> str:
     ]
     items += [f"Warning: {w}" for w in shear.warnings]
     items += [f"Not converged: {m}" for m in shear.messages]
-    listed = "".join(f"<li>{html.escape(i)}</li>" for i in items)
+    listed = "".join(f"<li>{html.escape(plain_text(i))}</li>" for i in items)
     return (
         f'<h2 id="bem-shear">Shear BEM against the model (stage {stage_number("bem_shear")})</h2>'
-        f"<p>{html.escape(_intro(shear))}</p>{_html_table(*shear_table(shear))}<ul>{listed}</ul>"
+        f"<p>{html.escape(plain_text(_intro(shear)))}</p>{_html_table(*shear_table(shear))}<ul>{listed}</ul>"
     )
 
 

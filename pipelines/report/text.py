@@ -15,15 +15,18 @@ from asperity import topo
 from asperity.pipelines.report._run import Run, persson_fraction
 from asperity.pipelines.report.bem import bem_section
 from asperity.pipelines.report.measured import shape_scale_key_numbers
+from asperity.pipelines.report.numbers import format_number, format_quantity, plain_text, text_unit
 from asperity.pipelines.report.profile import (
     profile_key_numbers,
     profile_section,
 )
 from asperity.pipelines.report.shear import SHEAR_CAPTIONS, shear_section
+from asperity.pipelines.report.static_peak import MeasuredPeak, measured_peaks
 from asperity.pipelines.report.uncertainty import (
     bem_cells,
     misfit_text,
     model_cells,
+    plus_minus,
     resolution_text,
     uncertainty_rows,
 )
@@ -38,6 +41,7 @@ from asperity.pipelines.stages.verdict import (
     verdict_markdown,
     verdict_wording,
 )
+from asperity.plotting import DisplayUnit
 
 
 def _grid_error_text(bem: BemReference) -> str:
@@ -46,7 +50,7 @@ def _grid_error_text(bem: BemReference) -> str:
     relative = getattr(bem, "discretisation_relative_uncertainty", None)
     if relative is not None and np.all(np.isfinite(relative)):
         return (
-            f"discretisation error +/- {float(np.max(relative)):.1%} (the grid used against its "
+            f"discretisation error +- {float(np.max(relative)):.1%} (the grid used against its "
             "Fourier-interpolated refinement, at the check load)"
         )
     if bem.stride <= int(np.min(bem.check_stride)):
@@ -67,10 +71,12 @@ def _range_resolution_text(bem: BemReference) -> str:
 
 
 def pixel_size_text(surface: LevelledSurface) -> str:
-    """``"10 um pixels"``, or ``"0.1277 x 0.3146 um pixels (dx x dy)"`` when dy differs."""
+    """``"10 µm pixels"``, or ``"127.7 x 314.6 nm pixels (dx x dy)"`` when dy differs."""
     if np.isclose(surface.dx, surface.dy, rtol=1e-9, atol=0.0):
-        return f"{surface.dx * 1e6:.4g} um pixels"
-    return f"{surface.dx * 1e6:.4g} x {surface.dy * 1e6:.4g} um pixels (dx x dy)"
+        return f"{format_quantity(surface.dx, 'm')} pixels"
+    unit = text_unit([surface.dx, surface.dy], "m")
+    dx, dy = (format_number(unit(d)) for d in (surface.dx, surface.dy))
+    return f"{dx} x {dy} {unit.text} pixels (dx x dy)"
 
 
 def key_numbers(result: Run) -> list[tuple[str, str]]:
@@ -88,9 +94,9 @@ def key_numbers(result: Run) -> list[tuple[str, str]]:
             f"{result.surface.nx} x {result.surface.ny} px, {pixel_size_text(result.surface)}",
         ),
         ("effective resolution", f"{resolution_text(res)}; chosen against {res.basis}"),
-        ("summit radius R", f"{r.summit_radius * 1e3:.4g} mm"),
-        ("asperity density eta", f"{r.asperity_density * 1e-6:.4g} 1/mm^2"),
-        ("rms summit height sigma_s", f"{r.summit_height_rms * 1e3:.4g} mm"),
+        ("summit radius R", format_quantity(r.summit_radius, "m")),
+        ("asperity density eta", format_quantity(r.asperity_density, "m", power=-2)),
+        ("rms summit height sigma_s", format_quantity(r.summit_height_rms, "m")),
         ("Tabor parameter mu", f"{res.tabor_parameter:.4g}"),
         ("misfit at effective resolution", misfit_text(res)),
     ]
@@ -106,7 +112,7 @@ def key_numbers(result: Run) -> list[tuple[str, str]]:
         rows.append(
             (
                 "mode mixity lambda (fitted)",
-                f"{lam.mode_mixity:.4g} +/- {lam.mode_mixity_std:.2g} "
+                f"{format_number(lam.mode_mixity, lam.mode_mixity_std)} "
                 f"(rms relative residual {lam.residual_rms:.3g}, "
                 f"{lam.n_points} points{united})",
             )
@@ -120,7 +126,7 @@ def key_numbers(result: Run) -> list[tuple[str, str]]:
         rows += [
             (
                 "BEM grid",
-                f"stride {bem.stride} ({bem.dx * 1e6:.4g} um), {_grid_error_text(bem)}; "
+                f"stride {bem.stride} ({format_quantity(bem.dx, 'm')}), {_grid_error_text(bem)}; "
                 f"{bem.boundary} boundary",
             ),
             ("BEM solves converged", f"{int(np.sum(bem.converged))} / {bem.converged.size}"),
@@ -143,7 +149,62 @@ def key_numbers(result: Run) -> list[tuple[str, str]]:
         "misfit",
         "mode mixity lambda (fitted)",
     )
-    return [(k, mark(v, verdict) if k.startswith(judged) else v) for k, v in rows]
+    rows = [(k, mark(v, verdict) if k.startswith(judged) else v) for k, v in rows]
+    return [(plain_text(k), plain_text(v)) for k, v in rows]
+
+
+#: Key numbers shown first (report.html's "Key numbers"), shortened to their value.
+HEADLINE_KEYS: tuple[str, ...] = (
+    "surface",
+    "summit radius R",
+    "asperity density eta",
+    "rms summit height sigma_s",
+    "Tabor parameter mu",
+)
+
+
+def headline_numbers(result: Run) -> list[tuple[str, str]]:
+    """The few numbers a reader wants first, each short (the full rows, with how each was
+    found, are :func:`key_numbers`): the surface, the effective resolution and its interval,
+    R, eta, sigma_s, the Tabor parameter, lambda, and at the lightest and heaviest loads the
+    friction coefficient mu_s = F_s/F_z and the area drop A_r(peak)/A_r(0) (Fig 13)."""
+    rows = dict(key_numbers(result))
+    verdict = getattr(result, "verdict", None)
+    res, lam, fr = result.statistical_model, result.mode_mixity, result.friction
+    where = format_quantity(res.effective_resolution, "m")
+    interval = getattr(res, "optimum_interval", None)
+    if interval is not None and np.all(np.isfinite(interval)):
+        unit = text_unit(interval, "m")
+        finer, coarser = (format_number(unit(end)) for end in interval)
+        where += f" (interval {finer}..{coarser} {unit.text})"
+    out = [("surface", rows["surface"]), ("effective resolution", mark(where, verdict))]
+    out += [(k, rows[k]) for k in HEADLINE_KEYS[1:] if k in rows]
+    if lam.fitted:
+        out.append(
+            (
+                "mode mixity lambda",
+                mark(format_number(lam.mode_mixity, lam.mode_mixity_std), verdict),
+            )
+        )
+    else:
+        out.append(
+            ("mode mixity lambda", f"{format_number(lam.mode_mixity)} (assumed, not fitted)")
+        )
+    low = bool(getattr(fr, "uncertainty_lower_bound", False))
+    mu_u = fr.static_friction_coefficient_uncertainty
+    ends = list(dict.fromkeys([int(np.argmin(fr.normal_load)), int(np.argmax(fr.normal_load))]))
+    load = text_unit(fr.normal_load, "N")
+    at = {i: f"at {format_number(load(fr.normal_load[i]))} {load.text}" for i in ends}
+    mu = [
+        f"{plus_minus(fr.static_friction_coefficient[i], _at(mu_u, i), 1.0, low)} {at[i]}"
+        for i in ends
+    ]
+    drop = [f"{format_number(fr.real_area_drop[i])} {at[i]}" for i in ends]
+    out += [
+        ("friction coefficient mu_s = F_s/F_z", mark("; ".join(mu), verdict)),
+        ("area drop A_r(static peak)/A_r(0)", mark("; ".join(drop), verdict)),
+    ]
+    return [(plain_text(k), plain_text(v)) for k, v in out]
 
 
 def assumed_lambda_text(result: Run) -> str:
@@ -160,9 +221,14 @@ def assumed_lambda_text(result: Run) -> str:
         return text
     low, high = fr.mode_mixity_decade
     ends = [int(np.argmin(fr.normal_load)), int(np.argmax(fr.normal_load))]
+    force = text_unit(np.concatenate([np.ravel(decade), np.ravel(fr.static_friction)]), "N")
     moves = "; ".join(
-        f"F_s({fr.normal_load[i]:.3g} N) = {decade[0, i]:.3g} / {fr.static_friction[i]:.3g} / "
-        f"{decade[1, i]:.3g} N"
+        f"F_s({fr.normal_load[i]:.3g} N) = "
+        + " / ".join(
+            format_number(force(f), digits=3)
+            for f in (decade[0, i], fr.static_friction[i], decade[1, i])
+        )  # fmt: skip
+        + f" {force.text}"
         for i in dict.fromkeys(ends)
     )
     return f"{text}; a decade of lambda ({low:.3g} / {lam.mode_mixity:.3g} / {high:.3g}): {moves}"
@@ -180,7 +246,7 @@ def adhesion_key_numbers(result: Run) -> list[tuple[str, str]]:
         rows.append(
             (
                 "BEM range uncertainty",
-                f"A_r/A_n +/- {bem.area_range_uncertainty:.3g} (half spread over h_0/2, h_0, "
+                f"A_r/A_n +- {bem.area_range_uncertainty:.2g} (half spread over h_0/2, h_0, "
                 f"2 h_0: {spread[0]:.4g}, {spread[1]:.4g}, {spread[2]:.4g} at "
                 f"{bem.check_load:.4g} N; {_range_resolution_text(bem)})",
             )
@@ -193,7 +259,8 @@ def adhesion_key_numbers(result: Run) -> list[tuple[str, str]]:
         rows.append(
             (
                 "effective resolution, non-adhesive pair",
-                f"{res.resolution[index] * 1e6:.4g} um (w=0 model against the non-adhesive "
+                f"{format_quantity(res.resolution[index], 'm')} (w=0 model against the "
+                "non-adhesive "
                 f"BEM, misfit {res.misfit_bem_non_adhesive[index]:.3g}; not used: the "
                 "adhesive pair chooses)",
             )
@@ -242,7 +309,8 @@ def bem_law_key_numbers(res: object, bem: BemReference | None) -> list[tuple[str
     if law == "maugis-dugdale":
         h0 = res.bem_law_adhesion_range
         pair = (
-            f"Maugis-Dugdale statistical model at the BEM's h_0 = {h0 * 1e6:.4g} um (sigma_0 = "
+            f"Maugis-Dugdale statistical model at the BEM's h_0 = {format_quantity(h0, 'm')} "
+            "(sigma_0 = "
             "w / h_0) against the Maugis-Dugdale BEM; Greenwood-Williamson against the "
             "non-adhesive BEM; the JKR/PC model makes the predictions at that resolution"
         )
@@ -274,7 +342,7 @@ def gain_key_numbers(result: Run) -> list[tuple[str, str]]:
             (
                 "BEM Maugis parameter / model Tabor parameter",
                 f"lambda = {lam:.3g} / mu = {res.tabor_parameter:.4g} at R = "
-                f"{res.summit_radius * 1e3:.4g} mm: {res.adhesion_statement}",
+                f"{format_quantity(res.summit_radius, 'm')}: {res.adhesion_statement}",
             )
         )
     return rows
@@ -310,46 +378,89 @@ def psd_key_numbers(result: Run) -> list[tuple[str, str]]:
     if psd is None:
         return []
     return [
-        ("PSD roll-off wavelength", f"{psd.rolloff_wavelength * 1e6:.4g} um"),
+        ("PSD roll-off wavelength", format_quantity(psd.rolloff_wavelength, "m")),
         ("Hurst exponent H (PSD above roll-off)", hurst_text(psd.hurst_exponent)),
         (
             "effective Nyquist wavelength 2x",
-            f"{psd.effective_nyquist_wavelength * 1e6:.4g} um",
+            format_quantity(psd.effective_nyquist_wavelength, "m"),
         ),
         ("rms slope h' (Persson)", f"{psd.persson_rms_slope:.4g}"),
     ]
 
 
 def load_table(result: Run) -> tuple[list[str], list[list[str]]]:
-    """Header and rows of the per-load table."""
+    """Header and rows of the per-load table: F_z; the BEM's A_r/A_n; the model's A_r/A_n at
+    F_x = 0, static friction F_s, mu_s = F_s/F_z, A_r/A_n at the static peak and the area drop
+    A_r(peak)/A_r(0) (:mod:`~asperity.pipelines.report.static_peak`), sliding friction and
+    displacement; with measured A_r(F_x) curves their F_s, A_r/A_n at the peak and drop;
+    Persson's A_r/A_n and the like-for-like partners. Forces and lengths in the unit named in
+    each header (N unless the column's values call for a prefix), every number with the digits
+    its uncertainty supports."""
     fr, bem = result.friction, result.bem_reference
+    verdict = getattr(result, "verdict", None)
+    low = bool(getattr(fr, "uncertainty_lower_bound", False))
+    a_n = fr.nominal_area
+    load_unit = text_unit(fr.normal_load, "N")
+    force = text_unit([fr.static_friction, fr.sliding_friction], "N")
+    length = text_unit(fr.sliding_displacement, "m")
+    measured = measured_peaks(result)
     header = [
-        "F_z (N)",
+        f"F_z ({load_unit.text})",
         "A_r/A_n BEM",
         "A_r/A_n BEM adh.",
         "A_r/A_n model",
-        "static F_x (N)",
-        "sliding F_x (N)",
-        "delta_T slide (um)",
+        f"static F_s ({force.text})",
+        "mu_s = F_s/F_z",
+        "A_r/A_n at static peak",
+        "A_r drop peak/0",
+        f"sliding F_x ({force.text})",
+        f"delta_T slide ({length.text})",
     ]
+    if measured:
+        header += [
+            f"measured F_s ({force.text})",
+            "measured A_r/A_n at peak",
+            "measured A_r drop",
+        ]
     persson = persson_fraction(result)
     if persson is not None:
         header.append("A_r/A_n Persson")
+    mu_u = fr.static_friction_coefficient_uncertainty
     rows = []
     for i, f in enumerate(fr.normal_load):
-        rows.append([f"{f:.4g}", *bem_cells(bem, i), *model_cells(result, i)])
+        area, static, sliding, slide = model_cells(result, i, force.factor, length.factor)
+        peak = [
+            plus_minus(fr.static_friction_coefficient[i], _at(mu_u, i), 1.0, low),
+            format_number(fr.static_peak_real_area[i] / a_n),
+            format_number(fr.real_area_drop[i]),
+        ]
+        model = [mark(c, verdict) for c in (area, static, *peak, sliding, slide)]
+        adh = bem_cells(bem, i)
+        row = [format_number(load_unit(f)), adh[0], mark_adhesive_bem(adh[1], verdict), *model]
+        if measured:
+            row += measured_cells(measured.get(i), force, a_n)
         if persson is not None:
-            rows[-1].append(f"{persson[i]:.4g}")
-    verdict = getattr(result, "verdict", None)
-    # the statistical model's columns carry the verdict; BEM and Persson are references
-    # the adhesive BEM column is marked where its range decides it (verdict_marks)
-    rows = [
-        [*row[:2], mark_adhesive_bem(row[2], verdict), *(mark(c, verdict) for c in row[3:7])]
-        + row[7:]
-        for row in rows
+            row.append(format_number(persson[i]))
+        rows.append(row)
+    header, rows = decade_column(result, *non_adhesive_column(result, header, rows))
+    return [plain_text(h) for h in header], [[plain_text(c) for c in row] for row in rows]
+
+
+def _at(values: np.ndarray | None, i: int) -> float | None:
+    return None if values is None else float(np.asarray(values)[i])
+
+
+def measured_cells(peak: MeasuredPeak | None, force: DisplayUnit, a_n: float) -> list[str]:
+    """The measured curve's F_s (``>= F`` when the curve ends on its largest F_x), A_r/A_n at
+    it and the drop; "-" without a curve at that load."""
+    if peak is None:
+        return ["-", "-", "-"]
+    fs = format_number(force(peak.static_friction))
+    return [
+        f">= {fs}" if peak.ends_rising else fs,
+        format_number(peak.peak_real_area / a_n),
+        format_number(peak.real_area_drop),
     ]
-    header, rows = non_adhesive_column(result, header, rows)
-    return decade_column(result, header, rows)
 
 
 def decade_column(
@@ -362,8 +473,12 @@ def decade_column(
     if decade is None:
         return header, rows
     low, high = fr.mode_mixity_decade
-    name = f"static F_x at lambda {low:.3g} .. {high:.3g} (N, lambda assumed)"
-    cells = [f"{decade[0, i]:.4g} .. {decade[1, i]:.4g}" for i in range(decade.shape[1])]
+    force = text_unit([fr.static_friction, fr.sliding_friction], "N")
+    name = f"static F_s at lambda {low:.3g} .. {high:.3g} ({force.text}, lambda assumed)"
+    cells = [
+        f"{format_number(force(decade[0, i]))} .. {format_number(force(decade[1, i]))}"
+        for i in range(decade.shape[1])
+    ]
     return [*header, name], [[*row, cell] for row, cell in zip(rows, cells, strict=True)]
 
 
@@ -405,12 +520,15 @@ def surface_section(result: Run) -> list[str]:
     record = getattr(surface, "preparation", None) or {}
     rows = [
         ["grid", f"{surface.nx} x {surface.ny} px"],
-        ["pixel size dx, dy", f"{surface.dx * 1e6:.4g} um, {surface.dy * 1e6:.4g} um"],
+        [
+            "pixel size dx, dy",
+            f"{format_quantity(surface.dx, 'm')}, {format_quantity(surface.dy, 'm')}",
+        ],
     ]
     if record:
         ratio = record.get("form_to_roughness")
         rows += [
-            ["crop", str(record.get("crop") or "none")],
+            ["crop", crop_text(record.get("crop"))],
             ["levelling (form removed)", str(record.get("levelling"))],
             ["form-to-roughness rms ratio", "-" if ratio is None else f"{ratio:.3g}"],
             [
@@ -423,13 +541,23 @@ def surface_section(result: Run) -> list[str]:
                 f"{record['n_outliers']} ({100 * record['outlier_fraction']:.3g} % of the valid "
                 f"pixels, {record['outlier_action']}): {record['outlier_rule']}",
             ],
-            ["rms roughness after preparation", f"{record['roughness_rms'] * 1e6:.4g} um"],
+            ["rms roughness after preparation", format_quantity(record["roughness_rms"], "m")],
         ]
     rows = [[key, value.replace("|", "\\|")] for key, value in rows]  # a pipe ends a cell
     lines = ["## Surface", "", _md_table(["step", "value"], rows), ""]
     warnings = record.get("warnings") or []
     lines += [f"- **Warning:** {w}" for w in warnings]
     return [*lines, ""] if warnings else lines
+
+
+def crop_text(crop: object) -> str:
+    """The crop window ``[x0, x1, y0, y1]`` (pixels) in words; "none" without one."""
+    if not crop:
+        return "none"
+    if isinstance(crop, list | tuple) and len(crop) == 4:
+        x0, x1, y0, y1 = crop
+        return f"pixels x {x0}..{x1}, y {y0}..{y1}"
+    return str(crop)
 
 
 def _md_table(header: list[str], rows: list[list[str]]) -> str:
@@ -511,6 +639,7 @@ def summary_text(result: Run) -> str:
     if problems:
         lines.append("  NOT CONVERGED:")
         lines += [f"    {p}" for p in problems[:8]]
+    lines = [plain_text(line) for line in lines]  # the outputs' paths below stay as they are
     out = result.out_dir
     lines.append(
         f"  outputs: {out / 'results.h5'}, {out / 'report.md'}, {out / 'report.html'} and the "
@@ -548,7 +677,7 @@ def report_markdown(result: Run, figures: dict[str, Path]) -> str:
         *surface_section(result),
         *profile_section(result),
         *bem_section(result),
-        *shear_section(result),
+        *(plain_text(line) for line in shear_section(result)),
         "## Validity",
         "",
         f"**{verdict_wording(verdict)}** (reasons at the top)."
@@ -573,4 +702,5 @@ def report_markdown(result: Run, figures: dict[str, Path]) -> str:
     ]
     for name, path in figures.items():
         text += [f"![{CAPTIONS[name]}]({path.name})", "", f"*{CAPTIONS[name]}*", ""]
-    return "\n".join(text)
+    # every line in words and one spelling of micro; the configuration's path as it is
+    return "\n".join(t if t.startswith("Configuration:") else plain_text(t) for t in text)

@@ -22,23 +22,21 @@ import math
 import numpy as np
 
 from asperity.pipelines.report._run import Run
+from asperity.pipelines.report.numbers import format_number
 from asperity.pipelines.stages.bem import BemReference
 from asperity.pipelines.stages.friction import FrictionPrediction
 from asperity.pipelines.stages.statistical_model import ResolutionChoice
 
 
 def plus_minus(value: float, u: float | None, scale: float = 1.0, lower_bound: bool = False) -> str:
-    """``"value +- u"`` in the display unit ``scale`` (e.g. 1e6 for um): value to 4 significant
-    digits, u to 2; ``+- ?`` when u is not known, ``+- >u`` when it is a lower bound."""
+    """``"value +- u"`` in the display unit ``scale`` (e.g. 1e6 for µm) with the digits u
+    supports (:func:`~asperity.pipelines.report.numbers.format_number`: u to 2 significant
+    digits, the value to the same decimal place; 4 significant digits without u); ``+- ?``
+    when u is not known, ``+- >u`` (rounded down) when it is a lower bound."""
     v = float(value) * scale
-    if u is None:
-        return f"{v:.4g}"
-    u = float(u) * scale
-    if not math.isfinite(v):
-        return f"{v:.4g}"
-    if not math.isfinite(u):
-        return f"{v:.4g} +- ?"
-    return f"{v:.4g} +- {'>' if lower_bound else ''}{u:.2g}"
+    if u is None or not math.isfinite(v):
+        return format_number(v)
+    return format_number(v, float(u) * scale, lower_bound=lower_bound)
 
 
 def _at(values: np.ndarray | None, i: int) -> float | None:
@@ -57,23 +55,24 @@ def bem_cells(bem: BemReference, i: int) -> tuple[str, str]:
     return plain, plus_minus(adh[i], None if u is None else u[-1, i])
 
 
-def model_cells(result: Run, i: int) -> list[str]:
-    """The model's A_r/A_n, static and sliding friction (N) and sliding displacement (um) of
-    load ``i``, each ``+- u`` when the friction stage estimated it."""
+def model_cells(result: Run, i: int, force: float = 1.0, length: float = 1e6) -> list[str]:
+    """The model's A_r/A_n, static and sliding friction and sliding displacement of load ``i``,
+    each ``+- u`` when the friction stage estimated it; forces times ``force`` (1: N) and the
+    displacement times ``length`` (1e6: µm), the display units of their columns."""
     fr, res = result.friction, result.statistical_model
     a_n = fr.nominal_area
     low = bool(getattr(fr, "uncertainty_lower_bound", False))
     area = getattr(fr, "model_real_area", None)
     if area is None:
-        area_text = f"{res.real_area[res.index, i] / a_n:.4g}"
+        area_text = format_number(res.real_area[res.index, i] / a_n)
     else:
         area_text = plus_minus(area[i], _at(fr.model_real_area_uncertainty, i), 1 / a_n, low)
     return [
         area_text,
-        plus_minus(fr.static_friction[i], _at(fr.static_friction_uncertainty, i), 1.0, low),
-        plus_minus(fr.sliding_friction[i], _at(fr.sliding_friction_uncertainty, i), 1.0, low),
+        plus_minus(fr.static_friction[i], _at(fr.static_friction_uncertainty, i), force, low),
+        plus_minus(fr.sliding_friction[i], _at(fr.sliding_friction_uncertainty, i), force, low),
         plus_minus(
-            fr.sliding_displacement[i], _at(fr.sliding_displacement_uncertainty, i), 1e6, low
+            fr.sliding_displacement[i], _at(fr.sliding_displacement_uncertainty, i), length, low
         ),
     ]
 

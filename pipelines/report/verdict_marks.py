@@ -27,6 +27,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
+from asperity.pipelines.report.numbers import plain_text
 from asperity.pipelines.stages.verdict import (
     MAX_AREA_FRACTION,
     MAX_MISFIT,
@@ -71,15 +72,43 @@ def mark_adhesive_bem(value: str, verdict: Verdict | None) -> str:
     return f"{RANGE_DECIDED_MARK}: {value}"
 
 
+#: Longest first reason a figure's stamp quotes whole (characters); a longer one is quoted up
+#: to a clause boundary, the whole reason being in report.md.
+STAMP_REASON_CHARS = 200
+
+
+def shorten_at_clause(text: str, limit: int = STAMP_REASON_CHARS) -> str:
+    """``text`` whole when it has at most ``limit`` characters, else up to the last clause
+    boundary (``;``, ``:``, ``,`` or before ``(``) within ``limit`` outside any parentheses,
+    ended by ``[...]``: never cut inside a word, a number or a bracket."""
+    if len(text) <= limit:
+        return text
+    depth, cut = 0, 0
+    for i, char in enumerate(text[:limit]):
+        if char in "([":
+            if depth == 0 and i > 0 and text[i - 1] == " ":
+                cut = i - 1
+            depth += 1
+        elif char in ")]":
+            depth = max(0, depth - 1)
+        elif char in ";:," and depth == 0 and text[i + 1 : i + 2] == " ":
+            cut = i
+    return (text[:cut] if cut else text[: text.rfind(" ", 0, limit)]) + " [...]"
+
+
 def verdict_summary(verdict: Verdict) -> str:
-    """The verdict and its first reason in one sentence; how many more reasons there are."""
+    """The verdict and its first reason in one sentence (a long reason shortened at a clause
+    boundary, :func:`shorten_at_clause`); how many more reasons there are."""
     text = verdict_wording(verdict)
-    if verdict.reasons:
-        text += f". First reason ({verdict.codes[0]}): {verdict.reasons[0]}"
+    if verdict.reasons:  # spelt as in report.md (plain_text: µm, no dict reprs)
+        reason = shorten_at_clause(plain_text(verdict.reasons[0]))
+        text += f". First reason ({verdict.codes[0]}): {reason}"
         more = len(verdict.reasons) - 1
         if more:
             text += f" (+{more} more reason{'s' if more > 1 else ''} in report.md)"
-    return text
+        elif reason.endswith("[...]"):
+            text += " (in full in report.md)"
+    return plain_text(text)
 
 
 def stamp_verdict(fig: Figure, verdict: Verdict | None) -> Figure:

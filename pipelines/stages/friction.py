@@ -726,13 +726,64 @@ class FrictionPrediction:
         optional=True,
     )
 
+    static_friction_coefficient: np.ndarray = array(
+        "1", ("normal_load",), "static friction coefficient mu_s = F_s / F_z", init=False
+    )
+    static_friction_coefficient_uncertainty: np.ndarray | None = array(
+        "1", ("normal_load",), "uncertainty of mu_s (F_s's / F_z)", optional=True, init=False
+    )
+    static_peak_real_area: np.ndarray = array(
+        "m^2", ("normal_load",), "A_r at the static peak", init=False
+    )
+    real_area_drop: np.ndarray = array(
+        "1", ("normal_load",), "A_r at the static peak / A_r at F_x = 0 (Fig 13)", init=False
+    )
+
     def __post_init__(self) -> None:
         self.constant_shear_strength_force = self.shear_strength * np.asarray(self.real_area)
         self.all_converged = bool(np.all(self.converged))
+        self.__dict__.update(static_peak_quantities(self))
 
     def curve_arrays(self, index: int) -> dict[str, np.ndarray]:
         """The per-step arrays of the shear curve at load ``index``, by name (SI)."""
         return {name: getattr(self, name)[index] for name in CURVE_FIELDS}
+
+
+def static_peak_quantities(fr: FrictionPrediction) -> dict[str, np.ndarray | None]:
+    """Per load: mu_s = F_s / F_z (1) and its uncertainty, A_r at the static peak (m^2) and the
+    area drop A_r(peak) / A_r(delta_T = 0) (1), the paper's Fig 13 observation. A_r(peak) is
+    the stored curve's A_r(delta_T) at the peak of F_x(delta_T): the parabola through the
+    largest F_x step and its neighbours locates the peak, the parabola through the same three
+    steps' A_r gives the area there."""
+    load = np.asarray(fr.normal_load, dtype=float)
+    area = np.atleast_2d(np.asarray(fr.real_area, dtype=float))
+    force = np.atleast_2d(np.asarray(fr.tangential_force, dtype=float))
+    peak = np.array([area_at_force_peak(f, a) for f, a in zip(force, area, strict=True)])
+    u = fr.static_friction_uncertainty
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return {
+            "static_friction_coefficient": np.asarray(fr.static_friction, float) / load,
+            "static_friction_coefficient_uncertainty": None if u is None else np.asarray(u) / load,
+            "static_peak_real_area": peak,
+            "real_area_drop": peak / area[:, 0],
+        }
+
+
+def area_at_force_peak(force: np.ndarray, area: np.ndarray) -> float:
+    """A_r at the peak of F_x over equal delta_T steps: the vertex t of the parabola through
+    the largest F_x and its two neighbours (in steps, -1/2 <= t <= 1/2), and A_r's parabola
+    through the same steps at t; the step's own A_r at an end of the path; NaN if no finite
+    F_x."""
+    if not np.isfinite(force).any():
+        return float("nan")
+    k = int(np.nanargmax(force))
+    if k == 0 or k == force.size - 1 or not np.all(np.isfinite(force[k - 1 : k + 2])):
+        return float(area[k])
+    f0, f1, f2 = force[k - 1 : k + 2]
+    curvature = f0 - 2 * f1 + f2
+    t = 0.0 if curvature >= 0 else float(np.clip(0.5 * (f0 - f2) / curvature, -0.5, 0.5))
+    a0, a1, a2 = area[k - 1 : k + 2]
+    return float(a1 + 0.5 * t * (a2 - a0) + 0.5 * t * t * (a0 - 2 * a1 + a2))
 
 
 def friction_prediction(

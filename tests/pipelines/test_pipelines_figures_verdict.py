@@ -210,8 +210,8 @@ def test_headline_pixel_size_gives_dy_when_it_differs(small_run):
     _, _, result = small_run
     surface = dataclasses.replace(result.surface, dy=2 * result.surface.dy)
     rows = dict(key_numbers(dataclasses.replace(result, surface=surface)))
-    assert "40 x 80 um pixels (dx x dy)" in rows["surface"]
-    assert "40 um pixels" in dict(key_numbers(result))["surface"]
+    assert "40 x 80 \u00b5m pixels (dx x dy)" in rows["surface"]
+    assert "40 \u00b5m pixels" in dict(key_numbers(result))["surface"]
 
 
 def test_batch_summary_csv_and_figure_name_the_invalid_maps(tmp_path):

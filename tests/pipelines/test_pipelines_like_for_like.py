@@ -227,7 +227,7 @@ def test_one_effective_resolution_everywhere(small_run):
         (line,) = [ln for ln in ax.get_lines() if ln.get_label().startswith("effective")]
         assert line.get_xdata()[0] == pytest.approx(res.effective_resolution * 1e6)
     rows = dict(key_numbers(result))
-    assert rows["effective resolution"].startswith(f"{res.effective_resolution * 1e6:.4g} um")
+    assert rows["effective resolution"].startswith(f"{res.effective_resolution * 1e6:.4g} \u00b5m")
     assert f"{res.tabor_parameter:.4g}" in rows["Tabor parameter mu"]
     header, _ = load_table(result)
     assert any(h.startswith("A_r/A_n model MD") for h in header)

@@ -141,3 +141,5 @@ def test_job_stores_reports_and_judges_the_scale_factors(small_run, small, tmp_p
     assert abs(lam - 0.03) < 3 * std
     report = (run / "report.md").read_text()
     assert "shape-fit scale factor c (measured / model)" in report and "3 at 2 N" in report
+    # the measured static peak beside the predicted one (report.static_peak)
+    assert "| measured F_s (N) | measured A_r/A_n at peak | measured A_r drop |" in report

@@ -92,7 +92,7 @@ def test_formats_and_dpi(small_run, tmp_path):
         assert b"<svg" in stem.with_suffix(".svg").read_bytes()[:2000]
         assert stem.with_suffix(".csv").exists()
     width, height = _png_size(tmp_path / "friction_vs_load.png")
-    assert (width, height) == (6 * 60, 4 * 60)
+    assert (width, height) == (round(6.5 * 60), round(4.8 * 60))  # 6.5 x 4.8 in at 60 dpi
     with pytest.raises(InputError, match="formats"):
         FigureOptions(("png", "tiff"))
     with pytest.raises(InputError, match="dpi"):

@@ -16,6 +16,7 @@ from asperity.pipelines.cli import main
 from asperity.pipelines.job import STAGES
 from asperity.pipelines.report import FIGURES, key_numbers, load_table, write_report
 from asperity.pipelines.report.html import find_verdict, write_html
+from asperity.pipelines.report.numbers import plain_text
 from asperity.pipelines.results import ALIASES
 
 
@@ -141,7 +142,8 @@ def test_html_report_holds_every_figure_and_number(small_run):
     assert all(h in text for h in header) and all(c in text for row in rows for c in row)
     assert all(stage.name in text for stage in STAGES)
     assert page.verdict  # the verdict stage's block is on the page, with its reasons
-    assert all(reason in text for reason in result.verdict.reasons)
+    # as written on the page: in words, micro spelt µm (report.numbers.plain_text)
+    assert all(plain_text(reason) in text for reason in result.verdict.reasons)
 
 
 @dataclasses.dataclass

@@ -104,9 +104,12 @@ def test_small_job_shows_every_prediction_with_its_error_bar(small_run):
     """Load rows (report.md, terminal) carry +- u for the BEM and model columns; the CSVs of
     the figures showing them carry finite uncertainty columns."""
     _, out, result = small_run
-    _, rows = load_table(result)
+    header, rows = load_table(result)
+    names = ("A_r/A_n BEM", "A_r/A_n BEM adh.", "A_r/A_n model", "static F_s (N)")
+    names += ("mu_s = F_s/F_z", "sliding F_x (N)", "delta_T slide (\u00b5m)")
+    columns = [header.index(name) for name in names]
     for row in rows:
-        assert all("+-" in cell for cell in row[1:7]), row
+        assert all("+-" in row[j] for j in columns), row
     report = (out / "report.md").read_text(encoding="utf-8")
     assert rows[0][4] in report and "+-" in summary_text(result)
     friction = read_figure_csv(out / "friction_vs_load.csv")
@@ -176,7 +179,8 @@ def test_plus_minus_states_unknown_and_lower_bound_uncertainties():
     assert plus_minus(0.2856, 0.00117) == "0.2856 +- 0.0012"
     assert plus_minus(24.05e-6, 0.14e-6, 1e6) == "24.05 +- 0.14"
     assert plus_minus(1.0, math.nan) == "1 +- ?"
-    assert plus_minus(1.0, 0.1, lower_bound=True) == "1 +- >0.1"
+    # u to two significant digits, the value to the same place (report.numbers)
+    assert plus_minus(1.0, 0.1, lower_bound=True) == "1.00 +- >0.10"
 
 
 @pytest.mark.slow
