@@ -45,17 +45,18 @@ from asperity.errors import InputError
 REFERENCE_PIXEL = 25e-6
 #: Rows of the map transformed and painted at once: the generator holds the heights (float64)
 #: and a few blocks of this many rows, so a 17,500 x 10,000 map (the paper's whole 35 x 20 mm
-#: interface at 2 um) peaks near its own 1.3 GiB.
+#: interface at 2 um, 1.3 GiB of heights) peaks at about 1.6 GiB above the interpreter.
 ROWS_PER_BLOCK = 512
 #: Cap centres whose base height is interpolated at once (the whole interface has 4.9 million
 #: caps of the smallest level: their interpolation's temporaries would be 0.4 GiB).
 CAPS_PER_BLOCK = 2**18
 #: Largest map side :func:`check_capped_size` accepts, pixels: the paper's 35 mm at 2 um.
 MAX_PIXELS_PER_SIDE = 17500
-#: Peak memory of :func:`capped_surface` per pixel, bytes: the float64 heights, with the
-#: O(nx + ny) blocks beside them rounded up (measured on 17,500 x 10,000: see
-#: :func:`check_capped_size`).
-GENERATOR_BYTES_PER_PIXEL = 9
+#: Peak memory of :func:`capped_surface` per pixel, bytes: the float64 heights, the blocks and
+#: the cap centres (about 1/30 as many as the pixels at 2 um) beside them; measured 9.8 bytes
+#: a pixel above the interpreter on 8,750 x 5,000 at 2 um (before: about 18 bytes, with two
+#: complex spectra and a full-size cap level: 3.1 GiB in all on 17,500 x 10,000).
+GENERATOR_BYTES_PER_PIXEL = 10
 
 
 @dataclass(frozen=True)

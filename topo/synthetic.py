@@ -348,7 +348,7 @@ def paper_surface(
     ny = nx if ny is None else int(ny)
     if nx < 3 or ny < 3:
         raise InputError(f"paper_surface: need at least 3 x 3 pixels, got {nx} x {ny}")
-    check_capped_size(nx, ny, "paper_surface: n")  # 17,500 a side: the generator holds ~9 B/px
+    check_capped_size(nx, ny, "paper_surface: n")  # 17,500 a side: the generator holds ~10 B/px
     if not (math.isfinite(pixel_size) and pixel_size > 0):
         raise InputError(
             f"paper_surface: pixel_size must be a finite value > 0 m, got {pixel_size!r}"
