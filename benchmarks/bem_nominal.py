@@ -11,9 +11,9 @@ load per area, so that the representativeness the paper worried about is measure
   2 um (35 x 20 mm; axis 0 is the 35 mm side), seed 0, periodic;
 * material: E* = 2.133 MPa (the paper's PDMS), w = 0.040 J/m^2;
 * load: F_z = 2.08 N (one of the paper's six loads, Sahli et al.) on the whole 700 mm^2, i.e.
-  a mean pressure of 2.97 kPa; the window (the first ``window x window`` pixels, 10 x 10 mm, a
-  crop of the same heights, solved as periodic like the paper's map) carries the same mean
-  pressure (F_z x 100 / 700 = 0.297 N);
+  a mean pressure of 2.97 kPa; each window (``window x window`` pixels, 10 x 10 mm, a crop of the
+  same heights solved as periodic like the paper's map; ``--windows`` of the six disjoint ones,
+  from the corner) carries the same mean pressure (F_z x 100 / 700 = 0.297 N);
 * solver: :func:`asperity.bem.solve_contact`, periodic, tol 1e-6, default options (mixed
   precision, preconditioned); non-adhesive, or Maugis-Dugdale on loading with the range
   :func:`asperity.bem.resolving_range` (w, E*, 2 um) = 0.379 um (cohesive zone of 3 pixels on
@@ -31,10 +31,11 @@ The full case needs about 10.5 GiB (non-adhesive) and 13 GiB (Maugis) and many m
     flock /work/briefs/bigjob.lock .venv/bin/python benchmarks/bem_nominal.py \\
         --json nominal.jsonl
 
-A scaled-down check of the whole path (3500 x 2000 pixels of 10 um, the same 35 x 20 mm; the
-window 1000 x 1000), a minute::
+The whole path scaled down (3500 x 2000 pixels of 10 um, the same 35 x 20 mm; all six disjoint
+1000 x 1000 windows), 4 min on a quiet machine (docs/performance.md has its numbers)::
 
-    .venv/bin/python benchmarks/bem_nominal.py --nx 3500 --ny 2000 --pixel 10e-6 --window 1000
+    .venv/bin/python benchmarks/bem_nominal.py --nx 3500 --ny 2000 --pixel 10e-6 --window 1000 \
+        --windows 6
 """
 
 from __future__ import annotations
