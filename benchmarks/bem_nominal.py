@@ -32,7 +32,7 @@ The full case needs about 10.5 GiB (non-adhesive) and 13 GiB (Maugis) and many m
         --json nominal.jsonl
 
 The whole path scaled down (3500 x 2000 pixels of 10 um, the same 35 x 20 mm; all six disjoint
-1000 x 1000 windows), 4 min on a quiet machine (docs/performance.md has its numbers)::
+1000 x 1000 windows), 18 min on the shared machine at load 19 (docs/performance.md)::
 
     .venv/bin/python benchmarks/bem_nominal.py --nx 3500 --ny 2000 --pixel 10e-6 --window 1000 \
         --windows 6
