@@ -312,8 +312,16 @@ _ENTRIES = (
     _count(
         "surface.synthetic.n",
         8,
-        10001,
-        "an n x n map takes 8 n^2 bytes and the BEM ~30 times that",
+        17500,
+        "an n x n map takes 8 n^2 bytes and the BEM ~30 times that; 17,500 is the paper's "
+        "35 mm at 2 um (the nominal preset)",
+    ),
+    _count(
+        "surface.synthetic.ny",
+        8,
+        17500,
+        "pixels along y of a non-square map: an n x ny map takes 8 n ny bytes and the BEM ~30 "
+        "times that",
     ),
     _count("surface.synthetic.seed", 0, 2**32 - 1, "a numpy random seed"),
     _count(

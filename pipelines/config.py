@@ -65,7 +65,7 @@ else:  # pragma: no cover - exercised on Python 3.10 only
 __all__ = ["ConfigError", "JobConfig", "config_from_dict", "dump_toml", "load_config"]
 
 #: Names of the shipped presets (``pipelines/presets/<name>.toml``).
-PRESETS: tuple[str, ...] = ("default", "paper", "paper-two-step", "shear")
+PRESETS: tuple[str, ...] = ("default", "paper", "paper-two-step", "shear", "nominal")
 
 DETREND_METHODS: tuple[str, ...] = ("none", "mean", "plane", "quadratic")
 SYNTHETIC_RECIPES: tuple[str, ...] = ("paper_like", "paper_surface")
@@ -133,17 +133,28 @@ class SyntheticRecipe:
         Generator name: ``"paper_like"`` (:func:`topo.synthetic.paper_like`, the default job)
         or ``"paper_surface"`` (:func:`topo.synthetic.paper_surface`, the paper preset).
     n : int
-        Pixels per side.
+        Pixels per side (along x, axis 0, when ``ny`` is given).
     pixel_size : float
         Pixel size, m.
     seed : int
         Random seed: the same recipe always gives the same surface.
+    ny : int or None
+        Pixels along y (axis 1) of a non-square map, ``"paper_surface"`` only (the ``nominal``
+        preset: 17,500 x 10,000, the paper's whole 35 x 20 mm interface at 2 um); None: ``n``.
     """
 
     recipe: str = "paper_like"
     n: int = 500
     pixel_size: float = 20e-6
     seed: int = 0
+    ny: int | None = None
+
+    def generator_arguments(self) -> dict[str, Any]:
+        """The keywords of ``topo.synthetic.<recipe>`` (``ny`` only when given)."""
+        kw: dict[str, Any] = {"n": self.n, "pixel_size": self.pixel_size, "seed": self.seed}
+        if self.ny is not None:
+            kw["ny"] = self.ny
+        return kw
 
 
 @dataclass(frozen=True)
@@ -571,6 +582,12 @@ def _ordered_bounds(values: dict[str, Any]) -> None:
 #: The length units ``[surface] unit`` accepts for a plain-text file.
 TEXT_UNITS = ("m", "mm", "um", "µm", "nm")
 
+
+def _rectangular_recipe(values: dict[str, Any]) -> None:
+    if values["ny"] is not None and values["recipe"] != "paper_surface":
+        raise Invalid("ny only with recipe = 'paper_surface' (paper_like is square)", "ny")
+
+
 SYNTHETIC = Section(
     "surface.synthetic",
     SyntheticRecipe,
@@ -579,7 +596,9 @@ SYNTHETIC = Section(
         _bounded("surface.synthetic.n", SyntheticRecipe.n),
         Key("pixel_size", PIXEL, SyntheticRecipe.pixel_size),
         _bounded("surface.synthetic.seed", 0),
+        _bounded("surface.synthetic.ny", None),
     ),
+    check=_rectangular_recipe,
 )
 
 JOB_SCHEMA = Schema(

@@ -28,7 +28,7 @@ import numpy as np
 import scipy.fft
 
 from asperity.errors import InputError
-from asperity.topo.capped_surface import CappedSurfaceRecipe, capped_surface
+from asperity.topo.capped_surface import CappedSurfaceRecipe, capped_surface, check_capped_size
 from asperity.topo.heightmap import HeightMap
 
 _ROWS_PER_BLOCK = 256
@@ -346,7 +346,8 @@ def paper_surface(
     Raises
     ------
     InputError
-        Fewer than 3 x 3 pixels, more than :data:`MAX_PIXELS_PER_SIDE` a side, a pixel size
+        Fewer than 3 x 3 pixels, more than 17,500 a side (``capped_surface``'s
+        ``MAX_PIXELS_PER_SIDE``), a pixel size
         that is not finite and > 0 or that does not resolve the base, a recipe parameter out
         of range.
     """
@@ -354,7 +355,7 @@ def paper_surface(
     ny = nx if ny is None else int(ny)
     if nx < 3 or ny < 3:
         raise InputError(f"paper_surface: need at least 3 x 3 pixels, got {nx} x {ny}")
-    check_map_size(nx, ny, "paper_surface: n")
+    check_capped_size(nx, ny, "paper_surface: n")  # 17,500 a side: the generator holds ~10 B/px
     if not (math.isfinite(pixel_size) and pixel_size > 0):
         raise InputError(
             f"paper_surface: pixel_size must be a finite value > 0 m, got {pixel_size!r}"

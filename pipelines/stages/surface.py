@@ -42,6 +42,7 @@ from asperity.pipelines.stages._profile import (
 from asperity.pipelines.stages._pull_off import check_loads_above_pull_off
 from asperity.topo import scan as topo_scan
 from asperity.topo.heightmap import MapGeometry
+from asperity.topo.io.limits import check_map_points
 
 #: The scan's ``method`` for a map (summits counted on the map).
 MAP_METHOD = "map-summits"
@@ -75,7 +76,9 @@ def input_sha256(config: SurfaceConfig) -> str:
     constants = RECIPE_CONSTANTS[recipe.recipe]
     if dataclasses.is_dataclass(constants):
         constants = dataclasses.asdict(constants)
-    document = json.dumps({**recipe.__dict__, "constants": constants}, sort_keys=True)
+    square = recipe.ny is None or recipe.ny == recipe.n  # hashed as before ny existed
+    fields = {k: v for k, v in recipe.__dict__.items() if not (k == "ny" and square)}
+    document = json.dumps({**fields, "constants": constants}, sort_keys=True)
     return hashlib.sha256(("synthetic:" + document).encode()).hexdigest()
 
 
@@ -87,8 +90,10 @@ def read_input(config: SurfaceConfig) -> topo.HeightMap | topo.LineProfile:
             config.file, channel=config.channel, pixel_size=config.pixel_size, unit=config.unit
         )
     recipe = config.synthetic
+    ny = recipe.n if recipe.ny is None else recipe.ny
+    check_map_points("[surface.synthetic]", "n x ny", recipe.n, ny)  # the files' memory rule
     generator = getattr(topo.synthetic, recipe.recipe)
-    return generator(n=recipe.n, pixel_size=recipe.pixel_size, seed=recipe.seed)
+    return generator(**recipe.generator_arguments())
 
 
 def load_surface(config: SurfaceConfig) -> topo.HeightMap:
