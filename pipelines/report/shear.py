@@ -18,7 +18,7 @@ import numpy as np
 from matplotlib import colormaps
 
 from asperity.pipelines.report.figure_output import FigureTable
-from asperity.pipelines.report.numbers import format_number, plain_text
+from asperity.pipelines.report.numbers import format_number, format_quantity, plain_text
 from asperity.pipelines.stages import stage_number
 from asperity.pipelines.stages.bem_shear import BemShearComparison
 from asperity.plotting import display_unit, new_figure
@@ -146,9 +146,9 @@ def _intro(shear: BemShearComparison) -> str:
         f"The paper's shear experiment solved by the BEM on the map (F_z held, the flat "
         f"displaced along x; Pohrt-Popov preload, the mixed-mode edge law G_I + lambda G_II = w "
         f"with lambda = {shear.mode_mixity:.3g} and chi_T = {shear.law}, a junction past its "
-        f"instability slides with tau_0 = {shear.shear_strength:.4g} Pa; {shear.boundary} "
-        f"boundary), beside the statistical model at the effective resolution. Forces scaled "
-        f"to A_n = {shear.nominal_area:.4g} m^2."
+        f"instability slides with tau_0 = {format_quantity(shear.shear_strength, 'Pa')}; "
+        f"{shear.boundary} boundary), beside the statistical model at the effective resolution. "
+        f"Forces scaled to A_n = {format_quantity(shear.nominal_area, 'm', power=2)}."
     )
 
 
