@@ -618,7 +618,7 @@ def draw_area_vs_force(result: Run) -> tuple[Figure, FigureTable]:
     tau_line = line / max(fr.shear_strength, 1e-300) / a_n
     ax.plot(fu(line), tau_line, "k:", lw=1, label="$F_x = \\tau_0 A_r$ (constant shear strength)")
     table.add("all", "F_x = tau0 A_r", {x_col: line, y_col: tau_line})
-    ax.set_ylim(0, 1.15 * np.nanmax(fr.real_area) / a_n)
+    ax.set_ylim(0, 1.15 * _fig13_top(fr))
     full_contact_line(ax, np.asarray(fr.real_area) / a_n)
     ax.set_xlabel(fu.label("tangential load $F_x$"))
     ax.set_ylabel("$A_r / A_n$")
@@ -970,6 +970,18 @@ def draw_model_band(
                         label=f"model +- u (one sigma){note}")  # fmt: skip
     table.add("d", name, {x_col: fr.normal_load, y_col: value, "A_r/A_n uncertainty (1)": u})
     return True
+
+
+def _fig13_top(fr: FrictionPrediction) -> float:
+    """The largest A_r/A_n Fig 13 must show: every curve, and the top of every error bar that
+    is a value (a lower-bound bar is open-ended and may run off the axes)."""
+    top = float(np.nanmax(fr.real_area) / fr.nominal_area)
+    u = getattr(fr, "model_real_area_uncertainty", None)
+    if u is not None and not getattr(fr, "uncertainty_lower_bound", False):
+        bars = (np.asarray(fr.model_real_area) + np.asarray(u)) / fr.nominal_area
+        if np.any(np.isfinite(bars)):
+            top = max(top, float(np.nanmax(bars)))
+    return top
 
 
 def draw_fig13_error_bars(
