@@ -525,7 +525,7 @@ def calibrate_mode_mixity(
     executor: Executor | None = None,
     mode: str = "shape",
     trim: bool = True,
-    roughness_interval: Sequence[statmodel.Roughness] | None = None,
+    roughness_interval: Sequence[statmodel.Roughness | None] | None = None,
 ) -> ModeMixityChoice:
     """The lambda stage: fit lambda to measured A_r(F_x) curves, or keep ``material.mode_mixity``.
 
@@ -547,7 +547,7 @@ def calibrate_mode_mixity(
         Evaluates the loads in parallel.
     mode, trim
         Fit mode and trimming of :func:`pipelines.stages.fitting.fit_mode_mixity`.
-    roughness_interval : sequence of two statmodel.Roughness, optional
+    roughness_interval : sequence of two statmodel.Roughness (None for an unknown end), optional
         The statistics at the effective resolution's interval ends: lambda is fitted there too
         and its interval is the union of the profile interval with those two fits (the
         roughness's uncertainty reaches lambda; ``mode_mixity_roughness_shift``).
@@ -590,8 +590,10 @@ def calibrate_mode_mixity(
     return choice
 
 
-def _known(roughness: statmodel.Roughness) -> bool:
-    """eta, R, sigma_s all finite (an interval end that is known)."""
+def _known(roughness: statmodel.Roughness | None) -> bool:
+    """eta, R, sigma_s all finite (an interval end that is known; None: unknown)."""
+    if roughness is None:
+        return False
     values = (roughness.asperity_density, roughness.summit_radius, roughness.summit_height_rms)
     return bool(np.all(np.isfinite(values)))
 
@@ -795,7 +797,7 @@ def friction_prediction(
     max_tangential_displacement: float | None = None,
     steps: int = 201,
     quadrature_tolerance: float = 1e-4,
-    roughness_interval: Sequence[statmodel.Roughness] | None = None,
+    roughness_interval: Sequence[statmodel.Roughness | None] | None = None,
     mode_mixity_interval: tuple[float, float] | None = None,
     interval_open: bool = False,
     mode_mixity_assumed: bool = False,
@@ -821,7 +823,7 @@ def friction_prediction(
         delta_T steps.
     quadrature_tolerance : float
         Relative accuracy asked of the quadrature (:func:`choose_quadrature`).
-    roughness_interval : sequence of two statmodel.Roughness, optional
+    roughness_interval : sequence of two statmodel.Roughness (None for an unknown end), optional
         eta, R, sigma_s at the (finer, coarser) ends of the effective resolution's interval;
         with it the predictions get their uncertainties (:func:`prediction_uncertainty`).
     mode_mixity_interval : (float, float), optional
@@ -959,7 +961,7 @@ def prediction_uncertainty(
     roughness: statmodel.Roughness,
     nominal_area: float,
     loads: np.ndarray,
-    roughness_interval: Sequence[statmodel.Roughness] | None,
+    roughness_interval: Sequence[statmodel.Roughness | None] | None,
     mode_mixity_interval: tuple[float, float] | None,
     interval_open: bool,
     curve: statmodel.ShearCurve,
@@ -974,8 +976,7 @@ def prediction_uncertainty(
     model_area = np.asarray(
         statmodel.real_area_at_loads(material, roughness, nominal_area, loads), dtype=float
     )
-    ends = [(r.asperity_density, r.summit_radius, r.summit_height_rms) for r in roughness_interval]
-    if not np.all(np.isfinite(ends)):
+    if not all(_known(r) for r in roughness_interval):
         return {
             "model_real_area": model_area,
             **_unknown_uncertainty(

@@ -458,19 +458,21 @@ class ResolutionChoice:
         )
 
     @property
-    def roughness_interval(self) -> list[statmodel.Roughness] | None:
+    def roughness_interval(self) -> list[statmodel.Roughness | None] | None:
         """eta, R, sigma_s at the (finer, coarser) ends of the optimum's interval (None
-        without a located optimum; NaN entries where an end is unknown)."""
+        without a located optimum; a None entry where an end is unknown, e.g. a job with one
+        load, whose misfit has no scatter to size an interval from)."""
         if self.interval_summit_radius is None:
             return None
-        return [
-            statmodel.Roughness(
+        ends: list[statmodel.Roughness | None] = []
+        for j in range(2):
+            values = (
                 float(self.interval_asperity_density[j]),
                 float(self.interval_summit_radius[j]),
                 float(self.interval_summit_height_rms[j]),
             )
-            for j in range(2)
-        ]
+            ends.append(statmodel.Roughness(*values) if np.all(np.isfinite(values)) else None)
+        return ends
 
     @property
     def interval_open(self) -> bool:

@@ -897,6 +897,23 @@ def check_hardness(
 # ------------------------------------------------------------------------------------------
 
 
+def check_prediction_uncertainty(friction: FrictionPrediction) -> list[Reason]:
+    """Predictions written "+- ?": the model's uncertainty could not be estimated (e.g. one
+    load: the misfit has no scatter to size the effective resolution's interval from)."""
+    u = friction.static_friction_uncertainty
+    if u is None or bool(np.all(np.isfinite(np.asarray(u, dtype=float)))):
+        return []
+    why = friction.uncertainty_message or "its interval is unknown"
+    return [
+        Reason(
+            "prediction_uncertainty_unknown",
+            "warning",
+            f"the model's predictions carry no uncertainty (+- ?): {why}; add normal loads "
+            "(the effective resolution's interval comes from the misfit's scatter over them)",
+        )
+    ]
+
+
 def job_reasons(context: StageContext) -> list[Reason]:
     """Every check on the results of the read-and-level to friction stages and the measurements."""
     config, measured = context.config, context.measured
@@ -921,6 +938,7 @@ def job_reasons(context: StageContext) -> list[Reason]:
     reasons += check_lambda(lam)
     reasons += check_sliding_displacement(context.result(FRICTION))
     reasons += check_sliding(context.result(FRICTION))
+    reasons += check_prediction_uncertainty(context.result(FRICTION))
     reasons += check_shape_scale(lam)
     reasons += check_friction_plausibility(
         context.result(FRICTION), config.material.e_star, config.material.hardness
