@@ -42,6 +42,7 @@ from asperity import topo
 from asperity.bem.mixed_mode import MixedModeLaw
 from asperity.bem.options import SolverOptions
 from asperity.bem.rough_mixed_mode import mixed_mode_shear_curve
+from asperity.bem.rough_shear import ShearCurve
 from asperity.bem.shear import ShearOptions
 from asperity.errors import InputError
 from asperity.fields import array, document_fields, scalar, text
@@ -404,107 +405,22 @@ def bem_shear_comparison(
             "material.work_of_adhesion: the shear BEM's mixed-mode law needs w > 0 (J/m^2), got "
             f"{work_of_adhesion}"
         )
-    model_loads = np.asarray(friction.normal_load, dtype=float)
-    loads = np.asarray(settings.loads if settings.loads else model_loads, dtype=float)
-    index = []
-    for f in loads:
-        match = np.flatnonzero(np.isclose(model_loads, f, rtol=1e-9, atol=0.0))
-        if not match.size:
-            raise InputError(f"bem_shear.loads: {f} N is not a load of the friction stage")
-        index.append(int(match[0]))
-    strides = [settings.stride, 2 * settings.stride] if settings.grid_check else [settings.stride]
-    grids = [topo.decimate(surface, s) for s in strides]
-    if min(min(g.nx, g.ny) for g in grids) < MIN_GRID_PIXELS:
-        raise InputError(
-            f"bem_shear.stride: expected a stride leaving at least {MIN_GRID_PIXELS} pixels a side "
-            f"on the coarsest grid solved ({surface.nx} x {surface.ny} map, strides "
-            f"{', '.join(map(str, strides))}), got {settings.stride}"
-        )
-    steps = settings.steps
-    paths = np.array([np.linspace(0.0, _path_end(friction, i, settings), steps) for i in index])
+    loads, index = _loads_and_model_index(friction, settings)
+    strides, grids = _grids(surface, settings)
+    paths = np.array(
+        [np.linspace(0.0, _path_end(friction, i, settings), settings.steps) for i in index]
+    )
     material = (e_star, work_of_adhesion, mode_mixity, shear_strength)
     map_area = np.array([g.nx * g.dx * g.ny * g.dy for g in grids])
-    jobs = []
-    for g, grid in enumerate(grids):
-        heights = np.asarray(grid.heights, dtype=np.float64)
-        heights = heights - heights.mean()
-        for j, f in enumerate(loads):
-            map_load = float(f) * map_area[g] / nominal_area
-            jobs.append(
-                (heights, grid.dx, grid.dy, map_load, paths[j], material, settings.law,
-                 settings.tol, periodic)
-            )  # fmt: skip
+    jobs = [
+        (_centred(grid), grid.dx, grid.dy, float(f) * map_area[g] / nominal_area, paths[j],
+         material, settings.law, settings.tol, periodic)
+        for g, grid in enumerate(grids)
+        for j, f in enumerate(loads)
+    ]  # fmt: skip
     solved = run_map(_solve_curve, jobs, executor, desc="BEM shear curves", progress=progress)
-    shape = (len(grids), loads.size)
-    per_step = {
-        name: np.full((*shape, steps), np.nan)
-        for name in (
-            "tangential_force",
-            "real_area",
-            "stick_area",
-            "slip_area",
-            "junctions",
-            "sliding_junctions",
-        )
-    }
-    features = {
-        name: np.full(shape, np.nan)
-        for name in (
-            "static_friction",
-            "static_displacement",
-            "sliding_friction",
-            "sliding_displacement",
-            "area_drop",
-        )
-    }
-    stuck = np.zeros(shape, dtype=int)
-    converged = np.zeros(shape, dtype=bool)
-    solved_steps = np.zeros(shape, dtype=int)
-    preload, seconds, convolutions = np.zeros(shape), np.zeros(shape), np.zeros(shape, dtype=int)
-    messages: list[str] = []
-    notes: list[str] = []
-    for k, out in enumerate(solved):
-        g, j = divmod(k, loads.size)
-        curve = out["curve"]
-        scale = nominal_area / map_area[g]
-        n = curve.tangential_displacement.size
-        values = {
-            "tangential_force": curve.tangential_force * scale,
-            "real_area": curve.real_area * scale,
-            "stick_area": curve.stick_area * scale,
-            "slip_area": curve.slip_area * scale,
-            "junctions": curve.junctions.astype(float),
-            "sliding_junctions": curve.sliding_junctions.astype(float),
-        }
-        for name, v in values.items():
-            per_step[name][g, j] = _padded(np.asarray(v, dtype=float), steps)
-        found = curve_features(
-            curve.tangential_displacement,
-            values["tangential_force"],
-            values["real_area"],
-            curve.sliding,
-        )
-        for name, v in found.items():
-            features[name][g, j] = v
-        stuck[g, j] = int(curve.junctions[-1] - curve.sliding_junctions[-1])
-        converged[g, j] = bool(np.all(curve.converged))
-        solved_steps[g, j] = n
-        preload[g, j] = curve.normal_seconds
-        seconds[g, j] = float(np.sum(curve.seconds))
-        convolutions[g, j] = int(np.sum(curve.convolutions))
-        where = f"F_z = {loads[j]:.4g} N, stride {strides[g]}"
-        if not converged[g, j]:
-            first = int(np.flatnonzero(~np.asarray(curve.converged))[0])
-            messages.append(
-                f"{where}: step {first} (delta_T = {curve.tangential_displacement[first]:.4g} m) "
-                "did not converge"
-            )
-        notes += [f"{where}: {w}" for w in dict.fromkeys(out["warnings"])]
+    fields = _collect_curves(solved, loads, strides, nominal_area / map_area, settings.steps)
     model = [_model_features(friction, i) for i in index]
-    errors = {}
-    if len(grids) > 1:
-        for name in ("static_friction", "sliding_friction", "area_drop"):
-            errors[f"{name}_error"] = np.abs(features[name][1] - features[name][0])
     return BemShearComparison(
         normal_load=loads,
         grid_stride=np.asarray(strides, dtype=int),
@@ -512,14 +428,7 @@ def bem_shear_comparison(
         map_area=map_area,
         map_normal_load=map_area[:, None] * loads[None, :] / nominal_area,
         tangential_displacement=paths,
-        **per_step,
-        **features,
-        stuck_junctions=stuck,
-        converged=converged,
-        steps_solved=solved_steps,
-        preload_seconds=preload,
-        curve_seconds=seconds,
-        convolutions=convolutions,
+        **fields,
         model_static_friction=np.array([m["static_friction"] for m in model]),
         model_sliding_friction=np.array([m["sliding_friction"] for m in model]),
         model_static_displacement=np.array([m["static_displacement"] for m in model]),
@@ -532,10 +441,133 @@ def bem_shear_comparison(
         nominal_area=float(nominal_area),
         law=settings.law,
         boundary="periodic" if periodic else "free",
-        messages=messages,
-        warnings=notes,
-        **errors,
+        **_grid_errors(fields, len(grids)),
     )
+
+
+def _loads_and_model_index(
+    friction: FrictionPrediction, settings: BemShearConfig
+) -> tuple[np.ndarray, list[int]]:
+    """The loads to shear (N; ``settings.loads`` or all the friction stage's) and the index of
+    each among the friction stage's loads (an InputError names a load that is not one)."""
+    model_loads = np.asarray(friction.normal_load, dtype=float)
+    loads = np.asarray(settings.loads if settings.loads else model_loads, dtype=float)
+    index = []
+    for f in loads:
+        match = np.flatnonzero(np.isclose(model_loads, f, rtol=1e-9, atol=0.0))
+        if not match.size:
+            raise InputError(f"bem_shear.loads: {f} N is not a load of the friction stage")
+        index.append(int(match[0]))
+    return loads, index
+
+
+def _grids(surface: topo.HeightMap, settings: BemShearConfig) -> tuple[list[int], list]:
+    """The strides solved (``stride``, and twice it with ``grid_check``) and their decimated
+    maps; an InputError when the coarsest has fewer than :data:`MIN_GRID_PIXELS` a side."""
+    strides = [settings.stride, 2 * settings.stride] if settings.grid_check else [settings.stride]
+    grids = [topo.decimate(surface, s) for s in strides]
+    if min(min(g.nx, g.ny) for g in grids) < MIN_GRID_PIXELS:
+        raise InputError(
+            f"bem_shear.stride: expected a stride leaving at least {MIN_GRID_PIXELS} pixels a side "
+            f"on the coarsest grid solved ({surface.nx} x {surface.ny} map, strides "
+            f"{', '.join(map(str, strides))}), got {settings.stride}"
+        )
+    return strides, grids
+
+
+def _centred(grid: topo.HeightMap) -> np.ndarray:
+    """The grid's heights (m, float64) less their mean."""
+    heights = np.asarray(grid.heights, dtype=np.float64)
+    return heights - heights.mean()
+
+
+#: Per-step fields of :class:`BemShearComparison` (grid, load, step).
+PER_STEP_FIELDS = (
+    "tangential_force",
+    "real_area",
+    "stick_area",
+    "slip_area",
+    "junctions",
+    "sliding_junctions",
+)
+#: Per-curve features (grid, load), from :func:`curve_features`.
+FEATURE_FIELDS = (
+    "static_friction",
+    "static_displacement",
+    "sliding_friction",
+    "sliding_displacement",
+    "area_drop",
+)
+
+
+def _collect_curves(
+    solved: list[dict], loads: np.ndarray, strides: list[int], scale: np.ndarray, steps: int
+) -> dict:
+    """The solved curves (grid-major, then load) as the comparison's arrays: forces and areas
+    scaled to A_n (``scale`` = A_n / A_map per grid), features, solver records, messages."""
+    shape = (len(strides), loads.size)
+    out: dict = {name: np.full((*shape, steps), np.nan) for name in PER_STEP_FIELDS}
+    out |= {name: np.full(shape, np.nan) for name in FEATURE_FIELDS}
+    out |= {
+        "stuck_junctions": np.zeros(shape, dtype=int),
+        "converged": np.zeros(shape, dtype=bool),
+        "steps_solved": np.zeros(shape, dtype=int),
+        "preload_seconds": np.zeros(shape),
+        "curve_seconds": np.zeros(shape),
+        "convolutions": np.zeros(shape, dtype=int),
+        "messages": [],
+        "warnings": [],
+    }
+    for k, solution in enumerate(solved):
+        g, j = divmod(k, loads.size)
+        where = f"F_z = {loads[j]:.4g} N, stride {strides[g]}"
+        _store_curve(out, (g, j), solution["curve"], scale[g], steps, where)
+        out["warnings"] += [f"{where}: {w}" for w in dict.fromkeys(solution["warnings"])]
+    return out
+
+
+def _store_curve(
+    out: dict, at: tuple[int, int], curve: ShearCurve, scale: float, steps: int, where: str
+) -> None:
+    """One curve's steps, features and solver records into ``out`` at (grid, load)."""
+    values = {
+        "tangential_force": curve.tangential_force * scale,
+        "real_area": curve.real_area * scale,
+        "stick_area": curve.stick_area * scale,
+        "slip_area": curve.slip_area * scale,
+        "junctions": curve.junctions.astype(float),
+        "sliding_junctions": curve.sliding_junctions.astype(float),
+    }
+    for name, v in values.items():
+        out[name][at] = _padded(np.asarray(v, dtype=float), steps)
+    found = curve_features(
+        curve.tangential_displacement, values["tangential_force"], values["real_area"],
+        curve.sliding,
+    )  # fmt: skip
+    for name, v in found.items():
+        out[name][at] = v
+    out["stuck_junctions"][at] = int(curve.junctions[-1] - curve.sliding_junctions[-1])
+    out["converged"][at] = bool(np.all(curve.converged))
+    out["steps_solved"][at] = curve.tangential_displacement.size
+    out["preload_seconds"][at] = curve.normal_seconds
+    out["curve_seconds"][at] = float(np.sum(curve.seconds))
+    out["convolutions"][at] = int(np.sum(curve.convolutions))
+    if not out["converged"][at]:
+        first = int(np.flatnonzero(~np.asarray(curve.converged))[0])
+        out["messages"].append(
+            f"{where}: step {first} (delta_T = {curve.tangential_displacement[first]:.4g} m) "
+            "did not converge"
+        )
+
+
+def _grid_errors(fields: dict, n_grids: int) -> dict:
+    """The grid error of each judged feature: |coarse - used| (none with one grid)."""
+    if n_grids < 2:
+        return {}
+    return {
+        f"{name}_error": np.abs(fields[name][1] - fields[name][0])
+        for name in ("static_friction", "sliding_friction", "area_drop")
+    }
 
 
 def compute_bem_shear(context: StageContext) -> BemShearComparison:
