@@ -58,9 +58,12 @@ def _wavevectors(nx: int, ny: int, dx: float, dy: float) -> tuple[np.ndarray, np
 
 
 def wavevectors_squared(nx: int, ny: int, dx: float, dy: float) -> tuple[np.ndarray, np.ndarray]:
-    """qx^2 (nx,) and qy^2 (ny // 2 + 1,) (rad^2/m^2) of the real-to-complex spectrum of an
-    (nx, ny) grid of pixels dx, dy (m): |q| = sqrt(qx^2[i] + qy^2[j]) (a radial multiplier
-    evaluated from them is bit-identical to one built from the 2D |q| array)."""
+    """The squared wavevector components of a real-to-complex spectrum (rad^2/m^2).
+
+    For an (nx, ny) grid of pixels dx, dy (m): ``qx**2`` of shape (nx,) and ``qy**2`` of shape
+    (ny // 2 + 1,), so that the modulus is ``sqrt(qx2[i] + qy2[j])``; a radial multiplier
+    evaluated from them is bit-identical to one built from the 2D modulus array.
+    """
     qx, qy = _wavevectors(nx, ny, dx, dy)
     return qx**2, qy**2
 

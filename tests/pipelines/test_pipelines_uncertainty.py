@@ -191,9 +191,20 @@ def test_default_job_load_rows_carry_uncertainties(tmp_path):
     from asperity.pipelines.job import run_job
 
     result = run_job(load_preset("default"), tmp_path)
-    _, rows = load_table(result)
+    header, rows = load_table(result)
     assert len(rows) == 6
+    with_u = {
+        "A_r/A_n BEM",
+        "A_r/A_n BEM adh.",
+        "A_r/A_n model",
+        "static F_s (N)",
+        "mu_s = F_s/F_z",
+        "sliding F_x (N)",
+        "delta_T slide (µm)",
+    }
+    carried = [i for i, h in enumerate(header) if h in with_u]
+    assert len(carried) == len(with_u), header
     for row in rows:
-        assert all("+-" in cell for cell in row[1:7]), row
+        assert all("+-" in row[i] for i in carried), (row, header)
     assert 10e-6 < result.statistical_model.optimum_resolution <= 20e-6
     assert result.statistical_model.optimum_misfit < result.statistical_model.misfit[0]
