@@ -217,11 +217,13 @@ def padded_love_multiplier(nx: int, ny: int, dx: float, dy: float, e_star: float
 def padded_love_coefficients(
     out: np.ndarray, nx: int, ny: int, dx: float, dy: float, e_star: float, rows: int = 64
 ) -> None:
-    """Write the real-space kernel of :func:`padded_love_multiplier` into ``out``, shape
-    ``(2 nx, 2 ny)`` (m/Pa: the deflection at each pixel offset under 1 Pa on one pixel, the
-    offsets ``-(n-1) .. (n-1)`` laid out with wrap-around), ``rows`` rows at a time so that
-    the temporaries of :func:`love_patch_deflection` stay small (``out`` may be a strided view,
-    e.g. the real view of an in-place transform's buffer)."""
+    """Write the real-space kernel of :func:`padded_love_multiplier` into ``out`` (m/Pa).
+
+    ``out`` has shape ``(2 nx, 2 ny)``: the deflection at each pixel offset under 1 Pa on one
+    pixel, the offsets from -(n-1) to n-1 laid out with wrap-around. It is filled ``rows``
+    rows at a time, so that the temporaries of :func:`love_patch_deflection` stay small; ``out``
+    may be a strided view, e.g. the real view of an in-place transform's buffer.
+    """
     _check(nx, ny, dx, dy, e_star)
     mx, my = 2 * nx, 2 * ny
     if out.shape != (mx, my):
