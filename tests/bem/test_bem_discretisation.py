@@ -55,6 +55,7 @@ def _hertz_ensemble(boxes: np.ndarray, levels: list[tuple[int, ...]]) -> tuple[i
     return covered, u
 
 
+@pytest.mark.slow  # several seconds: the default run stays under 3 min on 2 cores
 def test_hertz_area_band_covers_the_closed_form_and_shrinks():
     """The pixel-count area of one contact converges at first order with a lattice sawtooth
     (the edge crosses pixel centres): over eight box sizes (eight phases of that sawtooth),

@@ -187,6 +187,7 @@ def test_window_refinement_when_the_finer_grid_is_too_large():
     assert np.isfinite(refinement.relative_uncertainty[0])
 
 
+@pytest.mark.slow  # several seconds: the default run stays under 3 min on 2 cores
 def test_half_range_sensitivity_is_resolved_on_the_interpolated_grid():
     """Maugis-Dugdale adhesion on a rough surface: the range rule resolves the zone at h_0 in
     3 elements of the grid used, so h_0/2 is solved on its x2 interpolation (zone again >= 3

@@ -103,6 +103,7 @@ def test_load_below_pull_off_refused_before_bem(tmp_path, monkeypatch):
     assert not (tmp_path / "out" / "results.h5").exists()  # a refused config writes nothing
 
 
+@pytest.mark.slow  # several seconds: the default run stays under 3 min on 2 cores
 def test_cli_exit_1_when_a_solver_did_not_converge(tmp_path, capsys):
     data = _data()
     data["bem"]["max_iter"] = 1  # the BEM cannot converge in one iteration

@@ -112,6 +112,7 @@ def test_results_file_has_units_dims_and_provenance(small_run):
         assert f["statistical_model/real_area"].shape == (len(scan["stride"]), n_loads)
 
 
+@pytest.mark.slow  # several seconds: the default run stays under 3 min on 2 cores
 def test_resume_after_interruption_skips_finished_stages(tmp_path, monkeypatch, small):
     cfg = small(tmp_path)
     out = tmp_path / "out"

@@ -365,6 +365,7 @@ def _boundaries(*fast):
     ]
 
 
+@pytest.mark.slow  # several seconds: the default run stays under 3 min on 2 cores
 @pytest.mark.parametrize("stage_name", _boundaries("surface", "statistical_model"))
 def test_a_changed_config_interrupted_at_each_stage_keeps_provenance_with_its_stages(
     small, small_run, tmp_path, monkeypatch, stage_name
@@ -399,6 +400,7 @@ def test_a_changed_config_interrupted_at_each_stage_keeps_provenance_with_its_st
 # --- 7. kill and resume at every stage boundary ----------------------------------------------
 
 
+@pytest.mark.slow  # several seconds: the default run stays under 3 min on 2 cores
 @pytest.mark.parametrize("stage_name", _boundaries("bem_reference", "friction"))
 def test_interrupted_before_each_stage_resumes_to_the_uninterrupted_numbers(
     small, small_run, tmp_path, monkeypatch, stage_name

@@ -121,6 +121,7 @@ def test_report_without_a_stored_verdict_shows_no_number(small_run, tmp_path, ca
     assert not (folder / "report.md").exists()
 
 
+@pytest.mark.slow  # several seconds: the default run stays under 3 min on 2 cores
 def test_report_of_an_invalid_run_exits_3_as_run_does(small_run, tmp_path, capsys):
     folder = _run_copy(small_run, tmp_path)
     store = ResultStore(folder / "results.h5")
