@@ -116,6 +116,7 @@ def test_profile_scan_is_nayaks_density_from_the_profile_moments(measured_run):
     assert getattr(res, "optimum_status", None) is None
 
 
+@pytest.mark.slow  # several seconds: the default run stays under 3 min on 2 cores
 def test_profile_job_stores_the_realisations_spread(synthesis_run):
     config, out, result = synthesis_run
     spread, bem = result.realisations, result.bem_reference
@@ -139,6 +140,7 @@ def test_profile_job_stores_the_realisations_spread(synthesis_run):
     assert "profile_isotropy" in result.verdict.codes
 
 
+@pytest.mark.slow  # several seconds: the default run stays under 3 min on 2 cores
 def test_synthesised_map_keeps_the_profile_slope(synthesis_run):
     """The map synthesised from the profile's spectrum has the profile's rms slope along x (the
     Abel inversion keeps m2; slopes live at short wavelengths, which the map holds)."""

@@ -72,6 +72,7 @@ def test_open_results_refuses_what_is_not_a_run(tmp_path):
     assert bogus.read_text() == "not hdf5"
 
 
+@pytest.mark.slow  # several seconds: the default run stays under 3 min on 2 cores
 def test_report_command_redraws_without_solving(small_run, tmp_path, monkeypatch, capsys):
     """`asperity report OUT --formats png --dpi 40` from results.h5 alone: no solver runs."""
     _, out, _ = small_run

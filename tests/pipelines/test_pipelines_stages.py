@@ -153,6 +153,7 @@ def test_a_changed_measured_file_invalidates_the_stages_that_read_it(small, tmp_
     }
 
 
+@pytest.mark.slow  # several seconds: the default run stays under 3 min on 2 cores
 def test_version_change_recomputes_and_a_corrupted_stage_is_not_reused(
     small_run, tmp_path, monkeypatch
 ):
@@ -191,6 +192,7 @@ def _measured_area_csv(path, result, loads):
     path.write_text("normal_load,real_area\n" + rows)
 
 
+@pytest.mark.slow  # several seconds: the default run stays under 3 min on 2 cores
 def test_bem_disabled_calibrates_on_the_measurement_alone(small, small_run, tmp_path):
     _, out, reference = small_run
     shutil.copytree(out, tmp_path / "out")

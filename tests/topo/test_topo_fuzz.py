@@ -407,6 +407,7 @@ def format_table(table: dict[str, Counter]) -> str:
     return "\n".join(lines)
 
 
+@pytest.mark.slow  # several seconds: the default run stays under 3 min on 2 cores
 def test_fuzz_corpus_sample_ends_in_typed_errors_or_valid_results(samples, tmp_path):
     report = run_corpus(samples, tmp_path, every=7)
     cases = sum(sum(c.values()) for c in report["table"].values())
