@@ -68,22 +68,28 @@ def free_gpu_pool(xp_name: str) -> None:
         cp.fft.config.get_plan_cache().clear()
 
 
+def array_solve(h: np.ndarray, force: float, xp_name: str, prefix: str) -> tuple:
+    """One solve by the array solver on a freshly emptied GPU pool: the result and its row
+    entries ``<prefix>_s``, ``_nit``, ``_converged``, ``_fraction`` and the pool per element."""
+    free_gpu_pool(xp_name)
+    result = solve_periodic_array(h, PIXEL, PIXEL, E_STAR, force, xp=xp_name, tol=TOL)
+    return result, {
+        f"{prefix}_s": result.seconds,
+        f"{prefix}_nit": result.nit,
+        f"{prefix}_converged": result.success,
+        f"{prefix}_fraction": result.contact_fraction,
+        "pool_B_per_element": gpu_pool_bytes(xp_name) / h.size,
+    }
+
+
 def one_size(nx: int, ny: int, xp_name: str, cpu_max: int) -> dict:
     """The GPU (or array) solve and, up to cpu_max elements, the CPU solve of one map."""
     t0 = time.perf_counter()
     h = surface(nx, ny)
     row: dict = {"nx": nx, "ny": ny, "elements": nx * ny, "surface_s": time.perf_counter() - t0}
     force = MEAN_PRESSURE * nx * ny * PIXEL * PIXEL
-    free_gpu_pool(xp_name)
-    arr = solve_periodic_array(h, PIXEL, PIXEL, E_STAR, force, xp=xp_name, tol=TOL)
-    row |= {
-        "array_s": arr.seconds,
-        "array_nit": arr.nit,
-        "array_converged": arr.success,
-        "array_fraction": arr.contact_fraction,
-        "pool_B_per_element": gpu_pool_bytes(xp_name) / (nx * ny),
-        "device": arr.extra["device"],
-    }
+    arr, fields = array_solve(h, force, xp_name, "array")
+    row |= fields | {"device": arr.extra["device"]}
     if nx * ny <= cpu_max:
         options = SolverOptions(tol=TOL)
         first = solve_contact(h, PIXEL, PIXEL, E_STAR, normal_force=force, options=options)
@@ -106,15 +112,8 @@ def whole_interface(xp_name: str) -> dict:
     t0 = time.perf_counter()
     h = paper_surface(n=NOMINAL_SHAPE[0], ny=NOMINAL_SHAPE[1], seed=0).heights
     row: dict = {"surface_s": time.perf_counter() - t0, "elements": h.size}
-    free_gpu_pool(xp_name)
-    full = solve_periodic_array(h, PIXEL, PIXEL, E_STAR, NOMINAL_FORCE, xp=xp_name, tol=TOL)
-    row |= {
-        "full_s": full.seconds,
-        "full_nit": full.nit,
-        "full_converged": full.success,
-        "full_fraction": full.contact_fraction,
-        "pool_B_per_element": gpu_pool_bytes(xp_name) / h.size,
-    }
+    full, fields = array_solve(h, NOMINAL_FORCE, xp_name, "full")
+    row |= fields
     window = np.ascontiguousarray(h[:5000, :5000])
     force = NOMINAL_FORCE * window.size / h.size
     win = solve_periodic_array(window, PIXEL, PIXEL, E_STAR, force, xp=xp_name, tol=TOL)
