@@ -25,6 +25,11 @@ released and the status reported undisturbed. A guard made with ``final=True`` (
 every output is written by then, and a Ctrl-C before the command ends its process
 (:func:`asperity.pipelines.cli.main` exits at once, skipping the interpreter's teardown, where
 CPython restores the default SIGINT action) ends it with status 130, never by SIGINT (-2).
+Once a final guard has taken a Ctrl-C, failures of finalisers are dropped
+(:func:`drop_unraisable`): an interrupt raised inside a library's ``__init__`` (matplotlib
+building its mathtext parser, say) leaves a half-built object whose ``__del__`` fails when the
+interrupt's traceback is freed, and CPython would print "Exception ignored ... Traceback" after
+the command's last line. The process is ending with 130; that noise is no part of its answer.
 
 Guards nest: an inner guard joins the active one. Off the main thread (a job run by a thread of
 ``batch``) a guard installs nothing (signals reach the main thread only); the flag is
@@ -44,7 +49,13 @@ from types import FrameType
 from asperity.bem.cancel import Cancelled, clear_cancel, request_cancel
 from asperity.errors import ExitStatus
 
-__all__ = ["InterruptGuard", "checkpoint", "exit_interrupted", "interruptible"]
+__all__ = [
+    "InterruptGuard",
+    "checkpoint",
+    "drop_unraisable",
+    "exit_interrupted",
+    "interruptible",
+]
 
 _active: InterruptGuard | None = None
 
@@ -71,6 +82,12 @@ def interruptible() -> Iterator[None]:
         yield
     finally:
         guard.immediate = False
+
+
+def drop_unraisable(unraisable: object) -> None:
+    """A :data:`sys.unraisablehook` that prints nothing: installed by a final guard once a
+    Ctrl-C has come (module docstring), for exceptions in finalisers of objects that the
+    interrupt left half-built."""
 
 
 def exit_interrupted(signum: int = signal.SIGINT, frame: FrameType | None = None) -> None:
@@ -150,6 +167,8 @@ class InterruptGuard:
         if self.requested:
             raise KeyboardInterrupt
         self.requested = True
+        if self.final:  # the process ends with 130: a half-built object's failing __del__
+            sys.unraisablehook = drop_unraisable  # prints nothing (module docstring)
         request_cancel()
         if self.immediate:  # inside :func:`interruptible`
             raise Cancelled("interrupted (Ctrl-C)")

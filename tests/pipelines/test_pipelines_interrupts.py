@@ -159,6 +159,46 @@ def _interrupted_run(config: str, out, after: str, delay: float) -> tuple[int, s
     return child.returncode, "".join(lines) + rest
 
 
+#: A command whose handler is cut short by a Ctrl-C inside a library's ``__init__``, leaving a
+#: half-built object whose ``__del__`` fails (as matplotlib's mathtext parser did in CI: pyparsing
+#: ``Forward.__del__`` reading an attribute ``__init__`` had not set yet).
+_HALF_BUILT_SCRIPT = """
+import os, signal, time
+from argparse import Namespace
+from asperity.pipelines import cli
+from asperity.pipelines.engine.interrupts import interruptible
+
+class HalfBuilt:
+    def __init__(self):
+        os.kill(os.getpid(), signal.SIGINT)
+        time.sleep(5.0)  # the Ctrl-C raises here, inside __init__
+        self.expr = None
+
+    def __del__(self):
+        self.expr is None  # AttributeError: __init__ never got here
+
+def draw(args):
+    with interruptible():
+        HalfBuilt()
+    return 0
+
+cli._parse = lambda argv: Namespace(command="run", func=draw)
+cli.main()
+"""
+
+
+def test_a_half_built_object_failing_in_del_after_ctrl_c_prints_no_traceback():
+    """The command ends 130 with "interrupted" as its last line: the failing finaliser of the
+    object the interrupt cut short prints nothing (no "Exception ignored", no traceback)."""
+    done = subprocess.run(
+        [sys.executable, "-c", _HALF_BUILT_SCRIPT], capture_output=True, text=True, timeout=60
+    )
+    output = done.stdout + done.stderr
+    assert done.returncode == 130, output
+    assert "interrupted" in output.strip().splitlines()[-1], output
+    assert "Exception ignored" not in output and "Traceback" not in output, output
+
+
 #: Environment variable naming a file where each real-process trial appends its outcome (to
 #: count how many ended 130 and how many had already finished when the signal came).
 TRIAL_LOG = "ASPERITY_INTERRUPT_TRIAL_LOG"
