@@ -30,8 +30,8 @@ The surface is a function of the physical position (m), sampled on the requested
   density, and their apices' heights spread with ``h_i``. With a mean near 0 and few caps,
   they are isolated domes whose width grows with their height. ``G`` can stand in for the
   waviness ``W``: it spreads the coarse summits' heights without curving them beyond
-  ``1 / rho_G``, over cells whose size sets the spectrum's knee (on its own, 1.5-2.5 times the
-  mean distance between its summits, measured).
+  ``1 / rho_G``, over cells whose size sets the spectrum's knee (on its own, about 2.3 times
+  the mean distance between its summits, measured).
 * A cap of the levels ``F_k`` is kept with the probability
   ``Phi(((B(c) + G(c)) / sigma_B - threshold) / width)`` at its centre ``c`` (``Phi`` the
   normal distribution function, ``sigma_B = hypot(sigma_L, sigma_W)``, or with ``G`` the rms
