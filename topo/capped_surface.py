@@ -2,7 +2,7 @@
 
 The surface is a function of the physical position (m), sampled on the requested grid:
 
-    z(x) = B(x) + sum_k F_k(x),        B = sigma_L L(x) + sigma_W W(x),
+    z(x) = B(x) + G(x) + sum_k F_k(x),        B = sigma_L L(x) + sigma_W W(x),
 
 * ``L`` and ``W`` are periodic Gaussian fields of unit variance, trigonometric sums over
   the wavevectors ``q = 2 pi (i / X, j / Y)`` of the ``X x Y`` domain: ``L`` with the
@@ -17,16 +17,35 @@ The surface is a function of the physical position (m), sampled on the requested
   slope of a cap's rim is ``s_k / sqrt(1 - s_k^2)``), centred at Poisson points of density
   ``n_k = cap_density 2^(-k size_exponent)`` (1/m^2). Level k + 1 carries level k: the
   levels are added, a "protuberance on protuberance" structure.
-* A cap is kept with the probability ``Phi((B(c) / sigma_B - threshold) / width)`` at its
-  centre ``c`` (``Phi`` the normal distribution function, ``sigma_B`` the rms of ``B``): the
-  caps, and with them the small-scale summits, sit preferentially on the high parts of the
-  base. ``B(c)`` is read from the base sampled on a fixed reference grid (bilinear), so the
-  choice does not depend on the output grid either.
+* ``G`` (the coarse level, off unless ``coarse_cap_density > 0``) is the upper envelope of
+  spherical caps of sphere radius ``rho_G = coarse_sphere_radius``, centred at Poisson points
+  ``c_i`` of density ``coarse_cap_density``, each with its own apex height ``h_i`` drawn from
+  ``N(coarse_height_mean, coarse_height_sd^2)`` (at most ``rho_G``) above a floor at 0:
+  ``G(x) = max(0, max_i (h_i - rho_G + sqrt(rho_G^2 - |x - c_i|^2)))``. A cap meets the floor
+  at its base radius ``a_i = sqrt(h_i (2 rho_G - h_i))``, so ``G`` is continuous, and one with
+  ``h_i <= 0`` does not show. Every coarse summit is a cap apex of curvature ``1 / rho_G``;
+  the creases between caps, and the floor, are valleys (no summit). With a mean well above
+  the spread and dense caps the floor never shows and the caps bury one another (the replica
+  of a shot-blasted mould): the visible cells are about ``sqrt(2 rho_G sd)`` wide whatever the
+  density, and their apices' heights spread with ``h_i``. With a mean near 0 and few caps,
+  they are isolated domes whose width grows with their height. ``G`` can stand in for the
+  waviness ``W``: it spreads the coarse summits' heights without curving them beyond
+  ``1 / rho_G``, over cells whose size sets the spectrum's knee (on its own, about 2.3 times
+  the mean distance between its summits, measured).
+* A cap of the levels ``F_k`` is kept with the probability
+  ``Phi(((B(c) + G(c)) / sigma_B - threshold) / width)`` at its centre ``c`` (``Phi`` the
+  normal distribution function, ``sigma_B = hypot(sigma_L, sigma_W)``, or with ``G`` the rms
+  of ``B + G`` on the reference grid): the caps, and with them
+  the small-scale summits, sit preferentially on the high parts of the base. ``B + G`` is
+  read from the base sampled on a fixed reference grid (bilinear), so the choice does not
+  depend on the output grid either.
 
 The same ``seed`` and domain therefore give the same surface at any pixel size that
 resolves the base (``pixel_size <= base_cutoff / 2``): a map made at ``k dx`` equals the
-map made at ``dx`` decimated by k, up to rounding and the subtracted mean. All lengths are
-in metres.
+map made at ``dx`` decimated by k, up to rounding and the subtracted mean. The random draws
+are made in a fixed order (base coefficients, then the coarse level's caps if any, then the
+levels ``F_k``), so a recipe without a coarse level gives the same heights, bit for bit, as
+before the coarse level existed. All lengths are in metres.
 """
 
 from __future__ import annotations
@@ -93,6 +112,15 @@ class CappedSurfaceRecipe:
         Height (in units of the base rms) around which caps start being kept.
     width : float
         Width of that transition (base rms units), > 0.
+    coarse_cap_density : float
+        Density of the coarse level's cap centres (1/m^2), >= 0; 0 (the default) leaves the
+        coarse level ``G`` out, and the surface is the one of the other parameters alone.
+    coarse_sphere_radius : float
+        ``rho_G``, sphere radius of the coarse caps (m), > 0.
+    coarse_height_mean : float
+        Mean of the coarse caps' apex heights above the level's floor (m), finite.
+    coarse_height_sd : float
+        Standard deviation of the coarse caps' apex heights (m), >= 0.
     """
 
     base_rms: float
@@ -109,10 +137,29 @@ class CappedSurfaceRecipe:
     size_exponent: float
     threshold: float
     width: float
+    coarse_cap_density: float = 0.0
+    coarse_sphere_radius: float = 1.2e-3
+    coarse_height_mean: float = 0.0
+    coarse_height_sd: float = 40e-6
 
     def as_dict(self) -> dict:
-        """The parameters as a plain dict."""
-        return asdict(self)
+        """The parameters as a plain dict; without the coarse level's when it is off
+        (``coarse_cap_density == 0``), so a recipe without it is recorded and hashed as
+        before the coarse level existed."""
+        values = asdict(self)
+        if self.coarse_cap_density == 0:
+            for key in COARSE_FIELDS:
+                del values[key]
+        return values
+
+
+#: The coarse level's parameters in :class:`CappedSurfaceRecipe` (all with defaults).
+COARSE_FIELDS = (
+    "coarse_cap_density",
+    "coarse_sphere_radius",
+    "coarse_height_mean",
+    "coarse_height_sd",
+)
 
 
 def _check_recipe(recipe: CappedSurfaceRecipe, name: str) -> None:
@@ -142,6 +189,19 @@ def _check_recipe(recipe: CappedSurfaceRecipe, name: str) -> None:
             )
     if not math.isfinite(recipe.threshold):
         raise InputError(f"{name}: threshold must be finite, got {recipe.threshold!r}")
+    for key in ("coarse_cap_density", "coarse_height_sd"):
+        value = getattr(recipe, key)
+        if not (math.isfinite(value) and value >= 0):
+            raise InputError(f"{name}: {key} must be a finite value >= 0, got {value!r}")
+    if not (math.isfinite(recipe.coarse_sphere_radius) and recipe.coarse_sphere_radius > 0):
+        raise InputError(
+            f"{name}: coarse_sphere_radius must be a finite value > 0 m, "
+            f"got {recipe.coarse_sphere_radius!r}"
+        )
+    if not math.isfinite(recipe.coarse_height_mean):
+        raise InputError(
+            f"{name}: coarse_height_mean must be finite (m), got {recipe.coarse_height_mean!r}"
+        )
 
 
 def _mode_coefficients(
@@ -248,6 +308,71 @@ def _paint_caps(level, row0, nx, dx, dy, cx, cy, radius, sphere):
                             level[ii, jj] = value
 
 
+@numba.njit(cache=True)
+def _paint_coarse_caps(level, row0, nx, dx, dy, cx, cy, apex, radius, sphere):
+    """Raise ``level`` (rows ``row0 ..`` of the periodic grid of ``nx`` rows, pixel (i, j) at
+    (i dx, j dy), m) to the upper envelope of spherical caps of sphere radius ``sphere``
+    centred at (cx, cy) with apex heights ``apex`` (m) above 0, each painted out to its base
+    radius ``radius[k]`` (where it meets 0): ``apex - sphere + sqrt(sphere^2 - r^2)``."""
+    rows, ny = level.shape
+    s2 = sphere * sphere
+    last = row0 + rows - 1
+    for k in range(cx.size):
+        top = apex[k] - sphere
+        r2max = radius[k] * radius[k]
+        i0 = int(math.ceil((cx[k] - radius[k]) / dx))
+        i1 = int(math.floor((cx[k] + radius[k]) / dx))
+        j0 = int(math.ceil((cy[k] - radius[k]) / dy))
+        j1 = int(math.floor((cy[k] + radius[k]) / dy))
+        m0 = -((last - i0) // nx)
+        m1 = (i1 - row0) // nx
+        for m in range(m0, m1 + 1):
+            lo = max(i0, row0 + m * nx)
+            hi = min(i1, last + m * nx)
+            for i in range(lo, hi + 1):
+                ddx = i * dx - cx[k]
+                ii = i - m * nx - row0
+                for j in range(j0, j1 + 1):
+                    ddy = j * dy - cy[k]
+                    r2 = ddx * ddx + ddy * ddy
+                    if r2 < r2max:
+                        value = top + math.sqrt(s2 - r2)
+                        jj = j % ny
+                        if value > level[ii, jj]:
+                            level[ii, jj] = value
+
+
+def _coarse_caps(
+    side_x: float, side_y: float, recipe: CappedSurfaceRecipe, rng: np.random.Generator
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The coarse level's visible caps: centres (m), apex heights above the floor 0 (m) and
+    base radii (m), drawn (centres, then heights) from ``rng``; depends on the domain and the
+    recipe only. A cap whose apex is not above 0 does not show and is dropped."""
+    count = int(rng.poisson(recipe.coarse_cap_density * side_x * side_y))
+    cx = rng.random(count) * side_x
+    cy = rng.random(count) * side_y
+    apex = recipe.coarse_height_mean + recipe.coarse_height_sd * rng.standard_normal(count)
+    rho = recipe.coarse_sphere_radius
+    apex = np.minimum(apex, rho)  # a cap at most a hemisphere
+    shows = apex > 0
+    cx, cy, apex = cx[shows], cy[shows], apex[shows]
+    radius = np.sqrt(apex * (2 * rho - apex))  # where the sphere meets the floor 0
+    return cx, cy, apex, radius
+
+
+def _add_coarse_level(heights: np.ndarray, dx: float, dy: float, caps, recipe) -> None:
+    """Add the coarse level ``G`` (module docstring) to ``heights`` by blocks of rows."""
+    cx, cy, apex, radius = caps
+    nx = heights.shape[0]
+    level = np.empty((min(ROWS_PER_BLOCK, nx), heights.shape[1]), dtype=np.float64)
+    for start in range(0, nx, ROWS_PER_BLOCK):
+        part = level[: min(ROWS_PER_BLOCK, nx - start)]
+        part.fill(0.0)
+        sphere = recipe.coarse_sphere_radius
+        _paint_coarse_caps(part, start, nx, dx, dy, cx, cy, apex, radius, sphere)
+        heights[start : start + part.shape[0]] += part
+
+
 def _bilinear(grid: np.ndarray, pixel_x: float, pixel_y: float, x: np.ndarray, y: np.ndarray):
     """Periodic bilinear interpolation of ``grid`` (pixel (i, j) at (i px, j py)) at (x, y)."""
     nx, ny = grid.shape
@@ -328,6 +453,11 @@ def capped_surface(
     ref_ny = max(2 * m_y + 2, math.ceil(side_y / REFERENCE_PIXEL))
     reference = _sample_base(coef, m_x, m_y, ref_nx, ref_ny)
     base_sigma = math.hypot(recipe.base_rms, recipe.waviness_rms)
+    if recipe.coarse_cap_density > 0:
+        caps = _coarse_caps(side_x, side_y, recipe, rng)
+        _add_coarse_level(heights, dx, dy, caps, recipe)
+        _add_coarse_level(reference, side_x / ref_nx, side_y / ref_ny, caps, recipe)
+        base_sigma = float(np.std(reference))  # of B + G, on the reference grid: any dx
     level = np.empty((min(ROWS_PER_BLOCK, nx), ny), dtype=np.float64)
     radius = recipe.cap_radius
     k = 0

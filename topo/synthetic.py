@@ -319,9 +319,13 @@ def paper_surface(
     0/1): waviness at 1.2 mm gives a roll-off of 1249 um with eta 1.6 mm^-2 (-28 %); at 600 um,
     768 um with R 0.84-0.87 mm (-27 %) and sigma_s 30 um (-28 %); none (a Gaussian plateau at
     550 um, rms 49 um) gives 605 um with R 0.73-0.79 mm and sigma_s 29-30 um (0.6 rms, the
-    paper 0.82). R at 2 um sits 8 % low and sigma_s 8-13 % high: keeping the caps on higher
-    parts only lowers sigma_s but, on the base's slopes, costs summits (eta R^2 is 0.85-0.90
-    here, the paper's 1.10).
+    paper 0.82). The coarse cap level of :mod:`~asperity.topo.capped_surface` (the recipe's
+    ``coarse_*`` fields, off here) in place of the waviness does no better on full maps (seeds
+    0-4): dense caps of sphere radius 1.3 mm bring the roll-off to 832-946 um with the 2 um
+    statistics kept, but sigma_s at 260 um 35-41 % and the rms 30 % low (``docs/topo.md``).
+    R at 2 um sits 8 % low and sigma_s 8-13 % high: keeping the caps on higher parts only
+    lowers sigma_s but, on the base's slopes, costs summits (eta R^2 is 0.85-0.90 here, the
+    paper's 1.10).
 
     Parameters
     ----------

@@ -74,8 +74,8 @@ def input_sha256(config: SurfaceConfig) -> str:
         return file_sha256(config.file)
     recipe = config.synthetic
     constants = RECIPE_CONSTANTS[recipe.recipe]
-    if dataclasses.is_dataclass(constants):
-        constants = dataclasses.asdict(constants)
+    if dataclasses.is_dataclass(constants):  # as_dict: a recipe's own record, if it has one
+        constants = getattr(constants, "as_dict", lambda: dataclasses.asdict(constants))()
     square = recipe.ny is None or recipe.ny == recipe.n  # hashed as before ny existed
     fields = {k: v for k, v in recipe.__dict__.items() if not (k == "ny" and square)}
     document = json.dumps({**fields, "constants": constants}, sort_keys=True)
