@@ -23,12 +23,23 @@ exit statuses), :mod:`asperity.fields` (the unit, dims and description of every 
 
 from __future__ import annotations
 
+import os
 from importlib.metadata import PackageNotFoundError, version
 from os import PathLike
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
     from asperity.pipelines.results import Results
+
+#: OpenMP's wait policy for the threads of FFTW (pyFFTW's bundled OpenMP runtime) and of numba's
+#: parallel kernels, unless the user set one. Two runtimes share the cores in one solve, each
+#: with its own pool; with the default (active) policy an idle pool spins on the cores the
+#: other one needs, and every hand-off between a transform and a multiplier waits for a
+#: scheduler slice: a 64^2 free-boundary JKR cycle (48 solves) took 37 s on a busy 2-core machine
+#: and 0.6 s with passive threads (``benchmarks/omp_wait_policy.py`` measures it). Read by each
+#: OpenMP runtime when it loads, so it is set here, before any sub-package imports one.
+OMP_WAIT_POLICY = "PASSIVE"
+os.environ.setdefault("OMP_WAIT_POLICY", OMP_WAIT_POLICY)
 
 try:
     __version__ = version("asperity")
