@@ -458,7 +458,11 @@ def _observe(
 
 
 def _curve(
-    steps: list[_Step], normal_seconds: float, held: _HeldContact, q: np.ndarray, shape: tuple
+    steps: list[_Step],
+    normal_seconds: float,
+    held: _HeldContact,
+    q: np.ndarray,
+    shape: tuple[int, int],
 ) -> ShearCurve:
     """The steps as a :class:`ShearCurve`, with the last tractions ``q`` (Pa) on the grid."""
     final = np.zeros(shape)

@@ -599,7 +599,8 @@ class _BoxProblem:
     b : ndarray
         Right-hand side (m).
     lo, hi : ndarray
-        Bounds (Pa), ``-q_max`` and ``q_max``; infinite where unbounded.
+        Bounds (Pa), ``-q_max`` and ``q_max`` (tau_0 of E:Hertz_theory, or mu p); infinite where
+        unbounded.
     alpha_bar : float
         Expansion step length 1/||A|| (Pa/m).
     scale : float
