@@ -34,7 +34,8 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from collections.abc import Callable
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 from scipy import ndimage
@@ -143,68 +144,164 @@ class ShearCurve:
         return bool(np.all(self.converged))
 
 
-def shear_curve(
-    heights: np.ndarray,
-    dx: float,
-    dy: float,
-    e_star: float,
-    normal_force: float,
-    tangential_displacements: np.ndarray,
-    *,
-    shear_strength: float | None = None,
-    friction_coefficient: float | None = None,
-    work_of_adhesion: float = 0.0,
-    periodic: bool = True,
-    poisson_ratio: float = 0.5,
-    normal_options: SolverOptions | None = None,
-    options: ShearOptions | None = None,
-    stop_when_sliding: bool = False,
-    preload: ContactResult | None = None,
-) -> ShearCurve:
-    """Normal preload at F_z, then the tangential displacements in order, warm-started.
+class _Counted:
+    """An operator on the contact vectors (tractions in Pa -> displacements in m) that counts
+    its products (``calls``, reset by the caller at each step)."""
 
-    Parameters
+    def __init__(self, apply: Callable[[np.ndarray], np.ndarray]) -> None:
+        self.apply = apply
+        self.calls = 0
+
+    def __call__(self, v: np.ndarray) -> np.ndarray:
+        self.calls += 1
+        return self.apply(v)
+
+
+class _GatheredConvolution:
+    """The operator on the contact vectors by FFT convolutions of the whole grid: the vector
+    (Pa) scattered on the grid, convolved, the displacements (m) gathered back."""
+
+    def __init__(self, op: TangentialOperator, idx: np.ndarray) -> None:
+        self.op = op
+        self.idx = idx
+        self.full = np.zeros(op.shape)
+        self.flat = self.full.reshape(-1)
+
+    def __call__(self, v: np.ndarray) -> np.ndarray:
+        self.flat[self.idx] = v
+        return self.op(self.full).reshape(-1)[self.idx]
+
+
+@dataclass
+class _HeldContact:
+    """The contact set of the preload, held through the sweep, and the tangential problem on
+    its elements (gathered vectors, C order).
+
+    Attributes
     ----------
-    heights : ndarray (nx, ny)
-        Heights h (m), larger = closer to the flat.
-    dx, dy : float
-        Pixel sizes (m).
-    e_star : float
-        Reduced modulus E* (Pa), nu = 1/2.
-    normal_force : float
-        F_z (N), held during shear.
-    tangential_displacements : array_like
-        delta_T values (m), in loading order (any order: the slip history is carried).
-    shear_strength, friction_coefficient : float, optional
-        Exactly one: tau_0 (Pa, the paper's sliding law) or mu (Coulomb).
-    work_of_adhesion : float
-        w (J/m^2) of the preload (Pohrt-Popov, :func:`asperity.bem.solve_contact`).
-    periodic : bool
-        Periodic domain (default) or free.
-    poisson_ratio : float
-        Must be 0.5.
-    normal_options, options : optional
-        Options of the normal preload and of the tangential steps.
-    stop_when_sliding : bool
-        Stop after the first step in gross sliding (the remaining entries are not computed:
-        the arrays are as long as the steps done).
-    preload : ContactResult, optional
-        A normal solve of these heights at ``normal_force`` to start from (e.g. to shear one
-        preload with several laws); then ``work_of_adhesion`` and ``normal_options`` are unused
-        and ``normal_seconds`` is 0.
-
-    Returns
-    -------
-    ShearCurve
+    idx : ndarray of int
+        Flat indices of the contact elements on the height-map grid.
+    q_max : ndarray
+        Slip threshold (Pa) of each element: tau_0 (E:Hertz_theory) or mu p.
+    labels : ndarray of int
+        The junction of each element.
+    n_junctions : int
+        Number of junctions.
+    apply : _Counted
+        ``q -> u_x`` (Pa -> m) on the elements, counting its products.
+    precondition : JunctionPreconditioner or None
+        The junction preconditioner of the conjugate-gradient steps.
+    norm : float
+        ||K|| (m/Pa).
+    scale : float
+        Pixel stiffness E*/sqrt(dx dy) (Pa/m) of the residual.
+    tol : float
+        Residual to reach per step.
+    max_iter : int
+        Iteration cap per step.
+    area : float
+        Element area dx dy (m^2).
     """
-    check_poisson(poisson_ratio)
-    opts = options if options is not None else ShearOptions()
+
+    idx: np.ndarray
+    q_max: np.ndarray
+    labels: np.ndarray
+    n_junctions: int
+    apply: _Counted
+    precondition: JunctionPreconditioner | None
+    norm: float
+    scale: float
+    tol: float
+    max_iter: int
+    area: float
+
+
+@dataclass
+class _SweepState:
+    """What one displacement step passes to the next, on the contact elements.
+
+    Attributes
+    ----------
+    q : ndarray
+        Tractions q_x (Pa) of the last step.
+    u : ndarray
+        Displacements u_x = K q (m) of the last step.
+    slip : ndarray
+        Accumulated slip s (m).
+    prev, older : (float, ndarray)
+        ``(delta_T, q)`` (m, Pa) of the last two steps, for the warm start; the preload counts
+        as the step ``delta_T = 0, q = 0``; ``older`` None before the first step.
+    """
+
+    q: np.ndarray
+    u: np.ndarray
+    slip: np.ndarray
+    prev: tuple[float, np.ndarray]
+    older: tuple[float, np.ndarray] | None = None
+
+    @classmethod
+    def at_preload(cls, n: int) -> _SweepState:
+        """The preload on ``n`` elements: delta_T = 0, q = 0, no slip."""
+        return cls(np.zeros(n), np.zeros(n), np.zeros(n), (0.0, np.zeros(n)))
+
+
+@dataclass
+class _Step:
+    """The observables of one displacement step (the per-step fields of :class:`ShearCurve`,
+    SI units)."""
+
+    tangential_displacement: float
+    tangential_force: float
+    normal_force: float
+    real_area: float
+    stick_area: float
+    slip_area: float
+    junctions: int
+    sliding_junctions: int
+    sliding: bool
+    converged: bool
+    nit: int
+    convolutions: int
+    seconds: float
+
+
+#: dtypes of the :class:`ShearCurve` arrays that are not float64.
+_DTYPES = {
+    "junctions": int,
+    "sliding_junctions": int,
+    "sliding": bool,
+    "converged": bool,
+    "nit": int,
+    "convolutions": int,
+}
+
+
+def _checked_displacements(tangential_displacements: np.ndarray, normal_force: float) -> np.ndarray:
+    """The displacements delta_T (m) as a flat float64 array; a clear error for none, a NaN or
+    a non-positive F_z (N)."""
     d_t = np.asarray(tangential_displacements, dtype=np.float64).ravel()
     if d_t.size == 0 or not np.all(np.isfinite(d_t)):
         raise BemInputError("tangential_displacements: expected finite values (m), got none or NaN")
     if not (math.isfinite(normal_force) and normal_force > 0):
         raise BemInputError(f"normal_force: expected a positive number (N), got {normal_force}")
-    h = np.asarray(heights, dtype=np.float64)
+    return d_t
+
+
+def _preload(
+    h: np.ndarray,
+    dx: float,
+    dy: float,
+    e_star: float,
+    normal_force: float,
+    *,
+    work_of_adhesion: float,
+    periodic: bool,
+    normal_options: SolverOptions | None,
+    preload: ContactResult | None,
+) -> tuple[ContactResult, float]:
+    """The normal preload at F_z (N): the normal BEM (E:BEM_eq1 to E:BEM_eq4; with
+    w > 0 (J/m^2) Pohrt-Popov's element criterion, eq:PohrtPopov_G), or the given ``preload``
+    after checking its shape and F_z. Returns it and its wall time (s; 0 when given)."""
     if preload is None:
         t0 = time.perf_counter()
         normal = solve_contact(
@@ -229,25 +326,28 @@ def shear_curve(
             )
     if not normal.converged:
         raise BemInputError(f"normal preload did not converge: {normal.message}")
+    return normal, normal_seconds
+
+
+def _hold_contact(
+    normal: ContactResult,
+    bound: np.ndarray,
+    dx: float,
+    dy: float,
+    e_star: float,
+    *,
+    periodic: bool,
+    opts: ShearOptions,
+) -> _HeldContact:
+    """The tangential problem on the preload's contact set, with slip thresholds ``bound``
+    (Pa): the junctions, the Cerruti operator (a dense :class:`ContactMatrix` when it fits in
+    ``opts.dense_limit_bytes``, FFT convolutions otherwise) and the junction preconditioner."""
     contact = normal.contact_mask
-    bound = traction_bound(
-        contact,
-        pressure=normal.pressure,
-        friction_coefficient=friction_coefficient,
-        shear_strength=shear_strength,
-    )
+    shape = contact.shape
     labels, n_junctions = label_junctions(contact, periodic=periodic)
     op = TangentialOperator(
-        h.shape,
-        dx,
-        dy,
-        e_star,
-        periodic=periodic,
-        fft_backend=opts.fft_backend,
-        threads=opts.threads,
+        shape, dx, dy, e_star, periodic=periodic, fft_backend=opts.fft_backend, threads=opts.threads
     )
-    # the contact set is held: every step works on its elements only (gathered vectors), with
-    # the operator as a dense matrix on them when it fits (ShearOptions.dense_limit_bytes)
     idx = np.flatnonzero(contact)
     if periodic and idx.size == contact.size:
         raise BemInputError(
@@ -257,110 +357,209 @@ def shear_curve(
     if idx.size and ContactMatrix.nbytes(idx.size) <= opts.dense_limit_bytes:
         apply = ContactMatrix(op, contact)
     else:
-        full = np.zeros(h.shape)
-        flat = full.reshape(-1)
-
-        def apply(v: np.ndarray) -> np.ndarray:
-            flat[idx] = v
-            return op(full).reshape(-1)[idx]
-
+        apply = _GatheredConvolution(op, idx)
     pre = None
     if opts.precondition and idx.size:
         pre = JunctionPreconditioner(
-            op.kernel(), idx, labels.reshape(-1)[idx], h.shape, periodic=periodic
+            op.kernel(), idx, labels.reshape(-1)[idx], shape, periodic=periodic
         )
-    calls = 0
+    return _HeldContact(
+        idx=idx,
+        q_max=bound.reshape(-1)[idx],
+        labels=labels.reshape(-1)[idx],
+        n_junctions=n_junctions,
+        apply=_Counted(apply),
+        precondition=pre,
+        norm=op.norm,
+        scale=e_star / math.sqrt(dx * dy),
+        tol=opts.tol,
+        max_iter=opts.max_iterations(shape),
+        area=dx * dy,
+    )
 
-    def counted(v: np.ndarray) -> np.ndarray:
-        nonlocal calls
-        calls += 1
-        return apply(v)
 
-    q_max = bound.reshape(-1)[idx]
-    lab = labels.reshape(-1)[idx]
-    scale = e_star / math.sqrt(dx * dy)
-    max_iter = opts.max_iterations(h.shape)
-    area = dx * dy
-    slip = np.zeros(idx.size)
-    rows: list[tuple] = []
-    # the preload is the state delta_T = 0, q = 0 (no slip): the first step after it extrapolates
-    # from there (exact while every element sticks, the problem being linear then)
-    prev: tuple[float, np.ndarray] | None = (0.0, np.zeros(idx.size))
-    older: tuple[float, np.ndarray] | None = None
-    q = np.zeros(idx.size)
-    u = np.zeros(idx.size)  # u_x = K q on the contact set (m)
+def _warm_start(held: _HeldContact, state: _SweepState, value: float) -> np.ndarray:
+    """The start of the step at delta_T = ``value`` (m): the tractions (Pa) extrapolated
+    linearly from the two previous steps (exact for elements that keep sticking, the problem
+    being linear while no element changes status), clipped to the bounds."""
+    guess = state.q
+    if state.older is not None:
+        (d1, q1), (d0, q0) = state.prev, state.older
+        span = d1 - d0
+        if span != 0.0:
+            guess = q1 + (value - d1) / span * (q1 - q0)
+    return np.clip(guess, -held.q_max, held.q_max)
+
+
+def _displacement_step(
+    held: _HeldContact, state: _SweepState, value: float
+) -> tuple[np.ndarray, int, int]:
+    """One quasi-static step: the flat at delta_T = ``value`` (m), the stick/slip tractions by
+    MPRGP from the warm start; ``state`` moves to the new step. Returns the stick elements
+    (|q| < q_max), the solver's status and its iterations."""
+    held.apply.calls = 0
+    rhs = value - state.slip
+    start = _warm_start(held, state, value)
+    # the gradient at the start from the last step's displacements and the product of the
+    # tractions' change (zero where the elements keep slipping at their bound)
+    change = start - state.q
+    if change.any():
+        state.u = state.u + held.apply(change)
+    q, g, status, _, nit, _ = _mprgp(
+        held.apply,
+        rhs,
+        -held.q_max,
+        held.q_max,
+        start,
+        norm=held.norm,
+        scale=held.scale,
+        tol=held.tol,
+        max_iter=held.max_iter,
+        precondition=held.precondition,
+        g0=state.u - rhs,
+        sparse_updates=True,
+    )
+    state.u = g + rhs
+    stick = np.abs(q) < held.q_max
+    # slipping elements take their new slip delta_T - u_x, u_x = g + rhs (no convolution)
+    state.slip = np.where(stick, state.slip, value - state.u)
+    state.older, state.prev, state.q = state.prev, (value, q), q
+    return stick, status, nit
+
+
+def _observe(
+    held: _HeldContact,
+    normal: ContactResult,
+    q: np.ndarray,
+    stick: np.ndarray,
+    value: float,
+    status: int,
+    nit: int,
+    t0: float,
+) -> _Step:
+    """A step's observables: F_x = sum q dx dy (N), the stick and slip areas (m^2), the
+    junctions that slide (no stick element), convergence and cost (``t0``: its start, s)."""
+    n_stick = int(np.count_nonzero(np.unique(held.labels[stick])))
+    return _Step(
+        tangential_displacement=value,
+        tangential_force=float(q.sum() * held.area),
+        normal_force=normal.normal_force,
+        real_area=normal.real_area,
+        stick_area=float(np.count_nonzero(stick)) * held.area,
+        slip_area=(held.idx.size - np.count_nonzero(stick)) * held.area,
+        junctions=held.n_junctions,
+        sliding_junctions=held.n_junctions - n_stick,
+        sliding=n_stick == 0,
+        converged=status == 0,
+        nit=nit,
+        convolutions=held.apply.calls,
+        seconds=time.perf_counter() - t0,
+    )
+
+
+def _curve(
+    steps: list[_Step],
+    normal_seconds: float,
+    held: _HeldContact,
+    q: np.ndarray,
+    shape: tuple[int, int],
+) -> ShearCurve:
+    """The steps as a :class:`ShearCurve`, with the last tractions ``q`` (Pa) on the grid."""
+    final = np.zeros(shape)
+    final.reshape(-1)[held.idx] = q
+    columns = {
+        f.name: np.array([getattr(s, f.name) for s in steps], dtype=_DTYPES.get(f.name))
+        for f in fields(_Step)
+    }
+    return ShearCurve(**columns, normal_seconds=normal_seconds, final_traction=final)
+
+
+def shear_curve(
+    heights: np.ndarray,
+    dx: float,
+    dy: float,
+    e_star: float,
+    normal_force: float,
+    tangential_displacements: np.ndarray,
+    *,
+    shear_strength: float | None = None,
+    friction_coefficient: float | None = None,
+    work_of_adhesion: float = 0.0,
+    periodic: bool = True,
+    poisson_ratio: float = 0.5,
+    normal_options: SolverOptions | None = None,
+    options: ShearOptions | None = None,
+    stop_when_sliding: bool = False,
+    preload: ContactResult | None = None,
+) -> ShearCurve:
+    """Normal preload at F_z, then the tangential displacements in order, warm-started.
+
+    The steps: the preload (:func:`_preload`), the problem on its contact set
+    (:func:`_hold_contact`), then per displacement one step (:func:`_displacement_step`) and
+    its observables (:func:`_observe`).
+
+    Parameters
+    ----------
+    heights : ndarray (nx, ny)
+        Heights h (m), larger = closer to the flat.
+    dx, dy : float
+        Pixel sizes (m).
+    e_star : float
+        Reduced modulus E* (Pa), nu = 1/2.
+    normal_force : float
+        F_z (N), held during shear.
+    tangential_displacements : array_like
+        delta_T values (m), in loading order (any order: the slip history is carried).
+    shear_strength, friction_coefficient : float, optional
+        Exactly one: tau_0 (Pa, the paper's sliding law, E:Hertz_theory) or mu (Coulomb).
+    work_of_adhesion : float
+        w (J/m^2) of the preload (Pohrt-Popov, :func:`asperity.bem.solve_contact`).
+    periodic : bool
+        Periodic domain (default) or free.
+    poisson_ratio : float
+        Must be 0.5.
+    normal_options, options : optional
+        Options of the normal preload and of the tangential steps.
+    stop_when_sliding : bool
+        Stop after the first step in gross sliding (the remaining entries are not computed:
+        the arrays are as long as the steps done).
+    preload : ContactResult, optional
+        A normal solve of these heights at ``normal_force`` to start from (e.g. to shear one
+        preload with several laws); then ``work_of_adhesion`` and ``normal_options`` are unused
+        and ``normal_seconds`` is 0.
+
+    Returns
+    -------
+    ShearCurve
+    """
+    check_poisson(poisson_ratio)
+    opts = options if options is not None else ShearOptions()
+    d_t = _checked_displacements(tangential_displacements, normal_force)
+    h = np.asarray(heights, dtype=np.float64)
+    normal, normal_seconds = _preload(
+        h,
+        dx,
+        dy,
+        e_star,
+        normal_force,
+        work_of_adhesion=work_of_adhesion,
+        periodic=periodic,
+        normal_options=normal_options,
+        preload=preload,
+    )
+    bound = traction_bound(
+        normal.contact_mask,
+        pressure=normal.pressure,
+        friction_coefficient=friction_coefficient,
+        shear_strength=shear_strength,
+    )
+    held = _hold_contact(normal, bound, dx, dy, e_star, periodic=periodic, opts=opts)
+    state = _SweepState.at_preload(held.idx.size)
+    steps: list[_Step] = []
     for value in d_t:
         t0 = time.perf_counter()
-        guess = q
-        if prev is not None and older is not None:
-            # linear extrapolation of the tractions: exact for elements that keep sticking
-            # (the problem is linear while no element changes status); clipped to the bounds
-            span = prev[0] - older[0]
-            if span != 0.0:
-                guess = prev[1] + (float(value) - prev[0]) / span * (prev[1] - older[1])
-        calls = 0
-        rhs = float(value) - slip
-        start = np.clip(guess, -q_max, q_max)
-        # the gradient at the guess from the last step's displacements and the product of the
-        # tractions' change (zero where the elements keep slipping at their bound)
-        u = u + counted(start - q) if (start - q).any() else u
-        q, g, status, _, nit, _ = _mprgp(
-            counted,
-            rhs,
-            -q_max,
-            q_max,
-            start,
-            norm=op.norm,
-            scale=scale,
-            tol=opts.tol,
-            max_iter=max_iter,
-            precondition=pre,
-            g0=u - rhs,
-            sparse_updates=True,
-        )
-        u = g + rhs
-        stick = np.abs(q) < q_max
-        # slipping elements take their new slip delta_T - u_x, u_x = g + rhs (no convolution)
-        slip = np.where(stick, slip, float(value) - u)
-        n_stick = int(np.count_nonzero(np.unique(lab[stick])))
-        stick_area = float(np.count_nonzero(stick)) * area
-        rows.append(
-            (
-                float(value),
-                float(q.sum() * area),
-                normal.normal_force,
-                normal.real_area,
-                stick_area,
-                (idx.size - np.count_nonzero(stick)) * area,
-                n_junctions,
-                n_junctions - n_stick,
-                n_stick == 0,
-                status == 0,
-                nit,
-                calls,
-                time.perf_counter() - t0,
-            )
-        )
-        older, prev = prev, (float(value), q)
-        if stop_when_sliding and n_stick == 0:
+        stick, status, nit = _displacement_step(held, state, float(value))
+        steps.append(_observe(held, normal, state.q, stick, float(value), status, nit, t0))
+        if stop_when_sliding and steps[-1].sliding:
             break
-    final = np.zeros(h.shape)
-    final.reshape(-1)[idx] = q
-    cols = list(zip(*rows, strict=True))
-    return ShearCurve(
-        tangential_displacement=np.array(cols[0]),
-        tangential_force=np.array(cols[1]),
-        normal_force=np.array(cols[2]),
-        real_area=np.array(cols[3]),
-        stick_area=np.array(cols[4]),
-        slip_area=np.array(cols[5]),
-        junctions=np.array(cols[6], dtype=int),
-        sliding_junctions=np.array(cols[7], dtype=int),
-        sliding=np.array(cols[8], dtype=bool),
-        converged=np.array(cols[9], dtype=bool),
-        nit=np.array(cols[10], dtype=int),
-        convolutions=np.array(cols[11], dtype=int),
-        seconds=np.array(cols[12]),
-        normal_seconds=normal_seconds,
-        final_traction=final,
-    )
+    return _curve(steps, normal_seconds, held, state.q, h.shape)

@@ -40,7 +40,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numba import njit
@@ -580,6 +580,246 @@ def box_conjugate_gradients(
     return BoxCGResult(xf, gf, status == 0, status, message, nit, res, calls)
 
 
+_NOT_POSITIVE = "non-positive curvature (operator not positive definite)"
+
+#: ``(x, g, status, message, nit, residual)`` of :func:`_mprgp`.
+_Outcome = tuple[np.ndarray, np.ndarray, int, str, int, float]
+
+
+@dataclass(frozen=True)
+class _BoxProblem:
+    """The box-constrained quadratic program of :func:`_mprgp` on gathered vectors:
+    minimise ``1/2 x.A x - x.b`` over ``lo <= x <= hi`` (x tractions in Pa, ``A x`` and ``b``
+    displacements in m; Kalker's incremental principle, module docstring).
+
+    Attributes
+    ----------
+    a_of : callable
+        ``v -> A v`` (Pa -> m), symmetric positive definite.
+    b : ndarray
+        Right-hand side (m).
+    lo, hi : ndarray
+        Bounds (Pa), ``-q_max`` and ``q_max`` (tau_0 of E:Hertz_theory, or mu p); infinite where
+        unbounded.
+    alpha_bar : float
+        Expansion step length 1/||A|| (Pa/m).
+    scale : float
+        Pixel stiffness E*/sqrt(dx dy) (Pa/m) of the residual.
+    precondition : callable or None
+        ``(phi, free) -> M^-1 phi`` on the free set (:class:`JunctionPreconditioner`).
+    sparse_updates : bool
+        Update the gradient after an expansion by the product of the change of x.
+    """
+
+    a_of: Callable[[np.ndarray], np.ndarray]
+    b: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    alpha_bar: float
+    scale: float
+    precondition: Callable[[np.ndarray, np.ndarray], np.ndarray] | None
+    sparse_updates: bool
+
+    def residual(self, x: np.ndarray, gp2: float) -> float:
+        """The relative rms traction residual (module docstring) of tractions ``x`` (Pa) whose
+        projected gradient has squared norm ``gp2`` (m^2); 0 when it is 0, inf when x = 0."""
+        if gp2 == 0.0:
+            return 0.0
+        n_m = max(x.size, 1)
+        xr = math.sqrt(float(x @ x) / n_m)
+        return math.sqrt(gp2 / n_m) * self.scale / xr if xr > 0 else math.inf
+
+    def parts(self, x: np.ndarray, g: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The gradient ``g`` (m) at ``x`` split: the free gradient phi (on |x| inside the bounds:
+        stick violation), the chopped gradient beta (on elements at a bound whose gradient points
+        inward: wrong-signed slip), and the free set (bool)."""
+        at_lo = x <= self.lo
+        at_hi = (x >= self.hi) & ~at_lo
+        free = ~at_lo & ~at_hi
+        phi = np.where(free, g, 0.0)
+        beta = np.where(at_lo, np.minimum(g, 0.0), 0.0) + np.where(at_hi, np.maximum(g, 0.0), 0.0)
+        return phi, beta, free
+
+    def max_step(self, x: np.ndarray, p: np.ndarray) -> float:
+        """The largest feasible step length (Pa/m) along ``-p`` from ``x``: where the first
+        element reaches its bound (inf if none does)."""
+        with np.errstate(divide="ignore", invalid="ignore"):
+            down = np.where(p > 0, (x - self.lo) / p, np.inf)
+            up = np.where(p < 0, (x - self.hi) / p, np.inf)
+        return float(min(down.min(), up.min()))
+
+    def direction(self, phi: np.ndarray, free: np.ndarray) -> np.ndarray:
+        """A new search direction from the free gradient: phi, or ``M^-1 phi`` (preconditioned)."""
+        return phi.copy() if self.precondition is None else self.precondition(phi, free)
+
+
+@dataclass
+class _Iterate:
+    """The state of one MPRGP iteration: tractions x (Pa), gradient g = A x - b (m), its free
+    and chopped parts phi, beta (m) and the free set, search direction p, iterations done and
+    the residual of x."""
+
+    x: np.ndarray
+    g: np.ndarray
+    phi: np.ndarray = field(init=False)
+    beta: np.ndarray = field(init=False)
+    free: np.ndarray = field(init=False)
+    p: np.ndarray = field(init=False)
+    nit: int = 0
+    res: float = 0.0
+
+
+def _restart(qp: _BoxProblem, it: _Iterate) -> None:
+    """Split the gradient at the current x and restart the search direction from it."""
+    it.phi, it.beta, it.free = qp.parts(it.x, it.g)
+    it.p = qp.direction(it.phi, it.free)
+
+
+def _projected_residual(qp: _BoxProblem, it: _Iterate) -> float:
+    """The residual of the projected gradient phi + beta (stopping test's measure)."""
+    return qp.residual(it.x, float(it.phi @ it.phi + it.beta @ it.beta))
+
+
+def _stopping_test(res: float, nit: int, tol: float, max_iter: int) -> tuple[int, str] | None:
+    """``(status, message)`` as scipy.optimize when the iteration ends (2: a non-finite
+    residual, 0: ``res <= tol``, 1: ``nit >= max_iter``), None to go on."""
+    if not math.isfinite(res) and res != math.inf:
+        return 2, "non-finite values in the iteration"
+    if res <= tol:
+        return 0, "converged"
+    if nit >= max_iter:
+        return 1, "iteration limit reached"
+    return None
+
+
+def _proportional(qp: _BoxProblem, it: _Iterate) -> bool:
+    """Dostal's proportioning test: ``beta.beta <= phi_red.phi``, with phi_red the free gradient
+    reduced to the steps of length ``alpha_bar`` that stay feasible. True: the iterate is
+    proportional (work on the free set); False: release elements by a proportioning step."""
+    x, phi = it.x, it.phi
+    with np.errstate(divide="ignore", invalid="ignore"):
+        phi_red = np.where(
+            phi > 0,
+            np.minimum((x - qp.lo) / qp.alpha_bar, phi),
+            np.where(phi < 0, np.maximum((x - qp.hi) / qp.alpha_bar, phi), 0.0),
+        )
+    return float(it.beta @ it.beta) <= float(phi_red @ phi)
+
+
+def _free_set_step(qp: _BoxProblem, it: _Iterate) -> bool:
+    """A conjugate-gradient step on the free set; when it would cross a bound, the step cut at
+    the bound and an expansion (:func:`_expansion_step`). False: non-positive curvature."""
+    ap = qp.a_of(it.p)
+    pap = float(it.p @ ap)
+    if not pap > 0.0:
+        return False
+    a_cg = float(it.g @ it.p) / pap
+    a_f = qp.max_step(it.x, it.p)
+    if a_cg <= a_f:
+        _conjugate_gradient_step(qp, it, a_cg, ap, pap)
+    else:
+        _expansion_step(qp, it, a_cg, a_f, ap)
+    return True
+
+
+def _conjugate_gradient_step(
+    qp: _BoxProblem, it: _Iterate, a_cg: float, ap: np.ndarray, pap: float
+) -> None:
+    """The feasible conjugate-gradient step of length ``a_cg`` along ``-p`` (``ap = A p``,
+    ``pap = p.A p``), then the next direction, A-conjugate to p on the free set."""
+    it.x -= a_cg * it.p
+    it.g -= a_cg * ap
+    it.phi, it.beta, it.free = qp.parts(it.x, it.g)
+    z = it.phi if qp.precondition is None else qp.precondition(it.phi, it.free)
+    gamma = float(z @ ap) / pap
+    it.p = z - gamma * it.p
+    it.p[~it.free] = 0.0
+
+
+def _expansion_step(qp: _BoxProblem, it: _Iterate, a_cg: float, a_f: float, ap: np.ndarray) -> None:
+    """The conjugate-gradient step cut at the first bound (``a_f``), then either the projection
+    of the whole step (preconditioned only, :func:`_projected_cg_step`) or the projected
+    gradient step of length ``alpha_bar`` (:func:`_projected_gradient_step`); both bind
+    elements. The search direction restarts."""
+    x_cg = it.x - a_cg * it.p if qp.precondition is not None else None
+    before = (it.x.copy(), it.g.copy()) if x_cg is not None and qp.sparse_updates else None
+    it.x -= a_f * it.p
+    it.g -= a_f * ap
+    projected = None if x_cg is None else _projected_cg_step(qp, it, x_cg, before)
+    it.x, it.g = projected if projected is not None else _projected_gradient_step(qp, it)
+    _restart(qp, it)
+
+
+def _projected_cg_step(
+    qp: _BoxProblem,
+    it: _Iterate,
+    x_cg: np.ndarray,
+    before: tuple[np.ndarray, np.ndarray] | None,
+) -> tuple[np.ndarray, np.ndarray] | None:
+    """The projection onto the box of the whole conjugate-gradient step ``x_cg`` (Pa): it binds
+    at once every element the step pushes out. Its ``(x, g)`` when its energy
+    ``1/2 x.(g - b)`` is at most the cut step's (``it``), else None. ``before``: ``(x, g)``
+    before the cut step, for the sparse gradient update."""
+    x_try = np.clip(x_cg, qp.lo, qp.hi)
+    if before is not None:
+        g_try = before[1] + qp.a_of(x_try - before[0])
+    else:
+        g_try = qp.a_of(x_try) - qp.b
+    if float(x_try @ (g_try - qp.b)) <= float(it.x @ (it.g - qp.b)):
+        return x_try, g_try
+    return None
+
+
+def _projected_gradient_step(qp: _BoxProblem, it: _Iterate) -> tuple[np.ndarray, np.ndarray]:
+    """The expansion proper: the projection onto the box of the gradient step of length
+    ``alpha_bar`` along the free gradient; its ``(x, g)``."""
+    phi, _, _ = qp.parts(it.x, it.g)
+    x = np.clip(it.x - qp.alpha_bar * phi, qp.lo, qp.hi)
+    g = it.g + qp.a_of(x - it.x) if qp.sparse_updates else qp.a_of(x) - qp.b
+    return x, g
+
+
+def _proportioning_step(qp: _BoxProblem, it: _Iterate) -> bool:
+    """Release elements at a bound whose gradient points inward: a minimising step along the
+    chopped gradient beta, cut at the box; the search direction restarts. False: non-positive
+    curvature."""
+    d = it.beta
+    ad = qp.a_of(d)
+    dad = float(d @ ad)
+    if not dad > 0.0:
+        return False
+    a = min(float(it.g @ d) / dad, qp.max_step(it.x, d))
+    it.x = np.clip(it.x - a * d, qp.lo, qp.hi)
+    it.g -= a * ad
+    _restart(qp, it)
+    return True
+
+
+def _unbounded_cg(
+    qp: _BoxProblem, x: np.ndarray, g: np.ndarray, tol: float, max_iter: int
+) -> _Outcome:
+    """Plain conjugate gradients, for a box with every bound infinite (full stick)."""
+    p = g.copy()
+    gg = float(g @ g)
+    res = qp.residual(x, gg)
+    nit = 0
+    while (stop := _stopping_test(res, nit, tol, max_iter)) is None:
+        nit += 1
+        ap = qp.a_of(p)
+        pap = float(p @ ap)
+        if not pap > 0.0:
+            return x, g, 2, _NOT_POSITIVE, nit, res
+        a = gg / pap
+        x -= a * p
+        g -= a * ap
+        gg_new = float(g @ g)
+        p *= gg_new / gg
+        p += g
+        gg = gg_new
+        res = qp.residual(x, gg)
+    return x, g, *stop, nit, res
+
+
 def _mprgp(
     a_of: Callable[[np.ndarray], np.ndarray],
     b: np.ndarray,
@@ -594,174 +834,73 @@ def _mprgp(
     precondition: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None,
     g0: np.ndarray | None = None,
     sparse_updates: bool = False,
-) -> tuple[np.ndarray, np.ndarray, int, str, int, float]:
+) -> _Outcome:
     """The MPRGP iteration on gathered vectors (``x`` feasible, modified in place or replaced).
 
-    ``precondition(phi, free)``, optional: an approximation of ``A_FF^-1 phi`` on the free set
-    (zero elsewhere), symmetric positive definite for a fixed free set. It is used in the
-    conjugate-gradient steps (preconditioning in face, as in Dostal's Optimal Quadratic
-    Programming Algorithms, Springer 2009); the proportioning test, the proportioning step and
-    the stopping test keep the plain gradient. With it, a step cut by a bound first tries the
-    projection onto the box of the whole conjugate-gradient step (it binds at once every element
-    that step pushes out, where the cut step binds one): kept when its energy
-    ``1/2 x.(g - b)`` is at most the cut step's, else the usual expansion follows, so the
-    energy still decreases at every iteration.
+    Each iteration is the proportioning test (:func:`_proportional`), then a step on the free
+    set (:func:`_free_set_step`: conjugate gradients, or the expansion when a bound is crossed)
+    or a proportioning step (:func:`_proportioning_step`), then the stopping test
+    (:func:`_stopping_test`) on the projected gradient's residual.
 
-    ``g0``, optional: the gradient ``A x - b`` at the start, when the caller has it (saves a
-    product). ``sparse_updates``: after an expansion the gradient is updated by the product of
-    the change of x (non-zero on the free set only) instead of recomputed from x, so that every
-    product acts on a vector supported on the free set or on the elements released (cheap for
-    :class:`ContactMatrix`; rounding accumulates as in the conjugate-gradient updates).
+    Parameters
+    ----------
+    a_of : callable
+        ``v -> A v``: tractions (Pa) to displacements (m), symmetric positive definite.
+    b : ndarray
+        Right-hand side (m): ``delta_T - s_prev`` for the tangential step.
+    lo, hi : ndarray
+        Bounds (Pa), ``-q_max`` and ``q_max``; all infinite: plain conjugate gradients.
+    x : ndarray
+        A feasible start (Pa).
+    norm : float
+        An upper bound of the largest eigenvalue of A (m/Pa).
+    scale : float
+        Pixel stiffness E*/sqrt(dx dy) (Pa/m) of the residual (module docstring).
+    tol : float
+        Residual to reach.
+    max_iter : int
+        Iteration cap.
+    precondition : callable, optional
+        ``precondition(phi, free)``: an approximation of ``A_FF^-1 phi`` on the free set
+        (zero elsewhere), symmetric positive definite for a fixed free set. It is used in the
+        conjugate-gradient steps (preconditioning in face, as in Dostal's Optimal Quadratic
+        Programming Algorithms, Springer 2009); the proportioning test, the proportioning step
+        and the stopping test keep the plain gradient. With it, a step cut by a bound first
+        tries the projection onto the box of the whole conjugate-gradient step (it binds at once
+        every element that step pushes out, where the cut step binds one): kept when its energy
+        ``1/2 x.(g - b)`` is at most the cut step's, else the usual expansion follows, so the
+        energy still decreases at every iteration.
+    g0 : ndarray, optional
+        The gradient ``A x - b`` (m) at the start, when the caller has it (saves a product).
+    sparse_updates : bool
+        After an expansion the gradient is updated by the product of the change of x (non-zero
+        on the free set only) instead of recomputed from x, so that every product acts on a
+        vector supported on the free set or on the elements released (cheap for
+        :class:`ContactMatrix`; rounding accumulates as in the conjugate-gradient updates).
 
-    Returns ``(x, g, status, message, nit, residual)``.
+    Returns
+    -------
+    tuple
+        ``(x, g, status, message, nit, residual)``: status 0 converged, 1 iteration cap,
+        2 non-finite values or non-positive curvature.
     """
-    n_m = max(x.size, 1)
     alpha_bar = 1.0 / norm
-
-    def residual(gp2: float) -> float:
-        if gp2 == 0.0:
-            return 0.0
-        xr = math.sqrt(float(x @ x) / n_m)
-        return math.sqrt(gp2 / n_m) * scale / xr if xr > 0 else math.inf
-
     if x.size == 0:
         return x, np.zeros(0), 0, "converged", 0, 0.0
+    qp = _BoxProblem(a_of, b, lo, hi, alpha_bar, scale, precondition, sparse_updates)
     g = a_of(x) - b if g0 is None else g0
-
     if np.all(np.isinf(lo)) and np.all(np.isinf(hi)):
-        p = g.copy()
-        gg = float(g @ g)
-        res = residual(gg)
-        nit = 0
-        while True:
-            if not math.isfinite(res) and res != math.inf:
-                return x, g, 2, "non-finite values in the iteration", nit, res
-            if res <= tol:
-                return x, g, 0, "converged", nit, res
-            if nit >= max_iter:
-                return x, g, 1, "iteration limit reached", nit, res
-            nit += 1
-            ap = a_of(p)
-            pap = float(p @ ap)
-            if not pap > 0.0:
-                return (
-                    x,
-                    g,
-                    2,
-                    "non-positive curvature (operator not positive definite)",
-                    nit,
-                    res,
-                )
-            a = gg / pap
-            x -= a * p
-            g -= a * ap
-            gg_new = float(g @ g)
-            p *= gg_new / gg
-            p += g
-            gg = gg_new
-            res = residual(gg)
-
-    def parts(x: np.ndarray, g: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        at_lo = x <= lo
-        at_hi = (x >= hi) & ~at_lo
-        free = ~at_lo & ~at_hi
-        phi = np.where(free, g, 0.0)
-        beta = np.where(at_lo, np.minimum(g, 0.0), 0.0) + np.where(at_hi, np.maximum(g, 0.0), 0.0)
-        return phi, beta, free
-
-    def max_step(x: np.ndarray, p: np.ndarray) -> float:
-        with np.errstate(divide="ignore", invalid="ignore"):
-            down = np.where(p > 0, (x - lo) / p, np.inf)
-            up = np.where(p < 0, (x - hi) / p, np.inf)
-        return float(min(down.min(), up.min()))
-
-    def direction(phi: np.ndarray, free: np.ndarray) -> np.ndarray:
-        return phi.copy() if precondition is None else precondition(phi, free)
-
-    phi, beta, free = parts(x, g)
-    p = direction(phi, free)
-    nit = 0
-    res = residual(float(phi @ phi + beta @ beta))
-    while True:
-        if not math.isfinite(res) and res != math.inf:
-            return x, g, 2, "non-finite values in the iteration", nit, res
-        if res <= tol:
-            return x, g, 0, "converged", nit, res
-        if nit >= max_iter:
-            return x, g, 1, "iteration limit reached", nit, res
-        nit += 1
-        with np.errstate(divide="ignore", invalid="ignore"):
-            phi_red = np.where(
-                phi > 0,
-                np.minimum((x - lo) / alpha_bar, phi),
-                np.where(phi < 0, np.maximum((x - hi) / alpha_bar, phi), 0.0),
-            )
-        if float(beta @ beta) <= float(phi_red @ phi):
-            ap = a_of(p)
-            pap = float(p @ ap)
-            if not pap > 0.0:
-                return (
-                    x,
-                    g,
-                    2,
-                    "non-positive curvature (operator not positive definite)",
-                    nit,
-                    res,
-                )
-            a_cg = float(g @ p) / pap
-            a_f = max_step(x, p)
-            if a_cg <= a_f:
-                x -= a_cg * p
-                g -= a_cg * ap
-                phi, beta, free = parts(x, g)
-                z = phi if precondition is None else precondition(phi, free)
-                gamma = float(z @ ap) / pap
-                p = z - gamma * p
-                p[~free] = 0.0
-            else:
-                x_cg = x - a_cg * p if precondition is not None else None
-                x_old, g_old = (x.copy(), g.copy()) if sparse_updates else (x, g)
-                x -= a_f * p
-                g -= a_f * ap
-                done = False
-                if x_cg is not None:
-                    # preconditioned: the projection of the whole conjugate-gradient step binds
-                    # every element that step pushes out at once; kept when it lowers the
-                    # energy 1/2 x.(g - b) below the feasible half step's, else the expansion
-                    x_try = np.clip(x_cg, lo, hi)
-                    if sparse_updates:
-                        g_try = g_old + a_of(x_try - x_old)
-                    else:
-                        g_try = a_of(x_try) - b
-                    if float(x_try @ (g_try - b)) <= float(x @ (g - b)):
-                        x, g = x_try, g_try
-                        done = True
-                if not done:
-                    phi, _, _ = parts(x, g)
-                    x_half = x
-                    x = np.clip(x - alpha_bar * phi, lo, hi)
-                    g = g + a_of(x - x_half) if sparse_updates else a_of(x) - b
-                phi, beta, free = parts(x, g)
-                p = direction(phi, free)
-        else:
-            d = beta
-            ad = a_of(d)
-            dad = float(d @ ad)
-            if not dad > 0.0:
-                return (
-                    x,
-                    g,
-                    2,
-                    "non-positive curvature (operator not positive definite)",
-                    nit,
-                    res,
-                )
-            a = min(float(g @ d) / dad, max_step(x, d))
-            x = np.clip(x - a * d, lo, hi)
-            g -= a * ad
-            phi, beta, free = parts(x, g)
-            p = direction(phi, free)
-        res = residual(float(phi @ phi + beta @ beta))
+        return _unbounded_cg(qp, x, g, tol, max_iter)
+    it = _Iterate(x, g)
+    _restart(qp, it)
+    it.res = _projected_residual(qp, it)
+    while (stop := _stopping_test(it.res, it.nit, tol, max_iter)) is None:
+        it.nit += 1
+        moved = _free_set_step(qp, it) if _proportional(qp, it) else _proportioning_step(qp, it)
+        if not moved:
+            return it.x, it.g, 2, _NOT_POSITIVE, it.nit, it.res
+        it.res = _projected_residual(qp, it)
+    return it.x, it.g, *stop, it.nit, it.res
 
 
 def traction_bound(
