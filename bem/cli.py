@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import re
 import sys
 
@@ -271,9 +270,6 @@ def _print_table(args, heights, dx, dy, e_star, w, rows) -> None:
 
 def handler(args: argparse.Namespace) -> int:
     """Run ``asperity bem``; returns 0, or 1 when a solve did not converge."""
-    # OpenMP threads that spin on a shared 2-core machine slow FFTW down badly; must be set
-    # before pyFFTW loads libgomp (it is imported lazily by bem.fft_backend).
-    os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
     from asperity.bem import load_sweep, solve_contact
     from asperity.bem.shear_cli import check_shear_arguments, run_shear
 

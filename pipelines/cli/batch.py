@@ -13,7 +13,6 @@ then exits 2 (the summary lists the maps that ran).
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 
 from asperity.errors import InputError
@@ -55,7 +54,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def handle_batch(args: argparse.Namespace) -> int:
     """Run the batch; the exit status of :attr:`pipelines.batch.BatchResult.status`."""
-    os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
     # deferred: the job's numerical stages and matplotlib, only for the command
     from asperity.pipelines.batch import run_batch
 

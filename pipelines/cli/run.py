@@ -12,7 +12,6 @@ written), else 3 when the validity verdict is "invalid" (:mod:`pipelines.stages.
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -116,10 +115,6 @@ def handle_run(args: argparse.Namespace) -> int:
 
 def _run_and_report(args: argparse.Namespace, config: JobConfig) -> JobResult:
     """The job and its report in ``args.out`` (the caller holds the directory's lock)."""
-    # OpenMP threads that spin-wait (the default) halve the BEM's speed on a busy 2-core machine
-    # (measured: 23 s -> 11 s for the default job's BEM stage); it must be set before pyFFTW
-    # loads the OpenMP runtime, i.e. before the solvers run.
-    os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
     # Heavy imports only after the configuration passed validation.
     from asperity.pipelines.engine.interrupts import interruptible
     from asperity.pipelines.job import progress_enabled, run_job

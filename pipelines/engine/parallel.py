@@ -86,7 +86,6 @@ def cap_threads(threads: int) -> dict[str, str]:
     if launched:
         values.pop("NUMBA_NUM_THREADS")
     os.environ.update(values)
-    os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")  # no spinning threads on shared cores
     if numba is not None:
         if not launched:
             numba.config.reload_config()
