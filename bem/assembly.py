@@ -48,10 +48,11 @@ def _iteration_cap(
     )
 
 
-def _abs_sum(a: np.ndarray, rows: int = 256) -> float:
-    """sum |a| over a 2D array, ``rows`` rows at a time: the temporary |a| of a block, not of
-    the whole map (8 B per point at the end of every solve, the peak of a Maugis solve
-    once the iteration's own arrays were cut)."""
+def _abs_sum(a: np.ndarray, block: int = 1 << 12) -> float:
+    """sum |a| over a 2D array, about ``block`` values at a time: the temporary |a| of a block
+    of rows, not of the whole map (8 B per point at the end of every solve, the peak of a
+    Maugis solve once the iteration's own arrays were cut)."""
+    rows = max(1, block // max(1, a.shape[1]))
     return float(sum(np.abs(a[i : i + rows]).sum() for i in range(0, a.shape[0], rows)))
 
 
