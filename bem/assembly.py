@@ -48,12 +48,20 @@ def _iteration_cap(
     )
 
 
+def _abs_sum(a: np.ndarray, block: int = 1 << 12) -> float:
+    """sum |a| over a 2D array, about ``block`` values at a time: the temporary |a| of a block
+    of rows, not of the whole map (8 B per point at the end of every solve, the peak of a
+    Maugis solve once the iteration's own arrays were cut)."""
+    rows = max(1, block // max(1, a.shape[1]))
+    return float(sum(np.abs(a[i : i + rows]).sum() for i in range(0, a.shape[0], rows)))
+
+
 def _load_check(problem: ContactProblem, stop: Stop, pressure: np.ndarray, force: float) -> Stop:
     """Status 4 when the imposed force was not reached, or elements in contact end below
     -Sigma (a tensile load this contact cannot carry). The force is compared relative to the
     larger of |F| and sum |p| dx dy, so that a zero imposed load is checked against the
     pressures that cancel in it."""
-    force_scale = max(abs(problem.force), float(np.abs(pressure).sum()) * problem.pixel_area)
+    force_scale = max(abs(problem.force), _abs_sum(pressure) * problem.pixel_area)
     if (
         problem.load_control
         and stop.status == SolverStatus.CONVERGED

@@ -162,7 +162,10 @@ def new_state(
     t is only a search direction (p -= tau t and w -= tau K t use the same stored t, so p and
     the gap stay consistent in double precision), and r carries the float32 round-off of one
     step's gap change, which the exact refresh of u = K p (every ``refresh`` iterations and at
-    the end) removes."""
+    the end) removes. The work array is then the head of the transform workspace
+    (:meth:`~asperity.bem.operators.PaddedConvolution.work_array`, no memory of its own, 4 B
+    per point less): each of its values is consumed before the next transform overwrites
+    it (s -> z by the preconditioner, z by the direction update, r = K t by the gap step)."""
     single = options.mixed_precision(problem.op.shape)
     op = single_precision_operator(problem, options) if single else problem.op
     pre = None
@@ -190,7 +193,7 @@ def new_state(
     # lifetimes within an iteration do not overlap (s -> z in place, z is consumed by the
     # direction update before r = K t is transformed back)
     store = np.float32 if compact else np.float64
-    work = np.empty(p.shape, dtype=store) if compact else op.empty()
+    work = problem.op.work_array() if compact else op.empty()
     return IterationState(
         p=p,
         c=c,

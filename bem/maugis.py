@@ -247,7 +247,10 @@ def _iterate_set(case: _Case, it: _SetIteration, opts: SolverOptions) -> tuple[S
     """Inner solves until S = {gap <= h_0} is unchanged by a solve at ``tol``."""
     seen: set[bytes] = set()
     while it.solves < MAX_SET_SOLVES:
-        inner = None  # the previous solution is held by ``it`` alone (the solve may drop it)
+        # the previous solution is held by ``it`` alone (the solve may drop it), and the
+        # attractive set by ``it`` alone (a set found equal to it is not held through the
+        # next solve: 1 B per point)
+        inner = new = None
         inner = _inner_solve(case, it, opts)
         if inner is None:
             return SolverStatus.CONTACT_LOST, (

@@ -27,9 +27,10 @@ import threading
 import time
 import weakref
 from collections import OrderedDict
+from typing import NamedTuple
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from asperity.bem import fft_backend as fb
 from asperity.bem.errors import BemInputError
@@ -40,7 +41,12 @@ from asperity.bem.influence import (
     wavevectors_squared,
 )
 
-__all__ = ["PaddedConvolution", "influence_operator", "stiffness_preconditioner"]
+__all__ = [
+    "EvenMultiplier",
+    "PaddedConvolution",
+    "influence_operator",
+    "stiffness_preconditioner",
+]
 
 # A Convolution owns work buffers (its spectrum and scratch arrays), so it must never be used by
 # two solves at once: the cache is per thread. Solves in different threads of one process then
@@ -96,6 +102,138 @@ def _take_out(out, real):  # pragma: no cover - compiled
             out[i, j] = real[i, j]
 
 
+@njit(inline="always")
+def _expand(head, real, gx, gy, nx, ny, pitch):  # pragma: no cover - compiled
+    """The map (nx, ny) stored flat at the head of the workspace moved into its padded real
+    grid (rows of ``pitch`` values, gx rows), zero elsewhere on the (gx, gy) grid. In place:
+    the last element first, so that no value is overwritten before it is read (the padded
+    position of every element lies at or after its flat one, in bytes as well)."""
+    for i in range(gx - 1, nx - 1, -1):
+        base = i * pitch
+        for j in range(gy):
+            real[base + j] = 0.0
+    for i in range(nx - 1, -1, -1):
+        base = i * pitch
+        for j in range(gy - 1, ny - 1, -1):
+            real[base + j] = 0.0
+        src = i * ny
+        for j in range(ny - 1, -1, -1):
+            real[base + j] = head[src + j]
+
+
+@njit(inline="always")
+def _compact(real, head, nx, ny, pitch):  # pragma: no cover - compiled
+    """The map's block of the padded real grid moved to the head of the workspace as flat
+    float32 values, in place: the first element first (the reverse of :func:`_expand`)."""
+    for i in range(nx):
+        base = i * pitch
+        dst = i * ny
+        for j in range(ny):
+            head[dst + j] = real[base + j]
+
+
+# the float32 head and the real grid are viewed inside the kernels, from the one workspace
+# argument: the compiler then knows they may overlap
+@njit(cache=True, fastmath=False)
+def _expand_double(ws, gx, gy, nx, ny):  # pragma: no cover - compiled
+    pitch = 2 * (gy // 2 + 1)
+    head = ws[: 4 * nx * ny].view(np.float32)
+    _expand(head, ws[: 8 * gx * pitch].view(np.float64), gx, gy, nx, ny, pitch)
+
+
+@njit(cache=True, fastmath=False)
+def _expand_single(ws, gx, gy, nx, ny):  # pragma: no cover - compiled
+    pitch = 2 * (gy // 2 + 1)
+    head = ws[: 4 * nx * ny].view(np.float32)
+    _expand(head, ws[: 4 * gx * pitch].view(np.float32), gx, gy, nx, ny, pitch)
+
+
+@njit(cache=True, fastmath=False)
+def _compact_double(ws, gx, gy, nx, ny):  # pragma: no cover - compiled
+    pitch = 2 * (gy // 2 + 1)
+    head = ws[: 4 * nx * ny].view(np.float32)
+    _compact(ws[: 8 * gx * pitch].view(np.float64), head, nx, ny, pitch)
+
+
+@njit(cache=True, fastmath=False)
+def _compact_single(ws, gx, gy, nx, ny):  # pragma: no cover - compiled
+    pitch = 2 * (gy // 2 + 1)
+    head = ws[: 4 * nx * ny].view(np.float32)
+    _compact(ws[: 4 * gx * pitch].view(np.float32), head, nx, ny, pitch)
+
+
+class EvenMultiplier(NamedTuple):
+    """A Fourier multiplier of an FFT grid (gx, gy) that is even in qx, M[gx - i, j] = M[i, j]
+    (the transform of a kernel even in x, e.g. Love's patch), stored as its rows 0 .. gx // 2
+    only (float64, already divided by gx * gy): half the rows of the half-spectrum. Operators
+    of both precisions read the same array (single precision rounds each value to float32
+    where it is applied, as a stored float32 copy would hold it)."""
+
+    half: np.ndarray  # (gx // 2 + 1, gy // 2 + 1), m/Pa (or Pa/m) over gx * gy
+
+
+@njit(cache=True, fastmath=False, parallel=True)
+def _even_multiply_double(spec, half, ny, energy):  # pragma: no cover - compiled
+    """spec *= M in place (complex128), M[i] = half[min(i, gx - i)] (:class:`EvenMultiplier`);
+    returns sum M |spec|^2 over the full spectrum (Parseval) when ``energy``, summed per row
+    and then over the rows in order, as
+    :func:`~asperity.bem.fft_backend._multiply_with_energy` with the full stored array."""
+    gx, nyh = spec.shape
+    last = nyh - 1 if ny % 2 == 0 else -1
+    rows = np.zeros(gx)
+    for i in prange(gx):
+        k = np.int64(i)
+        if k > gx // 2:
+            k = gx - k
+        e0 = 0.0
+        e1 = 0.0
+        for j in range(nyh):
+            m = half[k, j]
+            z = spec[i, j]
+            if energy:
+                a = m * (z.real * z.real + z.imag * z.imag)
+                if j == 0 or j == last:
+                    e0 += a
+                else:
+                    e1 += a
+            spec[i, j] = z * m
+        rows[i] = e0 + 2.0 * e1
+    total = 0.0
+    for i in range(gx):
+        total += rows[i]
+    return total
+
+
+@njit(cache=True, fastmath=False, parallel=True)
+def _even_multiply_single(spec, half, ny, energy):  # pragma: no cover - compiled
+    """As :func:`_even_multiply_double` for a complex64 spectrum, each value of the multiplier
+    rounded to float32 (as a stored float32 copy would hold it)."""
+    gx, nyh = spec.shape
+    last = nyh - 1 if ny % 2 == 0 else -1
+    rows = np.zeros(gx)
+    for i in prange(gx):
+        k = np.int64(i)
+        if k > gx // 2:
+            k = gx - k
+        e0 = 0.0
+        e1 = 0.0
+        for j in range(nyh):
+            m = np.float32(half[k, j])
+            z = spec[i, j]
+            if energy:
+                a = m * (z.real * z.real + z.imag * z.imag)
+                if j == 0 or j == last:
+                    e0 += a
+                else:
+                    e1 += a
+            spec[i, j] = z * m
+        rows[i] = e0 + 2.0 * e1
+    total = 0.0
+    for i in range(gx):
+        total += rows[i]
+    return total
+
+
 class PaddedConvolution:
     """Convolution ``out = K * x`` of arrays of the map's shape on a larger FFT grid, in place.
 
@@ -108,11 +246,14 @@ class PaddedConvolution:
 
     Parameters
     ----------
-    multiplier : ndarray, shape (gx, gy // 2 + 1), RadialMultiplier, or callable
+    multiplier : ndarray (gx, gy // 2 + 1), RadialMultiplier, EvenMultiplier or callable
         The Fourier multiplier of the FFT grid in the DFT sense (compliance m/Pa, or stiffness
         Pa/m); an array is divided by gx * gy unless ``normalised``. A callable ``fill(real)``
-        writes an even real-space kernel (m/Pa) on the FFT grid into ``real``: it is
-        transformed in place in the workspace and the real part kept.
+        writes a real-space kernel (m/Pa) even in x and y on the FFT grid into ``real``: it is
+        transformed in place in the workspace and the real part kept as an
+        :class:`EvenMultiplier` (rows i and gx - i averaged: equal but for the transform's
+        round-off), 2 B per grid point in float64 for both precisions (before: 4 B for the
+        double operator and 2 B for the single one).
     shape : (int, int)
         The map's shape (nx, ny) (pixels).
     grid : (int, int)
@@ -175,6 +316,9 @@ class PaddedConvolution:
         self.spectral_shape = (gx, gy // 2 + 1)
         if isinstance(multiplier, RadialMultiplier):
             found = (multiplier.qx2.size, multiplier.qy2.size)
+        elif isinstance(multiplier, EvenMultiplier):
+            rows, cols = multiplier.half.shape
+            found = (gx if rows == gx // 2 + 1 else rows, cols)
         elif callable(multiplier):
             found = self.spectral_shape
         else:
@@ -185,6 +329,11 @@ class PaddedConvolution:
                 f"spectrum {self.spectral_shape} of the grid {self.grid}"
             )
         nbytes = self.spectral_shape[0] * self.spectral_shape[1] * np.dtype(self.cdtype).itemsize
+        # held as given: the views below keep only the buffer alive (numpy collapses a view's
+        # base to the owner), so without this reference the per-thread pool forgets the
+        # workspace and every operator of the grid made a workspace of its own (measured at
+        # 2000^2, free boundary: 4 doubled-grid workspaces, 32 B per map point each)
+        self._workspace = workspace
         self._spec = workspace[:nbytes].view(self.cdtype).reshape(self.spectral_shape)
         padded = workspace[:nbytes].view(self.dtype).reshape(gx, 2 * self.spectral_shape[1])
         self._real = padded[:, :gy]
@@ -197,20 +346,24 @@ class PaddedConvolution:
             self._plan()
         self._radial: RadialMultiplier | None = None
         self._mult: np.ndarray | None = None
+        self._even: EvenMultiplier | None = None
         if isinstance(multiplier, RadialMultiplier):
             self._radial = multiplier
+        elif isinstance(multiplier, EvenMultiplier):
+            self._even = multiplier
         elif callable(multiplier):
-            self._mult = self._transformed_kernel(multiplier)
+            self._even = self._transformed_kernel(multiplier)
         else:
             mult = np.asarray(multiplier, dtype=np.float64)
             if not normalised:
                 mult = mult / (gx * gy)
             self._mult = np.ascontiguousarray(mult, dtype=self.dtype)
 
-    def _transformed_kernel(self, fill) -> np.ndarray:
+    def _transformed_kernel(self, fill) -> EvenMultiplier:
         """The multiplier of a real-space kernel that ``fill(real)`` writes on the FFT grid:
         the real part of its transform (the kernel is even), divided by gx * gy, transformed
-        in place in the workspace."""
+        in place in the workspace; rows 0 .. gx // 2 kept, row i the mean of rows i and
+        gx - i (they differ by the transform's round-off only, ~1e-15 of the largest value)."""
         fill(self._real)
         if self._fwd is not None:
             self._fwd.execute()
@@ -219,9 +372,18 @@ class PaddedConvolution:
             import scipy.fft
 
             spec = scipy.fft.rfft2(self._real, workers=self.threads)
-        mult = np.empty(self.spectral_shape, dtype=self.dtype)
-        np.divide(spec.real, float(self.grid[0] * self.grid[1]), out=mult, casting="unsafe")
-        return mult
+        gx = self.grid[0]
+        re = spec.real
+        half = np.empty((gx // 2 + 1, self.spectral_shape[1]))
+        k = (gx + 1) // 2  # rows 1 .. k - 1 have a mirror row gx - i of their own
+        half[0] = re[0]
+        if k > 1:
+            np.add(re[1:k], re[gx - 1 : gx - k : -1], out=half[1:k])
+            np.multiply(half[1:k], 0.5, out=half[1:k])
+        if gx % 2 == 0:
+            half[gx // 2] = re[gx // 2]
+        np.divide(half, float(gx * self.grid[1]), out=half)
+        return EvenMultiplier(half)
 
     def _plan(self) -> None:
         """In-place FFTW plans on the workspace (measured plans overwrite it: made here,
@@ -251,6 +413,27 @@ class PaddedConvolution:
     def empty(self) -> np.ndarray:
         """A new uninitialised float64 array of the map's shape."""
         return np.empty(self.shape)
+
+    def work_array(self) -> np.ndarray:
+        """A float32 array of the map's shape viewed at the head of the shared workspace: an
+        input or output of every operator of this grid that costs no memory of its own.
+
+        Given as the input, it is moved into the padded grid in place; given as the output,
+        the result is moved (rounded to float32) to it in place. Its values live only
+        between transforms: the next transform of any operator of the grid overwrites them
+        (the iteration's work array r = K t, or s -> z of the preconditioner, is consumed
+        before the next transform; :func:`~asperity.bem.iteration.new_state`)."""
+        n = self.shape[0] * self.shape[1]
+        return self._workspace[: 4 * n].view(np.float32).reshape(self.shape)
+
+    def _is_head(self, a: np.ndarray) -> bool:
+        """Whether ``a`` is :meth:`work_array` (of any operator sharing this workspace)."""
+        return (
+            a.dtype == np.float32
+            and a.shape == self.shape
+            and a.ctypes.data == self._workspace.ctypes.data
+            and a.flags.c_contiguous
+        )
 
     def zeros(self) -> np.ndarray:
         """A new float64 array of the map's shape filled with zeros."""
@@ -285,7 +468,11 @@ class PaddedConvolution:
         nx, ny = self.shape
         if self._inv is not None:
             self._inv.execute()
-            _take_out(out, self._real)
+            if self._is_head(out):
+                compact = _compact_double if self.precision == "double" else _compact_single
+                compact(self._workspace, self.grid[0], self.grid[1], nx, ny)
+            else:
+                _take_out(out, self._real)
         else:
             import scipy.fft
 
@@ -305,7 +492,11 @@ class PaddedConvolution:
                 f"PaddedConvolution: input shape {np.shape(x)} does not match the map {self.shape}"
             )
         if self._fwd is not None:
-            _lay_in(self._real, x)
+            if self._is_head(x):
+                expand = _expand_double if self.precision == "double" else _expand_single
+                expand(self._workspace, self.grid[0], self.grid[1], nx, ny)
+            else:
+                _lay_in(self._real, x)
             self._fwd.execute()
             spec = self._spec
         else:
@@ -323,6 +514,11 @@ class PaddedConvolution:
             kernel = fb._radial_multiply_double if double else fb._radial_multiply_single
             nn = float(self.grid[0] * self.grid[1])
             e = kernel(spec, rm.qx2, rm.qy2, rm.coef, rm.power, rm.q00, nn, gy, energy)
+            e = e if energy else 0.0
+        elif self._even is not None:
+            double = self.precision == "double"
+            kernel = _even_multiply_double if double else _even_multiply_single
+            e = kernel(spec, self._even.half, gy, energy)
             e = e if energy else 0.0
         elif energy:
             e = fb._multiply_with_energy(spec, self._mult, gy)
@@ -407,15 +603,15 @@ def influence_operator(
 def _padded_influence_operator(key: tuple) -> PaddedConvolution:
     """The finite-specimen operator of :func:`influence_operator`'s ``key``: Love's patch on the
     doubled grid (:func:`~asperity.bem.influence.padded_love_multiplier`). The single-precision
-    operator rounds the double one's stored multiplier (built once: it costs a doubled-grid
-    transform and 64 B per map point while it is made)."""
+    operator reads the double one's multiplier (an :class:`EvenMultiplier`, 8 B per map point
+    stored once for both, made by one doubled-grid transform in the workspace)."""
     shape, dx, dy, e_star, kernel, _, fft_backend, threads, precision, _ = key
     grid = (2 * shape[0], 2 * shape[1])
     if precision == "single":
         double = influence_operator(
             shape, dx, dy, e_star, kernel, False, fft_backend, threads, "double", True
         )
-        mult, normalised = double._mult, True
+        mult, normalised = double._even, True
     else:
         # the real-space kernel written into the transform's own buffer and transformed
         # there: no array of the doubled grid besides the workspace

@@ -59,23 +59,40 @@ def _warm_start(p: np.ndarray, c: np.ndarray, problem: ContactProblem, initial: 
 START_FRACTION_FACTOR = 4.0
 
 
-def rms_slope(heights: np.ndarray, dx: float, dy: float) -> float:
-    """sqrt(<|grad h|^2>) (dimensionless) from forward differences of the heights (m)."""
-    sx = (
-        float(np.mean(np.square(np.diff(heights, axis=0)))) / dx**2 if heights.shape[0] > 1 else 0.0
-    )
-    sy = (
-        float(np.mean(np.square(np.diff(heights, axis=1)))) / dy**2 if heights.shape[1] > 1 else 0.0
-    )
+def _mean_square_diff(heights: np.ndarray, axis: int, scratch: np.ndarray | None) -> float:
+    """<(h[i+1] - h[i])^2> along ``axis`` (m^2): the differences (np.diff's, laid out as it
+    lays them out) squared in place, in the head of ``scratch`` (a float64 array of at least
+    the heights' size) or in a new array."""
+    nx, ny = heights.shape
+    shape = (nx - 1, ny) if axis == 0 else (nx, ny - 1)
+    if scratch is None:
+        d = np.empty(shape)
+    else:
+        d = scratch.reshape(-1)[: shape[0] * shape[1]].reshape(shape)
+    lo, hi = (heights[:-1], heights[1:]) if axis == 0 else (heights[:, :-1], heights[:, 1:])
+    np.subtract(hi, lo, out=d)
+    np.square(d, out=d)
+    return float(np.mean(d))
+
+
+def rms_slope(
+    heights: np.ndarray, dx: float, dy: float, scratch: np.ndarray | None = None
+) -> float:
+    """sqrt(<|grad h|^2>) (dimensionless) from forward differences of the heights (m); pixel
+    sizes dx, dy in m. ``scratch``: a C-contiguous float64 array of at least the heights'
+    size whose values may be overwritten (the cold start's pressure array: no temporary of
+    the map's size)."""
+    sx = _mean_square_diff(heights, 0, scratch) / dx**2 if heights.shape[0] > 1 else 0.0
+    sy = _mean_square_diff(heights, 1, scratch) / dy**2 if heights.shape[1] > 1 else 0.0
     return float(np.sqrt(sx + sy))
 
 
-def start_fraction(problem: ContactProblem) -> float:
+def start_fraction(problem: ContactProblem, scratch: np.ndarray | None = None) -> float:
     """The contact fraction a cold load-controlled solve starts from: ``START_FRACTION_FACTOR``
     times p0 / (E* h'_rms), the small-load contact fraction of a rough surface up to a factor of
     order 1-2 (Persson 2001; Bush, Gibson & Thomas 1975), within [1/N, 1]; the whole map when
     the slope is zero (flat or constant heights)."""
-    slope = rms_slope(problem.heights, problem.dx, problem.dy)
+    slope = rms_slope(problem.heights, problem.dx, problem.dy, scratch)
     p0 = abs(problem.force) / problem.nominal_area
     if not slope > 0:
         return 1.0
@@ -90,10 +107,16 @@ def _cold_start(p: np.ndarray, c: np.ndarray, problem: ContactProblem) -> None:
     h0 = problem.heights
     nx, ny = h0.shape
     if problem.load_control:
+        # p (of the heights' shape, overwritten below) is the scratch of the slope and of the
+        # partition: no temporary of the map's size besides the 1 B set ``top``
         size = h0.size
-        k = int(min(size, max(1, np.ceil(start_fraction(problem) * size))))
-        top = h0 >= np.partition(h0.ravel(), size - k)[size - k]
-        p[:nx, :ny] = np.where(top, problem.force / problem.nominal_area, 0.0)
+        k = int(min(size, max(1, np.ceil(start_fraction(problem, p) * size))))
+        flat = p.reshape(-1)
+        np.copyto(flat, h0.reshape(-1))
+        flat.partition(size - k)
+        top = h0 >= flat[size - k]
+        # top * p0: p0 where top, 0.0 elsewhere (as np.where(top, p0, 0.0))
+        np.multiply(top, problem.force / problem.nominal_area, out=p)
         c[:nx, :ny] = top
     else:
         c[:nx, :ny] = (h0 - problem.separation) > 0
