@@ -275,20 +275,22 @@ def _sample_base(coef: np.ndarray, m_x: int, m_y: int, nx: int, ny: int) -> np.n
 
 
 @numba.njit(cache=True)
-def _paint_caps(level, row0, nx, dx, dy, cx, cy, radius, sphere):
-    """Upper envelope of spherical caps (base radius ``radius``, sphere radii ``sphere``)
-    centred at (cx, cy) (m) on rows ``row0 .. row0 + level.shape[0] - 1`` of the periodic grid
-    of ``nx`` rows (pixel (i, j) at (i dx, j dy)); ``level[r]`` is the grid's row ``row0 + r``."""
+def _paint_caps(level, row0, nx, dx, dy, cx, cy, radius, sphere, base):
+    """Raise ``level`` to the upper envelope of spherical caps: cap k centred at (cx[k], cy[k])
+    (m), of sphere radius ``sphere[k]``, painted out to the distance ``radius[k]`` (m) from
+    its centre, its height there ``base[k] + sqrt(sphere[k]^2 - r^2)`` (m). ``level[r]`` is
+    row ``row0 + r`` of the periodic grid of ``nx`` rows (pixel (i, j) at (i dx, j dy)).
+    A small-cap level has ``base = -sqrt(sphere^2 - radius^2)`` (each cap meets 0 at its
+    rim); the coarse level ``base = apex - sphere`` (module docstring)."""
     rows, ny = level.shape
-    r2max = radius * radius
     last = row0 + rows - 1
     for k in range(cx.size):
         s2 = sphere[k] * sphere[k]
-        rim = math.sqrt(s2 - r2max)
-        i0 = int(math.ceil((cx[k] - radius) / dx))
-        i1 = int(math.floor((cx[k] + radius) / dx))
-        j0 = int(math.ceil((cy[k] - radius) / dy))
-        j1 = int(math.floor((cy[k] + radius) / dy))
+        r2max = radius[k] * radius[k]
+        i0 = int(math.ceil((cx[k] - radius[k]) / dx))
+        i1 = int(math.floor((cx[k] + radius[k]) / dx))
+        j0 = int(math.ceil((cy[k] - radius[k]) / dy))
+        j1 = int(math.floor((cy[k] + radius[k]) / dy))
         # the periods m whose rows row0 + m nx .. last + m nx meet the cap's rows i0 .. i1
         m0 = -((last - i0) // nx)
         m1 = (i1 - row0) // nx
@@ -302,41 +304,7 @@ def _paint_caps(level, row0, nx, dx, dy, cx, cy, radius, sphere):
                     ddy = j * dy - cy[k]
                     r2 = ddx * ddx + ddy * ddy
                     if r2 < r2max:
-                        value = math.sqrt(s2 - r2) - rim
-                        jj = j % ny
-                        if value > level[ii, jj]:
-                            level[ii, jj] = value
-
-
-@numba.njit(cache=True)
-def _paint_coarse_caps(level, row0, nx, dx, dy, cx, cy, apex, radius, sphere):
-    """Raise ``level`` (rows ``row0 ..`` of the periodic grid of ``nx`` rows, pixel (i, j) at
-    (i dx, j dy), m) to the upper envelope of spherical caps of sphere radius ``sphere``
-    centred at (cx, cy) with apex heights ``apex`` (m) above 0, each painted out to its base
-    radius ``radius[k]`` (where it meets 0): ``apex - sphere + sqrt(sphere^2 - r^2)``."""
-    rows, ny = level.shape
-    s2 = sphere * sphere
-    last = row0 + rows - 1
-    for k in range(cx.size):
-        top = apex[k] - sphere
-        r2max = radius[k] * radius[k]
-        i0 = int(math.ceil((cx[k] - radius[k]) / dx))
-        i1 = int(math.floor((cx[k] + radius[k]) / dx))
-        j0 = int(math.ceil((cy[k] - radius[k]) / dy))
-        j1 = int(math.floor((cy[k] + radius[k]) / dy))
-        m0 = -((last - i0) // nx)
-        m1 = (i1 - row0) // nx
-        for m in range(m0, m1 + 1):
-            lo = max(i0, row0 + m * nx)
-            hi = min(i1, last + m * nx)
-            for i in range(lo, hi + 1):
-                ddx = i * dx - cx[k]
-                ii = i - m * nx - row0
-                for j in range(j0, j1 + 1):
-                    ddy = j * dy - cy[k]
-                    r2 = ddx * ddx + ddy * ddy
-                    if r2 < r2max:
-                        value = top + math.sqrt(s2 - r2)
+                        value = base[k] + math.sqrt(s2 - r2)
                         jj = j % ny
                         if value > level[ii, jj]:
                             level[ii, jj] = value
@@ -364,12 +332,12 @@ def _add_coarse_level(heights: np.ndarray, dx: float, dy: float, caps, recipe) -
     """Add the coarse level ``G`` (module docstring) to ``heights`` by blocks of rows."""
     cx, cy, apex, radius = caps
     nx = heights.shape[0]
+    sphere = np.broadcast_to(recipe.coarse_sphere_radius, cx.shape)
     level = np.empty((min(ROWS_PER_BLOCK, nx), heights.shape[1]), dtype=np.float64)
     for start in range(0, nx, ROWS_PER_BLOCK):
         part = level[: min(ROWS_PER_BLOCK, nx - start)]
         part.fill(0.0)
-        sphere = recipe.coarse_sphere_radius
-        _paint_coarse_caps(part, start, nx, dx, dy, cx, cy, apex, radius, sphere)
+        _paint_caps(part, start, nx, dx, dy, cx, cy, radius, sphere, apex - sphere)
         heights[start : start + part.shape[0]] += part
 
 
@@ -474,12 +442,18 @@ def capped_surface(
             base_at = _bilinear(reference, side_x / ref_nx, side_y / ref_ny, cx[part], cy[part])
             chance = scipy.special.ndtr((base_at / base_sigma - recipe.threshold) / recipe.width)
             keep[part] = draw[part] < chance
-        sphere = np.full(int(keep.sum()), radius / slope)
         kept_x, kept_y = cx[keep], cy[keep]
+        # one radius, sphere and base per level: read-only broadcasts, no per-cap memory
+        sphere = radius / slope
+        each = (
+            np.broadcast_to(radius, kept_x.shape),
+            np.broadcast_to(sphere, kept_x.shape),
+            np.broadcast_to(-math.sqrt(sphere * sphere - radius * radius), kept_x.shape),
+        )  # each cap meets 0 at its rim
         for start in range(0, nx, ROWS_PER_BLOCK):  # a block of rows at a time: no full level
             part = level[: min(ROWS_PER_BLOCK, nx - start)]
             part.fill(0.0)
-            _paint_caps(part, start, nx, dx, dy, kept_x, kept_y, radius, sphere)
+            _paint_caps(part, start, nx, dx, dy, kept_x, kept_y, *each)
             heights[start : start + part.shape[0]] += part
         radius *= 2.0
         k += 1
