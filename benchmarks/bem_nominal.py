@@ -6,8 +6,10 @@ benchmark solves the whole interface and, on the same surface, its 10 x 10 mm wi
 load per area, so that the representativeness the paper worried about is measured:
 
 * surface: :func:`asperity.topo.capped_surface.capped_surface` with the paper recipe
-  (:data:`asperity.topo.synthetic.PAPER_SURFACE`, the surface of
-  :func:`asperity.topo.synthetic.paper_surface`), ``nx x ny`` = 17,500 x 10,000 pixels of
+  (``--recipe paper``, :data:`asperity.topo.synthetic.PAPER_SURFACE`, the surface of
+  :func:`asperity.topo.synthetic.paper_surface`; ``--recipe wavy``: asperity 0.4.1's
+  :data:`~asperity.topo.synthetic.PAPER_SURFACE_WAVY`, on which docs/performance.md's
+  whole-interface numbers were measured), ``nx x ny`` = 17,500 x 10,000 pixels of
   2 um (35 x 20 mm; axis 0 is the 35 mm side), seed 0, periodic;
 * material: E* = 2.133 MPa (the paper's PDMS), w = 0.040 J/m^2;
 * load: F_z = 2.08 N (one of the paper's six loads, Sahli et al.) on the whole 700 mm^2, i.e.
@@ -81,6 +83,7 @@ def run_case(
     seed: int,
     force: float,
     windows: int = 1,
+    recipe: str = "paper",
 ) -> dict:
     """Generate the surface, solve it whole, then solve ``windows`` of its disjoint
     ``window``-pixel squares (from the corner, along y first) at the same mean pressure (Pa),
@@ -88,13 +91,14 @@ def run_case(
 
     from asperity import bem
     from asperity.topo.capped_surface import capped_surface
-    from asperity.topo.synthetic import PAPER_SURFACE
+    from asperity.topo.synthetic import PAPER_SURFACE, PAPER_SURFACE_WAVY
 
     x = (np.arange(64) - 32.0) * pixel
     bump = -(x[:, None] ** 2 + x[None, :] ** 2) / 1e-3  # a 0.5 mm sphere: numba compiles here
     bem.solve_contact(bump, pixel, pixel, E_STAR, normal_force=1e-6)
     t0 = time.perf_counter()
-    heights = capped_surface(nx, ny, pixel, pixel, PAPER_SURFACE, seed)
+    chosen = PAPER_SURFACE_WAVY if recipe == "wavy" else PAPER_SURFACE
+    heights = capped_surface(nx, ny, pixel, pixel, chosen, seed)
     gen_seconds = time.perf_counter() - t0
     gen_peak = _peak_bytes()
     _progress(generation_seconds=gen_seconds, generation_peak_bytes=gen_peak)
@@ -114,6 +118,7 @@ def run_case(
         "ny": ny,
         "pixel": pixel,
         "seed": seed,
+        "recipe": recipe,
         "adhesion": adhesion,
         "adhesion_range": h0,
         "normal_force": force,
@@ -163,6 +168,10 @@ def main() -> None:
     ap.add_argument("--window", type=int, default=5000, help="window side, pixels (10 mm)")
     ap.add_argument("--windows", type=int, default=1, help="disjoint windows solved (<= 6)")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument(
+        "--recipe", choices=("paper", "wavy"), default="paper",
+        help="PAPER_SURFACE (paper) or 0.4.1's PAPER_SURFACE_WAVY (wavy)",
+    )  # fmt: skip
     ap.add_argument("--force", type=float, default=NORMAL_FORCE, help="F_z on the map, N")
     ap.add_argument("--adhesion", nargs="+", default=["none", "maugis"])
     ap.add_argument("--case", action="store_true", help="run one case in this process (JSON)")
@@ -178,6 +187,7 @@ def main() -> None:
             args.seed,
             args.force,
             args.windows,
+            args.recipe,
         )
         print(json.dumps(out))
         return
@@ -195,7 +205,7 @@ def main() -> None:
     print(header, flush=True)
     for adhesion in args.adhesion:
         cmd = [sys.executable, __file__, "--case", "--adhesion", adhesion]
-        for key in ("nx", "ny", "pixel", "window", "windows", "seed", "force"):
+        for key in ("nx", "ny", "pixel", "window", "windows", "seed", "force", "recipe"):
             cmd += [f"--{key}", str(getattr(args, key))]
         proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
         if proc.returncode != 0:

@@ -32,11 +32,12 @@ paper's power law and straight line through the end points (weight 1).
 ``--seeds`` picks the seeds (default 0 1); with more than one, a last column gives the spread
 (min..max) over the full maps, or over the patches without ``--full``. ``--waviness`` prints,
 instead of the table, the trade-off between the PSD roll-off and the 260 um statistics when the
-waviness's wavelength (m) is moved towards the paper's 600 um roll-off (10 mm at 10 um, seeds
+waviness's wavelength (m) of asperity 0.4.1's recipe (``PAPER_SURFACE_WAVY``) is moved towards
+the paper's 600 um roll-off (10 mm at 10 um, seeds
 0 and 1; eta, R, sigma_s averaged over strides 24..28, 240..280 um, to damp the single-stride
 scatter).
 
-``--coarse`` starts from :data:`COARSE_CANDIDATE` instead of ``PAPER_SURFACE``: the waviness
+``--coarse`` starts from :data:`COARSE_CANDIDATE` instead of ``PAPER_SURFACE``: 0.4.1's waviness
 replaced by the coarse cap level of ``topo.capped_surface`` (spherical caps with random apex
 heights, combined as an upper envelope). ``--set NAME=VALUE`` overrides recipe fields (SI).
 ``--fit-coarse`` is a Nelder-Mead search of the base and coarse-level parameters
@@ -87,11 +88,12 @@ FITTED = (
 
 #: A coarse-cap recipe (``--coarse``): the waviness replaced by a dense coarse level whose caps
 #: (sphere radius 1.3 mm, apex heights 250 +- 45 um, 30 per mm^2) bury one another, the base
-#: and the small caps as in ``PAPER_SURFACE``. Measured on the full maps, seeds 0-4: the
-#: roll-off 832-946 um (the recipe's: 2453-3295) and every statistic at 2 um and of the scan
-#: within 13 %, but sigma_s at 260 um 35-41 % and the rms 29-30 % low (docs/topo.md).
+#: and the small caps as in asperity 0.4.1's ``PAPER_SURFACE_WAVY``. Measured on the full maps,
+#: seeds 0-4: the roll-off 832-946 um (the recipe's: 2453-3295) and every statistic at 2 um
+#: and of the scan within 13 %, but sigma_s at 260 um 35-41 % and the rms 29-30 % low
+#: (docs/topo.md).
 COARSE_CANDIDATE = dataclasses.replace(
-    synthetic.PAPER_SURFACE,
+    synthetic.PAPER_SURFACE_WAVY,
     waviness_rms=0.0,
     coarse_cap_density=3e7,
     coarse_height_mean=250e-6,
@@ -315,7 +317,7 @@ def waviness_tradeoff(wavelengths: list[float]) -> None:
     """Roll-off, rms and the 240..280 um statistics with the waviness at each wavelength (m)."""
     print("waviness (um)  seed  roll-off (um)  rms (um)  eta (1/mm^2)  R (mm)  sigma_s (um)")
     for wavelength in wavelengths:
-        recipe = dataclasses.replace(synthetic.PAPER_SURFACE, waviness_wavelength=wavelength)
+        recipe = dataclasses.replace(synthetic.PAPER_SURFACE_WAVY, waviness_wavelength=wavelength)
         for seed in (0, 1):
             coarse = synthetic.paper_surface(n=1000, pixel_size=10e-6, seed=seed, recipe=recipe)
             stats = [topo.summit_statistics(coarse, stride=k) for k in range(24, 29)]

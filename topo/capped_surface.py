@@ -2,7 +2,7 @@
 
 The surface is a function of the physical position (m), sampled on the requested grid:
 
-    z(x) = B(x) + G(x) + sum_k F_k(x),        B = sigma_L L(x) + sigma_W W(x),
+    z(x) = B(x) + G(x) + sum_k F_k(x),        B = A(x) (sigma_L L(x) + sigma_W W(x)),
 
 * ``L`` and ``W`` are periodic Gaussian fields of unit variance, trigonometric sums over
   the wavevectors ``q = 2 pi (i / X, j / Y)`` of the ``X x Y`` domain: ``L`` with the
@@ -11,6 +11,18 @@ The surface is a function of the physical position (m), sampled on the requested
   with ``C(q) = 1`` below ``2 pi / waviness_wavelength`` and ``(q / q_w)^-8`` above, cut
   at the same wavenumber. Their coefficients are drawn in a fixed order from
   ``numpy.random.default_rng(seed)``, so ``B`` does not depend on the pixel size.
+* ``A`` (the amplitude modulation, ``A = 1`` unless ``amplitude_modulation > 0``) is
+  ``exp(s M(x)) / sqrt(<exp(2 s M)>)``, ``s = amplitude_modulation``, ``M`` a periodic
+  Gaussian field of unit variance with ``C(q) = 1`` for ``0 < q <= 2 pi /
+  modulation_wavelength`` and 0 above, the mean ``<.>`` taken on the reference grid (so the
+  rms of ``B`` stays ``hypot(sigma_L, sigma_W)``). ``A`` varies over lengths longer than the
+  roll-off: it leaves the base's spectrum where it is (no power is added at long wavelengths,
+  unlike ``W``) and its summits where they are, but makes the base rougher in some regions and
+  smoother in others, an intermittency that real blasted surfaces show. At a fixed rms it
+  spreads the coarse summits' heights and flattens the mean summit (the mean radius is a mean
+  of ``1 / kappa``, which the smoother regions raise): the combination a rolled-off Gaussian
+  base cannot make (Xu et al. 2022, Fig 12, 260 um: R 1.18 mm and sigma_s 41.9 um with a
+  roll-off near 600 um and an rms near 51 um, Section 5).
 * ``F_k`` (level k = 0, 1, ...) is the upper envelope (the maximum) of spherical caps of
   base radius ``a_k = a_0 2^k`` (up to ``max_cap_radius``) and sphere radius
   ``rho_k = a_k / s_k`` (``s_0 = cap_slope``, ``s_k = coarse_cap_slope`` for k >= 1; the
@@ -43,9 +55,10 @@ The surface is a function of the physical position (m), sampled on the requested
 The same ``seed`` and domain therefore give the same surface at any pixel size that
 resolves the base (``pixel_size <= base_cutoff / 2``): a map made at ``k dx`` equals the
 map made at ``dx`` decimated by k, up to rounding and the subtracted mean. The random draws
-are made in a fixed order (base coefficients, then the coarse level's caps if any, then the
-levels ``F_k``), so a recipe without a coarse level gives the same heights, bit for bit, as
-before the coarse level existed. All lengths are in metres.
+are made in a fixed order (base coefficients, then the modulation's coefficients if any, then
+the coarse level's caps if any, then the levels ``F_k``), so a recipe without a modulation or a
+coarse level gives the same heights, bit for bit, as before either existed. All lengths are
+in metres.
 """
 
 from __future__ import annotations
@@ -121,6 +134,11 @@ class CappedSurfaceRecipe:
         Mean of the coarse caps' apex heights above the level's floor (m), finite.
     coarse_height_sd : float
         Standard deviation of the coarse caps' apex heights (m), >= 0.
+    amplitude_modulation : float
+        ``s``, standard deviation of ``log A`` (dimensionless), >= 0; 0 (the default) leaves
+        the base unmodulated (``A = 1``).
+    modulation_wavelength : float
+        Shortest wavelength of the modulation field ``M`` (m), > 0.
     """
 
     base_rms: float
@@ -141,14 +159,20 @@ class CappedSurfaceRecipe:
     coarse_sphere_radius: float = 1.2e-3
     coarse_height_mean: float = 0.0
     coarse_height_sd: float = 40e-6
+    amplitude_modulation: float = 0.0
+    modulation_wavelength: float = 3e-3
 
     def as_dict(self) -> dict:
         """The parameters as a plain dict; without the coarse level's when it is off
-        (``coarse_cap_density == 0``), so a recipe without it is recorded and hashed as
-        before the coarse level existed."""
+        (``coarse_cap_density == 0``) and without the modulation's when it is off
+        (``amplitude_modulation == 0``), so a recipe without them is recorded and hashed as
+        before they existed."""
         values = asdict(self)
         if self.coarse_cap_density == 0:
             for key in COARSE_FIELDS:
+                del values[key]
+        if self.amplitude_modulation == 0:
+            for key in MODULATION_FIELDS:
                 del values[key]
         return values
 
@@ -160,6 +184,8 @@ COARSE_FIELDS = (
     "coarse_height_mean",
     "coarse_height_sd",
 )
+#: The amplitude modulation's parameters in :class:`CappedSurfaceRecipe` (with defaults).
+MODULATION_FIELDS = ("amplitude_modulation", "modulation_wavelength")
 
 
 def _check_recipe(recipe: CappedSurfaceRecipe, name: str) -> None:
@@ -193,6 +219,16 @@ def _check_recipe(recipe: CappedSurfaceRecipe, name: str) -> None:
         value = getattr(recipe, key)
         if not (math.isfinite(value) and value >= 0):
             raise InputError(f"{name}: {key} must be a finite value >= 0, got {value!r}")
+    if not (math.isfinite(recipe.amplitude_modulation) and recipe.amplitude_modulation >= 0):
+        raise InputError(
+            f"{name}: amplitude_modulation must be a finite value >= 0 (the standard deviation "
+            f"of log A), got {recipe.amplitude_modulation!r}"
+        )
+    if not (math.isfinite(recipe.modulation_wavelength) and recipe.modulation_wavelength > 0):
+        raise InputError(
+            f"{name}: modulation_wavelength must be a finite value > 0 m, "
+            f"got {recipe.modulation_wavelength!r}"
+        )
     if not (math.isfinite(recipe.coarse_sphere_radius) and recipe.coarse_sphere_radius > 0):
         raise InputError(
             f"{name}: coarse_sphere_radius must be a finite value > 0 m, "
@@ -204,52 +240,72 @@ def _check_recipe(recipe: CappedSurfaceRecipe, name: str) -> None:
         )
 
 
-def _mode_coefficients(
-    side_x: float, side_y: float, recipe: CappedSurfaceRecipe, rng: np.random.Generator
-) -> tuple[np.ndarray, int, int]:
-    """Complex coefficients of ``B`` on the half plane of mode indices (i in -M..M, j in 0..N).
-
-    Unit-variance L and W scaled by their rms; the j = 0 column is made Hermitian so that
-    the trigonometric sum is real. Depends on the domain and the recipe only.
-    """
-    q_max = 2 * math.pi / recipe.base_cutoff
-    m_x = int(side_x / recipe.base_cutoff)
-    m_y = int(side_y / recipe.base_cutoff)
+def _mode_grid(side_x: float, side_y: float, shortest: float):
+    """Wavenumbers (rad/m) of the half plane of mode indices (i in -M..M, j in 0..N) down to
+    the wavelength ``shortest`` (m): ``q``, the modes drawn, the weight of each (a j > 0 mode
+    appears with its conjugate), ``M`` and ``N``."""
+    m_x = int(side_x / shortest)
+    m_y = int(side_y / shortest)
     i = np.arange(-m_x, m_x + 1)
     j = np.arange(0, m_y + 1)
     qx = 2 * math.pi * i[:, None] / side_x
     qy = 2 * math.pi * j[None, :] / side_y
     q = np.hypot(qx, qy)
-    inside = (q > 0) & (q <= q_max)
+    inside = (q > 0) & (q <= 2 * math.pi / shortest)
     lower = (j[None, :] == 0) & (i[:, None] < 0)  # conjugates of the i > 0, j = 0 modes
-    keep = inside & ~lower
-    weight = np.where(j[None, :] == 0, 1.0, 2.0)  # a j > 0 mode appears with its conjugate
+    weight = np.where(j[None, :] == 0, 1.0, 2.0)
+    return q, inside & ~lower, weight, m_x, m_y
 
-    def unit_field(amplitude: np.ndarray) -> np.ndarray:
-        noise = rng.standard_normal(q.shape + (2,))
-        coef = np.where(keep, amplitude * (noise[..., 0] + 1j * noise[..., 1]), 0.0)
-        coef[:m_x, 0] = np.conj(coef[:m_x:-1, 0])  # i < 0 from i > 0 on j = 0
-        variance = float(np.sum(weight * np.abs(coef) ** 2))
-        return coef / math.sqrt(variance) if variance > 0 else coef
 
+def _unit_field(grid, amplitude: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+    """Coefficients of a unit-variance field with the mode amplitudes ``amplitude`` on
+    ``grid`` (:func:`_mode_grid`); the j = 0 column is made Hermitian so that the
+    trigonometric sum is real."""
+    q, keep, weight, m_x, _ = grid
+    noise = rng.standard_normal(q.shape + (2,))
+    coef = np.where(keep, amplitude * (noise[..., 0] + 1j * noise[..., 1]), 0.0)
+    coef[:m_x, 0] = np.conj(coef[:m_x:-1, 0])  # i < 0 from i > 0 on j = 0
+    variance = float(np.sum(weight * np.abs(coef) ** 2))
+    return coef / math.sqrt(variance) if variance > 0 else coef
+
+
+def _mode_coefficients(
+    side_x: float, side_y: float, recipe: CappedSurfaceRecipe, rng: np.random.Generator
+) -> tuple[np.ndarray, int, int]:
+    """Complex coefficients of ``sigma_L L + sigma_W W`` on the half plane of mode indices.
+
+    Unit-variance L and W scaled by their rms. Depends on the domain and the recipe only.
+    """
+    grid = _mode_grid(side_x, side_y, recipe.base_cutoff)
+    q, m_x, m_y = grid[0], grid[3], grid[4]
     q_r = 2 * math.pi / recipe.rolloff_wavelength
     q_w = 2 * math.pi / recipe.waviness_wavelength
-    base = unit_field(
-        np.where(q < q_r, 1.0, (np.maximum(q, q_r) / q_r) ** -(1 + recipe.base_hurst))
+    base = _unit_field(
+        grid, np.where(q < q_r, 1.0, (np.maximum(q, q_r) / q_r) ** -(1 + recipe.base_hurst)), rng
     )
-    wave = unit_field(np.where(q < q_w, 1.0, (np.maximum(q, q_w) / q_w) ** -4.0))
+    wave = _unit_field(grid, np.where(q < q_w, 1.0, (np.maximum(q, q_w) / q_w) ** -4.0), rng)
     return recipe.base_rms * base + recipe.waviness_rms * wave, m_x, m_y
 
 
-def _sample_base(coef: np.ndarray, m_x: int, m_y: int, nx: int, ny: int) -> np.ndarray:
-    """The trigonometric sum with coefficients ``coef`` on an ``nx x ny`` periodic grid.
+def _modulation_coefficients(
+    side_x: float, side_y: float, recipe: CappedSurfaceRecipe, rng: np.random.Generator
+) -> tuple[np.ndarray, int, int]:
+    """Coefficients of the modulation field ``M`` (unit variance, a flat spectrum down to
+    ``modulation_wavelength``) on its own half plane of mode indices."""
+    grid = _mode_grid(side_x, side_y, min(recipe.modulation_wavelength, side_x, side_y))
+    flat = np.where(grid[0] <= 2 * math.pi / recipe.modulation_wavelength, 1.0, 0.0)
+    return _unit_field(grid, flat, rng), grid[3], grid[4]
+
+
+def _row_blocks(coef: np.ndarray, m_x: int, m_y: int, nx: int, ny: int):
+    """The trigonometric sum with coefficients ``coef`` on an ``nx x ny`` periodic grid, as
+    ``(start, stop, rows)`` blocks of at most :data:`ROWS_PER_BLOCK` rows.
 
     The inverse transform is done in the two passes of ``scipy.fft.irfft2`` (complex along x,
     then complex-to-real along y) with the same scaling, so the heights are bit-identical to
     ``irfft2`` of the zero-padded half spectrum times ``nx ny``; but the x pass runs on the
-    ``m_y + 1`` non-zero columns only and the y pass on blocks of :data:`ROWS_PER_BLOCK` rows,
-    so the memory is the heights (8 bytes a pixel, float64) and O(nx m_y + ny) beside them,
-    instead of two full complex spectra (40 bytes a pixel in all).
+    ``m_y + 1`` non-zero columns only and the y pass on blocks of rows, so the memory is
+    O(nx m_y + ny) beside the caller's, instead of two full complex spectra.
     """
     if nx <= 2 * m_x or ny // 2 <= m_y:
         raise InputError(
@@ -261,7 +317,6 @@ def _sample_base(coef: np.ndarray, m_x: int, m_y: int, nx: int, ny: int) -> np.n
     columns = scipy.fft.ifft(columns, axis=0, norm="forward", overwrite_x=True)
     # irfft2's factor 1 / (nx ny), which pocketfft rounds from long double, then times nx ny
     scale = float(np.float64(np.longdouble(1) / np.longdouble(nx * ny)))
-    heights = np.empty((nx, ny), dtype=np.float64)
     block = np.zeros((min(ROWS_PER_BLOCK, nx), ny // 2 + 1), dtype=np.complex128)
     for start in range(0, nx, ROWS_PER_BLOCK):
         stop = min(start + ROWS_PER_BLOCK, nx)
@@ -270,8 +325,36 @@ def _sample_base(coef: np.ndarray, m_x: int, m_y: int, nx: int, ny: int) -> np.n
         rows = scipy.fft.irfft(part, n=ny, axis=1, norm="forward")
         rows *= scale
         rows *= nx * ny
+        yield start, stop, rows
+
+
+def _sample_base(coef: np.ndarray, m_x: int, m_y: int, nx: int, ny: int) -> np.ndarray:
+    """The trigonometric sum with coefficients ``coef`` on an ``nx x ny`` periodic grid
+    (:func:`_row_blocks`): the memory is the heights (8 bytes a pixel, float64) and the
+    blocks beside them."""
+    heights = np.empty((nx, ny), dtype=np.float64)
+    for start, stop, rows in _row_blocks(coef, m_x, m_y, nx, ny):
         heights[start:stop] = rows
     return heights
+
+
+def _modulation_norm(coef: np.ndarray, m_x: int, m_y: int, ref_nx: int, ref_ny: int, s: float):
+    """``sqrt(<exp(2 s M)>)`` on the reference grid: the factor that keeps the rms of ``B``."""
+    total = 0.0
+    for _, _, rows in _row_blocks(coef, m_x, m_y, ref_nx, ref_ny):
+        total += float(np.sum(np.exp(2 * s * rows)))
+    return math.sqrt(total / (ref_nx * ref_ny))
+
+
+def _modulate(heights: np.ndarray, modulation, s: float, norm: float) -> None:
+    """Multiply ``heights`` in place by ``A = exp(s M) / norm``, a block of rows at a time."""
+    coef, m_x, m_y = modulation
+    nx, ny = heights.shape
+    for start, stop, rows in _row_blocks(coef, m_x, m_y, nx, ny):
+        rows *= s
+        np.exp(rows, out=rows)
+        rows /= norm
+        heights[start:stop] *= rows
 
 
 @numba.njit(cache=True)
@@ -420,6 +503,12 @@ def capped_surface(
     ref_nx = max(2 * m_x + 1, math.ceil(side_x / REFERENCE_PIXEL))
     ref_ny = max(2 * m_y + 2, math.ceil(side_y / REFERENCE_PIXEL))
     reference = _sample_base(coef, m_x, m_y, ref_nx, ref_ny)
+    if recipe.amplitude_modulation > 0:
+        s = recipe.amplitude_modulation
+        modulation = _modulation_coefficients(side_x, side_y, recipe, rng)
+        norm = _modulation_norm(*modulation, ref_nx, ref_ny, s)
+        _modulate(heights, modulation, s, norm)
+        _modulate(reference, modulation, s, norm)
     base_sigma = math.hypot(recipe.base_rms, recipe.waviness_rms)
     if recipe.coarse_cap_density > 0:
         caps = _coarse_caps(side_x, side_y, recipe, rng)
