@@ -21,13 +21,17 @@ Then the paper's Fig 12d at 2 um (:func:`fig12d_rows`): per load, the BEM's A_r/
 partner) and at the paper's 2 um statistics (Appendix A: eta 652.1 mm^-2, R 0.041 mm, sigma_s
 0.032 mm), and the reproduction of the paper's measured curve (the model at its 260 um
 statistics, benchmarks/paper_reproduction_data.py). ``--from RESULTS.h5`` prints only that
-table from a finished ``--preset paper`` job (seconds, no lock).
+table from a finished ``--preset paper`` job (seconds, no lock). ``--fine`` sets ``[bem] coarsen =
+false`` (every sweep, the Maugis ones included, at 2 um instead of the coarsest grid within the
+area tolerance); ``--job-dir DIR`` runs the job in DIR and keeps it (results.h5, report, figures)
+instead of a temporary folder.
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+import re
 import tempfile
 import threading
 import time
@@ -88,12 +92,14 @@ class MemorySampler:
         return float(max(inside)) if inside else float("nan")
 
 
-def paper_config(n: int, workers: int):
-    """The paper preset on an n x n map at its 2 um pixel."""
+def paper_config(n: int, workers: int, coarsen: bool = True):
+    """The paper preset on an n x n map at its 2 um pixel (``coarsen``: its ``[bem] coarsen``;
+    False sweeps every load at 2 um)."""
     data = tomllib.loads(preset_text("paper"))
     data["surface"]["synthetic"]["n"] = n
     data["surface"]["max_stride"] = min(data["surface"]["max_stride"], max(n // 40, 2))
     data["run"]["workers"] = workers
+    data["bem"]["coarsen"] = coarsen
     return config_from_dict(data, source=f"paper preset, n = {n}")
 
 
@@ -133,6 +139,11 @@ def convolution_seconds(shape: tuple[int, int], repeats: int = 3) -> tuple[float
         convolve()
         best = min(best, time.perf_counter() - t)
     return float(best), name
+
+
+#: The last line a stage logs: its time, or that it was disabled or taken from the store
+#: (previews and notes log lines of their own before it).
+STAGE_END = re.compile(r": (\d+\.\d\d s|disabled|stored, skipped)$")
 
 
 def stage_table(result, marks: list[float], start: float, memory: MemorySampler) -> list[list]:
@@ -263,18 +274,32 @@ def main() -> None:
     parser.add_argument("--workers", type=int, default=1)
     parser.add_argument("--out", type=Path, default=Path("benchmarks"))
     parser.add_argument("--from", dest="results", type=Path, default=None, metavar="RESULTS.h5")
+    parser.add_argument(
+        "--fine", action="store_true", help="[bem] coarsen = false: every sweep at 2 um"
+    )
+    parser.add_argument(
+        "--job-dir",
+        type=Path,
+        default=None,
+        help="run the job here and keep it (default: a temporary folder)",
+    )
     args = parser.parse_args()
     if args.results is not None:
         print("\n".join(fig12d_rows(args.results)))
         return
-    config = paper_config(args.n, args.workers)
+    config = paper_config(args.n, args.workers, coarsen=not args.fine)
     marks: list[float] = []
+
+    def mark_stage_ends(line: str) -> None:  # the stages' last lines; not previews or notes
+        if STAGE_END.search(line):
+            marks.append(time.perf_counter())
+
     with tempfile.TemporaryDirectory() as tmp, MemorySampler() as memory:
+        job_dir = args.job_dir or Path(tmp)
         start = time.perf_counter()
-        result = run_job(
-            config, tmp, force=True, log=lambda line: marks.append(time.perf_counter())
-        )
-        fig12d = fig12d_rows(Path(tmp) / "results.h5")
+        result = run_job(config, job_dir, force=True, log=mark_stage_ends)
+        fig12d = fig12d_rows(Path(job_dir) / "results.h5")
+        print("\n".join(fig12d), flush=True)
     rows = stage_table(result, marks, start, memory)
     bem = result.bem_reference
     print(
@@ -302,7 +327,6 @@ def main() -> None:
         f"{bem.total_convolutions} convolutions = {bem_seconds / floor:.2f} x the floor "
         f"({floor:.1f} s)"
     )
-    print("\n".join(fig12d))
     args.out.mkdir(parents=True, exist_ok=True)
     plot(rows, args.n, conv, args.out / "paper_case.png")
     print(f"figure: {args.out / 'paper_case.png'}")

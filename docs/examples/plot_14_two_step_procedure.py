@@ -20,7 +20,7 @@ seed 1) and must find 260 µm and 0.03 again::
 
     asperity run --preset paper-two-step      # no BEM: step 1 uses the measured A_r(F_z)
 
-That job takes about 4 minutes and 1.6 GiB, too much for the documentation build, so this page
+That job takes about a minute and 1.7 GiB, too much for the documentation build, so this page
 reads its stored result (``pipelines/presets/paper_two_step_result.json``, written from the
 job's ``results.h5`` by the same benchmark script) and recomputes only the model curves at the
 recovered values, which takes seconds.
@@ -84,14 +84,14 @@ print(
 # decimation stride of the 2 µm map (dots) and at the resampled resolutions between strides
 # where the job located the least misfit (crosses). The misfit between neighbouring
 # resolutions is jagged (a few hundred summits at these scales: a stride more or less redraws
-# them): on this 2 µm scan it jumps between 0.005 and 0.13 from one stride to the next near its
+# them): on this 2 µm scan it jumps between 0.002 and 0.2 from one stride to the next near its
 # least value. The job fits a parabola in ln resolution to every sample within a factor 1.28
 # of the optimum (about 60 strides and the refinement's points) and takes the resolutions
 # where it lies within the samples' scatter of its least value: the one-sigma interval closes
-# at 207..264 µm and holds 260 µm (in asperity 0.4.0 only the ten samples nearest the
+# at 235..329 µm and holds 260 µm (in asperity 0.4.0 only the ten samples nearest the
 # optimum were fitted, all within one stride of it; they showed no curvature and the interval
 # was reported open). The surface's statistics at 260 µm are the paper's within
-# 7 %, not exactly: the recovered value falls short of 260 µm by what those few per cent move
+# 4 %, not exactly: the recovered value lies beyond 260 µm by what those few per cent move
 # the model's area, and lambda moves with the statistics it is fitted at (docs/paper.md,
 # "Section 5 reproduced").
 from matplotlib.figure import Figure

@@ -21,8 +21,8 @@ What is asserted, and why not more (docs/paper.md, "The two-step procedure repro
   effective resolution's interval ends (the roughness's uncertainty), and within the range
   those refits span.
 
-Measured (seed 1, 10 um): 236.5 um, interval 215.4..259.7 um; lambda 0.03133, interval
-0.02880..0.03281 (docs/paper.md has the full 2 um job: 234.2 um in 207.4..264.5 um).
+Measured (seed 1, 10 um): 270.0 um, interval 224.6..324.5 um; lambda 0.02910, interval
+0.02698..0.03382 (docs/paper.md has the full 2 um job: 278 um in 234.9..328.9 um).
 """
 
 from __future__ import annotations
