@@ -7,9 +7,10 @@ import pytest
 
 from asperity.bem import resolving_range
 from asperity.pipelines.config import ConfigError, config_from_dict, load_preset, preset_text
-from asperity.pipelines.stages.surface import input_sha256, read_input
+from asperity.pipelines.stages.surface import RECIPE_CONSTANTS, input_sha256, read_input
 from asperity.topo.errors import OverBudgetError
 from asperity.topo.io.limits import MEMORY_BUDGET_ENV
+from asperity.topo.synthetic import PAPER_SURFACE_WAVY
 
 try:
     import tomllib
@@ -52,10 +53,12 @@ def test_ny_is_refused_for_the_square_recipe():
         config_from_dict(data)
 
 
-def test_a_square_recipe_keeps_its_input_hash():
+def test_a_square_recipe_keeps_its_input_hash(monkeypatch):
     """``ny`` absent or equal to ``n`` is the same square map with the hash it had before ``ny``
-    existed (the paper preset on seed 1, as hashed by the code without ``ny``), so its stored
-    stages stay valid; a different ``ny`` is another surface."""
+    existed, so its stored stages stay valid; a different ``ny`` is another surface. Pinned:
+    the paper preset on seed 1 with asperity 0.4.2's recipe, and with 0.4.1's recipe
+    (``PAPER_SURFACE_WAVY``) the hash 0.4.1 gave, as the code hashed it before ``ny`` and the
+    recipe's optional fields (coarse level, modulation) existed."""
     data = tomllib.loads(preset_text("paper"))
     square = config_from_dict(data).surface
     data["surface"]["synthetic"]["ny"] = data["surface"]["synthetic"]["n"]
@@ -65,6 +68,10 @@ def test_a_square_recipe_keeps_its_input_hash():
     assert (
         input_sha256(square)
         == input_sha256(explicit)
-        == ("ba7faecefa00a7cc66944c64cad2a78b811f8fda358c913a1ca7e58748969e80")
+        == ("27b0cc431024e9d54c6159aa8ecf821630c1bb57cb243a0fcd3940078b9976d0")
+    )
+    monkeypatch.setitem(RECIPE_CONSTANTS, "paper_surface", PAPER_SURFACE_WAVY)
+    assert input_sha256(square) == (
+        "ba7faecefa00a7cc66944c64cad2a78b811f8fda358c913a1ca7e58748969e80"
     )
     assert input_sha256(other) != input_sha256(square)

@@ -22,7 +22,7 @@ What is asserted, and why not more (docs/paper.md, "The two-step procedure repro
   those refits span.
 
 Measured (seed 1, 10 um): 270.0 um, interval 224.6..324.5 um; lambda 0.02910, interval
-0.02698..0.03382 (docs/paper.md has the full 2 um job: 278 um in 234.9..328.9 um).
+0.02698..0.03382 (docs/paper.md has the full 2 um job: 278 um in 235.0..328.9 um).
 """
 
 from __future__ import annotations
