@@ -18,7 +18,7 @@ The surface is a function of the physical position (m), sampled on the requested
   rms of ``B`` stays ``hypot(sigma_L, sigma_W)``). ``A`` varies over lengths longer than the
   roll-off: it leaves the base's spectrum where it is (no power is added at long wavelengths,
   unlike ``W``) and its summits where they are, but makes the base rougher in some regions and
-  smoother in others, an intermittency that real blasted surfaces show. At a fixed rms it
+  smoother in others (a modelling device, not a measured property). At a fixed rms it
   spreads the coarse summits' heights and flattens the mean summit (the mean radius is a mean
   of ``1 / kappa``, which the smoother regions raise): the combination a rolled-off Gaussian
   base cannot make (Xu et al. 2022, Fig 12, 260 um: R 1.18 mm and sigma_s 41.9 um with a
