@@ -336,7 +336,8 @@ def paper_surface(
     sigma_s at 2 um by up to -14 % and sigma_s and R at 260 um by up to +16..+17 % (R at a
     single coarse stride is the mean of ``1/|z_xx|`` over ~210 summits and swings by
     +-15 % between neighbouring strides). The roll-off is read to the resolution of the
-    estimator's log-spaced bins (538, 605, 690 um are neighbours). The amplitude
+    estimator's log-spaced bins (538, 605, 690 um are neighbours): 605 um on the map
+    decimated to 10 um, 689 um on the 2 um map itself (the jobs' PSD stage). The amplitude
     modulation is a modelling choice that reproduces the paper's statistics, not a
     measurement of its surface. asperity 0.4.1's recipe (:data:`PAPER_SURFACE_WAVY`) put a
     waviness (rms 38 um, wavelengths above 3 mm) on an unmodulated base instead: its
