@@ -60,9 +60,9 @@ class SolverOptions:
     refresh : int
         Recompute u = K * p from scratch at least every this many iterations, in [1, 10^6].
     kernel : {"point", "love"}
-        Periodic influence kernel (:mod:`asperity.bem.influence`).
+        Periodic influence kernel (:mod:`asperity.bem.elastic.influence`).
     fft_backend : {"auto", "pyfftw", "scipy"}
-        FFT backend (:mod:`asperity.bem.fft_backend`).
+        FFT backend (:mod:`asperity.bem.elastic.fft_backend`).
     threads : int or None
         FFT threads, in [1, 1024]; None: all available cores.
     coarse_start : bool

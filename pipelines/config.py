@@ -271,7 +271,7 @@ class BemConfig:
         then alone chooses the effective resolution.
     boundary : str
         ``"periodic"`` (the map is one period of the interface, as the paper's Appendix B) or
-        ``"free"`` (a finite specimen); see :mod:`asperity.bem.grid_refinement`.
+        ``"free"`` (a finite specimen); see :mod:`asperity.bem.reference.grid_refinement`.
     coarsen : bool
         Let the sweeps use a coarser grid than the map when its area is within
         ``area_tolerance`` of the finest grid solved (false: the map's own resolution).
@@ -281,11 +281,11 @@ class BemConfig:
         paper's Appendix B criterion, whose loading branch carries no adhesion).
     adhesion_range : float or None
         Maugis-Dugdale range h_0, m; None ("auto" in the job file): the shortest range whose
-        cohesive zone the grid resolves (:mod:`asperity.bem.adhesion_range`).
+        cohesive zone the grid resolves (:mod:`asperity.bem.reference.adhesion_range`).
     max_refinement : int
         The discretisation error: the check load is solved again on the grid used
         Fourier-interpolated by 2 and 4 (same roughness,
-        :mod:`asperity.bem.interpolated_refinement`), up to this factor (1: no estimate).
+        :mod:`asperity.bem.reference.interpolated_refinement`), up to this factor (1: no estimate).
     refinement_pixels : int
         Largest grid of a refinement solve, pixels (a level beyond it is left out; when even
         the x2 grid of the whole map is larger, a centred window is refined).

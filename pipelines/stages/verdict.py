@@ -82,7 +82,7 @@ cleaner map), and the verdict lists it among its reasons anyway.
 
 A warning of the BEM reference's boundary: ``bem_edge_mismatch``, a periodic BEM solve of a
 map whose opposite edges do not meet (the seam's rms height jump over the rms height above
-:data:`~asperity.bem.grid_refinement.EDGE_MISMATCH_LIMIT` = 0.5 adds a cliff along two
+:data:`~asperity.bem.reference.grid_refinement.EDGE_MISMATCH_LIMIT` = 0.5 adds a cliff along two
 edges of the reference contact; :func:`check_edge_mismatch`).
 """
 
@@ -95,7 +95,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from asperity.bem.grid_refinement import EDGE_MISMATCH_LIMIT
+from asperity.bem.reference.grid_refinement import EDGE_MISMATCH_LIMIT
 from asperity.errors import ExitStatus
 from asperity.fields import document_fields, scalar, text
 from asperity.pipelines import measured

@@ -26,7 +26,8 @@ Scope, stated once for the whole shear package:
   Cattaneo-Mindlin's solution (Johnson 1985, section 7.2), where it vanishes in the stick zone of
   a circular contact anyway.
 
-Two operators, as :mod:`asperity.bem.influence` for the normal problem (compliances in m/Pa in the
+Two operators, as :mod:`asperity.bem.elastic.influence` for the normal problem (compliances in m/Pa
+in the
 DFT sense, ``u_x = irfft2(K * rfft2(q))``):
 
 ``periodic``
@@ -53,9 +54,9 @@ import math
 
 import numpy as np
 
+from asperity.bem.elastic.influence import love_patch_deflection
+from asperity.bem.elastic.pohrt_popov import pohrt_popov_chi
 from asperity.bem.errors import BemInputError
-from asperity.bem.influence import love_patch_deflection
-from asperity.bem.pohrt_popov import pohrt_popov_chi
 
 __all__ = [
     "cerruti_patch_displacement",
@@ -182,7 +183,7 @@ def tangential_multiplier(
     shape: tuple[int, int], dx: float, dy: float, e_star: float, *, periodic: bool = True
 ) -> tuple[np.ndarray, tuple[int, int]]:
     """The u_x-from-q_x multiplier (m/Pa) and its FFT grid: ``shape`` when periodic, doubled
-    when free (same layout as :func:`asperity.bem.influence.influence_multiplier`)."""
+    when free (same layout as :func:`asperity.bem.elastic.influence.influence_multiplier`)."""
     nx, ny = int(shape[0]), int(shape[1])
     if periodic:
         return periodic_cerruti_multiplier(nx, ny, dx, dy, e_star), (nx, ny)

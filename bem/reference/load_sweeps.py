@@ -6,13 +6,13 @@ J/m^2.
 
 * One adhesive loading path. With the Pohrt-Popov criterion (eq:max_sigma) an element enters
   the contact set where its gap closes, so on a monotone loading path the adhesive state is the
-  non-adhesive solution at the same load (:mod:`asperity.bem.branch`). Every adhesive number is
-  therefore the adhesive solve started from the non-adhesive solution at the same load on the
+  non-adhesive solution at the same load (:mod:`asperity.bem.normal.branch`). Every adhesive number
+  is therefore the adhesive solve started from the non-adhesive solution at the same load on the
   same grid (:func:`solve_adhesive_loading`): the ``"loading"`` branch that
   ``bem.solve_contact`` reaches from scratch, without solving the non-adhesive problem a second
   time. With Maugis-Dugdale adhesion (attraction within the range h_0 of the surface) the same
   start leads to the loading branch with jump-in: the attractive set only grows from the
-  non-adhesive state (:mod:`asperity.bem.maugis`).
+  non-adhesive state (:mod:`asperity.bem.normal.maugis`).
 * Nested grids. A finer grid's non-adhesive solve may start from a coarser grid's pressure
   repeated onto it (:func:`upsample_pressure`; on the 1000^2 default map 15 instead of 28
   iterations at stride 1 from stride 2).
@@ -33,8 +33,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from asperity.bem.contact import solve_contact
-from asperity.bem.fft_backend import crop_to_fast_size
+from asperity.bem.elastic.fft_backend import crop_to_fast_size
+from asperity.bem.normal.contact import solve_contact
 from asperity.bem.options import SolverOptions
 from asperity.bem.result import ContactResult
 
@@ -215,7 +215,7 @@ def solve_adhesive_loading(
 ) -> ContactResult:
     """The adhesive solve on the loading branch at ``force`` (N), started from ``plain``, the
     non-adhesive result at the same force on the same grid (the state the loading branch has
-    there, :mod:`asperity.bem.branch`), with the law of ``setup``.
+    there, :mod:`asperity.bem.normal.branch`), with the law of ``setup``.
 
     ``plain`` is passed with its force set to the imposed one: its computed force differs from
     it by round-off, which the solver would otherwise read as a (tiny) unloading step.

@@ -10,10 +10,10 @@ delta_T (m) in order, warm-started:
 * with ``--mode-mixity`` (needs ``--work-of-adhesion`` > 0): the paper's mixed-mode edge law
   G_I + lambda G_II = w (E:failure_locus), junctions shrink under shear and one past its
   instability slides with tau_0 (or mu p) on its non-adhesive contact
-  (:func:`asperity.bem.rough_mixed_mode.mixed_mode_shear_curve`); the displacements must be
+  (:func:`asperity.bem.shear.rough_mixed_mode.mixed_mode_shear_curve`); the displacements must be
   non-decreasing;
 * without it: the preload's contact set is held (Pohrt-Popov preload if w > 0) and each element
-  sticks or slips under tau_0 or Coulomb mu p (:func:`asperity.bem.rough_shear.shear_curve`).
+  sticks or slips under tau_0 or Coulomb mu p (:func:`asperity.bem.shear.rough.shear_curve`).
 
 ``--json`` prints a list, one object per displacement, with the keys of :data:`JSON_KEYS`
 (SI units: m, N, m^2). Exit status 0, 1 when a step did not converge (results still printed),
@@ -137,11 +137,11 @@ def run_shear(args: argparse.Namespace, heights, dx: float, dy: float) -> int:
     """The shear curve of the command line on levelled ``heights`` (m); returns the exit status."""
     import sys
 
-    from asperity.bem.mixed_mode import MixedModeLaw
     from asperity.bem.options import SolverOptions
-    from asperity.bem.rough_mixed_mode import mixed_mode_shear_curve
-    from asperity.bem.rough_shear import shear_curve
-    from asperity.bem.shear import ShearOptions
+    from asperity.bem.shear.mixed_mode import MixedModeLaw
+    from asperity.bem.shear.rough import shear_curve
+    from asperity.bem.shear.rough_mixed_mode import mixed_mode_shear_curve
+    from asperity.bem.shear.stick_slip import ShearOptions
 
     force = args.load[0]
     common = dict(

@@ -1,12 +1,14 @@
 """The BEM reference A_r(F_z) of a map (Appendix B; squares of Fig 12d), each solve made once.
 
 :func:`solve_reference` chains the pieces: the grid check at the check load (the middle load,
-:func:`~asperity.bem.load_sweeps.check_load_index`) with the Maugis range rule
-(:func:`~asperity.bem.grid_refinement.check_grids`), then the other loads in two chains outwards
-from it on the chosen grid (:func:`~asperity.bem.load_sweeps.solve_chain`). The check load is
+:func:`~asperity.bem.reference.load_sweeps.check_load_index`) with the Maugis range rule
+(:func:`~asperity.bem.reference.grid_refinement.check_grids`), then the other loads in two chains
+outwards
+from it on the chosen grid (:func:`~asperity.bem.reference.load_sweeps.solve_chain`). The check
+load is
 also solved on the chosen grid's Fourier interpolations (x2, x4 where affordable), whose
 Richardson extrapolation is the discretisation error of every load
-(:mod:`~asperity.bem.interpolated_refinement`). The check's solve at
+(:mod:`~asperity.bem.reference.interpolated_refinement`). The check's solve at
 the chosen stride is the sweep's solve at the check load. The map covers only part of the
 experiment's nominal area A_n, so each load is scaled to the solved grid at equal nominal
 pressure, F_map = F_z A_map / A_n; A_r / A_map is then the A_r / A_n of the experiment.
@@ -20,9 +22,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from asperity.bem.grid_refinement import GridCheck, check_grids
-from asperity.bem.interpolated_refinement import MAX_REFINEMENT, REFINEMENT_PIXELS
-from asperity.bem.load_sweeps import (
+from asperity.bem.reference.grid_refinement import GridCheck, check_grids
+from asperity.bem.reference.interpolated_refinement import MAX_REFINEMENT, REFINEMENT_PIXELS
+from asperity.bem.reference.load_sweeps import (
     ContactSetup,
     Grid,
     LoadChain,
@@ -138,10 +140,10 @@ def solve_reference(
     nominal_area : float
         A_n of the experiment, m^2.
     max_stride, area_tolerance, coarsen, adhesion, adhesion_range
-        The grid check and the adhesive law (:func:`bem.grid_refinement.check_grids`).
+        The grid check and the adhesive law (:func:`bem.reference.grid_refinement.check_grids`).
     max_refinement, refinement_pixels
         The discretisation check at the check load on the chosen grid's Fourier
-        interpolations (:mod:`bem.interpolated_refinement`).
+        interpolations (:mod:`bem.reference.interpolated_refinement`).
     map_chains : callable
         Runs the (at most two) load chains: ``map_chains(solve_chain, jobs)``, e.g. on two
         worker processes; default :func:`serial_map`.

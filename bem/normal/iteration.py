@@ -26,16 +26,16 @@ from typing import NamedTuple
 
 import numpy as np
 
-from asperity.bem import kernels as kr
 from asperity.bem.cancel import check_cancelled
-from asperity.bem.fft_backend import Convolution
-from asperity.bem.operators import (
+from asperity.bem.elastic.fft_backend import Convolution
+from asperity.bem.elastic.operators import (
     PaddedConvolution,
     influence_operator,
     stiffness_preconditioner,
 )
+from asperity.bem.normal import kernels as kr
+from asperity.bem.normal.problem import ContactProblem
 from asperity.bem.options import SolverOptions
-from asperity.bem.problem import ContactProblem
 from asperity.bem.result import SolverStatus
 
 __all__ = ["IterationState", "Stop", "iterate", "new_state"]
@@ -156,14 +156,14 @@ def new_state(
     """The state at the starting pressure ``p`` (Pa) and contact set ``c``: u = K p computed
     (in single precision when the solve starts mixed, :meth:`SolverOptions.mixed_precision`).
 
-    With an in-place operator (:class:`~asperity.bem.operators.PaddedConvolution`: a finite
+    With an in-place operator (:class:`~asperity.bem.elastic.operators.PaddedConvolution`: a finite
     specimen, or the Maugis iteration's inner solves) the conjugate direction t and the work
     array (r = K t, the preconditioner's s and z) are stored in float32 (8 B per point less):
     t is only a search direction (p -= tau t and w -= tau K t use the same stored t, so p and
     the gap stay consistent in double precision), and r carries the float32 round-off of one
     step's gap change, which the exact refresh of u = K p (every ``refresh`` iterations and at
     the end) removes. The work array is then the head of the transform workspace
-    (:meth:`~asperity.bem.operators.PaddedConvolution.work_array`, no memory of its own, 4 B
+    (:meth:`~asperity.bem.elastic.operators.PaddedConvolution.work_array`, no memory of its own, 4 B
     per point less): each of its values is consumed before the next transform overwrites
     it (s -> z by the preconditioner, z by the direction update, r = K t by the gap step)."""
     single = options.mixed_precision(problem.op.shape)

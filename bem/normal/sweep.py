@@ -8,7 +8,8 @@ a reversed or very uneven step, a previous solve that did not converge, adhesion
 contact set depends on the path) the start is the previous solution.
 
 With adhesion, a load above the previous one on the loading branch is solved as on the loading
-branch from scratch (:mod:`asperity.bem.branch`): the non-adhesive solution at that load, then
+branch from scratch (:mod:`asperity.bem.normal.branch`): the non-adhesive solution at that load,
+then
 the adhesive check from it. The non-adhesive part is itself warm-started by the secant
 predictor of the previous non-adhesive solutions, or taken from ``non_adhesive=`` (the results
 of a non-adhesive sweep at the same forces), which leaves only the checks to do.
@@ -26,8 +27,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from asperity.bem.contact import solve_contact
 from asperity.bem.errors import BemInputError
+from asperity.bem.normal.contact import solve_contact
 from asperity.bem.result import ContactResult
 
 __all__ = ["load_sweep"]
@@ -73,7 +74,7 @@ def load_sweep(
 
     With ``adhesion="maugis"`` (and ``adhesion_range``) every solve starts from the previous
     result: its gap gives the attractive set, which grows on loading and shrinks on
-    unloading (:mod:`asperity.bem.maugis`); ``non_adhesive`` is not used.
+    unloading (:mod:`asperity.bem.normal.maugis`); ``non_adhesive`` is not used.
 
     Notes
     -----

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from asperity.bem.problem import ContactProblem
+from asperity.bem.normal.problem import ContactProblem
 from asperity.bem.result import ContactResult
 
 __all__ = ["solve_branch"]

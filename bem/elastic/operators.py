@@ -1,12 +1,14 @@
 """Cached FFT operators of a solve: the influence kernel K and the stiffness preconditioner.
 
 Planning FFTW and building a kernel cost more than a small solve, so operators are kept per
-thread (a :class:`~asperity.bem.fft_backend.Convolution` owns work buffers and must never serve
+thread (a :class:`~asperity.bem.elastic.fft_backend.Convolution` owns work buffers and must never
+serve
 two solves at once).
 
 Memory: the operators of one grid (the influence kernel and the preconditioner, double and
 single precision) share one transform workspace, a complex128 half-spectrum (8 B per grid
-point; :func:`~asperity.bem.fft_backend.new_workspace`), and the multipliers that depend on |q|
+point; :func:`~asperity.bem.elastic.fft_backend.new_workspace`), and the multipliers that depend on
+|q|
 alone (the periodic point-force kernel 2 / (E* |q|) and the stiffness E* |q| / 2) are evaluated
 where they are applied from two 1D arrays instead of being stored (4 B per grid point each in
 double precision, 2 B in single). Measured at 5000^2: before, the four operators held 24 B per
@@ -32,14 +34,14 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit, prange
 
-from asperity.bem import fft_backend as fb
-from asperity.bem.errors import BemInputError
-from asperity.bem.fft_backend import Convolution, RadialMultiplier, new_workspace
-from asperity.bem.influence import (
+from asperity.bem.elastic import fft_backend as fb
+from asperity.bem.elastic.fft_backend import Convolution, RadialMultiplier, new_workspace
+from asperity.bem.elastic.influence import (
     influence_multiplier,
     padded_love_coefficients,
     wavevectors_squared,
 )
+from asperity.bem.errors import BemInputError
 
 __all__ = [
     "EvenMultiplier",
@@ -177,7 +179,7 @@ def _even_multiply_double(spec, half, ny, energy):  # pragma: no cover - compile
     """spec *= M in place (complex128), M[i] = half[min(i, gx - i)] (:class:`EvenMultiplier`);
     returns sum M |spec|^2 over the full spectrum (Parseval) when ``energy``, summed per row
     and then over the rows in order, as
-    :func:`~asperity.bem.fft_backend._multiply_with_energy` with the full stored array."""
+    :func:`~asperity.bem.elastic.fft_backend._multiply_with_energy` with the full stored array."""
     gx, nyh = spec.shape
     last = nyh - 1 if ny % 2 == 0 else -1
     rows = np.zeros(gx)
@@ -241,7 +243,7 @@ class PaddedConvolution:
     elsewhere on the FFT grid ``grid`` (for a finite specimen: the doubled grid, Hockney's
     method), transformed real-to-complex in place, multiplied, transformed back in place, and
     the map's block is copied out: no array of the FFT grid's size exists besides the
-    workspace. The interface is :class:`~asperity.bem.fft_backend.Convolution`'s (``shape``
+    workspace. The interface is :class:`~asperity.bem.elastic.fft_backend.Convolution`'s (``shape``
     is the map's, ``grid`` the transform's).
 
     Parameters
@@ -266,7 +268,7 @@ class PaddedConvolution:
     precision : {"double", "single"}
         Transforms in float64 or float32 (inputs and outputs stay float64).
     workspace : ndarray
-        A uint8 workspace of :func:`~asperity.bem.fft_backend.workspace_bytes` (grid) bytes,
+        A uint8 workspace of :func:`~asperity.bem.elastic.fft_backend.workspace_bytes` (grid) bytes,
         shared by the operators of the grid (used one convolution at a time).
     normalised : bool
         The multiplier array is already divided by gx * gy.
@@ -388,7 +390,7 @@ class PaddedConvolution:
     def _plan(self) -> None:
         """In-place FFTW plans on the workspace (measured plans overwrite it: made here,
         before any caller's data lives there); the wisdom is
-        :mod:`asperity.bem.fft_backend`'s."""
+        :mod:`asperity.bem.elastic.fft_backend`'s."""
         import pyfftw
 
         fb._check_omp(self.threads)
@@ -422,7 +424,7 @@ class PaddedConvolution:
         the result is moved (rounded to float32) to it in place. Its values live only
         between transforms: the next transform of any operator of the grid overwrites them
         (the iteration's work array r = K t, or s -> z of the preconditioner, is consumed
-        before the next transform; :func:`~asperity.bem.iteration.new_state`)."""
+        before the next transform; :func:`~asperity.bem.normal.iteration.new_state`)."""
         n = self.shape[0] * self.shape[1]
         return self._workspace[: 4 * n].view(np.float32).reshape(self.shape)
 
@@ -602,7 +604,8 @@ def influence_operator(
 
 def _padded_influence_operator(key: tuple) -> PaddedConvolution:
     """The finite-specimen operator of :func:`influence_operator`'s ``key``: Love's patch on the
-    doubled grid (:func:`~asperity.bem.influence.padded_love_multiplier`). The single-precision
+    doubled grid (:func:`~asperity.bem.elastic.influence.padded_love_multiplier`). The
+    single-precision
     operator reads the double one's multiplier (an :class:`EvenMultiplier`, 8 B per map point
     stored once for both, made by one doubled-grid transform in the workspace)."""
     shape, dx, dy, e_star, kernel, _, fft_backend, threads, precision, _ = key

@@ -13,11 +13,11 @@ import time
 
 import numpy as np
 
-from asperity.bem import kernels as kr
-from asperity.bem.diagnosis import residual_floor, stall_causes
-from asperity.bem.iteration import IterationState, Stop
+from asperity.bem.normal import kernels as kr
+from asperity.bem.normal.diagnosis import residual_floor, stall_causes
+from asperity.bem.normal.iteration import IterationState, Stop
+from asperity.bem.normal.problem import ContactProblem
 from asperity.bem.options import SolverOptions
-from asperity.bem.problem import ContactProblem
 from asperity.bem.result import ContactResult, SolverStatus
 
 __all__ = ["assemble_result", "first_contact_result"]
@@ -91,7 +91,7 @@ def _name_stall_causes(
     contact_fraction: float,
     extra: dict,
 ) -> tuple[Stop, dict]:
-    """Append the likely causes of a stall (:mod:`asperity.bem.diagnosis`) to its message."""
+    """Append the likely causes of a stall (:mod:`asperity.bem.normal.diagnosis`) to its message."""
     floor = residual_floor(problem, int(np.count_nonzero(s.c)), s.offset, s.psq)
     causes = stall_causes(problem, contact_fraction, floor, options.tol)
     if causes:

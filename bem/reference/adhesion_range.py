@@ -1,10 +1,11 @@
 """The Maugis-Dugdale range of a BEM reference: the rule that chooses it, and its uncertainty.
 
-A Dugdale cohesive law (:mod:`asperity.bem.maugis`) pulls with a tension ``sigma_0 = w / h_0``
+A Dugdale cohesive law (:mod:`asperity.bem.normal.maugis`) pulls with a tension ``sigma_0 = w /
+h_0``
 (Pa) wherever the gap is below the range ``h_0`` (m). A physical range (~nm) gives a cohesive
 zone far below a um pixel, so the range is coarse-grained to the grid: the rule
 (:func:`search_range`) takes the shortest range found whose cohesive zone spans
-:data:`~asperity.bem.maugis.MIN_ZONE_ELEMENTS` = 3 elements of the grid at the check load.
+:data:`~asperity.bem.normal.maugis.MIN_ZONE_ELEMENTS` = 3 elements of the grid at the check load.
 
 The search starts from the JKR-side closed form :func:`bem.resolving_range` (an upper estimate
 of the zone, which is narrower away from the JKR side) and lengthens the range by the power
@@ -15,7 +16,8 @@ solve is the check load's adhesive solve on that grid.
 
 Sensitivity (:func:`measure_sensitivity`): the check load is solved again at half and double
 the range (from the same non-adhesive start); ``half_spread`` of the three A_r/A_n
-(:func:`asperity.bem.discretisation.half_spread`) is the range part of the BEM's uncertainty
+(:func:`asperity.bem.reference.discretisation.half_spread`) is the range part of the BEM's
+uncertainty
 (:attr:`RangeChoice.uncertainty`). At 2 h_0 the zone spans about 6 elements of the search's
 grid; at h_0/2 only about 1.5, which under-resolves it (on the default job the three values came
 out non-monotone, 0.005001, 0.004992, 0.004998). So h_0/2 is solved on the x2 Fourier-interpolated
@@ -30,9 +32,9 @@ import dataclasses
 import math
 from dataclasses import dataclass, field
 
-from asperity.bem.discretisation import half_spread
-from asperity.bem.load_sweeps import ContactSetup, Grid, solve_adhesive_loading
-from asperity.bem.maugis import MIN_ZONE_ELEMENTS, resolving_range
+from asperity.bem.normal.maugis import MIN_ZONE_ELEMENTS, resolving_range
+from asperity.bem.reference.discretisation import half_spread
+from asperity.bem.reference.load_sweeps import ContactSetup, Grid, solve_adhesive_loading
 from asperity.bem.result import ContactResult
 
 __all__ = [
@@ -149,8 +151,8 @@ def next_range(tried: list[RangeTry]) -> float:
     """The next range of the search (m) from the tries so far: the zone taken as a power of
     h_0, its exponent from the last two tries in log-log (1 from a single try: the zone of a
     steep rough contact grows about linearly with h_0; 2 on the JKR side), aimed at
-    :data:`~asperity.bem.maugis.MIN_ZONE_ELEMENTS` with a margin :data:`SEARCH_MARGIN`, at most
-    :data:`MAX_RANGE_STEP` times longer."""
+    :data:`~asperity.bem.normal.maugis.MIN_ZONE_ELEMENTS` with a margin :data:`SEARCH_MARGIN`, at
+    most :data:`MAX_RANGE_STEP` times longer."""
     h0, zone = tried[-1].adhesion_range, max(tried[-1].zone_elements, 1e-3)
     exponent = 1.0
     before = tried[-2] if len(tried) > 1 else None
@@ -234,7 +236,7 @@ def measure_sensitivity(
     Double the range is solved on ``grid`` (its zone is about twice the 3 elements of h_0).
     Half the range: with ``resolved_half = (ratio, zone)``, the ratio A_r(h_0/2) / A_r(h_0)
     measured on a finer grid of the same surface where the h_0/2 zone spans ``zone`` elements
-    (:func:`asperity.bem.interpolated_refinement.refine_by_interpolation`), applied to the
+    (:func:`asperity.bem.reference.interpolated_refinement.refine_by_interpolation`), applied to the
     A_r/A_map at h_0 on ``grid``; otherwise solved on ``grid``, where its zone spans about 1.5
     elements: the sensitivity is then a lower bound (:attr:`RangeChoice.lower_bound`).
     """

@@ -14,7 +14,8 @@ eq:PohrtPopov_G). An element in contact detaches when
     (min(p, 0)^2 chi + lambda q^2 chi_T) / (dx dy E*) >= w,
 
 p the normal traction (tension < 0; a compressed element has no mode-I release), q the
-tangential one (Pa), chi Pohrt-Popov's factor (:func:`asperity.bem.pohrt_popov.pohrt_popov_chi`).
+tangential one (Pa), chi Pohrt-Popov's factor
+(:func:`asperity.bem.elastic.pohrt_popov.pohrt_popov_chi`).
 Two choices of chi_T, the :class:`MixedModeLaw` field ``tangential_energy``:
 
 ``"pc"`` (default): chi_T = chi.
@@ -24,7 +25,8 @@ Two choices of chi_T, the :class:`MixedModeLaw` field ``tangential_energy``:
     K_I^2 / (2 E*). This is the law of the paper and of Papangelo-Ciavarella, whose K_II is the
     nominal ``T / (2 a sqrt(pi a))`` all round the edge (Savkoor-Briggs), mode III included.
     E:PC_indent..E:PC_T are reproduced with it (``tests/bem/test_bem_shear_pc_sphere.py``).
-``"cerruti"``: chi_T = :func:`asperity.bem.tangential_influence.tangential_chi` (1.5 chi on a
+``"cerruti"``: chi_T = :func:`asperity.bem.elastic.tangential_influence.tangential_chi` (1.5 chi on
+a
     square element), the energy actually released by removing the element's tangential
     traction. Where the edge runs along x the tangential field is mode III, whose release
     rate for an incompressible body on a rigid flat is ``K_III^2 / (4 G) = K_III^2 / E*``, twice
@@ -43,7 +45,8 @@ normal and tangential elasticity uncoupled, coupled only through the contact set
 the flat sticks in both directions, ``u_z = h - d`` and ``u_x = delta_T - s``; elements outside
 carry nothing. One solve at given (d, delta_T) is an
 active-set iteration (Pohrt-Popov's): with Omega_c frozen, the two linear problems are solved by
-conjugate gradients (:func:`asperity.bem.shear.box_conjugate_gradients` without bounds, warm
+conjugate gradients (:func:`asperity.bem.shear.stick_slip.box_conjugate_gradients` without bounds,
+warm
 started); then every element meeting the criterion detaches and every element outside that
 penetrates (gap < 0) attaches, bonding tangentially where it stands (its slip set to
 ``delta_T - u_x``: no misfit); repeat until the set stops changing. Detachment is irreversible
@@ -74,10 +77,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from asperity.bem.elastic.pohrt_popov import pohrt_popov_chi
+from asperity.bem.elastic.tangential_influence import check_poisson, tangential_chi
 from asperity.bem.errors import BemInputError
-from asperity.bem.pohrt_popov import pohrt_popov_chi
-from asperity.bem.shear import ShearOptions, TangentialOperator, box_conjugate_gradients
-from asperity.bem.tangential_influence import check_poisson, tangential_chi
+from asperity.bem.shear.stick_slip import ShearOptions, TangentialOperator, box_conjugate_gradients
 
 #: A contact whose largest element mode-I release rate is below this fraction of w has lost its
 #: adhesive ring (K_I = 0 all round): past the fold of E:max_disp_PC the Pohrt-Popov criterion,

@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-from asperity.bem.problem import ContactProblem
+from asperity.bem.normal.problem import ContactProblem
 
 __all__ = ["stall_causes"]
 

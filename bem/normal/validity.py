@@ -12,7 +12,7 @@ states both (:class:`asperity.validity.Finding`, codes of :data:`asperity.validi
 
 from __future__ import annotations
 
-from asperity.bem.maugis import MIN_ZONE_ELEMENTS
+from asperity.bem.normal.maugis import MIN_ZONE_ELEMENTS
 from asperity.bem.result import ContactResult
 from asperity.validity import Finding, ValidityWarning
 

@@ -1,9 +1,10 @@
 """The public contact solve: :func:`solve_contact` checks its arguments and dispatches.
 
 One route for every adhesive law: the arguments become a validated
-:class:`~asperity.bem.problem.ContactProblem`, which the Polonsky-Keer solver
-(:mod:`asperity.bem.polonsky_keer`: non-adhesive or Pohrt-Popov) or the Maugis-Dugdale
-attractive-set iteration (:mod:`asperity.bem.maugis`, itself built on the Polonsky-Keer solve)
+:class:`~asperity.bem.normal.problem.ContactProblem`, which the Polonsky-Keer solver
+(:mod:`asperity.bem.normal.polonsky_keer`: non-adhesive or Pohrt-Popov) or the Maugis-Dugdale
+attractive-set iteration (:mod:`asperity.bem.normal.maugis`, itself built on the Polonsky-Keer
+solve)
 solves. This module imports both; neither imports it, so there is no import cycle.
 
 How the solver iterates travels in one :class:`~asperity.bem.options.SolverOptions`; the
@@ -19,13 +20,13 @@ import warnings
 
 import numpy as np
 
-from asperity.bem.maugis import check_adhesion, solve_maugis_problem
+from asperity.bem.normal.maugis import check_adhesion, solve_maugis_problem
+from asperity.bem.normal.polonsky_keer import solve_problem
+from asperity.bem.normal.problem import set_up_problem
+from asperity.bem.normal.validity import BemWarning, contact_findings
 from asperity.bem.options import SolverOptions, resolve_options
-from asperity.bem.polonsky_keer import solve_problem
-from asperity.bem.problem import set_up_problem
 from asperity.bem.progress import solve_finished
 from asperity.bem.result import ContactResult
-from asperity.bem.validity import BemWarning, contact_findings
 from asperity.validity import raise_findings
 
 __all__ = ["KNOBS", "options_with_deprecated_knobs", "solve_contact"]
@@ -102,7 +103,7 @@ def solve_contact(
     adhesion : {"pohrt-popov", "maugis"}
         How ``work_of_adhesion`` acts: the paper's Pohrt-Popov criterion (default, Appendix
         B), or the Maugis-Dugdale cohesive law, a tension w / adhesion_range wherever the gap
-        is within ``adhesion_range`` (:mod:`asperity.bem.maugis`; loading with jump-in from
+        is within ``adhesion_range`` (:mod:`asperity.bem.normal.maugis`; loading with jump-in from
         scratch, unloading from ``initial``; a force <= 0 is allowed).
     adhesion_range : float, optional
         The Maugis-Dugdale range h_0 (m), required with ``adhesion="maugis"`` only.
@@ -120,9 +121,10 @@ def solve_contact(
         Pressure (Pa), gap (m), contact mask, areas (m^2), force (N), ``status`` (0 converged,
         1 iteration cap, 2 stalled, 3 contact lost, 4 load not carried), ``success``,
         ``message``, ``nit``. Non-convergence is reported, never raised. Its validity is in
-        ``extra["validity_codes"]`` and ``extra["validity_notes"]`` (:mod:`asperity.bem.validity`:
+        ``extra["validity_codes"]`` and ``extra["validity_notes"]``
+        (:mod:`asperity.bem.normal.validity`:
         ``bem_full_contact``, ``bem_cohesive_zone``); a full contact is also raised as a
-        :class:`~asperity.bem.validity.BemWarning`.
+        :class:`~asperity.bem.normal.validity.BemWarning`.
 
     Raises
     ------
@@ -146,9 +148,9 @@ def solve_contact(
 
 
 def with_validity(result: ContactResult, e_star: float) -> ContactResult:
-    """``result`` with its validity findings (:func:`asperity.bem.validity.contact_findings`)
+    """``result`` with its validity findings (:func:`asperity.bem.normal.validity.contact_findings`)
     in ``extra["validity_codes"]`` / ``extra["validity_notes"]``; full contact is also raised
-    as a :class:`~asperity.bem.validity.BemWarning` (code ``bem_full_contact``). The solver's
+    as a :class:`~asperity.bem.normal.validity.BemWarning` (code ``bem_full_contact``). The solver's
     ``status`` is left as it is: it says whether the solve converged."""
     solve_finished(result)  # the bar of an enclosing bem.progress.solve_progress, if any
     findings = contact_findings(result, e_star)

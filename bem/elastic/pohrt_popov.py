@@ -5,7 +5,7 @@ An element in contact may carry tension down to ``-Sigma``; where ``p < -Sigma``
 (p -> 0). ``Sigma`` follows from equating the strain energy released by delaminating one
 rectangular element, eq:PohrtPopov_G ``G = p^2 chi / (dx dy E*)``, to the work of adhesion w
 (eq:max_sigma). This module holds the criterion only; the approach/retraction driver is
-:mod:`asperity.bem.adhesion`.
+:mod:`asperity.bem.normal.adhesion`.
 """
 
 from __future__ import annotations

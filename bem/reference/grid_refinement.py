@@ -27,11 +27,12 @@ Grid (``max_stride``, ``area_tolerance``, ``coarsen``)
     the resolution dependence (:func:`resolution_dependence`: on the default job A_r moves
     8.9 % from stride 2 to 1), not an error. The chosen grid's discretisation error, the error
     bar, is measured on its Fourier interpolations, same roughness
-    (:mod:`asperity.bem.interpolated_refinement`, :func:`discretisation_estimate`; 3.3 % from
-    10 to 5 um on the default job). :func:`grid_extrapolations` (Richardson over the decimated
+    (:mod:`asperity.bem.reference.interpolated_refinement`, :func:`discretisation_estimate`; 3.3 %
+    from 10 to 5 um on the default job). :func:`grid_extrapolations` (Richardson over the decimated
     grids) is kept for studies; it mixes both.
 
-With Maugis-Dugdale adhesion the range is chosen first (:mod:`asperity.bem.adhesion_range`),
+With Maugis-Dugdale adhesion the range is chosen first
+(:mod:`asperity.bem.reference.adhesion_range`),
 on the finest check grid of at most :data:`MAX_RANGE_GRID_PIXELS` pixels
 (:func:`range_grid_stride`), and every stride's adhesive solve uses it. Its sensitivity is
 measured last: 2 h_0 on the range's grid, h_0/2 on the x2 interpolated grid when the range's
@@ -45,20 +46,20 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from asperity.bem.adhesion_range import (
+from asperity.bem.reference.adhesion_range import (
     RangeChoice,
     given_range,
     measure_sensitivity,
     search_range,
 )
-from asperity.bem.discretisation import GridExtrapolation, richardson_extrapolation
-from asperity.bem.interpolated_refinement import (
+from asperity.bem.reference.discretisation import GridExtrapolation, richardson_extrapolation
+from asperity.bem.reference.interpolated_refinement import (
     MAX_REFINEMENT,
     REFINEMENT_PIXELS,
     InterpolatedRefinement,
     refine_by_interpolation,
 )
-from asperity.bem.load_sweeps import (
+from asperity.bem.reference.load_sweeps import (
     ContactSetup,
     Grid,
     SolveSummary,
@@ -356,10 +357,10 @@ def check_grids(
     adhesion : {"pohrt-popov", "maugis"}
         Law of the adhesive solves.
     adhesion_range : float or None
-        Maugis range h_0 (m); None: chosen by :func:`bem.adhesion_range.search_range`.
+        Maugis range h_0 (m); None: chosen by :func:`bem.reference.adhesion_range.search_range`.
     max_refinement, refinement_pixels : int
         The discretisation check on the chosen grid
-        (:func:`bem.interpolated_refinement.refine_by_interpolation`): largest Fourier
+        (:func:`bem.reference.interpolated_refinement.refine_by_interpolation`): largest Fourier
         interpolation factor (1: none) and largest grid solved, pixels.
 
     Returns

@@ -1,7 +1,8 @@
 """Approach/retraction sweeps with Pohrt-Popov adhesion, and the pull-off force.
 
 An element in contact may carry tension down to ``-Sigma`` (the criterion, eq:max_sigma, is in
-:mod:`asperity.bem.pohrt_popov`); where ``p < -Sigma`` it delaminates (p -> 0), and an element
+:mod:`asperity.bem.elastic.pohrt_popov`); where ``p < -Sigma`` it delaminates (p -> 0), and an
+element
 out of contact comes into contact where its gap closes (g <= 0): a history-dependent
 (hysteretic) rule, so the state depends on the loading path, which these drivers follow.
 """
@@ -12,9 +13,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from asperity.bem.contact import solve_contact
+from asperity.bem.elastic.pohrt_popov import critical_tension, pohrt_popov_chi
 from asperity.bem.errors import BemInputError
-from asperity.bem.pohrt_popov import critical_tension, pohrt_popov_chi
+from asperity.bem.normal.contact import solve_contact
 from asperity.bem.result import ContactResult
 
 # critical_tension and pohrt_popov_chi are re-exported for code that imported them from here
@@ -52,7 +53,7 @@ def approach_retract(
         Passed to :func:`bem.solve_contact` (``options`` a :class:`bem.SolverOptions`,
         ``periodic``, ...;
         ``adhesion="maugis"`` with ``adhesion_range`` (m) follows the same path with the
-        Maugis-Dugdale law, :mod:`asperity.bem.maugis`).
+        Maugis-Dugdale law, :mod:`asperity.bem.normal.maugis`).
 
     Returns
     -------

@@ -1,14 +1,15 @@
 """Constrained conjugate gradients (Polonsky & Keer 1999) for eqs. E:BEM_eq1..E:BEM_eq4.
 
 Unknown: the pressure p on every pixel and the contact set Omega_c (an explicit mask). The
-solve is a short sequence of named steps: :func:`~asperity.bem.problem.set_up_problem` (input
-checks, heights on the FFT grid, the influence operator), :func:`~asperity.bem.start.
-starting_state` (warm, coarse-grid or cold start), :func:`~asperity.bem.iteration.iterate`
+solve is a short sequence of named steps: :func:`~asperity.bem.normal.problem.set_up_problem` (input
+checks, heights on the FFT grid, the influence operator), :func:`~asperity.bem.normal.start.
+starting_state` (warm, coarse-grid or cold start), :func:`~asperity.bem.normal.iteration.iterate`
 (one function per iteration variant, plain or preconditioned Polonsky-Keer, on an
-:class:`~asperity.bem.iteration.IterationState`), :func:`~asperity.bem.assembly.
+:class:`~asperity.bem.normal.iteration.IterationState`), :func:`~asperity.bem.normal.assembly.
 assemble_result`. One iteration is a short sequence of fused numba kernels
-(:mod:`asperity.bem.kernels`) around FFT convolutions ``K * (.)`` (see
-:mod:`asperity.bem.influence`); the array ``w`` holds the gap u - h without the rigid-body term:
+(:mod:`asperity.bem.normal.kernels`) around FFT convolutions ``K * (.)`` (see
+:mod:`asperity.bem.elastic.influence`); the array ``w`` holds the gap u - h without the rigid-body
+term:
 
 1. ``deflection_to_gap_stats`` (only after a full convolution u = K p): w = u - h, the mean
    gap on Omega_c (load control: the rigid-body term d) and the squared gap residual
@@ -58,13 +59,13 @@ import time
 
 import numpy as np
 
-from asperity.bem.assembly import assemble_result, first_contact_result
-from asperity.bem.branch import solve_branch
-from asperity.bem.iteration import iterate, new_state
+from asperity.bem.normal.assembly import assemble_result, first_contact_result
+from asperity.bem.normal.branch import solve_branch
+from asperity.bem.normal.iteration import iterate, new_state
+from asperity.bem.normal.problem import ContactProblem, set_up_problem
+from asperity.bem.normal.start import starting_state
 from asperity.bem.options import SolverOptions
-from asperity.bem.problem import ContactProblem, set_up_problem
 from asperity.bem.result import ContactResult
-from asperity.bem.start import starting_state
 
 __all__ = ["solve_polonsky_keer", "solve_problem", "solve_started"]
 
@@ -85,7 +86,7 @@ def solve_polonsky_keer(
     options: SolverOptions,
 ) -> ContactResult:
     """A non-adhesive contact problem set up and solved by constrained conjugate gradients:
-    the inner solve of :mod:`asperity.bem.maugis` and of the coarse start.
+    the inner solve of :mod:`asperity.bem.normal.maugis` and of the coarse start.
 
     ``loads`` maps ``normal_force`` (N), ``mean_pressure`` (Pa) and ``separation`` (m) to their
     values, exactly one not None; heights and pixel sizes in m, E* in Pa. The public entry is
@@ -99,8 +100,9 @@ def solve_polonsky_keer(
 def solve_problem(
     problem: ContactProblem, initial: object, opts: SolverOptions, started: float
 ) -> ContactResult:
-    """Solve one validated problem (:func:`~asperity.bem.problem.set_up_problem`) by constrained
-    conjugate gradients on the branch its start implies (:mod:`asperity.bem.branch`);
+    """Solve one validated problem (:func:`~asperity.bem.normal.problem.set_up_problem`) by
+    constrained conjugate gradients on the branch its start implies
+    (:mod:`asperity.bem.normal.branch`);
     ``started`` is the :func:`time.perf_counter` of the call, for the result's wall time (s)."""
     branch = solve_branch(problem, initial)
     if branch == "loading":
@@ -190,7 +192,7 @@ def solve_started(
     counters: dict | None = None,
 ) -> ContactResult:
     """Iterate and assemble one validated problem from its starting pressure ``p`` (Pa) and
-    int8 contact set ``c`` on the FFT grid (:func:`~asperity.bem.start.starting_state`); the
+    int8 contact set ``c`` on the FFT grid (:func:`~asperity.bem.normal.start.starting_state`); the
     arrays become the iteration's (and, on a periodic grid, the result's). A caller that
     built them from a warm start may drop the warm start first (the Maugis iteration does:
     its previous inner solution is then not held through the next one)."""

@@ -4,7 +4,8 @@ A warm start (a previous :class:`~asperity.bem.result.ContactResult` or a pressu
 is clipped to the pressure bound (0, or -Sigma with adhesion); otherwise the cold start is a
 uniform pressure on the whole map (load control) or the penetrating elements (displacement
 control). An adhesive solve never starts cold: from scratch it starts from the non-adhesive
-solution, its loading branch (:mod:`asperity.bem.branch`). Under load control the start carries the
+solution, its loading branch (:mod:`asperity.bem.normal.branch`). Under load control the start
+carries the
 imposed force exactly: rescaled without adhesion (Polonsky & Keer), shifted uniformly on the
 contact set with adhesion (where the force may be zero or tensile).
 """
@@ -14,8 +15,8 @@ from __future__ import annotations
 import numpy as np
 
 from asperity.bem.errors import BemInputError
-from asperity.bem.kernels import shift_on_contact
-from asperity.bem.problem import ContactProblem
+from asperity.bem.normal.kernels import shift_on_contact
+from asperity.bem.normal.problem import ContactProblem
 from asperity.bem.result import ContactResult
 
 __all__ = ["starting_state"]

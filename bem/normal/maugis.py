@@ -10,7 +10,8 @@ Algorithm: a fixed point on the attractive set S = {g <= h_0}. For a fixed S the
 known external traction, so the problem is the non-adhesive one on the effective heights
 ``h + sigma_0 K * 1_S`` (the surface lifted by the deflection the attraction causes) with the
 contact force ``F + sigma_0 |S|``: the preconditioned Polonsky-Keer solver of
-:mod:`asperity.bem.polonsky_keer` solves it, warm-started from the previous q. The gap of that
+:mod:`asperity.bem.normal.polonsky_keer` solves it, warm-started from the previous q. The gap of
+that
 solution gives the next S. Under displacement control the obstacle problem is monotone (more
 tension, smaller gaps everywhere), so from the non-adhesive solution S only grows: the
 iteration converges to the smallest fixed point above it, the loading branch with jump-in;
@@ -30,13 +31,13 @@ from typing import NamedTuple
 
 import numpy as np
 
+from asperity.bem.elastic.operators import influence_operator
 from asperity.bem.errors import BemInputError
-from asperity.bem.operators import influence_operator
+from asperity.bem.normal.polonsky_keer import solve_problem, solve_started
+from asperity.bem.normal.problem import ContactProblem, real_scalar, set_up_problem
+from asperity.bem.normal.start import starting_state
 from asperity.bem.options import SolverOptions
-from asperity.bem.polonsky_keer import solve_problem, solve_started
-from asperity.bem.problem import ContactProblem, real_scalar, set_up_problem
 from asperity.bem.result import ContactResult, SolverStatus
-from asperity.bem.start import starting_state
 
 __all__ = [
     "ADHESION_MODELS",
@@ -415,7 +416,7 @@ def solve_maugis_problem(
 ) -> ContactResult:
     """Maugis-Dugdale adhesive contact of a rigid flat with the elastic half-space.
 
-    Called by :func:`bem.solve_contact` (:mod:`asperity.bem.contact`) with
+    Called by :func:`bem.solve_contact` (:mod:`asperity.bem.normal.contact`) with
     ``adhesion="maugis"`` on its validated problem.
 
     Parameters

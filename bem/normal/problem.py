@@ -14,11 +14,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from asperity.bem.elastic.fft_backend import Convolution
+from asperity.bem.elastic.operators import PaddedConvolution, influence_operator
+from asperity.bem.elastic.pohrt_popov import critical_tension
 from asperity.bem.errors import BemInputError
-from asperity.bem.fft_backend import Convolution
-from asperity.bem.operators import PaddedConvolution, influence_operator
 from asperity.bem.options import SolverOptions
-from asperity.bem.pohrt_popov import critical_tension
 from asperity.quantities import quantity
 
 __all__ = ["ContactProblem", "set_up_problem"]
@@ -35,7 +35,7 @@ class ContactProblem:
     grid_heights : ndarray
         The heights (m) as the iteration reads them: ``heights``, C-contiguous. The solver's
         arrays have the map's shape with either boundary (a finite specimen is padded only
-        inside the transforms, :class:`~asperity.bem.operators.PaddedConvolution`).
+        inside the transforms, :class:`~asperity.bem.elastic.operators.PaddedConvolution`).
     dx, dy, e_star : float
         Pixel sizes (m) and reduced modulus (Pa).
     periodic : bool
@@ -187,7 +187,7 @@ def set_up_problem(
     ``loads`` maps ``normal_force`` (N), ``mean_pressure`` (Pa) and ``separation`` (m) to their
     values, exactly one not None. ``in_place``: transform in place in the workspace also on a
     periodic grid (a finite specimen always does), so that the iteration stores its direction
-    and work arrays in float32 (:func:`~asperity.bem.iteration.new_state`): 8 B per point
+    and work arrays in float32 (:func:`~asperity.bem.normal.iteration.new_state`): 8 B per point
     less, for the Maugis iteration's inner solves.
     """
     h = checked_heights(heights)

@@ -1,5 +1,6 @@
 """A rough surface under shear in load control: the normal preload at F_z, then the flat displaced
-tangentially in steps up to full sliding, stick/slip by :func:`asperity.bem.shear.solve_tangential`.
+tangentially in steps up to full sliding, stick/slip by
+:func:`asperity.bem.shear.stick_slip.solve_tangential`.
 
 Model (nu = 1/2, so the normal problem is exactly independent of the tangential one: F_z, the
 pressure and the contact set of the preload hold through the whole sweep):
@@ -12,10 +13,12 @@ pressure and the contact set of the preload hold through the whole sweep):
   linearly from the two previous steps, the preload (delta_T = 0, q = 0) counting as one (exact
   for elements that keep sticking);
 * the contact set is held, so every step works on its elements only: the Cerruti operator as a
-  dense matrix there (:class:`asperity.bem.shear.ContactMatrix`, when it fits in
+  dense matrix there (:class:`asperity.bem.shear.stick_slip.ContactMatrix`, when it fits in
   ``ShearOptions.dense_limit_bytes``; FFT convolutions otherwise), and MPRGP preconditioned by
-  junction (:class:`asperity.bem.shear.JunctionPreconditioner`, ``ShearOptions.precondition``).
-  Both change only the cost: the curve is the one of :func:`asperity.bem.shear.solve_tangential`
+  junction (:class:`asperity.bem.shear.stick_slip.JunctionPreconditioner`,
+  ``ShearOptions.precondition``).
+  Both change only the cost: the curve is the one of
+  :func:`asperity.bem.shear.stick_slip.solve_tangential`
   step by step, to the tolerance (``tests/bem/test_bem_shear_speed.py``,
   ``benchmarks/bem_shear.py``).
 
@@ -24,10 +27,11 @@ boundary); a junction slides when none of its elements sticks; the interface sli
 junction does (no stick element left).
 
 What this model leaves out: with adhesion the mixed-mode edge law of the paper
-(:mod:`asperity.bem.mixed_mode`) would shrink the junctions under shear; here the contact set of
+(:mod:`asperity.bem.shear.mixed_mode`) would shrink the junctions under shear; here the contact set
+of
 the preload is held, so the real area does not drop and the static peak equals the sliding
 force tau_0 A_r (the paper's constant-shear-strength reference of Fig 13). The mixed-mode law
-junction by junction is :func:`asperity.bem.rough_mixed_mode.mixed_mode_shear_curve`.
+junction by junction is :func:`asperity.bem.shear.rough_mixed_mode.mixed_mode_shear_curve`.
 """
 
 from __future__ import annotations
@@ -40,11 +44,12 @@ from dataclasses import dataclass, field, fields
 import numpy as np
 from scipy import ndimage
 
-from asperity.bem.contact import solve_contact
+from asperity.bem.elastic.tangential_influence import check_poisson
 from asperity.bem.errors import BemInputError
+from asperity.bem.normal.contact import solve_contact
 from asperity.bem.options import SolverOptions
 from asperity.bem.result import ContactResult
-from asperity.bem.shear import (
+from asperity.bem.shear.stick_slip import (
     ContactMatrix,
     JunctionPreconditioner,
     ShearOptions,
@@ -52,7 +57,6 @@ from asperity.bem.shear import (
     _mprgp,
     traction_bound,
 )
-from asperity.bem.tangential_influence import check_poisson
 
 __all__ = ["ShearCurve", "label_junctions", "shear_curve"]
 

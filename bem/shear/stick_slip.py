@@ -5,7 +5,7 @@ an element either sticks, moving with the flat, ``u_x = delta_T - s`` with s its
 accumulated in earlier steps, or slips with a bounded traction ``|q| = q_max`` (Pa): Coulomb
 ``q_max = mu p`` or the paper's constant shear strength ``q_max = tau_0`` (E:Hertz_theory), slip
 increment in the direction of q. nu = 1/2, so the tangential problem does not change the
-normal one (:mod:`asperity.bem.tangential_influence`); loading is along x only (q_y = 0).
+normal one (:mod:`asperity.bem.elastic.tangential_influence`); loading is along x only (q_y = 0).
 
 One quasi-static step is the convex box-constrained quadratic program (Kalker's incremental
 principle)
@@ -26,7 +26,7 @@ gradient step of length 1/||K|| (the expansion, which binds elements); elements 
 gradient points inward are released by a proportioning step when that gradient outweighs the
 free one. Each step costs one FFT convolution (two for an expansion). :func:`solve_tangential`
 is not preconditioned; the shear curve of a rough surface
-(:func:`asperity.bem.rough_shear.shear_curve`), which keeps one contact set for many steps, works
+(:func:`asperity.bem.shear.rough.shear_curve`), which keeps one contact set for many steps, works
 on that set only, with the operator as a dense matrix there (:class:`ContactMatrix`) and the
 conjugate-gradient steps preconditioned by junction (:class:`JunctionPreconditioner`).
 
@@ -45,10 +45,10 @@ from dataclasses import dataclass, field
 import numpy as np
 from numba import njit
 
+from asperity.bem.elastic.fft_backend import Convolution, default_threads
+from asperity.bem.elastic.influence import influence_multiplier
+from asperity.bem.elastic.tangential_influence import check_poisson, tangential_multiplier
 from asperity.bem.errors import BemInputError
-from asperity.bem.fft_backend import Convolution, default_threads
-from asperity.bem.influence import influence_multiplier
-from asperity.bem.tangential_influence import check_poisson, tangential_multiplier
 
 __all__ = [
     "BoxCGResult",
@@ -76,14 +76,14 @@ class ShearOptions:
     max_iter : int or None
         Iteration cap per linear solve (>= 1); None: ``max(1000, 4 max(nx, ny))``.
     fft_backend : {"auto", "pyfftw", "scipy"}
-        FFT backend of :class:`asperity.bem.fft_backend.Convolution`.
+        FFT backend of :class:`asperity.bem.elastic.fft_backend.Convolution`.
     threads : int or None
         FFT threads; None: one thread on FFT grids below 512^2 points (measured on 200^2 with
         pyFFTW on a busy 2-core machine: 0.4 ms per convolution on one thread against 59 ms on
         two, OpenMP threads waiting on each other), all available cores above.
     dense_limit_bytes : int
         Solvers that keep one contact set for many solves
-        (:func:`asperity.bem.rough_shear.shear_curve`) apply the operator as a dense matrix on
+        (:func:`asperity.bem.shear.rough.shear_curve`) apply the operator as a dense matrix on
         that set (:class:`ContactMatrix`,
         ``8 n_c^2`` bytes) when it fits in this many bytes, and by FFT convolutions of the whole
         grid otherwise; 0: always FFT. Default 256 MiB: up to 5792 elements (the default
@@ -146,11 +146,12 @@ class TangentialOperator:
     periodic : bool
         Periodic domain, or a free one (zero-padded doubled grid).
     fft_backend, threads
-        As :class:`asperity.bem.fft_backend.Convolution`; threads None: as :class:`ShearOptions`.
+        As :class:`asperity.bem.elastic.fft_backend.Convolution`; threads None: as
+        :class:`ShearOptions`.
     normal : bool
         Build the normal (Boussinesq) operator u_z = K p instead, from
-        :func:`asperity.bem.influence.influence_multiplier` (point kernel when periodic, Love's
-        patch when free): the same machinery serves both problems of the mixed-mode solver.
+        :func:`asperity.bem.elastic.influence.influence_multiplier` (point kernel when periodic,
+        Love's patch when free): the same machinery serves both problems of the mixed-mode solver.
     """
 
     def __init__(
@@ -1020,7 +1021,7 @@ def solve_tangential(
     periodic : bool
         Periodic domain (default) or a free one.
     poisson_ratio : float
-        Must be 0.5 (:func:`asperity.bem.tangential_influence.check_poisson`).
+        Must be 0.5 (:func:`asperity.bem.elastic.tangential_influence.check_poisson`).
     options : ShearOptions, optional
         Tolerance, iteration cap, FFT backend.
     operator : TangentialOperator, optional

@@ -15,7 +15,7 @@ Two backends:
 into a float32 buffer and the result cast back, so callers keep float64 arrays. Measured at
 5000^2 (pyFFTW, measured plans, 2 threads): 0.47 s per convolution against 0.73 s in double.
 The relative error of a single-precision convolution is ~1e-7 of the largest value: the
-solver uses it only while its residual is far above that (:mod:`asperity.bem.iteration`).
+solver uses it only while its residual is far above that (:mod:`asperity.bem.normal.iteration`).
 
 ``"auto"`` times pyfftw (requested threads and one thread) and scipy (below 2048^2 points: above,
 scipy's per-call spectrum and output arrays cost 16 B a point) on the grid once per process

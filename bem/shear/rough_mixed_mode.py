@@ -7,7 +7,8 @@ delta_T in steps. Three kinds of element:
 * **adhesive stick** (the set ``c``): bonded to the flat in both directions, ``u_z = h - d`` and
   ``u_x = delta_T - s`` (s the element's tangential reference), the normal traction of either
   sign, the tangential one unbounded; an element detaches when the mesh estimate of
-  G_I + lambda G_II reaches w (:class:`asperity.bem.mixed_mode.MixedModeLaw`, E:failure_locus);
+  G_I + lambda G_II reaches w (:class:`asperity.bem.shear.mixed_mode.MixedModeLaw`,
+  E:failure_locus);
 * **sliding** (the set ``slide``, the footprints of junctions past their instability): the
   paper's status map, a sliding junction is non-adhesive (Signorini: p >= 0, gap >= 0,
   E:Hertz_theory) and carries the constant shear strength tau_0 on its contact (or Coulomb
@@ -22,12 +23,14 @@ periodic domain d is measured from the mean surface displacement (the kernel's z
 as in :func:`asperity.bem.solve_contact`).
 
 Junctions are the connected clusters of ``c`` at the start of each step
-(:func:`asperity.bem.rough_shear.label_junctions`, merged across the periodic edges). A
+(:func:`asperity.bem.shear.rough.label_junctions`, merged across the periodic edges). A
 junction passes its instability (E:max_disp_PC) when, with the active set settled, its
 adhesive area has fallen below ``collapse_fraction`` of its area at the step's start, or it
 has lost its tension (its largest mode-I release rate below
-:data:`asperity.bem.mixed_mode.ADHESION_LOST` w, having been above it at the start): exactly the
-tests of :func:`asperity.bem.mixed_mode.adhesive_shear_solve` for one junction, applied to each.
+:data:`asperity.bem.shear.mixed_mode.ADHESION_LOST` w, having been above it at the start): exactly
+the
+tests of :func:`asperity.bem.shear.mixed_mode.adhesive_shear_solve` for one junction, applied to
+each.
 The junction's footprint, grown by ``slide_margin`` elements, then becomes sliding, for good.
 
 Preload (the paper's JKR equilibrium before shear): Pohrt-Popov load then unload, by the normal
@@ -50,13 +53,13 @@ import warnings
 import numpy as np
 from scipy import ndimage
 
+from asperity.bem.elastic.tangential_influence import check_poisson
 from asperity.bem.errors import BemInputError
-from asperity.bem.mixed_mode import ADHESION_LOST, MixedModeLaw
+from asperity.bem.normal.sweep import load_sweep
 from asperity.bem.options import SolverOptions
-from asperity.bem.rough_shear import ShearCurve, label_junctions
-from asperity.bem.shear import ShearOptions, TangentialOperator, box_conjugate_gradients
-from asperity.bem.sweep import load_sweep
-from asperity.bem.tangential_influence import check_poisson
+from asperity.bem.shear.mixed_mode import ADHESION_LOST, MixedModeLaw
+from asperity.bem.shear.rough import ShearCurve, label_junctions
+from asperity.bem.shear.stick_slip import ShearOptions, TangentialOperator, box_conjugate_gradients
 
 __all__ = ["RIM_TOLERANCE", "mixed_mode_shear_curve"]
 
