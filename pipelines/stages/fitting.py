@@ -29,7 +29,7 @@ A_r(F_x)/A_r(F_x = 0), after the normal-contact step has fixed the resolution. H
    squares between that point's neighbours places the optimum between grid points; the result
    is never worse than the best grid point. The objective must be smooth in lambda for this:
    the job's model curve has its nodes at fixed fractions of the static peak's displacement
-   (:func:`pipelines.stages.friction.model_shear_area`), so the interpolated areas move
+   (:func:`statmodel.shear_path.model_shear_area`), so the interpolated areas move
    smoothly with lambda (a curve on nodes fixed in delta_T gave a jagged objective, on which a
    gradient step stopped at its starting grid point).
 
