@@ -596,6 +596,54 @@ def unite_with_reference(
     return np.array([low, high]), bool(open_finer), bool(open_coarser), points
 
 
+def _optimum_dict(
+    located: EffectiveResolution,
+    best: Roughness,
+    interval: np.ndarray,
+    opens: tuple[bool, bool],
+    half_width: float,
+    extra: OptimumFields,
+    roughness: Callable[[float], Roughness],
+) -> OptimumFields:
+    """The ``optimum_*`` and ``interval_*`` fields (SI) from the located optimum, its
+    roughness ``best``, the final interval (m) with its open flags, the sampling half-width
+    (ln resolution) and the fields already gathered (``extra``)."""
+    open_finer, open_coarser = opens
+    ends = _ends_roughness(interval, roughness)
+    status = max(located.status, 1 if open_finer or open_coarser else 0)
+    message = _interval_message(located, interval, (open_finer, open_coarser), half_width)
+    if "optimum_reference_shift" in extra:
+        points = extra["optimum_reference_shift"] * 1e6
+        message += (
+            f"; united with the optima against the reference's band, times (1 - u): "
+            f"{points[0]:.4g} um and (1 + u): {points[1]:.4g} um"
+        )
+    if located.kept_sample:
+        message += "; " + located.kept_sample
+    return {
+        **extra,
+        "optimum_kept_sample": bool(located.kept_sample),
+        "optimum_resolution": float(located.resolution),
+        "optimum_interval": interval,
+        "optimum_profile_interval": np.asarray(located.interval, dtype=float),
+        "optimum_sampling_half_width": float(half_width),
+        "optimum_misfit": float(located.misfit),
+        "optimum_open_finer": open_finer,
+        "optimum_open_coarser": open_coarser,
+        "optimum_direction": located.direction,
+        "optimum_status": int(status),
+        "optimum_message": message,
+        "optimum_asperity_density": float(best.asperity_density),
+        "optimum_summit_radius": float(best.summit_radius),
+        "optimum_summit_height_rms": float(best.summit_height_rms),
+        "interval_asperity_density": ends[0],
+        "interval_summit_radius": ends[1],
+        "interval_summit_height_rms": ends[2],
+        "sampled_resolution": np.asarray(located.sampled_resolution, dtype=float),
+        "sampled_misfit": np.asarray(located.sampled_misfit, dtype=float),
+    }
+
+
 def optimum_fields(
     surface: HeightMap,
     resolution: np.ndarray,
@@ -662,36 +710,6 @@ def optimum_fields(
             interval, (open_finer, open_coarser), shifted
         )
         extra["optimum_reference_shift"] = points
-    ends = _ends_roughness(interval, roughness)
-    status = max(located.status, 1 if open_finer or open_coarser else 0)
-    message = _interval_message(located, interval, (open_finer, open_coarser), half_width)
-    if "optimum_reference_shift" in extra:
-        points = extra["optimum_reference_shift"] * 1e6
-        message += (
-            f"; united with the optima against the reference's band, times (1 - u): "
-            f"{points[0]:.4g} um and (1 + u): {points[1]:.4g} um"
-        )
-    if located.kept_sample:
-        message += "; " + located.kept_sample
-    return {
-        **extra,
-        "optimum_kept_sample": bool(located.kept_sample),
-        "optimum_resolution": float(located.resolution),
-        "optimum_interval": interval,
-        "optimum_profile_interval": np.asarray(located.interval, dtype=float),
-        "optimum_sampling_half_width": float(half_width),
-        "optimum_misfit": float(located.misfit),
-        "optimum_open_finer": open_finer,
-        "optimum_open_coarser": open_coarser,
-        "optimum_direction": located.direction,
-        "optimum_status": int(status),
-        "optimum_message": message,
-        "optimum_asperity_density": float(best.asperity_density),
-        "optimum_summit_radius": float(best.summit_radius),
-        "optimum_summit_height_rms": float(best.summit_height_rms),
-        "interval_asperity_density": ends[0],
-        "interval_summit_radius": ends[1],
-        "interval_summit_height_rms": ends[2],
-        "sampled_resolution": np.asarray(located.sampled_resolution, dtype=float),
-        "sampled_misfit": np.asarray(located.sampled_misfit, dtype=float),
-    }
+    return _optimum_dict(
+        located, best, interval, (open_finer, open_coarser), half_width, extra, roughness
+    )

@@ -30,6 +30,7 @@ FFT's half spectrum and the library's plan workspace.
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
 from types import ModuleType
 
 import numpy as np
@@ -98,6 +99,79 @@ def _check_input(heights: np.ndarray, dx: float, dy: float, e_star: float, load:
             raise BemInputError(f"{name}: expected a finite value > 0, got {value!r}")
 
 
+@dataclass
+class _ArrayState:
+    """The iteration's state: pressure p (Pa), deflection u (m), search direction t, contact
+    mask, the previous ``s . z`` (conjugacy), whether conjugacy is on and whether the contact
+    set changed in the last step."""
+
+    p: object
+    u: object
+    t: object
+    mask: object
+    previous: float = 1.0
+    beta_on: bool = False
+    changed: bool = True
+
+
+@dataclass
+class _ArrayIteration:
+    """Polonsky-Keer on an array library ``mod``: heights h (m), the compliance and stiffness
+    multipliers in Fourier space, the total load as ``mean pressure x pixels`` (Pa)."""
+
+    mod: ModuleType
+    h: object
+    compliance: object
+    stiffness: object
+    total: float
+    convolutions: int = 0
+
+    def convolve(self, field, multiplier):
+        """One real-FFT convolution (counted)."""
+        self.convolutions += 1
+        shape = self.h.shape
+        return self.mod.fft.irfft2(multiplier * self.mod.fft.rfft2(field), s=shape)
+
+    def start(self, mean_pressure: float) -> _ArrayState:
+        """The uniform pressure (Pa) and its deflection."""
+        p = self.mod.full(self.h.shape, mean_pressure, dtype=self.mod.float64)
+        return _ArrayState(p, self.convolve(p, self.compliance), self.mod.zeros_like(p), p > 0)
+
+    def gap(self, state: _ArrayState):
+        """The gap g = u - h less its mean on the contact (m)."""
+        w = state.u - self.h
+        return w - float((w * state.mask).sum()) / int(state.mask.sum())
+
+    def step(self, state: _ArrayState, g, nit: int) -> None:
+        """One constrained conjugate-gradient step: direction, step length, projection on
+        p >= 0, the contact set's update and the load's rescaling (E:BEM_eq2..E:BEM_eq4)."""
+        mod, mask = self.mod, state.mask
+        n_contact = int(mask.sum())
+        s = mod.where(mask, g, 0.0)
+        z = self.convolve(s, self.stiffness)
+        z = mod.where(mask, z - float((z * mask).sum()) / n_contact, 0.0)
+        current = float((s * z).sum())
+        beta = current / state.previous if state.beta_on else 0.0
+        state.t = mod.where(mask, z + beta * state.t, 0.0)
+        state.previous = current
+        r = self.convolve(state.t, self.compliance)
+        r_mean = float((r * mask).sum()) / n_contact
+        tau = float((s * state.t).sum()) / float((state.t * (r - r_mean)).sum())
+        state.p -= tau * state.t
+        entered = (~mask) & (g < 0)
+        left = mask & (state.p <= 0)
+        state.changed = bool(left.any()) or bool(entered.any())
+        mod.maximum(state.p, 0.0, out=state.p)
+        state.mask = (mask & ~left) | entered
+        scale = self.total / float(state.p.sum())
+        state.p *= scale
+        if state.changed or nit % REFRESH == REFRESH - 1:
+            state.u = self.convolve(state.p, self.compliance)
+        else:
+            state.u = (state.u - tau * r) * scale
+        state.beta_on = not state.changed
+
+
 def solve_periodic_array(
     heights: np.ndarray,
     dx: float,
@@ -142,55 +216,26 @@ def solve_periodic_array(
         raise BemInputError("heights: expected finite values, found NaN or inf")
     shape = h.shape
     compliance, stiffness = _multipliers(mod, shape, dx, dy, e_star)
-    convolutions = [0]
-
-    def convolve(field, multiplier):
-        convolutions[0] += 1
-        return mod.fft.irfft2(multiplier * mod.fft.rfft2(field), s=shape)
-
     n_total = shape[0] * shape[1]
     mean_pressure = normal_force / (n_total * dx * dy)
-    p = mod.full(shape, mean_pressure, dtype=mod.float64)
-    u = convolve(p, compliance)
-    t = mod.zeros_like(p)
+    run = _ArrayIteration(mod, h, compliance, stiffness, mean_pressure * n_total)
+    state = run.start(mean_pressure)
     pixel_stiffness = e_star / np.sqrt(dx * dy)
     history: list[float] = []
-    beta_on, previous, changed, status = False, 1.0, True, SolverStatus.ITERATION_CAP
-    mask = p > 0
+    status = SolverStatus.ITERATION_CAP
     for nit in range(max_iter + 1):
-        n_contact = int(mask.sum())
-        w = u - h
-        g = w - float((w * mask).sum()) / n_contact
-        residual = _residual(mod, g, mask, p) * pixel_stiffness
+        g = run.gap(state)
+        residual = _residual(mod, g, state.mask, state.p) * pixel_stiffness
         history.append(residual)
-        if residual < tol and not changed:
+        if residual < tol and not state.changed:
             status = SolverStatus.CONVERGED
             break
         if nit == max_iter:
             break
-        s = mod.where(mask, g, 0.0)
-        z = convolve(s, stiffness)
-        z = mod.where(mask, z - float((z * mask).sum()) / n_contact, 0.0)
-        current = float((s * z).sum())
-        t = mod.where(mask, z + (current / previous if beta_on else 0.0) * t, 0.0)
-        previous = current
-        r = convolve(t, compliance)
-        r_mean = float((r * mask).sum()) / n_contact
-        tau = float((s * t).sum()) / float((t * (r - r_mean)).sum())
-        p -= tau * t
-        entered = (~mask) & (g < 0)
-        left = mask & (p <= 0)
-        changed = bool(left.any()) or bool(entered.any())
-        mod.maximum(p, 0.0, out=p)
-        mask = (mask & ~left) | entered
-        scale = mean_pressure * n_total / float(p.sum())
-        p *= scale
-        if changed or nit % REFRESH == REFRESH - 1:
-            u = convolve(p, compliance)
-        else:
-            u = (u - tau * r) * scale
-        beta_on = not changed
-    return _result(mod, h, p, u, mask, history, status, start, dx, dy, convolutions[0])
+        run.step(state, g, nit)
+    return _result(
+        mod, h, state.p, state.u, state.mask, history, status, start, dx, dy, run.convolutions
+    )
 
 
 def _residual(mod: ModuleType, g, mask, p) -> float:

@@ -320,6 +320,25 @@ def _range_choice(
     return given_range(solve.grid, setup, solve.plain, solve.force, adhesion_range)
 
 
+def _measure_range_sensitivity(
+    choice: RangeChoice,
+    range_solve: _StrideSolve,
+    setup: ContactSetup,
+    refinement: InterpolatedRefinement | None,
+) -> None:
+    """The Maugis range's sensitivity (A_r at h_0 / 2 against h_0) into ``choice``: from the
+    refinement's x2 grid where it solved h_0 / 2 (a resolved zone), else on the range grid;
+    the range solve's result is then released."""
+    resolved = None
+    if refinement is not None and np.isfinite(refinement.half_range_fraction):
+        ratio = refinement.half_range_fraction / refinement.half_range_reference
+        resolved = (ratio, refinement.half_range_zone_elements)
+    measure_sensitivity(
+        choice, range_solve.grid, setup, range_solve.plain, range_solve.force, resolved
+    )
+    choice.result = None
+
+
 def check_grids(
     heights: np.ndarray,
     dx: float,
@@ -402,14 +421,7 @@ def check_grids(
             max_pixels=refinement_pixels, half_range=half,
         )  # fmt: skip
     if choice is not None:
-        resolved = None
-        if refinement is not None and np.isfinite(refinement.half_range_fraction):
-            ratio = refinement.half_range_fraction / refinement.half_range_reference
-            resolved = (ratio, refinement.half_range_zone_elements)
-        measure_sensitivity(
-            choice, range_solve.grid, setup, range_solve.plain, range_solve.force, resolved
-        )
-        choice.result = None
+        _measure_range_sensitivity(choice, range_solve, setup, refinement)
     del range_solve
     return GridCheck(
         np.asarray(strides), solves, error, change, chosen, reason, starts[chosen],

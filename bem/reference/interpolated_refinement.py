@@ -262,6 +262,86 @@ def _zone(result) -> float:
     return math.nan if width is None else float(width)
 
 
+def _refinement_factors(window_pixels: int, max_refinement: int, max_pixels: int) -> list[int]:
+    """The refinement factors solved: 1, then 2 and 4 where allowed and their grid of the
+    window (``window_pixels`` pixels) has at most ``max_pixels`` pixels."""
+    factors = [1]
+    for factor in (2, 4):
+        if factor <= max_refinement and window_pixels * factor**2 <= max_pixels:
+            factors.append(factor)
+    return factors
+
+
+def _interpolated_grid(
+    grid: Grid, factor: int, corner: tuple[int, int], window: tuple[int, int], windowed: bool
+) -> Grid:
+    """``grid`` (or its window at ``corner``) Fourier-interpolated by ``factor`` (pixel m)."""
+    if windowed:
+        fine = fourier_upsample_window(grid.heights, factor, corner, window)
+    else:
+        fine = fourier_upsample(grid.heights, factor)
+    return Grid(fine, grid.dx / factor, grid.dy / factor)
+
+
+def _solve_level(
+    level: Grid,
+    setup: ContactSetup,
+    pressure: float,
+    factor: int,
+    previous: np.ndarray,
+    half_range: float | None,
+) -> tuple[list[SolveSummary], tuple[float, float, float] | None, np.ndarray]:
+    """The check pressure (Pa) solved on one refinement level: its summaries (non-adhesive,
+    then adhesive), the half-range solve's (fraction, reference fraction, zone elements) on the
+    x2 level (None elsewhere), and the non-adhesive pressure (Pa) that starts the next level."""
+    force = pressure * level.area
+    initial = upsample_pressure(previous, level.heights.shape, 2 if factor > 1 else 1)
+    plain = solve_non_adhesive(level, setup, force, initial)
+    row = [summarise(plain)]
+    half = None
+    if setup.adhesive:
+        adhesive = solve_adhesive_loading(level, setup, plain, force)
+        row.append(summarise(adhesive))
+        if factor == 2 and half_range is not None:
+            at_half = dataclasses.replace(setup, adhesion_range=half_range)
+            result = solve_adhesive_loading(level, at_half, plain, force)
+            half = (
+                float(result.contact_fraction),
+                float(adhesive.contact_fraction),
+                _zone(result),
+            )
+            del result
+        del adhesive
+    return row, half, plain.pressure
+
+
+def _refinement_message(
+    window: tuple[int, int],
+    windowed: bool,
+    factors: list[int],
+    pixel: np.ndarray,
+    max_refinement: int,
+    max_pixels: int,
+) -> str:
+    """One sentence: where the check load was solved, by which factors, at which pixels."""
+    nx, ny = window
+    where = (
+        f"a centred {nx} x {ny} window of the grid used (its x2 grid of the whole map exceeds "
+        f"{max_pixels} pixels)"
+        if windowed
+        else "the whole grid used"
+    )
+    left = [f for f in (2, 4) if f <= max_refinement and f not in factors]
+    omitted = "".join(
+        f"; x{f} left out ({nx * ny * f**2} pixels > refinement_pixels {max_pixels})" for f in left
+    )
+    return (
+        f"the check load solved on {where} Fourier-interpolated by "
+        f"{', '.join(f'x{f}' for f in factors[1:]) or 'nothing (no level fits)'} (same "
+        f"roughness, pixel {', '.join(f'{p * 1e6:.3g}' for p in pixel)} um{omitted})"
+    )
+
+
 def refine_by_interpolation(
     grid: Grid,
     setup: ContactSetup,
@@ -303,65 +383,29 @@ def refine_by_interpolation(
     tic = time.perf_counter()
     nx, ny = refinement_window(grid.heights.shape, 2, max_pixels)
     windowed = (nx, ny) != grid.heights.shape
-    x0, y0 = (grid.heights.shape[0] - nx) // 2, (grid.heights.shape[1] - ny) // 2
+    corner = (grid.heights.shape[0] - nx) // 2, (grid.heights.shape[1] - ny) // 2
+    x0, y0 = corner
     previous = np.array(start[x0 : x0 + nx, y0 : y0 + ny]) if windowed else start
-    factors = [1]
-    for factor in (2, 4):
-        if factor <= max_refinement and nx * ny * factor**2 <= max_pixels:
-            factors.append(factor)
+    factors = _refinement_factors(nx * ny, max_refinement, max_pixels)
     solves: list[list[SolveSummary]] = []
     half = (math.nan, math.nan, math.nan)
     for factor in factors:
         if factor == 1 and not windowed:
             solves.append(list(level_one))
             continue
-        if windowed:
-            fine = fourier_upsample_window(grid.heights, factor, (x0, y0), (nx, ny))
-        else:
-            fine = fourier_upsample(grid.heights, factor)
-        level = Grid(fine, grid.dx / factor, grid.dy / factor)
-        force = pressure * level.area
-        ratio = 2 if factor > 1 else 1
-        initial = upsample_pressure(previous, level.heights.shape, ratio)
-        plain = solve_non_adhesive(level, setup, force, initial)
-        row = [summarise(plain)]
-        if setup.adhesive:
-            adhesive = solve_adhesive_loading(level, setup, plain, force)
-            row.append(summarise(adhesive))
-            if factor == 2 and half_range is not None:
-                at_half = dataclasses.replace(setup, adhesion_range=half_range)
-                result = solve_adhesive_loading(level, at_half, plain, force)
-                half = (
-                    float(result.contact_fraction),
-                    float(adhesive.contact_fraction),
-                    _zone(result),
-                )
-                del result
-            del adhesive
+        level = _interpolated_grid(grid, factor, corner, (nx, ny), windowed)
+        row, at_half, previous = _solve_level(level, setup, pressure, factor, previous, half_range)
+        if at_half is not None:
+            half = at_half
         solves.append(row)
-        previous = plain.pressure
-        del plain, level, fine
+        del level
     fraction = np.array([[s.contact_fraction for s in row] for row in solves])
     pixel = grid.dx / np.asarray(factors, dtype=float)
     extrapolations = [
         richardson_extrapolation(pixel, fraction[:, m]) for m in range(fraction.shape[1])
     ]
     relative = np.array([_relative(e, f) for e, f in zip(extrapolations, fraction[0], strict=True)])
-    where = (
-        f"a centred {nx} x {ny} window of the grid used (its x2 grid of the whole map exceeds "
-        f"{max_pixels} pixels)"
-        if windowed
-        else "the whole grid used"
-    )
-    left = [f for f in (2, 4) if f <= max_refinement and f not in factors]
-    omitted = "".join(
-        f"; x{f} left out ({nx * ny * f**2} pixels > refinement_pixels {max_pixels})" for f in left
-    )
-    message = (
-        f"the check load solved on {where} Fourier-interpolated by "
-        f"{', '.join(f'x{f}' for f in factors[1:]) or 'nothing (no level fits)'} (same "
-        f"roughness, pixel {', '.join(f'{p * 1e6:.3g}' for p in pixel)} um{omitted})"
-    )
+    message = _refinement_message((nx, ny), windowed, factors, pixel, max_refinement, max_pixels)
     return InterpolatedRefinement(
         factors=np.asarray(factors),
         pixel_size=pixel,
