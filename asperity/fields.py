@@ -235,7 +235,8 @@ def checksum(result: Any) -> str:
     stored stage before it is reused.
     """
     digest = hashlib.sha256()
-    for spec in field_specs(type(result)):
+    kind: type = type(result)
+    for spec in field_specs(kind):
         value = canonical(spec, getattr(result, spec.name))
         digest.update(spec.name.encode() + b"\0")
         if value is None:

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -125,7 +126,7 @@ def _check_choice(name: str, value: object, choices: tuple[str, ...]) -> None:
         )
 
 
-def resolve_options(options: SolverOptions | None, **keywords: object) -> SolverOptions:
+def resolve_options(options: SolverOptions | None, **keywords: Any) -> SolverOptions:
     """The options of one solve: ``options`` (default :class:`SolverOptions`) with every
     keyword that is not None replacing its field (validated again)."""
     if options is not None and not isinstance(options, SolverOptions):

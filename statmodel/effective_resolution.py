@@ -233,8 +233,9 @@ def _optimum(
 ) -> tuple[np.ndarray, np.ndarray, tuple[float, float], str, bool]:
     """(ln resolutions, m^2, vertex (x*, m*^2), direction, refined) of rules 1, 2 and 4."""
     i, last = int(np.argmin(y2)), x.size - 1
-    refined = misfit_at is not None and x.size >= 2
-    if refined:
+    refined = False
+    if misfit_at is not None and x.size >= 2:
+        refined = True
         if i in (0, last):  # the optimum may lie between the end and its neighbour
             x, y2 = _refine(x, y2, i, 1 if i == 0 else last - 1, misfit_at)
         else:
@@ -613,7 +614,7 @@ def _optimum_dict(
     status = max(located.status, 1 if open_finer or open_coarser else 0)
     message = _interval_message(located, interval, (open_finer, open_coarser), half_width)
     if "optimum_reference_shift" in extra:
-        points = extra["optimum_reference_shift"] * 1e6
+        points = np.asarray(extra["optimum_reference_shift"], dtype=float) * 1e6
         message += (
             f"; united with the optima against the reference's band, times (1 - u): "
             f"{points[0]:.4g} um and (1 + u): {points[1]:.4g} um"

@@ -68,7 +68,9 @@ def initial_displacement_guess(material: Material, roughness: Roughness) -> floa
     then extended or trimmed by :func:`shear_curve_auto`.
     """
     e = material.e_star
-    a0 = jkr_zero_load_radius(roughness.summit_radius, max(material.work_of_adhesion, 1e-6), e)
+    a0 = float(
+        jkr_zero_load_radius(roughness.summit_radius, max(material.work_of_adhesion, 1e-6), e)
+    )
     tau = max(material.shear_strength, 1e-3 * e)
     return max(4 * tau * a0 / e, 1e-7)
 
@@ -249,33 +251,33 @@ def choose_quadrature(
     ladder : sequence of dict
         Knob settings, coarse to fine.
     """
-    ladder = [dict(k) for k in ladder]
-    if len(ladder) == 1:
+    settings = [dict(k) for k in ladder]
+    if len(settings) == 1:
         return QuadratureChoice(
-            ladder[0],
-            ladder,
+            settings[0],
+            settings,
             np.array([np.nan]),
             np.array([np.nan]),
             "statmodel's default quadrature (no coarser setting offered)",
         )
     case = (material, roughness, nominal_area, normal_load)
-    curves, seconds = _ladder_curves(case, ladder, max_tangential_displacement, steps)
+    curves, seconds = _ladder_curves(case, settings, max_tangential_displacement, steps)
     change = _refinement_change(curves)
-    for i in range(len(ladder) - 1):
+    for i in range(len(settings) - 1):
         if change[i] <= tolerance:
             return QuadratureChoice(
-                ladder[i],
-                ladder,
+                settings[i],
+                settings,
                 change,
                 seconds,
-                f"setting {ladder[i] or 'default'}: F_x and A_r change by "
+                f"setting {settings[i] or 'default'}: F_x and A_r change by "
                 f"{change[i]:.2g} (relative) on refinement, within "
                 f"{tolerance:.2g}; {seconds[i]:.3g} s per curve",
             )
     return QuadratureChoice(
-        ladder[-1],
-        ladder,
+        settings[-1],
+        settings,
         change,
         seconds,
-        f"no coarser setting met {tolerance:.2g}: the finest ({ladder[-1] or 'default'}) is used",
+        f"no coarser setting met {tolerance:.2g}: the finest ({settings[-1] or 'default'}) is used",
     )

@@ -32,6 +32,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 from types import ModuleType
+from typing import Any, TypeAlias
 
 import numpy as np
 
@@ -43,6 +44,10 @@ __all__ = ["array_module", "solve_periodic_array"]
 #: Recompute u = K p from scratch every this many iterations (bounds the round-off drift of the
 #: linear update u -= tau r).
 REFRESH = 50
+
+#: An array of the chosen library: a ``numpy.ndarray`` or a ``cupy.ndarray`` (CuPy ships no
+#: type information, so the type checker sees Any).
+DeviceArray: TypeAlias = Any
 
 
 def array_module(name: str) -> ModuleType:
@@ -72,7 +77,7 @@ def array_module(name: str) -> ModuleType:
     return cupy
 
 
-def _to_host(xp: ModuleType, a: object) -> np.ndarray:
+def _to_host(xp: ModuleType, a: DeviceArray) -> np.ndarray:
     """A device array copied to a NumPy array (a no-op for NumPy)."""
     return a if xp is np else xp.asnumpy(a)
 
@@ -105,10 +110,10 @@ class _ArrayState:
     mask, the previous ``s . z`` (conjugacy), whether conjugacy is on and whether the contact
     set changed in the last step."""
 
-    p: object
-    u: object
-    t: object
-    mask: object
+    p: DeviceArray
+    u: DeviceArray
+    t: DeviceArray
+    mask: DeviceArray
     previous: float = 1.0
     beta_on: bool = False
     changed: bool = True
@@ -120,9 +125,9 @@ class _ArrayIteration:
     multipliers in Fourier space, the total load as ``mean pressure x pixels`` (Pa)."""
 
     mod: ModuleType
-    h: object
-    compliance: object
-    stiffness: object
+    h: DeviceArray
+    compliance: DeviceArray
+    stiffness: DeviceArray
     total: float
     convolutions: int = 0
 

@@ -137,7 +137,11 @@ def solve_contact(
     """
     started = time.perf_counter()
     opts = options_with_deprecated_knobs(options, deprecated_knobs)
-    loads = {"normal_force": normal_force, "mean_pressure": mean_pressure, "separation": separation}
+    loads: dict[str, object] = {
+        "normal_force": normal_force,
+        "mean_pressure": mean_pressure,
+        "separation": separation,
+    }
     law = check_adhesion(adhesion, work_of_adhesion, adhesion_range)
     problem = set_up_problem(heights, dx, dy, e_star, loads, work_of_adhesion, periodic, opts)
     if law is not None:

@@ -240,6 +240,7 @@ def measure_sensitivity(
     A_r/A_map at h_0 on ``grid``; otherwise solved on ``grid``, where its zone spans about 1.5
     elements: the sensitivity is then a lower bound (:attr:`RangeChoice.lower_bound`).
     """
+    assert choice.result is not None, "measure_sensitivity needs the solve at h_0"
     middle = float(choice.result.contact_fraction)
     result = _solve_at(grid, setup, plain, force, 2.0 * choice.adhesion_range)
     double = float(result.contact_fraction)

@@ -401,6 +401,7 @@ def check_grids(
         row, final = [summarise(solve.plain)], solve.plain
         if setup.adhesive:
             if choice is not None and s == range_stride:
+                assert choice.result is not None  # kept until the sensitivity is measured
                 final = choice.result
             else:
                 final = solve_adhesive_loading(solve.grid, setup, solve.plain, solve.force)

@@ -30,6 +30,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TypedDict
 
 import numpy as np
 
@@ -41,6 +42,7 @@ from asperity.bem.result import ContactResult
 __all__ = [
     "ContactSetup",
     "Grid",
+    "LawKeywords",
     "LoadChain",
     "SolveSummary",
     "check_load_index",
@@ -105,6 +107,14 @@ def decimated_grid(heights: np.ndarray, dx: float, dy: float, stride: int) -> Gr
     return Grid(grid, dx, dy)
 
 
+class LawKeywords(TypedDict, total=False):
+    """:func:`bem.solve_contact`'s adhesion-law keywords (none: the Pohrt-Popov criterion)."""
+
+    adhesion: str
+    #: The Maugis-Dugdale range h_0, m.
+    adhesion_range: float
+
+
 @dataclass(frozen=True)
 class ContactSetup:
     """What every solve of a reference shares besides the grid and the load.
@@ -135,7 +145,7 @@ class ContactSetup:
         """Adhesive solves are made (w > 0)."""
         return self.work_of_adhesion > 0
 
-    def law(self) -> dict[str, object]:
+    def law(self) -> LawKeywords:
         """:func:`bem.solve_contact`'s ``adhesion`` and ``adhesion_range`` keywords."""
         if self.adhesion_range is None:
             return {}
