@@ -402,7 +402,13 @@ def profile_statistics(profile: LineProfile, *, stride: int = 1) -> ProfileStati
         values = nayak_statistics(moments)
     else:
         status = 2
-        values = dict.fromkeys(_SUMMIT_KEYS, math.nan) | _densities(moments)
+        values = SummitValues(
+            **_densities(moments),
+            summit_radius=math.nan,
+            summit_height_rms=math.nan,
+            mean_summit_height=math.nan,
+            mean_curvature_radius=math.nan,
+        )
         warnings.append(
             f"bandwidth alpha = {alpha:.3g} < 1.5: no Gaussian surface has these moments (the "
             "profile is dominated by noise at this sampling interval); R and sigma_s undefined"
