@@ -52,25 +52,17 @@ class Crossing:
         return math.isfinite(self.lower)
 
 
-def _run_labels(d: np.ndarray, monotone: Sequence[tuple[float, float]]) -> np.ndarray:
-    """For each separation d (m) the index of the monotone interval (lo, hi) holding it, -1
-    outside every one (the intervals disjoint)."""
-    labels = np.full(d.shape, -1)
-    for j, (lo, hi) in enumerate(monotone):
-        labels[(d >= lo) & (d <= hi)] = j
-    return labels
-
-
 def monotone_runs(d: np.ndarray, monotone: Sequence[tuple[float, float]]) -> np.ndarray:
-    """Which march points (m, in march order) must be evaluated: every point outside the
-    monotone intervals, and the first and last point of each run of consecutive points inside
-    one interval (the interior of a run is skipped)."""
-    labels = _run_labels(d, monotone)
-    keep = labels < 0
-    keep[0] = keep[-1] = True
-    same_before = np.concatenate([[False], labels[1:] == labels[:-1]])
-    same_after = np.concatenate([labels[:-1] == labels[1:], [False]])
-    keep |= ~(same_before & same_after)
+    """Which march points (m, descending, in march order) must be evaluated: every point
+    outside the monotone intervals (closed, disjoint), and the first and last point of each run
+    of consecutive points inside one interval (the interior of a run is skipped)."""
+    rising = -np.asarray(d, dtype=float)  # ascending, for the bisections
+    keep = np.ones(rising.size, dtype=bool)
+    for lo, hi in monotone:
+        first = int(np.searchsorted(rising, -hi, side="left"))  # first d <= hi
+        last = int(np.searchsorted(rising, -lo, side="right")) - 1  # last d >= lo
+        if last - first >= 2:
+            keep[first + 1 : last] = False
     return np.nonzero(keep)[0]
 
 
