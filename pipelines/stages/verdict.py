@@ -1,4 +1,5 @@
-"""The PSD stage: the validity verdict of a job, "valid", "warnings" or "invalid", with reasons.
+"""The verdict stage (stage 10, the last): the validity verdict of a job, "valid", "warnings"
+or "invalid", with reasons.
 
 Every reason states the number, the threshold and why (:class:`Reason`). A result is
 **invalid** when the model is used where its assumptions fail, or when the data it was
