@@ -79,7 +79,9 @@ SI units throughout: m, Pa, N, J/m^2, m^2, 1/m^2.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -94,10 +96,11 @@ from asperity.statmodel.options import check_nominal_area
 from asperity.statmodel.parameters import Roughness, tabor_parameter
 
 __all__ = [
-    "AdhesionRegime",
+    "AsperityLawRegime",
     "MaugisAsperity",
     "MaugisRoughResult",
     "adhesion_regime",
+    "asperity_law_regime",
     "maugis_discrete_contact",
     "maugis_rough_contact",
     "maugis_rough_state",
@@ -962,8 +965,10 @@ def maugis_discrete_contact(
 
 
 @dataclass(frozen=True)
-class AdhesionRegime:
-    """The adhesion regime of the two asperity laws at one summit radius.
+class AsperityLawRegime:
+    """The regime of the two asperity laws at one summit radius: where the BEM's
+    Maugis-Dugdale law and the model's JKR law lie on Johnson & Greenwood's map (not the rough
+    contact's adhesion regime, :class:`asperity.statmodel.regimes.AdhesionRegime`).
 
     Attributes
     ----------
@@ -991,13 +996,13 @@ def _side(lam: float) -> str:
     return "transition"
 
 
-def adhesion_regime(
+def asperity_law_regime(
     summit_radius: float,
     e_star: float,
     work_of_adhesion: float,
     adhesion_range: float,
     equilibrium_distance: float = 0.2e-9,
-) -> AdhesionRegime:
+) -> AsperityLawRegime:
     """The BEM's Maugis parameter at a summit radius beside the model's Tabor parameter.
 
     lambda = 2 sigma_0 (R / (pi w K^2))^(1/3), K = 4 E*/3, sigma_0 = w / h_0 (the BEM's law);
@@ -1025,4 +1030,16 @@ def adhesion_regime(
         f"mu = {mu:.3g}, both on the {_side(lam)}: the JKR model and the BEM share the regime "
         f"(pull-off per summit {dmt:.3g} N at most)"
     )
-    return AdhesionRegime(lam, mu, work / h0, statement)
+    return AsperityLawRegime(lam, mu, work / h0, statement)
+
+
+def adhesion_regime(*args: Any, **kwargs: Any) -> AsperityLawRegime:
+    """Deprecated name of :func:`asperity_law_regime` (asperity 0.4; removed in 0.6): one
+    ``adhesion_regime`` per meaning, :func:`asperity.statmodel.regimes.adhesion_regime`."""
+    warnings.warn(
+        "asperity.statmodel.maugis_rough.adhesion_regime is now asperity_law_regime "
+        "(statmodel.adhesion_regime is the rough contact's regime)",
+        DeprecationWarning,
+        stacklevel=2,
+    )
+    return asperity_law_regime(*args, **kwargs)
