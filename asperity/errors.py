@@ -95,6 +95,9 @@ class InputError(ValueError):
 MAX_ERROR_LINE = 1000
 #: Longest piece of a value echoed in a message, characters (the rest is cut, its size said).
 MAX_ECHOED = 200
+#: Longest unbroken word of an error line, characters (a long path fits; a 100,000-character
+#: option value is cut to its ends, its size said).
+MAX_ECHOED_WORD = 300
 
 #: Short escapes for the control characters that have one.
 _SHORT_ESCAPES = {"\n": "\\n", "\r": "\\r", "\t": "\\t", "\b": "\\b", "\f": "\\f", "\x1b": "\\e"}
@@ -139,11 +142,20 @@ def cut(text: object, limit: int = MAX_ECHOED) -> str:
 
 
 def bounded_line(text: object, limit: int = MAX_ERROR_LINE) -> str:
-    """One message line: runs of white space made one space, controls escaped, at most
-    ``limit`` characters (the cut says the full length).
+    """One message line: runs of white space made one space, controls escaped, every word
+    (an echoed value) cut to :data:`MAX_ECHOED_WORD` characters and the whole to ``limit``
+    (each cut says the full length).
 
     The one place every error and warning line of the ``asperity`` command passes through
     (:mod:`asperity.pipelines.cli`, the option parser), so that no message, whatever it
     echoes, is longer than :data:`MAX_ERROR_LINE` characters or drives the terminal.
     """
-    return cut(" ".join(str(text).split()), limit)
+    words = [cut(word, MAX_ECHOED_WORD) for word in str(text).split()]
+    return cut(" ".join(words), limit)
+
+
+def error_line(prefix: str, message: object, suffix: str = "") -> str:
+    """``prefix + message + suffix`` as one bounded, inert line of at most
+    :data:`MAX_ERROR_LINE` characters (:func:`bounded_line` cuts the message)."""
+    room = max(MAX_ERROR_LINE - len(prefix) - len(suffix), 80)
+    return f"{prefix}{bounded_line(message, room)}{suffix}"
