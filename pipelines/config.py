@@ -68,7 +68,7 @@ __all__ = ["ConfigError", "JobConfig", "config_from_dict", "dump_toml", "load_co
 PRESETS: tuple[str, ...] = ("default", "paper", "paper-two-step", "shear", "nominal")
 
 DETREND_METHODS: tuple[str, ...] = ("none", "mean", "plane", "quadratic")
-SYNTHETIC_RECIPES: tuple[str, ...] = ("paper_like", "paper_surface")
+SYNTHETIC_RECIPES: tuple[str, ...] = ("paper_like", "paper_surface", "paper_spectrum")
 #: ``surface.missing``: what a contact solve can use (a complete map).
 MISSING_POLICIES: tuple[str, ...] = ("refuse", "fill-lowest", "interpolate")
 #: ``surface.outliers``.
@@ -131,7 +131,9 @@ class SyntheticRecipe:
     ----------
     recipe : str
         Generator name: ``"paper_like"`` (:func:`topo.synthetic.paper_like`, the default job)
-        or ``"paper_surface"`` (:func:`topo.synthetic.paper_surface`, the paper preset).
+        ``"paper_spectrum"`` (:func:`topo.synthetic.paper_spectrum`, the paper presets'
+        Gaussian stand-in) or ``"paper_surface"`` (:func:`topo.synthetic.paper_surface`, the
+        capped recipe built to follow the paper's summit table).
     n : int
         Pixels per side (along x, axis 0, when ``ny`` is given).
     pixel_size : float
@@ -139,7 +141,7 @@ class SyntheticRecipe:
     seed : int
         Random seed: the same recipe always gives the same surface.
     ny : int or None
-        Pixels along y (axis 1) of a non-square map, ``"paper_surface"`` only (the ``nominal``
+        Pixels along y (axis 1) of a non-square map, not for ``"paper_like"`` (the ``nominal``
         preset: 17,500 x 10,000, the paper's whole 35 x 20 mm interface at 2 um); None: ``n``.
     """
 
@@ -584,8 +586,8 @@ TEXT_UNITS = ("m", "mm", "um", "µm", "nm")
 
 
 def _rectangular_recipe(values: dict[str, Any]) -> None:
-    if values["ny"] is not None and values["recipe"] != "paper_surface":
-        raise Invalid("ny only with recipe = 'paper_surface' (paper_like is square)", "ny")
+    if values["ny"] is not None and values["recipe"] == "paper_like":
+        raise Invalid("ny only with recipe = 'paper_surface' or 'paper_spectrum'", "ny")
 
 
 SYNTHETIC = Section(
