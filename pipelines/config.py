@@ -29,6 +29,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any, TypeAlias
 
+from asperity.length_units import UNIT_HELP, UNIT_SPELLINGS, length_unit_in_metres
 from asperity.quantities import quantity
 from asperity.schema import (
     Choice,
@@ -581,8 +582,21 @@ def _ordered_bounds(values: dict[str, Any]) -> None:
         raise Invalid("[low, high] with 0 < low < high <= 1", "mode_mixity_bounds", [low, high])
 
 
-#: The length units ``[surface] unit`` accepts for a plain-text file.
-TEXT_UNITS = ("m", "mm", "um", "µm", "nm")
+#: The length-unit spellings ``[surface] unit`` accepts for a plain-text file: those of the
+#: command line's ``--unit`` (one table, :data:`asperity.topo.io.units.UNIT_SPELLINGS`; long
+#: names also in any case and plural).
+TEXT_UNITS = tuple(spelling for group in UNIT_SPELLINGS.values() for spelling in group)
+
+
+@dataclass(frozen=True)
+class LengthUnit(Kind):
+    """A length unit, spelt as on the command line (:data:`TEXT_UNITS`, long names in any
+    case, singular or plural); kept as written, the reader converts it to metres."""
+
+    def convert(self, value: Any, context: Context) -> str:
+        if not isinstance(value, str) or length_unit_in_metres(value) is None:
+            raise Invalid(f"a length unit: {UNIT_HELP}")
+        return value
 
 
 def _rectangular_recipe(values: dict[str, Any]) -> None:
@@ -612,7 +626,7 @@ JOB_SCHEMA = Schema(
                 Key("file", ExistingFile(), None),
                 Key("channel", Text(), None),
                 Key("pixel_size", PIXEL, None),
-                Key("unit", Choice(TEXT_UNITS), None),
+                Key("unit", LengthUnit(), None),
                 Key("synthetic", SYNTHETIC, None),
                 Key("detrend", Choice(DETREND_METHODS), "plane"),
                 _bounded("surface.max_stride", SurfaceConfig.max_stride),

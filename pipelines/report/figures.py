@@ -714,7 +714,7 @@ def psd_fit_label(psd: object) -> str:
     """The PSD fit's legend: C ~ q^exponent, and the Hurst exponent only where it is one
     (H = -exponent/2 - 1 inside (0, 1); docs/topo.md)."""
     text = f"power law, $C \\propto q^{{{psd.psd_fit_exponent:.3g}}}$"
-    hurst = float(psd.hurst_exponent)
+    hurst = -float(psd.psd_fit_exponent) / 2 - 1  # the slope's H, whatever its range
     if math.isfinite(hurst) and 0 < hurst < 1:
         return f"{text}, H = {hurst:.3g}"
     return f"{text} (no Hurst exponent: H would be {hurst:.3g}, outside (0, 1))"
@@ -756,7 +756,8 @@ def draw_psd(result: Run) -> tuple[Figure, FigureTable]:
             "roll-off wavenumber (rad/m)": q_r,
             "map Nyquist wavenumber (rad/m)": psd.nyquist_wavenumber,
             "effective Nyquist wavenumber (rad/m)": np.pi / psd.effective_resolution,
-            "Hurst exponent (1)": psd.hurst_exponent,
+            "Hurst exponent (1)": psd.hurst_exponent,  # NaN outside (0, 1): not one
+            "PSD slope's H = -exponent/2 - 1 (1)": -float(psd.psd_fit_exponent) / 2 - 1,
         },
     )
     for name, wavenumber in marks.items():  # each line drawn, named as in the legend
