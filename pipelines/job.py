@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import asperity
-from asperity.bem.progress import solve_progress
+from asperity.bem.progress import progress_line, solve_progress
 from asperity.errors import InputError
 from asperity.pipelines.config import ConfigError, JobConfig
 from asperity.pipelines.engine.interrupts import InterruptGuard, checkpoint
@@ -145,6 +145,11 @@ def run_job(
     input_hash = input_sha256(config.surface)
     workers = config.run.workers if workers is None else workers
     log = log or (lambda line: None)
+    caller_log = log
+
+    def log(line: str) -> None:  # a stage's line on its own line, above any solves bar
+        progress_line(line, caller_log)
+
     with (
         InterruptGuard() as interrupts,  # a Ctrl-C swallowed in a finaliser is raised again
         OutputLock(out_dir, log=log),  # one run per directory; stale temporaries removed
@@ -161,7 +166,7 @@ def run_job(
         )
         try:
             # a long BEM stage shows its solves as they finish (terminal only)
-            with solve_progress("BEM solves", enabled=progress):
+            with solve_progress("BEM solves", enabled=progress, note=SOLVES_NOTE):
                 run_stages(runner)
         except KeyboardInterrupt:
             interrupts.acknowledge()  # seen: the lock and the executor are released undisturbed
@@ -185,6 +190,13 @@ class InterruptibleRunner(Runner):
         """Write the computed results held so far, then raise a Ctrl-C not yet seen."""
         super().flush()
         checkpoint()
+
+
+#: Said once above the BEM solves bar: its force is the one solved on the map.
+SOLVES_NOTE = (
+    "F is the force solved on the map: the job's load scaled by A_map / A_n "
+    "(the same A_r/A_n as on the nominal area)"
+)
 
 
 def run_stages(runner: Runner) -> None:

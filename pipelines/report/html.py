@@ -95,12 +95,18 @@ def verdict_html(verdict: Verdict) -> str:
     )
 
 
+def _cell(text: str) -> str:
+    """A table cell's text escaped, each "value +- u" as "value ± u" on one line (no-break
+    spaces: a cell wraps between values, never inside one)."""
+    escaped = html.escape(plain_text(text))
+    return escaped.replace(" +- ", "\u00a0±\u00a0").replace("(+- ", "(±\u00a0")
+
+
 def table_html(header: list[str], rows: list[list[str]]) -> str:
-    """An HTML table of text cells (escaped)."""
-    head = "".join(f"<th>{html.escape(plain_text(h))}</th>" for h in header)
+    """An HTML table of text cells (escaped; ``+-`` shown as ``±``)."""
+    head = "".join(f"<th>{_cell(h)}</th>" for h in header)
     body = "".join(
-        "<tr>" + "".join(f"<td>{html.escape(plain_text(str(c)))}</td>" for c in row) + "</tr>"
-        for row in rows
+        "<tr>" + "".join(f"<td>{_cell(str(c))}</td>" for c in row) + "</tr>" for row in rows
     )
     # a wide table scrolls inside its own box instead of widening the page
     return (

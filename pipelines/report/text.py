@@ -372,6 +372,12 @@ def hurst_text(slope_hurst: float) -> str:
     return f"none: {estimate.validity_notes[0]}"
 
 
+def slope_hurst(psd: object) -> float:
+    """The PSD fit's ``-psd_fit_exponent/2 - 1``, whatever its range (``psd.hurst_exponent``
+    is NaN outside (0, 1); a results.h5 of asperity <= 0.4.2 holds it there unflagged)."""
+    return float(-float(psd.psd_fit_exponent) / 2 - 1)
+
+
 def psd_key_numbers(result: Run) -> list[tuple[str, str]]:
     """Rows of the PSD stage (empty when the result has none)."""
     psd = getattr(result, "psd", None)
@@ -379,7 +385,7 @@ def psd_key_numbers(result: Run) -> list[tuple[str, str]]:
         return []
     return [
         ("PSD roll-off wavelength", format_quantity(psd.rolloff_wavelength, "m")),
-        ("Hurst exponent H (PSD above roll-off)", hurst_text(psd.hurst_exponent)),
+        ("Hurst exponent H (PSD above roll-off)", hurst_text(slope_hurst(psd))),
         (
             "effective Nyquist wavelength 2x",
             format_quantity(psd.effective_nyquist_wavelength, "m"),

@@ -109,7 +109,9 @@ def test_html_key_numbers_first_then_table_then_details(small_run):
     assert order == sorted(order)
     head = page[order[0] : order[1]]
     for quantity, value in headline_numbers(result):
-        assert html.escape(quantity) in head and html.escape(value) in head, quantity
+        shown = html.escape(value).replace(" +- ", "\u00a0±\u00a0")  # one line, "±"
+        assert html.escape(quantity) in head and shown in head, quantity
+    assert "+-" not in head
     assert len(headline_numbers(result)) <= 12
     assert "max-width:100%" in page
 
