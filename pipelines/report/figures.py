@@ -1054,19 +1054,28 @@ def _lower_bound_arrows(
                 note.arrow_patch.set_clip_path(ax.patch)
 
 
+def _modelled(result: Run) -> bool:
+    """The run computed the model stages (not stopped where its verdict was known)."""
+    return result.statistical_model is not None and result.friction is not None
+
+
 #: How a figure is drawn: the run in, the figure and its data table out.
 Drawer = Callable[[Run], tuple[Figure, FigureTable]]
 
 #: Figure name -> (file stem, drawing function, whether the result has it).
 FIGURES: dict[str, tuple[str, Drawer, Callable[[Run], bool]]] = {
     "surface": ("surface", draw_surface, lambda r: True),
-    "resolution": ("fig12_resolution", draw_resolution, lambda r: True),
-    "misfit": ("fig12d_misfit", draw_misfit, lambda r: True),
-    "shear": ("fig4_shear", draw_shear, lambda r: True),
-    "area_vs_force": ("fig13_area_vs_force", draw_area_vs_force, lambda r: True),
-    "friction_vs_load": ("friction_vs_load", draw_friction_vs_load, lambda r: True),
+    "resolution": ("fig12_resolution", draw_resolution, _modelled),
+    "misfit": ("fig12d_misfit", draw_misfit, _modelled),
+    "shear": ("fig4_shear", draw_shear, _modelled),
+    "area_vs_force": ("fig13_area_vs_force", draw_area_vs_force, _modelled),
+    "friction_vs_load": ("friction_vs_load", draw_friction_vs_load, _modelled),
     "bem_grid": ("bem_grid", draw_bem_grid, lambda r: r.bem_reference is not None),
-    "lambda_fit": ("lambda_fit", draw_lambda_fit, lambda r: r.mode_mixity.fit is not None),
+    "lambda_fit": (
+        "lambda_fit",
+        draw_lambda_fit,
+        lambda r: r.mode_mixity is not None and r.mode_mixity.fit is not None,
+    ),
     "lambda_residuals": (
         "lambda_residuals",
         draw_lambda_residuals,

@@ -97,7 +97,7 @@ from numpy.typing import ArrayLike
 
 from asperity.bem.grid_refinement import EDGE_MISMATCH_LIMIT
 from asperity.errors import ExitStatus
-from asperity.fields import document_fields, scalar, text
+from asperity.fields import array, document_fields, scalar, text
 from asperity.pipelines import measured
 from asperity.pipelines.engine.stage import Preview, PreviewNote, Stage, StageContext
 from asperity.pipelines.stages.bem import BEM, BemReference
@@ -169,6 +169,17 @@ class Verdict:
     adhesion_energy_ratio, stickiness, regime_tabor_parameter : float or None
         The adhesion regime of the map (:func:`check_adhesion_regime`): U_el / (A0 w)
         (Persson-Tosatti), S_PR (Pastewka-Robbins) and Tabor's mu; None without adhesion.
+    stages_skipped : list of str or None
+        The stages the job did not compute because this verdict was known before them
+        (:mod:`asperity.pipelines.stages.early_verdict`); None when every stage ran.
+    full_contact_normal_load : ndarray or None
+        The job's loads F_z (N) at which that limit is stated (early verdict only).
+    full_contact_real_area, full_contact_sliding_friction : float or None
+        With a verdict known early in the full-contact regime: what that regime predicts,
+        A_r -> A_n (m^2) and the sliding friction tau_0 A_n (N) of the constant-shear-strength
+        law (E:Hertz_theory's T = tau_0 pi a^2 summed over a closed interface).
+    full_contact_test : str or None
+        That limit held against the measured A_r/A_n (or why it could not be).
     """
 
     verdict: str = text("valid, warnings or invalid")
@@ -185,6 +196,22 @@ class Verdict:
     )
     regime_tabor_parameter: float | None = scalar(
         "1", "Tabor parameter at the effective resolution's summit radius", optional=True
+    )
+    stages_skipped: list[str] | None = text(
+        "stages not computed: the verdict was known before them (run.compute_all)",
+        optional=True,
+    )
+    full_contact_normal_load: np.ndarray | None = array(
+        "N", ("normal_load",), "the loads the full-contact limit is stated at", optional=True
+    )
+    full_contact_real_area: float | None = scalar(
+        "m^2", "the full-contact limit's real area A_r -> A_n", optional=True
+    )
+    full_contact_sliding_friction: float | None = scalar(
+        "N", "the full-contact limit's sliding friction tau_0 A_n", optional=True
+    )
+    full_contact_test: str | None = text(
+        "the full-contact limit against the measured A_r/A_n", optional=True
     )
 
     @classmethod
@@ -659,9 +686,14 @@ def check_adhesion_regime(regime: AdhesionRegime | None) -> list[Reason]:
     if regime is None or regime.full_contact.level != "invalid":
         return []
     check = regime.full_contact
+    mu = (
+        f"{regime.tabor_parameter:.3g}"
+        if math.isfinite(regime.tabor_parameter)
+        else "not known (no summit radius before the statistical model)"
+    )
     text_ = (
         f"{check.message} ({check.reference}; threshold {check.threshold:g} on "
-        f"U_el/(A0 w)). Beside it: Tabor parameter mu = {regime.tabor_parameter:.3g} "
+        f"U_el/(A0 w)). Beside it: Tabor parameter mu = {mu} "
         f"(D. Tabor, J. Colloid Interface Sci. 58, 2 (1977)); Pastewka-Robbins stickiness "
         f"S_PR = {regime.stickiness:.3g} (sticky below 1; L. Pastewka, M.O. Robbins, PNAS "
         "111, 3298 (2014))"
@@ -982,6 +1014,10 @@ def compute_verdict(context: StageContext) -> Verdict:
     junction coalescence where it is full contact, and the adhesive BEM column marked where
     the range decides it (:func:`check_bem_adhesive_range`)."""
     res = context.result(STATISTICAL_MODEL)
+    if res is None:  # the job stopped where the verdict was known (stages.early_verdict)
+        from asperity.pipelines.stages.early_verdict import early_verdict
+
+        return early_verdict(context)
     regime = adhesion_regime_of(context.result(SURFACE), context.config.material, res.summit_radius)
     reasons = in_place_of_coalescence(job_reasons(context), check_adhesion_regime(regime))
     reasons += check_bem_adhesive_range(
@@ -1003,8 +1039,10 @@ def preview_adhesion_regime(context: StageContext) -> PreviewNote:
     """The adhesion regime judged from the levelled map before the BEM stage (a second,
     against the BEM's minutes): one log line, and the preliminary reason stored at once in
     ``results.h5`` (file attribute :data:`PREVIEW_ATTRIBUTE`, JSON with ``codes``,
-    ``severities``, ``reasons``, ``adhesion_energy_ratio``, ``stickiness``). The job still
-    runs every stage the configuration asks for; the final verdict repeats the reason.
+    ``severities``, ``reasons``, ``adhesion_energy_ratio``, ``stickiness``). An invalid reason
+    here makes the job skip the stages that cannot change the verdict unless
+    ``run.compute_all`` (:mod:`asperity.pipelines.stages.early_verdict`); the final verdict
+    repeats the reason.
     Without adhesion (w = 0) no line, and a record without reasons (it replaces one a former
     run of the same folder stored)."""
     config = context.config
@@ -1026,8 +1064,13 @@ def preview_adhesion_regime(context: StageContext) -> PreviewNote:
         line = (
             f"adhesion regime judged from the map: FULL CONTACT expected at any load ({numbers}"
             f"): the asperity model and a loading-branch BEM do not apply{bem}. The verdict "
-            f"will be INVALID ({reasons[0].code}); the BEM runs as configured "
-            "([bem] enabled = false skips it)"
+            f"will be INVALID ({reasons[0].code}); "
+            + (
+                "every stage runs as configured (run.compute_all = true)"
+                if config.run.compute_all
+                else "the BEM and the model stages, which cannot change it, are skipped "
+                "(run.compute_all = true, asperity run --compute-all, computes them)"
+            )
         )
     else:
         line = f"adhesion regime judged from the map: partial contact ({numbers})"
@@ -1104,6 +1147,11 @@ def verdict_markdown(verdict: Verdict) -> list[str]:
         "invalid": " The numbers below are outside the model's validity; they are marked "
         "*invalid* and are not results.",
     }.get(verdict.verdict, "")
+    if getattr(verdict, "full_contact_real_area", None) is not None:
+        tail = (
+            " The job stopped where the verdict was known: the numbers below are the "
+            "full-contact limit this regime predicts, not the asperity model's."
+        )
     lines = [f"**{verdict_wording(verdict)}.**{tail}", ""]
     for severity, code, reason in zip(
         verdict.severities, verdict.codes, verdict.reasons, strict=True
@@ -1131,7 +1179,9 @@ VERDICT = Stage(
         "material.E_star",
         "material.work_of_adhesion",
         "material.equilibrium_distance",
+        "material.shear_strength",
         "bem.adhesion_range",
+        "bem.enabled",
     ),
     inputs=(SURFACE, SCAN, BEM, STATISTICAL_MODEL, MODE_MIXITY, FRICTION, BEM_SHEAR),
     compute=compute_verdict,
@@ -1144,6 +1194,7 @@ VERDICT = Stage(
             "material.equilibrium_distance",
             "bem.adhesive",
             "bem.adhesion",
+            "run.compute_all",
         ),
         inputs=(SURFACE,),
         run=preview_adhesion_regime,
