@@ -157,7 +157,7 @@ def key_numbers(result: Run) -> list[tuple[str, str]]:
         "rms summit",
         "Tabor",
         "misfit",
-        "mode mixity lambda (fitted)",
+        "mode mixity lambda",  # fitted, or configured with what a decade of it does to F_s
     )
     rows = [(k, mark(v, verdict) if k.startswith(judged) else v) for k, v in rows]
     return [(plain_text(k), plain_text(v)) for k, v in rows]
@@ -199,9 +199,8 @@ def headline_numbers(result: Run) -> list[tuple[str, str]]:
             )
         )
     else:
-        out.append(
-            ("mode mixity lambda", f"{format_number(lam.mode_mixity)} (assumed, not fitted)")
-        )
+        assumed = f"{format_number(lam.mode_mixity)} (assumed, not fitted)"
+        out.append(("mode mixity lambda", mark(assumed, verdict)))
     low = bool(getattr(fr, "uncertainty_lower_bound", False))
     mu_u = fr.static_friction_coefficient_uncertainty
     ends = list(dict.fromkeys([int(np.argmin(fr.normal_load)), int(np.argmax(fr.normal_load))]))
@@ -467,15 +466,19 @@ def _at(values: np.ndarray | None, i: int) -> float | None:
 
 def measured_cells(peak: MeasuredPeak | None, force: DisplayUnit, a_n: float) -> list[str]:
     """The measured curve's F_s (``>= F`` when the curve ends on its largest F_x), A_r/A_n at
-    it and the drop; "-" without a curve at that load."""
+    it and the drop +- u from the stick branch's fit; "-" without a curve at that load."""
     if peak is None:
         return ["-", "-", "-"]
     fs = format_number(force(peak.static_friction))
     return [
         f">= {fs}" if peak.ends_rising else fs,
         format_number(peak.peak_real_area / a_n),
-        format_number(peak.real_area_drop),
+        plus_minus(peak.real_area_drop, _finite_or_none(peak.real_area_drop_uncertainty)),
     ]
+
+
+def _finite_or_none(value: float) -> float | None:
+    return float(value) if math.isfinite(value) else None
 
 
 def decade_column(
@@ -490,8 +493,11 @@ def decade_column(
     low, high = fr.mode_mixity_decade
     force = text_unit([fr.static_friction, fr.sliding_friction], "N")
     name = f"static F_s at lambda {low:.3g} .. {high:.3g} ({force.text}, lambda assumed)"
+    verdict = getattr(result, "verdict", None)
     cells = [
-        f"{format_number(force(decade[0, i]))} .. {format_number(force(decade[1, i]))}"
+        mark(
+            f"{format_number(force(decade[0, i]))} .. {format_number(force(decade[1, i]))}", verdict
+        )
         for i in range(decade.shape[1])
     ]
     return [*header, name], [[*row, cell] for row, cell in zip(rows, cells, strict=True)]
