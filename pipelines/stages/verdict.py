@@ -39,6 +39,11 @@ calibrated on cannot be right:
 * ``shape_scale``: the shape fit's factor c of a measured curve outside [0.50, 2.01]
   (|ln c| > :data:`MAX_MISFIT`; a warning beyond :data:`WARN_MISFIT`, [0.82, 1.22]):
   :func:`check_shape_scale`.
+* ``measured_area_scale`` / ``measured_area_offset`` (warnings): a measured curve's level 10 %
+  or more from the model's at F_x = 0 beyond the model's own uncertainty (an area calibration
+  error or an additive offset, which the shape cannot tell apart: lambda's interval is
+  widened over both readings), and an additive offset that fits better than a scale factor:
+  :func:`check_calibration` (:mod:`asperity.pipelines.stages.calibration_checks`).
 * ``plastic_asperities`` / ``contact_pressure_above_yield`` (with ``material.hardness``): the
   plasticity index above 1 (a warning above 0.6), the mean contact pressure above H (a warning
   above 0.39 H): :func:`check_hardness`, thresholds in :mod:`asperity.statmodel.plausibility`.
@@ -100,6 +105,7 @@ from asperity.errors import ExitStatus
 from asperity.fields import array, document_fields, scalar, text
 from asperity.pipelines import measured
 from asperity.pipelines.engine.stage import Preview, PreviewNote, Stage, StageContext
+from asperity.pipelines.stages import calibration_checks
 from asperity.pipelines.stages.bem import BEM, BemReference
 from asperity.pipelines.stages.bem_shear import BEM_SHEAR, SHEAR_THRESHOLDS, BemShearComparison
 from asperity.pipelines.stages.friction import (
@@ -839,6 +845,16 @@ def check_shape_scale(choice: ResolutionChoice) -> list[Reason]:
     ]
 
 
+def check_calibration(choice: ModeMixityChoice, friction: FrictionPrediction) -> list[Reason]:
+    """The measured curves' consistency beyond one scale factor: ``measured_area_scale``
+    (a level 10 % or more from the model's beyond its own uncertainty at F_x = 0) and
+    ``measured_area_offset`` (an additive offset fits better):
+    :mod:`asperity.pipelines.stages.calibration_checks`."""
+    found = calibration_checks.scale_reasons(choice, friction)
+    found += calibration_checks.offset_reasons(choice)
+    return [Reason(code, severity, text_) for code, severity, text_ in found]
+
+
 def _reasons_from_checks(checks: Sequence[Check]) -> list[Reason]:
     """A reason per :class:`statmodel.checks.Check` whose level is not "ok" (its source cited)."""
     return [Reason(c.code, c.level, f"{c.message} ({c.reference})") for c in checks if not c.ok]
@@ -972,6 +988,7 @@ def job_reasons(context: StageContext) -> list[Reason]:
     reasons += check_sliding(context.result(FRICTION))
     reasons += check_prediction_uncertainty(context.result(FRICTION))
     reasons += check_shape_scale(lam)
+    reasons += check_calibration(lam, context.result(FRICTION))
     reasons += check_friction_plausibility(
         context.result(FRICTION), config.material.e_star, config.material.hardness
     )
