@@ -1092,6 +1092,7 @@ def draw_figure(result: Run, name: str) -> tuple[Figure, FigureTable]:
     fig, table = FIGURES[name][1](result)
     verdict = getattr(result, "verdict", None)
     verdict_marks.stamp_verdict(fig, verdict)
+    verdict_marks.mark_model_labels(fig, verdict)
     table.header = verdict_marks.csv_header(verdict)
     return fig, table
 

@@ -118,6 +118,24 @@ def stamp_verdict(fig: Figure, verdict: Verdict | None) -> Figure:
     return stamp(fig, verdict_summary(verdict), color=COLOURS.get(verdict.verdict, "k"))
 
 
+#: Legend entries that state a model number (the effective resolution, the fitted lambda):
+#: marked ``invalid:`` on an invalid run, as in the tables.
+MODEL_LABELS: tuple[str, ...] = ("effective,", "fit ", "located ", "stride of least misfit")
+
+
+def mark_model_labels(fig: Figure, verdict: Verdict | None) -> Figure:
+    """Prefix ``invalid: `` to the legend entries of :data:`MODEL_LABELS` when the verdict
+    is invalid (a figure's legend never states a plain model number on an invalid run)."""
+    if getattr(verdict, "verdict", None) != "invalid":
+        return fig
+    for ax in fig.axes:
+        legend = ax.get_legend()
+        for entry in [] if legend is None else legend.get_texts():
+            if entry.get_text().startswith(MODEL_LABELS):
+                entry.set_text(f"invalid: {entry.get_text()}")
+    return fig
+
+
 def csv_header(verdict: Verdict | None) -> list[str]:
     """Comment lines (without the leading ``#``) heading a figure's CSV; none without a
     verdict stage."""

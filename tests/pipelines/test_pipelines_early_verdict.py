@@ -167,3 +167,20 @@ def test_a_glassy_polymer_on_the_same_map_is_not_stopped(tmp_path):
     assert result.statistical_model is not None and result.friction is not None
     assert "adhesion_full_contact" not in result.verdict.codes
     assert result.verdict.full_contact_real_area is None
+
+
+def test_the_measured_fractions_are_the_rest_points_of_every_curve():
+    from types import SimpleNamespace
+
+    from asperity.pipelines.stages.early_verdict import measured_fractions
+
+    measured = SimpleNamespace(
+        normal_area=SimpleNamespace(real_area=np.array([7e-6, 14e-6])),
+        shear_area=[
+            SimpleNamespace(
+                tangential_force=np.array([0.3, 0.0, 0.1]), real_area=np.array([1, 21, 3]) * 1e-6
+            )
+        ],
+    )
+    np.testing.assert_allclose(measured_fractions(measured, A_N), [0.01, 0.02, 0.03])
+    assert measured_fractions(SimpleNamespace(normal_area=None, shear_area=[]), A_N).size == 0

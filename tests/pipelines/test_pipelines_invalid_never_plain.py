@@ -120,3 +120,21 @@ def test_key_rows_of_the_model_are_marked_on_an_invalid_run(small_run):
     lam = [k for k in rows if k.startswith("mode mixity lambda")]
     assert lam and all(rows[k].startswith("invalid: ") for k in lam)
     assert rows["Tabor parameter mu"].startswith("invalid: ")
+
+
+def test_figure_legends_mark_model_numbers_on_an_invalid_run(small_run):
+    from asperity.pipelines.report.figures import draw_figure
+
+    _, _, result = small_run
+    invalid = dataclasses.replace(result, verdict=INVALID)
+    fig, _ = draw_figure(invalid, "resolution")
+    texts = [
+        t.get_text() for ax in fig.axes if ax.get_legend() for t in ax.get_legend().get_texts()
+    ]
+    marked = [t for t in texts if t.startswith("invalid: effective,")]
+    assert marked, texts
+    fig, _ = draw_figure(result, "resolution")
+    texts = [
+        t.get_text() for ax in fig.axes if ax.get_legend() for t in ax.get_legend().get_texts()
+    ]
+    assert not any(t.startswith("invalid") for t in texts)
