@@ -30,13 +30,12 @@ def is_early(result: Run) -> bool:
     )
 
 
-def early_key_numbers(result: Run) -> list[tuple[str, str]]:
-    """(quantity, value) rows: the surface, the regime's numbers and the full-contact limit."""
-    from asperity.pipelines.report.text import pixel_size_text  # text imports this module
-
+def early_key_numbers(result: Run, pixels: str) -> list[tuple[str, str]]:
+    """(quantity, value) rows: the surface (``pixels``: its pixel size in words), the regime's
+    numbers and the full-contact limit."""
     verdict, surface = result.verdict, result.surface
     rows = [
-        ("surface", f"{surface.nx} x {surface.ny} px, {pixel_size_text(surface)}"),
+        ("surface", f"{surface.nx} x {surface.ny} px, {pixels}"),
         ("adhesion regime", "full contact expected at any load (Persson-Tosatti)"),
     ]
     if verdict.adhesion_energy_ratio is not None:

@@ -90,7 +90,7 @@ def key_numbers(result: Run) -> list[tuple[str, str]]:
     """(quantity, value with unit) rows of the report's headline table (the full-contact
     limit's when the job stopped where its verdict was known: :mod:`.early`)."""
     if is_early(result):
-        return early_key_numbers(result)
+        return early_key_numbers(result, pixel_size_text(result.surface))
     res, fr, bem, lam = (
         result.statistical_model,
         result.friction,
@@ -179,7 +179,7 @@ def headline_numbers(result: Run) -> list[tuple[str, str]]:
     R, eta, sigma_s, the Tabor parameter, lambda, and at the lightest and heaviest loads the
     friction coefficient mu_s = F_s/F_z and the area drop A_r(peak)/A_r(0) (Fig 13)."""
     if is_early(result):
-        return early_key_numbers(result)
+        return early_key_numbers(result, pixel_size_text(result.surface))
     rows = dict(key_numbers(result))
     verdict = getattr(result, "verdict", None)
     res, lam, fr = result.statistical_model, result.mode_mixity, result.friction

@@ -5,8 +5,9 @@ judges the adhesion regime from the levelled map before the BEM. When it finds a
 makes every later number invalid (``adhesion_full_contact``: the elastic energy to flatten the
 map, U_el/(A0 w), below 1, Persson-Tosatti), the BEM reference and the statistical model cannot
 change the verdict: the job (:mod:`asperity.pipelines.job`) skips the stages of
-:data:`SKIPPED_WHEN_KNOWN` and the verdict stage writes this module's :func:`early_verdict`,
-with what the regime does predict:
+:data:`SKIPPED_WHEN_KNOWN` and the verdict stage writes the early verdict
+(:func:`asperity.pipelines.stages.verdict.early_verdict`, from this module's pieces), with what
+the regime does predict:
 
 * the real area A_r -> A_n at every load (a closed interface), and
 * the sliding friction it implies, F_d -> tau_0 A_n: the paper's sliding junctions carry the
@@ -26,9 +27,6 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 import numpy as np
-
-from asperity.pipelines.engine.stage import StageContext
-from asperity.pipelines.stages import verdict as v
 
 #: The stages skipped when the verdict is known before the BEM: none can change it.
 SKIPPED_WHEN_KNOWN: tuple[str, ...] = (
@@ -74,10 +72,10 @@ def measured_fractions(measured: object, nominal_area: float) -> np.ndarray:
     return np.asarray(values, dtype=float) / float(nominal_area)
 
 
-def full_contact_test(fractions: np.ndarray) -> tuple[str, list[v.Reason]]:
+def full_contact_test(fractions: np.ndarray) -> tuple[str, list[tuple[str, str, str]]]:
     """The limit A_r/A_n -> 1 against the measured fractions: its sentence, and a warning
-    ``full_contact_contradicted`` when the largest measured fraction is below
-    :data:`CONTRADICTED_FRACTION`."""
+    ``full_contact_contradicted`` (code, severity, text) when the largest measured fraction is
+    below :data:`CONTRADICTED_FRACTION`."""
     if not fractions.size:
         return "no measured A_r/A_n to test it against (measured.normal_area, shear_area)", []
     top = float(np.max(fractions))
@@ -92,49 +90,10 @@ def full_contact_test(fractions: np.ndarray) -> tuple[str, list[v.Reason]]:
         "smaller w gives partial contact), the map's finest scales (a coarser or filtered "
         "map stores less elastic energy) and the measured areas' units"
     )
-    return sentence, [v.Reason("full_contact_contradicted", "warning", why)]
+    return sentence, [("full_contact_contradicted", "warning", why)]
 
 
-def early_reasons(context: StageContext) -> list[v.Reason]:
-    """The checks that need no model: the adhesion regime (summit radius unknown: Tabor's mu
-    NaN), the surface preparation, the measured areas and loads, a line profile's isotropy."""
-    config, measured = context.config, context.measured
-    a_n = config.loading.nominal_area
-    surface = context.result(v.SURFACE)
-    regime = v.adhesion_regime_of(surface, config.material, None)
-    reasons = v.check_adhesion_regime(regime) + v.check_surface(surface.preparation)
-    if measured.normal_area is not None:
-        reasons += v.check_measured_area(measured.normal_area.real_area, a_n, "A_r(F_z)")
-    for curve in measured.shear_area:
-        reasons += v.check_measured_area(curve.real_area, a_n, f"A_r(F_x) at {curve.normal_load} N")
-    reasons += v.check_measured_loads(
-        sorted({c.normal_load for c in measured.shear_area}), config.loading.normal_loads
-    )
-    return reasons + v.check_profile_isotropy(surface)
-
-
-def early_verdict(context: StageContext) -> v.Verdict:
-    """The verdict stage when the job skipped :data:`SKIPPED_WHEN_KNOWN` (the statistical
-    model's result is None): :func:`early_reasons`, the full-contact limit
-    (:func:`full_contact_limit`) and its test against the measurement."""
-    config = context.config
-    a_n = config.loading.nominal_area
-    sentence, test_reasons = full_contact_test(measured_fractions(context.measured, a_n))
-    verdict = v.Verdict.from_reasons(early_reasons(context) + test_reasons)
-    regime = v.adhesion_regime_of(context.result(v.SURFACE), config.material, None)
-    if regime is not None:
-        verdict.adhesion_energy_ratio = float(regime.energy_ratio)
-        verdict.stickiness = float(regime.stickiness)
-    skipped = ["bem_reference"] if config.bem.enabled else []
-    verdict.stages_skipped = [*skipped, "statistical_model", "mode_mixity", "friction", "psd"]
-    area, sliding = full_contact_limit(a_n, config.material.shear_strength)
-    verdict.full_contact_real_area, verdict.full_contact_sliding_friction = area, sliding
-    verdict.full_contact_test = sentence
-    verdict.full_contact_normal_load = np.asarray(config.loading.normal_loads, dtype=float)
-    return verdict
-
-
-def limit_lines(verdict: v.Verdict | None) -> list[str]:
+def limit_lines(verdict: object) -> list[str]:
     """The full-contact limit in words, one line per statement (terminal and reports); empty
     unless the verdict was known early."""
     if getattr(verdict, "full_contact_real_area", None) is None:

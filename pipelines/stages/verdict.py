@@ -106,6 +106,7 @@ from asperity.fields import array, document_fields, scalar, text
 from asperity.pipelines import measured
 from asperity.pipelines.engine.stage import Preview, PreviewNote, Stage, StageContext
 from asperity.pipelines.stages import calibration_checks
+from asperity.pipelines.stages import early_verdict as early
 from asperity.pipelines.stages.bem import BEM, BemReference
 from asperity.pipelines.stages.bem_shear import BEM_SHEAR, SHEAR_THRESHOLDS, BemShearComparison
 from asperity.pipelines.stages.friction import (
@@ -1032,8 +1033,6 @@ def compute_verdict(context: StageContext) -> Verdict:
     the range decides it (:func:`check_bem_adhesive_range`)."""
     res = context.result(STATISTICAL_MODEL)
     if res is None:  # the job stopped where the verdict was known (stages.early_verdict)
-        from asperity.pipelines.stages.early_verdict import early_verdict
-
         return early_verdict(context)
     regime = adhesion_regime_of(context.result(SURFACE), context.config.material, res.summit_radius)
     reasons = in_place_of_coalescence(job_reasons(context), check_adhesion_regime(regime))
@@ -1045,6 +1044,49 @@ def compute_verdict(context: StageContext) -> Verdict:
         verdict.adhesion_energy_ratio = float(regime.energy_ratio)
         verdict.stickiness = float(regime.stickiness)
         verdict.regime_tabor_parameter = float(regime.tabor_parameter)
+    return verdict
+
+
+def early_reasons(context: StageContext) -> list[Reason]:
+    """The checks that need no model: the adhesion regime (summit radius unknown: Tabor's mu
+    NaN), the surface preparation, the measured areas and loads, a line profile's isotropy."""
+    config, measured = context.config, context.measured
+    a_n = config.loading.nominal_area
+    surface = context.result(SURFACE)
+    regime = adhesion_regime_of(surface, config.material, None)
+    reasons = check_adhesion_regime(regime) + check_surface(surface.preparation)
+    if measured.normal_area is not None:
+        reasons += check_measured_area(measured.normal_area.real_area, a_n, "A_r(F_z)")
+    for curve in measured.shear_area:
+        reasons += check_measured_area(curve.real_area, a_n, f"A_r(F_x) at {curve.normal_load} N")
+    reasons += check_measured_loads(
+        sorted({c.normal_load for c in measured.shear_area}), config.loading.normal_loads
+    )
+    return reasons + check_profile_isotropy(surface)
+
+
+def early_verdict(context: StageContext) -> Verdict:
+    """The verdict stage when the job skipped the stages that cannot change the verdict
+    (:data:`~asperity.pipelines.stages.early_verdict.SKIPPED_WHEN_KNOWN`; the statistical
+    model's result is None): :func:`early_reasons`, the full-contact limit
+    (:func:`~asperity.pipelines.stages.early_verdict.full_contact_limit`, A_r -> A_n in m^2,
+    F_d -> tau_0 A_n in N, E:Hertz_theory) and its test against the measurement."""
+    config = context.config
+    a_n = config.loading.nominal_area
+    fractions = early.measured_fractions(context.measured, a_n)
+    sentence, found = early.full_contact_test(fractions)
+    test_reasons = [Reason(code, severity, text_) for code, severity, text_ in found]
+    verdict = Verdict.from_reasons(early_reasons(context) + test_reasons)
+    regime = adhesion_regime_of(context.result(SURFACE), config.material, None)
+    if regime is not None:
+        verdict.adhesion_energy_ratio = float(regime.energy_ratio)
+        verdict.stickiness = float(regime.stickiness)
+    skipped = ["bem_reference"] if config.bem.enabled else []
+    verdict.stages_skipped = [*skipped, "statistical_model", "mode_mixity", "friction", "psd"]
+    area, sliding = early.full_contact_limit(a_n, config.material.shear_strength)
+    verdict.full_contact_real_area, verdict.full_contact_sliding_friction = area, sliding
+    verdict.full_contact_test = sentence
+    verdict.full_contact_normal_load = np.asarray(config.loading.normal_loads, dtype=float)
     return verdict
 
 

@@ -52,13 +52,14 @@ def test_the_full_contact_limit_is_a_closed_interface():
 
 
 def test_the_limit_is_tested_against_the_measured_fraction():
-    sentence, reasons = full_contact_test(np.array([0.02, 0.04]))
-    assert "contradicts" in sentence and [r.code for r in reasons] == ["full_contact_contradicted"]
-    assert reasons[0].severity == "warning" and "E*" in reasons[0].text
-    sentence, reasons = full_contact_test(np.array([0.3, CONTRADICTED_FRACTION + 0.3]))
-    assert "consistent" in sentence and not reasons
-    sentence, reasons = full_contact_test(np.array([]))
-    assert "no measured" in sentence and not reasons
+    sentence, found = full_contact_test(np.array([0.02, 0.04]))
+    ((code, severity, text),) = found
+    assert "contradicts" in sentence and code == "full_contact_contradicted"
+    assert severity == "warning" and "E*" in text
+    sentence, found = full_contact_test(np.array([0.3, CONTRADICTED_FRACTION + 0.3]))
+    assert "consistent" in sentence and not found
+    sentence, found = full_contact_test(np.array([]))
+    assert "no measured" in sentence and not found
 
 
 def test_only_invalid_preview_reasons_stop_the_job():
