@@ -224,13 +224,15 @@ class InterruptibleRunner(Runner):
         return super().run(stage)
 
     def _judge_before(self, stage: Stage) -> list[str]:
-        """Run the previews that precede ``stage`` (even when it is disabled) and return the
-        codes of their invalid reasons."""
+        """Run the previews that precede ``stage`` or a disabled stage before it (the BEM's,
+        with ``[bem] enabled = false``) and return the codes of their invalid reasons."""
         label = self.labels.get(stage.name, stage.title)
         codes: list[str] = []
-        for preview in self.previews.pop(stage.name, ()):
-            note = self.run_preview(preview, label)
-            codes += known_invalid(None if note is None else note.record)
+        upto = self.stage_list[: self.stage_list.index(stage) + 1]
+        for earlier in upto:
+            for preview in self.previews.pop(earlier.name, ()):
+                note = self.run_preview(preview, label)
+                codes += known_invalid(None if note is None else note.record)
         return codes
 
     def _skip(self, stage: Stage) -> None:

@@ -31,7 +31,7 @@ TAU0 = 0.13e6  # Pa, the default material.shear_strength
 A_N = 700e-6  # m^2, the default loading.nominal_area
 
 
-def _config(tmp_path, name="plu-1.plu", crop=(0, 96, 0, 96), material=PDMS, **extra):
+def _config(tmp_path, name="plu-1.plu", crop=(0, 64, 0, 64), material=PDMS, **extra):
     data = {
         "surface": {
             "file": str(DATA / name),
@@ -69,7 +69,7 @@ def test_only_invalid_preview_reasons_stop_the_job():
 
 
 def test_pdms_on_a_measured_map_stops_before_the_bem(tmp_path):
-    """plu-1 (a 96 x 96 px crop) with PDMS: full contact; nothing after the scan is computed,
+    """plu-1 (a 64 x 64 px crop) with PDMS: full contact; nothing after the scan is computed,
     the verdict states the limit, the report marks every cell as that limit, exit 3."""
     out = tmp_path / "out"
     log: list[str] = []
@@ -102,7 +102,7 @@ def test_a_rerun_reuses_the_early_stages_and_the_cli_redraws_with_status_3(tmp_p
 
     config = tmp_path / "job.toml"
     config.write_text(
-        f'[surface]\nfile = "{DATA / "opd-1.opd"}"\nmax_stride = 4\ncrop = [0, 64, 0, 64]\n'
+        f'[surface]\nfile = "{DATA / "opd-1.opd"}"\nmax_stride = 4\ncrop = [0, 48, 0, 48]\n'
         "[loading]\nnormal_loads = [0.5, 2.0]\nsteps = 21\n"
     )  # the default material is PDMS
     out = tmp_path / "out"
@@ -127,7 +127,7 @@ def test_compute_all_runs_every_stage_and_keeps_the_reason(tmp_path, capsys):
 
     config = tmp_path / "job.toml"
     config.write_text(
-        f'[surface]\nfile = "{DATA / "plu-1.plu"}"\nmax_stride = 4\ncrop = [0, 64, 0, 64]\n'
+        f'[surface]\nfile = "{DATA / "plu-1.plu"}"\nmax_stride = 4\ncrop = [0, 48, 0, 48]\n'
         "[loading]\nnormal_loads = [0.5, 2.0]\nsteps = 21\n[bem]\nmax_stride = 2\n"
     )
     out = tmp_path / "out"
@@ -185,3 +185,20 @@ def test_the_measured_fractions_are_the_rest_points_of_every_curve():
     )
     np.testing.assert_allclose(measured_fractions(measured, A_N), [0.01, 0.02, 0.03])
     assert measured_fractions(SimpleNamespace(normal_area=None, shear_area=[]), A_N).size == 0
+
+
+def test_without_the_bem_the_regime_still_stops_the_job_and_the_measurement_tests_it(tmp_path):
+    """[bem] enabled = false with a measured A_r(F_z) of 1-2 % of A_n: the regime is judged
+    before the statistical model, the job stops there, and the measurement contradicts the
+    full-contact limit (warning full_contact_contradicted)."""
+    measured = tmp_path / "area.csv"
+    measured.write_text("normal_load,real_area\n0.5,7e-6\n2.0,14e-6\n")  # 1 % and 2 % of A_n
+    extra = {"bem": {"enabled": False}, "measured": {"normal_area": str(measured)}}
+    result = run_job(_config(tmp_path, crop=(0, 64, 0, 64), **extra), tmp_path / "out")
+    status = {run.name: run.status for run in result.stages}
+    assert status["bem_reference"] == "disabled" and status["statistical_model"] == "skipped"
+    verdict = result.verdict
+    assert verdict.codes[0] == "adhesion_full_contact"
+    assert "full_contact_contradicted" in verdict.codes
+    assert "reaches only 0.02" in verdict.full_contact_test
+    assert verdict.stages_skipped[0] == "statistical_model"  # the BEM was off, not skipped
