@@ -34,7 +34,6 @@ from asperity.pipelines.config import Document, JobConfig, config_from_dict
 from asperity.pipelines.engine.parallel import Scheduler, make_executor
 from asperity.pipelines.job import JobResult, run_job
 from asperity.pipelines.report import write_report
-from asperity.pipelines.report.html import find_verdict
 
 try:
     import tomllib
@@ -94,17 +93,6 @@ def map_folders(maps: Sequence[Path], out_dir: Path) -> list[Path]:
     """One output folder per map: its stem, numbered when two maps share a stem."""
     stems = [m.stem for m in maps]
     return [out_dir / (s if stems.count(s) == 1 else f"{s}-{i + 1}") for i, s in enumerate(stems)]
-
-
-def _verdict_text(result: JobResult) -> str:
-    verdict = find_verdict(result)
-    if verdict is None:
-        return ""
-    for name in ("verdict", "status", "summary"):
-        value = getattr(verdict, name, None)
-        if isinstance(value, str | int | bool):
-            return str(value)
-    return ""
 
 
 def summary_values(result: JobResult) -> dict[str, float | str]:

@@ -51,6 +51,21 @@ def _with_uncertainty(
     values[f"{quantity} uncertainty ({unit}"] = float(uncertainty)
 
 
+def verdict_text(result: object) -> str:
+    """The run's verdict word ("valid", "warnings", "invalid"; "" without a verdict), found
+    as report.html finds it (:func:`asperity.pipelines.report.html.find_verdict`)."""
+    from asperity.pipelines.report.html import find_verdict  # matplotlib: only when summarised
+
+    verdict = find_verdict(result)
+    if verdict is None:
+        return ""
+    for name in ("verdict", "status", "summary"):
+        value = getattr(verdict, name, None)
+        if isinstance(value, str | int | bool):
+            return str(value)
+    return ""
+
+
 def summary_values(result: object) -> dict[str, float | str]:
     """The summary numbers of one run (SI; column names carry the units), each predicted
     quantity followed by its ``... uncertainty (unit)`` column (NaN where the model could not
@@ -60,7 +75,7 @@ def summary_values(result: object) -> dict[str, float | str]:
     res, fr, lam = result.statistical_model, result.friction, result.mode_mixity
     if res is None or fr is None or lam is None:
         reasons = "; ".join(getattr(verdict, "reasons", []) or [])
-        return {"verdict": str(getattr(verdict, "verdict", "")), "validity": reasons}
+        return {"verdict": verdict_text(result), "validity": reasons}
     interval = getattr(res, "optimum_interval", None)
     resolution_u = (
         float(np.ptp(interval)) / 2
@@ -83,7 +98,7 @@ def summary_values(result: object) -> dict[str, float | str]:
         _with_uncertainty(values, f"static friction {at} (N)", fr.static_friction[i], static_u)
         sliding_u = _at(fr.sliding_friction_uncertainty, i)
         _with_uncertainty(values, f"sliding friction {at} (N)", fr.sliding_friction[i], sliding_u)
-    values["verdict"] = str(getattr(verdict, "verdict", ""))
+    values["verdict"] = verdict_text(result)
     values["validity"] = "; ".join(res.validity) or "within the model's assumptions"
     return values
 
