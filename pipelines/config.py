@@ -439,9 +439,12 @@ class FitConfig:
 
 @dataclass(frozen=True)
 class RunConfig:
-    """Execution: ``workers`` processes for the sweeps (1 = in this process)."""
+    """Execution: ``workers`` processes for the sweeps (1 = in this process); ``compute_all``
+    computes every stage even when the verdict is known invalid before the BEM (by default
+    the job stops there: :mod:`asperity.pipelines.stages.early_verdict`)."""
 
     workers: int = 1
+    compute_all: bool = False
 
 
 #: Figure formats ``[report] formats`` accepts (matplotlib writers without extra packages).
@@ -736,7 +739,10 @@ JOB_SCHEMA = Schema(
         Section(
             "run",
             RunConfig,
-            (_bounded("run.workers", RunConfig.workers),),
+            (
+                _bounded("run.workers", RunConfig.workers),
+                Key("compute_all", Flag(), RunConfig.compute_all),
+            ),
         ),
         Section(
             "report",

@@ -52,7 +52,7 @@ from asperity.pipelines.report import verdict_marks
 from asperity.pipelines.report._run import Run, persson_fraction
 from asperity.pipelines.report.bem import BEM_MODES
 from asperity.pipelines.report.figure_output import FigureOptions, FigureTable, publish
-from asperity.pipelines.report.numbers import format_number, plain_text
+from asperity.pipelines.report.numbers import format_number
 from asperity.pipelines.report.profile import (
     scan_label,
     surface_title,
@@ -67,7 +67,6 @@ from asperity.pipelines.stages.bem import BemReference
 from asperity.pipelines.stages.friction import FrictionPrediction, ModeMixityChoice
 from asperity.pipelines.stages.statistical_model import ResolutionChoice
 from asperity.pipelines.stages.surface import ScanResult
-from asperity.pipelines.stages.verdict import Verdict, first_reason, verdict_wording
 from asperity.plotting import (
     DisplayUnit,
     auto_log_scale,
@@ -76,7 +75,6 @@ from asperity.plotting import (
     log_axis,
     new_figure,
     spans_decades,
-    stamp,
 )
 from asperity.statmodel.figures import draw_shear_curve
 
@@ -1074,19 +1072,28 @@ def _lower_bound_arrows(
                 note.arrow_patch.set_clip_path(ax.patch)
 
 
+def _modelled(result: Run) -> bool:
+    """The run computed the model stages (not stopped where its verdict was known)."""
+    return result.statistical_model is not None and result.friction is not None
+
+
 #: How a figure is drawn: the run in, the figure and its data table out.
 Drawer = Callable[[Run], tuple[Figure, FigureTable]]
 
 #: Figure name -> (file stem, drawing function, whether the result has it).
 FIGURES: dict[str, tuple[str, Drawer, Callable[[Run], bool]]] = {
     "surface": ("surface", draw_surface, lambda r: True),
-    "resolution": ("fig12_resolution", draw_resolution, lambda r: True),
-    "misfit": ("fig12d_misfit", draw_misfit, lambda r: True),
-    "shear": ("fig4_shear", draw_shear, lambda r: True),
-    "area_vs_force": ("fig13_area_vs_force", draw_area_vs_force, lambda r: True),
-    "friction_vs_load": ("friction_vs_load", draw_friction_vs_load, lambda r: True),
+    "resolution": ("fig12_resolution", draw_resolution, _modelled),
+    "misfit": ("fig12d_misfit", draw_misfit, _modelled),
+    "shear": ("fig4_shear", draw_shear, _modelled),
+    "area_vs_force": ("fig13_area_vs_force", draw_area_vs_force, _modelled),
+    "friction_vs_load": ("friction_vs_load", draw_friction_vs_load, _modelled),
     "bem_grid": ("bem_grid", draw_bem_grid, lambda r: r.bem_reference is not None),
-    "lambda_fit": ("lambda_fit", draw_lambda_fit, lambda r: r.mode_mixity.fit is not None),
+    "lambda_fit": (
+        "lambda_fit",
+        draw_lambda_fit,
+        lambda r: r.mode_mixity is not None and r.mode_mixity.fit is not None,
+    ),
     "lambda_residuals": (
         "lambda_residuals",
         draw_lambda_residuals,
@@ -1097,28 +1104,14 @@ FIGURES: dict[str, tuple[str, Drawer, Callable[[Run], bool]]] = {
 }
 
 
-def stamp_invalid(fig: Figure, verdict: Verdict | None) -> Figure:
-    """Stamp ``fig`` with the verdict and its first reason, whole (wrapped, never cut), when
-    the verdict is *invalid*; a run *valid, with warnings* keeps its figures plain (the
-    warnings head report.md, report.html and every CSV)."""
-    if verdict is None or verdict.verdict != "invalid":
-        return fig
-    text = verdict_wording(verdict)
-    if verdict.reasons:
-        text += f". First reason ({verdict.codes[0]}): {first_reason(verdict)}"
-        more = len(verdict.reasons) - 1
-        if more:
-            text += f" (+{more} more reason{'s' if more > 1 else ''} in report.md)"
-    return stamp(fig, plain_text(text), color=verdict_marks.COLOURS["invalid"])
-
-
 def draw_figure(result: Run, name: str) -> tuple[Figure, FigureTable]:
     """One figure of :data:`FIGURES` drawn, stamped with the run's verdict when it is invalid
-    (:func:`stamp_invalid`), its table headed by the verdict
-    (:mod:`pipelines.report.verdict_marks`)."""
+    (:func:`~asperity.pipelines.report.verdict_marks.stamp_verdict`), its table headed by the
+    verdict (:mod:`pipelines.report.verdict_marks`)."""
     fig, table = FIGURES[name][1](result)
     verdict = getattr(result, "verdict", None)
-    stamp_invalid(fig, verdict)
+    verdict_marks.stamp_verdict(fig, verdict)
+    verdict_marks.mark_model_labels(fig, verdict)
     table.header = verdict_marks.csv_header(verdict)
     return fig, table
 

@@ -28,6 +28,7 @@ from asperity.pipelines.report.figures import draw_figure
 from asperity.pipelines.report.numbers import plain_text
 from asperity.pipelines.report.shear import shear_html
 from asperity.pipelines.report.text import headline_numbers, key_numbers, load_table
+from asperity.pipelines.stages.early_verdict import limit_lines
 from asperity.pipelines.stages.verdict import Verdict
 
 #: Attribute names under which a result may hold a verdict stage's result.
@@ -176,7 +177,12 @@ def write_html(
     result: Run, out_dir: Path, figures: dict[str, Path], captions: dict[str, str]
 ) -> Path:
     """Write ``report.html`` in ``out_dir``; ``figures`` as returned by ``write_figures``."""
-    status = {"stored": "stored (skipped)", "computed": "computed", "disabled": "disabled"}
+    status = {
+        "stored": "stored (skipped)",
+        "computed": "computed",
+        "disabled": "disabled",
+        "skipped": "not computed",
+    }
     stage_rows = [
         [s.name, status.get(s.status, s.status), f"{s.seconds:.2f}"] for s in result.stages
     ]
@@ -187,6 +193,7 @@ def write_html(
         "<title>asperity run report</title>",
         f"<style>{STYLE}</style></head><body><h1>asperity run report</h1>",
         verdict_html(verdict) if verdict is not None else "",
+        _notes("Full-contact limit", "", limit_lines(verdict)) if limit_lines(verdict) else "",
         "<h2>Key numbers</h2>",
         table_html(["quantity", "value"], [list(r) for r in headline_numbers(result)]).replace(
             '<div class="table">', '<div class="table key">', 1

@@ -52,10 +52,30 @@ def _pm(value: float, error: float, digits: int = 4) -> str:
     return format_number(value, error if math.isfinite(error) else None, digits=digits)
 
 
-def shear_table(shear: BemShearComparison) -> tuple[list[str], list[list[str]]]:
+def _bem_invalid(verdict: object) -> bool:
+    """The verdict's invalid reasons reach the BEM's own numbers too: a shear BEM that did
+    not converge, or a full-contact regime in which a loading-branch BEM does not apply."""
+    codes = getattr(verdict, "codes", []) or []
+    pairs = zip(codes, getattr(verdict, "severities", []) or [], strict=True)
+    return any(
+        severity == "invalid" and (code.startswith("bem") or code == "adhesion_full_contact")
+        for code, severity in pairs
+    )
+
+
+def shear_table(
+    shear: BemShearComparison, verdict: object = None
+) -> tuple[list[str], list[list[str]]]:
     """The BEM-vs-model table: per load, static friction, sliding friction and area drop of
     the BEM (grid used, +- its grid error) and of the model, with the junctions still
-    sticking at the end of the BEM's path."""
+    sticking at the end of the BEM's path. With an invalid ``verdict`` the model's cells read
+    ``invalid: ...`` (:func:`~asperity.pipelines.stages.verdict.mark`), and the BEM's too when
+    an invalid reason concerns the BEM (:func:`_bem_invalid`)."""
+    from asperity.pipelines.stages.verdict import mark
+
+    def bem(cell: str) -> str:
+        return mark(cell, verdict) if _bem_invalid(verdict) else cell
+
     header = [
         "F_z (N)",
         "F_s BEM (N)",
@@ -71,12 +91,12 @@ def shear_table(shear: BemShearComparison) -> tuple[list[str], list[list[str]]]:
         rows.append(
             [
                 f"{row['normal_load']:.4g}",
-                _pm(row["bem_static_friction"], row["bem_static_friction_error"]),
-                f"{row['model_static_friction']:.4g}",
-                _pm(row["bem_sliding_friction"], row["bem_sliding_friction_error"]),
-                f"{row['model_sliding_friction']:.4g}",
-                _pm(row["bem_area_drop"], row["bem_area_drop_error"], 3),
-                f"{row['model_area_drop']:.3g}",
+                bem(_pm(row["bem_static_friction"], row["bem_static_friction_error"])),
+                mark(f"{row['model_static_friction']:.4g}", verdict),
+                bem(_pm(row["bem_sliding_friction"], row["bem_sliding_friction_error"])),
+                mark(f"{row['model_sliding_friction']:.4g}", verdict),
+                bem(_pm(row["bem_area_drop"], row["bem_area_drop_error"], 3)),
+                mark(f"{row['model_area_drop']:.3g}", verdict),
                 str(int(shear.stuck_junctions[0, i])),
             ]
         )
@@ -157,7 +177,7 @@ def shear_section(result: Run) -> list[str]:
     shear = _shear(result)
     if shear is None:
         return []
-    header, rows = shear_table(shear)
+    header, rows = shear_table(shear, getattr(result, "verdict", None))
     lines = [
         f"## Shear BEM against the model (stage {stage_number('bem_shear')})",
         "",
@@ -197,9 +217,10 @@ def shear_html(result: Run) -> str:
     items += [f"Warning: {w}" for w in shear.warnings]
     items += [f"Not converged: {m}" for m in shear.messages]
     listed = "".join(f"<li>{html.escape(plain_text(i))}</li>" for i in items)
+    table = _html_table(*shear_table(shear, getattr(result, "verdict", None)))
     return (
         f'<h2 id="bem-shear">Shear BEM against the model (stage {stage_number("bem_shear")})</h2>'
-        f"<p>{html.escape(plain_text(_intro(shear)))}</p>{_html_table(*shear_table(shear))}<ul>{listed}</ul>"
+        f"<p>{html.escape(plain_text(_intro(shear)))}</p>{table}<ul>{listed}</ul>"
     )
 
 
