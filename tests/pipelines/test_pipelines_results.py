@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import html
 import shutil
 from html.parser import HTMLParser
 
@@ -15,6 +16,7 @@ from asperity.fields import checksum
 from asperity.pipelines.cli import main
 from asperity.pipelines.job import STAGES
 from asperity.pipelines.report import FIGURES, key_numbers, load_table, write_report
+from asperity.pipelines.report.html import _cell as html_cell
 from asperity.pipelines.report.html import find_verdict, write_html
 from asperity.pipelines.report.numbers import plain_text
 from asperity.pipelines.results import ALIASES
@@ -137,10 +139,15 @@ def test_html_report_holds_every_figure_and_number(small_run):
     assert sorted(page.figures) == sorted(expected)
     assert page.images + page.svgs == len(expected)
     text = " ".join(page.text)
+
+    def shown(cell: str) -> str:  # as report.html writes a cell: "value ± u" on one line
+        return html.unescape(html_cell(cell))
+
     for quantity, value in key_numbers(result):
-        assert quantity in text and value in text, quantity
+        assert shown(quantity) in text and shown(value) in text, quantity
     header, rows = load_table(result)
-    assert all(h in text for h in header) and all(c in text for row in rows for c in row)
+    assert all(shown(h) in text for h in header)
+    assert all(shown(c) in text for row in rows for c in row)
     assert all(stage.name in text for stage in STAGES)
     assert page.verdict  # the verdict stage's block is on the page, with its reasons
     # as written on the page: in words, micro spelt µm (report.numbers.plain_text)
