@@ -525,8 +525,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
     synth = subparsers.add_parser(
         "synth",
-        help="write a seeded synthetic (paper-like) self-affine surface",
-        description="Periodic self-affine surface; defaults are the paper-like preset.",
+        help="write a seeded synthetic (paper-like) rough surface",
+        description="Periodic random-phase surface, PSD flat below the roll-off and C ~ "
+        "q^-2(1+H) above it (self-affine for H <= 1); defaults are the paper-like recipe "
+        "(H = 1.36: smooth at small scales, not self-affine).",
     )
     synth.add_argument("--out", required=True, help="output .h5 (project HDF5), .npy or .npz")
     synth.add_argument(

@@ -51,7 +51,7 @@ print(
     f"stored run: {grid['generator']}, seed {grid['seed']}, {grid['shape'][0]} x "
     f"{grid['shape'][1]} px of {grid['pixel_size'] * 1e6:.0f} um"
 )
-print("truth (the reproduction): 260 um, lambda = 0.03")
+print("truth (the reproduction): lambda = 0.03; 260 um is the paper's surface's resolution")
 interval = "open" if stored["interval_open"] else f"{low * 1e6:.0f}..{high * 1e6:.0f} um"
 print(
     f"step 1, effective resolution: {stored['effective_resolution'] * 1e6:.0f} um "

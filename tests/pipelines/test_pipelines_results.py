@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-import html
 import shutil
 from html.parser import HTMLParser
 
@@ -16,7 +15,6 @@ from asperity.fields import checksum
 from asperity.pipelines.cli import main
 from asperity.pipelines.job import STAGES
 from asperity.pipelines.report import FIGURES, key_numbers, load_table, write_report
-from asperity.pipelines.report.html import _cell as html_cell
 from asperity.pipelines.report.html import find_verdict, write_html
 from asperity.pipelines.report.numbers import plain_text
 from asperity.pipelines.results import ALIASES
@@ -140,9 +138,10 @@ def test_html_report_holds_every_figure_and_number(small_run):
     assert page.images + page.svgs == len(expected)
     text = " ".join(page.text)
 
-    def shown(cell: str) -> str:  # as report.html writes a cell: "value ± u" on one line
-        return html.unescape(html_cell(cell))
+    def shown(cell: str) -> str:  # report.html writes "value +- u" as "value ± u" on one line
+        return cell.replace(" +- ", "\u00a0±\u00a0").replace("(+- ", "(±\u00a0")
 
+    assert "+-" not in text
     for quantity, value in key_numbers(result):
         assert shown(quantity) in text and shown(value) in text, quantity
     header, rows = load_table(result)
