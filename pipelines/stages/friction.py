@@ -129,6 +129,17 @@ class ModeMixityChoice:
         A_model, dimensionless; 1 in mode ``absolute``) and that curve's F_z (N). A factor
         far from 1 means the measured level disagrees with the model at that load (a wrong
         unit, another load): the verdict's ``shape_scale`` reason.
+    shape_interval : ndarray or None
+        lambda's profile interval under the scale reading (the fit's own; ``profile_interval``
+        and ``interval_low`` / ``interval_high`` unite it with the offset reading's).
+    offset_mode_mixity, offset_residual_rms : float or None
+        lambda and the rms relative residual under the additive-offset reading
+        (A_measured ~ A_model + d), fitted when a factor c is 10 % or more from 1
+        (:mod:`pipelines.stages.fitting`); NaN when not tested.
+    offset_interval : ndarray or None
+        lambda's profile interval under that reading.
+    offset_fraction : ndarray or None
+        Per curve, d over the model's A_r at F_x = 0 under that reading.
     """
 
     mode_mixity: float = scalar("1", "mode mixity lambda used downstream")
@@ -190,6 +201,24 @@ class ModeMixityChoice:
     mode_mixity_roughness_shift: np.ndarray | None = array(
         "1", ("interval_end",), "lambda fitted at the resolution interval's ends", optional=True
     )
+    shape_interval: np.ndarray | None = array(
+        "1", ("interval_end",), "profile interval of lambda under the scale reading", optional=True
+    )
+    offset_mode_mixity: float | None = scalar(
+        "1", "lambda under the additive-offset reading (NaN: not tested)", optional=True
+    )
+    offset_interval: np.ndarray | None = array(
+        "1", ("interval_end",), "profile interval of lambda under the offset reading", optional=True
+    )
+    offset_fraction: np.ndarray | None = array(
+        "1",
+        ("measured_curve",),
+        "offset d over the model's A_r at F_x = 0 per curve, offset reading",
+        optional=True,
+    )
+    offset_residual_rms: float | None = scalar(
+        "1", "rms relative residual under the offset reading", optional=True
+    )
 
     @classmethod
     def from_fit(cls, fit: LambdaFit, curves: Sequence[ShearAreaCurve]) -> ModeMixityChoice:
@@ -221,6 +250,11 @@ class ModeMixityChoice:
             fitted_model_area=fit.points.get("model_area"),
             shape_scale=np.asarray(fit.scale, dtype=float),
             shape_scale_normal_load=np.array([c.normal_load for c in curves], dtype=float),
+            shape_interval=np.asarray(fit.shape_interval, dtype=float),
+            offset_mode_mixity=float(fit.offset_mode_mixity),
+            offset_interval=np.asarray(fit.offset_interval, dtype=float),
+            offset_fraction=np.asarray(fit.offset_fraction, dtype=float),
+            offset_residual_rms=float(fit.offset_residual_rms),
         )
 
     @property

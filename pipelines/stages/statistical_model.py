@@ -26,7 +26,7 @@ statistical model under the same law:
 
 The JKR/PC model (``real_area``, E:JKR_load) is the one that makes the predictions (the friction
 stage) at that effective resolution; the BEM at a grid-resolved range cannot check its larger
-adhesive gain, and the report says so (:func:`statmodel.maugis_rough.adhesion_regime`).
+adhesive gain, and the report says so (:func:`statmodel.maugis_rough.asperity_law_regime`).
 
 **The reference's uncertainty.** With a BEM reference the effective resolution is also located
 against the reference times (1 - u) and (1 + u), u its relative one-sigma or grid-convergence
@@ -58,7 +58,7 @@ from asperity.pipelines.stages._pull_off import has_summits, pull_off_forces, ro
 from asperity.pipelines.stages.bem import BEM, BemReference
 from asperity.pipelines.stages.surface import SCAN, SURFACE, ScanResult
 from asperity.statmodel.effective_resolution import OptimumFields, optimum_fields
-from asperity.statmodel.maugis_rough import adhesion_regime, maugis_rough_contact
+from asperity.statmodel.maugis_rough import asperity_law_regime, maugis_rough_contact
 
 #: Above this A_r/A_n the asperities of the statistical model would overlap: independent
 #: asperities (the Greenwood-Williamson / Fuller-Tabor picture) are no longer a fair model.
@@ -257,7 +257,7 @@ class ResolutionChoice:
         The BEM's Maugis parameter lambda at the effective resolution's summit radius.
     adhesion_statement : str or None
         The BEM's law beside the JKR model's Tabor parameter, and what follows for the
-        predictions (:func:`statmodel.maugis_rough.adhesion_regime`).
+        predictions (:func:`statmodel.maugis_rough.asperity_law_regime`).
     reference_relative_uncertainty : ndarray or None
         The BEM reference's relative uncertainty per reference load (1), propagated into the
         effective resolution's interval.
@@ -771,7 +771,7 @@ def _regime_fields(
     JKR model's Tabor parameter (empty without a Maugis-Dugdale BEM)."""
     if pairs.get("bem_law") != MAUGIS_DUGDALE:
         return {}
-    regime = adhesion_regime(
+    regime = asperity_law_regime(
         roughness.summit_radius,
         material.e_star,
         material.work_of_adhesion,
