@@ -65,7 +65,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def stored_report_section(config_toml: str) -> dict:
     """The ``[report]`` table of a run's stored configuration ({} when absent)."""
-    import tomllib
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:  # pragma: no cover - exercised on Python 3.10 only
+        import tomli as tomllib
 
     try:
         section = tomllib.loads(config_toml).get("report", {})
