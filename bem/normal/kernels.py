@@ -10,14 +10,17 @@ The array ``w`` holds the gap u - h without the rigid-body term (m), ``p`` the p
 ``t`` the conjugate direction, ``r = K t`` its deflection, ``c`` the contact set (1 = in
 contact). Kernels that return several sums return them as named tuples.
 
-The kernels of an iteration (issue 36, item 1) run in parallel over fixed blocks of
-:data:`CHUNK` elements (numba ``prange``, on the threads the caller allows: the solver runs them
-on its FFT operator's threads, :func:`asperity.bem.normal.iteration.iterate`). Each block is the
-serial four-lane kernel above on a slice; the blocks' partial sums are added in block order, so
-the result does not depend on the number of threads (the same bits on 1 or 16 cores). One
-thread costs about what the serial kernel did (0.85 against 0.84 ms for the gap step at 1024^2);
-on the shared 2-core machine a second thread did not pay (the kernels are bound by memory
-bandwidth, and the other core is busy), on a many-core machine it does.
+The kernels of an iteration (issue 36, section 1: the pointwise work) run in parallel over
+fixed blocks of :data:`CHUNK` elements (numba ``prange``, on the threads the caller allows: the
+solver runs them on its FFT operator's threads, :func:`asperity.bem.normal.iteration.iterate`).
+Each block is the serial four-lane kernel above on a slice; the blocks' partial sums are added
+in block order, so the result does not depend on the number of threads (the same bits on 1 or
+16 cores). One thread costs about what the serial kernel did (0.85 against 0.84 ms for the gap
+step at 1024^2); on the shared 2-core machine a second thread gave 0.9-1.3x (the kernels are
+bound by memory bandwidth, and the other core was busy); many cores were not measured. The
+``*_into`` variants also write t into a second array (the single-precision transform's own
+float32 input: no cast pass), and the kernels take float32 ``s``, ``z`` and ``r`` as the
+transforms leave them.
 """
 
 from __future__ import annotations
