@@ -10,17 +10,18 @@ The array ``w`` holds the gap u - h without the rigid-body term (m), ``p`` the p
 ``t`` the conjugate direction, ``r = K t`` its deflection, ``c`` the contact set (1 = in
 contact). Kernels that return several sums return them as named tuples.
 
-The kernels of an iteration (issue 36, section 1: the pointwise work) run in parallel over
-fixed blocks of :data:`CHUNK` elements (numba ``prange``, on the threads the caller allows: the
-solver runs them on its FFT operator's threads, :func:`asperity.bem.normal.iteration.iterate`).
-Each block is the serial four-lane kernel above on a slice; the blocks' partial sums are added
-in block order, so the result does not depend on the number of threads (the same bits on 1 or
-16 cores). One thread costs about what the serial kernel did (0.85 against 0.84 ms for the gap
-step at 1024^2); on the shared 2-core machine a second thread gave 0.9-1.3x (the kernels are
-bound by memory bandwidth, and the other core was busy); many cores were not measured. The
-``*_into`` variants also write t into a second array (the single-precision transform's own
-float32 input: no cast pass), and the kernels take float32 ``s``, ``z`` and ``r`` as the
-transforms leave them.
+The kernels of an iteration (issue 36, section 1: the pointwise work) run, on arrays of
+:data:`PARALLEL_MIN` elements or more, in parallel over fixed blocks of :data:`CHUNK` elements
+(numba ``prange``, on the threads the caller allows: the solver runs them on its FFT operator's
+threads, :func:`asperity.bem.normal.iteration.iterate`); smaller arrays take the serial kernel
+on the whole array. Each block is the serial four-lane kernel above on a slice; the blocks'
+partial sums are added in block order, so the result does not depend on the number of threads
+(the same bits on 1 or 16 cores). One thread costs about what the serial kernel did (0.85
+against 0.84 ms for the gap step at 1024^2); on the shared 2-core machine a second thread gave
+0.9-1.3x (the kernels are bound by memory bandwidth, and the other core was busy); many cores
+were not measured. The ``*_into`` variants also write t into a second array (the
+single-precision transform's own float32 input: no cast pass), and the kernels take float32
+``s``, ``z`` and ``r`` as the transforms leave them.
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ from numba import njit, prange
 
 __all__ = [
     "CHUNK",
+    "PARALLEL_MIN",
     "DirectionUpdate",
     "GapStats",
     "ResidualField",
@@ -55,6 +57,11 @@ __all__ = [
 #: Elements per parallel block (2^15: 256 KiB of float64). The blocks' partial sums are added
 #: in block order, so the result does not depend on the thread count.
 CHUNK = 1 << 15
+#: Below this many elements (512^2) a kernel runs serially on the whole array (as before the
+#: blocks: the same bits): a parallel region's start and its wait for a second thread on a busy
+#: core cost more than such a pass (at 256^2 on the shared 2-core machine, 2 threads: mean 0.71
+#: ms against 0.18 ms for the gap step).
+PARALLEL_MIN = 1 << 18
 
 
 class GapStats(NamedTuple):
@@ -478,6 +485,8 @@ def _fsum(a):  # pragma: no cover - compiled
 def deflection_to_gap_stats(w, h, c, shift):  # pragma: no cover - compiled
     """w -= h in place (deflection -> gap without the rigid-body term); returns n, sum(g - shift)
     and sum((g - shift)^2) over the contact set (a :class:`GapStats`), in parallel blocks."""
+    if w.size < PARALLEL_MIN:
+        return _deflection_to_gap_stats_block(w, h, c, shift)
     nb = _blocks(w.size)
     n = np.zeros(nb, dtype=np.int64)
     s1 = np.zeros(nb)
@@ -501,6 +510,8 @@ def update_direction(w, c, t, offset, beta):  # pragma: no cover - compiled
 def update_direction_into(w, c, t, tc, offset, beta):  # pragma: no cover - compiled
     """:func:`update_direction` that also writes t into ``tc`` (the float32 input of the
     single-precision transform of t: no cast pass; ``tc`` may be ``t`` itself)."""
+    if w.size < PARALLEL_MIN:
+        return _update_direction_block(w, c, t, tc, offset, beta)
     nb = _blocks(w.size)
     s1 = np.zeros(nb)
     s2 = np.zeros(nb)
@@ -517,6 +528,8 @@ def update_direction_into(w, c, t, tc, offset, beta):  # pragma: no cover - comp
 def residual_field(w, c, s, offset):  # pragma: no cover - compiled
     """s = g on the contact set, 0 outside (g = w - offset), the input of the preconditioner;
     returns the squared penetration outside the set and its pixel count (parallel blocks)."""
+    if w.size < PARALLEL_MIN:
+        return _residual_field_block(w, c, s, offset)
     nb = _blocks(w.size)
     s2 = np.zeros(nb)
     n = np.zeros(nb, dtype=np.int64)
@@ -529,6 +542,8 @@ def residual_field(w, c, s, offset):  # pragma: no cover - compiled
 @njit(cache=True, fastmath=False, parallel=True)
 def masked_sum(z, c):  # pragma: no cover - compiled
     """Sum of z over the contact set (parallel blocks)."""
+    if z.size < PARALLEL_MIN:
+        return _masked_sum_block(z, c)
     nb = _blocks(z.size)
     s = np.zeros(nb)
     for k in prange(nb):
@@ -548,6 +563,8 @@ def update_direction_preconditioned(w, c, t, z, offset, zbar, beta):  # pragma: 
 def update_direction_preconditioned_into(w, c, t, tc, z, offset, zbar, beta):  # pragma: no cover
     """:func:`update_direction_preconditioned` that also writes t into ``tc`` (the float32
     input of the single-precision transform of t; ``tc`` may be ``t`` itself)."""
+    if w.size < PARALLEL_MIN:
+        return _update_direction_preconditioned_block(w, c, t, tc, z, offset, zbar, beta)
     nb = _blocks(w.size)
     s = np.zeros(nb)
     for k in prange(nb):
@@ -565,6 +582,8 @@ def step_pressure(p, t, w, c, tau, offset, lower, allow_change, gain):  # pragma
     p -= tau t; when ``allow_change`` elements leave where p < -lower and enter (p = -gain g)
     where the gap g = w - offset < 0. Returns a :class:`PressureStep`; the gap follows with
     :func:`gap_step` once r = K t is known, or from a fresh u = K p. Parallel blocks."""
+    if w.size < PARALLEL_MIN:
+        return _step_pressure_block(p, t, w, c, tau, offset, lower, allow_change, gain)
     nb = _blocks(w.size)
     nl = np.zeros(nb, dtype=np.int64)
     ne = np.zeros(nb, dtype=np.int64)
@@ -585,6 +604,8 @@ def gap_step(w, r, c, tau, shift):  # pragma: no cover - compiled
 
     Returns the contact-set gap statistics about ``shift`` (a :class:`GapStats`); parallel
     blocks."""
+    if w.size < PARALLEL_MIN:
+        return _gap_step_block(w, r, c, tau, shift)
     nb = _blocks(w.size)
     n = np.zeros(nb, dtype=np.int64)
     s1 = np.zeros(nb)

@@ -301,7 +301,7 @@ def _iteration_kernels(n_threads: int, n: int, seed: int) -> list:
 def test_parallel_kernels_do_not_depend_on_the_thread_count():
     """The blocks' sums are added in block order: 1 and 2 threads give the same bits, on an
     array of several blocks and a ragged last one."""
-    n = 3 * kr.CHUNK + 7
+    n = kr.PARALLEL_MIN + 2 * kr.CHUNK + 7
     one, two = _iteration_kernels(1, n, 4), _iteration_kernels(2, n, 4)
     for a, b in zip(one, two, strict=True):
         if isinstance(a, np.ndarray):
@@ -313,7 +313,7 @@ def test_parallel_kernels_do_not_depend_on_the_thread_count():
 def test_parallel_kernels_match_numpy_across_blocks():
     """Across block boundaries the sums are those of the whole array (to round-off), the
     float32 copy of t is t rounded, and s is the contact-set residual rounded to float32."""
-    n = 2 * kr.CHUNK + 3
+    n = kr.PARALLEL_MIN + kr.CHUNK + 3
     u, h, c, t, r, p = _state(n, 9)
     m = c.astype(bool)
     w = u.copy()
@@ -333,3 +333,19 @@ def test_parallel_kernels_match_numpy_across_blocks():
     kr.residual_field(w, c, s, 0.2)
     np.testing.assert_array_equal(s, np.where(m, g, 0.0).astype(np.float32))
     assert kr.masked_sum(s, c) == pytest.approx(float(s[m].astype(np.float64).sum()), rel=1e-12)
+
+
+def test_small_arrays_take_the_serial_kernel_bit_for_bit():
+    """Below PARALLEL_MIN the kernel is the serial one on the whole array (the same bits as
+    before the blocks), and the blocks' sums differ from it only by round-off above."""
+    for n in (kr.PARALLEL_MIN - 1, kr.PARALLEL_MIN + 5):
+        u, h, c, t, r, p = _state(n, 2)
+        w1, w2 = u.copy(), u.copy()
+        got = kr.gap_step(w1, r, c, 0.3, 0.1)
+        ref = kr._gap_step_block(w2, r, c, 0.3, 0.1)
+        np.testing.assert_array_equal(w1, w2)
+        assert got.n_contact == ref.n_contact
+        if n < kr.PARALLEL_MIN:
+            assert tuple(got) == tuple(ref)
+        else:
+            assert got.gap_sq == pytest.approx(ref.gap_sq, rel=1e-12)
