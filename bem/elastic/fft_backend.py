@@ -47,6 +47,7 @@ from asperity.bem.errors import BemInputError
 
 __all__ = [
     "Convolution",
+    "NumbaThreads",
     "RadialMultiplier",
     "available_backends",
     "cache_dir",
@@ -231,6 +232,10 @@ class _NumbaThreads:
     def __exit__(self, *exc: object) -> None:
         if numba.get_num_threads() != self.previous:
             numba.set_num_threads(self.previous)
+
+
+#: Public name of the thread-mask context (the solver's pointwise kernels run inside it).
+NumbaThreads = _NumbaThreads
 
 
 def _cast_into(dst: np.ndarray, src: np.ndarray, threads: int) -> None:
@@ -692,6 +697,21 @@ class Convolution:
         if ny % 2 == 0:
             total -= float(mult[:, -1].sum())
         return total
+
+    def direct_input(self) -> np.ndarray | None:
+        """The single-precision real grid this operator's pyFFTW plans read and write as it is
+        (its own aligned scratch), or None (double precision or scipy: the caller's float64
+        arrays are transformed without a cast anyway).
+
+        A kernel that writes its output here (or reads the inverse transform's output from
+        here) saves the float64 <-> float32 cast pass of every single-precision transform:
+        the same bits (the kernel rounds to float32 where the cast did; float32 to float64 is
+        exact), 12 B a point less memory traffic."""
+        if self.backend != "pyfftw" or self.precision == "double":
+            return None
+        if self._scratch is None:
+            self._scratch = self._aligned(self.dtype)
+        return self._scratch
 
     def _usable(self, a: np.ndarray) -> bool:
         return (

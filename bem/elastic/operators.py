@@ -428,6 +428,12 @@ class PaddedConvolution:
         n = self.shape[0] * self.shape[1]
         return self._workspace[: 4 * n].view(np.float32).reshape(self.shape)
 
+    def direct_input(self) -> None:
+        """None: a padded operator moves its input into the doubled grid itself (the work
+        array is already the head of its workspace, :meth:`work_array`); the interface of
+        :meth:`~asperity.bem.elastic.fft_backend.Convolution.direct_input`."""
+        return None
+
     def _is_head(self, a: np.ndarray) -> bool:
         """Whether ``a`` is :meth:`work_array` (of any operator sharing this workspace)."""
         return (

@@ -128,6 +128,11 @@ def _diagnostics(s: IterationState, problem: ContactProblem, counters: dict) -> 
         "preconditioner_dropped_at": s.dropped_at,
         "fft_backend": op.backend,
         "fft_threads": op.threads,
+        # where the transforms beyond the search direction's two went (issue 36): exact
+        # gaps u = K p after a contact-set change with a pressure jump, and the periodic
+        # refreshes (each 2 transforms, the direction's pending inverse then skipped)
+        "set_change_recomputations": s.set_change_recomputations,
+        "refresh_recomputations": s.refresh_recomputations,
     }
 
 

@@ -27,7 +27,7 @@ from typing import NamedTuple
 import numpy as np
 
 from asperity.bem.cancel import check_cancelled
-from asperity.bem.elastic.fft_backend import Convolution
+from asperity.bem.elastic.fft_backend import Convolution, NumbaThreads
 from asperity.bem.elastic.operators import (
     PaddedConvolution,
     influence_operator,
@@ -113,6 +113,9 @@ class IterationState:
     single: bool = False
     switched_at: int | None = None
     n_contact: int = 0
+    t_copied: bool = False
+    set_change_recomputations: int = 0
+    refresh_recomputations: int = 0
     history: list[float] = field(default_factory=list)
 
     def __post_init__(self) -> None:
@@ -367,7 +370,10 @@ def step_length(
     s: IterationState, problem: ContactProblem, options: SolverOptions, sgt: float, npen: int
 ) -> float | Stop:
     """Step 4: r = K t (with sum t r fused in Fourier space) and tau = sum g t / sum t r."""
-    rt = s.op.forward_with_energy(s.t)
+    direct = s.op.direct_input()
+    # t was also written into the single-precision transform's own input (transform_input)
+    rt = s.op.forward_with_energy(direct if s.t_copied and direct is not None else s.t)
+    s.t_copied = False
     if rt > 0:
         return sgt / rt
     below = problem.adhesive and bool(np.any((s.pf < -problem.critical_tension) & (s.cf != 0)))
@@ -419,6 +425,7 @@ def restore_force(s: IterationState, problem: ContactProblem, psum: float) -> No
                 s.psq = kr.dot(s.pf, s.pf)
     s.op(s.p, out=s.w)
     s.since_refresh = 0
+    s.set_change_recomputations += 1
 
 
 def advance_gap(
@@ -441,9 +448,12 @@ def advance_gap(
             s.psq *= alpha**2
         s.op(s.p, out=s.w)
         s.since_refresh = 0
+        s.refresh_recomputations += 1
         return
-    s.op.inverse(s.r)
-    stats = kr.gap_step(s.wf, s.rf, s.cf, tau, s.shift)
+    # single precision: r = K t read from the transform's own float32 output (no cast)
+    direct = s.op.direct_input()
+    r = s.op.inverse(direct) if direct is not None else s.op.inverse(s.r)
+    stats = kr.gap_step(s.wf, r.ravel(), s.cf, tau, s.shift)
     if rescale and abs(alpha - 1.0) > 1e-14:
         # after elements left without a restart, t is not zero-mean on the contact set
         s.stats = kr.scale_with_stats(
@@ -510,6 +520,20 @@ def apply_step(
         advance_gap(s, problem, options, upd, tau)
 
 
+def transform_input(s: IterationState, keep: np.ndarray | None = None) -> np.ndarray:
+    """Where a direction kernel writes its copy of t (flat): the float32 input of the
+    single-precision operator (the forward transform of t then casts nothing), else t itself
+    (the copy is the same write again). Marks the copy made for :func:`step_length`.
+
+    Not where it would overwrite ``keep`` (the preconditioned gap z, which the periodic
+    operators hold in the same workspace: the direction may be rebuilt from z)."""
+    direct = s.op.direct_input()
+    if direct is not None and keep is not None and np.shares_memory(direct, keep):
+        direct = None
+    s.t_copied = direct is not None
+    return direct.ravel() if direct is not None else s.tf
+
+
 def plain_pk_iteration(
     s: IterationState, problem: ContactProblem, options: SolverOptions
 ) -> Stop | None:
@@ -518,7 +542,7 @@ def plain_pk_iteration(
     if isinstance(gap, Stop):
         return gap
     beta = 0.0 if s.reset or s.g_old <= 0 else gap.g_sq / s.g_old
-    d = kr.update_direction(s.wf, s.cf, s.tf, s.offset, beta)
+    d = kr.update_direction_into(s.wf, s.cf, s.tf, transform_input(s), s.offset, beta)
     verdict = check_progress(s, problem, options, gap.g_sq, d.penetration_sq)
     if isinstance(verdict, Stop):
         return verdict
@@ -562,7 +586,11 @@ def preconditioned_pk_iteration(
     gap = measure_gap(s, problem)
     if isinstance(gap, Stop):
         return gap
-    res = kr.residual_field(s.wf, s.cf, s.sf, s.offset)
+    # single precision: the residual is written straight into the preconditioner's float32
+    # input and z read from its output (no cast passes; the same bits)
+    direct = s.pre.direct_input()
+    s_arr = direct if direct is not None else s.s_arr
+    res = kr.residual_field(s.wf, s.cf, s_arr.ravel(), s.offset)
     verdict = check_progress(s, problem, options, gap.g_sq, res.penetration_sq)
     if isinstance(verdict, Stop):
         return verdict
@@ -573,13 +601,16 @@ def preconditioned_pk_iteration(
         drop_preconditioner(s)
         d = kr.update_direction(s.wf, s.cf, s.tf, s.offset, 0.0)
         return _take_step(s, problem, options, gap.g_sq, d.sum_gt, d.n_penetrating)
-    gz = s.pre.with_energy(s.s_arr, s.z_arr)
-    zbar = kr.masked_sum(s.zf, s.cf) / gap.n_contact if problem.load_control else 0.0
+    z_arr = s_arr if direct is not None else s.z_arr
+    gz = s.pre.with_energy(s_arr, z_arr)
+    zf = z_arr.ravel()
+    zbar = kr.masked_sum(zf, s.cf) / gap.n_contact if problem.load_control else 0.0
     beta = 0.0 if s.reset or s.gz_old <= 0 else gz / s.gz_old
     s.gz_old = gz
-    sgt = kr.update_direction_preconditioned(s.wf, s.cf, s.tf, s.zf, s.offset, zbar, beta)
+    tc = transform_input(s, keep=z_arr)
+    sgt = kr.update_direction_preconditioned_into(s.wf, s.cf, s.tf, tc, zf, s.offset, zbar, beta)
     if beta != 0.0 and not sgt > 0:
-        sgt = kr.update_direction_preconditioned(s.wf, s.cf, s.tf, s.zf, s.offset, zbar, 0.0)
+        sgt = kr.update_direction_preconditioned_into(s.wf, s.cf, s.tf, tc, zf, s.offset, zbar, 0.0)
     return _take_step(s, problem, options, gap.g_sq, sgt, res.n_penetrating)
 
 
@@ -592,10 +623,13 @@ def iterate(s: IterationState, problem: ContactProblem, options: SolverOptions) 
         A cancellation (Ctrl-C) was requested: checked before every iteration, between the
         compiled kernels, never inside one.
     """
-    for _ in range(options.max_iterations(problem.heights.shape)):
-        check_cancelled()
-        step = plain_pk_iteration if s.pre is None else preconditioned_pk_iteration
-        stop = step(s, problem, options)
-        if stop is not None:
-            return stop
+    # the pointwise kernels run on the FFT operator's threads (numba's thread mask; the
+    # blocks' sums do not depend on it)
+    with NumbaThreads(problem.op.threads):
+        for _ in range(options.max_iterations(problem.heights.shape)):
+            check_cancelled()
+            step = plain_pk_iteration if s.pre is None else preconditioned_pk_iteration
+            stop = step(s, problem, options)
+            if stop is not None:
+                return stop
     return None
