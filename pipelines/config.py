@@ -236,12 +236,18 @@ class LoadingConfig:
         Largest delta_T, m; None ("auto") extends the path until full sliding.
     steps : int
         Number of delta_T steps (first one delta_T = 0).
+    drive_stiffness : float or None
+        Stiffness k of the tangential loading system in series with the contact, N/m (the
+        paper's wire: 9200 N/m); None (absent): a rigid drive. The model's F_x(delta_T) is
+        compared with measured friction tests at drive = delta_T + F_x / k
+        (:mod:`asperity.statmodel.drive`).
     """
 
     nominal_area: float = 700e-6
     normal_loads: tuple[float, ...] = (0.56, 1.06, 1.58, 2.08, 2.57, 3.12)
     max_tangential_displacement: float | None = None
     steps: int = 201
+    drive_stiffness: float | None = None
 
 
 @dataclass(frozen=True)
@@ -408,10 +414,15 @@ class MeasuredConfig:
         A_r(F_z): columns ``normal_load`` (N), ``real_area`` (m^2).
     shear_area : tuple of ShearCurveFile
         A_r(F_x) curves: one file per normal load, or one long file with a ``normal_load`` column.
+    friction_curves : tuple of ShearCurveFile
+        Friction tests F_x(drive): columns ``drive_displacement`` (m), ``tangential_force`` (N)
+        (and ``normal_load``, N, in a long file); files given as ``shear_area``
+        (:mod:`asperity.pipelines.measured_friction`).
     """
 
     normal_area: Path | None = None
     shear_area: tuple[ShearCurveFile, ...] = ()
+    friction_curves: tuple[ShearCurveFile, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -648,6 +659,7 @@ JOB_SCHEMA = Schema(
                     None,
                 ),
                 _bounded("loading.steps", LoadingConfig.steps),
+                _bounded("loading.drive_stiffness", None),
             ),
         ),
         Section(
@@ -701,6 +713,7 @@ JOB_SCHEMA = Schema(
             (
                 Key("normal_area", ExistingFile(), None),
                 Key("shear_area", ShearFiles(), ()),
+                Key("friction_curves", ShearFiles(), ()),
             ),
         ),
         Section(

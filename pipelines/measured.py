@@ -85,12 +85,14 @@ UNIT_FACTORS: dict[str, dict[str, float]] = {
         "nm^2": 1e-18,
     },
     "force": {"N": 1.0, "kN": 1e3, "mN": 1e-3, "uN": 1e-6, "nN": 1e-9},
+    "length": {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "nm": 1e-9},
 }
 #: What each known column measures.
 COLUMN_QUANTITY: dict[str, str] = {
     "real_area": "area",
     "normal_load": "force",
     "tangential_force": "force",
+    "drive_displacement": "length",
 }
 _HEADER = re.compile(r"^\s*([^\[\(]*?)\s*(?:[\[\(]\s*([^\]\)]*?)\s*[\]\)])?\s*$")
 
@@ -128,12 +130,17 @@ def parse_header_cell(path: Path, cell: str) -> tuple[str, float]:
 def _data_lines(path: Path) -> list[tuple[int, str]]:
     """(line number in the file, text) of every line that is not blank or a ``#`` comment."""
     require_regular_file(path, "measured file")
-    with open(path, newline="", encoding="utf-8") as handle:
-        return [
-            (number, line)
-            for number, line in enumerate(handle, start=1)
-            if line.strip() and not line.lstrip().startswith("#")
-        ]
+    try:
+        with open(path, newline="", encoding="utf-8") as handle:
+            return [
+                (number, line)
+                for number, line in enumerate(handle, start=1)
+                if line.strip() and not line.lstrip().startswith("#")
+            ]
+    except UnicodeDecodeError as exc:
+        raise MeasuredFileError(
+            f"{path}: not UTF-8 text (byte {exc.start}: {exc.reason}); expected a CSV file"
+        ) from None
 
 
 def _delimiter(header_line: str) -> str:
