@@ -75,6 +75,9 @@ MISSING_POLICIES: tuple[str, ...] = ("refuse", "fill-lowest", "interpolate")
 OUTLIER_RULES: tuple[str, ...] = ("mad", "percentile", "none")
 #: ``fit.mode`` (the first is the default).
 FIT_MODES: tuple[str, ...] = ("shape", "absolute")
+#: Where lambda is fitted (``[fit] source``): measured A_r(F_x) curves (``measured.shear_area``),
+#: measured friction tests F_x(drive) (``measured.friction_curves``), or both jointly.
+FIT_SOURCES: tuple[str, ...] = ("area", "friction", "joint")
 
 
 @dataclass(frozen=True)
@@ -438,11 +441,17 @@ class FitConfig:
         level offset does not bias lambda) or "absolute" (A_r itself).
     trim_after_first_peak : bool
         Cut each measured curve after its first static peak of F_x (the stick-slip tail).
+    source : str
+        What lambda is fitted to (:data:`FIT_SOURCES`): "area" (default: the A_r(F_x) curves,
+        ``measured.shear_area``), "friction" (the friction tests F_x(drive),
+        ``measured.friction_curves``, through ``loading.drive_stiffness``) or "joint" (both,
+        each weighted by its own residual variance); see :mod:`asperity.pipelines.stages.friction_fit`.
     """
 
     mode_mixity_bounds: tuple[float, float] = (1e-4, 1.0)
     mode: str = "shape"
     trim_after_first_peak: bool = True
+    source: str = "area"
 
 
 @dataclass(frozen=True)
@@ -727,6 +736,7 @@ JOB_SCHEMA = Schema(
                 ),
                 Key("mode", Choice(FIT_MODES), FitConfig.mode),
                 Key("trim_after_first_peak", Flag(), FitConfig.trim_after_first_peak),
+                Key("source", Choice(FIT_SOURCES), FitConfig.source),
             ),
             check=_ordered_bounds,
         ),
@@ -813,11 +823,29 @@ def config_from_dict(
             False,
         )
     _compressive_loads_for_the_bem(sections, source)
+    _fit_source_has_its_curves(sections, source)
     if "bem_shear" not in data:  # the optional stage's table absent: the stage is off
         sections["bem_shear"] = None
     else:
         _shear_loads_among_the_job_loads(sections, source)
     return JobConfig(**sections, source=source, given_keys=given_keys(data))
+
+
+def _fit_source_has_its_curves(sections: Mapping[str, Any], source: str) -> None:
+    """``fit.source`` "friction" needs ``measured.friction_curves``; "joint" needs them and
+    ``measured.shear_area`` (the curves lambda is fitted to must be given)."""
+    fit, measured = sections["fit"].source, sections["measured"]
+    needs = {"friction": ("friction_curves",), "joint": ("friction_curves", "shear_area")}
+    for key in needs.get(fit, ()):
+        if not getattr(measured, key):
+            raise Context(source).fail(
+                "fit.source",
+                f"'area' unless measured.{key} gives the curves lambda is fitted to "
+                f"(source {fit!r} fits "
+                + ("the friction tests" if fit == "friction" else "both measurements")
+                + ")",
+                fit,
+            )
 
 
 def _compressive_loads_for_the_bem(sections: Mapping[str, Any], source: str) -> None:

@@ -20,7 +20,7 @@ from __future__ import annotations
 import sys
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import asperity
@@ -33,6 +33,7 @@ from asperity.pipelines.engine.parallel import Scheduler, make_executor
 from asperity.pipelines.engine.stage import Runner, StageContext, StageRun, stage_label
 from asperity.pipelines.engine.store import ResultStore
 from asperity.pipelines.measured import read_measurements
+from asperity.pipelines.measured_friction import read_friction_files
 from asperity.pipelines.results import StageResults, solver_problems
 from asperity.pipelines.stages import STAGE_NAMES, STAGES
 from asperity.pipelines.stages.surface import input_sha256
@@ -142,6 +143,12 @@ def run_job(
     measured = read_measurements(
         config.measured, config.loading.nominal_area, config.loading.normal_loads
     )  # a malformed CSV, or a curve at a load not configured, fails before any work
+    measured = replace(
+        measured,
+        friction_curves=read_friction_files(
+            config.measured.friction_curves, config.loading.normal_loads
+        ),
+    )
     input_hash = input_sha256(config.surface)
     workers = config.run.workers if workers is None else workers
     log = log or (lambda line: None)

@@ -461,6 +461,9 @@ class Measurements:
 
     normal_area: NormalAreaCurve | None = None
     shear_area: list[ShearAreaCurve] = field(default_factory=list)
+    #: Friction tests F_x(drive) (:class:`asperity.pipelines.measured_friction.FrictionCurve`),
+    #: read by :func:`asperity.pipelines.measured_friction.read_friction_files`.
+    friction_curves: list = field(default_factory=list)
 
 
 def read_measurements(
