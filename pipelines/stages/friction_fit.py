@@ -3,16 +3,17 @@ measured A_r(F_x) curves, and compare the two single-source estimates.
 
 **Friction only** (:func:`fit_mode_mixity_friction`). Each measured test (drive from its first
 point, m; F_x, N) is trimmed after its first static peak (the stick-slip tail follows it, as in
-the area fit: :func:`asperity.pipelines.stages.fitting.first_peak_end`) and points of equal
-drive are merged. The model curve at a lambda is the statistical model's F_x(delta_T)
-(E:NewFormulation_Fx) seen from the drive through the loading system's spring,
-drive = delta_T + F_x / k (:func:`asperity.statmodel.drive.drive_curve`); its stable rising
-branch, up to the static peak at drive delta_s + F_s / k, is interpolated at the measured drive
-and held at F_s beyond it. Residuals r = (F_model - F_measured) / max(F_measured) (each test
-weighs the same), absolute (no free factor: the level of F_x is what lambda sets, through the
-static peak); q = log10(lambda) is scanned on a coarse log grid and refined by a bounded Brent
-search between the best point's neighbours, exactly as the area fit
-(:func:`asperity.pipelines.stages.fitting.fit_mode_mixity`). With a rigid drive, drive = delta_T.
+the area fit; the peak is where F_x first falls below its running maximum by six noise levels,
+:func:`peak_end`) and points of equal drive are merged. The model curve at a lambda is the
+statistical model's F_x(delta_T) (E:NewFormulation_Fx) seen from the drive through the loading
+system's spring, drive = delta_T + F_x / k (:func:`asperity.statmodel.drive.drive_curve`); its
+stable rising branch, up to the static peak at drive delta_s + F_s / k, is interpolated at the
+measured drive and held at F_s beyond it. Residuals r = (F_model - F_measured) / max(F_measured)
+(each test weighs the same), absolute (no free factor: the level of F_x is what lambda sets,
+through the static peak); q = log10(lambda) is scanned on a coarse log grid and refined by a
+bounded Brent search between the best point's neighbours, exactly as the area fit
+(:func:`asperity.pipelines.stages.fitting.fit_mode_mixity`). With a rigid drive, drive =
+delta_T.
 
 **Interval** (profile likelihood): s^2 = S_min / (m - 1) with m merged points; the one-sigma
 interval is where S(q) <= S_min + s^2 (Delta chi^2 = 1), stepped out and bisected on the model
@@ -45,6 +46,7 @@ from asperity.pipelines.measured import ShearAreaCurve
 from asperity.pipelines.measured_friction import FrictionCurve
 from asperity.pipelines.stages.fitting import (
     BOUND_MARGIN,
+    PEAK_DROP,
     LambdaFit,
     ShearAreaModel,
     _Objective,
@@ -72,10 +74,43 @@ class PreparedTest:
     tangential_force: np.ndarray
 
 
+#: A fall of F_x below its running maximum by this many noise levels (:func:`noise_level`)
+#: marks the first static peak of a friction test (and at least
+#: :data:`asperity.pipelines.stages.fitting.PEAK_DROP` of its largest F_x): a noise dip on the
+#: rising branch must not be taken for the peak (with 1 % noise the 2 % rule alone cut one test
+#: in five there).
+PEAK_NOISE_LEVELS = 6.0
+
+
+def noise_level(force: np.ndarray) -> float:
+    """White-noise standard deviation (N) of a sampled F_x, robust to its jumps: the median
+    absolute second difference / (0.6745 sqrt 6) (a smooth curve's second differences are
+    small on a fine sampling, a white noise's have variance 6 sigma^2, and a few stick-slip
+    drops do not move the median). NaN with fewer than three points."""
+    force = np.asarray(force, dtype=float)
+    if force.size < 3:
+        return math.nan
+    second = force[2:] - 2.0 * force[1:-1] + force[:-2]
+    return float(np.median(np.abs(second)) / (0.6745 * math.sqrt(6.0)))
+
+
+def peak_end(force: np.ndarray) -> int:
+    """Points up to and including a friction test's first static peak: the first fall below
+    the running maximum by :data:`PEAK_NOISE_LEVELS` noise levels and at least
+    :data:`asperity.pipelines.stages.fitting.PEAK_DROP` of max |F_x|
+    (:func:`asperity.pipelines.stages.fitting.first_peak_end`)."""
+    force = np.asarray(force, dtype=float)
+    top = float(np.max(np.abs(force))) or 1.0
+    noise = noise_level(force)
+    drop = max(PEAK_DROP, PEAK_NOISE_LEVELS * noise / top if math.isfinite(noise) else 0.0)
+    return first_peak_end(force, drop)
+
+
 def prepare_test(curve: FrictionCurve, *, trim: bool = True) -> PreparedTest:
-    """A measured test trimmed after its first static peak (optional), equal drives merged."""
+    """A measured test trimmed after its first static peak (optional, :func:`peak_end`), equal
+    drives merged."""
     force = np.asarray(curve.tangential_force, dtype=float)
-    end = first_peak_end(force) if trim else force.size
+    end = peak_end(force) if trim else force.size
     drive, merged = merge_repeated(curve.drive_from_start[:end], force[:end])
     return PreparedTest(curve.normal_load, drive, merged)
 
