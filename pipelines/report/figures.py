@@ -52,6 +52,7 @@ from asperity.pipelines.report import verdict_marks
 from asperity.pipelines.report._run import Run, persson_fraction
 from asperity.pipelines.report.bem import BEM_MODES
 from asperity.pipelines.report.figure_output import FigureOptions, FigureTable, publish
+from asperity.pipelines.report.friction_curves import FRICTION_TEST_FIGURES
 from asperity.pipelines.report.numbers import format_number
 from asperity.pipelines.report.profile import (
     scan_label,
@@ -1074,6 +1075,7 @@ FIGURES: dict[str, tuple[str, Drawer, Callable[[Run], bool]]] = {
     ),
     "psd": ("psd", draw_psd, lambda r: getattr(r, "psd", None) is not None),
     **SHEAR_FIGURES,
+    **FRICTION_TEST_FIGURES,
 }
 
 

@@ -12,6 +12,7 @@ import pytest
 
 from asperity.pipelines.job import run_job
 from asperity.pipelines.measured_friction import FrictionCurve, write_friction_curves
+from asperity.pipelines.report import write_report
 from asperity.pipelines.stages.friction import model_drive_curve
 from asperity.pipelines.stages.friction_curves import measured_peak
 from asperity.pipelines.stages.friction_fit import noise_level
@@ -98,6 +99,13 @@ def test_job_fits_lambda_to_friction_tests_and_compares(small, tmp_path):
     delta_s = ft.predicted_static_drive - fr.static_friction / WIRE
     assert np.all(np.abs(delta_s - peak) <= 0.5 * step + 1e-15)
     np.testing.assert_allclose(ft.predicted_static_friction, fr.static_friction)
+    write_report(result, out)  # a section, a figure per test and mu(F_z), the spring stated
+    report = (out / "report.md").read_text()
+    assert "## Friction tests against the model (stage 10)" in report
+    assert "loading system k = 9200 N/m" in report
+    assert all((out / f"friction_test_{i}.png").is_file() for i in (1, 2, 3))
+    assert (out / "friction_coefficient.png").is_file()
+    assert "friction-tests" in (out / "report.html").read_text()
     with h5py.File(out / "results.h5", "r") as h5:
         group = h5["friction_tests"]
         assert group["predicted_static_drive"].attrs["units"] == "m"
