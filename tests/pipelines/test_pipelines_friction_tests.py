@@ -13,9 +13,11 @@ import pytest
 from asperity.pipelines.job import run_job
 from asperity.pipelines.measured_friction import FrictionCurve, write_friction_curves
 from asperity.pipelines.report import write_report
+from asperity.pipelines.report.figures import draw_figure
 from asperity.pipelines.stages.friction import model_drive_curve
 from asperity.pipelines.stages.friction_curves import measured_peak
 from asperity.pipelines.stages.friction_fit import noise_level
+from asperity.plotting import layout_problems
 
 WIRE = 9200.0
 
@@ -106,6 +108,9 @@ def test_job_fits_lambda_to_friction_tests_and_compares(small, tmp_path):
     assert all((out / f"friction_test_{i}.png").is_file() for i in (1, 2, 3))
     assert (out / "friction_coefficient.png").is_file()
     assert "friction-tests" in (out / "report.html").read_text()
+    for name in ("friction_test_1", "friction_coefficient"):
+        fig, _ = draw_figure(result, name)
+        assert layout_problems(fig) == [], name
     with h5py.File(out / "results.h5", "r") as h5:
         group = h5["friction_tests"]
         assert group["predicted_static_drive"].attrs["units"] == "m"
