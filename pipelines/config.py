@@ -445,7 +445,8 @@ class FitConfig:
         What lambda is fitted to (:data:`FIT_SOURCES`): "area" (default: the A_r(F_x) curves,
         ``measured.shear_area``), "friction" (the friction tests F_x(drive),
         ``measured.friction_curves``, through ``loading.drive_stiffness``) or "joint" (both,
-        each weighted by its own residual variance); see :mod:`asperity.pipelines.stages.friction_fit`.
+        each weighted by its own residual variance); see
+        :mod:`asperity.pipelines.stages.friction_fit`.
     """
 
     mode_mixity_bounds: tuple[float, float] = (1e-4, 1.0)

@@ -145,6 +145,18 @@ def _notes(result: Run) -> list[str]:
     if comparison:
         flag = "**Warning (lambda_sources_disagree):** " if lam.lambda_sources_disagree else ""
         notes.append(f"{flag}{comparison}.")
+    if tests.bem_static_drive is not None:
+        for i, load in enumerate(tests.normal_load):
+            if math.isfinite(tests.bem_static_drive[i]):
+                jump = (
+                    f"a stick-slip drop of {format_quantity(tests.bem_jump_force_drop[i], 'N')}"
+                    if tests.bem_stick_slip[i] == 1
+                    else "no stick-slip jump"
+                )
+                notes.append(
+                    f"Shear BEM at {format_quantity(load, 'N')} through the same spring: peak "
+                    f"at drive {format_quantity(tests.bem_static_drive[i], 'm')}, {jump}."
+                )
     if tests.normal_load.size > MAX_TEST_FIGURES:
         notes.append(
             f"Figures drawn for the first {MAX_TEST_FIGURES} tests; every test is in the table, "
@@ -194,9 +206,10 @@ def friction_tests_html(result: Run) -> str:
     )
 
 
-def _model(tests: FrictionTestComparison, i: int) -> statmodel.DriveCurve:
-    """Test ``i``'s stored model curve as a DriveCurve again (delta_T = drive - F_x / k)."""
-    drive, force = tests.model_drive[i], tests.model_force[i]
+def _model(tests: FrictionTestComparison, i: int, prefix: str = "model") -> statmodel.DriveCurve:
+    """Test ``i``'s stored model (or, ``prefix`` "bem", shear BEM) curve as a DriveCurve again
+    (delta_T = drive - F_x / k)."""
+    drive, force = getattr(tests, f"{prefix}_drive")[i], getattr(tests, f"{prefix}_force")[i]
     keep = np.isfinite(drive) & np.isfinite(force)
     drive, force = drive[keep], force[keep]
     k = tests.drive_stiffness
@@ -268,6 +281,18 @@ def draw_friction_test(result: Run, i: int) -> tuple[Figure, FigureTable]:
     )
     table = FigureTable()
     x_col, y_col = "drive displacement (m)", "tangential force F_x (N)"
+    if tests.bem_drive is not None and np.isfinite(tests.bem_drive[i]).sum() >= 2:
+        bem_d, bem_f = _model(tests, i, "bem").followed_path()
+        keep = bem_d <= 1.05 * end
+        ax.plot(
+            du(bem_d[keep]),
+            fu(bem_f[keep]),
+            "-",
+            color="C4",
+            lw=1,
+            label="shear BEM, drive-controlled",
+        )
+        table.add("all", "shear BEM drive-controlled", {x_col: bem_d, y_col: bem_f})
     table.add("all", "measured", {x_col: drive_m, y_col: force_m})
     table.add("all", "model drive-controlled", {x_col: path_d, y_col: path_f})
     table.add(

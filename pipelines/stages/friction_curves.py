@@ -22,6 +22,9 @@ comparison, per test, with uncertainties (one sigma):
   when the test stops at its peak); predicted, tau0 A_r^Hertz, the all-sliding limit, with
   the friction stage's uncertainty.
 
+Where the job runs the shear BEM (``[bem_shear]``) at a test's load, the BEM's F_x(delta_T) (the
+grid used) is mapped to the drive the same way, with its own jumps.
+
 SI units throughout: m, N, N/m.
 """
 
@@ -37,6 +40,7 @@ from asperity import statmodel
 from asperity.fields import array, document_fields, scalar, text
 from asperity.pipelines.engine.stage import Stage, StageContext
 from asperity.pipelines.measured_friction import FrictionCurve
+from asperity.pipelines.stages.bem_shear import BEM_SHEAR, BemShearComparison
 from asperity.pipelines.stages.friction import (
     FRICTION,
     MODE_MIXITY,
@@ -59,7 +63,8 @@ class FrictionTestComparison:
     (``friction_point``): the test it belongs to, the drive from the test's start, the measured
     and the predicted F_x (the drive-controlled path, jumps included). Per test and model point
     (``model_point``, NaN-padded): the model's whole quasi-static curve seen from the drive,
-    unstable parts included (``model_stable`` 0 there).
+    unstable parts included (``model_stable`` 0 there). With the shear BEM (stage ``bem_shear``)
+    at a test's load, its curve (grid used) mapped the same way (``bem_*``; NaN elsewhere).
     """
 
     drive_stiffness: float = scalar("N/m", "loading system's stiffness k (inf: rigid)")
@@ -121,6 +126,24 @@ class FrictionTestComparison:
     )
     sources: list[str] = text("file of each test")
     uncertainty_message: str = text("what the uncertainties hold")
+    bem_drive: np.ndarray | None = array(
+        "m", ("friction_test", "bem_step"), "shear BEM's curve: drive (NaN: none)", optional=True
+    )
+    bem_force: np.ndarray | None = array(
+        "N", ("friction_test", "bem_step"), "shear BEM's curve: F_x", optional=True
+    )
+    bem_static_drive: np.ndarray | None = array(
+        "m", ("friction_test",), "shear BEM's drive at its peak (NaN: none)", optional=True
+    )
+    bem_stick_slip: np.ndarray | None = array(
+        "1", ("friction_test",), "the BEM's curve jumps through the spring", optional=True
+    )
+    bem_jump_drive: np.ndarray | None = array(
+        "m", ("friction_test",), "drive of the BEM's first jump (NaN: none)", optional=True
+    )
+    bem_jump_force_drop: np.ndarray | None = array(
+        "N", ("friction_test",), "F_x drop of the BEM's first jump (NaN: none)", optional=True
+    )
 
 
 def measured_peak(curve: FrictionCurve) -> dict[str, float]:
@@ -173,6 +196,55 @@ def _stored_curve(friction: FrictionPrediction, index: int, k: float) -> statmod
         static_friction=float(friction.static_friction[index]),
         static_displacement=peak_displacement(dts, np.asarray(friction.tangential_force[index])),
     )
+
+
+def _bem_curve(shear: BemShearComparison, load: float, k: float) -> statmodel.DriveCurve | None:
+    """The shear BEM's curve (grid used) at ``load`` (N) seen from the drive (k N/m), continued
+    at its sliding friction when it reached full sliding; None when the BEM did not shear that
+    load (or solved fewer than two steps)."""
+    loads = np.asarray(shear.normal_load, dtype=float)
+    match = np.flatnonzero(np.isclose(loads, load, rtol=1e-9))
+    if not match.size:
+        return None
+    j = int(match[0])
+    dts = np.asarray(shear.tangential_displacement[j], dtype=float)
+    force = np.asarray(shear.tangential_force[0, j], dtype=float)
+    if np.count_nonzero(np.isfinite(force)) < 2:
+        return None
+    sliding = float(shear.sliding_displacement[0, j])
+    slides = math.isfinite(sliding) and sliding <= np.nanmax(dts)
+    return statmodel.map_to_drive(
+        dts,
+        force,
+        k,
+        sliding_friction=float(shear.sliding_friction[0, j]) if slides else math.nan,
+        static_friction=float(shear.static_friction[0, j]),
+        static_displacement=float(shear.static_displacement[0, j]),
+    )
+
+
+def _bem_fields(
+    shear: BemShearComparison | None, curves: Sequence[FrictionCurve], k: float
+) -> dict[str, np.ndarray]:
+    """The shear BEM's curves mapped to the drive at each test's load (empty without the
+    stage, or when it sheared none of the tests' loads)."""
+    if shear is None:
+        return {}
+    mapped = [_bem_curve(shear, c.normal_load, k) for c in curves]
+    if all(m is None for m in mapped):
+        return {}
+    nan = math.nan
+    jumps = [m.jumps[0] if m is not None and m.jumps else None for m in mapped]
+    return {
+        "bem_drive": _padded([[nan] if m is None else m.drive_displacement for m in mapped]),
+        "bem_force": _padded([[nan] if m is None else m.tangential_force for m in mapped]),
+        "bem_static_drive": np.array(
+            [nan if m is None else m.static_drive_displacement for m in mapped]
+        ),
+        "bem_stick_slip": np.array([nan if m is None else float(m.stick_slip) for m in mapped]),
+        "bem_jump_drive": np.array([nan if j is None else j.drive_displacement for j in jumps]),
+        "bem_jump_force_drop": np.array([nan if j is None else j.force_drop for j in jumps]),
+    }
 
 
 def _at(values: np.ndarray | None, index: int) -> float:
@@ -246,6 +318,7 @@ def compare_friction_tests(context: StageContext) -> FrictionTestComparison:
         model_drive=_padded(model_rows["drive"]),
         model_force=_padded(model_rows["force"]),
         model_stable=_padded(model_rows["stable"]),
+        **_bem_fields(context.result(BEM_SHEAR), context.measured.friction_curves, k),
         sources=[c.source for c in context.measured.friction_curves],
         uncertainty_message=_uncertainty_message(friction, choice),
     )
@@ -351,7 +424,7 @@ FRICTION_CURVES = Stage(
         "loading",
         "measured.friction_curves",
     ),
-    inputs=(STATISTICAL_MODEL, MODE_MIXITY, FRICTION),
+    inputs=(STATISTICAL_MODEL, MODE_MIXITY, FRICTION, BEM_SHEAR),
     compute=compare_friction_tests,
     enabled=_has_friction_tests,
 )

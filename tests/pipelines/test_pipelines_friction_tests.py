@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import functools
 import math
+from types import SimpleNamespace
 
 import h5py
 import numpy as np
@@ -15,7 +16,7 @@ from asperity.pipelines.measured_friction import FrictionCurve, write_friction_c
 from asperity.pipelines.report import write_report
 from asperity.pipelines.report.figures import draw_figure
 from asperity.pipelines.stages.friction import model_drive_curve
-from asperity.pipelines.stages.friction_curves import measured_peak
+from asperity.pipelines.stages.friction_curves import _bem_fields, measured_peak
 from asperity.pipelines.stages.friction_fit import noise_level
 from asperity.plotting import layout_problems
 
@@ -116,3 +117,35 @@ def test_job_fits_lambda_to_friction_tests_and_compares(small, tmp_path):
         assert group["predicted_static_drive"].attrs["units"] == "m"
         assert group["measured_static_friction"].attrs["units"] == "N"
         assert math.isclose(float(group.attrs["drive_stiffness"]), WIRE)
+
+
+def _bem_shear(dts, force, load):
+    """The fields of a shear BEM result the stage reads: one load, one grid (SI)."""
+    peak = int(np.argmax(force))
+    return SimpleNamespace(
+        normal_load=np.array([load]),
+        tangential_displacement=dts[None, :],
+        tangential_force=force[None, None, :],
+        static_friction=np.array([[force[peak]]]),
+        static_displacement=np.array([[dts[peak]]]),
+        sliding_friction=np.array([[force[-1]]]),
+        sliding_displacement=np.array([[dts[-1]]]),
+    )
+
+
+def test_shear_bem_curve_is_mapped_through_the_same_spring():
+    """A BEM curve rising at 5e4 N/m to 0.4 N then falling at 5e5 N/m to 0.13 N: through the
+    9200 N/m wire its peak is at drive 8 um + 0.4 N / k, and it jumps by 0.27 N; a test at a
+    load the BEM did not shear gets NaN, and without the BEM stage no field is stored."""
+    dts = np.linspace(0.0, 2e-5, 2001)
+    force = np.maximum(np.where(dts <= 8e-6, 5e4 * dts, 0.4 - 5e5 * (dts - 8e-6)), 0.13)
+    tests = [
+        FrictionCurve(0.56, np.array([0.0, 1e-5]), np.zeros(2)),
+        FrictionCurve(2.08, np.array([0.0, 1e-5]), np.zeros(2)),
+    ]
+    fields = _bem_fields(_bem_shear(dts, force, 0.56), tests, WIRE)
+    assert fields["bem_static_drive"][0] == pytest.approx(8e-6 + 0.4 / WIRE)
+    assert fields["bem_stick_slip"][0] == 1.0
+    assert fields["bem_jump_force_drop"][0] == pytest.approx(0.27, rel=1e-3)
+    assert np.isnan(fields["bem_static_drive"][1])
+    assert _bem_fields(None, tests, WIRE) == {}
