@@ -4,6 +4,7 @@ seeds."""
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 
@@ -41,7 +42,7 @@ MODEL = functools.partial(
     nominal_area=700e-6,
     drive_stiffness=WIRE,
     max_tangential_displacement=None,
-    steps=101,
+    steps=61,
     knobs={},
 )
 
@@ -156,3 +157,48 @@ def test_joint_fit_sits_between_and_narrows():
             area_model=area_model,
             drive_model=MODEL,
         )
+
+
+def test_configured_lambda_kept_with_source_area_and_the_friction_fit_recorded():
+    """Friction tests without A_r(F_x) curves and fit.source = "area": lambda stays the
+    configured one (not fitted), the friction-only lambda is recorded beside it."""
+    from asperity.pipelines.stages.friction import calibrate_mode_mixity
+
+    configured = dataclasses.replace(MATERIAL, mode_mixity=0.1)
+    choice = calibrate_mode_mixity(
+        configured,
+        ROUGHNESS,
+        700e-6,
+        [],
+        friction_curves=[_test(0.56, seed=0)],
+        source="area",
+        drive_stiffness=WIRE,
+    )
+    assert not choice.fitted and choice.mode_mixity == 0.1
+    low, high = choice.friction_interval
+    assert low <= TRUE_LAMBDA <= high and choice.fit_source == "area"
+    assert choice.lambda_sources_disagree is None
+
+
+def test_disagreeing_sources_are_a_verdict_warning():
+    from asperity.pipelines.stages.friction import ModeMixityChoice
+    from asperity.pipelines.stages.verdict import check_lambda_sources
+
+    choice = ModeMixityChoice(mode_mixity=0.03, fitted=True)
+    assert check_lambda_sources(choice) == []
+    disagree, text = compare_sources(_lambda_fit(0.03, 0.028, 0.032), _lambda_fit(0.1, 0.09, 0.11))
+    choice.lambda_sources_disagree, choice.lambda_sources_comparison = disagree, text
+    choice.fit_source = "joint"
+    (reason,) = check_lambda_sources(choice)
+    assert (reason.code, reason.severity) == ("lambda_sources_disagree", "warning")
+    assert "drive_stiffness" in reason.text
+
+
+def test_fit_source_needs_its_curves(tmp_path):
+    from asperity.pipelines.config import ConfigError, config_from_dict
+
+    base = {"surface": {"synthetic": {"n": 64}}}
+    with pytest.raises(ConfigError, match="fit.source.*measured.friction_curves"):
+        config_from_dict({**base, "fit": {"source": "friction"}})
+    with pytest.raises(ConfigError, match="fit.source"):
+        config_from_dict({**base, "fit": {"source": "both"}})
