@@ -14,7 +14,8 @@ comparison, per test, with uncertainties (one sigma):
   it, the spread over lambda's interval;
 * the drive displacement at the peak: measured, from the test's first point (the drive's
   origin, :attr:`asperity.pipelines.measured_friction.FrictionCurve.drive_from_start`), its
-  uncertainty half the drive span of the points within the noise of F_s; predicted,
+  uncertainty half the drive span of the points within the noise of F_s, at least the drive
+  step to the next point (the peak may lie anywhere before it); predicted,
   delta_s + F_s / k, its uncertainty the spread over lambda's interval (the model re-run at
   the interval's ends: half the difference);
 * the sliding friction F_d where the test slides: measured, the mean F_x of the points after
@@ -154,8 +155,9 @@ def measured_peak(curve: FrictionCurve) -> dict[str, float]:
     i = int(np.argmax(force[:end]))
     noise = noise_level(force)
     near = np.flatnonzero(force[:end] >= force[i] - (noise if math.isfinite(noise) else 0.0))
-    step = float(np.median(np.diff(drive))) if drive.size > 1 else 0.0
-    drive_u = max(0.5 * float(drive[near].max() - drive[near].min()), 0.5 * step)
+    # the peak lies anywhere up to the next sample (after which F_x may have dropped)
+    step = float(drive[i + 1] - drive[i]) if i + 1 < drive.size else 0.0
+    drive_u = max(0.5 * float(drive[near].max() - drive[near].min()), step)
     tail = force[end:]
     return {
         "static_friction": float(force[i]),
@@ -400,8 +402,8 @@ def _uncertainty_message(friction: FrictionPrediction, choice) -> str:
     lam = "fitted" if choice.fitted else "configured (no interval: a zero spread)"
     return (
         "one sigma; measured F_s: the test's noise (second differences), drive at the peak: "
-        "half the span within that noise, F_d: the spread after the peak (stick-slip "
-        "included); predicted F_s and F_d: "
+        "half the span within that noise (at least the step to the next point), F_d: the "
+        "spread after the peak (stick-slip included); predicted F_s and F_d: "
         + (
             "the friction stage's (roughness and lambda intervals)"
             if stage
