@@ -487,6 +487,14 @@ def draw_bem_grid(result: Run) -> tuple[Figure, FigureTable]:
     return bem_grid_figure(result), table
 
 
+#: The lambda scan's misfit axis per fit source (``[fit] source``).
+LAMBDA_FIT_LABELS: dict[str, str] = {
+    "area": "rms of ($A_{model}$ - $A_{measured}$) / max $A_{measured}$",
+    "friction": "rms of ($F_{model}$ - $F_{measured}$) / max $F_{measured}$",
+    "joint": "$\\sqrt{\\chi^2 / m}$, both sources",
+}
+
+
 def draw_lambda_fit(result: Run) -> tuple[Figure, FigureTable]:
     """The lambda stage: the misfit of the coarse lambda scan and the fitted value."""
     fit = result.mode_mixity.fit
@@ -506,7 +514,7 @@ def draw_lambda_fit(result: Run) -> tuple[Figure, FigureTable]:
             color="0.85",
         )
     ax.set_xlabel("mode mixity $\\lambda$")
-    ax.set_ylabel("rms of ($A_{model}$ - $A_{measured}$) / max $A_{measured}$")
+    ax.set_ylabel(LAMBDA_FIT_LABELS[getattr(result.mode_mixity, "fit_source", None) or "area"])
     ax.legend(fontsize=8)
     table = FigureTable()
     table.add(
