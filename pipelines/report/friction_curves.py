@@ -234,6 +234,8 @@ def draw_friction_test(result: Run, i: int) -> tuple[Figure, FigureTable]:
     drive_m, force_m = tests.point_drive[pick], tests.point_force[pick]
     path_d, path_f = model.followed_path()
     end = max(float(np.nanmax(drive_m)), float(tests.measured_static_drive[i]))
+    if path_d[-1] < 1.05 * end:  # beyond the model's path its last force holds (full sliding)
+        path_d, path_f = np.append(path_d, 1.05 * end), np.append(path_f, path_f[-1])
     inside = path_d <= 1.05 * end
     du = display_unit([end], "m")
     fu = display_unit([np.nanmax(force_m), np.nanmax(path_f)], "N")
@@ -255,7 +257,7 @@ def draw_friction_test(result: Run, i: int) -> tuple[Figure, FigureTable]:
         ":",
         color="C3",
         lw=1.2,
-        label="model, unstable branch",
+        label="model, unstable branch" if model.stick_slip else None,
     )
     ax.errorbar(
         du(tests.measured_static_drive[i]),
