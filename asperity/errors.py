@@ -89,3 +89,73 @@ class InputError(ValueError):
     reports it as bad input (exit status 2) and anything else as an internal error (70).
     The message names the file, key or argument, what was expected and what was found.
     """
+
+
+#: Longest error or warning line a command prints, characters (its whole message).
+MAX_ERROR_LINE = 1000
+#: Longest piece of a value echoed in a message, characters (the rest is cut, its size said).
+MAX_ECHOED = 200
+#: Longest unbroken word of an error line, characters (a long path fits; a 100,000-character
+#: option value is cut to its ends, its size said).
+MAX_ECHOED_WORD = 300
+
+#: Short escapes for the control characters that have one.
+_SHORT_ESCAPES = {"\n": "\\n", "\r": "\\r", "\t": "\\t", "\b": "\\b", "\f": "\\f", "\x1b": "\\e"}
+
+
+def _escaped(char: str) -> str:
+    """One character as it is shown in a message: itself, or an inert escape."""
+    code = ord(char)
+    if char in _SHORT_ESCAPES:
+        return _SHORT_ESCAPES[char]
+    if code < 0x20 or 0x7F <= code < 0xA0:  # C0, DEL and C1 controls (ESC, CSI, ...)
+        return f"\\x{code:02x}"
+    if 0xD800 <= code < 0xE000:  # a lone surrogate: an undecodable byte of a file name
+        return f"\\u{code:04x}"
+    if code in (0x2028, 0x2029, 0x200E, 0x200F) or 0x202A <= code <= 0x202E:
+        return f"\\u{code:04x}"  # line separators and bidirectional overrides
+    return char
+
+
+def inert(text: object) -> str:
+    """``text`` with every control character shown as an escape (``\\e``, ``\\n``, ``\\x9b``).
+
+    What a message echoes (a file name, a TOML key, an option's value) cannot then move the
+    cursor, clear or recolour the terminal, or start a line of its own: ESC, CSI and every
+    other C0/C1 control, DEL, lone surrogates (undecodable bytes of a file name), the Unicode
+    line separators and bidirectional overrides are written as backslash escapes.
+    """
+    text = str(text)
+    if text.isprintable():
+        return text
+    return "".join(_escaped(char) for char in text)
+
+
+def cut(text: object, limit: int = MAX_ECHOED) -> str:
+    """``text`` cut to about ``limit`` characters (its first and last parts, and how long it
+    was), its control characters escaped (:func:`inert`): an echoed value in a message."""
+    text = inert(text)
+    if len(text) <= limit:
+        return text
+    half = max((limit - 40) // 2, 1)
+    return f"{text[:half]}...{text[-half:]} (cut: {len(text)} characters in all)"
+
+
+def bounded_line(text: object, limit: int = MAX_ERROR_LINE) -> str:
+    """One message line: runs of white space made one space, controls escaped, every word
+    (an echoed value) cut to :data:`MAX_ECHOED_WORD` characters and the whole to ``limit``
+    (each cut says the full length).
+
+    The one place every error and warning line of the ``asperity`` command passes through
+    (:mod:`asperity.pipelines.cli`, the option parser), so that no message, whatever it
+    echoes, is longer than :data:`MAX_ERROR_LINE` characters or drives the terminal.
+    """
+    words = [cut(word, MAX_ECHOED_WORD) for word in str(text).split()]
+    return cut(" ".join(words), limit)
+
+
+def error_line(prefix: str, message: object, suffix: str = "") -> str:
+    """``prefix + message + suffix`` as one bounded, inert line of at most
+    :data:`MAX_ERROR_LINE` characters (:func:`bounded_line` cuts the message)."""
+    room = max(MAX_ERROR_LINE - len(prefix) - len(suffix), 80)
+    return f"{prefix}{bounded_line(message, room)}{suffix}"

@@ -29,7 +29,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from asperity.errors import InputError
+from asperity.errors import InputError, error_line
 from asperity.schema import Integer, Invalid, Real, interval_text, tiny_text
 
 
@@ -149,8 +149,8 @@ class OneLineErrorParser(argparse.ArgumentParser):
 
     def error(self, message: str):  # noqa: ANN201 (NoReturn: argparse's signature)
         """Print ``message`` as one line naming the option (no usage block), exit with 2."""
-        line = " ".join(message.removeprefix("argument ").split())
-        self.exit(2, f"{self.prog}: error: {line}\n")
+        line = error_line(f"{self.prog}: error: ", message.removeprefix("argument "))
+        self.exit(2, f"{line}\n")
 
 
 def _plain_number(value: Any, integer: bool) -> Any:

@@ -254,7 +254,10 @@ class ExistingFile(Kind):
     def convert(self, value: Any, context: Context) -> Path:
         if not isinstance(value, str) or not value:
             raise Invalid("a file name")
-        path = Path(value).expanduser()
+        try:
+            path = Path(value).expanduser()
+        except RuntimeError:  # "~name" of no known user: the name as written, as a shell does
+            path = Path(value)
         if not path.is_absolute():
             path = context.base_dir / path
         if (kind := describe_kind(path)) not in (None, "a regular file"):

@@ -54,7 +54,7 @@ import json, os, resource, sys, time
 import numpy as np
 w_start, c_start = time.perf_counter(), time.process_time()
 from asperity.bem import SolverOptions, solve_contact
-from asperity.bem.operators import influence_operator
+from asperity.bem.elastic.operators import influence_operator
 h = np.load({surface!r})
 n = h.shape[0]
 dx, e_star, force = 2e-6, 2.133e6, 2.08 * (n / 5000) ** 2

@@ -32,7 +32,7 @@ from typing import TYPE_CHECKING
 import h5py
 
 import asperity
-from asperity.errors import InputError
+from asperity.errors import InputError, cut
 from asperity.pipelines.engine.stage import StageRun
 from asperity.pipelines.engine.store import ResultStore, StoredStageError
 from asperity.pipelines.stages import STAGES
@@ -179,6 +179,9 @@ realisations, bem_shear, friction_tests, verdict
     source, config_toml, input_sha256, asperity_version : str
         The file's provenance (configuration file, resolved configuration as TOML, SHA-256 of
         the input, version that wrote it).
+    verdict_problem : str or None
+        Why the file's verdict cannot be relied on (not stored, or stored but malformed), or
+        None; listed by :meth:`problems` and warned about by :func:`open_results`.
     """
 
     path: Path
@@ -187,6 +190,18 @@ realisations, bem_shear, friction_tests, verdict
     config_toml: str = ""
     input_sha256: str = ""
     asperity_version: str = ""
+    verdict_problem: str | None = None
+
+    def problems(self) -> list[str]:
+        """One line per solver that did not converge, and one for a missing or malformed
+        verdict: numbers without a verdict are never presented as problem-free."""
+        lines = solver_problems(self)
+        return lines if self.verdict_problem is None else [*lines, self.verdict_problem]
+
+    @property
+    def converged(self) -> bool:
+        """Every solver converged (the verdict's state is :attr:`verdict_problem`)."""
+        return not solver_problems(self)
 
     @property
     def out_dir(self) -> Path:
@@ -277,6 +292,9 @@ def open_results(path: str | Path) -> Results:
         try:
             value = store.read(stage.name, stage.result)
         except (StoredStageError, TypeError, ValueError, KeyError) as exc:
+            if stage.name == "verdict":  # the numbers still read; their judgement does not
+                results.verdict_problem = f"verdict: stored but does not read back ({exc})"
+                continue
             raise InputError(
                 f"{path}: stage {stage.name!r} does not read back ({exc}); the file was written "
                 f"by asperity {results.asperity_version or '?'}, this is {asperity.__version__}: "
@@ -285,4 +303,55 @@ def open_results(path: str | Path) -> Results:
         setattr(results, stage.name, value)
         info = stored[stage.name]
         results.stages.append(StageRun(stage.name, info.key, "stored", info.seconds))
+    _judge_verdict(results)
     return results
+
+
+class VerdictWarning(UserWarning):
+    """A reopened run's verdict is missing or malformed: its numbers are not vouched for."""
+
+
+#: The verdicts a run stores, and the severities of their reasons.
+_VERDICTS = ("valid", "warnings", "invalid")
+_SEVERITIES = ("invalid", "warning")
+
+
+def verdict_defect(verdict: Verdict) -> str | None:
+    """What is wrong with a stored verdict (None: it is well formed).
+
+    Its word must be one of valid/warnings/invalid, each reason must have a code and a
+    severity (invalid or warning), and the word may not be milder than the severities make
+    it (invalid if one reason is, warnings if there are reasons).
+    """
+    if verdict.verdict not in _VERDICTS:
+        return f"is {cut(repr(verdict.verdict))}; expected one of {', '.join(_VERDICTS)}"
+    counts = {len(verdict.reasons), len(verdict.codes), len(verdict.severities)}
+    if len(counts) != 1:
+        return "has reasons, codes and severities of different lengths"
+    if any(severity not in _SEVERITIES for severity in verdict.severities):
+        return "has a reason whose severity is neither invalid nor warning"
+    implied = (
+        "invalid"
+        if "invalid" in verdict.severities
+        else ("warnings" if verdict.severities else "valid")
+    )
+    if _VERDICTS.index(verdict.verdict) < _VERDICTS.index(implied):  # milder than its reasons
+        return f"says {verdict.verdict!r} but its reasons make it {implied!r}"
+    return None
+
+
+def _judge_verdict(results: Results) -> None:
+    """Record (and warn) when the run's verdict is missing or malformed."""
+    if results.verdict_problem is None:
+        if results.verdict is None:
+            results.verdict_problem = (
+                "verdict: not stored (the run did not finish, or the verdict group was "
+                "removed): nothing says whether these numbers can be relied on"
+            )
+        else:
+            defect = verdict_defect(results.verdict)
+            if defect is not None:  # not presented as the run's judgement
+                results.verdict_problem = f"verdict: malformed: it {defect}"
+                results.verdict = None
+    if results.verdict_problem is not None:
+        warnings.warn(f"{results.path}: {results.verdict_problem}", VerdictWarning, stacklevel=3)

@@ -18,8 +18,10 @@ environment variable ``ASPERITY_DEBUG`` is set to anything but ``0`` or empty (f
 ``asperity CMD: interrupted`` (status 130; a Ctrl-C stops the run at its next safe point,
 :mod:`asperity.pipelines.engine.interrupts`). A reader that closes the output pipe early
 (``asperity scan FILE | head -1``) ends nothing: the command goes on quietly to its own end and
-status, its further output dropped (:class:`ClosedPipeTolerant`). Error lines quote at most
-:data:`MAX_LINE` characters (quoted input is cut with an ellipsis). Python warnings raised
+status, its further output dropped (:class:`ClosedPipeTolerant`). Error and warning lines are
+at most :data:`MAX_LINE` (1000) characters, each echoed value cut to its ends with its full
+length said, control characters shown escaped (:func:`asperity.errors.error_line`: an escape
+sequence in a file name or TOML key never reaches the terminal raw). Python warnings raised
 while a command runs (e.g.
 :class:`asperity.statmodel.TaborWarning`, numpy's RuntimeWarnings) are printed as one line each,
 ``asperity CMD: warning: MESSAGE``, once per distinct message; the usual warning filters
@@ -40,11 +42,10 @@ from collections.abc import Iterator, Sequence
 from typing import Any
 
 from asperity.atomic import storage_errno
-from asperity.errors import ExitStatus, InputError, exit_status_epilog
+from asperity.errors import MAX_ERROR_LINE, ExitStatus, InputError, error_line, exit_status_epilog
 from asperity.pipelines import __version__
 from asperity.pipelines.engine.interrupts import InterruptGuard
 from asperity.quantities import OneLineErrorParser
-from asperity.schema import clip
 
 #: Modules that provide ``register(subparsers)``; each adds its sub-commands.
 COMMAND_MODULES: tuple[str, ...] = (
@@ -64,8 +65,8 @@ PATH_ERRORS: tuple[type[OSError], ...] = (
     PermissionError,
 )
 
-#: Longest message of an error line, characters (quoted input is cut shorter where quoted).
-MAX_LINE = 2000
+#: Longest error or warning line, characters (quoted input is cut shorter where quoted).
+MAX_LINE = MAX_ERROR_LINE
 
 #: Environment variable that adds the traceback to an error line.
 DEBUG_VARIABLE = "ASPERITY_DEBUG"
@@ -120,7 +121,7 @@ def warnings_as_lines(command: str, stream=None) -> Iterator[list[str]]:  # noqa
     waiting: list[str] = []
 
     def emit(text: str) -> None:
-        print(f"asperity {command}: warning: {text}", file=stream or sys.stderr)
+        print(error_line(f"asperity {command}: warning: ", text), file=stream or sys.stderr)
 
     def show(message, category, filename, lineno, file=None, line=None) -> None:  # noqa: ANN001
         text = _warning_text(message, category)
@@ -165,24 +166,33 @@ def _storage_failure(exc: BaseException) -> bool:
 
 
 def _report_exception(command: str, exc: BaseException) -> ExitStatus:
-    """Print the one-line report of ``exc`` (and its traceback when debugging); its status."""
+    """Print the one-line report of ``exc`` (and its traceback when debugging); its status.
+
+    The line is bounded and inert (:func:`asperity.errors.error_line`): at most
+    :data:`MAX_LINE` characters, echoed values cut, control characters escaped.
+    """
     if _debugging():
         traceback.print_exception(exc, file=sys.stderr)
     if isinstance(exc, InputError):
-        print(f"asperity {command}: error: {clip(str(exc), MAX_LINE)}", file=sys.stderr)
+        print(error_line(f"asperity {command}: error: ", str(exc)), file=sys.stderr)
         return ExitStatus.BAD_INPUT
-    if isinstance(exc, PATH_ERRORS) or _storage_failure(exc):
-        print(
-            f"asperity {command}: error: {clip(_path_error_text(exc), MAX_LINE)}", file=sys.stderr
-        )
+    if isinstance(exc, PATH_ERRORS) or _storage_failure(exc) or _name_too_long(exc):
+        print(error_line(f"asperity {command}: error: ", _path_error_text(exc)), file=sys.stderr)
         return ExitStatus.BAD_INPUT
     print(
-        f"asperity {command}: internal error: {type(exc).__name__}: "
-        f"{clip(_one_line(exc), MAX_LINE)} "
-        f"(please report this; run with {DEBUG_VARIABLE}=1 for the traceback)",
+        error_line(
+            f"asperity {command}: internal error: {type(exc).__name__}: ",
+            _one_line(exc),
+            f" (please report this; run with {DEBUG_VARIABLE}=1 for the traceback)",
+        ),
         file=sys.stderr,
     )
     return ExitStatus.INTERNAL_ERROR
+
+
+def _name_too_long(exc: BaseException) -> bool:
+    """A path the user named that the file system refuses as too long (ENAMETOOLONG)."""
+    return isinstance(exc, OSError) and exc.errno == errno.ENAMETOOLONG
 
 
 def _status(value: object) -> ExitStatus:

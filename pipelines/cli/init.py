@@ -7,17 +7,20 @@ law and the measured curves to calibrate against. Without ``--surface`` the job 
 paper-like synthetic surface, so that it also runs as written; replacing its one ``recipe`` line
 by ``file = "..."`` is the only change needed to use a measured map. The text is checked with
 the job's own schema (:func:`asperity.pipelines.config.load_config`) before it is written, and
-an existing file is never overwritten (``--force`` does).
+an existing file is never overwritten (``--force`` does), and then only by a job that loads.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
+import shlex
 from pathlib import Path
 
-from asperity.atomic import write_text_atomic
-from asperity.errors import ExitStatus, InputError
+from asperity.atomic import atomic_output, sync_directory, write_error
+from asperity.errors import ExitStatus, InputError, cut, inert
+from asperity.files import describe_kind
 
 #: File name endings of plain-text height files, which state no length unit.
 TEXT_SUFFIXES = (".txt", ".asc", ".xyz", ".csv")
@@ -44,7 +47,7 @@ seed = 0
 """
 
 _FILE = """\
-file = "{file}"{unit_line}
+file = {file}{unit_line}
 # channel = "Height"       # a multi-channel file's channel (default: the height channel)
 detrend = "plane"          # form removed: none | mean | plane | quadratic
 max_stride = 20            # resolution scan over strides 1..20 of the map's pixel
@@ -81,77 +84,196 @@ adhesion_range = "auto"    # m, or "auto": the shortest range the grid resolves
 """
 
 
+def toml_string(text: str, option: str) -> str:
+    """``text`` as a TOML basic string (``"..."``), escaped per the TOML 1.0 specification.
+
+    The quotation mark and the back-slash are escaped, and so is every control character
+    (U+0000..U+001F, U+007F): a file name or unit can then hold any character without ending
+    the string, starting a comment or adding a key.
+
+    Parameters
+    ----------
+    text : str
+        The value (a file name, a unit).
+    option : str
+        The option it came from, for the message.
+
+    Raises
+    ------
+    InputError
+        ``text`` holds undecodable bytes (a file name that is not UTF-8): a TOML file, which
+        is UTF-8, cannot name it.
+    """
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        raise InputError(
+            f"--{option}: {cut(text)} is not valid UTF-8 (a file name with undecodable bytes); "
+            "a TOML job file cannot name it: rename the file"
+        ) from None
+    out = []
+    for char in text:
+        if char in ('"', "\\"):
+            out.append("\\" + char)
+        elif ord(char) < 0x20 or ord(char) == 0x7F:
+            out.append(_TOML_SHORT.get(char, f"\\u{ord(char):04X}"))
+        else:
+            out.append(char)
+    return '"' + "".join(out) + '"'
+
+
+#: TOML's short escapes of control characters.
+_TOML_SHORT = {"\b": "\\b", "\t": "\\t", "\n": "\\n", "\f": "\\f", "\r": "\\r"}
+
+
 def starter_job(name: str, surface: str | None, unit: str | None = None) -> str:
     """The text of a starter job file named ``name``.
 
     Parameters
     ----------
     name : str
-        The file name, quoted in the file's run line.
+        The file name, quoted in the file's run line (in a comment: its control characters
+        are shown escaped).
     surface : str or None
         The measured map or line profile (a path as the job will read it); None: the
         paper-like synthetic surface.
     unit : str or None
         The length unit of a plain-text ``surface`` (written as ``unit = "..."``); a
         placeholder line asks for it when the file is text and no unit is given.
+
+    Raises
+    ------
+    InputError
+        ``surface`` or ``unit`` cannot be written in TOML (:func:`toml_string`).
     """
-    text = _HEAD.format(name=name)
+    text = _HEAD.format(name=inert(shlex.quote(name)))
     if surface is None:
         text += _SYNTHETIC
     else:
         unit_line = ""
         if unit is not None:
-            unit_line = f'\nunit = "{unit}"               # length unit of the text file'
+            unit_line = f"\nunit = {toml_string(unit, 'unit')}   # length unit of the text file"
         elif surface.lower().endswith(TEXT_SUFFIXES):
             unit_line = (
                 '\n# unit = "um"             # a text matrix or x y z / x z columns: '
                 "state their length unit (m, mm, um, nm)"
             )
-        text += _FILE.format(file=surface.replace("\\", "/"), unit_line=unit_line)
+        text += _FILE.format(file=toml_string(surface, "surface"), unit_line=unit_line)
     return text + _REST.format(nominal_area="700e-6")
 
 
-def _states_no_unit(path: Path) -> bool:
-    """Whether ``path`` reads as plain text that needs a stated unit (not a Dektak CSV or a
-    Gwyddion export, which state theirs)."""
-    from asperity.errors import InputError as Refused
+def _surface_refusal(path: Path, unit: str | None) -> InputError | None:
+    """What the readers say of ``path`` read as the job will read it (None: it reads).
+
+    A plain-text file without ``--unit`` is refused asking for it; any other refusal of the
+    readers is passed on, naming ``--surface``.
+    """
     from asperity.topo import read_surface  # deferred: topo.io loads h5py
 
     try:
-        read_surface(path)
-    except Refused as exc:
-        return "unit: is not stated" in str(exc)
-    return False
+        read_surface(path, unit=unit)
+    except InputError as exc:
+        if unit is None and "unit: is not stated" in str(exc):
+            return InputError(
+                f"--surface: {cut(path)} is plain text, which states no length unit; give "
+                "--unit (m, mm, um, nm)"
+            )
+        return InputError(f"--surface: {exc}")
+    return None
+
+
+def _surface_in_job(path: Path, target: Path) -> str:
+    """How the job names ``path``: relative to the job's folder, or absolute when outside it.
+
+    The name is refused when it is not a regular file (a folder, a FIFO, a device), and made
+    absolute where the job's reader would expand a leading ``~``.
+    """
+    kind = describe_kind(path)
+    if kind is None:
+        raise InputError(f"--surface: {cut(path)}: no such file")
+    if kind != "a regular file":
+        raise InputError(f"--surface: {cut(path)}: is {cut(kind)}; expected a regular file")
+    surface = os.path.relpath(path.resolve(), target.resolve().parent)
+    if surface.startswith(".."):  # outside the job's folder: the absolute path is clearer
+        surface = str(path.resolve())
+    if os.sep != "/":  # Windows: the job writes forward slashes
+        surface = surface.replace(os.sep, "/")
+    if surface.startswith("~"):  # the job would read it as a home folder: say it in full
+        surface = str(path.resolve())
+    return surface
+
+
+def _check_target(target: Path, force: bool) -> None:
+    """Refuse a job file name that exists (unless ``force``), is a folder, or is too long."""
+    if len(os.fsencode(target.name)) > _MAX_NAME_BYTES:
+        raise InputError(
+            f"{cut(target)}: the file name is {len(os.fsencode(target.name))} bytes long; "
+            f"expected at most {_MAX_NAME_BYTES} (the file system's limit)"
+        )
+    kind = describe_kind(target)
+    if kind not in (None, "a regular file"):
+        raise InputError(f"{cut(target)}: is {cut(kind)}; expected a job file name (JOB.toml)")
+    if kind is not None and not force:
+        raise InputError(f"{cut(target)}: exists; choose another name or give --force to overwrite")
+
+
+#: Longest file name most file systems accept, bytes (NAME_MAX).
+_MAX_NAME_BYTES = 255
+
+
+def _write_validated(target: Path, text: str) -> None:
+    """Write ``text`` to ``target`` through a temporary file in its folder that replaces
+    ``target`` only once it loads as a job; on any failure ``target`` is as it was."""
+    from asperity.pipelines.config import load_config  # deferred: loads the schema
+
+    folder = target.parent
+    tmp = folder / f".asperity-init.{os.getpid()}.toml.tmp"
+    try:
+        with atomic_output(tmp) as part:
+            part.write_text(text, encoding="utf-8")
+        try:  # the starter must load as written, from the job's own folder
+            load_config(tmp)
+        except InputError as exc:
+            raise InputError(str(exc).replace(str(tmp), str(target))) from None
+        os.replace(tmp, target)
+        sync_directory(folder)
+    except OSError as exc:
+        error = write_error(target, exc, _kept(target))
+        if error is None:
+            raise
+        raise error from exc
+    finally:
+        with contextlib.suppress(OSError):
+            tmp.unlink()
+
+
+def _kept(target: Path) -> str:
+    return f"{target} is unchanged" if target.exists() else "nothing was written"
 
 
 def run_init(args: argparse.Namespace) -> int:
-    """Write the starter job; refuse an existing file unless ``--force``."""
-    from asperity.pipelines.config import load_config  # deferred: loads the schema
+    """Write the starter job; refuse an existing file unless ``--force``.
 
+    The surface is read as the job will read it and refused as the readers refuse it; the
+    text is written to a temporary file, loaded and validated, and only then renamed over
+    ``JOB.toml``: a refusal leaves an existing job byte for byte as it was.
+    """
     target = Path(args.job)
-    if target.exists() and not args.force:
-        raise InputError(f"{target}: exists; choose another name or give --force to overwrite")
+    _check_target(target, args.force)
     surface = None
     if args.surface is not None:
         path = Path(args.surface)
-        if not path.is_file():
-            raise InputError(f"--surface: {path}: no such file")
-        surface = os.path.relpath(path.resolve(), target.resolve().parent)
-        if surface.startswith(".."):  # outside the job's folder: the absolute path is clearer
-            surface = str(path.resolve())
-        if args.unit is None and _states_no_unit(path):
-            raise InputError(
-                f"--surface: {path} is plain text, which states no length unit; give --unit "
-                "(m, mm, um, nm)"
-            )
+        surface = _surface_in_job(path, target)
+        refusal = _surface_refusal(path, args.unit)
+        if refusal is not None:
+            raise refusal
+    elif args.unit is not None:
+        raise InputError("--unit: given without --surface; it states a text file's unit")
     text = starter_job(target.name, surface, args.unit)
-    write_text_atomic(target, text)
-    try:
-        load_config(target)  # the starter must load as written
-    except InputError:
-        target.unlink()
-        raise
-    print(f"wrote {target}: edit the material and loads, then `asperity run {target}`")
+    _write_validated(target, text)
+    print(
+        f"wrote {inert(target)}: edit the material and loads, then `asperity run {inert(target)}`"
+    )
     return int(ExitStatus.OK)
 
 

@@ -9,15 +9,15 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from asperity.bem import critical_tension, crop_to_fast_size, fast_size
-from asperity.bem import kernels as kr
-from asperity.bem.fft_backend import Convolution, available_backends
-from asperity.bem.influence import (
+from asperity.bem.elastic.fft_backend import Convolution, available_backends
+from asperity.bem.elastic.influence import (
     influence_multiplier,
     love_patch_deflection,
     padded_love_multiplier,
     point_force_multiplier,
 )
-from asperity.bem.pohrt_popov import pohrt_popov_chi
+from asperity.bem.elastic.pohrt_popov import pohrt_popov_chi
+from asperity.bem.normal import kernels as kr
 
 sizes = st.floats(min_value=1e-7, max_value=1e-2, allow_nan=False)
 moduli = st.floats(min_value=1e3, max_value=1e12, allow_nan=False)

@@ -14,10 +14,10 @@ import numpy as np
 import pytest
 
 from asperity import bem
-from asperity.bem import fft_backend
-from asperity.bem.fft_backend import Convolution, RadialMultiplier
-from asperity.bem.influence import wavevectors_squared
-from asperity.bem.operators import influence_operator
+from asperity.bem.elastic import fft_backend
+from asperity.bem.elastic.fft_backend import Convolution, RadialMultiplier
+from asperity.bem.elastic.influence import wavevectors_squared
+from asperity.bem.elastic.operators import influence_operator
 
 E_STAR = 2.0e6  # Pa
 DX = 1e-6  # m

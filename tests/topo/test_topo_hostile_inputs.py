@@ -14,6 +14,7 @@ import pytest
 from asperity import topo
 from asperity.pipelines.cli import main
 from asperity.topo.errors import TopographyFileError
+from asperity.topo.io import limits
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 
@@ -635,10 +636,13 @@ def test_special_measured_csv_is_refused_at_the_open(tmp_path, alarm):
 # --- size bombs: refused from the declared sizes, before reading, naming the budget -------
 
 
-def test_gzip_hdf5_map_over_the_pipeline_budget_is_refused_before_reading(tmp_path):
+def test_gzip_hdf5_map_over_the_pipeline_budget_is_refused_before_reading(tmp_path, monkeypatch):
     """A 16000^2 gzip map storing enough bytes to pass the deflate-ratio check (it would
     inflate to 2 GB of heights and need about 48 GiB in the pipeline) is refused at once."""
     import time
+
+    monkeypatch.setattr(limits, "system_memory_ceilings", dict)  # the configured 16 GiB rules
+    monkeypatch.delenv("ASPERITY_MEMORY_BUDGET", raising=False)
 
     import h5py
 
@@ -658,7 +662,8 @@ def test_gzip_hdf5_map_over_the_pipeline_budget_is_refused_before_reading(tmp_pa
         topo.read_surface(path)
     assert time.perf_counter() - began < 1.0
     message = str(info.value)
-    assert "memory budget of 16 GiB" in message and "ASPERITY_MEMORY_BUDGET" in message
+    assert "memory budget of 16 GiB set by the configured budget" in message
+    assert "ASPERITY_MEMORY_BUDGET" in message
 
 
 def test_npz_bomb_is_refused_from_its_npy_header_before_inflating(tmp_path, monkeypatch):
@@ -675,7 +680,8 @@ def test_npz_bomb_is_refused_from_its_npy_header_before_inflating(tmp_path, monk
         topo.read_surface(path, pixel_size=1e-6)
     assert time.perf_counter() - began < 1.0
     # the knob: a larger budget lets the header through, and the member is then refused
-    # for holding less than it declares
+    # for holding less than it declares (on a machine that grants the memory)
+    monkeypatch.setattr(limits, "system_memory_ceilings", dict)
     monkeypatch.setenv("ASPERITY_MEMORY_BUDGET", "128GiB")
     with pytest.raises(TopographyFileError, match="array 'heights'") as info:
         topo.read_surface(path, pixel_size=1e-6)
@@ -686,6 +692,7 @@ def test_memory_budget_knob_scales_the_largest_map_and_refuses_nonsense(monkeypa
     from asperity.errors import InputError
     from asperity.topo.io import limits
 
+    monkeypatch.setattr(limits, "system_memory_ceilings", dict)  # a machine granting it all
     default = limits.max_map_points()
     assert default == limits.MAX_MAP_POINTS
     # the paper's 5001^2 map fits the default budget; 16000^2 does not
