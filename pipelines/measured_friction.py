@@ -31,6 +31,7 @@ import csv
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import cast
 
 import numpy as np
 
@@ -38,6 +39,7 @@ from asperity.pipelines.config import ShearCurveFile
 from asperity.pipelines.measured import (
     LOAD_MATCH,
     MeasuredFileError,
+    ShearAreaCurve,
     _same_load,
     check_curve_loads,
     check_friction_magnitude,
@@ -193,8 +195,8 @@ def read_friction_files(
     curves: list[FrictionCurve] = []
     for item in files:
         curves += read_friction_curves(item.file, item.normal_load)
-    if normal_loads is not None:
-        check_curve_loads(curves, normal_loads)
+    if normal_loads is not None:  # check_curve_loads reads a curve's normal_load and source only
+        check_curve_loads(cast("list[ShearAreaCurve]", curves), normal_loads)
     return curves
 
 

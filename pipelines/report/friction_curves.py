@@ -21,7 +21,7 @@ from asperity import statmodel
 from asperity.pipelines.report.figure_output import FigureTable
 from asperity.pipelines.report.numbers import format_number, format_quantity, plain_text, text_unit
 from asperity.pipelines.stages import stage_number
-from asperity.pipelines.stages.friction_curves import FrictionTestComparison
+from asperity.pipelines.stages.friction_curves import FrictionTestComparison, stacked_field
 from asperity.pipelines.stages.verdict import mark
 from asperity.plotting import DisplayUnit, display_unit, new_figure
 
@@ -49,6 +49,14 @@ def _tests(result: Run) -> FrictionTestComparison | None:
     return getattr(result, "friction_tests", None)
 
 
+def _required(result: Run) -> FrictionTestComparison:
+    """The stage's result of a run that has it (the section and figures are drawn only then)."""
+    tests = _tests(result)
+    if tests is None:
+        raise ValueError("the run has no friction_tests stage result")
+    return tests
+
+
 def spring_text(k: float) -> str:
     """The loading system as the report states it: its stiffness, or a rigid drive."""
     if math.isinf(k):
@@ -60,7 +68,7 @@ def _pm(value: float, u: float, unit: DisplayUnit) -> str:
     """``value +- u`` in the column's display unit (SI in: N or m); the unit is in the header."""
     if not math.isfinite(value):
         return "not reached"
-    return format_number(unit(value), float(unit(u)) if math.isfinite(u) else math.nan)
+    return format_number(float(unit(value)), float(unit(u)) if math.isfinite(u) else math.nan)
 
 
 def _jump_text(tests: FrictionTestComparison, i: int) -> str:
@@ -84,7 +92,7 @@ def friction_tests_table(result: Run) -> tuple[list[str], list[list[str]]]:
     """Per test: F_s, the drive at the peak and F_d, measured and predicted (+- one sigma,
     each column in one unit, named in its header), and the predicted stick-slip jump;
     predicted cells marked when the verdict is invalid."""
-    tests, verdict = _tests(result), getattr(result, "verdict", None)
+    tests, verdict = _required(result), getattr(result, "verdict", None)
     load_unit = text_unit(tests.normal_load, "N")
     header, units = [f"F_z ({load_unit.text})"], {}
     for label, stem, base in _COMPARED:
@@ -99,7 +107,7 @@ def friction_tests_table(result: Run) -> tuple[list[str], list[list[str]]]:
     header.append("stick-slip predicted")
     rows = []
     for i, load in enumerate(tests.normal_load):
-        row = [format_number(load_unit(load))]
+        row = [format_number(float(load_unit(load)))]
         for _, stem, _ in _COMPARED:
             for kind in ("measured", "predicted"):
                 cell = _pm(
@@ -113,7 +121,9 @@ def friction_tests_table(result: Run) -> tuple[list[str], list[list[str]]]:
 
 
 def _notes(result: Run) -> list[str]:
-    tests, lam = _tests(result), result.mode_mixity
+    tests, lam = _required(result), result.mode_mixity
+    if lam is None:
+        raise ValueError("the run has no lambda stage result")
     source = getattr(lam, "fit_source", None) or "area"
     fitted = (
         "fitted to the "
@@ -131,9 +141,9 @@ def _notes(result: Run) -> list[str]:
         "begins to carry the force).",
         f"Uncertainties: {tests.uncertainty_message}.",
     ]
-    friction_lambda = getattr(lam, "friction_mode_mixity", None)
-    if friction_lambda is not None:
-        low, high = lam.friction_interval
+    friction_lambda, interval = lam.friction_mode_mixity, lam.friction_interval
+    if friction_lambda is not None and interval is not None:
+        low, high = interval
         notes.append(
             f"lambda from the friction tests alone: {friction_lambda:.4g} (one-sigma interval "
             f"{low:.4g}..{high:.4g}, {lam.friction_n_points} points, rms residual "
@@ -145,23 +155,32 @@ def _notes(result: Run) -> list[str]:
     if comparison:
         flag = "**Warning (lambda_sources_disagree):** " if lam.lambda_sources_disagree else ""
         notes.append(f"{flag}{comparison}.")
-    if tests.bem_static_drive is not None:
-        for i, load in enumerate(tests.normal_load):
-            if math.isfinite(tests.bem_static_drive[i]):
-                jump = (
-                    f"a stick-slip drop of {format_quantity(tests.bem_jump_force_drop[i], 'N')}"
-                    if tests.bem_stick_slip[i] == 1
-                    else "no stick-slip jump"
-                )
-                notes.append(
-                    f"Shear BEM at {format_quantity(load, 'N')} through the same spring: peak "
-                    f"at drive {format_quantity(tests.bem_static_drive[i], 'm')}, {jump}."
-                )
+    notes += _bem_notes(tests)
     if tests.normal_load.size > MAX_TEST_FIGURES:
         notes.append(
             f"Figures drawn for the first {MAX_TEST_FIGURES} tests; every test is in the table, "
             "the mu(F_z) figure and results.h5 (group friction_tests)."
         )
+    return notes
+
+
+def _bem_notes(tests: FrictionTestComparison) -> list[str]:
+    """One line per test with the shear BEM's curve through the spring (none without it)."""
+    drive, slips, drop = tests.bem_static_drive, tests.bem_stick_slip, tests.bem_jump_force_drop
+    if drive is None or slips is None or drop is None:
+        return []
+    notes = []
+    for i, load in enumerate(tests.normal_load):
+        if math.isfinite(drive[i]):
+            jump = (
+                f"a stick-slip drop of {format_quantity(drop[i], 'N')}"
+                if slips[i] == 1
+                else "no stick-slip jump"
+            )
+            notes.append(
+                f"Shear BEM at {format_quantity(load, 'N')} through the same spring: peak at "
+                f"drive {format_quantity(drive[i], 'm')}, {jump}."
+            )
     return notes
 
 
@@ -228,7 +247,7 @@ def draw_friction_test(result: Run, i: int) -> tuple[Figure, FigureTable]:
     """Test ``i``: measured F_x against the drive, the model's drive-controlled path (the jump
     drawn as a vertical drop, marked), its unstable quasi-static branch dotted, and the
     measured and predicted static peaks with their one-sigma bars."""
-    tests = _tests(result)
+    tests = _required(result)
     model = _model(tests, i)
     pick = tests.point_test == i
     drive_m, force_m = tests.point_drive[pick], tests.point_force[pick]
@@ -312,7 +331,7 @@ def draw_friction_test(result: Run, i: int) -> tuple[Figure, FigureTable]:
             fontsize=8,
             color="C3",
         )
-    ax.set_xlim(0, du(1.05 * end))
+    ax.set_xlim(0, float(du(1.05 * end)))
     ax.set_ylim(0, None)
     ax.set_xlabel(du.label("drive displacement"))
     ax.set_ylabel(fu.label("tangential force $F_x$"))
@@ -329,11 +348,13 @@ def draw_friction_test(result: Run, i: int) -> tuple[Figure, FigureTable]:
 def draw_friction_coefficient(result: Run) -> tuple[Figure, FigureTable]:
     """mu(F_z): the model's static and sliding friction coefficients at the configured loads
     (F_s / F_z with its bars, F_d / F_z) and the measured tests' points with theirs."""
-    tests, fr = _tests(result), result.friction
-    load = np.asarray(fr.normal_load, dtype=float)
+    tests, fr = _required(result), result.friction
+    if fr is None:
+        raise ValueError("the run has no friction stage result")
+    load = np.asarray(fr.normal_load, dtype=np.float64)
     fig = new_figure(6.5, 4.5)
     ax = fig.subplots()
-    mu_s = np.asarray(fr.static_friction, float) / load
+    mu_s = stacked_field(fr, "static_friction") / load
     mu_u = fr.static_friction_coefficient_uncertainty
     ax.errorbar(
         load,
@@ -345,7 +366,7 @@ def draw_friction_coefficient(result: Run) -> tuple[Figure, FigureTable]:
         capsize=3,
         label="model $\\mu_s = F_s/F_z$",
     )
-    mu_d = np.asarray(fr.sliding_friction, float) / load
+    mu_d = stacked_field(fr, "sliding_friction") / load
     ax.plot(load, mu_d, "--o", color="C1", ms=4, mfc="none", label="model $\\mu_d = F_d/F_z$")
     fz = tests.normal_load
     ax.errorbar(

@@ -185,18 +185,26 @@ def peak_displacement(dts: np.ndarray, force: np.ndarray) -> float:
     return float(dts[k] + t * step)
 
 
+def stacked_field(friction: FrictionPrediction, name: str) -> np.ndarray:
+    """A per-load field of the friction stage that :func:`asperity.fields.stacked` adds from
+    :class:`statmodel.ShearCurve` (``tangential_force``, ``static_friction``, ...), SI."""
+    return np.asarray(getattr(friction, name), dtype=np.float64)
+
+
 def _stored_curve(friction: FrictionPrediction, index: int, k: float) -> statmodel.DriveCurve:
     """The friction stage's shear curve at load ``index`` seen from the drive (k in N/m)."""
-    dts = np.asarray(friction.tangential_displacement[index], dtype=float)
-    sliding = float(friction.sliding_displacement[index])
+    dts = stacked_field(friction, "tangential_displacement")[index]
+    force = stacked_field(friction, "tangential_force")[index]
+    sliding = float(stacked_field(friction, "sliding_displacement")[index])
     ends_sliding = math.isfinite(sliding) and sliding <= dts[np.isfinite(dts)][-1]
+    f_d = float(stacked_field(friction, "sliding_friction")[index])
     return statmodel.map_to_drive(
         dts,
-        friction.tangential_force[index],
+        force,
         k,
-        sliding_friction=float(friction.sliding_friction[index]) if ends_sliding else math.nan,
-        static_friction=float(friction.static_friction[index]),
-        static_displacement=peak_displacement(dts, np.asarray(friction.tangential_force[index])),
+        sliding_friction=f_d if ends_sliding else math.nan,
+        static_friction=float(stacked_field(friction, "static_friction")[index]),
+        static_displacement=peak_displacement(dts, force),
     )
 
 
@@ -238,8 +246,12 @@ def _bem_fields(
     nan = math.nan
     jumps = [m.jumps[0] if m is not None and m.jumps else None for m in mapped]
     return {
-        "bem_drive": _padded([[nan] if m is None else m.drive_displacement for m in mapped]),
-        "bem_force": _padded([[nan] if m is None else m.tangential_force for m in mapped]),
+        "bem_drive": _padded(
+            [np.full(1, nan) if m is None else m.drive_displacement for m in mapped]
+        ),
+        "bem_force": _padded(
+            [np.full(1, nan) if m is None else m.tangential_force for m in mapped]
+        ),
         "bem_static_drive": np.array(
             [nan if m is None else m.static_drive_displacement for m in mapped]
         ),
@@ -385,7 +397,7 @@ def _test_row(
         ),
         "measured_sliding_friction": measured["sliding_friction"],
         "measured_sliding_friction_uncertainty": measured["sliding_friction_uncertainty"],
-        "predicted_sliding_friction": float(friction.sliding_friction[j]),
+        "predicted_sliding_friction": float(stacked_field(friction, "sliding_friction")[j]),
         "predicted_sliding_friction_uncertainty": _at(friction.sliding_friction_uncertainty, j),
         "measured_noise": measured["noise"],
         "predicted_stick_slip": float(model.stick_slip),

@@ -37,6 +37,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
+from typing import Protocol, cast
 
 import numpy as np
 
@@ -171,10 +172,19 @@ class FrictionObjective:
         return float(np.sum(self.residuals(10.0**q) ** 2))
 
 
+class Objective(Protocol):
+    """What the scan, the refinement and the profile read of an objective."""
+
+    @property
+    def n_residuals(self) -> int: ...
+
+    def ssr(self, q: float) -> float: ...
+
+
 class JointObjective:
     """Several sources' residual sums of squares, each divided by its own variance s^2."""
 
-    def __init__(self, parts: Sequence[tuple[object, float]]):
+    def __init__(self, parts: Sequence[tuple[Objective, float]]):
         self.parts = list(parts)
 
     @property
@@ -199,24 +209,26 @@ def _check(bounds: tuple[float, float], n_points: int, what: str) -> None:
 
 
 def _profile_fit(
-    objective: FrictionObjective | JointObjective,
+    objective: Objective,
     bounds: tuple[float, float],
     grid_points: int,
     delta: Callable[[float], float],
 ) -> dict:
     """Scan, refine and profile ``objective`` over q = log10(lambda); ``delta(S_min)`` is the
-    rise of S that bounds the one-sigma interval."""
+    rise of S that bounds the one-sigma interval. The area fit's helpers read only ``ssr`` and
+    ``n_residuals`` of it (typed for the area objective: cast)."""
+    area_like = cast(_Objective, objective)
     q_low, q_high = math.log10(bounds[0]), math.log10(bounds[1])
     grid = np.logspace(q_low, q_high, grid_points)
     n = objective.n_residuals
     grid_rms = np.array([math.sqrt(objective.ssr(math.log10(g)) / n) for g in grid])
-    result = _refine(objective, grid, grid_rms, (q_low, q_high))
+    result = _refine(area_like, grid, grid_rms, (q_low, q_high))
     q_best = float(result.x[0])
     s_min = objective.ssr(q_best)
     target = s_min + delta(s_min)
     interval = (
-        10.0 ** _profile_side(objective, q_best, target, q_low),
-        10.0 ** _profile_side(objective, q_best, target, q_high),
+        10.0 ** _profile_side(area_like, q_best, target, q_low),
+        10.0 ** _profile_side(area_like, q_best, target, q_high),
     )
     return {
         "mode_mixity": 10.0**q_best,
@@ -305,7 +317,7 @@ def source_variance(fit: LambdaFit, n_free: int) -> float:
 
 
 def fit_mode_mixity_joint(
-    parts: Sequence[tuple[object, float]],
+    parts: Sequence[tuple[Objective, float]],
     *,
     bounds: tuple[float, float] = (1e-4, 1.0),
     grid_points: int = 9,
@@ -444,6 +456,8 @@ def fit_sources(
             friction_curves, drive_model, bounds=bounds, map_fn=map_fn, trim=trim
         )
     if source == "joint":
+        if area is None or friction is None:  # both given (checked above): both fitted
+            raise InputError("fit.source = 'joint': both measured sources are needed")
         area_objective = _Objective(
             [prepare_curve(c, trim=trim) for c in area_curves], area_model, map_fn, mode
         )
