@@ -269,6 +269,15 @@ _ENTRIES = (
         open_low=True,
     ),
     _q("loading.tangential_displacement", "m", 0, 1, "a shear path up to 1 m"),
+    _q(
+        "loading.drive_stiffness",
+        "N/m",
+        0,
+        1e12,
+        "the tangential loading system in series with the contact, from a soft wire (the "
+        "paper's 9200 N/m) to a stiff frame; absent: rigid",
+        open_low=True,
+    ),
     _count(
         "loading.steps",
         3,

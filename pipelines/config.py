@@ -76,6 +76,9 @@ MISSING_POLICIES: tuple[str, ...] = ("refuse", "fill-lowest", "interpolate")
 OUTLIER_RULES: tuple[str, ...] = ("mad", "percentile", "none")
 #: ``fit.mode`` (the first is the default).
 FIT_MODES: tuple[str, ...] = ("shape", "absolute")
+#: Where lambda is fitted (``[fit] source``): measured A_r(F_x) curves (``measured.shear_area``),
+#: measured friction tests F_x(drive) (``measured.friction_curves``), or both jointly.
+FIT_SOURCES: tuple[str, ...] = ("area", "friction", "joint")
 
 
 @dataclass(frozen=True)
@@ -239,12 +242,18 @@ class LoadingConfig:
         Largest delta_T, m; None ("auto") extends the path until full sliding.
     steps : int
         Number of delta_T steps (first one delta_T = 0).
+    drive_stiffness : float or None
+        Stiffness k of the tangential loading system in series with the contact, N/m (the
+        paper's wire: 9200 N/m); None (absent): a rigid drive. The model's F_x(delta_T) is
+        compared with measured friction tests at drive = delta_T + F_x / k
+        (:mod:`asperity.statmodel.drive`).
     """
 
     nominal_area: float = 700e-6
     normal_loads: tuple[float, ...] = (0.56, 1.06, 1.58, 2.08, 2.57, 3.12)
     max_tangential_displacement: float | None = None
     steps: int = 201
+    drive_stiffness: float | None = None
 
 
 @dataclass(frozen=True)
@@ -411,10 +420,15 @@ class MeasuredConfig:
         A_r(F_z): columns ``normal_load`` (N), ``real_area`` (m^2).
     shear_area : tuple of ShearCurveFile
         A_r(F_x) curves: one file per normal load, or one long file with a ``normal_load`` column.
+    friction_curves : tuple of ShearCurveFile
+        Friction tests F_x(drive): columns ``drive_displacement`` (m), ``tangential_force`` (N)
+        (and ``normal_load``, N, in a long file); files given as ``shear_area``
+        (:mod:`asperity.pipelines.measured_friction`).
     """
 
     normal_area: Path | None = None
     shear_area: tuple[ShearCurveFile, ...] = ()
+    friction_curves: tuple[ShearCurveFile, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -430,11 +444,18 @@ class FitConfig:
         level offset does not bias lambda) or "absolute" (A_r itself).
     trim_after_first_peak : bool
         Cut each measured curve after its first static peak of F_x (the stick-slip tail).
+    source : str
+        What lambda is fitted to (:data:`FIT_SOURCES`): "area" (default: the A_r(F_x) curves,
+        ``measured.shear_area``), "friction" (the friction tests F_x(drive),
+        ``measured.friction_curves``, through ``loading.drive_stiffness``) or "joint" (both,
+        each weighted by its own residual variance); see
+        :mod:`asperity.pipelines.stages.friction_fit`.
     """
 
     mode_mixity_bounds: tuple[float, float] = (1e-4, 1.0)
     mode: str = "shape"
     trim_after_first_peak: bool = True
+    source: str = "area"
 
 
 @dataclass(frozen=True)
@@ -667,6 +688,7 @@ JOB_SCHEMA = Schema(
                     None,
                 ),
                 _bounded("loading.steps", LoadingConfig.steps),
+                _bounded("loading.drive_stiffness", None),
             ),
         ),
         Section(
@@ -720,6 +742,7 @@ JOB_SCHEMA = Schema(
             (
                 Key("normal_area", ExistingFile(), None),
                 Key("shear_area", ShearFiles(), ()),
+                Key("friction_curves", ShearFiles(), ()),
             ),
         ),
         Section(
@@ -733,6 +756,7 @@ JOB_SCHEMA = Schema(
                 ),
                 Key("mode", Choice(FIT_MODES), FitConfig.mode),
                 Key("trim_after_first_peak", Flag(), FitConfig.trim_after_first_peak),
+                Key("source", Choice(FIT_SOURCES), FitConfig.source),
             ),
             check=_ordered_bounds,
         ),
@@ -822,11 +846,29 @@ def config_from_dict(
             False,
         )
     _compressive_loads_for_the_bem(sections, source)
+    _fit_source_has_its_curves(sections, source)
     if "bem_shear" not in data:  # the optional stage's table absent: the stage is off
         sections["bem_shear"] = None
     else:
         _shear_loads_among_the_job_loads(sections, source)
     return JobConfig(**sections, source=source, given_keys=given_keys(data))
+
+
+def _fit_source_has_its_curves(sections: Mapping[str, Any], source: str) -> None:
+    """``fit.source`` "friction" needs ``measured.friction_curves``; "joint" needs them and
+    ``measured.shear_area`` (the curves lambda is fitted to must be given)."""
+    fit, measured = sections["fit"].source, sections["measured"]
+    needs = {"friction": ("friction_curves",), "joint": ("friction_curves", "shear_area")}
+    for key in needs.get(fit, ()):
+        if not getattr(measured, key):
+            raise Context(source).fail(
+                "fit.source",
+                f"'area' unless measured.{key} gives the curves lambda is fitted to "
+                f"(source {fit!r} fits "
+                + ("the friction tests" if fit == "friction" else "both measurements")
+                + ")",
+                fit,
+            )
 
 
 def _compressive_loads_for_the_bem(sections: Mapping[str, Any], source: str) -> None:

@@ -24,7 +24,7 @@ import json
 import sys
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import asperity
@@ -47,6 +47,7 @@ from asperity.pipelines.engine.stage import (
 )
 from asperity.pipelines.engine.store import ResultStore
 from asperity.pipelines.measured import read_measurements
+from asperity.pipelines.measured_friction import read_friction_files
 from asperity.pipelines.results import StageResults, solver_problems
 from asperity.pipelines.stages import STAGE_NAMES, STAGES
 from asperity.pipelines.stages.early_verdict import SKIPPED_WHEN_KNOWN, known_invalid
@@ -157,6 +158,12 @@ def run_job(
     measured = read_measurements(
         config.measured, config.loading.nominal_area, config.loading.normal_loads
     )  # a malformed CSV, or a curve at a load not configured, fails before any work
+    measured = replace(
+        measured,
+        friction_curves=read_friction_files(
+            config.measured.friction_curves, config.loading.normal_loads
+        ),
+    )
     input_hash = input_sha256(config.surface)
     workers = config.run.workers if workers is None else workers
     log = log or (lambda line: None)

@@ -87,12 +87,14 @@ UNIT_FACTORS: dict[str, dict[str, float]] = {
         "nm^2": 1e-18,
     },
     "force": {"N": 1.0, "kN": 1e3, "mN": 1e-3, "uN": 1e-6, "nN": 1e-9},
+    "length": {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "nm": 1e-9},
 }
 #: What each known column measures.
 COLUMN_QUANTITY: dict[str, str] = {
     "real_area": "area",
     "normal_load": "force",
     "tangential_force": "force",
+    "drive_displacement": "length",
 }
 _HEADER = re.compile(r"^\s*([^\[\(]*?)\s*(?:[\[\(]\s*([^\]\)]*?)\s*[\]\)])?\s*$")
 
@@ -130,12 +132,17 @@ def parse_header_cell(path: Path, cell: str) -> tuple[str, float]:
 def _data_lines(path: Path) -> list[tuple[int, str]]:
     """(line number in the file, text) of every line that is not blank or a ``#`` comment."""
     require_regular_file(path, "measured file")
-    with open(path, newline="", encoding="utf-8") as handle:
-        return [
-            (number, line)
-            for number, line in enumerate(handle, start=1)
-            if line.strip() and not line.lstrip().startswith("#")
-        ]
+    try:
+        with open(path, newline="", encoding="utf-8") as handle:
+            return [
+                (number, line)
+                for number, line in enumerate(handle, start=1)
+                if line.strip() and not line.lstrip().startswith("#")
+            ]
+    except UnicodeDecodeError as exc:
+        raise MeasuredFileError(
+            f"{path}: not UTF-8 text (byte {exc.start}: {exc.reason}); expected a CSV file"
+        ) from None
 
 
 #: The separators a measured file may use, by the name its messages give them.
@@ -487,6 +494,9 @@ class Measurements:
 
     normal_area: NormalAreaCurve | None = None
     shear_area: list[ShearAreaCurve] = field(default_factory=list)
+    #: Friction tests F_x(drive) (:class:`asperity.pipelines.measured_friction.FrictionCurve`),
+    #: read by :func:`asperity.pipelines.measured_friction.read_friction_files`.
+    friction_curves: list = field(default_factory=list)
 
 
 def read_measurements(

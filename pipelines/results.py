@@ -39,6 +39,7 @@ from asperity.pipelines.stages import STAGES
 from asperity.pipelines.stages.bem import BemReference
 from asperity.pipelines.stages.bem_shear import BemShearComparison
 from asperity.pipelines.stages.friction import FrictionPrediction, ModeMixityChoice
+from asperity.pipelines.stages.friction_curves import FrictionTestComparison
 from asperity.pipelines.stages.psd import PsdResult
 from asperity.pipelines.stages.realisations import RealisationSpread
 from asperity.pipelines.stages.statistical_model import ResolutionChoice
@@ -98,8 +99,11 @@ class StageResults:
         Stage 8, the spread over synthesised maps (line-profile input only).
     bem_shear : BemShearComparison or None
         Stage 9, the shear BEM against the model (None unless ``[bem_shear] enabled = true``).
+    friction_tests : FrictionTestComparison or None
+        Stage 10, measured friction tests F_x(drive) against the model through the drive's
+        spring (None without ``measured.friction_curves``).
     verdict : Verdict or None
-        Stage 10, whether the report stands behind the numbers.
+        Stage 11, whether the report stands behind the numbers.
     """
 
     surface: LevelledSurface | None = None
@@ -111,6 +115,7 @@ class StageResults:
     psd: PsdResult | None = None
     realisations: RealisationSpread | None = None
     bem_shear: BemShearComparison | None = None
+    friction_tests: FrictionTestComparison | None = None
     verdict: Verdict | None = None
 
     # asperity 0.3's second names (docs/pipelines.md promised run.scan and run.resolution)
@@ -166,7 +171,7 @@ class Results(StageResults):
     path : Path
         The file read.
     surface, resolution_scan, bem_reference, statistical_model, mode_mixity, friction, psd, \
-realisations, bem_shear, verdict
+realisations, bem_shear, friction_tests, verdict
         One field per stage of :data:`asperity.pipelines.stages.STAGES`, named by its group in
         results.h5 (:class:`StageResults`; see ``docs/pipelines.md``).
     stages : list of StageRun

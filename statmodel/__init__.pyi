@@ -8,6 +8,10 @@ re-export for type checkers.
 
 from .checks import Check as Check
 from .checks import StatmodelWarning as StatmodelWarning
+from .drive import DriveCurve as DriveCurve
+from .drive import StickSlipJump as StickSlipJump
+from .drive import drive_curve as drive_curve
+from .drive import map_to_drive as map_to_drive
 from .effective_resolution import EffectiveResolution as EffectiveResolution
 from .effective_resolution import locate_least_misfit as locate_least_misfit
 from .effective_resolution import roughness_at_resolution as roughness_at_resolution

@@ -52,6 +52,7 @@ from asperity.pipelines.report import verdict_marks
 from asperity.pipelines.report._run import Run, persson_fraction
 from asperity.pipelines.report.bem import BEM_MODES
 from asperity.pipelines.report.figure_output import FigureOptions, FigureTable, publish
+from asperity.pipelines.report.friction_curves import FRICTION_TEST_FIGURES
 from asperity.pipelines.report.numbers import format_number
 from asperity.pipelines.report.profile import (
     scan_label,
@@ -501,6 +502,14 @@ def draw_bem_grid(result: Run) -> tuple[Figure, FigureTable]:
     return bem_grid_figure(result), table
 
 
+#: The lambda scan's misfit axis per fit source (``[fit] source``).
+LAMBDA_FIT_LABELS: dict[str, str] = {
+    "area": "rms of ($A_{model}$ - $A_{measured}$) / max $A_{measured}$",
+    "friction": "rms of ($F_{model}$ - $F_{measured}$) / max $F_{measured}$",
+    "joint": "$\\sqrt{\\chi^2 / m}$, both sources",
+}
+
+
 def draw_lambda_fit(result: Run) -> tuple[Figure, FigureTable]:
     """The lambda stage: the misfit of the coarse lambda scan and the fitted value."""
     fit = result.mode_mixity.fit
@@ -520,7 +529,7 @@ def draw_lambda_fit(result: Run) -> tuple[Figure, FigureTable]:
             color="0.85",
         )
     ax.set_xlabel("mode mixity $\\lambda$")
-    ax.set_ylabel("rms of ($A_{model}$ - $A_{measured}$) / max $A_{measured}$")
+    ax.set_ylabel(LAMBDA_FIT_LABELS[getattr(result.mode_mixity, "fit_source", None) or "area"])
     ax.legend(fontsize=8)
     table = FigureTable()
     table.add(
@@ -1101,6 +1110,7 @@ FIGURES: dict[str, tuple[str, Drawer, Callable[[Run], bool]]] = {
     ),
     "psd": ("psd", draw_psd, lambda r: getattr(r, "psd", None) is not None),
     **SHEAR_FIGURES,
+    **FRICTION_TEST_FIGURES,
 }
 
 

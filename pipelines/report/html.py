@@ -25,6 +25,7 @@ import numpy as np
 from asperity.atomic import write_text_atomic
 from asperity.pipelines.report._run import Run
 from asperity.pipelines.report.figures import draw_figure
+from asperity.pipelines.report.friction_curves import friction_tests_html
 from asperity.pipelines.report.numbers import plain_text
 from asperity.pipelines.report.shear import shear_html
 from asperity.pipelines.report.text import headline_numbers, key_numbers, load_table
@@ -201,6 +202,7 @@ def write_html(
         "<h2>Per normal load</h2>",
         table_html(*load_table(result)),
         shear_html(result),
+        friction_tests_html(result),
         "<h2>Details</h2>",
         table_html(["quantity", "value"], [list(r) for r in key_numbers(result)]),
         f"<h2>Validity</h2><p><b>{html.escape(_wording(verdict))}</b> (reasons at the top).</p>"

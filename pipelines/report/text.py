@@ -20,6 +20,10 @@ from asperity.pipelines.report.early import (
     early_markdown,
     is_early,
 )
+from asperity.pipelines.report.friction_curves import (
+    FRICTION_TEST_CAPTIONS,
+    friction_tests_section,
+)
 from asperity.pipelines.report.measured import shape_scale_key_numbers
 from asperity.pipelines.report.numbers import format_number, format_quantity, plain_text, text_unit
 from asperity.pipelines.report.profile import (
@@ -619,6 +623,7 @@ CAPTIONS: dict[str, str] = {
     "(Hurst) fit and "
     "the Nyquist wavenumbers of the map and of the effective resolution.",
     **SHEAR_CAPTIONS,
+    **FRICTION_TEST_CAPTIONS,
 }
 
 
@@ -717,6 +722,7 @@ def report_markdown(result: Run, figures: dict[str, Path]) -> str:
         *profile_section(result),
         *bem_section(result),
         *(plain_text(line) for line in shear_section(result)),
+        *(plain_text(line) for line in friction_tests_section(result)),
         "## Validity",
         "",
         f"**{verdict_wording(verdict)}** (reasons at the top)."

@@ -12,7 +12,8 @@
  7     psd                     :mod:`~asperity.pipelines.stages.psd`
  8     realisations            :mod:`~asperity.pipelines.stages.realisations`
  9     bem_shear               :mod:`~asperity.pipelines.stages.bem_shear`
- 10    verdict                 :mod:`~asperity.pipelines.stages.verdict`
+ 10    friction_tests          :mod:`~asperity.pipelines.stages.friction_curves`
+ 11    verdict                 :mod:`~asperity.pipelines.stages.verdict`
 =====  ======================  ====================================================
 
 (a test holds this table to :data:`STAGES`.) Each module declares its stages with
@@ -24,6 +25,7 @@ from asperity.pipelines.engine.stage import Stage
 from asperity.pipelines.stages.bem import BEM
 from asperity.pipelines.stages.bem_shear import BEM_SHEAR
 from asperity.pipelines.stages.friction import FRICTION, MODE_MIXITY
+from asperity.pipelines.stages.friction_curves import FRICTION_CURVES
 from asperity.pipelines.stages.psd import PSD
 from asperity.pipelines.stages.realisations import REALISATIONS
 from asperity.pipelines.stages.statistical_model import STATISTICAL_MODEL
@@ -41,6 +43,7 @@ STAGES: tuple[Stage, ...] = (
     PSD,
     REALISATIONS,
     BEM_SHEAR,
+    FRICTION_CURVES,
     VERDICT,
 )
 #: Their group names in results.h5.

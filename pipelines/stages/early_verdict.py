@@ -37,6 +37,7 @@ SKIPPED_WHEN_KNOWN: tuple[str, ...] = (
     "psd",
     "realisations",
     "bem_shear",
+    "friction_tests",
 )
 #: Measured A_r/A_n below which the measurement contradicts the full-contact limit (A_r/A_n -> 1).
 CONTRADICTED_FRACTION = 0.5

@@ -19,7 +19,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass
 from typing import TypeAlias
@@ -31,10 +31,13 @@ from asperity.fields import array, document_fields, scalar, stacked, text
 from asperity.pipelines.engine.parallel import run_map
 from asperity.pipelines.engine.stage import Stage, StageContext
 from asperity.pipelines.measured import ShearAreaCurve
+from asperity.pipelines.measured_friction import FrictionCurve
 from asperity.pipelines.stages.fitting import LambdaFit, fit_mode_mixity, interpolate_area
+from asperity.pipelines.stages.friction_fit import SourceFits, fit_sources
 from asperity.pipelines.stages.statistical_model import STATISTICAL_MODEL
 from asperity.statmodel.results_io import ARRAY_UNITS, SCALAR_UNITS
 from asperity.statmodel.shear_path import (
+    PEAK_SEARCH_STEPS,
     choose_quadrature,
     model_shear_area,
     shear_curve_auto,
@@ -88,6 +91,46 @@ def _curve_job(
             knobs=knobs,
         )
     )
+
+
+def model_drive_curve(
+    mode_mixity: float,
+    normal_load: float,
+    *,
+    material: statmodel.Material,
+    roughness: statmodel.Roughness,
+    nominal_area: float,
+    drive_stiffness: float | None,
+    max_tangential_displacement: float | None,
+    steps: int,
+    knobs: Mapping[str, float],
+) -> statmodel.DriveCurve:
+    """The model's F_x for one lambda and load seen from the drive (stiffness k N/m, None:
+    rigid): :func:`statmodel.drive_curve` (drive = delta_T + F_x / k, stick-slip jumps).
+
+    As :func:`model_shear_area`, a first curve finds the static peak delta_s; the curve mapped
+    has ``steps`` equal steps from 0 to delta_s and ``steps`` more from there to the path's end
+    (the model's full sliding on the automatic path), so its nodes move smoothly with lambda
+    (a smooth fit objective) and its fall after the peak, where a jump starts, is resolved.
+    """
+    changed = dataclasses.replace(material, mode_mixity=float(mode_mixity))
+    first = shear_curve_auto(
+        changed,
+        roughness,
+        nominal_area,
+        normal_load,
+        max_tangential_displacement=max_tangential_displacement,
+        steps=PEAK_SEARCH_STEPS,
+        knobs=knobs,
+    )
+    peak = float(first.static_displacement)
+    end = float(np.asarray(first.tangential_displacement)[-1])
+    curve = first
+    if math.isfinite(peak) and 0 < peak < end:
+        path = np.concatenate([np.linspace(0.0, peak, steps), np.linspace(peak, end, steps)[1:]])
+        curve = statmodel.shear_curve(changed, roughness, nominal_area, normal_load, path, **knobs)
+    k = math.inf if drive_stiffness is None else float(drive_stiffness)
+    return statmodel.drive_curve(curve, k)
 
 
 @document_fields
@@ -219,6 +262,32 @@ class ModeMixityChoice:
     offset_residual_rms: float | None = scalar(
         "1", "rms relative residual under the offset reading", optional=True
     )
+    fit_source: str | None = text(
+        "what lambda was fitted to: area, friction or joint (fit.source)", optional=True
+    )
+    area_mode_mixity: float | None = scalar("1", "lambda fitted to A_r(F_x) alone", optional=True)
+    area_interval: np.ndarray | None = array(
+        "1", ("interval_end",), "its one-sigma profile interval", optional=True
+    )
+    friction_mode_mixity: float | None = scalar(
+        "1", "lambda fitted to the friction tests F_x(drive) alone", optional=True
+    )
+    friction_interval: np.ndarray | None = array(
+        "1", ("interval_end",), "its one-sigma profile interval", optional=True
+    )
+    friction_residual_rms: float | None = scalar(
+        "1", "rms of (F_model - F_measured) / max(F_measured), friction fit", optional=True
+    )
+    friction_n_points: int | None = scalar("1", "friction-test points fitted", optional=True)
+    friction_at_bound: bool | None = scalar(
+        "1", "the friction-only lambda lies on a bound", optional=True
+    )
+    lambda_sources_disagree: bool | None = scalar(
+        "1", "area-only and friction-only lambdas differ by > 2 combined sigma", optional=True
+    )
+    lambda_sources_comparison: str | None = text(
+        "the two single-source lambdas compared", optional=True
+    )
 
     @classmethod
     def from_fit(cls, fit: LambdaFit, curves: Sequence[ShearAreaCurve]) -> ModeMixityChoice:
@@ -293,7 +362,7 @@ class ModeMixityChoice:
     @property
     def curves(self) -> list[ShearAreaCurve]:
         """The measured A_r(F_x) curves fitted (empty when not fitted)."""
-        if not self.fitted:
+        if not self.fitted or self.measured_normal_load is None:
             return []
         loads = self.measured_normal_load
         return [
@@ -321,13 +390,17 @@ def calibrate_mode_mixity(
     mode: str = "shape",
     trim: bool = True,
     roughness_interval: Sequence[statmodel.Roughness | None] | None = None,
+    friction_curves: Sequence[FrictionCurve] = (),
+    source: str = "area",
+    drive_stiffness: float | None = None,
 ) -> ModeMixityChoice:
-    """The lambda stage: fit lambda to measured A_r(F_x) curves, or keep ``material.mode_mixity``.
+    """The lambda stage: fit lambda to measured A_r(F_x) curves and/or friction tests, or keep
+    ``material.mode_mixity``.
 
     Parameters
     ----------
     material : statmodel.Material
-        Its ``mode_mixity`` is used when ``curves`` is empty.
+        Its ``mode_mixity`` is used when no curves are given.
     roughness : statmodel.Roughness
         At the effective resolution.
     nominal_area : float
@@ -345,28 +418,92 @@ def calibrate_mode_mixity(
     roughness_interval : sequence of two statmodel.Roughness (None for an unknown end), optional
         The statistics at the effective resolution's interval ends: lambda is fitted there too
         and its interval is the union of the profile interval with those two fits (the
-        roughness's uncertainty reaches lambda; ``mode_mixity_roughness_shift``).
+        roughness's uncertainty reaches lambda; ``mode_mixity_roughness_shift``). Area fit
+        only: a friction or joint lambda keeps its own profile interval.
+    friction_curves : sequence of FrictionCurve
+        Measured friction tests F_x(drive) (m, N): fitted alone whenever given (the
+        comparison of the two single-source lambdas), and used downstream when ``source``
+        says so (:func:`pipelines.stages.friction_fit.fit_sources`); with source "area" and
+        no A_r(F_x) curves the configured lambda is used, the friction fit recorded beside it.
+    source : {"area", "friction", "joint"}
+        Which fit's lambda is used downstream (``[fit] source``).
+    drive_stiffness : float or None
+        The loading system's k, N/m (None: rigid), between the drive and the contact.
     """
-    if not curves:
+    if not curves and not friction_curves:
         return ModeMixityChoice(mode_mixity=material.mode_mixity, fitted=False)
-
-    def model_at(rough: statmodel.Roughness) -> functools.partial:
-        return functools.partial(
-            model_shear_area,
-            material=material,
-            roughness=rough,
-            nominal_area=nominal_area,
-            max_tangential_displacement=max_tangential_displacement,
-            steps=max(steps, MIN_FIT_STEPS),
-            knobs=dict(knobs or {}),
+    map_fn = map if executor is None else executor.map
+    quad = dict(knobs or {})
+    area_model = functools.partial(
+        model_shear_area,
+        material=material,
+        nominal_area=nominal_area,
+        max_tangential_displacement=max_tangential_displacement,
+        steps=max(steps, MIN_FIT_STEPS),
+        knobs=quad,
+    )
+    choice, area_fit = None, None
+    if curves:
+        choice, area_fit = _area_choice(
+            area_model, roughness, curves, bounds, map_fn, mode, trim, roughness_interval
         )
+    if not friction_curves:
+        return choice
+    drive_model = functools.partial(
+        model_drive_curve,
+        material=material,
+        roughness=roughness,
+        nominal_area=nominal_area,
+        drive_stiffness=drive_stiffness,
+        max_tangential_displacement=max_tangential_displacement,
+        steps=max(steps, MIN_FIT_STEPS) // 2 + 1,
+        knobs=quad,
+    )
+    fits = fit_sources(
+        source,
+        area_curves=list(curves),
+        friction_curves=list(friction_curves),
+        area_model=functools.partial(area_model, roughness=roughness),
+        drive_model=drive_model,
+        bounds=bounds,
+        map_fn=map_fn,
+        mode=mode,
+        trim=trim,
+        area_fit=area_fit,
+    )
+    if choice is None:  # friction tests only: fitted to them, or (source "area") configured
+        chosen = fits.chosen
+        choice = ModeMixityChoice(
+            mode_mixity=material.mode_mixity if chosen is None else chosen.mode_mixity,
+            fitted=chosen is not None,
+        )
+    _record_sources(choice, fits)
+    return choice
+
+
+def _area_choice(
+    area_model: functools.partial,
+    roughness: statmodel.Roughness,
+    curves: Sequence[ShearAreaCurve],
+    bounds: tuple[float, float],
+    map_fn: Callable,
+    mode: str,
+    trim: bool,
+    roughness_interval: Sequence[statmodel.Roughness | None] | None,
+) -> tuple[ModeMixityChoice, LambdaFit]:
+    """lambda fitted to the A_r(F_x) curves (the profile interval united with the fits at the
+    resolution interval's ends), with the model's A_r at the measured points; and the fit."""
 
     def fitted_at(rough: statmodel.Roughness) -> LambdaFit:
         return fit_mode_mixity(
-            list(curves), model_at(rough), bounds=bounds, map_fn=map_fn, mode=mode, trim=trim
+            list(curves),
+            functools.partial(area_model, roughness=rough),
+            bounds=bounds,
+            map_fn=map_fn,
+            mode=mode,
+            trim=trim,
         )
 
-    map_fn = map if executor is None else executor.map
     fit = fitted_at(roughness)
     choice = ModeMixityChoice.from_fit(fit, curves)
     choice.profile_interval = np.asarray(fit.interval, dtype=float)
@@ -374,7 +511,7 @@ def calibrate_mode_mixity(
         _unite_with_roughness(
             choice, [fitted_at(r) if _known(r) else None for r in roughness_interval]
         )
-    model = model_at(roughness)
+    model = functools.partial(area_model, roughness=roughness)
     outputs = map_fn(model, [fit.mode_mixity] * len(curves), [c.normal_load for c in curves])
     choice.model_real_area_at_measured = np.concatenate(
         [
@@ -382,7 +519,38 @@ def calibrate_mode_mixity(
             for c, (fx, ar) in zip(curves, outputs, strict=True)
         ]
     )
-    return choice
+    return choice, fit
+
+
+def _record_sources(choice: ModeMixityChoice, fits: SourceFits) -> None:
+    """The single-source lambdas and their comparison on ``choice``; with source "friction"
+    or "joint", that fit's lambda, interval and scan replace the area fit's."""
+    choice.fit_source = fits.source
+    if fits.area is not None:
+        choice.area_mode_mixity = fits.area.mode_mixity
+        choice.area_interval = np.asarray(fits.area.interval, dtype=float)
+    friction = fits.friction
+    choice.friction_mode_mixity = friction.mode_mixity
+    choice.friction_interval = np.asarray(friction.interval, dtype=float)
+    choice.friction_residual_rms = friction.residual_rms
+    choice.friction_n_points = friction.n_points
+    choice.friction_at_bound = friction.at_bound
+    choice.lambda_sources_disagree = fits.disagree
+    choice.lambda_sources_comparison = fits.comparison or None
+    if fits.source == "area":
+        return
+    chosen = fits.chosen
+    choice.mode_mixity = chosen.mode_mixity
+    choice.mode_mixity_std = chosen.mode_mixity_std
+    choice.interval_low, choice.interval_high = (float(v) for v in chosen.interval)
+    choice.profile_interval = np.asarray(chosen.interval, dtype=float)
+    choice.mode_mixity_roughness_shift = None
+    choice.at_bound = chosen.at_bound
+    choice.lambda_grid = np.asarray(chosen.grid_mode_mixity, dtype=float)
+    choice.grid_residual_rms = np.asarray(chosen.grid_residual_rms, dtype=float)
+    choice.residual_rms = chosen.residual_rms
+    choice.n_points = chosen.n_points
+    choice.nfev, choice.success, choice.message = chosen.nfev, chosen.success, chosen.message
 
 
 def _known(roughness: statmodel.Roughness | None) -> bool:
@@ -816,6 +984,9 @@ def compute_mode_mixity(context: StageContext) -> ModeMixityChoice:
         mode=config.fit.mode,
         trim=config.fit.trim_after_first_peak,
         roughness_interval=context.result(STATISTICAL_MODEL).roughness_interval,
+        friction_curves=context.measured.friction_curves,
+        source=config.fit.source,
+        drive_stiffness=config.loading.drive_stiffness,
     )
 
 
@@ -863,7 +1034,9 @@ MODE_MIXITY = Stage(
         "loading.nominal_area",
         "loading.max_tangential_displacement",
         "loading.steps",
+        "loading.drive_stiffness",
         "measured.shear_area",
+        "measured.friction_curves",
         "fit",
     ),
     inputs=(STATISTICAL_MODEL,),

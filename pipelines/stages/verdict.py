@@ -31,6 +31,11 @@ calibrated on cannot be right:
   when the model's mean ln(A_model / A_reference) changes sign between them.
 * ``lambda_at_bound`` / ``lambda_uncertainty``: the fitted lambda lies on a bound of the
   search interval (the bound chose it, not the data) or its uncertainty is not finite.
+* ``lambda_sources_disagree`` (a warning): lambda fitted to the A_r(F_x) curves alone and to
+  the friction tests F_x(drive) alone differ by more than two combined standard deviations
+  (:func:`asperity.pipelines.stages.friction_fit.compare_sources`): the two measurements,
+  through this model and this loading-system stiffness, do not agree on lambda
+  (:func:`check_lambda_sources`).
 * ``measured_area_above_nominal``: a measured A_r > A_n.
 * ``no_full_sliding``: a shear curve did not reach full sliding (its sliding friction is
   not a result), or reached no finite sliding displacement within the range (the separation
@@ -457,6 +462,21 @@ def check_lambda(choice: ModeMixityChoice) -> list[Reason]:
     if choice.success is False:
         reasons.append(Reason("lambda_fit", "warning", f"the lambda fit reports: {choice.message}"))
     return reasons
+
+
+def check_lambda_sources(choice: ModeMixityChoice) -> list[Reason]:
+    """The area-only and friction-only lambdas disagree (both measured): a warning."""
+    if choice is None or not getattr(choice, "lambda_sources_disagree", None):
+        return []
+    return [
+        Reason(
+            "lambda_sources_disagree",
+            "warning",
+            f"{choice.lambda_sources_comparison} (lambda used: the {choice.fit_source} fit); "
+            "check the loading-system stiffness (loading.drive_stiffness) and the drive's "
+            "origin of the friction tests",
+        )
+    ]
 
 
 def check_measured_area(area: np.ndarray, nominal_area: float, what: str) -> list[Reason]:
@@ -986,6 +1006,7 @@ def job_reasons(context: StageContext) -> list[Reason]:
         sorted({c.normal_load for c in measured.shear_area}), config.loading.normal_loads
     )
     reasons += check_lambda(lam)
+    reasons += check_lambda_sources(lam)
     reasons += check_sliding_displacement(context.result(FRICTION))
     reasons += check_sliding(context.result(FRICTION))
     reasons += check_prediction_uncertainty(context.result(FRICTION))

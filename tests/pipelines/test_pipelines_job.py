@@ -81,7 +81,11 @@ def test_results_file_has_units_dims_and_provenance(small_run):
     cfg, out, result = small_run
     with h5py.File(out / "results.h5", "r") as f:
         ran = {s.name for s in result.stages if s.status != "disabled"}
-        assert ran <= set(f) and ran >= set(STAGE_NAMES) - {"realisations", "bem_shear"}
+        assert ran <= set(f) and ran >= set(STAGE_NAMES) - {
+            "realisations",
+            "bem_shear",
+            "friction_tests",
+        }
         assert f.attrs["input_sha256"] == result.input_sha256
         assert "[material]" in f.attrs["config_toml"]
         assert f.attrs["asperity_version"]

@@ -22,6 +22,7 @@ from asperity.pipelines.report import (
     spans_decades,
 )
 from asperity.pipelines.report.figure_output import FigureOptions, publish, read_figure_csv
+from asperity.pipelines.report.friction_curves import FRICTION_TEST_FIGURES
 from asperity.pipelines.stages.psd import psd_and_persson
 from asperity.pipelines.stages.surface import LevelledSurface
 from asperity.plotting import layout_problems
@@ -37,7 +38,8 @@ def test_every_figure_has_a_clean_layout(small_run):
         "lambda_residuals",
         "bem_shear_force",
         "bem_shear_area",
-    }  # no measured curves, no [bem_shear] in the small job
+        *FRICTION_TEST_FIGURES,
+    }  # no measured curves, no [bem_shear], no friction tests in the small job
     for name, (fig, _) in figures.items():
         assert layout_problems(fig) == [], name
 

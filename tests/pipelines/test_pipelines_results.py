@@ -15,6 +15,7 @@ from asperity.fields import checksum
 from asperity.pipelines.cli import main
 from asperity.pipelines.job import STAGES
 from asperity.pipelines.report import FIGURES, key_numbers, load_table, write_report
+from asperity.pipelines.report.friction_curves import FRICTION_TEST_FIGURES
 from asperity.pipelines.report.html import find_verdict, write_html
 from asperity.pipelines.report.numbers import plain_text
 from asperity.pipelines.results import ALIASES
@@ -89,7 +90,8 @@ def test_report_command_redraws_without_solving(small_run, tmp_path, monkeypatch
     monkeypatch.setattr(job, "run_job", refuse)
     assert main(["report", str(tmp_path), "--formats", "png", "--dpi", "40"]) == 0
     for stem, _, _ in FIGURES.values():
-        if stem not in ("lambda_fit", "lambda_residuals", "fig4_bem_shear", "fig13_bem_shear"):
+        absent = ("lambda_fit", "lambda_residuals", "fig4_bem_shear", "fig13_bem_shear")
+        if stem not in absent and stem not in FRICTION_TEST_FIGURES:  # stems are the names
             for suffix in (".png", ".csv"):
                 assert (tmp_path / stem).with_suffix(suffix).exists(), stem + suffix
     assert (tmp_path / "report.md").exists() and (tmp_path / "report.html").exists()
@@ -132,7 +134,13 @@ def _parse(path) -> _Page:
 def test_html_report_holds_every_figure_and_number(small_run):
     _, out, result = small_run
     page = _parse(out / "report.html")
-    absent = ("lambda_fit", "lambda_residuals", "bem_shear_force", "bem_shear_area")
+    absent = (
+        "lambda_fit",
+        "lambda_residuals",
+        "bem_shear_force",
+        "bem_shear_area",
+        *FRICTION_TEST_FIGURES,  # no friction tests in the small job
+    )
     expected = [n for n in FIGURES if n not in absent]
     assert sorted(page.figures) == sorted(expected)
     assert page.images + page.svgs == len(expected)
@@ -223,7 +231,13 @@ def test_html_embeds_svg_or_a_drawn_png_without_png_files(small_run, tmp_path):
     from asperity.pipelines.report.figure_output import FigureOptions
 
     _, _, result = small_run
-    absent = ("lambda_fit", "lambda_residuals", "bem_shear_force", "bem_shear_area")
+    absent = (
+        "lambda_fit",
+        "lambda_residuals",
+        "bem_shear_force",
+        "bem_shear_area",
+        *FRICTION_TEST_FIGURES,  # no friction tests in the small job
+    )
     expected = len([n for n in FIGURES if n not in absent])
     write_report(result, tmp_path, FigureOptions(("svg",)))
     page = _parse(tmp_path / "report.html")

@@ -95,7 +95,7 @@ def _planned_keys(config, version):
 
 
 #: Stages the small job (a map) leaves disabled: the line-profile realisations.
-PROFILE_ONLY = {"realisations", "bem_shear"}  # and the shear BEM, off without [bem_shear]
+PROFILE_ONLY = {"realisations", "bem_shear", "friction_tests"}  # and the optional stages
 
 
 def assert_provenance_describes_the_stages(path, base_dir):
