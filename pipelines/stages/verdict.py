@@ -1,4 +1,4 @@
-"""The verdict stage (stage 10, the last): the validity verdict of a job, "valid", "warnings"
+"""The verdict stage (the last stage): the validity verdict of a job, "valid", "warnings"
 or "invalid", with reasons.
 
 Every reason states the number, the threshold and why (:class:`Reason`). A result is
