@@ -50,6 +50,7 @@ from asperity.schema import (
     read_toml,
 )
 from asperity.statmodel.config import material_section
+from asperity.statmodel.measured_curves import FIT_SOURCES
 from asperity.statmodel.parameters import Material
 
 #: A value of parsed TOML (or of the JSON key documents built from it): the configuration as
@@ -78,7 +79,6 @@ OUTLIER_RULES: tuple[str, ...] = ("mad", "percentile", "none")
 FIT_MODES: tuple[str, ...] = ("shape", "absolute")
 #: Where lambda is fitted (``[fit] source``): measured A_r(F_x) curves (``measured.shear_area``),
 #: measured friction tests F_x(drive) (``measured.friction_curves``), or both jointly.
-FIT_SOURCES: tuple[str, ...] = ("area", "friction", "joint")
 
 
 @dataclass(frozen=True)
@@ -449,7 +449,7 @@ class FitConfig:
         ``measured.shear_area``), "friction" (the friction tests F_x(drive),
         ``measured.friction_curves``, through ``loading.drive_stiffness``) or "joint" (both,
         each weighted by its own residual variance); see
-        :mod:`asperity.pipelines.stages.friction_fit`.
+        :mod:`asperity.statmodel.lambda_fit_friction`.
     """
 
     mode_mixity_bounds: tuple[float, float] = (1e-4, 1.0)

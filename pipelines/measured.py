@@ -30,51 +30,11 @@ import numpy as np
 from asperity.errors import InputError
 from asperity.files import require_regular_file
 from asperity.pipelines.config import MeasuredConfig
+from asperity.statmodel.measured_curves import NormalAreaCurve, ShearAreaCurve
 
 
 class MeasuredFileError(InputError):
     """A measured CSV file is malformed; the message names the file, row and column."""
-
-
-@dataclass(frozen=True)
-class NormalAreaCurve:
-    """Measured real contact area at rest against normal load.
-
-    Attributes
-    ----------
-    normal_load : ndarray
-        F_z, N (sorted ascending).
-    real_area : ndarray
-        A_r, m^2.
-    source : str
-        File it was read from.
-    """
-
-    normal_load: np.ndarray
-    real_area: np.ndarray
-    source: str = ""
-
-
-@dataclass(frozen=True)
-class ShearAreaCurve:
-    """Measured real contact area against tangential force at one normal load.
-
-    Attributes
-    ----------
-    normal_load : float
-        F_z, N.
-    tangential_force : ndarray
-        F_x, N, in acquisition (file) order.
-    real_area : ndarray
-        A_r, m^2.
-    source : str
-        File it was read from.
-    """
-
-    normal_load: float
-    tangential_force: np.ndarray
-    real_area: np.ndarray
-    source: str = ""
 
 
 #: Units accepted in a column header (``name [unit]`` or ``name (unit)``), as SI factors.

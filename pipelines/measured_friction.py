@@ -29,7 +29,6 @@ from __future__ import annotations
 
 import csv
 from collections.abc import Sequence
-from dataclasses import dataclass
 from pathlib import Path
 from typing import cast
 
@@ -45,6 +44,7 @@ from asperity.pipelines.measured import (
     check_friction_magnitude,
     read_columns,
 )
+from asperity.statmodel.measured_curves import FrictionCurve
 
 #: Largest drive range (m) of one measured curve: friction tests drive millimetres to a few
 #: centimetres; 0.1 m and more is what a drive in mm (or um) under an SI header looks like.
@@ -54,33 +54,6 @@ _COLUMNS = ("drive_displacement", "tangential_force")
 _LONG_FILE_HINT = (
     '; or declare the file\'s one load: friction_curves = [{normal_load = N, file = "f.csv"}]'
 )
-
-
-@dataclass(frozen=True)
-class FrictionCurve:
-    """A measured friction test at one normal load (SI units).
-
-    Attributes
-    ----------
-    normal_load : float
-        F_z, N.
-    drive_displacement : ndarray
-        The drive's displacement, m, non-decreasing, in acquisition (file) order.
-    tangential_force : ndarray
-        F_x, N.
-    source : str
-        File it was read from.
-    """
-
-    normal_load: float
-    drive_displacement: np.ndarray
-    tangential_force: np.ndarray
-    source: str = ""
-
-    @property
-    def drive_from_start(self) -> np.ndarray:
-        """The drive measured from the curve's first point, m."""
-        return self.drive_displacement - self.drive_displacement[0]
 
 
 def _declared_loads(path: Path, cols: dict[str, np.ndarray], declared: float) -> np.ndarray:

@@ -26,6 +26,16 @@ from .jkr import jkr_normal_load as jkr_normal_load
 from .jkr import jkr_pull_off_force_fixed_grip as jkr_pull_off_force_fixed_grip
 from .jkr import jkr_pull_off_force_load_control as jkr_pull_off_force_load_control
 from .jkr import jkr_zero_load_radius as jkr_zero_load_radius
+from .lambda_fit import LambdaFit as LambdaFit
+from .lambda_fit import fit_mode_mixity as fit_mode_mixity
+from .lambda_fit_friction import SourceFits as SourceFits
+from .lambda_fit_friction import fit_mode_mixity_friction as fit_mode_mixity_friction
+from .lambda_fit_friction import fit_mode_mixity_joint as fit_mode_mixity_joint
+from .lambda_fit_friction import fit_sources as fit_sources
+from .measured_curves import FIT_SOURCES as FIT_SOURCES
+from .measured_curves import FrictionCurve as FrictionCurve
+from .measured_curves import NormalAreaCurve as NormalAreaCurve
+from .measured_curves import ShearAreaCurve as ShearAreaCurve
 from .options import QuadratureOptions as QuadratureOptions
 from .papangelo_ciavarella import pc_contact_radius as pc_contact_radius
 from .papangelo_ciavarella import pc_fold_radius as pc_fold_radius

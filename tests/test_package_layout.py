@@ -189,7 +189,7 @@ DEPRECATED_PATHS = {
     "asperity.pipelines.resolution_stage": "asperity.pipelines.stages.statistical_model",
     "asperity.pipelines.friction_stage": "asperity.pipelines.stages.friction",
     "asperity.pipelines.psd_stage": "asperity.pipelines.stages.psd",
-    "asperity.pipelines.fitting": "asperity.pipelines.stages.fitting",
+    "asperity.pipelines.fitting": "asperity.statmodel.lambda_fit",
     "asperity.pipelines.fields": "asperity.fields",
     "asperity.pipelines.verdict": "asperity.pipelines.stages.verdict",
 }

@@ -1,7 +1,7 @@
 """Report rows of the measured A_r(F_x) curves: the shape fit's scale factor per curve.
 
 In mode ``shape`` the lambda fit compares each measured curve with the model curve at the
-curve's own load times a free factor c (:mod:`asperity.pipelines.stages.fitting`); the
+curve's own load times a free factor c (:mod:`asperity.statmodel.lambda_fit`); the
 verdict's ``shape_scale`` reason judges c (:func:`asperity.pipelines.stages.verdict.
 check_shape_scale`). The row shows every c beside its load so that a reader sees the level
 the fit absorbed.

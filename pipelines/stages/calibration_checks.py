@@ -11,7 +11,7 @@ trace. Two checks, each with its verdict code (warnings; thresholds here):
   :data:`SCALE_TOLERANCE` (10 %) from the model beyond the model's own one-sigma relative
   uncertainty at F_x = 0 at that load (``friction.model_real_area_uncertainty``). The file then
   shows either a scale error or an offset; which one the shape cannot tell (the lambda fit tried
-  both: :mod:`asperity.pipelines.stages.fitting`), so lambda's interval is widened over both
+  both: :mod:`asperity.statmodel.lambda_fit`), so lambda's interval is widened over both
   readings, and the reason states both lambdas and what to check. Curves the ``shape_scale``
   reason already names (c outside [0.82, 1.22]) are left to it.
 * ``measured_area_offset``: the offset reading (A_model + d) fits the curves better than the

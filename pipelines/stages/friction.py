@@ -2,7 +2,7 @@
 each load.
 
 The lambda stage (:func:`calibrate_mode_mixity`) fits the mode mixity lambda to the user's measured
-A_r(F_x) curves with :func:`pipelines.stages.fitting.fit_mode_mixity` (Section 5, Fig 13); without
+A_r(F_x) curves with :func:`statmodel.lambda_fit.fit_mode_mixity` (Section 5, Fig 13); without
 measurements the configured lambda is used.
 
 The friction stage (:func:`friction_prediction`) runs :func:`statmodel.shear_curve` at every normal
@@ -32,9 +32,9 @@ from asperity.pipelines.engine.parallel import run_map
 from asperity.pipelines.engine.stage import Stage, StageContext
 from asperity.pipelines.measured import ShearAreaCurve
 from asperity.pipelines.measured_friction import FrictionCurve
-from asperity.pipelines.stages.fitting import LambdaFit, fit_mode_mixity, interpolate_area
-from asperity.pipelines.stages.friction_fit import SourceFits, fit_sources
 from asperity.pipelines.stages.statistical_model import STATISTICAL_MODEL
+from asperity.statmodel.lambda_fit import LambdaFit, fit_mode_mixity, interpolate_area
+from asperity.statmodel.lambda_fit_friction import SourceFits, fit_sources
 from asperity.statmodel.results_io import ARRAY_UNITS, SCALAR_UNITS
 from asperity.statmodel.shear_path import (
     PEAK_SEARCH_STEPS,
@@ -178,7 +178,7 @@ class ModeMixityChoice:
     offset_mode_mixity, offset_residual_rms : float or None
         lambda and the rms relative residual under the additive-offset reading
         (A_measured ~ A_model + d), fitted when a factor c is 10 % or more from 1
-        (:mod:`pipelines.stages.fitting`); NaN when not tested.
+        (:mod:`statmodel.lambda_fit`); NaN when not tested.
     offset_interval : ndarray or None
         lambda's profile interval under that reading.
     offset_fraction : ndarray or None
@@ -414,7 +414,7 @@ def calibrate_mode_mixity(
     executor : Executor, optional
         Evaluates the loads in parallel.
     mode, trim
-        Fit mode and trimming of :func:`pipelines.stages.fitting.fit_mode_mixity`.
+        Fit mode and trimming of :func:`statmodel.lambda_fit.fit_mode_mixity`.
     roughness_interval : sequence of two statmodel.Roughness (None for an unknown end), optional
         The statistics at the effective resolution's interval ends: lambda is fitted there too
         and its interval is the union of the profile interval with those two fits (the
@@ -423,7 +423,7 @@ def calibrate_mode_mixity(
     friction_curves : sequence of FrictionCurve
         Measured friction tests F_x(drive) (m, N): fitted alone whenever given (the
         comparison of the two single-source lambdas), and used downstream when ``source``
-        says so (:func:`pipelines.stages.friction_fit.fit_sources`); with source "area" and
+        says so (:func:`statmodel.lambda_fit_friction.fit_sources`); with source "area" and
         no A_r(F_x) curves the configured lambda is used, the friction fit recorded beside it.
     source : {"area", "friction", "joint"}
         Which fit's lambda is used downstream (``[fit] source``).

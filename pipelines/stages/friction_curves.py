@@ -8,8 +8,8 @@ comparison, per test, with uncertainties (one sigma):
 
 * the static friction F_s: measured, the largest F_x up to the first static peak (where F_x
   first falls below its running maximum by six noise levels,
-  :func:`asperity.pipelines.stages.friction_fit.peak_end`), its uncertainty the test's noise
-  (:func:`asperity.pipelines.stages.friction_fit.noise_level`); predicted, the model's peak
+  :func:`asperity.statmodel.lambda_fit_friction.peak_end`), its uncertainty the test's noise
+  (:func:`asperity.statmodel.lambda_fit_friction.noise_level`); predicted, the model's peak
   with the friction stage's uncertainty (the roughness's and lambda's intervals) or, without
   it, the spread over lambda's interval;
 * the drive displacement at the peak: measured, from the test's first point (the drive's
@@ -49,8 +49,8 @@ from asperity.pipelines.stages.friction import (
     mode_mixity_interval,
     model_drive_curve,
 )
-from asperity.pipelines.stages.friction_fit import noise_level, peak_end
 from asperity.pipelines.stages.statistical_model import STATISTICAL_MODEL
+from asperity.statmodel.lambda_fit_friction import noise_level, peak_end
 
 
 @document_fields

@@ -33,7 +33,7 @@ calibrated on cannot be right:
   search interval (the bound chose it, not the data) or its uncertainty is not finite.
 * ``lambda_sources_disagree`` (a warning): lambda fitted to the A_r(F_x) curves alone and to
   the friction tests F_x(drive) alone differ by more than two combined standard deviations
-  (:func:`asperity.pipelines.stages.friction_fit.compare_sources`): the two measurements,
+  (:func:`asperity.statmodel.lambda_fit_friction.compare_sources`): the two measurements,
   through this model and this loading-system stiffness, do not agree on lambda
   (:func:`check_lambda_sources`).
 * ``measured_area_above_nominal``: a measured A_r > A_n.
@@ -832,7 +832,7 @@ def check_shape_scale(choice: ResolutionChoice) -> list[Reason]:
     """The shape fit's factor c per measured A_r(F_x) curve against 1.
 
     In mode ``shape`` each measured curve is compared with the model curve at its own load
-    times a free factor c (:mod:`pipelines.stages.fitting`). The effective resolution already
+    times a free factor c (:mod:`statmodel.lambda_fit`). The effective resolution already
     makes the model's A_r(F_z) agree with its reference; a measured level off by more than
     the misfit the verdict accepts on A_r(F_z) means the curve is not what the model at that
     load describes (areas or loads in another unit, the curve of another load or specimen),

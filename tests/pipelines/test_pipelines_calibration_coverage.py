@@ -24,7 +24,6 @@ import pytest
 from asperity import topo
 from asperity.pipelines.config import load_preset
 from asperity.pipelines.measured import NormalAreaCurve, ShearAreaCurve
-from asperity.pipelines.stages.fitting import area_up_to_peak, interpolate_area
 from asperity.pipelines.stages.friction import calibrate_mode_mixity, model_shear_area
 from asperity.pipelines.stages.statistical_model import (
     areas_at_loads,
@@ -33,6 +32,7 @@ from asperity.pipelines.stages.statistical_model import (
 )
 from asperity.pipelines.stages.surface import ScanResult, scan_resolutions
 from asperity.statmodel.effective_resolution import roughness_at_resolution
+from asperity.statmodel.lambda_fit import area_up_to_peak, interpolate_area
 
 LOADS = np.array([0.56, 1.06, 1.58, 2.08, 2.57, 3.12])
 SHEAR_LOADS = (1.06, 2.08, 3.12)

@@ -17,14 +17,14 @@ from asperity.pipelines.stages.calibration_checks import (
     offset_reasons,
     scale_reasons,
 )
-from asperity.pipelines.stages.fitting import (
+from asperity.pipelines.stages.friction import ModeMixityChoice
+from asperity.pipelines.stages.verdict import check_calibration
+from asperity.statmodel.lambda_fit import (
     CALIBRATION_SCALE,
     area_up_to_peak,
     fit_mode_mixity,
     interpolate_area,
 )
-from asperity.pipelines.stages.friction import ModeMixityChoice
-from asperity.pipelines.stages.verdict import check_calibration
 
 LOADS = (1.06, 2.08, 3.12)
 TRUE_LAMBDA = 0.03

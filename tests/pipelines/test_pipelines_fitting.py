@@ -9,7 +9,7 @@ import pytest
 
 from asperity.errors import InputError
 from asperity.pipelines.measured import ShearAreaCurve
-from asperity.pipelines.stages.fitting import area_up_to_peak, fit_mode_mixity, interpolate_area
+from asperity.statmodel.lambda_fit import area_up_to_peak, fit_mode_mixity, interpolate_area
 
 A_N = 700e-6
 

@@ -1,5 +1,5 @@
 """lambda fitted to friction tests F_x(drive) through the loading system's spring
-(pipelines.stages.friction_fit): the interval covers the true lambda, at its stated level over
+(statmodel.lambda_fit_friction): the interval covers the true lambda, at its stated level over
 seeds."""
 
 from __future__ import annotations
@@ -15,9 +15,9 @@ from asperity import statmodel
 from asperity.errors import InputError
 from asperity.pipelines.measured import ShearAreaCurve
 from asperity.pipelines.measured_friction import FrictionCurve
-from asperity.pipelines.stages.fitting import LambdaFit, interpolate_area
 from asperity.pipelines.stages.friction import model_drive_curve, model_shear_area
-from asperity.pipelines.stages.friction_fit import (
+from asperity.statmodel.lambda_fit import LambdaFit, interpolate_area
+from asperity.statmodel.lambda_fit_friction import (
     compare_sources,
     fit_mode_mixity_friction,
     fit_sources,

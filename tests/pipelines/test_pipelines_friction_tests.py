@@ -17,8 +17,8 @@ from asperity.pipelines.report import write_report
 from asperity.pipelines.report.figures import draw_figure
 from asperity.pipelines.stages.friction import model_drive_curve
 from asperity.pipelines.stages.friction_curves import _bem_fields, measured_peak
-from asperity.pipelines.stages.friction_fit import noise_level
 from asperity.plotting import layout_problems
+from asperity.statmodel.lambda_fit_friction import noise_level
 
 WIRE = 9200.0
 

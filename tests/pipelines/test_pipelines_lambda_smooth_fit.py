@@ -12,7 +12,7 @@ import pytest
 
 from asperity import statmodel
 from asperity.pipelines.measured import ShearAreaCurve
-from asperity.pipelines.stages.fitting import (
+from asperity.statmodel.lambda_fit import (
     _Objective,
     area_up_to_peak,
     fit_mode_mixity,

@@ -11,7 +11,7 @@ import pytest
 from asperity import statmodel
 from asperity.errors import InputError
 from asperity.pipelines.measured import ShearAreaCurve, read_shear_area
-from asperity.pipelines.stages.fitting import (
+from asperity.statmodel.lambda_fit import (
     area_up_to_peak,
     first_peak_end,
     fit_mode_mixity,

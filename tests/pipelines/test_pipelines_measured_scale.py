@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from asperity.pipelines.measured import ShearAreaCurve
-from asperity.pipelines.stages.fitting import area_up_to_peak, fit_mode_mixity, interpolate_area
 from asperity.pipelines.stages.friction import ModeMixityChoice
 from asperity.pipelines.stages.verdict import MAX_MISFIT, WARN_MISFIT, check_shape_scale
+from asperity.statmodel.lambda_fit import area_up_to_peak, fit_mode_mixity, interpolate_area
 
 LOADS = (0.56, 1.58, 3.12)
 TRUE_LAMBDA = 0.3

@@ -186,12 +186,12 @@ def test_model_values_are_stored_beside_the_measured_points(tmp_path):
     from asperity import statmodel
     from asperity.pipelines.engine.store import ResultStore
     from asperity.pipelines.measured import ShearAreaCurve
-    from asperity.pipelines.stages.fitting import area_up_to_peak, interpolate_area
     from asperity.pipelines.stages.friction import (
         ModeMixityChoice,
         calibrate_mode_mixity,
         model_shear_area,
     )
+    from asperity.statmodel.lambda_fit import area_up_to_peak, interpolate_area
 
     material = statmodel.Material(
         e_star=2.133e6, work_of_adhesion=0.04, mode_mixity=0.03, shear_strength=0.13e6

@@ -67,7 +67,7 @@ import numpy as np
 from scipy.optimize import OptimizeResult, minimize_scalar
 
 from asperity.errors import InputError
-from asperity.pipelines.measured import ShearAreaCurve
+from asperity.statmodel.measured_curves import ShearAreaCurve
 
 #: ``model(mode_mixity, normal_load) -> (tangential_force N, real_area m^2)`` along delta_T.
 ShearAreaModel = Callable[[float, float], tuple[np.ndarray, np.ndarray]]

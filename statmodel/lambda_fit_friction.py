@@ -12,7 +12,7 @@ measured drive and held at F_s beyond it. Residuals r = (F_model - F_measured) /
 (each test weighs the same), absolute (no free factor: the level of F_x is what lambda sets,
 through the static peak); q = log10(lambda) is scanned on a coarse log grid and refined by a
 bounded Brent search between the best point's neighbours, exactly as the area fit
-(:func:`asperity.pipelines.stages.fitting.fit_mode_mixity`). With a rigid drive, drive =
+(:func:`asperity.statmodel.lambda_fit.fit_mode_mixity`). With a rigid drive, drive =
 delta_T.
 
 **Interval** (profile likelihood): s^2 = S_min / (m - 1) with m merged points; the one-sigma
@@ -42,10 +42,8 @@ from typing import Protocol, cast
 import numpy as np
 
 from asperity.errors import InputError
-from asperity.pipelines.config import FIT_SOURCES
-from asperity.pipelines.measured import ShearAreaCurve
-from asperity.pipelines.measured_friction import FrictionCurve
-from asperity.pipelines.stages.fitting import (
+from asperity.statmodel.drive import DriveCurve
+from asperity.statmodel.lambda_fit import (
     BOUND_MARGIN,
     PEAK_DROP,
     LambdaFit,
@@ -58,7 +56,7 @@ from asperity.pipelines.stages.fitting import (
     merge_repeated,
     prepare_curve,
 )
-from asperity.statmodel.drive import DriveCurve
+from asperity.statmodel.measured_curves import FIT_SOURCES, FrictionCurve, ShearAreaCurve
 
 #: ``model(mode_mixity, normal_load) -> DriveCurve``: the model's F_x seen from the drive.
 DriveModel = Callable[[float, float], DriveCurve]
@@ -77,7 +75,7 @@ class PreparedTest:
 
 #: A fall of F_x below its running maximum by this many noise levels (:func:`noise_level`)
 #: marks the first static peak of a friction test (and at least
-#: :data:`asperity.pipelines.stages.fitting.PEAK_DROP` of its largest F_x): a noise dip on the
+#: :data:`asperity.statmodel.lambda_fit.PEAK_DROP` of its largest F_x): a noise dip on the
 #: rising branch must not be taken for the peak (with 1 % noise the 2 % rule alone cut one test
 #: in five there).
 PEAK_NOISE_LEVELS = 6.0
@@ -98,8 +96,8 @@ def noise_level(force: np.ndarray) -> float:
 def peak_end(force: np.ndarray) -> int:
     """Points up to and including a friction test's first static peak: the first fall below
     the running maximum by :data:`PEAK_NOISE_LEVELS` noise levels and at least
-    :data:`asperity.pipelines.stages.fitting.PEAK_DROP` of max |F_x|
-    (:func:`asperity.pipelines.stages.fitting.first_peak_end`)."""
+    :data:`asperity.statmodel.lambda_fit.PEAK_DROP` of max |F_x|
+    (:func:`asperity.statmodel.lambda_fit.first_peak_end`)."""
     force = np.asarray(force, dtype=float)
     top = float(np.max(np.abs(force))) or 1.0
     noise = noise_level(force)
@@ -430,7 +428,7 @@ def fit_sources(
         ``area_model(lambda, F_z) -> (F_x N, A_r m^2)`` and ``drive_model(lambda, F_z) ->
         DriveCurve``.
     bounds, map_fn, mode, trim
-        As :func:`asperity.pipelines.stages.fitting.fit_mode_mixity` (``mode`` applies to the
+        As :func:`asperity.statmodel.lambda_fit.fit_mode_mixity` (``mode`` applies to the
         area fit; the friction fit is absolute).
     area_fit : LambdaFit, optional
         The area-only fit when already made (not fitted again).
