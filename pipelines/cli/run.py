@@ -56,7 +56,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="run a shipped preset instead of CONFIG.toml",
     )
     parser.add_argument(
-        "--force", action="store_true", help="recompute every stage even when results.h5 holds it"
+        "--force",
+        action="store_true",
+        help="recompute every stage even when results.h5 holds it; also needed to replace a "
+        "finished run of a different job in --out (refused otherwise, exit 2)",
     )
     parser.add_argument(
         "--workers",

@@ -73,3 +73,40 @@ def test_a_verdict_that_does_not_read_back_warns_instead_of_failing(small_run, t
         results = open_results(folder)
     assert results.verdict is None and results.friction is not None
     assert any(line.startswith("verdict:") for line in results.problems())
+
+
+def test_a_different_job_into_a_finished_folder_is_refused_naming_both(small_run, small, tmp_path):
+    from asperity.pipelines.config import config_from_dict
+    from asperity.pipelines.engine.outdir import DifferentJobError
+    from asperity.pipelines.job import run_job
+
+    folder = _run_copy(small_run, tmp_path)
+    before = (folder / "results.h5").read_bytes()
+    data = small.data(normal_loads=[1.0, 2.5, 3.0])
+    other = config_from_dict(data, source="other.toml", base_dir=tmp_path)
+    with pytest.raises(DifferentJobError) as info:
+        run_job(other, folder)
+    message = str(info.value)
+    assert "another job (small)" in message and "this job (other.toml)" in message
+    assert "loading.normal_loads" in message and "--force" in message
+    assert (folder / "results.h5").read_bytes() == before  # nothing recomputed or written
+    assert not [p for p in folder.iterdir() if p.name.endswith(".tmp")]
+    again = run_job(small(tmp_path), folder)  # the identical job resumes as before
+    assert all(stage.status != "computed" for stage in again.stages)
+
+
+def test_an_exit_2_run_into_an_empty_folder_leaves_it_empty(tmp_path, capsys):
+    from asperity.pipelines.cli import main
+
+    bad = tmp_path / "bad.x3p"
+    bad.write_bytes(b"PK\x03\x04 not really a zip")
+    job = tmp_path / "job.toml"
+    job.write_text('[surface]\nfile = "bad.x3p"\n', encoding="utf-8")
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    assert main(["run", str(job), "--out", str(empty)]) == 2
+    assert list(empty.iterdir()) == []  # no .asperity.lock left behind
+    new = tmp_path / "new"
+    assert main(["run", str(job), "--out", str(new)]) == 2
+    assert not new.exists()  # a folder this run created and wrote nothing in goes too
+    capsys.readouterr()
