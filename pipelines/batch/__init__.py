@@ -3,7 +3,9 @@
 ``run_batch("job.toml", ["maps/*.x3p"], "batch-out")`` runs :func:`pipelines.job.run_job` and
 :func:`pipelines.report.write_report` once per map, with ``[surface] file`` replaced by the map
 (every other key of the job as written), in ``batch-out/<map stem>/``. Each folder is an
-ordinary, resumable run: running the batch again skips the stored stages. Maps run one per
+ordinary, resumable run: running the batch again skips the stored stages, and a folder whose
+run is finished and identical (every stage reused, its report there) is taken as it is,
+its figures not redrawn. Maps run one per
 task: in this process, in ``workers`` processes, or one per task on a dask.distributed
 cluster. A map that fails (an unreadable file, loads below its pull-off force, any error) is
 recorded with its message and does not stop the others.
@@ -155,7 +157,8 @@ def run_one_map(
     try:
         config = map_config(data, Path(base_dir), source, Path(map_path))
         result = run_job(config, folder, force=force, workers=1)
-        write_report(result, folder)
+        if not _finished_report_in(folder, result):
+            write_report(result, folder)
         record.update(
             status=_map_status(result),
             message="; ".join([*_invalid_reasons(result), *result.problems()][:3]),
@@ -167,6 +170,16 @@ def run_one_map(
         record["message"] = f"{kind}: {' '.join(str(exc).split())}"
         record["traceback"] = traceback.format_exc(limit=5)
     return record
+
+
+def _finished_report_in(folder: str | Path, result: JobResult) -> bool:
+    """Whether ``folder`` already holds this run's report: every stage was reused (the same
+    job, the same asperity, the same inputs: the same numbers) and report.md and
+    report.html are there. A finished identical run in the folder is then reused whole, its
+    figures not redrawn (``asperity report DIR`` redraws them)."""
+    folder = Path(folder)
+    reused = all(stage.status != "computed" for stage in result.stages)
+    return reused and (folder / "report.md").is_file() and (folder / "report.html").is_file()
 
 
 @dataclass
