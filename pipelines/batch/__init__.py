@@ -28,6 +28,7 @@ from pathlib import Path
 from asperity.errors import InputError
 from asperity.pipelines.batch.summary import MapRecord, write_summary_csv, write_summary_figure
 from asperity.pipelines.config import Document, JobConfig, config_from_dict
+from asperity.pipelines.engine.outdir import report_removed_on_failure
 from asperity.pipelines.engine.parallel import Scheduler, make_executor
 from asperity.pipelines.job import JobResult, run_job
 from asperity.pipelines.report import write_report
@@ -158,7 +159,8 @@ def run_one_map(
         config = map_config(data, Path(base_dir), source, Path(map_path))
         result = run_job(config, folder, force=force, workers=1)
         if not _finished_report_in(folder, result):
-            write_report(result, folder)
+            with report_removed_on_failure(folder):  # never half a report
+                write_report(result, folder)
         record.update(
             status=_map_status(result),
             message="; ".join([*_invalid_reasons(result), *result.problems()][:3]),

@@ -40,7 +40,7 @@ import re
 import socket
 import sys
 import threading
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from pathlib import Path
 from types import TracebackType
 
@@ -396,3 +396,46 @@ def refuse_a_different_finished_job(
         f"this job ({clip(sources[1] or '?')}) differs in {shown}: choose another --out, or give "
         "--force to replace that run"
     )
+
+
+#: File name endings of what a report writes (report.md, report.html, figures, their CSVs).
+REPORT_SUFFIXES = (".md", ".html", ".png", ".pdf", ".svg", ".csv")
+
+
+def _report_files(directory: Path) -> dict[str, tuple[int, int]]:
+    """The report-like files in ``directory``: name -> (inode, modification time, ns)."""
+    found = {}
+    with contextlib.suppress(OSError):
+        for entry in os.scandir(directory):
+            if entry.name.endswith(REPORT_SUFFIXES) and entry.is_file(follow_symlinks=False):
+                info = entry.stat(follow_symlinks=False)
+                found[entry.name] = (info.st_ino, info.st_mtime_ns)
+    return found
+
+
+@contextlib.contextmanager
+def report_removed_on_failure(directory: str | Path) -> Iterator[None]:
+    """Write a report inside the block; if it cannot finish, remove what it wrote.
+
+    Every report file (:data:`REPORT_SUFFIXES`) the block created or replaced in
+    ``directory`` is removed when the block ends by an exception (a full disk, Ctrl-C, a
+    failing figure), and so are report.md and report.html, which would otherwise point at
+    figures that are gone: a half-written report is never left beside ``results.h5``. A
+    write error is re-raised with that said.
+    """
+    directory = Path(directory)
+    before = _report_files(directory)
+    try:
+        yield
+    except BaseException as exc:
+        after = _report_files(directory)
+        written = [name for name, stamp in after.items() if before.get(name) != stamp]
+        if written:
+            written += [n for n in ("report.md", "report.html") if n in after]
+            for name in set(written):
+                with contextlib.suppress(OSError):
+                    (directory / name).unlink()
+        if isinstance(exc, OutputWriteError):
+            removed = f"the unfinished report ({len(set(written))} files) was removed"
+            raise OutputWriteError(f"{exc}; {removed}", exc.errno) from exc
+        raise

@@ -110,3 +110,31 @@ def test_an_exit_2_run_into_an_empty_folder_leaves_it_empty(tmp_path, capsys):
     assert main(["run", str(job), "--out", str(new)]) == 2
     assert not new.exists()  # a folder this run created and wrote nothing in goes too
     capsys.readouterr()
+
+
+def test_a_report_that_cannot_finish_removes_what_it_wrote(
+    small_run, tmp_path, monkeypatch, capsys
+):
+    import errno
+
+    from asperity.atomic import atomic_output, write_text_atomic
+    from asperity.pipelines import report as report_module
+    from asperity.pipelines.cli import main
+
+    folder = _run_copy(small_run, tmp_path)
+    (folder / "notes.txt").write_text("the user's own file")
+
+    def disk_fills_on_the_fourth_figure(result, out_dir, options=None):
+        for name in ("fig1.png", "fig1.csv", "fig2.png"):
+            write_text_atomic(Path(out_dir) / name, "drawn")
+        with atomic_output(Path(out_dir) / "fig2.csv"):
+            raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(report_module, "write_figures", disk_fills_on_the_fourth_figure)
+    assert main(["report", str(folder)]) == 2
+    err = capsys.readouterr().err
+    assert "No space left on device" in err and "unfinished report (3 files) was removed" in err
+    assert sorted(p.name for p in folder.iterdir() if p.name != ".asperity.lock") == [
+        "notes.txt",
+        "results.h5",
+    ]
