@@ -138,3 +138,37 @@ def test_a_report_that_cannot_finish_removes_what_it_wrote(
         "notes.txt",
         "results.h5",
     ]
+
+
+def _gzip_bomb(path: Path, group: str, name: str, chunks: int = 2048) -> None:
+    """A dataset of ``chunks`` MiB of zeros stored as ~1 kB gzip chunks (within deflate's
+    ratio chunk by chunk, 2 GiB in all), written directly without compressing anything."""
+    import zlib
+
+    import numpy as np
+
+    packed = zlib.compress(np.zeros((1024, 128)).tobytes(), 9)
+    with h5py.File(path, "a") as f:
+        if name in f[group]:
+            del f[group][name]
+        bomb = f[group].create_dataset(
+            name, shape=(1024 * chunks, 128), dtype="f8", chunks=(1024, 128), compression="gzip"
+        )
+        for i in range(chunks):
+            bomb.id.write_direct_chunk((i * 1024, 0), packed)
+
+
+@pytest.mark.parametrize(("group", "name"), [("friction", "extra"), ("surface", "heights")])
+def test_a_gzip_bomb_results_file_is_refused_within_seconds(small_run, tmp_path, group, name):
+    import time
+
+    from asperity.h5 import UntrustedContentError
+
+    folder = _run_copy(small_run, tmp_path)
+    _gzip_bomb(folder / "results.h5", group, name)
+    assert (folder / "results.h5").stat().st_size < 4 * 1024**2
+    began = time.perf_counter()
+    with pytest.raises(UntrustedContentError, match="compression bomb") as info:
+        open_results(folder)
+    assert time.perf_counter() - began < 2.0
+    assert f"/{group}/{name}" in str(info.value)
