@@ -318,10 +318,10 @@ def check_self_contained(handle: h5py.File, where: str | Path, max_bytes: int) -
                 child = f"{name.rstrip('/')}/{member.decode(errors='replace')}"
                 kind = obj.links.get_info(member).type
                 if kind != h5py.h5l.TYPE_HARD:
-                    words = {h5py.h5l.TYPE_SOFT: "soft", h5py.h5l.TYPE_EXTERNAL: "external"}
+                    words = {h5py.h5l.TYPE_SOFT: "a soft", h5py.h5l.TYPE_EXTERNAL: "an external"}
                     raise refuse(
                         child,
-                        f"is a {words.get(kind, 'user-defined')} link; only hard links are "
+                        f"is {words.get(kind, 'a user-defined')} link; only hard links are "
                         "read (a reader never opens another file nor follows a link loop)",
                     )
                 target = h5py.h5o.open(obj, member)

@@ -83,3 +83,28 @@ def test_inert_keeps_printable_text_and_cut_keeps_short_text(text):
     assert _controls(shown) == [] and "\n" not in shown
     if text.isprintable():
         assert shown == text and cut(text, 400) == text
+
+
+def test_a_zero_friction_coefficient_is_bad_input_not_a_stalled_solve(capsys):
+    from pathlib import Path
+
+    surface = Path(__file__).parent / "data" / "x3p-2.x3p"
+    command = ["bem", str(surface), "--e-star", "2e6", "--load", "0.001"]
+    shear = ["--tangential-displacement", "1e-6", "--friction-coefficient", "0"]
+    assert main([*command, *shear]) == 2  # 0.4.2: solved for minutes, then exit 1
+    line = _one_bounded_line(capsys.readouterr().err)
+    assert "--friction-coefficient" in line and "stick" in line
+
+
+def test_an_external_link_is_named_in_english(tmp_path):
+    import h5py
+    import pytest
+
+    from asperity.h5 import UntrustedContentError, check_self_contained
+
+    path = tmp_path / "linked.h5"
+    with h5py.File(path, "w") as f:
+        f["elsewhere"] = h5py.ExternalLink("/etc/passwd.h5", "/data")
+    with h5py.File(path, "r") as f, pytest.raises(UntrustedContentError) as info:
+        check_self_contained(f, path, 10**6)
+    assert "is an external link" in str(info.value)
