@@ -26,6 +26,8 @@ from pathlib import Path
 import asperity
 from asperity.bem.progress import solve_progress
 from asperity.errors import InputError
+from asperity.files import SpecialFileError
+from asperity.h5 import UntrustedContentError
 from asperity.pipelines.config import ConfigError, JobConfig
 from asperity.pipelines.engine.interrupts import InterruptGuard, checkpoint
 from asperity.pipelines.engine.outdir import (
@@ -211,8 +213,8 @@ def run_stages(runner: Runner) -> None:
     """
     try:
         runner.run_all(STAGES)
-    except (ConfigError, OutputWriteError):  # already name the key, or the output file
-        raise
+    except (ConfigError, OutputWriteError, SpecialFileError, UntrustedContentError):
+        raise  # already name the key, or the output file (results.h5 a FIFO, hostile)
     except InputError as exc:
         stage = STAGES[min(len(runner.runs), len(STAGES) - 1)]
         keys = ", ".join(stage.config) or "none"

@@ -172,3 +172,18 @@ def test_a_gzip_bomb_results_file_is_refused_within_seconds(small_run, tmp_path,
         open_results(folder)
     assert time.perf_counter() - began < 2.0
     assert f"/{group}/{name}" in str(info.value)
+
+
+def test_a_fifo_results_file_is_named_first_even_with_force(small, tmp_path):
+    import os
+
+    from asperity.files import SpecialFileError
+    from asperity.pipelines.job import run_job
+
+    if not hasattr(os, "mkfifo"):  # pragma: no cover
+        pytest.skip("POSIX FIFOs only")
+    os.mkfifo(tmp_path / "results.h5")
+    with pytest.raises(SpecialFileError) as info:
+        run_job(small(tmp_path), tmp_path, force=True)
+    assert "configuration keys" not in str(info.value) and "FIFO" in str(info.value)
+    assert len(str(info.value)) < 200
