@@ -73,4 +73,4 @@ def open_results(path: str | PathLike[str]) -> Results:
     # deferred: asperity.pipelines.results loads h5py and every stage; `import asperity` stays light
     from asperity.pipelines.results import open_results as open_stored
 
-    return open_stored(path)
+    return open_stored(os.fspath(path))

@@ -24,7 +24,7 @@ import os
 import re
 from collections.abc import Iterator
 from pathlib import Path
-from typing import IO
+from typing import IO, Any
 
 from asperity.errors import InputError
 
@@ -176,7 +176,7 @@ def atomic_output(path: str | Path) -> Iterator[Path]:
 
 
 @contextlib.contextmanager
-def open_atomic(path: str | Path, mode: str = "w", **kwargs: object) -> Iterator[IO]:
+def open_atomic(path: str | Path, mode: str = "w", **kwargs: Any) -> Iterator[IO]:
     """``open(path, mode, **kwargs)`` written atomically (:func:`atomic_output`).
 
     ``mode`` is ``"w"`` (text; pass ``encoding``/``newline``) or ``"wb"``.

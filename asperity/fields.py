@@ -235,7 +235,8 @@ def checksum(result: Any) -> str:
     stored stage before it is reused.
     """
     digest = hashlib.sha256()
-    for spec in field_specs(type(result)):
+    kind: type = type(result)
+    for spec in field_specs(kind):
         value = canonical(spec, getattr(result, spec.name))
         digest.update(spec.name.encode() + b"\0")
         if value is None:
@@ -274,6 +275,7 @@ def document_fields(cls: type) -> type:
     ``@dataclass``.
     """
     doc = cls.__doc__ or ""
+    cls.__written_doc__ = doc  # type: ignore[attr-defined]
     missing = [spec for spec in field_specs(cls) if not _mentioned(spec.name, doc)]
     if missing:
         entries = "\n".join(field_entry(spec) for spec in missing)
@@ -285,13 +287,21 @@ def document_fields(cls: type) -> type:
 
 
 def undocumented_fields(cls: type) -> list[str]:
-    """Fields of a result dataclass without a description (``long_name``) or not in its
-    docstring: what a test requires to be empty."""
-    doc = cls.__doc__ or ""
+    """Fields of a result dataclass that ``help(cls)`` cannot describe: what a test requires
+    to be empty.
+
+    A field is undocumented when its name is missing from the docstring shown, or when it has
+    no text anywhere: neither its declaration's ``long_name`` nor an entry in the docstring as
+    written (before :func:`document_fields` appended the declarations, which would otherwise
+    make every field look described).
+    """
+    shown = cls.__doc__ or ""
+    written = cls.__dict__.get("__written_doc__", shown)
     return [
         spec.name
         for spec in field_specs(cls)
-        if not spec.long_name.strip() or not _mentioned(spec.name, doc)
+        if not _mentioned(spec.name, shown)
+        or not (spec.long_name.strip() or _mentioned(spec.name, written))
     ]
 
 

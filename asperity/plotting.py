@@ -249,6 +249,7 @@ def legend_below(ax: Axes, *, gap: float = 0.55, **kwargs: object) -> object:
     from matplotlib.transforms import ScaledTranslation
 
     fig = ax.get_figure()
+    assert fig is not None, "the axes belong to a figure"
     shift = ScaledTranslation(0.0, -gap, fig.dpi_scale_trans)
     kwargs.setdefault("fontsize", 8)
     return ax.legend(

@@ -4,7 +4,7 @@ A Ctrl-C must stop a long solve without raising an exception into the middle of 
 multithreaded code (FFTW plans, numba kernels). So the program that owns the signal (the
 ``asperity`` command, :mod:`asperity.pipelines.engine.interrupts`) only calls
 :func:`request_cancel` from its SIGINT handler, and the loops call :func:`check_cancelled` at
-points where stopping is safe: :func:`asperity.bem.iteration.iterate` once per iteration (a
+points where stopping is safe: :func:`asperity.bem.normal.iteration.iterate` once per iteration (a
 few milliseconds apart), the stage engine between stages. :func:`check_cancelled` then
 raises :class:`Cancelled`, a :class:`KeyboardInterrupt`, so every caller handles it as it
 handles Ctrl-C.

@@ -167,8 +167,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _add_shear_options(p: argparse.ArgumentParser) -> None:
-    """The shear curve's options (:mod:`asperity.bem.shear_cli`)."""
-    from asperity.bem.shear_cli import add_shear_options
+    """The shear curve's options (:mod:`asperity.bem.shear.cli`)."""
+    from asperity.bem.shear.cli import add_shear_options
 
     add_shear_options(p)
 
@@ -271,7 +271,7 @@ def _print_table(args, heights, dx, dy, e_star, w, rows) -> None:
 def handler(args: argparse.Namespace) -> int:
     """Run ``asperity bem``; returns 0, or 1 when a solve did not converge."""
     from asperity.bem import load_sweep, solve_contact
-    from asperity.bem.shear_cli import check_shear_arguments, run_shear
+    from asperity.bem.shear.cli import check_shear_arguments, run_shear
 
     check_shear_arguments(args)
     e_star = args.e_star

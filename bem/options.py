@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -60,9 +61,9 @@ class SolverOptions:
     refresh : int
         Recompute u = K * p from scratch at least every this many iterations, in [1, 10^6].
     kernel : {"point", "love"}
-        Periodic influence kernel (:mod:`asperity.bem.influence`).
+        Periodic influence kernel (:mod:`asperity.bem.elastic.influence`).
     fft_backend : {"auto", "pyfftw", "scipy"}
-        FFT backend (:mod:`asperity.bem.fft_backend`).
+        FFT backend (:mod:`asperity.bem.elastic.fft_backend`).
     threads : int or None
         FFT threads, in [1, 1024]; None: all available cores.
     coarse_start : bool
@@ -125,7 +126,7 @@ def _check_choice(name: str, value: object, choices: tuple[str, ...]) -> None:
         )
 
 
-def resolve_options(options: SolverOptions | None, **keywords: object) -> SolverOptions:
+def resolve_options(options: SolverOptions | None, **keywords: Any) -> SolverOptions:
     """The options of one solve: ``options`` (default :class:`SolverOptions`) with every
     keyword that is not None replacing its field (validated again)."""
     if options is not None and not isinstance(options, SolverOptions):

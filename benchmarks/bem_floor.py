@@ -14,6 +14,10 @@ iterations (seconds over the floor, wall over wall and CPU over CPU: CPU seconds
 machine, where threads wait for a core). ``--python`` adds interpreters to run the same worker
 (e.g. an older asperity on its own ``PYTHONPATH``, ``--pythonpath``): the regression of issue 28
 (0.2: 33 floor iterations, 0.3: 69 at 5000^2) shows as a ratio between two rows of one run.
+``--options all`` (or a comma-separated subset of ``default``, ``coarse``, ``no-precondition``,
+``double``) runs this asperity once per option set instead (issue 36, item 4: each option on
+and off); ``chg`` is the number of iterations whose contact-set change recomputed u = K p
+(2 transforms more than the search direction's two).
 
 ``--tamaas``: the 1024^2 self-affine benchmark surface of ``bem_speed.py`` (H = 0.8, pixel 1,
 E* = 1, mean pressure 0.04, tol 1e-8), asperity warm (median of 3 solves after one) against
@@ -26,6 +30,7 @@ waits for a core shows in wall-clock time only.
 Run (the 5000^2 rows need about 2 GiB a process; an older version about 3.5 GiB: use the lock):
 
     .venv/bin/python benchmarks/bem_floor.py --n 2048 --repeats 2
+    .venv/bin/python benchmarks/bem_floor.py --n 1024 --options all
     flock /work/briefs/bigjob.lock .venv/bin/python benchmarks/bem_floor.py --n 5000
     .venv/bin/python benchmarks/bem_floor.py --tamaas --n 1024 --repeats 3
 """
@@ -54,11 +59,12 @@ import json, os, resource, sys, time
 import numpy as np
 w_start, c_start = time.perf_counter(), time.process_time()
 from asperity.bem import SolverOptions, solve_contact
-from asperity.bem.operators import influence_operator
+from asperity.bem.elastic.operators import influence_operator
 h = np.load({surface!r})
 n = h.shape[0]
 dx, e_star, force = 2e-6, 2.133e6, 2.08 * (n / 5000) ** 2
-opts = SolverOptions(tol={tol!r}, coarse_start={coarse!r}, threads={threads!r})
+opts = SolverOptions(tol={tol!r}, coarse_start={coarse!r}, threads={threads!r},
+                     precondition={precondition!r}, precision={precision!r})
 def solve():
     w, c = time.perf_counter(), time.process_time()
     r = solve_contact(h, dx, dx, e_star, normal_force=force, options=opts)
@@ -82,6 +88,8 @@ print(json.dumps(dict(nit=warm.nit, cold_nit=cold.nit, threads=op.threads, backe
     floor_w=floor_w, floor_c=floor_c, cold_w=cold_w, cold_c=cold_c, warm_w=warm_w, warm_c=warm_c,
     transforms=ex.get("fft_transforms", 0), f32=ex.get("single_precision_transforms", 0),
     coarse_its=ex.get("coarse_iterations", 0), contact_fraction=warm.contact_fraction,
+    coarse_transforms=2 * ex.get("coarse_convolutions", 0),
+    set_changes=ex.get("set_change_recomputations", -1), force=warm.normal_force,
     residual=warm.residual, converged=warm.converged,
     peak_gib=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20)))
 """
@@ -155,6 +163,27 @@ def median_row(rows: list[dict]) -> dict:
     return out
 
 
+#: Solver options of ``--options`` (issue 36, item 4: each option on and off).
+VARIANTS = {
+    "default": dict(coarse=False, precondition=True, precision="auto"),
+    "coarse": dict(coarse=True, precondition=True, precision="auto"),
+    "no-precondition": dict(coarse=False, precondition=False, precision="auto"),
+    "double": dict(coarse=False, precondition=True, precision="double"),
+}
+
+
+def option_variants(args: argparse.Namespace) -> list[str]:
+    """The option sets to run: ``--options`` (comma-separated names of :data:`VARIANTS`, or
+    "all"), else the default one (with ``--coarse-start`` if given)."""
+    if not args.options:
+        return ["coarse" if args.coarse_start else "default"]
+    names = list(VARIANTS) if args.options == "all" else args.options.split(",")
+    unknown = [n for n in names if n not in VARIANTS]
+    if unknown:
+        raise SystemExit(f"--options: unknown {unknown}; expected names of {list(VARIANTS)}")
+    return names
+
+
 def floor_rows(args: argparse.Namespace) -> list[dict]:
     from asperity.topo.synthetic import paper_like
 
@@ -166,12 +195,16 @@ def floor_rows(args: argparse.Namespace) -> list[dict]:
     codes = [("this", sys.executable, None)] + [
         (f"python{i}", py, paths[i - 1]) for i, py in enumerate(args.python, 1)
     ]
+    variants = option_variants(args)
+    if len(variants) > 1:
+        codes = [(f"this:{v}", sys.executable, None) for v in variants]
     runs: dict[str, list[dict]] = {name: [] for name, _, _ in codes}
-    worker = FLOOR_WORKER.format(
-        surface=str(surface), tol=args.tol, coarse=args.coarse_start, threads=args.threads
-    )
     for _ in range(args.repeats):
         for name, py, path in codes:
+            variant = name.split(":", 1)[1] if ":" in name else variants[0]
+            worker = FLOOR_WORKER.format(
+                surface=str(surface), tol=args.tol, threads=args.threads, **VARIANTS[variant]
+            )
             got = run_worker(py, worker, path, args.timeout)
             if got is not None:
                 runs[name].append(got)
@@ -181,9 +214,9 @@ def floor_rows(args: argparse.Namespace) -> list[dict]:
         f"medians of {args.repeats}; floor = 2 bare float64 convolutions"
     )
     print(
-        f"{'code':8s} {'nit':>4s} {'tr/it':>5s} {'f32%':>5s} {'floor s':>8s} {'cold s':>7s} "
-        f"{'warm s':>7s} {'cold fl':>7s} {'warm fl':>7s} {'warmCPU fl':>10s} {'thr':>3s} "
-        f"{'contact':>10s} {'GiB':>5s}"
+        f"{'code':20s} {'nit':>4s} {'tr/it':>5s} {'f32%':>5s} {'chg':>4s} {'floor s':>8s} "
+        f"{'cold s':>7s} {'warm s':>7s} {'cold fl':>7s} {'warm fl':>7s} {'warmCPU fl':>10s} "
+        f"{'thr':>3s} {'contact':>10s} {'GiB':>5s}"
     )
     for name, got in runs.items():
         if not got:
@@ -192,8 +225,9 @@ def floor_rows(args: argparse.Namespace) -> list[dict]:
         r["code"] = name
         rows.append(r)
         print(
-            f"{name:8s} {r['nit']:4.0f} {r['transforms'] / max(r['nit'], 1):5.2f} "
-            f"{100 * r['f32'] / max(r['transforms'], 1):5.1f} {r['floor_w']:8.3f} "
+            f"{name:20s} {r['nit']:4.0f} {r['transforms'] / max(r['nit'], 1):5.2f} "
+            f"{100 * r['f32'] / max(r['transforms'], 1):5.1f} {r.get('set_changes', -1):4.0f} "
+            f"{r['floor_w']:8.3f} "
             f"{r['cold_w']:7.1f} {r['warm_w']:7.1f} {r['cold_w'] / r['floor_w']:7.1f} "
             f"{r['warm_w'] / r['floor_w']:7.1f} {r['warm_c'] / r['floor_c']:10.1f} "
             f"{r['threads']:3.0f} {r['contact_fraction']:10.7f} {r['peak_gib']:5.2f}"
@@ -246,6 +280,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--repeats", type=int, default=1)
     parser.add_argument("--threads", type=int, default=None, help="FFT threads (default auto)")
     parser.add_argument("--coarse-start", action="store_true")
+    parser.add_argument(
+        "--options",
+        default="",
+        help=f"option sets to compare, comma-separated, or 'all': {', '.join(VARIANTS)}",
+    )
     parser.add_argument("--python", nargs="*", default=[], help="more interpreters to compare")
     parser.add_argument("--pythonpath", nargs="*", default=None, help="PYTHONPATH of each")
     parser.add_argument("--tamaas", action="store_true", help="the Tamaas comparison instead")

@@ -1,7 +1,7 @@
 """The periodic non-adhesive BEM on a GPU (CuPy) against the CPU solver, up to the whole interface.
 
 Optional path, run on a machine with an NVIDIA GPU and CuPy (asperity never needs one):
-:func:`asperity.bem.array_solver.solve_periodic_array` with ``xp="cupy"`` on the paper-like
+:func:`asperity.bem.normal.array_solver.solve_periodic_array` with ``xp="cupy"`` on the paper-like
 surface (``topo.synthetic.PAPER_LIKE`` recipe through :func:`~asperity.topo.synthetic.self_affine`,
 2 um pixels), E* = 2.133 MPa, the paper's 3.12 N over its 35 x 20 mm interface as a mean pressure
 (4.46 kPa), tol 1e-6. Printed per size: seconds and iterations on the GPU (a first small solve
@@ -30,7 +30,7 @@ import time
 import numpy as np
 
 from asperity.bem import SolverOptions, solve_contact
-from asperity.bem.array_solver import array_module, solve_periodic_array
+from asperity.bem.normal.array_solver import array_module, solve_periodic_array
 from asperity.topo.synthetic import PAPER_LIKE, PAPER_SURFACE_WAVY, paper_surface, self_affine
 
 E_STAR = 2.133e6  # Pa

@@ -245,7 +245,7 @@ def _bare_convolution_seconds(shape: tuple[int, int], periodic: bool) -> float:
     import numpy as np
 
     from asperity.bem import SolverOptions
-    from asperity.bem.operators import influence_operator
+    from asperity.bem.elastic.operators import influence_operator
 
     o = SolverOptions()
     op = influence_operator(shape, PIXEL, PIXEL, E_STAR, o.kernel, periodic, o.fft_backend, None)

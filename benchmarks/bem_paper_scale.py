@@ -54,7 +54,7 @@ def peak_gib() -> float:
 
 def fft_floor(shape, dx, backend, threads, precision) -> dict:
     """Planning time and median seconds of one bare convolution with the solver's operator."""
-    from asperity.bem.operators import influence_operator
+    from asperity.bem.elastic.operators import influence_operator
 
     t0 = time.perf_counter()
     op = influence_operator(shape, dx, dx, E_STAR, "point", True, backend, threads, precision)

@@ -8,11 +8,12 @@ E* = 2.133 MPa, tau_0 = 0.13 MPa, the normal force at the job's mean pressure F_
 (2.08 N on 700 mm^2), non-adhesive preload (nu = 1/2: the tangential steps do not change it).
 ``--steps`` equal increments up to ``--to-sliding`` times ``delta_slide = 3 tau_0 a_max / E*``
 (a_max: radius of a disc of the largest junction's area), each warm-started
-(:func:`asperity.bem.rough_shear.shear_curve`).
+(:func:`asperity.bem.shear.rough.shear_curve`).
 
 Solvers compared (rows of the table):
 
-``legacy``   asperity 0.4.0's curve: :func:`asperity.bem.shear.solve_tangential` per step (FFT
+``legacy``   asperity 0.4.0's curve: :func:`asperity.bem.shear.stick_slip.solve_tangential` per
+step (FFT
              convolutions of the whole grid, MPRGP without preconditioner), warm-started by the
              same linear extrapolation;
 ``fft``      the contact-set loop with FFT products, no preconditioner;
@@ -37,7 +38,8 @@ Both codes solve the same problem on the same periodic grid: the rough surface a
 ``--mu``, the mean pressure held, one loading step from the unloaded, slip-free state (no
 history): stick elements move with the flat, slip elements carry ``|q| = mu p`` along the slip.
 asperity solves the normal problem, then the tangential one
-(:func:`asperity.bem.shear.solve_tangential`, tol 1e-9); Tamaas's ``PolonskyKeerTan.solve`` (model
+(:func:`asperity.bem.shear.stick_slip.solve_tangential`, tol 1e-9); Tamaas's
+``PolonskyKeerTan.solve`` (model
 ``surface_2d``, E = 3/4 E*, nu = 1/2, both problems together under the Coulomb cone) is given
 the mean tractions ``(0.4 mu F_z / A, 0, F_z / A)``. Tamaas's mean tractions are
 the loads it reached; asperity is solved at those (the normal solve at its F_z, delta_T by
@@ -112,7 +114,7 @@ def legacy_curve(h, pixel, pre, d_t, tol: float):
     """asperity 0.4.0's curve: solve_tangential per step, warm-started by linear extrapolation
     of the tractions (the loop of 0.4.0's rough_shear.shear_curve). Returns (F_x, stick area,
     iterations, products, seconds)."""
-    from asperity.bem.shear import (
+    from asperity.bem.shear.stick_slip import (
         ShearOptions,
         TangentialOperator,
         solve_tangential,
@@ -156,8 +158,8 @@ def legacy_curve(h, pixel, pre, d_t, tol: float):
 
 def new_curve(h, pixel, force, pre, d_t, tol: float, solver: str):
     """shear_curve with the solver's options. Returns as :func:`legacy_curve`."""
-    from asperity.bem.rough_shear import shear_curve
-    from asperity.bem.shear import ShearOptions
+    from asperity.bem.shear.rough import shear_curve
+    from asperity.bem.shear.stick_slip import ShearOptions
 
     dense = solver.startswith("dense")
     opts = ShearOptions(
@@ -183,7 +185,7 @@ def run_curve(solver, h, pixel, force, pre, d_t, tol):
 
 def speed(args) -> None:
     from asperity.bem import SolverOptions, solve_contact
-    from asperity.bem.rough_shear import label_junctions
+    from asperity.bem.shear.rough import label_junctions
 
     h, pixel, force = surface(args.n)
     nopts = SolverOptions(tol=1e-6)
@@ -282,7 +284,7 @@ def chart(points, args, normal_cpu: float) -> None:
 def tamaas(args) -> None:
     """The Tamaas comparison (module docstring)."""
     from asperity.bem import SolverOptions, solve_contact
-    from asperity.bem.shear import ShearOptions, solve_tangential, traction_bound
+    from asperity.bem.shear.stick_slip import ShearOptions, solve_tangential, traction_bound
 
     if not Path(args.tamaas_python).exists():
         print(f"Tamaas comparison skipped: {args.tamaas_python} not found")
@@ -379,7 +381,7 @@ def tamaas(args) -> None:
 
 
 def _tight():
-    from asperity.bem.shear import ShearOptions
+    from asperity.bem.shear.stick_slip import ShearOptions
 
     return ShearOptions(tol=1e-8)
 

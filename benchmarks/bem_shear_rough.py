@@ -27,10 +27,10 @@ import numpy as np
 
 
 def main() -> None:
-    from asperity.bem.mixed_mode import MixedModeLaw
-    from asperity.bem.rough_mixed_mode import mixed_mode_shear_curve
-    from asperity.bem.rough_shear import label_junctions
-    from asperity.bem.shear import ShearOptions
+    from asperity.bem.shear.mixed_mode import MixedModeLaw
+    from asperity.bem.shear.rough import label_junctions
+    from asperity.bem.shear.rough_mixed_mode import mixed_mode_shear_curve
+    from asperity.bem.shear.stick_slip import ShearOptions
     from asperity.topo.synthetic import paper_like
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])

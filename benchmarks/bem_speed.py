@@ -68,7 +68,7 @@ import json, os, resource, sys, time
 sys.path.insert(0, {root!r})
 import numpy as np
 from asperity.bem import SolverOptions, solve_contact
-from asperity.bem.operators import influence_operator as _operator
+from asperity.bem.elastic.operators import influence_operator as _operator
 h = np.load({surface!r})
 n = h.shape[0]
 dx, e_star = {dx!r}, {e_star!r}

@@ -6,8 +6,8 @@ the module at its new path, the same objects. Removed in asperity 0.5.
 
 import warnings
 
-# public in 0.2 in the stage module; since 0.4 in asperity.bem.load_sweeps
-from asperity.bem.load_sweeps import check_load_index, load_chains  # noqa: F401
+# public in 0.2 in the stage module; since 0.4 in asperity.bem.reference.load_sweeps
+from asperity.bem.reference.load_sweeps import check_load_index, load_chains  # noqa: F401
 from asperity.pipelines.stages.bem import *  # noqa: F403
 
 warnings.warn(

@@ -29,6 +29,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any, TypeAlias
 
+from asperity.length_units import UNIT_HELP, UNIT_SPELLINGS, length_unit_in_metres
 from asperity.quantities import quantity
 from asperity.schema import (
     Choice,
@@ -68,7 +69,7 @@ __all__ = ["ConfigError", "JobConfig", "config_from_dict", "dump_toml", "load_co
 PRESETS: tuple[str, ...] = ("default", "paper", "paper-two-step", "shear", "nominal")
 
 DETREND_METHODS: tuple[str, ...] = ("none", "mean", "plane", "quadratic")
-SYNTHETIC_RECIPES: tuple[str, ...] = ("paper_like", "paper_surface")
+SYNTHETIC_RECIPES: tuple[str, ...] = ("paper_like", "paper_surface", "paper_spectrum")
 #: ``surface.missing``: what a contact solve can use (a complete map).
 MISSING_POLICIES: tuple[str, ...] = ("refuse", "fill-lowest", "interpolate")
 #: ``surface.outliers``.
@@ -131,7 +132,9 @@ class SyntheticRecipe:
     ----------
     recipe : str
         Generator name: ``"paper_like"`` (:func:`topo.synthetic.paper_like`, the default job)
-        or ``"paper_surface"`` (:func:`topo.synthetic.paper_surface`, the paper preset).
+        ``"paper_spectrum"`` (:func:`topo.synthetic.paper_spectrum`, the paper presets'
+        Gaussian stand-in) or ``"paper_surface"`` (:func:`topo.synthetic.paper_surface`, the
+        capped recipe built to follow the paper's summit table).
     n : int
         Pixels per side (along x, axis 0, when ``ny`` is given).
     pixel_size : float
@@ -139,7 +142,7 @@ class SyntheticRecipe:
     seed : int
         Random seed: the same recipe always gives the same surface.
     ny : int or None
-        Pixels along y (axis 1) of a non-square map, ``"paper_surface"`` only (the ``nominal``
+        Pixels along y (axis 1) of a non-square map, not for ``"paper_like"`` (the ``nominal``
         preset: 17,500 x 10,000, the paper's whole 35 x 20 mm interface at 2 um); None: ``n``.
     """
 
@@ -271,7 +274,7 @@ class BemConfig:
         then alone chooses the effective resolution.
     boundary : str
         ``"periodic"`` (the map is one period of the interface, as the paper's Appendix B) or
-        ``"free"`` (a finite specimen); see :mod:`asperity.bem.grid_refinement`.
+        ``"free"`` (a finite specimen); see :mod:`asperity.bem.reference.grid_refinement`.
     coarsen : bool
         Let the sweeps use a coarser grid than the map when its area is within
         ``area_tolerance`` of the finest grid solved (false: the map's own resolution).
@@ -281,11 +284,11 @@ class BemConfig:
         paper's Appendix B criterion, whose loading branch carries no adhesion).
     adhesion_range : float or None
         Maugis-Dugdale range h_0, m; None ("auto" in the job file): the shortest range whose
-        cohesive zone the grid resolves (:mod:`asperity.bem.adhesion_range`).
+        cohesive zone the grid resolves (:mod:`asperity.bem.reference.adhesion_range`).
     max_refinement : int
         The discretisation error: the check load is solved again on the grid used
         Fourier-interpolated by 2 and 4 (same roughness,
-        :mod:`asperity.bem.interpolated_refinement`), up to this factor (1: no estimate).
+        :mod:`asperity.bem.reference.interpolated_refinement`), up to this factor (1: no estimate).
     refinement_pixels : int
         Largest grid of a refinement solve, pixels (a level beyond it is left out; when even
         the x2 grid of the whole map is larger, a centred window is refined).
@@ -436,9 +439,12 @@ class FitConfig:
 
 @dataclass(frozen=True)
 class RunConfig:
-    """Execution: ``workers`` processes for the sweeps (1 = in this process)."""
+    """Execution: ``workers`` processes for the sweeps (1 = in this process); ``compute_all``
+    computes every stage even when the verdict is known invalid before the BEM (by default
+    the job stops there: :mod:`asperity.pipelines.stages.early_verdict`)."""
 
     workers: int = 1
+    compute_all: bool = False
 
 
 #: Figure formats ``[report] formats`` accepts (matplotlib writers without extra packages).
@@ -579,13 +585,26 @@ def _ordered_bounds(values: dict[str, Any]) -> None:
         raise Invalid("[low, high] with 0 < low < high <= 1", "mode_mixity_bounds", [low, high])
 
 
-#: The length units ``[surface] unit`` accepts for a plain-text file.
-TEXT_UNITS = ("m", "mm", "um", "µm", "nm")
+#: The length-unit spellings ``[surface] unit`` accepts for a plain-text file: those of the
+#: command line's ``--unit`` (one table, :data:`asperity.topo.io.units.UNIT_SPELLINGS`; long
+#: names also in any case and plural).
+TEXT_UNITS = tuple(spelling for group in UNIT_SPELLINGS.values() for spelling in group)
+
+
+@dataclass(frozen=True)
+class LengthUnit(Kind):
+    """A length unit, spelt as on the command line (:data:`TEXT_UNITS`, long names in any
+    case, singular or plural); kept as written, the reader converts it to metres."""
+
+    def convert(self, value: Any, context: Context) -> str:
+        if not isinstance(value, str) or length_unit_in_metres(value) is None:
+            raise Invalid(f"a length unit: {UNIT_HELP}")
+        return value
 
 
 def _rectangular_recipe(values: dict[str, Any]) -> None:
-    if values["ny"] is not None and values["recipe"] != "paper_surface":
-        raise Invalid("ny only with recipe = 'paper_surface' (paper_like is square)", "ny")
+    if values["ny"] is not None and values["recipe"] == "paper_like":
+        raise Invalid("ny only with recipe = 'paper_surface' or 'paper_spectrum'", "ny")
 
 
 SYNTHETIC = Section(
@@ -610,7 +629,7 @@ JOB_SCHEMA = Schema(
                 Key("file", ExistingFile(), None),
                 Key("channel", Text(), None),
                 Key("pixel_size", PIXEL, None),
-                Key("unit", Choice(TEXT_UNITS), None),
+                Key("unit", LengthUnit(), None),
                 Key("synthetic", SYNTHETIC, None),
                 Key("detrend", Choice(DETREND_METHODS), "plane"),
                 _bounded("surface.max_stride", SurfaceConfig.max_stride),
@@ -720,7 +739,10 @@ JOB_SCHEMA = Schema(
         Section(
             "run",
             RunConfig,
-            (_bounded("run.workers", RunConfig.workers),),
+            (
+                _bounded("run.workers", RunConfig.workers),
+                Key("compute_all", Flag(), RunConfig.compute_all),
+            ),
         ),
         Section(
             "report",

@@ -6,7 +6,10 @@ what configuration keys and earlier stages each reads, and its typed result. A s
 of its inputs and the package version) and its stored values pass their checksum: changing the
 loads recomputes the BEM and everything after it, but not the surface or its resolution scan.
 ``force=True`` recomputes every stage. ``[bem] enabled = false`` skips the BEM; the measured
-A_r(F_z) then alone chooses the effective resolution.
+A_r(F_z) then alone chooses the effective resolution. When the adhesion regime judged before
+the BEM makes the verdict invalid (``adhesion_full_contact``), the BEM and the model stages
+are skipped and the verdict states the full-contact limit
+(:mod:`asperity.pipelines.stages.early_verdict`); ``run.compute_all = true`` runs them anyway.
 
 Python use::
 
@@ -17,14 +20,15 @@ Python use::
 
 from __future__ import annotations
 
+import json
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import asperity
-from asperity.bem.progress import solve_progress
+from asperity.bem.progress import progress_line, solve_progress
 from asperity.errors import InputError
 from asperity.files import SpecialFileError
 from asperity.h5 import UntrustedContentError
@@ -36,11 +40,22 @@ from asperity.pipelines.engine.outdir import (
     refuse_a_different_finished_job,
 )
 from asperity.pipelines.engine.parallel import Scheduler, make_executor
-from asperity.pipelines.engine.stage import Runner, StageContext, StageRun, stage_label
+from asperity.pipelines.engine.stage import (
+    DISABLED,
+    R,
+    Runner,
+    Stage,
+    StageContext,
+    StageRun,
+    hash_document,
+    key_document,
+    stage_label,
+)
 from asperity.pipelines.engine.store import ResultStore
 from asperity.pipelines.measured import read_measurements
 from asperity.pipelines.results import StageResults, solver_problems
 from asperity.pipelines.stages import STAGE_NAMES, STAGES
+from asperity.pipelines.stages.early_verdict import SKIPPED_WHEN_KNOWN, known_invalid
 from asperity.pipelines.stages.surface import input_sha256
 
 __all__ = [
@@ -154,6 +169,11 @@ def run_job(
     input_hash = input_sha256(config.surface)
     workers = config.run.workers if workers is None else workers
     log = log or (lambda line: None)
+    caller_log = log
+
+    def log(line: str) -> None:  # a stage's line on its own line, above any solves bar
+        progress_line(line, caller_log)
+
     with (
         InterruptGuard() as interrupts,  # a Ctrl-C swallowed in a finaliser is raised again
         OutputLock(out_dir, log=log),  # one run per directory; stale temporaries removed
@@ -178,7 +198,7 @@ def run_job(
             )
         try:
             # a long BEM stage shows its solves as they finish (terminal only)
-            with solve_progress("BEM solves", enabled=progress):
+            with solve_progress("BEM solves", enabled=progress, note=SOLVES_NOTE):
                 run_stages(runner)
         except KeyboardInterrupt:
             interrupts.acknowledge()  # seen: the lock and the executor are released undisturbed
@@ -193,15 +213,76 @@ def run_job(
     )
 
 
+@dataclass
 class InterruptibleRunner(Runner):
     """The job's :class:`Runner`, with a safe point after each write of ``results.h5``: a
     Ctrl-C that a finaliser swallowed (:mod:`pipelines.engine.interrupts`) ends the run
-    there, every finished stage written."""
+    there, every finished stage written.
+
+    It also stops where the verdict is known: when a preview run before the first stage of
+    :data:`~asperity.pipelines.stages.early_verdict.SKIPPED_WHEN_KNOWN` (the adhesion regime,
+    before the BEM) records an invalid reason, those stages are skipped (status "skipped",
+    result None, their stored groups dropped) unless ``run.compute_all`` is true, and the
+    verdict stage writes the early verdict with the full-contact limit.
+    """
+
+    stage_list: tuple[Stage, ...] = ()
+    known_invalid: list[str] | None = None
+
+    def run_all(self, stages: Sequence[Stage]) -> None:
+        """:meth:`Runner.run_all`, the stages kept for re-keying after a skip."""
+        self.stage_list = tuple(stages)
+        super().run_all(stages)
+
+    def run(self, stage: Stage[R]) -> R | None:
+        """Skip ``stage`` when the verdict is known invalid before it, else run it."""
+        skippable = stage.name in SKIPPED_WHEN_KNOWN and self.keys[stage.name] != DISABLED
+        if skippable and not self.context.config.run.compute_all:
+            if self.known_invalid is None:
+                self.known_invalid = self._judge_before(stage)
+            if self.known_invalid:
+                self._skip(stage)
+                return None
+        return super().run(stage)
+
+    def _judge_before(self, stage: Stage) -> list[str]:
+        """Run the previews that precede ``stage`` or a disabled stage before it (the BEM's,
+        with ``[bem] enabled = false``) and return the codes of their invalid reasons."""
+        label = self.labels.get(stage.name, stage.title)
+        codes: list[str] = []
+        upto = self.stage_list[: self.stage_list.index(stage) + 1]
+        for earlier in upto:
+            for preview in self.previews.pop(earlier.name, ()):
+                note = self.run_preview(preview, label)
+                codes += known_invalid(None if note is None else note.record)
+        return codes
+
+    def _skip(self, stage: Stage) -> None:
+        """Record ``stage`` as skipped and key the later stages without it."""
+        label = self.labels.get(stage.name, stage.title)
+        self.keys[stage.name], self.documents[stage.name] = DISABLED, ""
+        why = f"the verdict is known invalid ({', '.join(self.known_invalid or [])})"
+        self.runs.append(StageRun(stage.name, DISABLED, "skipped", 0.0, why))
+        self.context.results[stage.name] = None
+        self.log(f"{label}: skipped, {why}; run.compute_all = true computes it")
+        later = self.stage_list[self.stage_list.index(stage) + 1 :]
+        for other in later:
+            if self.keys.get(other.name, DISABLED) != DISABLED:
+                document = key_document(other, self.config_document, self.keys, self.version)
+                self.keys[other.name] = hash_document(document)
+                self.documents[other.name] = json.dumps(document, sort_keys=True, default=str)
 
     def flush(self) -> None:
         """Write the computed results held so far, then raise a Ctrl-C not yet seen."""
         super().flush()
         checkpoint()
+
+
+#: Said once above the BEM solves bar: its force is the one solved on the map.
+SOLVES_NOTE = (
+    "F is the force solved on the map: the job's load scaled by A_map / A_n "
+    "(the same A_r/A_n as on the nominal area)"
+)
 
 
 def run_stages(runner: Runner) -> None:

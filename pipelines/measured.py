@@ -9,7 +9,9 @@
   both, before any stage runs.
 
 A header cell may state its unit, ``real_area [mm^2]`` or ``tangential_force (mN)``; values
-are converted to SI (:data:`UNIT_FACTORS`). ``,`` or ``;`` separate the columns. Extra
+are converted to SI (:data:`UNIT_FACTORS`). Tabs, semicolons, commas or whitespace separate
+the columns (the header row's most frequent of the first three, else whitespace); a message
+about a missing column names the separator found. Extra
 columns are ignored; comment lines start with ``#``. A file that lacks a column, holds a
 non-numeric or non-finite value, a negative area or an area above A_n, or has fewer than two
 rows is refused with a message naming the file, the file's own line number and the column.
@@ -136,9 +138,38 @@ def _data_lines(path: Path) -> list[tuple[int, str]]:
         ]
 
 
+#: The separators a measured file may use, by the name its messages give them.
+SEPARATOR_NAMES: dict[str, str] = {"\t": "tab", ";": "semicolon", ",": "comma", " ": "whitespace"}
+#: A whitespace-separated header cell that is only a unit (``[mm^2]``, ``(mN)``).
+_UNIT_CELL = re.compile(r"^[\[\(][^\]\)]*[\]\)]$")
+
+
 def _delimiter(header_line: str) -> str:
-    """``;`` when the header holds more semicolons than commas, else ``,``."""
-    return ";" if header_line.count(";") > header_line.count(",") else ","
+    """The separator of a file, found from its header row: the most frequent of tab,
+    semicolon and comma (ties in that order), else whitespace (``" "``: runs of blanks)."""
+    counts = {sep: header_line.count(sep) for sep in ("\t", ";", ",")}
+    best = max(counts, key=lambda sep: counts[sep])  # first of the ties: tab, ;, ,
+    return best if counts[best] else " "
+
+
+def _whitespace_cells(text: str, header: bool) -> list[str]:
+    """Cells of a whitespace-separated line; in the header a unit standing alone after its
+    column (``real_area [mm^2]``) joins that column's cell."""
+    cells: list[str] = []
+    for token in text.split():
+        if header and cells and _UNIT_CELL.match(token):
+            cells[-1] = f"{cells[-1]} {token}"
+        else:
+            cells.append(token)
+    return cells
+
+
+def _split_rows(lines: list[tuple[int, str]], delimiter: str) -> list[list[str]]:
+    """The cells of every line (header first), split at ``delimiter`` (:func:`_delimiter`)."""
+    texts = [text for _, text in lines]
+    if delimiter != " ":
+        return [[cell.strip() for cell in row] for row in csv.reader(texts, delimiter=delimiter)]
+    return [_whitespace_cells(text, header=i == 0) for i, text in enumerate(texts)]
 
 
 def _cell_value(path: Path, number: int, name: str, row: list[str], i: int) -> float:
@@ -162,7 +193,8 @@ def read_columns(
     Parameters
     ----------
     path : path
-        The CSV file: ``,`` or ``;`` separated; a header cell may carry a unit,
+        The CSV file: separated by tabs, semicolons, commas or whitespace (found from the
+        header row, :func:`_delimiter`, and named in the messages); a header cell may carry a unit,
         ``real_area [mm^2]`` or ``tangential_force (mN)`` (:data:`UNIT_FACTORS`); without
         one the column is in SI (m^2, N).
     columns : sequence of str
@@ -190,13 +222,14 @@ def read_columns(
             f"{path}: empty file; expected a header row with {', '.join(columns)}"
         )
     delimiter = _delimiter(lines[0][1])
-    rows = list(csv.reader([text for _, text in lines], delimiter=delimiter))
+    rows = _split_rows(lines, delimiter)
     cells = [parse_header_cell(path, cell) for cell in rows[0]]
     header = [name for name, _ in cells]
     for name in columns:
         if name not in header:
             raise MeasuredFileError(
-                f"{path}: missing column {name!r} (header: {', '.join(header)}); expected "
+                f"{path}: missing column {name!r} (header cells, separated by "
+                f"{SEPARATOR_NAMES[delimiter]}: {', '.join(map(repr, header))}); expected "
                 f"columns {', '.join(columns)} (SI, or with a unit: 'real_area [mm^2]')" + hint
             )
     wanted = list(columns) + [c for c in optional if c in header and c not in columns]

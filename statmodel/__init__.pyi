@@ -21,6 +21,7 @@ from .jkr import jkr_jump_off_distance as jkr_jump_off_distance
 from .jkr import jkr_normal_load as jkr_normal_load
 from .jkr import jkr_pull_off_force_fixed_grip as jkr_pull_off_force_fixed_grip
 from .jkr import jkr_pull_off_force_load_control as jkr_pull_off_force_load_control
+from .jkr import jkr_zero_load_radius as jkr_zero_load_radius
 from .options import QuadratureOptions as QuadratureOptions
 from .papangelo_ciavarella import pc_contact_radius as pc_contact_radius
 from .papangelo_ciavarella import pc_fold_radius as pc_fold_radius

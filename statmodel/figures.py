@@ -17,8 +17,9 @@ objects (no pyplot, no backend forced); axis units carry SI prefixes chosen from
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, TypeAlias
 
 import h5py
 import numpy as np
@@ -67,6 +68,8 @@ FIG5_LOAD = [0.5, 1.0, 3.1, 6.0, 10.0]
 FIGSIZE = (10.0, 8.0)
 #: Axis-label quantities (mathtext).
 DELTA_T = r"tangential displacement $\delta_T$"
+#: One single-asperity curve by series name (SI): arrays along delta_T, ``delta`` a number.
+Curve: TypeAlias = dict[str, np.ndarray | float]
 
 
 def _finish_panel(ax: Axes, tag: str, xlabel: str, ylabel: str, *, legend: bool = True) -> None:
@@ -80,20 +83,20 @@ def _finish_panel(ax: Axes, tag: str, xlabel: str, ylabel: str, *, legend: bool 
 
 
 def _pc_state(delta: float, dts: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    a = pc_contact_radius(delta, dts, R1, W1, E1, LAM1)
-    p = pc_normal_load(delta, dts, R1, W1, E1, LAM1)
+    a = np.asarray(pc_contact_radius(delta, dts, R1, W1, E1, LAM1))
+    p = np.asarray(pc_normal_load(delta, dts, R1, W1, E1, LAM1))
     t = 4.0 / 3.0 * E1 * a * dts
     return a, p, t
 
 
-def _fig1_data(h5: h5py.Group) -> tuple[list[dict[str, np.ndarray]], dict[str, np.ndarray]]:
+def _fig1_data(h5: h5py.Group) -> tuple[list[Curve], Curve]:
     """Fig. 1's curves (one per delta) and its unstable boundary, written to ``h5`` as well."""
     curves = []
     for j, delta in enumerate(FIG1_DELTAS):
         dt_max = pc_max_tangential_displacement(delta, R1, W1, E1, LAM1)
         dts = dt_max * (1.0 - np.linspace(0.0, 1.0, 400) ** 2)[::-1]
         a, p, t = _pc_state(delta, dts)
-        curve = {"delta": delta, "dt": dts, "p": p, "t": t, "area": np.pi * a**2}
+        curve: Curve = {"delta": delta, "dt": dts, "p": p, "t": t, "area": np.pi * a**2}
         curves.append(curve)
         _write_single_asperity(h5.create_group(f"delta_{j}"), curve)
     # unstable boundary (dash-dotted): the fold state for a sweep of delta
@@ -103,13 +106,13 @@ def _fig1_data(h5: h5py.Group) -> tuple[list[dict[str, np.ndarray]], dict[str, n
     pb = 4 * E1 * ab**3 / (3 * R1) - np.sqrt(
         np.maximum(8 * np.pi * E1 * ab**3 * W1 - 16 / 9 * LAM1 * E1**2 * ab**2 * dtb**2, 0)
     )
-    boundary = {"delta": deltas, "dt": dtb, "p": pb, "t": 4 / 3 * E1 * ab * dtb}
+    boundary: Curve = {"delta": deltas, "dt": dtb, "p": pb, "t": 4 / 3 * E1 * ab * dtb}
     boundary["area"] = np.pi * ab**2
     _write_single_asperity(h5.create_group("unstable_boundary"), boundary)
     return curves, boundary
 
 
-def _write_single_asperity(g: h5py.Group, curve: dict[str, np.ndarray]) -> None:
+def _write_single_asperity(g: h5py.Group, curve: Curve) -> None:
     write_dataset(g, "indentation", curve["delta"], "m")
     write_dataset(g, "tangential_displacement", curve["dt"], "m")
     write_dataset(g, "normal_load", curve["p"], "N")
@@ -117,7 +120,7 @@ def _write_single_asperity(g: h5py.Group, curve: dict[str, np.ndarray]) -> None:
     write_dataset(g, "contact_area", curve["area"], "m^2")
 
 
-def _units(curves: list[dict[str, np.ndarray]], key: str, base: str, power: int = 1) -> DisplayUnit:
+def _units(curves: Sequence[Curve], key: str, base: str, power: int = 1) -> DisplayUnit:
     """One display unit for ``key`` across all ``curves``."""
     return _panel_unit([c[key] for c in curves], base, power)
 
@@ -203,7 +206,7 @@ def _draw_status_map(ax: Axes, g: h5py.Group) -> None:
     write_dataset(g, "boundary_delta_tilde", bound, "1")
 
 
-def _fig2_histories(g: h5py.Group) -> list[dict[str, np.ndarray]]:
+def _fig2_histories(g: h5py.Group) -> list[Curve]:
     """A, P, T along delta_T on Fig. 2's two paths, written to ``g`` as well."""
     histories = []
     for tilde, _ in FIG2_PATHS:
@@ -289,7 +292,7 @@ SHEAR_PANELS = (
 )
 
 
-def _panel_unit(arrays: list[np.ndarray], base: str, power: int) -> DisplayUnit:
+def _panel_unit(arrays: Sequence[np.ndarray | float], base: str, power: int) -> DisplayUnit:
     """The display unit of one panel (identity for counts)."""
     if power == 0:
         return DisplayUnit(1.0, base)
@@ -413,7 +416,7 @@ def _draw_load_study(ax: Axes, curves: list[ShearCurve], ratios: list[float]) ->
         )
     _finish_panel(ax, "d", u_dt.label(DELTA_T), r"$F_x / F_{\mathrm{sliding}}$", legend=False)
     ax.legend(fontsize=8, loc="lower right")
-    inset = ax.inset_axes([0.58, 0.45, 0.38, 0.26])
+    inset = ax.inset_axes((0.58, 0.45, 0.38, 0.26))
     inset.plot(FIG5_LOAD, ratios, "ko-", ms=3)
     inset.set_xlabel("$F_z$ (N)", fontsize=7, labelpad=1)
     inset.set_ylabel(r"$F_{\mathrm{static}} / F_{\mathrm{sliding}} - 1$", fontsize=7)

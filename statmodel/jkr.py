@@ -219,6 +219,31 @@ def jkr_jump_in_distance(tabor: ArrayLike, equilibrium_distance: ArrayLike) -> n
     return _jkr_jump_in_ufunc(mu, equilibrium_distance)
 
 
+def jkr_zero_load_radius(
+    summit_radius: ArrayLike, work_of_adhesion: ArrayLike, e_star: ArrayLike
+) -> np.ndarray | float:
+    """JKR contact radius at zero load, a0 = (9 pi w R^2 / (2 E*))^(1/3) (m).
+
+    E:JKR_load with P = 0: 4 E* a^3 / (3 R) = sqrt(8 pi E* a^3 w).
+
+    Parameters
+    ----------
+    summit_radius : float or array
+        R, m.
+    work_of_adhesion : float or array
+        w, J/m^2.
+    e_star : float or array
+        Reduced modulus E*, Pa.
+
+    Returns
+    -------
+    float or ndarray
+        a0, m.
+    """
+    r, w, e = (np.asarray(v, dtype=float) for v in (summit_radius, work_of_adhesion, e_star))
+    return (9 * np.pi * w * r**2 / (2 * e)) ** (1 / 3) + 0.0
+
+
 def jkr_pull_off_force_load_control(
     summit_radius: ArrayLike, work_of_adhesion: ArrayLike
 ) -> np.ndarray | float:

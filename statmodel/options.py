@@ -32,6 +32,7 @@ relative at every step of the issue's test case (see docs/statmodel.md for the m
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
+from typing import Any
 
 import numpy as np
 
@@ -72,7 +73,7 @@ class QuadratureOptions:
             object.__setattr__(self, knob, value)
 
     @classmethod
-    def from_knobs(cls, **knobs: float) -> QuadratureOptions:
+    def from_knobs(cls, **knobs: Any) -> QuadratureOptions:
         """Build from keyword knobs; an unknown knob raises ``InputError`` naming it."""
         names = {f.name for f in fields(cls)}
         unknown = sorted(set(knobs) - names)

@@ -244,7 +244,7 @@ def _fraction_from_slope(
 def _check_form(form: object, where: str) -> ClosedForm:
     if form not in ("erf", "small_load"):
         raise InputError(f"{where}: form must be 'erf' or 'small_load', got {form!r}")
-    return form  # type: ignore[return-value]
+    return form
 
 
 def persson_contact_fraction(

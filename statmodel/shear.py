@@ -27,6 +27,7 @@ import dataclasses
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.polynomial.hermite_e import hermegauss
@@ -224,7 +225,7 @@ def _assemble(
     results: np.ndarray,
     separations: np.ndarray,
     nits: np.ndarray,
-    **scalars: object,
+    **scalars: Any,
 ) -> ShearCurve:
     n = setup.n_asperities
     fz_stick = n * results[:, _k.FZ_STICK]
@@ -311,6 +312,7 @@ def _tangential_force_at(
     """
 
     def fx_at(delta_t: float) -> float:
+        out: np.ndarray | None
         if target is None:
             out = np.empty(_k.N_RESULTS)
             _k.asperity_integrals(

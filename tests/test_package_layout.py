@@ -126,7 +126,7 @@ def test_import_asperity_is_lazy_and_versioned() -> None:
     out = subprocess.run(
         [sys.executable, "-c", code], check=True, capture_output=True, text=True
     ).stdout.split()
-    assert out[1:] == ["[]", "[]", "asperity.bem.contact"]
+    assert out[1:] == ["[]", "[]", "asperity.bem.normal.contact"]
     assert out[0][0].isdigit()
 
 
@@ -208,8 +208,8 @@ DOCUMENTED_NAMES = {
 
 #: Documented 0.2 names whose home moved again in 0.4 (the BEM numerics into asperity.bem).
 MOVED_AGAIN = {
-    "check_load_index": "asperity.bem.load_sweeps",
-    "load_chains": "asperity.bem.load_sweeps",
+    "check_load_index": "asperity.bem.reference.load_sweeps",
+    "load_chains": "asperity.bem.reference.load_sweeps",
 }
 
 

@@ -540,10 +540,10 @@ def capped_surface(
             np.broadcast_to(-math.sqrt(sphere * sphere - radius * radius), kept_x.shape),
         )  # each cap meets 0 at its rim
         for start in range(0, nx, ROWS_PER_BLOCK):  # a block of rows at a time: no full level
-            part = level[: min(ROWS_PER_BLOCK, nx - start)]
-            part.fill(0.0)
-            _paint_caps(part, start, nx, dx, dy, kept_x, kept_y, *each)
-            heights[start : start + part.shape[0]] += part
+            rows = level[: min(ROWS_PER_BLOCK, nx - start)]
+            rows.fill(0.0)
+            _paint_caps(rows, start, nx, dx, dy, kept_x, kept_y, *each)
+            heights[start : start + rows.shape[0]] += rows
         radius *= 2.0
         k += 1
     heights -= heights.mean()

@@ -22,6 +22,7 @@ import numpy as np
 from asperity.atomic import write_bytes_atomic
 from asperity.errors import ExitStatus, InputError
 from asperity.files import require_output_path
+from asperity.length_units import UNIT_HELP
 from asperity.quantities import add_bounded_option, quantity
 from asperity.topo.cli_common import json_number, preparation_options, print_scan_table
 from asperity.topo.heightmap import HeightMap, LineProfile, require_height_map
@@ -386,8 +387,9 @@ def _add_input_options(parser: argparse.ArgumentParser) -> None:
         "--unit",
         default=None,
         metavar="UNIT",
-        help="length unit of a plain-text file's numbers (m, mm, um, nm): text states none, "
-        "and asperity never guesses it (required for text matrices and x y z / x z columns)",
+        help="length unit of a plain-text file's numbers, as in a job's [surface] unit: "
+        f"{UNIT_HELP}; long names in any case, plural too. Text states none, and asperity "
+        "never guesses it (required for text matrices and x y z / x z columns)",
     )
     parser.add_argument(
         "--channel",
@@ -523,8 +525,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
     synth = subparsers.add_parser(
         "synth",
-        help="write a seeded synthetic (paper-like) self-affine surface",
-        description="Periodic self-affine surface; defaults are the paper-like preset.",
+        help="write a seeded synthetic (paper-like) rough surface",
+        description="Periodic random-phase surface, PSD flat below the roll-off and C ~ "
+        "q^-2(1+H) above it (self-affine for H <= 1); defaults are the paper-like recipe "
+        "(H = 1.36: smooth at small scales, not self-affine).",
     )
     synth.add_argument("--out", required=True, help="output .h5 (project HDF5), .npy or .npz")
     synth.add_argument(
@@ -545,7 +549,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--hurst",
         "surface.synthetic.hurst",
         default=None,
-        help="spectral (Hurst) exponent H (paper-like: 1.36)",
+        help="spectral exponent H of C ~ q^-2(1+H), 0 < H <= 2: a Hurst exponent only for "
+        "H <= 1 (self-affine); above 1 the surface is smooth at small scales (paper-like: 1.36)",
     )
     add_bounded_option(
         synth,

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import argparse
 import math
+from collections.abc import Iterable
 
 import numpy as np
 
@@ -50,7 +51,9 @@ def preparation_options(args: argparse.Namespace):
     )
 
 
-def print_scan_table(scan, count: str = "N", extra: tuple[str, object] | None = None) -> None:
+def print_scan_table(
+    scan, count: str = "N", extra: tuple[str, Iterable[object]] | None = None
+) -> None:
     """The text table of a resolution scan (SI units) and its fits line.
 
     ``count`` labels the ``n_summits`` column; ``extra`` is an optional (label, values)

@@ -24,7 +24,7 @@ from asperity.topo.form import subtract_polynomial
 
 def _neighbour_couplings(
     missing: np.ndarray, periodic: bool, weights: tuple[float, float]
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """For every missing pixel p and each existing neighbour n: (p_i, p_j, n_i, n_j, w)."""
     nx, ny = missing.shape
     pi, pj = np.nonzero(missing)
@@ -40,7 +40,13 @@ def _neighbour_couplings(
         nb_i.append(moved[exists] if axis == 0 else pi[exists])
         nb_j.append(pj[exists] if axis == 0 else moved[exists])
         w.append(np.full(int(exists.sum()), weights[axis]))
-    return tuple(np.concatenate(part) for part in (rows_i, rows_j, nb_i, nb_j, w))  # type: ignore[return-value]
+    return (
+        np.concatenate(rows_i),
+        np.concatenate(rows_j),
+        np.concatenate(nb_i),
+        np.concatenate(nb_j),
+        np.concatenate(w),
+    )
 
 
 def _solve_laplace(

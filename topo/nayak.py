@@ -53,6 +53,7 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass, field
+from typing import TypedDict
 
 import numpy as np
 
@@ -76,14 +77,22 @@ NEIGHBOUR_RULE_NOTE = (
     "rule counts about 1.3 times more summits on isotropic maps, with R 15-20 % larger"
 )
 _METHOD = "nayak-profile"
-_SUMMIT_KEYS = (
-    "asperity_density",
-    "summit_radius",
-    "summit_height_rms",
-    "mean_summit_height",
-    "mean_curvature_radius",
-    "peak_density",
-)
+
+
+class _Densities(TypedDict):
+    """Nayak's closed-form densities: summits per area (1/m^2), profile peaks per length (1/m)."""
+
+    asperity_density: float
+    peak_density: float
+
+
+class SummitValues(_Densities):
+    """The summit statistics of :func:`nayak_statistics` (m, 1/m^2, 1/m; see its docstring)."""
+
+    summit_radius: float
+    summit_height_rms: float
+    mean_summit_height: float
+    mean_curvature_radius: float
 
 
 @dataclass(frozen=True)
@@ -287,7 +296,7 @@ def summit_averages(alpha: float) -> dict[str, float]:
     }
 
 
-def nayak_statistics(moments: SpectralMoments) -> dict[str, float]:
+def nayak_statistics(moments: SpectralMoments) -> SummitValues:
     """Nayak's summit statistics of an isotropic surface from its profile moments.
 
     Parameters
@@ -297,7 +306,7 @@ def nayak_statistics(moments: SpectralMoments) -> dict[str, float]:
 
     Returns
     -------
-    dict
+    SummitValues (a dict)
         ``asperity_density`` (1/m^2, the closed form), ``summit_radius`` (m, paper
         convention ``1/2 <1/|z_xx| + 1/|z_yy|>``), ``summit_height_rms`` (m),
         ``mean_summit_height`` (m), ``mean_curvature_radius`` (m, ``1 / <-(z_xx+z_yy)/2>``),
@@ -305,15 +314,16 @@ def nayak_statistics(moments: SpectralMoments) -> dict[str, float]:
     """
     m0, m4 = moments.m0, moments.m4
     averages = summit_averages(moments.bandwidth)
-    return _densities(moments) | {
-        "summit_radius": averages["inverse_curvature"] / math.sqrt(m4),
-        "summit_height_rms": averages["height_rms"] * math.sqrt(m0),
-        "mean_summit_height": averages["mean_height"] * math.sqrt(m0),
-        "mean_curvature_radius": 1.0 / (averages["mean_curvature"] * math.sqrt(m4)),
-    }
+    return SummitValues(
+        **_densities(moments),
+        summit_radius=averages["inverse_curvature"] / math.sqrt(m4),
+        summit_height_rms=averages["height_rms"] * math.sqrt(m0),
+        mean_summit_height=averages["mean_height"] * math.sqrt(m0),
+        mean_curvature_radius=1.0 / (averages["mean_curvature"] * math.sqrt(m4)),
+    )
 
 
-def _densities(moments: SpectralMoments) -> dict[str, float]:
+def _densities(moments: SpectralMoments) -> _Densities:
     """Nayak's closed forms: summits per area (1/m^2) and profile peaks per length (1/m)."""
     return {
         "asperity_density": moments.m4 / (6.0 * math.pi * math.sqrt(3.0) * moments.m2),
@@ -392,7 +402,13 @@ def profile_statistics(profile: LineProfile, *, stride: int = 1) -> ProfileStati
         values = nayak_statistics(moments)
     else:
         status = 2
-        values = dict.fromkeys(_SUMMIT_KEYS, math.nan) | _densities(moments)
+        values = SummitValues(
+            **_densities(moments),
+            summit_radius=math.nan,
+            summit_height_rms=math.nan,
+            mean_summit_height=math.nan,
+            mean_curvature_radius=math.nan,
+        )
         warnings.append(
             f"bandwidth alpha = {alpha:.3g} < 1.5: no Gaussian surface has these moments (the "
             "profile is dominated by noise at this sampling interval); R and sigma_s undefined"

@@ -304,7 +304,7 @@ def prepare_surface(
 
 
 def _level_and_treat_outliers(
-    surface: HeightMap, order: int, options: PreparationOptions, n_missing: int
+    surface: HeightMap, order: int | None, options: PreparationOptions, n_missing: int
 ) -> tuple[np.ndarray, np.ndarray, float, OutlierSearch]:
     """The form removed (order ``order``) and the outliers masked or clipped.
 
@@ -330,7 +330,7 @@ def _preparation_record(
     surface: HeightMap,
     options: PreparationOptions,
     measured_shape: tuple[int, int],
-    form: tuple[int, str],
+    form: tuple[int | None, str],
     heights: tuple[np.ndarray, np.ndarray, float],
     found: OutlierSearch,
     counts: tuple[int, int, int],

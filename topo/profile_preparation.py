@@ -11,17 +11,25 @@ nearest valid points: the 1D harmonic fill). Heights and lengths in m.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from asperity.errors import InputError
 from asperity.topo.cleaning import find_outliers
 from asperity.topo.heightmap import LineProfile
 
+if TYPE_CHECKING:
+    from asperity.topo.cleaning import CropWindow
+    from asperity.topo.preparation import PreparationOptions
+
 #: Missing-point fraction above which the record warns (as for maps).
 MISSING_WARN_FRACTION = 0.05
 
 
-def _cropped(profile: LineProfile, crop: object) -> tuple[LineProfile, tuple[int, int] | None]:
+def _cropped(
+    profile: LineProfile, crop: CropWindow | None
+) -> tuple[LineProfile, tuple[int, int] | None]:
     """The profile restricted to the crop window's x range (pixels or m)."""
     if crop is None:
         return profile, None
@@ -74,7 +82,7 @@ def _filled(heights: np.ndarray, policy: str, source: str) -> tuple[np.ndarray, 
     return filled, count
 
 
-def prepare_profile(profile: LineProfile, options: object) -> tuple[LineProfile, dict]:
+def prepare_profile(profile: LineProfile, options: PreparationOptions) -> tuple[LineProfile, dict]:
     """Crop, level, treat outliers and missing points of a profile, as ``options`` say.
 
     Parameters

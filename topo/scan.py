@@ -18,7 +18,7 @@ import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, SupportsFloat
 
 import numpy as np
 
@@ -123,11 +123,11 @@ class ResolutionScan:
         return data
 
 
-def _plain(value: object) -> object:
+def _plain(value: SupportsFloat) -> int | float | None:
     if isinstance(value, (np.integer, int)):
         return int(value)
-    value = float(value)
-    return value if math.isfinite(value) else None
+    number = float(value)
+    return number if math.isfinite(number) else None
 
 
 def resolution_scan(

@@ -4,9 +4,11 @@ Fig. 1: one adhesive asperity sheared in fixed grip
 
 A sphere of radius :math:`R` pressed to an indentation :math:`\\delta` against a flat, then
 displaced tangentially by :math:`\\delta_T` at fixed :math:`\\delta`. Papangelo and
-Ciavarella's model (``E:PC_indent`` .. ``E:PC_T``) couples the tangential loading to the
+Ciavarella's model (its indentation, normal and tangential load under shear, Eqs. 6-8,
+``E:PC_indent`` .. ``E:PC_T``) couples the tangential loading to the
 adhesive crack through the mode-mixity parameter :math:`\\lambda`: the contact shrinks as
-:math:`\\delta_T` grows, until it reaches a fold (the unstable boundary, ``E:PC_a_min_1``)
+:math:`\\delta_T` grows, until it reaches a fold (the unstable boundary: the fold radius at
+fixed indentation, Eq. 9, ``E:PC_a_min_1``)
 where the asperity jumps to sliding or out of contact.
 
 The parameters are the paper's Fig. 1 caption (a smooth PDMS sphere on glass): work of

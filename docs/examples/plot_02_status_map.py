@@ -9,7 +9,8 @@ the state of a sheared adhesive asperity depends only on its indentation
 :math:`\\lambda`. Below the unstable boundary
 :math:`\\tilde\\delta_{\\min}^{PC}(\\tilde\\delta_T)` the Papangelo-Ciavarella solution no longer
 exists: an asperity pressed in (:math:`\\tilde\\delta > 0`) slides with the Hertz contact and a
-constant shear strength :math:`\\tau_0` (``E:Hertz_theory``); one held in tension
+constant shear strength :math:`\\tau_0` (the Hertz laws of a sliding junction, Eq. 14,
+``E:Hertz_theory``); one held in tension
 (:math:`\\tilde\\delta < 0`) leaves the contact. This map is what the statistical model
 integrates over the summit heights.
 

@@ -5,8 +5,10 @@ Fig. 4: a rough adhesive contact sheared up to full sliding
 The statistical model (Sections 3-4 of the paper): asperities with a Gaussian height
 distribution (rms summit height :math:`\\sigma_s`), all of radius :math:`R`, with
 :math:`\\eta` summits per unit area, are first pressed to the normal load :math:`F_z`
-(Greenwood's preload with JKR asperities, ``E:Fy_Greenwood``), then sheared at constant
-:math:`F_z` (``E:NewFormulation_Fy``, ``E:NewFormulation_Fx``, ``E:NewFormulation_Ar``). Each
+(Greenwood's preload with JKR asperities: the preload normal force, Eq. 15,
+``E:Fy_Greenwood``), then sheared at constant :math:`F_z` (the normal force, tangential force
+and real contact area under shear, Eqs. 17-19: ``E:NewFormulation_Fy``,
+``E:NewFormulation_Fx``, ``E:NewFormulation_Ar``). Each
 asperity sticks (Papangelo-Ciavarella) until the status map sends it sliding or out of
 contact; the tangential force :math:`F_x` peaks (static friction), then settles on the
 all-sliding value (sliding friction) once every asperity slides.

@@ -26,13 +26,17 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from asperity.errors import InputError
-from asperity.pipelines.batch.summary import MapRecord, write_summary_csv, write_summary_figure
+from asperity.pipelines.batch.summary import (
+    MapRecord,
+    write_summary_csv,
+    write_summary_figure,
+)
+from asperity.pipelines.batch.summary import summary_values as _summary_values
 from asperity.pipelines.config import Document, JobConfig, config_from_dict
 from asperity.pipelines.engine.outdir import report_removed_on_failure
 from asperity.pipelines.engine.parallel import Scheduler, make_executor
 from asperity.pipelines.job import JobResult, run_job
 from asperity.pipelines.report import write_report
-from asperity.pipelines.report.html import find_verdict
 
 try:
     import tomllib
@@ -94,35 +98,9 @@ def map_folders(maps: Sequence[Path], out_dir: Path) -> list[Path]:
     return [out_dir / (s if stems.count(s) == 1 else f"{s}-{i + 1}") for i, s in enumerate(stems)]
 
 
-def _verdict_text(result: JobResult) -> str:
-    verdict = find_verdict(result)
-    if verdict is None:
-        return ""
-    for name in ("verdict", "status", "summary"):
-        value = getattr(verdict, name, None)
-        if isinstance(value, str | int | bool):
-            return str(value)
-    return ""
-
-
 def summary_values(result: JobResult) -> dict[str, float | str]:
-    """The summary numbers of one run (SI; column names carry the units)."""
-    res, fr = result.statistical_model, result.friction
-    values: dict[str, float | str] = {
-        "effective resolution (m)": res.effective_resolution,
-        "asperity density eta (1/m^2)": res.asperity_density,
-        "summit radius R (m)": res.summit_radius,
-        "rms summit height sigma_s (m)": res.summit_height_rms,
-        "mode mixity lambda (1)": result.mode_mixity.mode_mixity,
-    }
-    for i, load in enumerate(fr.normal_load):
-        at = f"at F_z={load:.6g} N"
-        values[f"A_r/A_n {at} (1)"] = float(res.real_area[res.index, i] / res.nominal_area)
-        values[f"static friction {at} (N)"] = float(fr.static_friction[i])
-        values[f"sliding friction {at} (N)"] = float(fr.sliding_friction[i])
-    values["verdict"] = _verdict_text(result)
-    values["validity"] = "; ".join(res.validity) or "within the model's assumptions"
-    return values
+    """The summary numbers of one run (:func:`pipelines.batch.summary.summary_values`)."""
+    return _summary_values(result)
 
 
 def _map_status(result: JobResult) -> str:

@@ -1,7 +1,10 @@
 """The across-maps summary of a batch: ``summary.csv`` and ``summary.png``.
 
 ``summary.csv``: one row per map (``map``, ``folder``, ``status``, ``message``, then the
-numbers of :func:`pipelines.batch.summary_values`, SI units in the headers), then a ``mean``
+numbers of :func:`summary_values`, SI units in the headers, each predicted quantity with its
+``... uncertainty (unit)`` column, and the ``verdict`` column; every number of a map whose
+verdict is invalid is written ``invalid: 4389.5``, text that no spreadsheet reads as a
+number), then a ``mean``
 and a ``std`` row (sample standard deviation, ddof = 1) over the maps whose result the
 verdict stands behind (status "ok"): an invalid or unconverged map is listed but never
 averaged in. The file opens with ``#`` comment lines (:func:`summary_header`): how many maps
@@ -29,6 +32,75 @@ if TYPE_CHECKING:
 
 #: Text columns among the values (no mean or std).
 TEXT_COLUMNS = ("verdict", "validity")
+#: The word that heads each number of an invalid map in summary.csv ("invalid: 4389.5"): text
+#: a spreadsheet cannot read as a number (docs/pipelines.md).
+INVALID_MARK = "invalid"
+
+
+def _at(values: object, i: int) -> float:
+    """Element ``i`` of an optional per-load array (NaN when absent)."""
+    return float("nan") if values is None else float(np.asarray(values, dtype=float)[i])
+
+
+def _with_uncertainty(
+    values: dict[str, float | str], name: str, value: float, uncertainty: float
+) -> None:
+    """``values[name] = value`` and, beside it, ``values[<name> uncertainty (<unit>)]``."""
+    quantity, _, unit = name.rpartition(" (")
+    values[name] = float(value)
+    values[f"{quantity} uncertainty ({unit}"] = float(uncertainty)
+
+
+def verdict_text(result: object) -> str:
+    """The run's verdict word ("valid", "warnings", "invalid"; "" without a verdict), found
+    as report.html finds it (:func:`asperity.pipelines.report.html.find_verdict`)."""
+    from asperity.pipelines.report.html import find_verdict  # matplotlib: only when summarised
+
+    verdict = find_verdict(result)
+    if verdict is None:
+        return ""
+    for name in ("verdict", "status", "summary"):
+        value = getattr(verdict, name, None)
+        if isinstance(value, str | int | bool):
+            return str(value)
+    return ""
+
+
+def summary_values(result: object) -> dict[str, float | str]:
+    """The summary numbers of one run (SI; column names carry the units), each predicted
+    quantity followed by its ``... uncertainty (unit)`` column (NaN where the model could not
+    estimate it), then ``verdict`` and ``validity``. A run stopped where its verdict was known
+    (:mod:`asperity.pipelines.stages.early_verdict`) has no model numbers: only its verdict."""
+    verdict = getattr(result, "verdict", None)
+    res, fr, lam = result.statistical_model, result.friction, result.mode_mixity
+    if res is None or fr is None or lam is None:
+        reasons = "; ".join(getattr(verdict, "reasons", []) or [])
+        return {"verdict": verdict_text(result), "validity": reasons}
+    interval = getattr(res, "optimum_interval", None)
+    resolution_u = (
+        float(np.ptp(interval)) / 2
+        if interval is not None and np.all(np.isfinite(interval))
+        else float("nan")
+    )
+    values: dict[str, float | str] = {}
+    _with_uncertainty(values, "effective resolution (m)", res.effective_resolution, resolution_u)
+    values["asperity density eta (1/m^2)"] = float(res.asperity_density)
+    values["summit radius R (m)"] = float(res.summit_radius)
+    values["rms summit height sigma_s (m)"] = float(res.summit_height_rms)
+    lam_u = lam.mode_mixity_std if lam.mode_mixity_std is not None else float("nan")
+    _with_uncertainty(values, "mode mixity lambda (1)", lam.mode_mixity, lam_u)
+    for i, load in enumerate(fr.normal_load):
+        at = f"at F_z={load:.6g} N"
+        area_u = _at(fr.model_real_area_uncertainty, i) / res.nominal_area
+        area = float(res.real_area[res.index, i] / res.nominal_area)
+        _with_uncertainty(values, f"A_r/A_n {at} (1)", area, area_u)
+        static_u = _at(fr.static_friction_uncertainty, i)
+        _with_uncertainty(values, f"static friction {at} (N)", fr.static_friction[i], static_u)
+        sliding_u = _at(fr.sliding_friction_uncertainty, i)
+        _with_uncertainty(values, f"sliding friction {at} (N)", fr.sliding_friction[i], sliding_u)
+    values["verdict"] = verdict_text(result)
+    values["validity"] = "; ".join(res.validity) or "within the model's assumptions"
+    return values
 
 
 class MapRecord(TypedDict, total=False):
@@ -89,9 +161,13 @@ def _statistics(
     return mean, spread
 
 
-def _cell(value: object) -> str:
-    if isinstance(value, float):
-        return "" if not np.isfinite(value) else repr(value)
+def _cell(value: object, invalid: bool = False) -> str:
+    """A CSV cell: a number as ``repr`` ("" for NaN), marked ``invalid: <number>`` on a map
+    whose verdict is invalid (never a bare number a spreadsheet would average)."""
+    if isinstance(value, float | int) and not isinstance(value, bool):
+        if not np.isfinite(value):
+            return ""
+        return f"{INVALID_MARK}: {value!r}" if invalid else repr(float(value))
     return "" if value is None else str(value)
 
 
@@ -128,7 +204,10 @@ def write_summary_csv(records: list[MapRecord], path: Path) -> Path:
         writer = csv.writer(handle)
         writer.writerow([*LEAD_COLUMNS, *columns])
         for row in rows:
-            writer.writerow([_cell(row.get(name, "")) for name in (*LEAD_COLUMNS, *columns)])
+            invalid = row.get("status") == "invalid"  # the mean and std rows have no status
+            writer.writerow(
+                [_cell(row.get(name, ""), invalid) for name in (*LEAD_COLUMNS, *columns)]
+            )
     return path
 
 
@@ -158,7 +237,9 @@ def _panel(ax: Axes, records: list[MapRecord], name: str, base: str, power: int)
 
 def _per_load_panel(ax: Axes, records: list[MapRecord], prefix: str, base: str) -> None:
     """A per-load quantity against F_z, one line per map."""
-    columns = [c for c in numeric_columns(records) if c.startswith(prefix)]
+    columns = [
+        c for c in numeric_columns(records) if c.startswith(prefix) and "uncertainty" not in c
+    ]
     loads = np.array([float(c.split("F_z=")[1].split(" N")[0]) for c in columns])
     table = np.array([column_values(records, c) for c in columns]).T  # (map, load)
     fu = display_unit(loads, "N")

@@ -33,6 +33,8 @@ from asperity.schema import clip
 #: Stages a report needs (attributes of :class:`pipelines.results.Results`); the verdict
 #: among them: no number is shown without it.
 REQUIRED = ("surface", "resolution_scan", "statistical_model", "mode_mixity", "friction", "verdict")
+#: The stages a run stopped where its verdict was known stores (stages.early_verdict).
+EARLY_REQUIRED = ("surface", "resolution_scan", "verdict")
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -63,7 +65,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def stored_report_section(config_toml: str) -> dict:
     """The ``[report]`` table of a run's stored configuration ({} when absent)."""
-    import tomllib
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:  # pragma: no cover - exercised on Python 3.10 only
+        import tomli as tomllib
 
     try:
         section = tomllib.loads(config_toml).get("report", {})
@@ -86,7 +91,9 @@ def handle_report(args: argparse.Namespace) -> int:
     if describe_kind(path) is not None:  # a FIFO would be "not found" below, or block
         require_regular_file(path, "OUT_DIR")
     results = open_results(args.out_dir)
-    missing = [name for name in REQUIRED if getattr(results, name) is None]
+    early = getattr(results.verdict, "full_contact_real_area", None) is not None
+    required = EARLY_REQUIRED if early else REQUIRED  # stopped where the verdict was known
+    missing = [name for name in required if getattr(results, name) is None]
     if missing:
         raise InputError(
             f"{results.path}: expected a finished run, but stages {', '.join(missing)} are not "

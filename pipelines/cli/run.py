@@ -1,18 +1,21 @@
 """``asperity run``: the main job, from a surface to a calibrated friction prediction.
 
-``asperity run [CONFIG.toml] [--out DIR] [--preset default|paper] [--force] [--workers N]
-[--scheduler ADDRESS]``
+``asperity run [CONFIG.toml] [--out DIR] [--preset default|paper] [--force] [--compute-all]
+[--workers N] [--scheduler ADDRESS]``
 
 Without a configuration the embedded ``default`` preset runs (the paper-like synthetic surface
 on a reduced grid, about a minute). The configuration is validated before any heavy work; a
 bad key exits 2 naming it. Exit status 1 when a solver did not converge (everything is still
-written), else 3 when the validity verdict is "invalid" (:mod:`pipelines.stages.verdict`).
+written), else 3 when the validity verdict is "invalid" (:mod:`pipelines.stages.verdict`). A verdict
+known invalid before the BEM (the full-contact regime) stops the job there, exit 3, unless
+``--compute-all`` (``run.compute_all = true``) asks for every stage.
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -62,6 +65,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "finished run of a different job in --out (refused otherwise, exit 2)",
     )
     parser.add_argument(
+        "--compute-all",
+        action="store_true",
+        help="compute every stage even when the verdict is known invalid before the BEM "
+        "(run.compute_all = true; by default the job stops there and states the full-contact "
+        "limit)",
+    )
+    parser.add_argument(
         "--workers",
         type=quantity("run.workers").option("--workers"),
         default=None,
@@ -102,6 +112,8 @@ def handle_run(args: argparse.Namespace) -> int:
         if args.config is not None
         else load_preset(args.preset or "default")
     )
+    if getattr(args, "compute_all", False):
+        config = replace(config, run=replace(config.run, compute_all=True))
     require_output_dir(args.out, "--out", probe=False)  # "" would write into the current folder
     # The lock first (a second run on --out stops at once, before the heavy imports); held over
     # the job and the report.

@@ -9,7 +9,7 @@ the request and sets the solvers' flag (:func:`asperity.bem.cancel.request_cance
 stops at the next safe point, by :class:`asperity.bem.cancel.Cancelled` (a
 KeyboardInterrupt):
 
-* in the BEM solver, before every iteration (:func:`asperity.bem.iteration.iterate`);
+* in the BEM solver, before every iteration (:func:`asperity.bem.normal.iteration.iterate`);
 * in the stage engine, before each stage and after each write of ``results.h5``
   (:func:`checkpoint`), so every finished stage is stored, then the run ends;
 * when the guarded block ends (the request is raised then, at the latest).

@@ -10,7 +10,7 @@ range's sensitivity; the ``bem_grid`` figure
 
 from __future__ import annotations
 
-from asperity.bem.grid_refinement import EDGE_MISMATCH_LIMIT
+from asperity.bem.reference.grid_refinement import EDGE_MISMATCH_LIMIT
 from asperity.pipelines.report._run import Run
 from asperity.pipelines.stages.bem import BemReference
 

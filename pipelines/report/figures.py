@@ -265,10 +265,10 @@ def _scan_panels(scan: ScanResult) -> list[ScanPanel]:
 def radius_fit_line(scan: ScanResult, resolution: np.ndarray) -> FitLine:
     """Fig 12a's linear fit R = intercept + slope x over ``resolution`` (m), drawn only where
     R > 0 (a radius is positive; the straight line may cross zero inside the scan), with its
-    slope dR/dx in m/m (R and the resolution are both lengths)."""
+    slope dR/dx, a pure number (R and the resolution are both lengths)."""
     fit = scan.radius_intercept + scan.radius_slope * np.asarray(resolution, dtype=float)
     keep = np.isfinite(fit) & (fit > 0)
-    label = f"linear fit, dR/d(resolution) = {scan.radius_slope:.3g} m/m"
+    label = f"linear fit, slope dR/d(resolution) = {scan.radius_slope:.3g}"
     if not keep.all() and keep.any():
         label += " (drawn where R > 0)"
     if not keep.any():
@@ -338,7 +338,7 @@ def _draw_area_vs_load(ax: Axes, result: Run, table: FigureTable) -> None:
     ax.set_xlabel(fu.label("normal load $F_z$"))
     ax.set_ylabel("$A_r / A_n$")
     ax.set_title("(d)")
-    verdict_marks.threshold_lines(ax, "A_r/A_n", verdict_marks.AREA_FRACTION_THRESHOLDS)
+    verdict_limit_lines(ax, "A_r/A_n", verdict_marks.AREA_FRACTION_THRESHOLDS)
     # (d)'s many entries: under the whole figure, in two columns, so none covers a curve
     handles, labels = ax.get_legend_handles_labels()
     ax.get_figure().legend(
@@ -348,6 +348,16 @@ def _draw_area_vs_load(ax: Axes, result: Run, table: FigureTable) -> None:
 
 #: Appended to a legend entry whose error bars were cut at zero.
 CLIPPED_NOTE = " (bars clipped at 0)"
+
+
+def verdict_limit_lines(ax: Axes, quantity: str, thresholds) -> list[float]:
+    """The verdict's limits of ``quantity`` drawn as lines where they fall inside the y-axis
+    (:func:`verdict_marks.threshold_lines`); a limit outside it is drawn nowhere, so the axis
+    title does not describe it (the limits are in report.md)."""
+    title, size = ax.get_title(), ax.title.get_fontsize()
+    drawn = verdict_marks.threshold_lines(ax, quantity, thresholds)
+    ax.set_title(title, fontsize=size)
+    return drawn
 
 
 def nonnegative_bars(value: ArrayLike, u: ArrayLike) -> tuple[np.ndarray, bool]:
@@ -373,22 +383,25 @@ def full_contact_line(ax: Axes, fractions: ArrayLike) -> bool:
 
 def non_adhesive_series(series: Callable[..., None], res: ResolutionChoice) -> None:
     """Fig 12d's like-for-like pairs at the effective resolution: Greenwood-Williamson (w = 0;
-    grey dashed, open triangles) beside the open markers of the non-adhesive BEM, and with a
-    Maugis-Dugdale BEM the Maugis-Dugdale model at its h_0 (dashed, filled triangles) beside the
-    filled markers. A run stored before these fields: the w = 0 model at the non-adhesive
+    a wide light grey line, open triangles) beside the open markers of the non-adhesive BEM, and
+    with a Maugis-Dugdale BEM the Maugis-Dugdale model at its h_0 (dashed, filled triangles, on
+    top of the grey: the two differ by a few per cent) beside the filled markers. A run stored
+    before these fields: the w = 0 model at the non-adhesive
     pair's least-misfit stride."""
     plain = getattr(res, "effective_real_area_non_adhesive", None)
     if plain is not None:
         ru = display_unit(res.effective_resolution, "m")
         at = f"{ru(res.effective_resolution):.3g} {ru.symbol}"
-        name = f"GW model (w=0), {at} (pair of the non-adhesive BEM)"
-        series(name, res.normal_load, plain / res.nominal_area, "v--", color="0.4", mfc="none")
+        name = f"GW model (w=0), {at} (pair of the non-adhesive BEM; wide grey)"
+        # wide and light under the MD model's dashes: the two lie within a few per cent
+        series(name, res.normal_load, plain / res.nominal_area, "v-", color="0.55", lw=5,
+               alpha=0.5, ms=9, mfc="none", zorder=1.8)  # fmt: skip
         if getattr(res, "bem_law", None) == "maugis-dugdale":
             hu = display_unit(res.bem_law_adhesion_range, "m")
             h0 = f"{hu(res.bem_law_adhesion_range):.3g} {hu.symbol}"
             name = f"MD model, h_0 = {h0}, {at} (pair of the adhesive BEM)"
             md = res.effective_real_area_bem_law / res.nominal_area
-            series(name, res.normal_load, md, "^--", color="C2")
+            series(name, res.normal_load, md, "^--", color="C2", zorder=2.2)
         return
     index = getattr(res, "effective_index_non_adhesive", None)
     if index is None or res.real_area_non_adhesive is None:
@@ -446,14 +459,16 @@ def draw_misfit(result: Run) -> tuple[Figure, FigureTable]:
     ax.axvline(
         xu(at_stride),
         color="k",
-        ls="--",
+        ls=(0, (4, 3)),
+        lw=1.2,
+        zorder=3,  # dashed over the located optimum's wide line: both show where they coincide
         label=f"stride of least misfit {xu(at_stride):.3g} {xu.symbol}",
     )
     draw_resolution_interval(ax, xu, res, table)
     ax.set_xlabel(xu.label("resolution"))
     ax.set_ylabel("rms of ln($A_{model}$ / $A_{reference}$)")
     log_axis(ax, "y", [m for _, m, _ in curves])
-    verdict_marks.threshold_lines(ax, "misfit", verdict_marks.MISFIT_THRESHOLDS)
+    verdict_limit_lines(ax, "misfit", verdict_marks.MISFIT_THRESHOLDS)
     legend_below(ax, fontsize=8, ncols=2)
     return fig, table
 
@@ -622,7 +637,7 @@ def draw_area_vs_force(result: Run) -> tuple[Figure, FigureTable]:
     full_contact_line(ax, np.asarray(fr.real_area) / a_n)
     ax.set_xlabel(fu.label("tangential load $F_x$"))
     ax.set_ylabel("$A_r / A_n$")
-    verdict_marks.threshold_lines(ax, "A_r/A_n", verdict_marks.AREA_FRACTION_THRESHOLDS)
+    verdict_limit_lines(ax, "A_r/A_n", verdict_marks.AREA_FRACTION_THRESHOLDS)
     legend_below(ax, fontsize=8, ncols=2)  # under the axis: it covers no curve
     return fig, table
 
@@ -649,7 +664,7 @@ def draw_friction_vs_load(result: Run) -> tuple[Figure, FigureTable]:
         else:
             x = fu(fr.normal_load)
             arms, clipped = nonnegative_bars(values, u)
-            label = name + " +- u" + (", a lower bound" if lower_bound else "")
+            label = name + " ± u" + (", a lower bound" if lower_bound else "")
             label += CLIPPED_NOTE if clipped else ""
             if lower_bound:  # open-ended: the true bar is at least this long
                 (line,) = ax.plot(x, yu(values), style, label=label)
@@ -714,7 +729,7 @@ def psd_fit_label(psd: object) -> str:
     """The PSD fit's legend: C ~ q^exponent, and the Hurst exponent only where it is one
     (H = -exponent/2 - 1 inside (0, 1); docs/topo.md)."""
     text = f"power law, $C \\propto q^{{{psd.psd_fit_exponent:.3g}}}$"
-    hurst = float(psd.hurst_exponent)
+    hurst = -float(psd.psd_fit_exponent) / 2 - 1  # the slope's H, whatever its range
     if math.isfinite(hurst) and 0 < hurst < 1:
         return f"{text}, H = {hurst:.3g}"
     return f"{text} (no Hurst exponent: H would be {hurst:.3g}, outside (0, 1))"
@@ -756,7 +771,8 @@ def draw_psd(result: Run) -> tuple[Figure, FigureTable]:
             "roll-off wavenumber (rad/m)": q_r,
             "map Nyquist wavenumber (rad/m)": psd.nyquist_wavenumber,
             "effective Nyquist wavenumber (rad/m)": np.pi / psd.effective_resolution,
-            "Hurst exponent (1)": psd.hurst_exponent,
+            "Hurst exponent (1)": psd.hurst_exponent,  # NaN outside (0, 1): not one
+            "PSD slope's H = -exponent/2 - 1 (1)": -float(psd.psd_fit_exponent) / 2 - 1,
         },
     )
     for name, wavenumber in marks.items():  # each line drawn, named as in the legend
@@ -937,8 +953,10 @@ def draw_resolution_interval(
     ax.axvline(
         xu(res.optimum_resolution),
         color="C2",
-        lw=1.5,
-        label=f"located {xu(res.optimum_resolution):.3g} {xu.symbol}",
+        lw=4.0,
+        alpha=0.6,
+        zorder=2,
+        label=f"located {xu(res.optimum_resolution):.3g} {xu.symbol} (wide line)",
     )
 
 
@@ -957,7 +975,7 @@ def draw_model_band(
     ru = display_unit(at, "m")
     lower_bound = bool(getattr(fr, "uncertainty_lower_bound", False))
     clipped = bool(np.any(value - u < 0))
-    name = f"JKR model +- u, {ru(at):.3g} {ru.symbol} (effective: the predictions)"
+    name = f"JKR model ± u, {ru(at):.3g} {ru.symbol} (effective: the predictions)"
     (line,) = ax.plot(fu(fr.normal_load), value, "-", color="C3", label=name)
     low = np.maximum(value - u, 0.0)  # an area is never negative
     note = " (clipped at 0)" if clipped else ""
@@ -967,7 +985,7 @@ def draw_model_band(
                         label=f"u a lower bound: the band is at least this wide{note}")  # fmt: skip
     else:
         ax.fill_between(fu(fr.normal_load), low, value + u, color=line.get_color(), alpha=0.25,
-                        label=f"model +- u (one sigma){note}")  # fmt: skip
+                        label=f"model ± u (one sigma){note}")  # fmt: skip
     table.add("d", name, {x_col: fr.normal_load, y_col: value, "A_r/A_n uncertainty (1)": u})
     return True
 
@@ -1026,10 +1044,10 @@ def draw_fig13_error_bars(
     note = CLIPPED_NOTE if clipped_any else ""
     if lower_bound:
         ax.plot([], [], color="0.3", marker=r"$\leftrightarrow$", ms=12, ls="none",
-                label=f"model +- u, a lower bound: at least this wide{note}")  # fmt: skip
+                label=f"model ± u, a lower bound: at least this wide{note}")  # fmt: skip
     else:
         ax.errorbar([], [], xerr=[], yerr=[], fmt="none", ecolor="0.3", capsize=3,
-                    label=f"model +- u (A_r at $F_x$ = 0; static peak){note}")  # fmt: skip
+                    label=f"model ± u (A_r at $F_x$ = 0; static peak){note}")  # fmt: skip
 
 
 def _lower_bound_arrows(
@@ -1054,19 +1072,28 @@ def _lower_bound_arrows(
                 note.arrow_patch.set_clip_path(ax.patch)
 
 
+def _modelled(result: Run) -> bool:
+    """The run computed the model stages (not stopped where its verdict was known)."""
+    return result.statistical_model is not None and result.friction is not None
+
+
 #: How a figure is drawn: the run in, the figure and its data table out.
 Drawer = Callable[[Run], tuple[Figure, FigureTable]]
 
 #: Figure name -> (file stem, drawing function, whether the result has it).
 FIGURES: dict[str, tuple[str, Drawer, Callable[[Run], bool]]] = {
     "surface": ("surface", draw_surface, lambda r: True),
-    "resolution": ("fig12_resolution", draw_resolution, lambda r: True),
-    "misfit": ("fig12d_misfit", draw_misfit, lambda r: True),
-    "shear": ("fig4_shear", draw_shear, lambda r: True),
-    "area_vs_force": ("fig13_area_vs_force", draw_area_vs_force, lambda r: True),
-    "friction_vs_load": ("friction_vs_load", draw_friction_vs_load, lambda r: True),
+    "resolution": ("fig12_resolution", draw_resolution, _modelled),
+    "misfit": ("fig12d_misfit", draw_misfit, _modelled),
+    "shear": ("fig4_shear", draw_shear, _modelled),
+    "area_vs_force": ("fig13_area_vs_force", draw_area_vs_force, _modelled),
+    "friction_vs_load": ("friction_vs_load", draw_friction_vs_load, _modelled),
     "bem_grid": ("bem_grid", draw_bem_grid, lambda r: r.bem_reference is not None),
-    "lambda_fit": ("lambda_fit", draw_lambda_fit, lambda r: r.mode_mixity.fit is not None),
+    "lambda_fit": (
+        "lambda_fit",
+        draw_lambda_fit,
+        lambda r: r.mode_mixity is not None and r.mode_mixity.fit is not None,
+    ),
     "lambda_residuals": (
         "lambda_residuals",
         draw_lambda_residuals,
@@ -1078,11 +1105,13 @@ FIGURES: dict[str, tuple[str, Drawer, Callable[[Run], bool]]] = {
 
 
 def draw_figure(result: Run, name: str) -> tuple[Figure, FigureTable]:
-    """One figure of :data:`FIGURES` drawn, stamped with the run's verdict unless it is valid,
-    its table headed by the verdict (:mod:`pipelines.report.verdict_marks`)."""
+    """One figure of :data:`FIGURES` drawn, stamped with the run's verdict when it is invalid
+    (:func:`~asperity.pipelines.report.verdict_marks.stamp_verdict`), its table headed by the
+    verdict (:mod:`pipelines.report.verdict_marks`)."""
     fig, table = FIGURES[name][1](result)
     verdict = getattr(result, "verdict", None)
     verdict_marks.stamp_verdict(fig, verdict)
+    verdict_marks.mark_model_labels(fig, verdict)
     table.header = verdict_marks.csv_header(verdict)
     return fig, table
 

@@ -28,6 +28,7 @@ from asperity.pipelines.report.figures import draw_figure
 from asperity.pipelines.report.numbers import plain_text
 from asperity.pipelines.report.shear import shear_html
 from asperity.pipelines.report.text import headline_numbers, key_numbers, load_table
+from asperity.pipelines.stages.early_verdict import limit_lines
 from asperity.pipelines.stages.verdict import Verdict
 
 #: Attribute names under which a result may hold a verdict stage's result.
@@ -95,12 +96,18 @@ def verdict_html(verdict: Verdict) -> str:
     )
 
 
+def _cell(text: str) -> str:
+    """A table cell's text escaped, each "value +- u" as "value ± u" on one line (no-break
+    spaces: a cell wraps between values, never inside one)."""
+    escaped = html.escape(plain_text(text))
+    return escaped.replace(" +- ", "\u00a0±\u00a0").replace("(+- ", "(±\u00a0")
+
+
 def table_html(header: list[str], rows: list[list[str]]) -> str:
-    """An HTML table of text cells (escaped)."""
-    head = "".join(f"<th>{html.escape(plain_text(h))}</th>" for h in header)
+    """An HTML table of text cells (escaped; ``+-`` shown as ``±``)."""
+    head = "".join(f"<th>{_cell(h)}</th>" for h in header)
     body = "".join(
-        "<tr>" + "".join(f"<td>{html.escape(plain_text(str(c)))}</td>" for c in row) + "</tr>"
-        for row in rows
+        "<tr>" + "".join(f"<td>{_cell(str(c))}</td>" for c in row) + "</tr>" for row in rows
     )
     # a wide table scrolls inside its own box instead of widening the page
     return (
@@ -170,7 +177,12 @@ def write_html(
     result: Run, out_dir: Path, figures: dict[str, Path], captions: dict[str, str]
 ) -> Path:
     """Write ``report.html`` in ``out_dir``; ``figures`` as returned by ``write_figures``."""
-    status = {"stored": "stored (skipped)", "computed": "computed", "disabled": "disabled"}
+    status = {
+        "stored": "stored (skipped)",
+        "computed": "computed",
+        "disabled": "disabled",
+        "skipped": "not computed",
+    }
     stage_rows = [
         [s.name, status.get(s.status, s.status), f"{s.seconds:.2f}"] for s in result.stages
     ]
@@ -181,6 +193,7 @@ def write_html(
         "<title>asperity run report</title>",
         f"<style>{STYLE}</style></head><body><h1>asperity run report</h1>",
         verdict_html(verdict) if verdict is not None else "",
+        _notes("Full-contact limit", "", limit_lines(verdict)) if limit_lines(verdict) else "",
         "<h2>Key numbers</h2>",
         table_html(["quantity", "value"], [list(r) for r in headline_numbers(result)]).replace(
             '<div class="table">', '<div class="table key">', 1

@@ -52,10 +52,30 @@ def _pm(value: float, error: float, digits: int = 4) -> str:
     return format_number(value, error if math.isfinite(error) else None, digits=digits)
 
 
-def shear_table(shear: BemShearComparison) -> tuple[list[str], list[list[str]]]:
+def _bem_invalid(verdict: object) -> bool:
+    """The verdict's invalid reasons reach the BEM's own numbers too: a shear BEM that did
+    not converge, or a full-contact regime in which a loading-branch BEM does not apply."""
+    codes = getattr(verdict, "codes", []) or []
+    pairs = zip(codes, getattr(verdict, "severities", []) or [], strict=True)
+    return any(
+        severity == "invalid" and (code.startswith("bem") or code == "adhesion_full_contact")
+        for code, severity in pairs
+    )
+
+
+def shear_table(
+    shear: BemShearComparison, verdict: object = None
+) -> tuple[list[str], list[list[str]]]:
     """The BEM-vs-model table: per load, static friction, sliding friction and area drop of
     the BEM (grid used, +- its grid error) and of the model, with the junctions still
-    sticking at the end of the BEM's path."""
+    sticking at the end of the BEM's path. With an invalid ``verdict`` the model's cells read
+    ``invalid: ...`` (:func:`~asperity.pipelines.stages.verdict.mark`), and the BEM's too when
+    an invalid reason concerns the BEM (:func:`_bem_invalid`)."""
+    from asperity.pipelines.stages.verdict import mark
+
+    def bem(cell: str) -> str:
+        return mark(cell, verdict) if _bem_invalid(verdict) else cell
+
     header = [
         "F_z (N)",
         "F_s BEM (N)",
@@ -71,12 +91,12 @@ def shear_table(shear: BemShearComparison) -> tuple[list[str], list[list[str]]]:
         rows.append(
             [
                 f"{row['normal_load']:.4g}",
-                _pm(row["bem_static_friction"], row["bem_static_friction_error"]),
-                f"{row['model_static_friction']:.4g}",
-                _pm(row["bem_sliding_friction"], row["bem_sliding_friction_error"]),
-                f"{row['model_sliding_friction']:.4g}",
-                _pm(row["bem_area_drop"], row["bem_area_drop_error"], 3),
-                f"{row['model_area_drop']:.3g}",
+                bem(_pm(row["bem_static_friction"], row["bem_static_friction_error"])),
+                mark(f"{row['model_static_friction']:.4g}", verdict),
+                bem(_pm(row["bem_sliding_friction"], row["bem_sliding_friction_error"])),
+                mark(f"{row['model_sliding_friction']:.4g}", verdict),
+                bem(_pm(row["bem_area_drop"], row["bem_area_drop_error"], 3)),
+                mark(f"{row['model_area_drop']:.3g}", verdict),
                 str(int(shear.stuck_junctions[0, i])),
             ]
         )
@@ -157,7 +177,7 @@ def shear_section(result: Run) -> list[str]:
     shear = _shear(result)
     if shear is None:
         return []
-    header, rows = shear_table(shear)
+    header, rows = shear_table(shear, getattr(result, "verdict", None))
     lines = [
         f"## Shear BEM against the model (stage {stage_number('bem_shear')})",
         "",
@@ -197,9 +217,10 @@ def shear_html(result: Run) -> str:
     items += [f"Warning: {w}" for w in shear.warnings]
     items += [f"Not converged: {m}" for m in shear.messages]
     listed = "".join(f"<li>{html.escape(plain_text(i))}</li>" for i in items)
+    table = _html_table(*shear_table(shear, getattr(result, "verdict", None)))
     return (
         f'<h2 id="bem-shear">Shear BEM against the model (stage {stage_number("bem_shear")})</h2>'
-        f"<p>{html.escape(plain_text(_intro(shear)))}</p>{_html_table(*shear_table(shear))}<ul>{listed}</ul>"
+        f"<p>{html.escape(plain_text(_intro(shear)))}</p>{table}<ul>{listed}</ul>"
     )
 
 
@@ -247,6 +268,7 @@ def draw_bem_shear_force(result: Run) -> tuple[Figure, FigureTable]:
     ax.plot([], [], "k--", label="model")
     if shear.grid_stride.size > 1:
         ax.plot([], [], "k-", lw=0.8, alpha=0.7, label=f"BEM stride {int(shear.grid_stride[1])}")
+    ax.set_title(grid_title(shear), fontsize=9)
     ax.set_xlim(0, du(float(np.nanmax(shear.tangential_displacement))))
     ax.set_xlabel(du.label("tangential displacement $\\delta_T$"))
     ax.set_ylabel(fu.label("tangential force $F_x$"))
@@ -254,9 +276,48 @@ def draw_bem_shear_force(result: Run) -> tuple[Figure, FigureTable]:
     return fig, table
 
 
+def grid_title(shear: BemShearComparison) -> str:
+    """Which grid the BEM curves were solved on, and the check grid beside it."""
+    used = display_unit(shear.grid_pixel_size[0], "m")
+    text = (
+        f"BEM on the {used(shear.grid_pixel_size[0]):.3g} {used.symbol} grid "
+        f"(the map at stride {int(shear.grid_stride[0])})"
+    )
+    if shear.grid_stride.size > 1:
+        check = display_unit(shear.grid_pixel_size[1], "m")
+        text += (
+            f"; check grid {check(shear.grid_pixel_size[1]):.3g} {check.symbol} "
+            f"(stride {int(shear.grid_stride[1])})"
+        )
+    return text
+
+
+def _grid_error_bars(ax, shear: BemShearComparison, j: int, fu, colour) -> bool:
+    """Error bars of one load's BEM curve on the grid used, from the check grid: A_r/A_n at
+    F_x = 0 (the two grids' difference) and the static peak (F_s and the area there, with
+    the stage's stated errors). False when the stage has no second grid."""
+    if shear.grid_stride.size < 2:
+        return False
+    a_n = shear.nominal_area
+    fx, ar = shear.tangential_force[0, j], shear.real_area[0, j] / a_n
+    zero = abs(ar[0] - shear.real_area[1, j][0] / a_n)
+    ax.errorbar(fu(fx[0]), ar[0], yerr=zero, fmt="none", ecolor=colour, capsize=3, lw=1)
+    if not np.isfinite(fx).any():
+        return True
+    k = int(np.nanargmax(fx))
+    peak_error = getattr(shear, "static_friction_error", None)
+    drop_error = getattr(shear, "area_drop_error", None)
+    xerr = None if peak_error is None else fu(float(peak_error[j]))
+    yerr = None if drop_error is None else float(drop_error[j]) * ar[0]
+    ax.errorbar(fu(fx[k]), ar[k], xerr=xerr, yerr=yerr, fmt="none", ecolor=colour, capsize=3,
+                lw=1)  # fmt: skip
+    return True
+
+
 def draw_bem_shear_area(result: Run) -> tuple[Figure, FigureTable]:
-    """Fig 13 by the BEM: A_r/A_n against F_x per load (grid used solid, check grid thin), the
-    model's dashed, the stick part dotted (grid used)."""
+    """Fig 13 by the BEM: A_r/A_n against F_x per load on the grid used (solid, with error
+    bars from the check grid at F_x = 0 and at the static peak), the model's dashed, the stick
+    part dotted; the check grid's curves are in the CSV."""
     shear, fr = _shear(result), result.friction
     a_n = shear.nominal_area
     table = FigureTable()
@@ -268,10 +329,10 @@ def draw_bem_shear_area(result: Run) -> tuple[Figure, FigureTable]:
     for j, (f, colour) in enumerate(zip(shear.normal_load, colours, strict=True)):
         for g, stride in enumerate(shear.grid_stride):
             fx, ar = shear.tangential_force[g, j], shear.real_area[g, j] / a_n
-            style = {"lw": 1.8} if g == 0 else {"lw": 0.8, "alpha": 0.7}
-            label = f"BEM $F_z$ = {f:.3g} N" if g == 0 else None
-            ax.plot(fu(fx), ar, "-", color=colour, label=label, **style)
+            if g == 0:
+                ax.plot(fu(fx), ar, "-", color=colour, lw=1.8, label=f"BEM $F_z$ = {f:.3g} N")
             table.add("all", f"BEM stride {int(stride)} F_z = {f:.6g} N", {x_col: fx, y_col: ar})
+        bars = _grid_error_bars(ax, shear, j, fu, colour)
         stick = shear.stick_area[0, j] / a_n
         ax.plot(fu(shear.tangential_force[0, j]), stick, ":", color=colour, lw=1)
         table.add(
@@ -285,6 +346,10 @@ def draw_bem_shear_area(result: Run) -> tuple[Figure, FigureTable]:
         table.add("all", f"model F_z = {f:.6g} N", {x_col: fr.tangential_force[i], y_col: model})
     ax.plot([], [], "k--", label="model")
     ax.plot([], [], "k:", lw=1, label="BEM stick (adhesive) part")
+    if bars:
+        label = "BEM ± grid error (against the check grid): F_x = 0, static peak"
+        ax.errorbar([], [], yerr=[], fmt="none", ecolor="k", capsize=3, lw=1, label=label)
+    ax.set_title(grid_title(shear), fontsize=9)
     ax.set_ylim(0, None)
     ax.set_xlabel(fu.label("tangential load $F_x$"))
     ax.set_ylabel("$A_r / A_n$")

@@ -14,6 +14,12 @@ import numpy as np
 from asperity import topo
 from asperity.pipelines.report._run import Run, persson_fraction
 from asperity.pipelines.report.bem import bem_section
+from asperity.pipelines.report.early import (
+    early_key_numbers,
+    early_load_table,
+    early_markdown,
+    is_early,
+)
 from asperity.pipelines.report.measured import shape_scale_key_numbers
 from asperity.pipelines.report.numbers import format_number, format_quantity, plain_text, text_unit
 from asperity.pipelines.report.profile import (
@@ -33,6 +39,7 @@ from asperity.pipelines.report.uncertainty import (
 from asperity.pipelines.report.verdict_marks import mark_adhesive_bem
 from asperity.pipelines.stages import stage_number
 from asperity.pipelines.stages.bem import BemReference
+from asperity.pipelines.stages.early_verdict import limit_lines
 from asperity.pipelines.stages.surface import LevelledSurface
 from asperity.pipelines.stages.verdict import (
     Verdict,
@@ -80,7 +87,10 @@ def pixel_size_text(surface: LevelledSurface) -> str:
 
 
 def key_numbers(result: Run) -> list[tuple[str, str]]:
-    """(quantity, value with unit) rows of the report's headline table."""
+    """(quantity, value with unit) rows of the report's headline table (the full-contact
+    limit's when the job stopped where its verdict was known: :mod:`.early`)."""
+    if is_early(result):
+        return early_key_numbers(result, pixel_size_text(result.surface))
     res, fr, bem, lam = (
         result.statistical_model,
         result.friction,
@@ -147,7 +157,7 @@ def key_numbers(result: Run) -> list[tuple[str, str]]:
         "rms summit",
         "Tabor",
         "misfit",
-        "mode mixity lambda (fitted)",
+        "mode mixity lambda",  # fitted, or configured with what a decade of it does to F_s
     )
     rows = [(k, mark(v, verdict) if k.startswith(judged) else v) for k, v in rows]
     return [(plain_text(k), plain_text(v)) for k, v in rows]
@@ -168,6 +178,8 @@ def headline_numbers(result: Run) -> list[tuple[str, str]]:
     found, are :func:`key_numbers`): the surface, the effective resolution and its interval,
     R, eta, sigma_s, the Tabor parameter, lambda, and at the lightest and heaviest loads the
     friction coefficient mu_s = F_s/F_z and the area drop A_r(peak)/A_r(0) (Fig 13)."""
+    if is_early(result):
+        return early_key_numbers(result, pixel_size_text(result.surface))
     rows = dict(key_numbers(result))
     verdict = getattr(result, "verdict", None)
     res, lam, fr = result.statistical_model, result.mode_mixity, result.friction
@@ -187,9 +199,8 @@ def headline_numbers(result: Run) -> list[tuple[str, str]]:
             )
         )
     else:
-        out.append(
-            ("mode mixity lambda", f"{format_number(lam.mode_mixity)} (assumed, not fitted)")
-        )
+        assumed = f"{format_number(lam.mode_mixity)} (assumed, not fitted)"
+        out.append(("mode mixity lambda", mark(assumed, verdict)))
     low = bool(getattr(fr, "uncertainty_lower_bound", False))
     mu_u = fr.static_friction_coefficient_uncertainty
     ends = list(dict.fromkeys([int(np.argmin(fr.normal_load)), int(np.argmax(fr.normal_load))]))
@@ -372,6 +383,12 @@ def hurst_text(slope_hurst: float) -> str:
     return f"none: {estimate.validity_notes[0]}"
 
 
+def slope_hurst(psd: object) -> float:
+    """The PSD fit's ``-psd_fit_exponent/2 - 1``, whatever its range (``psd.hurst_exponent``
+    is NaN outside (0, 1); a results.h5 of asperity <= 0.4.2 holds it there unflagged)."""
+    return float(-float(psd.psd_fit_exponent) / 2 - 1)
+
+
 def psd_key_numbers(result: Run) -> list[tuple[str, str]]:
     """Rows of the PSD stage (empty when the result has none)."""
     psd = getattr(result, "psd", None)
@@ -379,7 +396,7 @@ def psd_key_numbers(result: Run) -> list[tuple[str, str]]:
         return []
     return [
         ("PSD roll-off wavelength", format_quantity(psd.rolloff_wavelength, "m")),
-        ("Hurst exponent H (PSD above roll-off)", hurst_text(psd.hurst_exponent)),
+        ("Hurst exponent H (PSD above roll-off)", hurst_text(slope_hurst(psd))),
         (
             "effective Nyquist wavelength 2x",
             format_quantity(psd.effective_nyquist_wavelength, "m"),
@@ -395,7 +412,10 @@ def load_table(result: Run) -> tuple[list[str], list[list[str]]]:
     displacement; with measured A_r(F_x) curves their F_s, A_r/A_n at the peak and drop;
     Persson's A_r/A_n and the like-for-like partners. Forces and lengths in the unit named in
     each header (N unless the column's values call for a prefix), every number with the digits
-    its uncertainty supports."""
+    its uncertainty supports. A job stopped where its verdict was known: the full-contact
+    limit's table (:func:`.early.early_load_table`)."""
+    if is_early(result):
+        return early_load_table(result)
     fr, bem = result.friction, result.bem_reference
     verdict = getattr(result, "verdict", None)
     low = bool(getattr(fr, "uncertainty_lower_bound", False))
@@ -452,15 +472,19 @@ def _at(values: np.ndarray | None, i: int) -> float | None:
 
 def measured_cells(peak: MeasuredPeak | None, force: DisplayUnit, a_n: float) -> list[str]:
     """The measured curve's F_s (``>= F`` when the curve ends on its largest F_x), A_r/A_n at
-    it and the drop; "-" without a curve at that load."""
+    it and the drop +- u from the stick branch's fit; "-" without a curve at that load."""
     if peak is None:
         return ["-", "-", "-"]
     fs = format_number(force(peak.static_friction))
     return [
         f">= {fs}" if peak.ends_rising else fs,
         format_number(peak.peak_real_area / a_n),
-        format_number(peak.real_area_drop),
+        plus_minus(peak.real_area_drop, _finite_or_none(peak.real_area_drop_uncertainty)),
     ]
+
+
+def _finite_or_none(value: float) -> float | None:
+    return float(value) if math.isfinite(value) else None
 
 
 def decade_column(
@@ -475,8 +499,11 @@ def decade_column(
     low, high = fr.mode_mixity_decade
     force = text_unit([fr.static_friction, fr.sliding_friction], "N")
     name = f"static F_s at lambda {low:.3g} .. {high:.3g} ({force.text}, lambda assumed)"
+    verdict = getattr(result, "verdict", None)
     cells = [
-        f"{format_number(force(decade[0, i]))} .. {format_number(force(decade[1, i]))}"
+        mark(
+            f"{format_number(force(decade[0, i]))} .. {format_number(force(decade[1, i]))}", verdict
+        )
         for i in range(decade.shape[1])
     ]
     return [*header, name], [[*row, cell] for row, cell in zip(rows, cells, strict=True)]
@@ -615,6 +642,8 @@ def summary_text(result: Run) -> str:
     lines = ["asperity run: summary", ""]
     if getattr(result, "verdict", None) is not None:
         lines += [*verdict_lines(result.verdict), ""]
+    limit = limit_lines(getattr(result, "verdict", None))
+    lines += [*(f"  {line}" for line in limit), *([""] if limit else [])]
     width = max(len(k) for k, _ in key_numbers(result))
     for key, value in key_numbers(result):
         lines.append(f"  {key:<{width}}  {value}")
@@ -652,9 +681,18 @@ def report_markdown(result: Run, figures: dict[str, Path]) -> str:
     """The text of ``report.md``: verdict, key numbers, per-load table, sections, stage table
     and the figures ``figures`` ({name: written file}) with their captions."""
     header, rows = load_table(result)
-    status = {"stored": "stored (skipped)", "computed": "computed", "disabled": "disabled"}
+    status = {
+        "stored": "stored (skipped)",
+        "computed": "computed",
+        "disabled": "disabled",
+        "skipped": "not computed",
+    }
     stage_rows = [
-        [s.name, status[s.status] + (f" ({s.note})" if s.note else ""), f"{s.seconds:.2f}"]
+        [
+            s.name,
+            status.get(s.status, s.status) + (f" ({s.note})" if s.note else ""),
+            f"{s.seconds:.2f}",
+        ]
         for s in result.stages
     ]
     problems = result.problems()
@@ -674,6 +712,7 @@ def report_markdown(result: Run, figures: dict[str, Path]) -> str:
         "",
         _md_table(header, rows),
         "",
+        *early_markdown(result),
         *surface_section(result),
         *profile_section(result),
         *bem_section(result),

@@ -1,9 +1,9 @@
 """The verdict wherever a number goes: a stamp on every figure, a header on every CSV, and
 lines at the verdict's thresholds on the figures that show those quantities.
 
-A figure of a run whose verdict is not *valid* carries the verdict and its first reason as
-the first lines of its title (:func:`stamp_verdict`, red for *invalid*, amber for warnings),
-so a PNG pasted into a slide keeps it. Every figure CSV starts with ``#`` comment lines
+A figure of an *invalid* run carries the verdict and its first reason, whole, as the first
+lines of its title (:func:`stamp_verdict`, in red), so a PNG pasted into a slide keeps it; a
+run *valid, with warnings* keeps its figures plain. Every figure CSV starts with ``#`` comment lines
 (:func:`csv_header`): the verdict, its first reason and where the others are. The words are
 those of :func:`asperity.pipelines.stages.verdict.verdict_wording`, as in the terminal,
 report.md and report.html. The verdict is the last stage of the job and is stored in
@@ -72,50 +72,37 @@ def mark_adhesive_bem(value: str, verdict: Verdict | None) -> str:
     return f"{RANGE_DECIDED_MARK}: {value}"
 
 
-#: Longest first reason a figure's stamp quotes whole (characters); a longer one is quoted up
-#: to a clause boundary, the whole reason being in report.md.
-STAMP_REASON_CHARS = 200
-
-
-def shorten_at_clause(text: str, limit: int = STAMP_REASON_CHARS) -> str:
-    """``text`` whole when it has at most ``limit`` characters, else up to the last clause
-    boundary (``;``, ``:``, ``,`` or before ``(``) within ``limit`` outside any parentheses,
-    ended by ``[...]``: never cut inside a word, a number or a bracket."""
-    if len(text) <= limit:
-        return text
-    depth, cut = 0, 0
-    for i, char in enumerate(text[:limit]):
-        if char in "([":
-            if depth == 0 and i > 0 and text[i - 1] == " ":
-                cut = i - 1
-            depth += 1
-        elif char in ")]":
-            depth = max(0, depth - 1)
-        elif char in ";:," and depth == 0 and text[i + 1 : i + 2] == " ":
-            cut = i
-    return (text[:cut] if cut else text[: text.rfind(" ", 0, limit)]) + " [...]"
-
-
-def verdict_summary(verdict: Verdict) -> str:
-    """The verdict and its first reason in one sentence (a long reason shortened at a clause
-    boundary, :func:`shorten_at_clause`); how many more reasons there are."""
+def stamp_verdict(fig: Figure, verdict: Verdict | None) -> Figure:
+    """Stamp ``fig`` with the verdict and its first reason, whole (wrapped, never cut), when
+    the verdict is *invalid*; a run *valid, with warnings* keeps its figures plain (the
+    warnings head report.md, report.html and every CSV)."""
+    if verdict is None or verdict.verdict != "invalid":
+        return fig
     text = verdict_wording(verdict)
-    if verdict.reasons:  # spelt as in report.md (plain_text: µm, no dict reprs)
-        reason = shorten_at_clause(plain_text(verdict.reasons[0]))
-        text += f". First reason ({verdict.codes[0]}): {reason}"
+    if verdict.reasons:
+        text += f". First reason ({verdict.codes[0]}): {first_reason(verdict)}"
         more = len(verdict.reasons) - 1
         if more:
             text += f" (+{more} more reason{'s' if more > 1 else ''} in report.md)"
-        elif reason.endswith("[...]"):
-            text += " (in full in report.md)"
-    return plain_text(text)
+    return stamp(fig, plain_text(text), color=COLOURS["invalid"])
 
 
-def stamp_verdict(fig: Figure, verdict: Verdict | None) -> Figure:
-    """Stamp ``fig`` with the verdict and its first reason unless the verdict is valid."""
-    if verdict is None or verdict.verdict == "valid":
+#: Legend entries that state a model number (the effective resolution, the fitted lambda):
+#: marked ``invalid:`` on an invalid run, as in the tables.
+MODEL_LABELS: tuple[str, ...] = ("effective,", "fit ", "located ", "stride of least misfit")
+
+
+def mark_model_labels(fig: Figure, verdict: Verdict | None) -> Figure:
+    """Prefix ``invalid: `` to the legend entries of :data:`MODEL_LABELS` when the verdict
+    is invalid (a figure's legend never states a plain model number on an invalid run)."""
+    if getattr(verdict, "verdict", None) != "invalid":
         return fig
-    return stamp(fig, verdict_summary(verdict), color=COLOURS.get(verdict.verdict, "k"))
+    for ax in fig.axes:
+        legend = ax.get_legend()
+        for entry in [] if legend is None else legend.get_texts():
+            if entry.get_text().startswith(MODEL_LABELS):
+                entry.set_text(f"invalid: {entry.get_text()}")
+    return fig
 
 
 def csv_header(verdict: Verdict | None) -> list[str]:

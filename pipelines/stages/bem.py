@@ -1,9 +1,10 @@
 """The BEM stage (3), the BEM reference A_r(F_z) on the map (Appendix B; Fig 12d's squares):
 its ``[bem]`` keys (:data:`SETTINGS`, :class:`~asperity.pipelines.config.BemConfig`'s fields),
 its input (the levelled map), its stored fields (:class:`BemReference`). The numerics are
-:func:`asperity.bem.solve_reference`'s (:mod:`asperity.bem.grid_refinement`, the grid check and
-its Richardson extrapolation; :mod:`~asperity.bem.adhesion_range`, the Maugis range rule;
-:mod:`~asperity.bem.load_sweeps`, the load chains)."""
+:func:`asperity.bem.solve_reference`'s (:mod:`asperity.bem.reference.grid_refinement`, the grid
+check and
+its Richardson extrapolation; :mod:`~asperity.bem.reference.adhesion_range`, the Maugis range rule;
+:mod:`~asperity.bem.reference.load_sweeps`, the load chains)."""
 
 from __future__ import annotations
 
@@ -15,18 +16,18 @@ from dataclasses import dataclass
 import numpy as np
 
 from asperity import topo
-from asperity.bem.adhesion_range import RangeChoice
-from asperity.bem.discretisation import combined_uncertainty
-from asperity.bem.grid_refinement import (
+from asperity.bem.options import SolverOptions
+from asperity.bem.reference.adhesion_range import RangeChoice
+from asperity.bem.reference.discretisation import combined_uncertainty
+from asperity.bem.reference.grid_refinement import (
     boundary_warning,
     discretisation_estimate,
     edge_mismatch,
     resolution_dependence,
 )
-from asperity.bem.interpolated_refinement import InterpolatedRefinement
-from asperity.bem.load_sweeps import ContactSetup, LoadChain
-from asperity.bem.options import SolverOptions
-from asperity.bem.reference import ChainMap, solve_reference
+from asperity.bem.reference.interpolated_refinement import InterpolatedRefinement
+from asperity.bem.reference.load_sweeps import ContactSetup, LoadChain
+from asperity.bem.reference.solve import ChainMap, solve_reference
 from asperity.fields import array, document_fields, scalar, text
 from asperity.pipelines.config import BemConfig, bem_settings
 from asperity.pipelines.engine.parallel import run_map, share, worker_threads
@@ -71,7 +72,7 @@ class BemReference:
         A_r/A_n at the check load on the range search's grid at h_0 / 2, h_0, 2 h_0.
     area_range_uncertainty : float or None
         Half the spread of ``range_sensitivity`` (absolute A_r/A_n): the range part of the
-        BEM's uncertainty (:func:`asperity.bem.discretisation.half_spread`).
+        BEM's uncertainty (:func:`asperity.bem.reference.discretisation.half_spread`).
     check_contact_fraction, check_error, check_relative_change : ndarray
         The decimation sequence (strides of the map): how A_r/A_n depends on the resolution,
         i.e. on the roughness each grid carries. It chooses the grid (``area_tolerance``) but is
@@ -84,7 +85,7 @@ class BemReference:
         The discretisation check: the grid used Fourier-interpolated by these factors (same
         roughness; 1 is the grid used, or its window when ``refinement_windowed``), their pixel
         size (m) and the check load's A_r/A_n per (level, mode)
-        (:mod:`asperity.bem.interpolated_refinement`).
+        (:mod:`asperity.bem.reference.interpolated_refinement`).
     check_extrapolated_fraction, check_extrapolation_uncertainty : ndarray or None
         Per mode: the refinement's A_r/A_n extrapolated to zero pixel size and its band
         (:func:`bem.richardson_extrapolation`, Roache's grid convergence index, about 95 %).
@@ -318,7 +319,7 @@ def bem_reference(
         The ``[bem]`` table (default ``BemConfig()``): the solver's ``tol`` and ``max_iter``,
         the grid check's ``max_stride``, ``area_tolerance``, ``coarsen``, the ``boundary``,
         ``adhesive``, the law ``adhesion`` and its range ``adhesion_range`` (m; None: the rule
-        of :func:`bem.adhesion_range.search_range`), the discretisation check's
+        of :func:`bem.reference.adhesion_range.search_range`), the discretisation check's
         ``max_refinement`` and ``refinement_pixels``.
     executor : Executor, optional
         Runs the two load chains in parallel.

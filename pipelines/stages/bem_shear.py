@@ -2,7 +2,7 @@
 
 The paper's experiment on the map (Section 5, Figs 4 and 13): the normal force F_z held, the
 rigid flat displaced along x up to full sliding. Each curve is
-:func:`asperity.bem.rough_mixed_mode.mixed_mode_shear_curve`: a Pohrt-Popov preload (JKR
+:func:`asperity.bem.shear.rough_mixed_mode.mixed_mode_shear_curve`: a Pohrt-Popov preload (JKR
 equilibrium before shear), the paper's mixed-mode edge law G_I + lambda G_II = w
 (E:failure_locus) element by element, and a junction past its instability (E:max_disp_PC)
 sliding with tau_0 on its non-adhesive contact (E:Hertz_theory), as the paper's status map
@@ -39,11 +39,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from asperity import topo
-from asperity.bem.mixed_mode import MixedModeLaw
 from asperity.bem.options import SolverOptions
-from asperity.bem.rough_mixed_mode import mixed_mode_shear_curve
-from asperity.bem.rough_shear import ShearCurve
-from asperity.bem.shear import ShearOptions
+from asperity.bem.shear.mixed_mode import MixedModeLaw
+from asperity.bem.shear.rough import ShearCurve
+from asperity.bem.shear.rough_mixed_mode import mixed_mode_shear_curve
+from asperity.bem.shear.stick_slip import ShearOptions
 from asperity.errors import InputError
 from asperity.fields import array, document_fields, scalar, text
 from asperity.pipelines.config import BemShearConfig

@@ -29,7 +29,7 @@ A_r(F_x)/A_r(F_x = 0), after the normal-contact step has fixed the resolution. H
    squares between that point's neighbours places the optimum between grid points; the result
    is never worse than the best grid point. The objective must be smooth in lambda for this:
    the job's model curve has its nodes at fixed fractions of the static peak's displacement
-   (:func:`pipelines.stages.friction.model_shear_area`), so the interpolated areas move
+   (:func:`statmodel.shear_path.model_shear_area`), so the interpolated areas move
    smoothly with lambda (a curve on nodes fixed in delta_T gave a jagged objective, on which a
    gradient step stopped at its starting grid point).
 
@@ -41,6 +41,20 @@ that interval in lambda; it is infinite when S does not rise by s^2 before a bou
 do not constrain lambda on that side). ``at_bound`` flags an optimum on a bound of the search
 interval: then the bound, not the data, chose lambda. The interval assumes independent
 residuals; correlated measurement errors along a curve make it a lower bound.
+
+**A calibration error is tested, not absorbed.** A free factor c per curve absorbs an area
+scale error (x 1.2: the image's pixel size) without a trace, and an additive offset (+0.2
+A_r(F_x = 0) on every point: a contact-detection threshold) shows as the same c ~ 1.2 while it
+flattens the relative drop, which lambda then absorbs (0.0268 for a true 0.03, its interval
+missing the truth). The shape alone cannot tell the two readings apart: lambda acts mainly
+through the F_x at which the area falls (the model's drop to the static peak is ~0.93 at any
+lambda), and an offset rescales the relative drop. So when a curve's c is
+:data:`CALIBRATION_SCALE` (10 %) or more from 1 in mode ``shape``, lambda is fitted again under
+the other reading, mode ``offset`` (A_measured ~ A_model + d, one d per curve, c = 1), and
+:attr:`LambdaFit.interval` is the union of both profile intervals (the shape reading's own is
+:attr:`LambdaFit.shape_interval`): the interval is widened by what the data cannot separate.
+The verdict names what the file shows and what to check (``measured_area_scale``,
+``measured_area_offset``: :func:`asperity.pipelines.stages.verdict.check_calibration`).
 """
 
 from __future__ import annotations
@@ -65,6 +79,10 @@ FIT_MODES: tuple[str, ...] = ("shape", "absolute")
 PEAK_DROP = 0.02
 #: An optimum within this many decades of a bound counts as "at the bound".
 BOUND_MARGIN = 1e-3
+#: A shape factor this far from 1 (|c - 1|) makes the fit test the offset reading too.
+CALIBRATION_SCALE = 0.10
+#: The internal reading of the level: an additive offset per curve (A_model + d), c = 1.
+OFFSET_MODE = "offset"
 
 
 @dataclass(frozen=True)
@@ -103,6 +121,18 @@ class LambdaFit:
     points : dict of ndarray
         The points fitted (trimmed, merged): ``normal_load`` (N), ``tangential_force`` (N),
         ``real_area`` (m^2) and ``model_area`` (m^2, c A_model at the fitted lambda).
+    shape_interval : tuple of float
+        The profile interval of the reading the fit was asked for (``interval`` unites it with
+        the offset reading's when that was tested).
+    offset_mode_mixity : float
+        lambda fitted under the offset reading (NaN when not tested: every c within
+        :data:`CALIBRATION_SCALE` of 1).
+    offset_interval : tuple of float
+        Its profile interval.
+    offset_fraction : ndarray
+        Per curve, the offset d over the model's A_r at F_x = 0 under that reading (1).
+    offset_residual_rms : float
+        The rms relative residual under the offset reading (NaN when not tested).
     """
 
     mode_mixity: float
@@ -120,6 +150,16 @@ class LambdaFit:
     n_points_read: int = 0
     scale: np.ndarray = field(default_factory=lambda: np.ones(0))
     points: dict[str, np.ndarray] = field(default_factory=dict)
+    shape_interval: tuple[float, float] = (math.nan, math.nan)
+    offset_mode_mixity: float = math.nan
+    offset_interval: tuple[float, float] = (math.nan, math.nan)
+    offset_fraction: np.ndarray = field(default_factory=lambda: np.ones(0))
+    offset_residual_rms: float = math.nan
+
+    @property
+    def offset_tested(self) -> bool:
+        """The offset reading was fitted (a factor c at least 10 % from 1)."""
+        return math.isfinite(self.offset_mode_mixity)
 
 
 def area_up_to_peak(
@@ -197,11 +237,20 @@ def prepare_curve(curve: ShearAreaCurve, *, trim: bool = True) -> ShearAreaCurve
 
 
 def _scale(model_area: np.ndarray, measured: np.ndarray, mode: str) -> float:
-    """Least-squares factor c of ``c model = measured`` (1 in mode ``absolute``)."""
-    if mode == "absolute":
+    """Least-squares factor c of ``c model = measured`` (1 in mode ``absolute`` or
+    ``offset``)."""
+    if mode in ("absolute", OFFSET_MODE):
         return 1.0
     denominator = float(model_area @ model_area)
     return float(model_area @ measured) / denominator if denominator > 0 else 1.0
+
+
+def _level(model_area: np.ndarray, measured: np.ndarray, mode: str) -> tuple[float, float]:
+    """(c, d) of ``c model + d = measured`` in least squares: d = 0 except in mode
+    ``offset`` (c = 1, d the mean difference, m^2)."""
+    if mode == OFFSET_MODE:
+        return 1.0, float(np.mean(measured - model_area))
+    return _scale(model_area, measured, mode), 0.0
 
 
 class _Objective:
@@ -217,6 +266,13 @@ class _Objective:
         self.curves, self.model, self.map_fn, self.mode = curves, model, map_fn, mode
         self.cache: dict[float, list[tuple[np.ndarray, np.ndarray]]] = {}
 
+    def reading(self, mode: str) -> _Objective:
+        """The same curves and model under another reading of the level, sharing the cache
+        of model curves (no model curve is computed twice)."""
+        other = _Objective(self.curves, self.model, self.map_fn, mode)
+        other.cache = self.cache
+        return other
+
     def model_curves(self, lam: float) -> list[tuple[np.ndarray, np.ndarray]]:
         if lam not in self.cache:
             loads = [c.normal_load for c in self.curves]
@@ -224,16 +280,28 @@ class _Objective:
         return self.cache[lam]
 
     def parts(self, lam: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(residuals, model area at the points times c, c per curve)."""
-        residuals, fitted, scales = [], [], []
+        """(residuals, model area at the points times c plus d, c per curve)."""
+        residuals, fitted, scales, _ = self.levels(lam)
+        return residuals, fitted, scales
+
+    def levels(self, lam: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`parts` and, per curve, the offset d over the model's A_r at F_x = 0."""
+        residuals, fitted, scales, offsets = [], [], [], []
         for curve, (fx, ar) in zip(self.curves, self.model_curves(lam), strict=True):
             model_area = interpolate_area(fx, ar, curve.tangential_force)
-            c = _scale(model_area, curve.real_area, self.mode)
+            c, d = _level(model_area, curve.real_area, self.mode)
             top = float(np.max(curve.real_area)) or 1.0
-            residuals.append((c * model_area - curve.real_area) / top)
-            fitted.append(c * model_area)
+            residuals.append((c * model_area + d - curve.real_area) / top)
+            fitted.append(c * model_area + d)
             scales.append(c)
-        return np.concatenate(residuals), np.concatenate(fitted), np.array(scales)
+            at_rest = float(interpolate_area(fx, ar, np.zeros(1))[0])
+            offsets.append(d / at_rest if at_rest > 0 else math.nan)
+        return (
+            np.concatenate(residuals),
+            np.concatenate(fitted),
+            np.array(scales),
+            np.array(offsets),
+        )
 
     def residuals(self, lam: float) -> np.ndarray:
         return self.parts(lam)[0]
@@ -280,7 +348,7 @@ def _check_inputs(curves: Sequence[ShearAreaCurve], bounds: tuple, mode: str) ->
     low, high = bounds
     if not 0 < low < high <= 1:
         raise InputError(f"fit_mode_mixity: bounds must satisfy 0 < low < high <= 1, got {bounds}")
-    if mode not in FIT_MODES:
+    if mode not in (*FIT_MODES, OFFSET_MODE):
         raise InputError(f"fit_mode_mixity: mode: expected one of {FIT_MODES}, got {mode!r}")
 
 
@@ -331,23 +399,16 @@ def fit_mode_mixity(
             f"(mode {mode!r}), got {n_points} after trimming and merging"
         )
     objective = _Objective(prepared, model, map_fn, mode)
-    q_low, q_high = math.log10(bounds[0]), math.log10(bounds[1])
-    grid = np.logspace(q_low, q_high, grid_points)
-    grid_rms = np.array([float(np.sqrt(np.mean(objective.residuals(g) ** 2))) for g in grid])
-    result = _refine(objective, grid, grid_rms, (q_low, q_high))
-    q_best = float(result.x[0])
-    lam = 10.0**q_best
-    residuals, fitted, scales = objective.parts(lam)
-    ssr = float(np.sum(residuals**2))
-    target = ssr * (1.0 + 1.0 / max(n_points - 1 - n_scales, 1))
-    q_down = _profile_side(objective, q_best, target, q_low)
-    q_up = _profile_side(objective, q_best, target, q_high)
-    interval = (10.0**q_down, 10.0**q_up)
+    log_bounds = (math.log10(bounds[0]), math.log10(bounds[1]))
+    found = _fit_reading(objective, log_bounds, grid_points, n_points, n_scales)
+    grid, grid_rms, result, residuals, fitted, scales, interval = found
+    q_best = math.log10(float(result.x[0]))
+    offset = _offset_reading(objective, log_bounds, grid_points, n_points, scales)
+    tested = math.isfinite(offset["offset_mode_mixity"])
+    united = _union(interval, offset["offset_interval"], tested)
     return LambdaFit(
-        mode_mixity=lam,
-        mode_mixity_std=0.5 * (interval[1] - interval[0])
-        if np.all(np.isfinite(interval))
-        else math.inf,
+        mode_mixity=float(result.x[0]),
+        mode_mixity_std=0.5 * (united[1] - united[0]) if np.all(np.isfinite(united)) else math.inf,
         residual_rms=float(np.sqrt(np.mean(residuals**2))),
         n_points=n_points,
         grid_mode_mixity=grid,
@@ -356,12 +417,70 @@ def fit_mode_mixity(
         message=str(result.message),
         nfev=int(result.nfev),
         mode=mode,
-        at_bound=min(q_best - q_low, q_high - q_best) < BOUND_MARGIN,
-        interval=interval,
+        at_bound=min(q_best - log_bounds[0], log_bounds[1] - q_best) < BOUND_MARGIN,
+        interval=united,
         n_points_read=n_read,
         scale=scales,
         points=_fitted_points(prepared, fitted),
+        shape_interval=interval,
+        **offset,
     )
+
+
+def _fit_reading(
+    objective: _Objective, log_bounds: tuple, grid_points: int, n_points: int, n_levels: int
+) -> tuple:
+    """One reading's least-squares lambda: the coarse grid, the refined optimum (``x`` its
+    lambda), the residuals, fitted areas and factors there, and the profile interval."""
+    q_low, q_high = log_bounds
+    grid = np.logspace(q_low, q_high, grid_points)
+    grid_rms = np.array([float(np.sqrt(np.mean(objective.residuals(g) ** 2))) for g in grid])
+    result = _refine(objective, grid, grid_rms, log_bounds)
+    q_best = float(result.x[0])
+    residuals, fitted, scales = objective.parts(10.0**q_best)
+    ssr = float(np.sum(residuals**2))
+    target = ssr * (1.0 + 1.0 / max(n_points - 1 - n_levels, 1))
+    q_down = _profile_side(objective, q_best, target, q_low)
+    q_up = _profile_side(objective, q_best, target, q_high)
+    result.x = np.array([10.0**q_best])
+    return grid, grid_rms, result, residuals, fitted, scales, (10.0**q_down, 10.0**q_up)
+
+
+def _offset_reading(
+    objective: _Objective, log_bounds: tuple, grid_points: int, n_points: int, scales: np.ndarray
+) -> dict:
+    """The offset reading's lambda, interval, offsets and rms residual (LambdaFit's
+    ``offset_*`` fields), fitted when a shape factor is :data:`CALIBRATION_SCALE` or more
+    from 1; NaN fields otherwise."""
+    untested = {
+        "offset_mode_mixity": math.nan,
+        "offset_interval": (math.nan, math.nan),
+        "offset_fraction": np.full(len(scales), math.nan),
+        "offset_residual_rms": math.nan,
+    }
+    if objective.mode != "shape" or not np.any(np.abs(scales - 1.0) >= CALIBRATION_SCALE):
+        return untested
+    offset = objective.reading(OFFSET_MODE)
+    found = _fit_reading(offset, log_bounds, grid_points, n_points, len(scales))
+    lam, residuals, interval = float(found[2].x[0]), found[3], found[6]
+    return {
+        "offset_mode_mixity": lam,
+        "offset_interval": interval,
+        "offset_fraction": offset.levels(lam)[3],
+        "offset_residual_rms": float(np.sqrt(np.mean(residuals**2))),
+    }
+
+
+def _union(
+    interval: tuple[float, float], other: tuple[float, float], tested: bool
+) -> tuple[float, float]:
+    """The smallest interval holding both profile intervals; NaN (the side the data do not
+    bound) on either side stays NaN. ``other`` not ``tested``: ``interval`` unchanged."""
+    if not tested:
+        return interval
+    low = min(interval[0], other[0]) if np.all(np.isfinite([interval[0], other[0]])) else math.nan
+    high = max(interval[1], other[1]) if np.all(np.isfinite([interval[1], other[1]])) else math.nan
+    return (low, high)
 
 
 def _refine(

@@ -9,16 +9,9 @@ The friction stage (:func:`friction_prediction`) runs :func:`statmodel.shear_cur
 load: F_x(delta_T), A_r(F_x) with their stick and slip parts (E:NewFormulation_Fy..Ar), static and
 sliding friction (Figs 4, 13), and the constant-shear-strength line F_x = tau0 A_r of Fig 13.
 
-The shear path delta_T = 0..max is given, or found automatically ("auto"): a first curve on a
-guessed path gives the model's sliding displacement (the statistical model finds it even
-beyond the path), and the path is then set to 1.25 times it, so that the steps resolve the
-stick part, the static peak and the start of full sliding. When sliding never completes
-(lambda = 0) the guessed path is kept.
-
-Quadrature ("model no more than a scene needs"): :func:`choose_quadrature` evaluates the
-heaviest load's curve with each setting of :data:`QUADRATURE_LADDER` (coarse to fine) and keeps
-the coarsest whose F_x and A_r differ from the next finer one by less than the requested
-relative tolerance (relative to the curve's maximum).
+The shear path and the quadrature are chosen by :mod:`asperity.statmodel.shear_path`
+(:func:`~asperity.statmodel.shear_path.shear_curve_auto`,
+:func:`~asperity.statmodel.shear_path.choose_quadrature`).
 """
 
 from __future__ import annotations
@@ -26,7 +19,6 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
-import time
 from collections.abc import Mapping, Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass
@@ -42,6 +34,11 @@ from asperity.pipelines.measured import ShearAreaCurve
 from asperity.pipelines.stages.fitting import LambdaFit, fit_mode_mixity, interpolate_area
 from asperity.pipelines.stages.statistical_model import STATISTICAL_MODEL
 from asperity.statmodel.results_io import ARRAY_UNITS, SCALAR_UNITS
+from asperity.statmodel.shear_path import (
+    choose_quadrature,
+    model_shear_area,
+    shear_curve_auto,
+)
 from asperity.statmodel.uncertainty import propagate_to_predictions
 
 #: Per-step arrays and per-load scalars of :class:`statmodel.ShearCurve` kept by the friction stage,
@@ -54,84 +51,9 @@ CurveSummary: TypeAlias = dict[str, np.ndarray | float | bool | str]
 UncertaintyFields: TypeAlias = dict[str, np.ndarray | float | bool | int | str]
 CURVE_SCALARS: dict[str, str] = {k: v for k, v in SCALAR_UNITS.items() if k != "normal_load"}
 
-#: Quadrature settings of :func:`statmodel.shear_curve` (its ``nodes`` Gauss-Legendre nodes per
-#: panel and ``panels`` per population range), coarse to fine; the fourth is the model's default.
-QUADRATURE_LADDER: tuple[dict[str, float], ...] = (
-    {"nodes": 4, "panels": 1},
-    {"nodes": 6, "panels": 2},
-    {"nodes": 8, "panels": 4},
-    {"nodes": 16, "panels": 4},
-    {"nodes": 24, "panels": 8},
-)
-
 #: Fewest delta_T steps of the model curves the lambda fit interpolates (their discretisation
 #: must not bias the fit).
 MIN_FIT_STEPS = 201
-
-#: The automatic shear path ends at this multiple of the sliding displacement.
-SLIDING_MARGIN = 1.25
-
-
-def initial_displacement_guess(
-    material: statmodel.Material, roughness: statmodel.Roughness
-) -> float:
-    """A first guess of the shear path length, m.
-
-    Four times tau0 a0 / E*, with a0 = (9 pi w R^2 / (2 E*))^(1/3) the JKR contact radius at
-    zero load (E:JKR_indent, E:JKR_load); at least 1e-7 m. Only a starting point: the path is
-    then extended or trimmed by :func:`shear_curve_auto`.
-    """
-    r, w, e = roughness.summit_radius, material.work_of_adhesion, material.e_star
-    a0 = (9 * math.pi * max(w, 1e-6) * r**2 / (2 * e)) ** (1 / 3)
-    tau = max(material.shear_strength, 1e-3 * e)
-    return max(4 * tau * a0 / e, 1e-7)
-
-
-def shear_curve_auto(
-    material: statmodel.Material,
-    roughness: statmodel.Roughness,
-    nominal_area: float,
-    normal_load: float,
-    *,
-    max_tangential_displacement: float | None = None,
-    steps: int = 201,
-    knobs: Mapping[str, float] | None = None,
-) -> statmodel.ShearCurve:
-    """:func:`statmodel.shear_curve` on a given or automatically found shear path.
-
-    Parameters
-    ----------
-    material, roughness : statmodel.Material, statmodel.Roughness
-        Model inputs (SI).
-    nominal_area : float
-        A_n, m^2.
-    normal_load : float
-        F_z, N.
-    max_tangential_displacement : float or None
-        Largest delta_T, m; None finds it (see module docstring).
-    steps : int
-        Number of delta_T steps, the first at delta_T = 0.
-    knobs : mapping, optional
-        Accuracy knobs passed to :func:`statmodel.shear_curve`.
-
-    Returns
-    -------
-    statmodel.ShearCurve
-    """
-    knobs = dict(knobs or {})
-
-    def run(max_dt: float) -> statmodel.ShearCurve:
-        path = np.linspace(0.0, max_dt, steps)
-        return statmodel.shear_curve(material, roughness, nominal_area, normal_load, path, **knobs)
-
-    if max_tangential_displacement is not None:
-        return run(float(max_tangential_displacement))
-    max_dt = initial_displacement_guess(material, roughness)
-    curve = run(max_dt)
-    sliding = float(curve.sliding_displacement)  # found by the model even beyond the path
-    if math.isfinite(sliding) and sliding > 0 and not 0.6 * max_dt <= sliding <= max_dt:
-        curve = run(SLIDING_MARGIN * sliding)
-    return curve
 
 
 def curve_summary(curve: statmodel.ShearCurve) -> CurveSummary:
@@ -165,167 +87,6 @@ def _curve_job(
             steps=steps,
             knobs=knobs,
         )
-    )
-
-
-#: delta_T steps of the first curve of :func:`model_shear_area`, which only finds the static peak
-#: (the model refines the peak of the continuous F_x(delta_T) between grid points).
-PEAK_SEARCH_STEPS = 51
-
-
-def model_shear_area(
-    mode_mixity: float,
-    normal_load: float,
-    *,
-    material: statmodel.Material,
-    roughness: statmodel.Roughness,
-    nominal_area: float,
-    max_tangential_displacement: float | None,
-    steps: int,
-    knobs: Mapping[str, float],
-) -> tuple[np.ndarray, np.ndarray]:
-    """Model A_r(F_x) on its stick branch for one lambda and load: (F_x N, A_r m^2).
-
-    A first curve (on the given or automatic path, :data:`PEAK_SEARCH_STEPS` steps) finds the
-    static peak delta_s (:func:`statmodel.shear.static_friction_peak`, the continuous curve's
-    peak); the returned curve has ``steps`` equal steps from delta_T = 0 to delta_s, so its
-    last point is the static peak (F_x = static friction) and every node moves smoothly with
-    lambda. The lambda fit interpolates this curve at the measured F_x: its objective is then
-    smooth in lambda (on a path of fixed nodes in delta_T the interpolation nodes and the
-    grid peak jump as lambda moves, and the objective is jagged at the 1e-3 level). Where the
-    first curve finds no peak inside its path, that curve is returned.
-    """
-    changed = dataclasses.replace(material, mode_mixity=float(mode_mixity))
-    first = shear_curve_auto(
-        changed,
-        roughness,
-        nominal_area,
-        normal_load,
-        max_tangential_displacement=max_tangential_displacement,
-        steps=min(steps, PEAK_SEARCH_STEPS),
-        knobs=knobs,
-    )
-    peak = float(first.static_displacement)
-    path = np.asarray(first.tangential_displacement, dtype=float)
-    if not (math.isfinite(peak) and 0 < peak < path[-1]):
-        return np.asarray(first.tangential_force, float), np.asarray(first.real_area, float)
-    curve = statmodel.shear_curve(
-        changed, roughness, nominal_area, normal_load, np.linspace(0.0, peak, steps), **knobs
-    )
-    return np.asarray(curve.tangential_force, float), np.asarray(curve.real_area, float)
-
-
-@dataclass
-class QuadratureChoice:
-    """Outcome of the statistical model's refinement check.
-
-    Attributes
-    ----------
-    knobs : dict
-        The chosen accuracy knobs of :func:`statmodel.shear_curve`.
-    ladder : list of dict
-        Settings tried, coarse to fine.
-    relative_change : ndarray
-        Largest relative change of F_x and A_r from each setting to the next finer one.
-    seconds : ndarray
-        Time of each setting's curve, s.
-    reason : str
-        One sentence for the report.
-    """
-
-    knobs: dict[str, float]
-    ladder: list[dict[str, float]]
-    relative_change: np.ndarray
-    seconds: np.ndarray
-    reason: str
-
-
-def _ladder_curves(
-    case: tuple, ladder: list[dict], max_tangential_displacement: float | None, steps: int
-) -> tuple[list[statmodel.ShearCurve], np.ndarray]:
-    """The shear curve of ``case`` (material, roughness, A_n m^2, F_z N) at every setting, and
-    the seconds each took; the finest runs first and fixes the shear path of the others."""
-    curves, seconds = [], []
-    max_dt = max_tangential_displacement
-    for knobs in ladder[::-1]:
-        t0 = time.perf_counter()
-        curve = shear_curve_auto(
-            *case, max_tangential_displacement=max_dt, steps=steps, knobs=knobs
-        )
-        seconds.append(time.perf_counter() - t0)
-        if max_dt is None:
-            max_dt = float(np.asarray(curve.tangential_displacement)[-1])
-        curves.append(curve)
-    return curves[::-1], np.array(seconds[::-1])
-
-
-def _refinement_change(curves: Sequence[statmodel.ShearCurve]) -> np.ndarray:
-    """Largest relative change of F_x and A_r from each curve to the next finer (NaN last)."""
-    change = np.full(len(curves), np.nan)
-    for i in range(len(curves) - 1):
-        worst = 0.0
-        for name in ("tangential_force", "real_area"):
-            a = np.asarray(getattr(curves[i], name), float)
-            b = np.asarray(getattr(curves[i + 1], name), float)
-            scale = np.max(np.abs(b)) or 1.0
-            worst = max(worst, float(np.max(np.abs(a - b)) / scale))
-        change[i] = worst
-    return change
-
-
-def choose_quadrature(
-    material: statmodel.Material,
-    roughness: statmodel.Roughness,
-    nominal_area: float,
-    normal_load: float,
-    *,
-    tolerance: float,
-    max_tangential_displacement: float | None,
-    steps: int,
-    ladder: Sequence[Mapping[str, float]] = QUADRATURE_LADDER,
-) -> QuadratureChoice:
-    """The coarsest quadrature setting whose curve agrees with the next finer one.
-
-    Parameters
-    ----------
-    material, roughness, nominal_area, normal_load
-        The heaviest case of the job (SI).
-    tolerance : float
-        Allowed relative change of F_x and A_r (relative to each curve's maximum).
-    max_tangential_displacement, steps
-        The shear path (see :func:`shear_curve_auto`).
-    ladder : sequence of dict
-        Knob settings, coarse to fine.
-    """
-    ladder = [dict(k) for k in ladder]
-    if len(ladder) == 1:
-        return QuadratureChoice(
-            ladder[0],
-            ladder,
-            np.array([np.nan]),
-            np.array([np.nan]),
-            "statmodel's default quadrature (no coarser setting offered)",
-        )
-    case = (material, roughness, nominal_area, normal_load)
-    curves, seconds = _ladder_curves(case, ladder, max_tangential_displacement, steps)
-    change = _refinement_change(curves)
-    for i in range(len(ladder) - 1):
-        if change[i] <= tolerance:
-            return QuadratureChoice(
-                ladder[i],
-                ladder,
-                change,
-                seconds,
-                f"setting {ladder[i] or 'default'}: F_x and A_r change by "
-                f"{change[i]:.2g} (relative) on refinement, within "
-                f"{tolerance:.2g}; {seconds[i]:.3g} s per curve",
-            )
-    return QuadratureChoice(
-        ladder[-1],
-        ladder,
-        change,
-        seconds,
-        f"no coarser setting met {tolerance:.2g}: the finest ({ladder[-1] or 'default'}) is used",
     )
 
 
@@ -368,6 +129,17 @@ class ModeMixityChoice:
         A_model, dimensionless; 1 in mode ``absolute``) and that curve's F_z (N). A factor
         far from 1 means the measured level disagrees with the model at that load (a wrong
         unit, another load): the verdict's ``shape_scale`` reason.
+    shape_interval : ndarray or None
+        lambda's profile interval under the scale reading (the fit's own; ``profile_interval``
+        and ``interval_low`` / ``interval_high`` unite it with the offset reading's).
+    offset_mode_mixity, offset_residual_rms : float or None
+        lambda and the rms relative residual under the additive-offset reading
+        (A_measured ~ A_model + d), fitted when a factor c is 10 % or more from 1
+        (:mod:`pipelines.stages.fitting`); NaN when not tested.
+    offset_interval : ndarray or None
+        lambda's profile interval under that reading.
+    offset_fraction : ndarray or None
+        Per curve, d over the model's A_r at F_x = 0 under that reading.
     """
 
     mode_mixity: float = scalar("1", "mode mixity lambda used downstream")
@@ -429,6 +201,24 @@ class ModeMixityChoice:
     mode_mixity_roughness_shift: np.ndarray | None = array(
         "1", ("interval_end",), "lambda fitted at the resolution interval's ends", optional=True
     )
+    shape_interval: np.ndarray | None = array(
+        "1", ("interval_end",), "profile interval of lambda under the scale reading", optional=True
+    )
+    offset_mode_mixity: float | None = scalar(
+        "1", "lambda under the additive-offset reading (NaN: not tested)", optional=True
+    )
+    offset_interval: np.ndarray | None = array(
+        "1", ("interval_end",), "profile interval of lambda under the offset reading", optional=True
+    )
+    offset_fraction: np.ndarray | None = array(
+        "1",
+        ("measured_curve",),
+        "offset d over the model's A_r at F_x = 0 per curve, offset reading",
+        optional=True,
+    )
+    offset_residual_rms: float | None = scalar(
+        "1", "rms relative residual under the offset reading", optional=True
+    )
 
     @classmethod
     def from_fit(cls, fit: LambdaFit, curves: Sequence[ShearAreaCurve]) -> ModeMixityChoice:
@@ -460,6 +250,11 @@ class ModeMixityChoice:
             fitted_model_area=fit.points.get("model_area"),
             shape_scale=np.asarray(fit.scale, dtype=float),
             shape_scale_normal_load=np.array([c.normal_load for c in curves], dtype=float),
+            shape_interval=np.asarray(fit.shape_interval, dtype=float),
+            offset_mode_mixity=float(fit.offset_mode_mixity),
+            offset_interval=np.asarray(fit.offset_interval, dtype=float),
+            offset_fraction=np.asarray(fit.offset_fraction, dtype=float),
+            offset_residual_rms=float(fit.offset_residual_rms),
         )
 
     @property

@@ -47,7 +47,11 @@ class PsdResult:
     rolloff_wavelength : float
         2 pi / q_r of the plateau + power-law fit, m.
     hurst_exponent : float
-        H of ``C ~ q^(-2(1+H))`` fitted between q_r and the Nyquist wavenumber.
+        The Hurst exponent H of ``C ~ q^(-2(1+H))`` fitted between q_r and the Nyquist
+        wavenumber where it is one, inside (0, 1) (a self-affine surface); NaN otherwise
+        (:func:`asperity.topo.hurst_from_psd_exponent`). The slope itself is kept as
+        ``psd_fit_exponent``: ``-psd_fit_exponent / 2 - 1`` is 1.35 on the default job's
+        surface, which is smooth over the fitted band, not self-affine.
     psd_fit_prefactor, psd_fit_exponent : float
         The power law ``C = prefactor * q**exponent`` (SI: m^4 (rad/m)^-exponent; 1).
     nyquist_wavenumber : float
@@ -75,7 +79,9 @@ class PsdResult:
     wavenumber: np.ndarray = array("rad/m", ("wavenumber",), "|q| of the PSD ring")
     psd: np.ndarray = array("m^4", ("wavenumber",), "radially averaged PSD C(q)")
     rolloff_wavelength: float = scalar("m", "roll-off wavelength 2 pi / q_r")
-    hurst_exponent: float = scalar("1", "Hurst exponent H of C ~ q^(-2(1+H)) above q_r")
+    hurst_exponent: float = scalar(
+        "1", "Hurst exponent H of C ~ q^(-2(1+H)) above q_r; NaN outside (0, 1)"
+    )
     psd_fit_prefactor: float = scalar("m^4", "prefactor of the power law (q in rad/m)")
     psd_fit_exponent: float = scalar("1", "exponent of C ~ q^exponent above q_r")
     nyquist_wavenumber: float = scalar("rad/m", "pi / pixel size of the map")
@@ -163,7 +169,7 @@ def psd_and_persson(
         wavenumber=np.asarray(radial.q, dtype=float),
         psd=np.asarray(radial.psd, dtype=float),
         rolloff_wavelength=float(rolloff),
-        hurst_exponent=float(-exponent / 2 - 1),
+        hurst_exponent=float(topo.hurst_from_psd_exponent(exponent, warn=False).hurst_exponent),
         psd_fit_prefactor=prefactor,
         psd_fit_exponent=exponent,
         nyquist_wavenumber=nyquist,

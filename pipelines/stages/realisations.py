@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from asperity import bem
-from asperity.bem.load_sweeps import decimated_grid
+from asperity.bem.reference.load_sweeps import decimated_grid
 from asperity.fields import array, document_fields, scalar, text
 from asperity.pipelines.config import JobConfig
 from asperity.pipelines.engine.parallel import run_map

@@ -8,7 +8,7 @@ ln(A_model / A_reference): a relative error, so light and heavy loads weigh the 
 reference is the user's measured A_r(F_z) when given (the paper's choice, Section 5), compared
 with the JKR model; otherwise the BEM on the map, compared with the model under the BEM's own
 adhesion law. The effective resolution is the least misfit located between the strides
-(:mod:`~asperity.pipelines.stages._optimum_resolution`); ``effective_resolution`` and the summit
+(:mod:`~asperity.statmodel.effective_resolution`); ``effective_resolution`` and the summit
 statistics of the result are those there, and ``effective_stride`` is the scan's stride of least
 misfit.
 
@@ -26,7 +26,7 @@ statistical model under the same law:
 
 The JKR/PC model (``real_area``, E:JKR_load) is the one that makes the predictions (the friction
 stage) at that effective resolution; the BEM at a grid-resolved range cannot check its larger
-adhesive gain, and the report says so (:func:`statmodel.maugis_rough.adhesion_regime`).
+adhesive gain, and the report says so (:func:`statmodel.maugis_rough.asperity_law_regime`).
 
 **The reference's uncertainty.** With a BEM reference the effective resolution is also located
 against the reference times (1 - u) and (1 + u), u its relative one-sigma or grid-convergence
@@ -54,11 +54,11 @@ from asperity.pipelines.engine.parallel import run_map
 from asperity.pipelines.engine.stage import Stage, StageContext
 from asperity.pipelines.engine.views import ConfigView, DeclaredView
 from asperity.pipelines.measured import NormalAreaCurve
-from asperity.pipelines.stages._optimum_resolution import OptimumFields, optimum_fields
 from asperity.pipelines.stages._pull_off import has_summits, pull_off_forces, roughness_from_scan
 from asperity.pipelines.stages.bem import BEM, BemReference
 from asperity.pipelines.stages.surface import SCAN, SURFACE, ScanResult
-from asperity.statmodel.maugis_rough import adhesion_regime, maugis_rough_contact
+from asperity.statmodel.effective_resolution import OptimumFields, optimum_fields
+from asperity.statmodel.maugis_rough import asperity_law_regime, maugis_rough_contact
 
 #: Above this A_r/A_n the asperities of the statistical model would overlap: independent
 #: asperities (the Greenwood-Williamson / Fuller-Tabor picture) are no longer a fair model.
@@ -257,7 +257,7 @@ class ResolutionChoice:
         The BEM's Maugis parameter lambda at the effective resolution's summit radius.
     adhesion_statement : str or None
         The BEM's law beside the JKR model's Tabor parameter, and what follows for the
-        predictions (:func:`statmodel.maugis_rough.adhesion_regime`).
+        predictions (:func:`statmodel.maugis_rough.asperity_law_regime`).
     reference_relative_uncertainty : ndarray or None
         The BEM reference's relative uncertainty per reference load (1), propagated into the
         effective resolution's interval.
@@ -281,7 +281,7 @@ class ResolutionChoice:
     optimum_interval : ndarray or None
         Its one-sigma interval (finer end, coarser end), m; on an open side the scan's end:
         the profile interval widened by the misfit's scatter between strides, united with the
-        optima against the reference's band (:mod:`~asperity.pipelines.stages._optimum_resolution`).
+        optima against the reference's band (:mod:`~asperity.statmodel.effective_resolution`).
     optimum_profile_interval : ndarray or None
         The profile interval of the loads' residuals alone, m.
     optimum_sampling_half_width : float or None
@@ -657,7 +657,7 @@ def statistical_model_scan(
     surface : topo.HeightMap, optional
         The levelled map (m) the scan decimated: with it the least misfit is located between
         the strides, with its interval (``optimum_*`` fields,
-        :mod:`~asperity.pipelines.stages._optimum_resolution`), and the effective resolution
+        :mod:`~asperity.statmodel.effective_resolution`), and the effective resolution
         and its statistics are those there.
     executor : Executor, optional
         Runs the strides in parallel.
@@ -771,7 +771,7 @@ def _regime_fields(
     JKR model's Tabor parameter (empty without a Maugis-Dugdale BEM)."""
     if pairs.get("bem_law") != MAUGIS_DUGDALE:
         return {}
-    regime = adhesion_regime(
+    regime = asperity_law_regime(
         roughness.summit_radius,
         material.e_star,
         material.work_of_adhesion,

@@ -64,6 +64,7 @@ def file_sha256(path: str | Path, chunk: int = 1 << 20) -> str:
 RECIPE_CONSTANTS: dict[str, object] = {
     "paper_like": topo.synthetic.PAPER_LIKE,
     "paper_surface": topo.synthetic.PAPER_SURFACE,
+    "paper_spectrum": topo.synthetic.PAPER_SPECTRUM,
 }
 
 

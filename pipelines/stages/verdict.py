@@ -1,4 +1,5 @@
-"""The PSD stage: the validity verdict of a job, "valid", "warnings" or "invalid", with reasons.
+"""The verdict stage (stage 10, the last): the validity verdict of a job, "valid", "warnings"
+or "invalid", with reasons.
 
 Every reason states the number, the threshold and why (:class:`Reason`). A result is
 **invalid** when the model is used where its assumptions fail, or when the data it was
@@ -39,6 +40,11 @@ calibrated on cannot be right:
 * ``shape_scale``: the shape fit's factor c of a measured curve outside [0.50, 2.01]
   (|ln c| > :data:`MAX_MISFIT`; a warning beyond :data:`WARN_MISFIT`, [0.82, 1.22]):
   :func:`check_shape_scale`.
+* ``measured_area_scale`` / ``measured_area_offset`` (warnings): a measured curve's level 10 %
+  or more from the model's at F_x = 0 beyond the model's own uncertainty (an area calibration
+  error or an additive offset, which the shape cannot tell apart: lambda's interval is
+  widened over both readings), and an additive offset that fits better than a scale factor:
+  :func:`check_calibration` (:mod:`asperity.pipelines.stages.calibration_checks`).
 * ``plastic_asperities`` / ``contact_pressure_above_yield`` (with ``material.hardness``): the
   plasticity index above 1 (a warning above 0.6), the mean contact pressure above H (a warning
   above 0.39 H): :func:`check_hardness`, thresholds in :mod:`asperity.statmodel.plausibility`.
@@ -82,7 +88,7 @@ cleaner map), and the verdict lists it among its reasons anyway.
 
 A warning of the BEM reference's boundary: ``bem_edge_mismatch``, a periodic BEM solve of a
 map whose opposite edges do not meet (the seam's rms height jump over the rms height above
-:data:`~asperity.bem.grid_refinement.EDGE_MISMATCH_LIMIT` = 0.5 adds a cliff along two
+:data:`~asperity.bem.reference.grid_refinement.EDGE_MISMATCH_LIMIT` = 0.5 adds a cliff along two
 edges of the reference contact; :func:`check_edge_mismatch`).
 """
 
@@ -95,11 +101,13 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from asperity.bem.grid_refinement import EDGE_MISMATCH_LIMIT
+from asperity.bem.reference.grid_refinement import EDGE_MISMATCH_LIMIT
 from asperity.errors import ExitStatus
-from asperity.fields import document_fields, scalar, text
+from asperity.fields import array, document_fields, scalar, text
 from asperity.pipelines import measured
 from asperity.pipelines.engine.stage import Preview, PreviewNote, Stage, StageContext
+from asperity.pipelines.stages import calibration_checks
+from asperity.pipelines.stages import early_verdict as early
 from asperity.pipelines.stages.bem import BEM, BemReference
 from asperity.pipelines.stages.bem_shear import BEM_SHEAR, SHEAR_THRESHOLDS, BemShearComparison
 from asperity.pipelines.stages.friction import (
@@ -169,6 +177,17 @@ class Verdict:
     adhesion_energy_ratio, stickiness, regime_tabor_parameter : float or None
         The adhesion regime of the map (:func:`check_adhesion_regime`): U_el / (A0 w)
         (Persson-Tosatti), S_PR (Pastewka-Robbins) and Tabor's mu; None without adhesion.
+    stages_skipped : list of str or None
+        The stages the job did not compute because this verdict was known before them
+        (:mod:`asperity.pipelines.stages.early_verdict`); None when every stage ran.
+    full_contact_normal_load : ndarray or None
+        The job's loads F_z (N) at which that limit is stated (early verdict only).
+    full_contact_real_area, full_contact_sliding_friction : float or None
+        With a verdict known early in the full-contact regime: what that regime predicts,
+        A_r -> A_n (m^2) and the sliding friction tau_0 A_n (N) of the constant-shear-strength
+        law (E:Hertz_theory's T = tau_0 pi a^2 summed over a closed interface).
+    full_contact_test : str or None
+        That limit held against the measured A_r/A_n (or why it could not be).
     """
 
     verdict: str = text("valid, warnings or invalid")
@@ -185,6 +204,22 @@ class Verdict:
     )
     regime_tabor_parameter: float | None = scalar(
         "1", "Tabor parameter at the effective resolution's summit radius", optional=True
+    )
+    stages_skipped: list[str] | None = text(
+        "stages not computed: the verdict was known before them (run.compute_all)",
+        optional=True,
+    )
+    full_contact_normal_load: np.ndarray | None = array(
+        "N", ("normal_load",), "the loads the full-contact limit is stated at", optional=True
+    )
+    full_contact_real_area: float | None = scalar(
+        "m^2", "the full-contact limit's real area A_r -> A_n", optional=True
+    )
+    full_contact_sliding_friction: float | None = scalar(
+        "N", "the full-contact limit's sliding friction tau_0 A_n", optional=True
+    )
+    full_contact_test: str | None = text(
+        "the full-contact limit against the measured A_r/A_n", optional=True
     )
 
     @classmethod
@@ -659,9 +694,14 @@ def check_adhesion_regime(regime: AdhesionRegime | None) -> list[Reason]:
     if regime is None or regime.full_contact.level != "invalid":
         return []
     check = regime.full_contact
+    mu = (
+        f"{regime.tabor_parameter:.3g}"
+        if math.isfinite(regime.tabor_parameter)
+        else "not known (no summit radius before the statistical model)"
+    )
     text_ = (
         f"{check.message} ({check.reference}; threshold {check.threshold:g} on "
-        f"U_el/(A0 w)). Beside it: Tabor parameter mu = {regime.tabor_parameter:.3g} "
+        f"U_el/(A0 w)). Beside it: Tabor parameter mu = {mu} "
         f"(D. Tabor, J. Colloid Interface Sci. 58, 2 (1977)); Pastewka-Robbins stickiness "
         f"S_PR = {regime.stickiness:.3g} (sticky below 1; L. Pastewka, M.O. Robbins, PNAS "
         "111, 3298 (2014))"
@@ -807,6 +847,16 @@ def check_shape_scale(choice: ResolutionChoice) -> list[Reason]:
     ]
 
 
+def check_calibration(choice: ModeMixityChoice, friction: FrictionPrediction) -> list[Reason]:
+    """The measured curves' consistency beyond one scale factor: ``measured_area_scale``
+    (a level 10 % or more from the model's beyond its own uncertainty at F_x = 0) and
+    ``measured_area_offset`` (an additive offset fits better):
+    :mod:`asperity.pipelines.stages.calibration_checks`."""
+    found = calibration_checks.scale_reasons(choice, friction)
+    found += calibration_checks.offset_reasons(choice)
+    return [Reason(code, severity, text_) for code, severity, text_ in found]
+
+
 def _reasons_from_checks(checks: Sequence[Check]) -> list[Reason]:
     """A reason per :class:`statmodel.checks.Check` whose level is not "ok" (its source cited)."""
     return [Reason(c.code, c.level, f"{c.message} ({c.reference})") for c in checks if not c.ok]
@@ -940,6 +990,7 @@ def job_reasons(context: StageContext) -> list[Reason]:
     reasons += check_sliding(context.result(FRICTION))
     reasons += check_prediction_uncertainty(context.result(FRICTION))
     reasons += check_shape_scale(lam)
+    reasons += check_calibration(lam, context.result(FRICTION))
     reasons += check_friction_plausibility(
         context.result(FRICTION), config.material.e_star, config.material.hardness
     )
@@ -982,6 +1033,8 @@ def compute_verdict(context: StageContext) -> Verdict:
     junction coalescence where it is full contact, and the adhesive BEM column marked where
     the range decides it (:func:`check_bem_adhesive_range`)."""
     res = context.result(STATISTICAL_MODEL)
+    if res is None:  # the job stopped where the verdict was known (stages.early_verdict)
+        return early_verdict(context)
     regime = adhesion_regime_of(context.result(SURFACE), context.config.material, res.summit_radius)
     reasons = in_place_of_coalescence(job_reasons(context), check_adhesion_regime(regime))
     reasons += check_bem_adhesive_range(
@@ -995,6 +1048,49 @@ def compute_verdict(context: StageContext) -> Verdict:
     return verdict
 
 
+def early_reasons(context: StageContext) -> list[Reason]:
+    """The checks that need no model: the adhesion regime (summit radius unknown: Tabor's mu
+    NaN), the surface preparation, the measured areas and loads, a line profile's isotropy."""
+    config, measured = context.config, context.measured
+    a_n = config.loading.nominal_area
+    surface = context.result(SURFACE)
+    regime = adhesion_regime_of(surface, config.material, None)
+    reasons = check_adhesion_regime(regime) + check_surface(surface.preparation)
+    if measured.normal_area is not None:
+        reasons += check_measured_area(measured.normal_area.real_area, a_n, "A_r(F_z)")
+    for curve in measured.shear_area:
+        reasons += check_measured_area(curve.real_area, a_n, f"A_r(F_x) at {curve.normal_load} N")
+    reasons += check_measured_loads(
+        sorted({c.normal_load for c in measured.shear_area}), config.loading.normal_loads
+    )
+    return reasons + check_profile_isotropy(surface)
+
+
+def early_verdict(context: StageContext) -> Verdict:
+    """The verdict stage when the job skipped the stages that cannot change the verdict
+    (:data:`~asperity.pipelines.stages.early_verdict.SKIPPED_WHEN_KNOWN`; the statistical
+    model's result is None): :func:`early_reasons`, the full-contact limit
+    (:func:`~asperity.pipelines.stages.early_verdict.full_contact_limit`, A_r -> A_n in m^2,
+    F_d -> tau_0 A_n in N, E:Hertz_theory) and its test against the measurement."""
+    config = context.config
+    a_n = config.loading.nominal_area
+    fractions = early.measured_fractions(context.measured, a_n)
+    sentence, found = early.full_contact_test(fractions)
+    test_reasons = [Reason(code, severity, text_) for code, severity, text_ in found]
+    verdict = Verdict.from_reasons(early_reasons(context) + test_reasons)
+    regime = adhesion_regime_of(context.result(SURFACE), config.material, None)
+    if regime is not None:
+        verdict.adhesion_energy_ratio = float(regime.energy_ratio)
+        verdict.stickiness = float(regime.stickiness)
+    skipped = ["bem_reference"] if config.bem.enabled else []
+    verdict.stages_skipped = [*skipped, "statistical_model", "mode_mixity", "friction", "psd"]
+    area, sliding = early.full_contact_limit(a_n, config.material.shear_strength)
+    verdict.full_contact_real_area, verdict.full_contact_sliding_friction = area, sliding
+    verdict.full_contact_test = sentence
+    verdict.full_contact_normal_load = np.asarray(config.loading.normal_loads, dtype=float)
+    return verdict
+
+
 #: The file attribute of results.h5 holding the regime judged before the BEM (JSON).
 PREVIEW_ATTRIBUTE = "preview_adhesion_regime"
 
@@ -1003,8 +1099,10 @@ def preview_adhesion_regime(context: StageContext) -> PreviewNote:
     """The adhesion regime judged from the levelled map before the BEM stage (a second,
     against the BEM's minutes): one log line, and the preliminary reason stored at once in
     ``results.h5`` (file attribute :data:`PREVIEW_ATTRIBUTE`, JSON with ``codes``,
-    ``severities``, ``reasons``, ``adhesion_energy_ratio``, ``stickiness``). The job still
-    runs every stage the configuration asks for; the final verdict repeats the reason.
+    ``severities``, ``reasons``, ``adhesion_energy_ratio``, ``stickiness``). An invalid reason
+    here makes the job skip the stages that cannot change the verdict unless
+    ``run.compute_all`` (:mod:`asperity.pipelines.stages.early_verdict`); the final verdict
+    repeats the reason.
     Without adhesion (w = 0) no line, and a record without reasons (it replaces one a former
     run of the same folder stored)."""
     config = context.config
@@ -1026,8 +1124,13 @@ def preview_adhesion_regime(context: StageContext) -> PreviewNote:
         line = (
             f"adhesion regime judged from the map: FULL CONTACT expected at any load ({numbers}"
             f"): the asperity model and a loading-branch BEM do not apply{bem}. The verdict "
-            f"will be INVALID ({reasons[0].code}); the BEM runs as configured "
-            "([bem] enabled = false skips it)"
+            f"will be INVALID ({reasons[0].code}); "
+            + (
+                "every stage runs as configured (run.compute_all = true)"
+                if config.run.compute_all
+                else "the BEM and the model stages, which cannot change it, are skipped "
+                "(run.compute_all = true, asperity run --compute-all, computes them)"
+            )
         )
     else:
         line = f"adhesion regime judged from the map: partial contact ({numbers})"
@@ -1104,6 +1207,11 @@ def verdict_markdown(verdict: Verdict) -> list[str]:
         "invalid": " The numbers below are outside the model's validity; they are marked "
         "*invalid* and are not results.",
     }.get(verdict.verdict, "")
+    if getattr(verdict, "full_contact_real_area", None) is not None:
+        tail = (
+            " The job stopped where the verdict was known: the numbers below are the "
+            "full-contact limit this regime predicts, not the asperity model's."
+        )
     lines = [f"**{verdict_wording(verdict)}.**{tail}", ""]
     for severity, code, reason in zip(
         verdict.severities, verdict.codes, verdict.reasons, strict=True
@@ -1131,7 +1239,9 @@ VERDICT = Stage(
         "material.E_star",
         "material.work_of_adhesion",
         "material.equilibrium_distance",
+        "material.shear_strength",
         "bem.adhesion_range",
+        "bem.enabled",
     ),
     inputs=(SURFACE, SCAN, BEM, STATISTICAL_MODEL, MODE_MIXITY, FRICTION, BEM_SHEAR),
     compute=compute_verdict,
@@ -1144,6 +1254,7 @@ VERDICT = Stage(
             "material.equilibrium_distance",
             "bem.adhesive",
             "bem.adhesion",
+            "run.compute_all",
         ),
         inputs=(SURFACE,),
         run=preview_adhesion_regime,

@@ -1,4 +1,5 @@
-"""The array-library Polonsky-Keer (bem.array_solver) against the CPU solver on the same maps.
+"""The array-library Polonsky-Keer (bem.normal.array_solver) against the CPU solver on the same
+maps.
 
 Two implementations of E:BEM_eq1..E:BEM_eq4 that share no iteration code must give the same
 contact set and pressures within their tolerance; the GPU (CuPy) path runs only where CuPy and a
@@ -11,8 +12,8 @@ import numpy as np
 import pytest
 
 from asperity.bem import SolverOptions, solve_contact
-from asperity.bem.array_solver import array_module, solve_periodic_array
 from asperity.bem.errors import BemInputError
+from asperity.bem.normal.array_solver import array_module, solve_periodic_array
 from asperity.topo.synthetic import self_affine
 
 E_STAR = 2.0e6  # Pa

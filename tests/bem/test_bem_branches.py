@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from asperity.bem import SolverStatus, load_sweep, solve_contact
-from asperity.bem.validity import BemWarning
+from asperity.bem.normal.validity import BemWarning
 
 W = 0.02  # J/m^2 with E* = 1 Pa and 1 m pixels: Sigma = 0.21 Pa, ~5 x the mean pressure
 

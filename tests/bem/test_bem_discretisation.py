@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from asperity.bem import SolverOptions, solve_contact
-from asperity.bem.discretisation import (
+from asperity.bem.reference.discretisation import (
     combine_in_quadrature,
     half_spread,
     observed_order,

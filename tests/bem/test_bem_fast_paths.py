@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 
 from asperity.bem import SolverOptions, load_sweep, solve_contact
+from asperity.bem.elastic.fft_backend import Convolution, available_backends
+from asperity.bem.elastic.influence import influence_multiplier
 from asperity.bem.errors import BemInputError
-from asperity.bem.fft_backend import Convolution, available_backends
-from asperity.bem.influence import influence_multiplier
 
 W = 0.02  # J/m^2 on the unit-modulus, unit-pixel test surfaces (about 5 % contact)
 

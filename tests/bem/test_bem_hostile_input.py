@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from asperity.bem import SolverOptions, SolverStatus, critical_tension, load_sweep, solve_contact
-from asperity.bem.influence import love_patch_deflection
-from asperity.bem.pohrt_popov import pohrt_popov_chi
-from asperity.bem.validity import BemWarning
+from asperity.bem.elastic.influence import love_patch_deflection
+from asperity.bem.elastic.pohrt_popov import pohrt_popov_chi
+from asperity.bem.normal.validity import BemWarning
 from asperity.pipelines.cli import main
 
 

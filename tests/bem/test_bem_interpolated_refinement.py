@@ -10,19 +10,19 @@ import numpy as np
 import pytest
 
 from asperity import bem
-from asperity.bem.discretisation import richardson_extrapolation
-from asperity.bem.grid_refinement import (
+from asperity.bem.reference.discretisation import richardson_extrapolation
+from asperity.bem.reference.grid_refinement import (
     check_grids,
     discretisation_estimate,
     resolution_dependence,
 )
-from asperity.bem.interpolated_refinement import (
+from asperity.bem.reference.interpolated_refinement import (
     fourier_upsample,
     fourier_upsample_window,
     refine_by_interpolation,
     refinement_window,
 )
-from asperity.bem.load_sweeps import (
+from asperity.bem.reference.load_sweeps import (
     ContactSetup,
     Grid,
     solve_non_adhesive,

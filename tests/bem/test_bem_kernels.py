@@ -9,15 +9,15 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from asperity.bem import critical_tension, crop_to_fast_size, fast_size
-from asperity.bem import kernels as kr
-from asperity.bem.fft_backend import Convolution, available_backends
-from asperity.bem.influence import (
+from asperity.bem.elastic.fft_backend import Convolution, available_backends
+from asperity.bem.elastic.influence import (
     influence_multiplier,
     love_patch_deflection,
     padded_love_multiplier,
     point_force_multiplier,
 )
-from asperity.bem.pohrt_popov import pohrt_popov_chi
+from asperity.bem.elastic.pohrt_popov import pohrt_popov_chi
+from asperity.bem.normal import kernels as kr
 
 sizes = st.floats(min_value=1e-7, max_value=1e-2, allow_nan=False)
 moduli = st.floats(min_value=1e3, max_value=1e12, allow_nan=False)
@@ -275,3 +275,77 @@ def test_fast_size_and_crop_warning():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert crop_to_fast_size(np.zeros((64, 48))).shape == (64, 48)
+
+
+def _iteration_kernels(n_threads: int, n: int, seed: int) -> list:
+    """Every parallel kernel of an iteration once, on ``n_threads`` numba threads: outputs."""
+    import numba
+
+    u, h, c, t, r, p = _state(n, seed)
+    w, tc, s = u.copy(), np.empty(n, dtype=np.float32), np.empty(n, dtype=np.float32)
+    before = numba.get_num_threads()
+    numba.set_num_threads(min(n_threads, numba.config.NUMBA_NUM_THREADS))
+    try:
+        out = [kr.deflection_to_gap_stats(w, h, c, 0.1)]
+        out.append(kr.update_direction_into(w, c, t, tc, 0.1, 0.7))
+        out.append(kr.residual_field(w, c, s, 0.1))
+        out.append(kr.masked_sum(s, c))
+        out.append(kr.update_direction_preconditioned_into(w, c, t, tc, s, 0.1, 0.01, 0.5))
+        out.append(kr.step_pressure(p, t, w, c, 0.3, 0.1, 0.05, True, 0.2))
+        out.append(kr.gap_step(w, r, c, 0.3, 0.1))
+    finally:
+        numba.set_num_threads(before)
+    return [tuple(o) if isinstance(o, tuple) else o for o in out] + [w, t, tc, s, p, c]
+
+
+def test_parallel_kernels_do_not_depend_on_the_thread_count():
+    """The blocks' sums are added in block order: 1 and 2 threads give the same bits, on an
+    array of several blocks and a ragged last one."""
+    n = kr.PARALLEL_MIN + 2 * kr.CHUNK + 7
+    one, two = _iteration_kernels(1, n, 4), _iteration_kernels(2, n, 4)
+    for a, b in zip(one, two, strict=True):
+        if isinstance(a, np.ndarray):
+            np.testing.assert_array_equal(a, b)
+        else:
+            assert a == b
+
+
+def test_parallel_kernels_match_numpy_across_blocks():
+    """Across block boundaries the sums are those of the whole array (to round-off), the
+    float32 copy of t is t rounded, and s is the contact-set residual rounded to float32."""
+    n = kr.PARALLEL_MIN + kr.CHUNK + 3
+    u, h, c, t, r, p = _state(n, 9)
+    m = c.astype(bool)
+    w = u.copy()
+    n_c, s1, s2 = kr.deflection_to_gap_stats(w, h, c, 0.2)
+    g = u - h - 0.2
+    assert n_c == m.sum()
+    assert s1 == pytest.approx(g[m].sum(), rel=1e-12, abs=1e-9)
+    assert s2 == pytest.approx((g[m] ** 2).sum(), rel=1e-12)
+    tc = np.empty(n, dtype=np.float32)
+    t0 = t.copy()
+    sgt, pen, npen = kr.update_direction_into(w, c, t, tc, 0.2, 0.5)
+    np.testing.assert_array_equal(t, np.where(m, g + 0.5 * t0, 0.0))
+    np.testing.assert_array_equal(tc, t.astype(np.float32))
+    assert sgt == pytest.approx(float(g[m] @ t[m]), rel=1e-12)
+    assert npen == int((g[~m] < 0).sum())
+    s = np.empty(n, dtype=np.float32)
+    kr.residual_field(w, c, s, 0.2)
+    np.testing.assert_array_equal(s, np.where(m, g, 0.0).astype(np.float32))
+    assert kr.masked_sum(s, c) == pytest.approx(float(s[m].astype(np.float64).sum()), rel=1e-12)
+
+
+def test_small_arrays_take_the_serial_kernel_bit_for_bit():
+    """Below PARALLEL_MIN the kernel is the serial one on the whole array (the same bits as
+    before the blocks), and the blocks' sums differ from it only by round-off above."""
+    for n in (kr.PARALLEL_MIN - 1, kr.PARALLEL_MIN + 5):
+        u, h, c, t, r, p = _state(n, 2)
+        w1, w2 = u.copy(), u.copy()
+        got = kr.gap_step(w1, r, c, 0.3, 0.1)
+        ref = kr._gap_step_block(w2, r, c, 0.3, 0.1)
+        np.testing.assert_array_equal(w1, w2)
+        assert got.n_contact == ref.n_contact
+        if n < kr.PARALLEL_MIN:
+            assert tuple(got) == tuple(ref)
+        else:
+            assert got.gap_sq == pytest.approx(ref.gap_sq, rel=1e-12)

@@ -2,7 +2,8 @@
 
 The footprint is measured with tracemalloc (numpy's and pyFFTW's arrays are traced) on
 small grids, in bytes per height point above the heights themselves; the floors named in the
-messages are the arrays :mod:`asperity.bem.iteration` keeps (p, w, t, one work array: 8 B each,
+messages are the arrays :mod:`asperity.bem.normal.iteration` keeps (p, w, t, one work array: 8 B
+each,
 the contact set: 1 B) and the transform workspace shared by the operators (8 B).
 """
 
@@ -15,19 +16,19 @@ import numpy as np
 import pytest
 
 from asperity import bem
-from asperity.bem.fft_backend import (
+from asperity.bem.elastic.fft_backend import (
     Convolution,
     RadialMultiplier,
     available_backends,
     new_workspace,
 )
-from asperity.bem.influence import (
+from asperity.bem.elastic.influence import (
     love_patch_deflection,
     padded_love_multiplier,
     point_force_multiplier,
     wavevectors_squared,
 )
-from asperity.bem.operators import influence_operator, stiffness_preconditioner
+from asperity.bem.elastic.operators import influence_operator, stiffness_preconditioner
 
 E_STAR = 2.133e6  # Pa
 DX = 2e-6  # m

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from asperity.bem import BemInputError, SolverOptions, SolverStatus, solve_contact
-from asperity.bem.diagnosis import stall_causes
+from asperity.bem.normal.diagnosis import stall_causes
 from asperity.bem.options import resolve_options
 from asperity.errors import InputError
 
@@ -92,7 +92,7 @@ def test_a_stall_names_the_precision_floor(rough):
 
 
 def test_stall_causes_detect_outliers_and_full_contact(rough):
-    from asperity.bem.problem import set_up_problem
+    from asperity.bem.normal.problem import set_up_problem
 
     h = rough(64, seed=2)
     spiked = h.copy()

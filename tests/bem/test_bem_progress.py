@@ -26,3 +26,19 @@ def test_solves_are_counted_inside_the_block_and_nothing_outside(capsys):
     with bem.solve_progress(enabled=False):
         bem.solve_contact(heights, 1e-6, 1e-6, 1e6, mean_pressure=1e4)
     assert capsys.readouterr().err == ""
+
+
+def test_bar_waits_for_the_first_solve_and_says_its_note_once(capsys):
+    heights = _wavy()
+    with bem.solve_progress("BEM solves", note="F is the force on the map"):
+        bem.progress.progress_line("1 read and level: 0.1 s")
+        before = capsys.readouterr().err
+        for p in (1e4, 2e4):
+            bem.solve_contact(heights, 1e-6, 1e-6, 1e6, mean_pressure=p)
+        bem.progress.progress_line("3 BEM reference: 0.2 s")
+    err = capsys.readouterr().err
+    assert before == "1 read and level: 0.1 s\n"  # no bar before a solve: the line is alone
+    assert err.count("F is the force on the map") == 1
+    # the stage line stands on a line of its own, not glued to the bar's text
+    assert "\n3 BEM reference: 0.2 s\n" in err.replace("\r", "\n")
+    assert "2 solves" in err

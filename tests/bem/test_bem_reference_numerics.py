@@ -1,6 +1,6 @@
-"""The BEM reference's numerics as public functions (bem.grid_refinement, bem.adhesion_range,
-bem.load_sweeps, bem.reference): the seam measure, the grid choice, Richardson extrapolation of
-a known power law, the Maugis range search on a sphere against the Maugis-Dugdale closed form,
+"""The BEM reference's numerics as public functions (bem.reference: grid_refinement,
+adhesion_range, load_sweeps, solve): the seam measure, the grid choice, Richardson extrapolation
+of a known power law, the Maugis range search on a sphere against the Maugis-Dugdale closed form,
 and a reference whose solves are each made once."""
 
 from __future__ import annotations
@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 
 from asperity import bem, topo
-from asperity.bem.adhesion_range import RangeTry, next_range, search_range
-from asperity.bem.grid_refinement import (
+from asperity.bem.normal.maugis import MIN_ZONE_ELEMENTS
+from asperity.bem.reference.adhesion_range import RangeTry, next_range, search_range
+from asperity.bem.reference.grid_refinement import (
     EDGE_MISMATCH_LIMIT,
     boundary_warning,
     check_grids,
@@ -21,15 +22,14 @@ from asperity.bem.grid_refinement import (
     grid_extrapolations,
     relative_discretisation_uncertainty,
 )
-from asperity.bem.load_sweeps import (
+from asperity.bem.reference.load_sweeps import (
     ContactSetup,
     check_load_index,
     decimated_grid,
     load_chains,
     solve_non_adhesive,
 )
-from asperity.bem.maugis import MIN_ZONE_ELEMENTS
-from asperity.bem.reference import solve_reference
+from asperity.bem.reference.solve import solve_reference
 from asperity.statmodel.maugis_dugdale import MaugisDugdale
 
 E_STAR = 2.133e6  # Pa

@@ -13,7 +13,12 @@ from asperity.bem.reference_solutions import (
     cattaneo_mindlin_force,
     cattaneo_mindlin_stick_radius,
 )
-from asperity.bem.shear import ShearOptions, TangentialOperator, solve_tangential, traction_bound
+from asperity.bem.shear.stick_slip import (
+    ShearOptions,
+    TangentialOperator,
+    solve_tangential,
+    traction_bound,
+)
 
 R, E_STAR, A_H, MU = 1.0, 1.0e6, 0.01, 0.3
 P_H = 4 * E_STAR * A_H**3 / (3 * R)

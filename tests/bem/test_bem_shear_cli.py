@@ -6,9 +6,9 @@ import json
 import numpy as np
 import pytest
 
-from asperity.bem.mixed_mode import MixedModeLaw
-from asperity.bem.rough_mixed_mode import mixed_mode_shear_curve
-from asperity.bem.shear_cli import JSON_KEYS
+from asperity.bem.shear.cli import JSON_KEYS
+from asperity.bem.shear.mixed_mode import MixedModeLaw
+from asperity.bem.shear.rough_mixed_mode import mixed_mode_shear_curve
 from asperity.pipelines.cli import main
 
 CONTRACT = (

@@ -8,16 +8,16 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import integrate
 
-from asperity.bem.errors import BemInputError
-from asperity.bem.influence import point_force_multiplier
-from asperity.bem.pohrt_popov import pohrt_popov_chi
-from asperity.bem.shear import TangentialOperator, box_conjugate_gradients
-from asperity.bem.tangential_influence import (
+from asperity.bem.elastic.influence import point_force_multiplier
+from asperity.bem.elastic.pohrt_popov import pohrt_popov_chi
+from asperity.bem.elastic.tangential_influence import (
     cerruti_patch_displacement,
     check_poisson,
     periodic_cerruti_multiplier,
     tangential_chi,
 )
+from asperity.bem.errors import BemInputError
+from asperity.bem.shear.stick_slip import TangentialOperator, box_conjugate_gradients
 
 sizes = st.floats(min_value=1e-7, max_value=1e-2, allow_nan=False)
 moduli = st.floats(min_value=1e3, max_value=1e12, allow_nan=False)

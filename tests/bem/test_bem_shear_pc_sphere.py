@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from asperity.bem.errors import BemInputError
-from asperity.bem.mixed_mode import MixedModeLaw, tangential_sweep
 from asperity.bem.reference_solutions import pc_sphere
-from asperity.bem.shear import ShearOptions
+from asperity.bem.shear.mixed_mode import MixedModeLaw, tangential_sweep
+from asperity.bem.shear.stick_slip import ShearOptions
 from asperity.statmodel.jkr import jkr_contact_radius, jkr_normal_load
 
 # dimensionless set-up (xi = (E* R / w)^(1/3) = 100): delta~ = 3 is the paper's Fig 2 red curve

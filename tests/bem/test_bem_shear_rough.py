@@ -1,11 +1,11 @@
-"""Rough surface under shear in load control (:func:`asperity.bem.rough_shear.shear_curve`)."""
+"""Rough surface under shear in load control (:func:`asperity.bem.shear.rough.shear_curve`)."""
 
 import numpy as np
 import pytest
 
 from asperity.bem import solve_contact
 from asperity.bem.errors import BemInputError
-from asperity.bem.rough_shear import label_junctions, shear_curve
+from asperity.bem.shear.rough import label_junctions, shear_curve
 
 E_STAR, TAU0 = 2.0e6, 0.1e6
 

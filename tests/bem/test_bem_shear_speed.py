@@ -8,8 +8,8 @@ import pytest
 
 from asperity.bem import solve_contact
 from asperity.bem.errors import BemInputError
-from asperity.bem.rough_shear import label_junctions, shear_curve
-from asperity.bem.shear import (
+from asperity.bem.shear.rough import label_junctions, shear_curve
+from asperity.bem.shear.stick_slip import (
     ContactMatrix,
     JunctionPreconditioner,
     ShearOptions,

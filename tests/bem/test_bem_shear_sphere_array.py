@@ -22,8 +22,8 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq, minimize_scalar
 
-from asperity.bem.mixed_mode import MixedModeLaw
-from asperity.bem.rough_mixed_mode import mixed_mode_shear_curve
+from asperity.bem.shear.mixed_mode import MixedModeLaw
+from asperity.bem.shear.rough_mixed_mode import mixed_mode_shear_curve
 from asperity.statmodel import papangelo_ciavarella as pc
 from asperity.statmodel.jkr import jkr_contact_radius, jkr_normal_load
 
@@ -246,7 +246,7 @@ def test_periodic_delta_t_is_measured_from_the_mean_surface():
     displacement, so a full-stick disc in a cell of a few radii is stiffer than 4/3 E* a (its
     images), tending to it as the cell grows (1.31 and 1.13 at cells of 10 a and 20 a); the free
     domain gives 4/3 E* a within 1 %. Why the sphere-array tests compare force-based numbers."""
-    from asperity.bem.shear import solve_tangential
+    from asperity.bem.shear.stick_slip import solve_tangential
 
     ratios = {}
     for periodic, cell in ((True, 10), (True, 20), (False, 10)):

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from asperity.bem import ContactResult, SolverOptions, load_sweep, solve_contact
-from asperity.bem.validity import BemWarning
+from asperity.bem.normal.validity import BemWarning
 
 N = 128
 

@@ -14,10 +14,10 @@ import numpy as np
 import pytest
 
 from asperity import bem
-from asperity.bem import fft_backend
-from asperity.bem.fft_backend import Convolution, RadialMultiplier
-from asperity.bem.influence import wavevectors_squared
-from asperity.bem.operators import influence_operator
+from asperity.bem.elastic import fft_backend
+from asperity.bem.elastic.fft_backend import Convolution, RadialMultiplier
+from asperity.bem.elastic.influence import wavevectors_squared
+from asperity.bem.elastic.operators import influence_operator
 
 E_STAR = 2.0e6  # Pa
 DX = 1e-6  # m
@@ -116,3 +116,39 @@ def test_the_cached_operator_keeps_its_threads_after_a_parallel_multiply():
     x[...] = 1.0
     op.with_energy(x, op.empty())
     assert numba.get_num_threads() == before
+
+
+@pytest.mark.parametrize("periodic", [True, False])
+@pytest.mark.parametrize("precondition", [True, False])
+def test_an_iteration_transforms_twice_per_convolution_and_once_more_per_set_jump(
+    precondition, periodic
+):
+    """Where every transform goes (issue 36): the search direction's two (t forward with its
+    energy, K t back, the gap then by linearity), the preconditioner's two, and one more in an
+    iteration whose contact set jumped or whose gap was refreshed (u = K p recomputed instead
+    of K t's inverse); the first u = K p and the exact one at the switch to double precision:
+    2 each. The free boundary's padded transforms count the same way."""
+    h = _rough(128, seed=5)
+    res = bem.solve_contact(
+        h,
+        DX,
+        DX,
+        E_STAR,
+        mean_pressure=0.005 * E_STAR,
+        periodic=periodic,
+        options=bem.SolverOptions(tol=1e-8, precision="mixed", precondition=precondition),
+    )
+    assert res.converged
+    ex = res.extra
+    assert ex["preconditioner_dropped_at"] is None
+    per_iteration = 4 if precondition else 2
+    switched = 2 if ex["precision_switched_at"] is not None else 0
+    expected = (
+        per_iteration * res.nit
+        + ex["set_change_recomputations"]
+        + ex["refresh_recomputations"]
+        + 2
+        + switched
+    )
+    assert ex["fft_transforms"] == expected, (ex, res.nit)
+    assert 0 < ex["set_change_recomputations"] < res.nit

@@ -25,7 +25,7 @@ def _rough_surface(n: int, seed: int) -> np.ndarray:
 
 
 # the largest load flattens this map (full contact, a BemWarning); thread safety is the subject
-@pytest.mark.filterwarnings("ignore::asperity.bem.validity.BemWarning")
+@pytest.mark.filterwarnings("ignore::asperity.bem.normal.validity.BemWarning")
 def test_concurrent_solves_in_threads_match_serial_solves() -> None:
     h = _rough_surface(128, seed=3)
     dx = 1e-6

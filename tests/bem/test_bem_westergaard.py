@@ -4,12 +4,12 @@ import numpy as np
 import pytest
 
 from asperity.bem import SolverOptions, solve_contact
+from asperity.bem.normal.validity import BemWarning
 from asperity.bem.reference_solutions import (
     westergaard_contact_half_width,
     westergaard_full_contact_pressure,
     westergaard_pressure,
 )
-from asperity.bem.validity import BemWarning
 
 E, WAVELENGTH, AMPLITUDE = 2.0e9, 1.0e-4, 1.0e-6  # Pa, m, m
 P_STAR = westergaard_full_contact_pressure(AMPLITUDE, WAVELENGTH, E)  # full-contact mean pressure

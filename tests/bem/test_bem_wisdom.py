@@ -13,7 +13,7 @@ import pytest
 pytest.importorskip("pyfftw")
 
 PLAN = (
-    "import numpy as np; from asperity.bem.fft_backend import Convolution; "
+    "import numpy as np; from asperity.bem.elastic.fft_backend import Convolution; "
     "c = Convolution(np.ones((96, 49)), (96, 96), backend='pyfftw', threads=1); "
     "import pyfftw; print(sum(len(w) for w in pyfftw.export_wisdom()))"
 )
@@ -39,7 +39,7 @@ def test_wisdom_is_stored_without_pickle_and_loaded_by_a_second_process(tmp_path
     # a second process imports the wisdom before planning: it knows at least what was stored
     loaded = _run(
         tmp_path,
-        "import pyfftw; from asperity.bem import fft_backend; fft_backend._load_wisdom(); "
+        "import pyfftw; from asperity.bem.elastic import fft_backend; fft_backend._load_wisdom(); "
         "print(sum(len(w) for w in pyfftw.export_wisdom()))",
     )
     assert int(loaded) >= stored_bytes - 3  # export appends a terminator per precision
@@ -50,8 +50,8 @@ def test_a_corrupt_wisdom_file_is_ignored(tmp_path: Path, monkeypatch) -> None:
     plan made afterwards still works (and saves wisdom that can be read back)."""
     import pyfftw
 
-    from asperity.bem import fft_backend
-    from asperity.bem.fft_backend import Convolution
+    from asperity.bem.elastic import fft_backend
+    from asperity.bem.elastic.fft_backend import Convolution
 
     monkeypatch.setenv("ASPERITY_CACHE_DIR", str(tmp_path))
     monkeypatch.setattr(fft_backend, "_WISDOM_LOADED", False)

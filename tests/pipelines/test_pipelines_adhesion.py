@@ -135,7 +135,7 @@ def test_glassy_polymer_on_x3p2_stays_partial_contact():
 def test_maugis_solves_are_all_counted(monkeypatch):
     """Every bem.solve_contact call of the stage is in ``solves``: the check and sweeps, the
     range search beyond its first solve and the two sensitivity solves (h_0 / 2, 2 h_0)."""
-    from asperity.bem import load_sweeps
+    from asperity.bem.reference import load_sweeps
 
     calls = []
     real = load_sweeps.solve_contact

@@ -139,7 +139,8 @@ def test_invalid_maps_are_listed_never_averaged_and_set_the_exit_status(tmp_path
     invalid = {**_record("c.x3p", 900e-6, 0.9), "status": "invalid"}
     records = [_record("a.x3p", 100e-6, 0.004), invalid, _record("b.x3p", 140e-6, 0.006)]
     rows = _summary(write_summary_csv(records, tmp_path / "summary.csv"))
-    assert float(rows[1]["summit radius R (m)"]) == pytest.approx(900e-6)  # listed as measured
+    cell = rows[1]["summit radius R (m)"]  # listed, marked: no spreadsheet reads it as a number
+    assert cell.startswith("invalid: ") and float(cell.split(": ")[1]) == pytest.approx(900e-6)
     assert float(rows[3]["summit radius R (m)"]) == pytest.approx(120e-6)  # mean of a and b
     assert "1 invalid or unconverged map(s) left out" in rows[3]["message"]
     result = BatchResult(records=records, summary_csv=tmp_path / "summary.csv")

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from asperity import bem, topo
-from asperity.bem import load_sweeps
-from asperity.bem.load_sweeps import check_load_index, decimated_grid
+from asperity.bem.reference import load_sweeps
+from asperity.bem.reference.load_sweeps import check_load_index, decimated_grid
 from asperity.pipelines.config import BemConfig, ConfigError, config_from_dict
 from asperity.pipelines.stages.bem import bem_reference
 
@@ -63,7 +63,8 @@ def test_config_boundary_key():
 @pytest.fixture(scope="module")
 def counted(periodic_map):
     """bem_reference on the periodic map with Pohrt-Popov adhesion (the paper's Appendix B),
-    counting every bem.solve_contact call of its solves (:mod:`asperity.bem.load_sweeps`)."""
+    counting every bem.solve_contact call of its solves
+    (:mod:`asperity.bem.reference.load_sweeps`)."""
     calls = []
     real = bem.solve_contact
 

@@ -14,9 +14,9 @@ from asperity.pipelines.job import run_job
 from asperity.pipelines.measured import NormalAreaCurve, ShearAreaCurve, write_shear_area
 from asperity.pipelines.stages._pull_off import roughness_from_scan
 from asperity.pipelines.stages.fitting import area_up_to_peak, interpolate_area
-from asperity.pipelines.stages.friction import model_shear_area
 from asperity.pipelines.stages.statistical_model import material_from_config
 from asperity.pipelines.stages.surface import read_and_level, scan_resolutions
+from asperity.statmodel.shear_path import model_shear_area
 
 try:
     import tomllib

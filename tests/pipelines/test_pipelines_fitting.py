@@ -76,7 +76,7 @@ def test_recovers_lambda_from_statistical_model_curves():
     """Curves made by the statistical model itself (Fig 13 roughness) with 1 % noise: the fit
     finds the lambda that made them within its own uncertainty."""
     from asperity import statmodel
-    from asperity.pipelines.stages.friction import model_shear_area
+    from asperity.statmodel.shear_path import model_shear_area
 
     material = statmodel.Material(2.133e6, 0.040, 0.03, 0.13e6, 0.2e-9)
     roughness = statmodel.Roughness(2.25e6, 1.180e-3, 0.0419e-3)

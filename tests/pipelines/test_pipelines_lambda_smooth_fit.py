@@ -19,7 +19,7 @@ from asperity.pipelines.stages.fitting import (
     interpolate_area,
     prepare_curve,
 )
-from asperity.pipelines.stages.friction import model_shear_area
+from asperity.statmodel.shear_path import model_shear_area
 
 MATERIAL = statmodel.Material(2.133e6, 0.040, 0.03, 0.13e6, 0.2e-9)
 ROUGH = statmodel.Roughness(67.87e6, 0.05584e-3, 0.04872e-3)  # the default job's statistics

@@ -26,7 +26,7 @@ from asperity.pipelines.stages.statistical_model import (
 )
 from asperity.pipelines.stages.surface import ScanResult, scan_resolutions
 from asperity.statmodel.effective_resolution import locate_least_misfit, roughness_at_resolution
-from asperity.statmodel.maugis_rough import adhesion_regime
+from asperity.statmodel.maugis_rough import asperity_law_regime
 
 LOADS = np.array([0.56, 1.06, 1.58, 2.08, 2.57, 3.12])
 #: The default job's BEM (baseline report): non-adhesive and Maugis-Dugdale A_r/A_n, h_0 12.5 um.
@@ -175,7 +175,7 @@ def test_maugis_bem_pairs_with_the_maugis_model(small_map):
     assert res.real_area_bem_law.shape == res.real_area.shape
     gain = res.effective_real_area_bem_law / res.effective_real_area_non_adhesive - 1
     assert np.all((gain > 0) & (gain < 0.05))
-    regime = adhesion_regime(
+    regime = asperity_law_regime(
         res.summit_radius, material.e_star, material.work_of_adhesion, H0, 0.2e-9
     )
     assert res.maugis_parameter == pytest.approx(regime.maugis_parameter)

@@ -18,7 +18,7 @@ from asperity.pipelines.stages.fitting import (
     interpolate_area,
     merge_repeated,
 )
-from asperity.pipelines.stages.friction import model_shear_area
+from asperity.statmodel.shear_path import model_shear_area
 
 A_N = 700e-6
 TRUE_LAMBDA = 0.03  # the paper's Fig 13 value

@@ -102,7 +102,7 @@ def test_job_stores_reports_and_judges_the_scale_factors(small_run, small, tmp_p
     from asperity.pipelines.cli import main
     from asperity.pipelines.config import DEFAULT_MATERIAL, dump_toml
     from asperity.pipelines.measured import write_shear_area
-    from asperity.pipelines.stages.friction import model_shear_area
+    from asperity.statmodel.shear_path import model_shear_area
 
     _, out, result = small_run
     model = functools.partial(

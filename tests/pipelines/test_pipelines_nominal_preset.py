@@ -58,8 +58,10 @@ def test_a_square_recipe_keeps_its_input_hash(monkeypatch):
     existed, so its stored stages stay valid; a different ``ny`` is another surface. Pinned:
     the paper preset on seed 1 with asperity 0.4.2's recipe, and with 0.4.1's recipe
     (``PAPER_SURFACE_WAVY``) the hash 0.4.1 gave, as the code hashed it before ``ny`` and the
-    recipe's optional fields (coarse level, modulation) existed."""
+    recipe's optional fields (coarse level, modulation) existed. The paper preset's stand-in is
+    now the Gaussian ``paper_spectrum``; the capped recipe, named, keeps its 0.4.2 hash."""
     data = tomllib.loads(preset_text("paper"))
+    data["surface"]["synthetic"]["recipe"] = "paper_surface"
     square = config_from_dict(data).surface
     data["surface"]["synthetic"]["ny"] = data["surface"]["synthetic"]["n"]
     explicit = config_from_dict(data).surface

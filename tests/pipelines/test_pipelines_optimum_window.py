@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 
-from asperity.pipelines.stages import _optimum_resolution as optimum
+from asperity.statmodel import effective_resolution as optimum
 from asperity.statmodel.effective_resolution import locate_least_misfit
 
 TRUTH = 260e-6  # m

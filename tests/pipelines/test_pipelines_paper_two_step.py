@@ -1,28 +1,27 @@
-"""The paper's two-step procedure (Section 5) on the paper's surface, against a known truth.
+"""The paper's two-step procedure (Section 5) on the presets' stand-in, against a known truth.
 
 ``asperity run --preset paper-two-step`` calibrates against a reproduction of the paper's Fig 12d
 and Fig 13 curves made by the statistical model at the paper's 260 um statistics with lambda =
 0.03 (benchmarks/paper_reproduction_data.py; not an experiment), so the answer is known. The
 full preset (5001^2 at 2 um) takes minutes and ~2 GiB, so the job test runs it reduced: the
-same surface (``paper_surface`` seed 1 on the same 10 mm square) generated at 10 um, which is
-the 2 um map decimated by 5 (docs/topo.md), scanned over strides 1..40 (10..400 um). The
-coarse statistics the calibration lands on are those of the full map; only the scan's step
-(10 um instead of 2 um) is coarser.
+same spectrum on the same 10 mm square generated at 10 um, scanned over strides 1..50 (10..500
+um, the preset's 2..500 um).
 
-What is asserted, and why not more (docs/paper.md, "The two-step procedure reproduced"):
+The preset's surface is a Gaussian stand-in from the paper's stated spectrum
+(``paper_spectrum``), whose 260 um statistics are not the paper's (R 0.68 against 1.18 mm), so
+the resolution it must find is its own, not 260 um: the one where its statistics give the
+reproduced area. What is asserted, and why not more (docs/paper.md, "Section 5 reproduced"):
 
 * step 2 alone, at the paper's own 260 um statistics, recovers lambda = 0.03 inside its
   one-sigma interval (the fit is unbiased where the roughness is the truth's);
-* step 1 recovers an effective resolution whose interval, widened by the 10 % to which the
-  surface's summit statistics match the paper's at 260 um (eta -7 %, R -1 %, sigma_s -9 % on
-  this seed), holds 260 um;
-* step 2 after step 1 recovers 0.03 within the job's lambda interval, which is the fit's own
-  (a residual on noise-free curves) united with lambda refitted at the summit statistics of the
-  effective resolution's interval ends (the roughness's uncertainty), and within the range
-  those refits span.
-
-Measured (seed 1, 10 um): 270.0 um, interval 224.6..324.5 um; lambda 0.02910, interval
-0.02698..0.03382 (docs/paper.md has the full 2 um job: 278 um in 235.0..328.9 um).
+* on the stand-in: step 1's interval closes, above 260 um (its coarse summits are more curved
+  than the paper's, so the same area needs a coarser resolution), and step 2 recovers lambda
+  within 15 % (measured: 341 um, interval 306..381 um; lambda 0.0337, interval 0.0335..0.0412,
+  which misses 0.03 at 10 um; the full 2 um job's 0.0287..0.047 holds it);
+* on the capped recipe (``paper_surface``, fitted to the paper's table: its 260 um statistics
+  are the paper's to 10 %): the interval, widened by those 10 %, holds 260 um, and lambda's
+  holds 0.03 (measured on 0.4.2: 270.0 um in 224.6..324.5 um; lambda 0.02910 in
+  0.02698..0.03382).
 """
 
 from __future__ import annotations
@@ -47,7 +46,7 @@ TRUE_RESOLUTION = 260e-6  # m
 TRUE_MODE_MIXITY = 0.03
 #: Summit statistics at 260 um of the paper (Fig 13 caption), SI.
 PAPER_260UM = statmodel.Roughness(2.25e6, 1.180e-3, 0.0419e-3)
-#: How closely the surface's statistics at 260 um match the paper's (docs/topo.md).
+#: How closely the capped recipe's statistics at 260 um match the paper's (docs/topo.md).
 SURFACE_MATCH = 0.10
 A_N = 700e-6  # m^2
 QUADRATURE = {"nodes": 8, "panels": 4}  # the job's choice on this case (report)
@@ -90,26 +89,40 @@ def test_step_two_alone_recovers_the_paper_lambda():
     assert fit.mode_mixity == pytest.approx(TRUE_MODE_MIXITY, rel=1e-3)
 
 
-@pytest.mark.slow
-def test_reduced_preset_recovers_260_um_and_lambda(tmp_path):
+def _reduced_job(tmp_path, recipe: str):
     data = tomllib.loads(preset_text("paper-two-step"))
-    data["surface"]["synthetic"].update(n=1001, pixel_size=10e-6)
-    data["surface"]["max_stride"] = 40
+    data["surface"]["synthetic"].update(recipe=recipe, n=1001, pixel_size=10e-6)
+    data["surface"]["max_stride"] = 50
     job = config_from_dict(data, source="reduced paper-two-step", base_dir=PRESETS)
     result = run_job(job, tmp_path / "out")
-
     assert result.bem_reference is None
     choice = result.statistical_model
     assert choice.basis == "measured"
-    low, high = choice.optimum_interval
     assert not (choice.optimum_open_finer or choice.optimum_open_coarser)
+    low, high = choice.optimum_interval
     assert low <= choice.optimum_resolution <= high
+    assert result.mode_mixity.fitted
+    return result
+
+
+@pytest.mark.slow
+def test_reduced_preset_on_the_stand_in_finds_its_own_resolution_and_lambda(tmp_path):
+    result = _reduced_job(tmp_path, "paper_spectrum")
+    low, _high = result.statistical_model.optimum_interval
+    assert low > TRUE_RESOLUTION  # the stand-in's 260 um summits are more curved than the paper's
+    assert result.mode_mixity.mode_mixity == pytest.approx(TRUE_MODE_MIXITY, rel=0.15)
+
+
+@pytest.mark.slow
+def test_reduced_preset_on_the_capped_recipe_recovers_260_um_and_lambda(tmp_path):
+    result = _reduced_job(tmp_path, "paper_surface")
+    choice = result.statistical_model
+    low, high = choice.optimum_interval
     # the surface carries the paper's 260 um statistics to 10 %: so far the truth can move
     assert low / (1 + SURFACE_MATCH) <= TRUE_RESOLUTION <= high * (1 + SURFACE_MATCH)
     assert abs(choice.optimum_resolution / TRUE_RESOLUTION - 1) <= SURFACE_MATCH
 
     fit = result.mode_mixity
-    assert fit.fitted
     assert fit.mode_mixity == pytest.approx(TRUE_MODE_MIXITY, rel=0.15)
     assert fit.interval_low <= TRUE_MODE_MIXITY <= fit.interval_high
     ends = [

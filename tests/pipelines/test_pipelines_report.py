@@ -173,6 +173,19 @@ def test_psd_stage_recovers_the_hurst_exponent_and_rolloff():
     assert math.isfinite(psd.psd_fit_prefactor)
 
 
+def test_psd_stage_gives_no_hurst_exponent_for_a_smooth_surface():
+    """A spectrum steeper than q^-4 (H = 1.36 imposed, the default job's recipe) has no Hurst
+    exponent: NaN, the slope kept as psd_fit_exponent (H_slope = -exponent/2 - 1)."""
+    surface = topo.synthetic.self_affine(
+        256, 5e-6, rms_height=2e-6, rolloff_wavelength=300e-6, hurst=1.36, seed=1
+    )
+    levelled = LevelledSurface.from_height_map(surface)
+    choice = SimpleNamespace(effective_resolution=20e-6)
+    psd = psd_and_persson(levelled, choice, 2e6, 1e-4, np.array([1e-4]))
+    assert math.isnan(psd.hurst_exponent)
+    assert -psd.psd_fit_exponent / 2 - 1 == pytest.approx(1.36, abs=0.15)
+
+
 def test_lambda_fit_figure_is_not_clipped():
     """The lambda-fit figure (only drawn with measured curves) keeps its labels on the page."""
     from asperity.pipelines.report import draw_lambda_fit

@@ -19,7 +19,6 @@ from asperity.pipelines.report import (
     draw_surface,
 )
 from asperity.pipelines.report.figures import psd_fit_label
-from asperity.pipelines.report.verdict_marks import shorten_at_clause
 from asperity.plotting import display_unit, layout_problems, new_figure, stamp
 
 
@@ -97,8 +96,6 @@ def test_verdict_banner_wraps_and_never_cuts_a_word():
     words = " ".join(f"word{i}" for i in range(60)) + " its A_r/A_n reaches 9.82"
     fig = stamp(new_figure(6, 4), words)
     assert fig.get_suptitle().split() == words.split()
-    short = shorten_at_clause("a (b, c), d: e; " + "x" * 300, limit=40)
-    assert short == "a (b, c), d: e [...]"
 
 
 def test_full_contact_line_where_the_model_exceeds_it(small_run):

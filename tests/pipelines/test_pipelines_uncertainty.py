@@ -17,7 +17,7 @@ from asperity.pipelines.measured import NormalAreaCurve
 from asperity.pipelines.report import load_table, summary_text
 from asperity.pipelines.report.figure_output import read_figure_csv
 from asperity.pipelines.report.uncertainty import plus_minus
-from asperity.pipelines.stages.friction import friction_prediction, shear_curve_auto
+from asperity.pipelines.stages.friction import friction_prediction
 from asperity.pipelines.stages.statistical_model import (
     areas_at_loads,
     normal_contact_material,
@@ -25,6 +25,7 @@ from asperity.pipelines.stages.statistical_model import (
 )
 from asperity.pipelines.stages.surface import ScanResult, scan_resolutions
 from asperity.statmodel.effective_resolution import roughness_at_resolution
+from asperity.statmodel.shear_path import shear_curve_auto
 
 LOADS = np.array([0.56, 1.06, 1.58, 2.08, 2.57, 3.12])
 

@@ -9,7 +9,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from asperity.bem.grid_refinement import EDGE_MISMATCH_LIMIT, edge_mismatch
+from asperity.bem.reference.grid_refinement import EDGE_MISMATCH_LIMIT, edge_mismatch
 from asperity.pipelines.stages import verdict as v
 
 

@@ -126,7 +126,7 @@ def test_the_verdict_previews_the_regime_before_the_bem():
     full = VERDICT.preview.run(_context({"E_star": 2.133e6}, crop))  # PDMS: full contact
     (line,) = full.lines
     assert "FULL CONTACT" in line and "decided by its range h_0" in line
-    assert "runs as configured" in line
+    assert "are skipped" in line and "run.compute_all = true" in line
     assert full.record["codes"] == ["adhesion_full_contact"]
     assert full.record["severities"] == ["invalid"] and full.record["adhesion_energy_ratio"] < 1
     glassy = VERDICT.preview.run(_context({"E_star": 3.5e9}, crop))

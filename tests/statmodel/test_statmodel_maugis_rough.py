@@ -20,7 +20,7 @@ from asperity.statmodel.maugis_dugdale import (
 )
 from asperity.statmodel.maugis_rough import (
     MaugisAsperity,
-    adhesion_regime,
+    asperity_law_regime,
     maugis_discrete_contact,
     maugis_rough_contact,
     maugis_rough_state,
@@ -274,8 +274,8 @@ def test_default_job_gain_is_the_bems_not_jkrs():
     assert np.all(jkr / gw - 1 > 5 * gain)
 
 
-def test_adhesion_regime_sets_lambda_beside_mu():
-    reg = adhesion_regime(R, E_STAR, WORK, H0)
+def test_asperity_law_regime_sets_lambda_beside_mu():
+    reg = asperity_law_regime(R, E_STAR, WORK, H0)
     assert reg.maugis_parameter == pytest.approx(maugis_parameter(WORK / H0, R, WORK, E_STAR))
     assert reg.tabor_parameter == pytest.approx(tabor_parameter(R, WORK, E_STAR, 0.2e-9))
     assert reg.maugis_parameter < 0.1 and reg.tabor_parameter > 1e3
@@ -323,3 +323,13 @@ def test_loading_branch_is_a_closed_form_state_from_the_edge_of_the_range(h0):
             st = md.state(float(a))
             assert abs(st["approach"] - x) < 1e-8 * asp.approach_scale
             assert abs(st["force"] - f) < 1e-8 * asp.force_scale
+
+
+def test_the_old_name_of_the_asperity_law_regime_warns_and_gives_the_same():
+    """One ``adhesion_regime`` per meaning: the asperity-law one is ``asperity_law_regime``;
+    the 0.4 name still works, with a DeprecationWarning."""
+    from asperity.statmodel import maugis_rough
+
+    with pytest.warns(DeprecationWarning, match="asperity_law_regime"):
+        old = maugis_rough.adhesion_regime(R, E_STAR, WORK, H0)
+    assert old == asperity_law_regime(R, E_STAR, WORK, H0)

@@ -269,3 +269,20 @@ def test_property_contact_radius_decreases_with_delta_t(delta, f1, f2, lam):
 def test_property_min_indentation_increases_with_delta_t(dt1, dt2, lam):
     lo, hi = sorted((dt1, dt2))
     assert pc_min_indentation(lo, R, W, E, lam) <= pc_min_indentation(hi, R, W, E, lam)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    radius=st.floats(1e-6, 1e-2),
+    work=st.floats(1e-3, 1.0),
+    e_star=st.floats(1e5, 1e11),
+)
+def test_jkr_zero_load_radius_carries_no_load(radius: float, work: float, e_star: float) -> None:
+    """a0 is where E:JKR_load crosses zero: P(a0) = 0 against the load's own scale (the
+    Hertz and adhesive terms, each 4 E* a0^3 / (3 R) there), and P < 0 just inside it."""
+    from asperity.statmodel import jkr_zero_load_radius
+
+    a0 = float(jkr_zero_load_radius(radius, work, e_star))
+    scale = 4 * e_star * a0**3 / (3 * radius)
+    assert abs(jkr_load_from_radius(a0, radius, work, e_star)) <= 1e-9 * scale
+    assert jkr_load_from_radius(0.99 * a0, radius, work, e_star) < 0

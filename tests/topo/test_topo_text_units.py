@@ -9,6 +9,7 @@ from asperity import topo
 from asperity.errors import InputError
 from asperity.pipelines.cli import main
 from asperity.topo.errors import TopographyFileError
+from asperity.topo.io.units import UNIT_SPELLINGS
 
 
 def _profile(path, step=0.5, n=40):
@@ -69,3 +70,34 @@ def test_cli_refuses_then_reads_with_unit(tmp_path, capsys):
     assert "--unit" in capsys.readouterr().err
     assert main(["stats", str(path), "--unit", "um", "--json"]) != 2  # read, whatever its verdict
     assert '"dx": 5e-07' in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    "spelling",
+    [s for group in UNIT_SPELLINGS.values() for s in group] + ["Microns", "MicroMeters"],
+)
+def test_every_spelling_of_the_table_is_read_alike_by_the_job_file_and_the_reader(
+    tmp_path, spelling
+):
+    """One table (topo.io.units.UNIT_SPELLINGS): what --unit accepts, [surface] unit accepts."""
+    from asperity.pipelines.config import config_from_dict
+    from asperity.topo.io.units import length_unit_in_metres
+
+    metres = length_unit_in_metres(spelling)
+    path = tmp_path / "xy.txt"
+    x = 1e-6 / metres * np.arange(40)  # a 1 um step and sub-um heights, in the file's unit
+    np.savetxt(path, np.column_stack([x, 1e-7 / metres * np.sin(np.arange(40))]))
+    job = config_from_dict({"surface": {"file": str(path), "unit": spelling}}, source="job.toml")
+    profile = topo.read_surface(path, unit=job.surface.unit)
+    assert profile.dx == pytest.approx(1e-6, rel=1e-9)
+
+
+def test_job_file_refuses_a_non_length_unit_listing_the_spellings(tmp_path):
+    from asperity.pipelines.config import ConfigError, config_from_dict
+
+    path = tmp_path / "xy.txt"
+    _profile(path)
+    with pytest.raises(ConfigError) as caught:
+        config_from_dict({"surface": {"file": str(path), "unit": "V"}}, source="job.toml")
+    text = str(caught.value)
+    assert "unit" in text and "micron" in text and "V" in text

@@ -8,6 +8,7 @@ import struct
 import zipfile
 import zlib
 from pathlib import Path
+from typing import Any, Literal, overload
 
 import numpy as np
 
@@ -146,6 +147,33 @@ def require_positive(path: str | Path, field: str, value: float, unit: str = "")
         )
 
 
+@overload
+def make_surface(
+    path: str | Path,
+    heights: np.ndarray,
+    pixel_sizes: tuple[tuple[str, float], ...],
+    provenance: dict,
+    *,
+    profile: Literal[False] = False,
+) -> HeightMap: ...
+@overload
+def make_surface(
+    path: str | Path,
+    heights: np.ndarray,
+    pixel_sizes: tuple[tuple[str, float], ...],
+    provenance: dict,
+    *,
+    profile: Literal[True],
+) -> LineProfile: ...
+@overload
+def make_surface(
+    path: str | Path,
+    heights: np.ndarray,
+    pixel_sizes: tuple[tuple[str, float], ...],
+    provenance: dict,
+    *,
+    profile: bool,
+) -> HeightMap | LineProfile: ...
 def make_surface(
     path: str | Path,
     heights: np.ndarray,
@@ -342,7 +370,10 @@ def caller_pixel_size(
 
     if pixel_size is None:
         return None
-    values = (pixel_size, pixel_size) if np.ndim(pixel_size) == 0 else tuple(pixel_size)  # type: ignore[arg-type]
+    # The caller's values, checked one by one below (anything may arrive from a command line).
+    values: tuple[Any, ...] = (
+        (pixel_size, pixel_size) if np.ndim(pixel_size) == 0 else tuple(pixel_size)  # type: ignore[arg-type]
+    )
     if len(values) != 2:
         raise InputError(
             f"{path}: pixel_size: is {pixel_size!r}; expected dx or (dx, dy), in metres"

@@ -68,11 +68,12 @@ def _surface_path(path: Path, handle: h5py.File) -> str:
         ) from None
     node = "Root"
     for step in ("Measurement", "Surface", "Path"):
-        node = links.get(node, {}).get(step)
-        if node is None:
+        following = links.get(node, {}).get(step)
+        if following is None:
             raise TopographyFileError(
                 path, "/MetaData", f"has no '{step}' entry on the way to the surface"
             )
+        node = following
     return node
 
 

@@ -15,8 +15,10 @@ and nothing is executed or unpickled.
 
 from __future__ import annotations
 
+import builtins
 import struct
 from pathlib import Path
+from typing import overload
 
 import numpy as np
 
@@ -81,7 +83,7 @@ class _Parser:
             components[key], pos = self.value(kind, pos, stop, f"{name}.{key}")
         return components, stop
 
-    def value(self, kind: str, pos: int, end: int, field: str) -> tuple[object, int]:
+    def value(self, kind: str, pos: int, end: int, field: str) -> tuple[builtins.object, int]:
         if kind in _SCALAR:
             size = struct.calcsize(_SCALAR[kind])
             if pos + size > end:
@@ -117,6 +119,10 @@ def _unit(field: object) -> str:
     return unit if isinstance(unit, str) else ""
 
 
+@overload
+def _component(path: Path, field: dict, key: str, index: int, kind: type[int]) -> int: ...
+@overload
+def _component(path: Path, field: dict, key: str, index: int, kind: type[float]) -> float: ...
 def _component(path: Path, field: dict, key: str, index: int, kind: type) -> float:
     """A scalar component (``xres``, ``xreal`` ...) of a data field, of the right kind."""
     value = field.get(key)

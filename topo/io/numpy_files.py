@@ -205,7 +205,8 @@ def read_numpy(
         No pixel size available, or an invalid ``pixel_size``.
     """
     path = Path(path)
-    dx = dy = None
+    dx: float | None = None
+    dy: float | None = None
     key = "array"
     with open(path, "rb") as handle:
         is_archive = handle.read(4) == b"PK\x03\x04"
@@ -239,6 +240,7 @@ def read_numpy(
             f"{path}: a NumPy array carries no pixel size; give pixel_size= "
             "(or --pixel-size DX on the command line), in metres"
         )
+    assert dy is not None  # set together with dx above
     provenance = make_provenance(
         path, path.suffix.lstrip(".").lower(), channel=key, units={"all": "m (assumed)"}
     )

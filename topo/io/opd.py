@@ -31,7 +31,7 @@ from asperity.topo.io.limits import check_height_step
 
 _ENTRY = struct.Struct("<16shlH")
 _DATA_BLOCKS = ("RAW DATA", "RAW_DATA", "OPD", "Raw")
-_DTYPES = {1: np.dtype("i1"), 2: np.dtype("<i2"), 4: np.dtype("<f4")}
+_DTYPES: dict[int, np.dtype] = {1: np.dtype("i1"), 2: np.dtype("<i2"), 4: np.dtype("<f4")}
 
 
 def read_opd(path: str | Path) -> HeightMap:

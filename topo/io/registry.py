@@ -172,7 +172,7 @@ def _is_x3p(probe: Probe) -> bool:
 
 def _is_npz(probe: Probe) -> bool:
     names = probe.zip_names
-    return bool(names) and all(name.endswith(".npy") for name in names)
+    return names is not None and len(names) > 0 and all(name.endswith(".npy") for name in names)
 
 
 def _is_text(probe: Probe) -> bool:

@@ -32,6 +32,7 @@ import io
 import warnings
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -84,7 +85,7 @@ def _one_line(error: Exception, limit: int = 200) -> str:
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
-def _channel_index(path: Path, reader: object, channel: str | int | None) -> int:
+def _channel_index(path: Path, reader: Any, channel: str | int | None) -> int:
     """The index of the requested channel (name or index), or the reader's default."""
     names = [info.name for info in reader.channels]
     if channel is None:
@@ -118,7 +119,7 @@ def _metres_per_unit(path: Path, unit: object) -> float:
     return factor
 
 
-def _caller_sizes(path: Path, info: object, pixel_size: object) -> dict:
+def _caller_sizes(path: Path, info: Any, pixel_size: float | tuple[float, float] | None) -> dict:
     """Physical sizes from a caller's pixel size (m) for a file that carries none."""
     sizes = caller_pixel_size(path, pixel_size)
     if info.physical_sizes is not None:
@@ -200,7 +201,7 @@ def read_with_extra(
 
 
 def _surface(
-    path: Path, reader: object, index: int, topography: object, heights: np.ndarray
+    path: Path, reader: Any, index: int, topography: Any, heights: np.ndarray
 ) -> HeightMap | LineProfile:
     """Convert a SurfaceTopography topography to metres and build the checked surface."""
     factor = _metres_per_unit(path, topography.unit)

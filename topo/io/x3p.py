@@ -23,6 +23,7 @@ import hashlib
 import xml.etree.ElementTree as ElementTree
 import zipfile
 from pathlib import Path
+from typing import overload
 
 import numpy as np
 
@@ -38,7 +39,12 @@ from asperity.topo.io._common import (
 )
 from asperity.topo.io.limits import MAX_MAP_BYTES, check_height_step, check_map_points
 
-_DTYPES = {"I": np.dtype("<u2"), "L": np.dtype("<u4"), "F": np.dtype("<f4"), "D": np.dtype("<f8")}
+_DTYPES: dict[str, np.dtype] = {
+    "I": np.dtype("<u2"),
+    "L": np.dtype("<u4"),
+    "F": np.dtype("<f4"),
+    "D": np.dtype("<f8"),
+}
 #: Padding accepted after the valid-points bits, bytes.
 _MASK_SLACK = 65536
 
@@ -56,6 +62,14 @@ def _text(path: Path, parent: ElementTree.Element | None, tag: str, where: str) 
     return node.text.strip()
 
 
+@overload
+def _number(
+    path: Path, parent: ElementTree.Element, tag: str, where: str, kind: type[int]
+) -> int: ...
+@overload
+def _number(
+    path: Path, parent: ElementTree.Element, tag: str, where: str, kind: type[float]
+) -> float: ...
 def _number(path: Path, parent: ElementTree.Element, tag: str, where: str, kind: type) -> float:
     text = _text(path, parent, tag, where)
     if kind is int:
