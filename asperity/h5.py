@@ -223,6 +223,13 @@ BUILTIN_FILTERS = frozenset((1, 2, 3, 5, 6, 32000))
 MAX_OBJECTS = 100_000
 #: Deflate cannot expand more than about 1032 bytes per stored byte.
 MAX_EXPANSION = 1100
+#: Most bytes a whole file may declare per byte it is, beyond :data:`FILE_EXPANSION_SLACK`:
+#: asperity's results hold float maps that compress little (a 650^2 run declares 1.1 x its
+#: size), so a file declaring hundreds of times its size is a compression bomb, refused
+#: before anything is decompressed.
+MAX_FILE_EXPANSION = 64
+#: Declared bytes every file may hold whatever its size (64 MiB: read in well under a second).
+FILE_EXPANSION_SLACK = 64 * 1024**2
 
 
 def _declared_bytes(shape: tuple[int, ...] | None, itemsize: int) -> int:
@@ -248,7 +255,11 @@ def check_self_contained(handle: h5py.File, where: str | Path, max_bytes: int) -
     * a dataset that declares more than :data:`MAX_EXPANSION` bytes per stored byte (a
       1e12-element chunked dataset with no chunk written reads as fill values);
     * more than ``max_bytes`` of declared datasets and attributes in all, or more than
-      :data:`MAX_OBJECTS` objects.
+      :data:`MAX_OBJECTS` objects;
+    * declared datasets and attributes of more than :data:`MAX_FILE_EXPANSION` times the
+      file's size plus :data:`FILE_EXPANSION_SLACK` (a compression bomb: every chunk may
+      stay within deflate's ratio while the whole inflates to gigabytes), judged from the
+      declarations alone, before any chunk is decompressed.
 
     Parameters
     ----------
@@ -271,6 +282,8 @@ def check_self_contained(handle: h5py.File, where: str | Path, max_bytes: int) -
     """
     total, count, seen = 0, 0, set()
     stack: list[tuple[str, Any]] = [("/", handle.id)]
+    file_bytes = _file_size(handle)
+    bomb_limit = MAX_FILE_EXPANSION * file_bytes + FILE_EXPANSION_SLACK
 
     def refuse(name: str, why: str) -> UntrustedContentError:
         return UntrustedContentError(f"{where}: object {name!r} {why}; refused")
@@ -280,6 +293,13 @@ def check_self_contained(handle: h5py.File, where: str | Path, max_bytes: int) -
         total, count = total + nbytes, count + 1
         if total > max_bytes:
             raise refuse(name, f"takes the declared data past {max_bytes} bytes")
+        if total > bomb_limit:
+            raise refuse(
+                name,
+                f"takes the declared data to {total} bytes, {total / max(file_bytes, 1):.0f} "
+                f"times the file's {file_bytes} bytes (a compression bomb: at most "
+                f"{MAX_FILE_EXPANSION} times plus {FILE_EXPANSION_SLACK // 1024**2} MiB)",
+            )
         if count > MAX_OBJECTS:
             raise refuse(name, f"is past the {MAX_OBJECTS}th object of the file")
 
@@ -298,10 +318,10 @@ def check_self_contained(handle: h5py.File, where: str | Path, max_bytes: int) -
                 child = f"{name.rstrip('/')}/{member.decode(errors='replace')}"
                 kind = obj.links.get_info(member).type
                 if kind != h5py.h5l.TYPE_HARD:
-                    words = {h5py.h5l.TYPE_SOFT: "soft", h5py.h5l.TYPE_EXTERNAL: "external"}
+                    words = {h5py.h5l.TYPE_SOFT: "a soft", h5py.h5l.TYPE_EXTERNAL: "an external"}
                     raise refuse(
                         child,
-                        f"is a {words.get(kind, 'user-defined')} link; only hard links are "
+                        f"is {words.get(kind, 'a user-defined')} link; only hard links are "
                         "read (a reader never opens another file nor follows a link loop)",
                     )
                 target = h5py.h5o.open(obj, member)
@@ -316,6 +336,14 @@ def check_self_contained(handle: h5py.File, where: str | Path, max_bytes: int) -
     except (OSError, KeyError, RuntimeError, ValueError, TypeError) as exc:
         raise UntrustedContentError(f"{where}: cannot be inspected ({exc}); refused") from None
     return total
+
+
+def _file_size(handle: h5py.File) -> int:
+    """The size of the open file, bytes (its end-of-file address when libhdf5 cannot say)."""
+    try:
+        return int(handle.id.get_filesize())
+    except (OSError, RuntimeError, ValueError):
+        return 0
 
 
 def _check_dataset(dataset: Any, refuse: Any, name: str) -> int:

@@ -194,7 +194,15 @@ _ENTRIES = (
         1e11,
         "no solid shears above its theoretical strength, < 1e11 Pa",
     ),
-    _q("material.friction_coefficient", "", 0, 10, "Coulomb mu; measured values are below ~5"),
+    _q(
+        "material.friction_coefficient",
+        "",
+        0,
+        10,
+        "Coulomb mu; measured values are below ~5, and mu = 0 leaves no stick to solve for "
+        "(the shear solve cannot converge: F_x = 0 at once)",
+        open_low=True,
+    ),
     _q("material.equilibrium_distance", "m", 1e-11, 1e-8, "interatomic distances are 0.1-1 nm"),
     _q(
         "material.hardness",

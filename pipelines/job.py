@@ -30,9 +30,15 @@ from pathlib import Path
 import asperity
 from asperity.bem.progress import progress_line, solve_progress
 from asperity.errors import InputError
+from asperity.files import SpecialFileError
+from asperity.h5 import UntrustedContentError
 from asperity.pipelines.config import ConfigError, JobConfig
 from asperity.pipelines.engine.interrupts import InterruptGuard, checkpoint
-from asperity.pipelines.engine.outdir import OutputLock, OutputWriteError
+from asperity.pipelines.engine.outdir import (
+    OutputLock,
+    OutputWriteError,
+    refuse_a_different_finished_job,
+)
 from asperity.pipelines.engine.parallel import Scheduler, make_executor
 from asperity.pipelines.engine.stage import (
     DISABLED,
@@ -128,7 +134,7 @@ def run_job(
     out_dir : path
         Output directory (created).
     force : bool
-        Recompute every stage even when stored.
+        Recompute every stage even when stored, and replace a finished run of another job.
     workers : int, optional
         Worker processes for the sweeps (default: ``config.run.workers``).
     scheduler : str or distributed.Client, optional
@@ -147,6 +153,9 @@ def run_job(
     ------
     pipelines.engine.outdir.OutputLockedError
         Another run holds ``out_dir`` (its lock file ``.asperity.lock``).
+    pipelines.engine.outdir.DifferentJobError
+        ``out_dir`` holds a finished run of another job (a configuration value its stages were
+        computed with differs) and ``force`` is False: nothing is written.
     pipelines.engine.outdir.OutputDirError, pipelines.engine.outdir.OutputWriteError
         ``out_dir`` cannot be written, or the disk is full: ``results.h5`` keeps what it held.
     KeyboardInterrupt
@@ -186,6 +195,14 @@ def run_job(
             force=force,
             log=log,
         )
+        if not force:  # a finished run of another job is never overwritten unasked
+            runner.plan(STAGES)
+            refuse_a_different_finished_job(
+                out_dir,
+                runner.store.stored(),
+                runner.documents,
+                (str(runner.store.root_attrs().get("config_source", "")), config.source),
+            )
         try:
             # a long BEM stage shows its solves as they finish (terminal only)
             with solve_progress("BEM solves", enabled=progress, note=SOLVES_NOTE):
@@ -284,8 +301,8 @@ def run_stages(runner: Runner) -> None:
     """
     try:
         runner.run_all(STAGES)
-    except (ConfigError, OutputWriteError):  # already name the key, or the output file
-        raise
+    except (ConfigError, OutputWriteError, SpecialFileError, UntrustedContentError):
+        raise  # already name the key, or the output file (results.h5 a FIFO, hostile)
     except InputError as exc:
         stage = STAGES[min(len(runner.runs), len(STAGES) - 1)]
         keys = ", ".join(stage.config) or "none"

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import warnings
 
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -83,3 +84,39 @@ def test_inert_keeps_printable_text_and_cut_keeps_short_text(text):
     assert _controls(shown) == [] and "\n" not in shown
     if text.isprintable():
         assert shown == text and cut(text, 400) == text
+
+
+def test_a_zero_friction_coefficient_is_bad_input_not_a_stalled_solve(capsys):
+    from pathlib import Path
+
+    surface = Path(__file__).parent / "data" / "x3p-2.x3p"
+    command = ["bem", str(surface), "--e-star", "2e6", "--load", "0.001"]
+    shear = ["--tangential-displacement", "1e-6", "--friction-coefficient", "0"]
+    assert main([*command, *shear]) == 2  # 0.4.2: solved for minutes, then exit 1
+    line = _one_bounded_line(capsys.readouterr().err)
+    assert "--friction-coefficient" in line and "stick" in line
+
+
+def test_an_external_link_is_named_in_english(tmp_path):
+    import h5py
+
+    from asperity.h5 import UntrustedContentError, check_self_contained
+
+    path = tmp_path / "linked.h5"
+    with h5py.File(path, "w") as f:
+        f["elsewhere"] = h5py.ExternalLink("/etc/passwd.h5", "/data")
+    with h5py.File(path, "r") as f, pytest.raises(UntrustedContentError) as info:
+        check_self_contained(f, path, 10**6)
+    assert "is an external link" in str(info.value)
+
+
+@pytest.mark.slow  # a batch run draws its summary figure: a few seconds
+def test_batch_lines_naming_a_hostile_map_are_inert(tmp_path, capsys):
+    job = tmp_path / "job.toml"
+    assert main(["init", str(job)]) == 0
+    bad = tmp_path / "\x1b[2J\x1b[31mmap.npy"
+    bad.write_bytes(b"\x93NUMPY not really")
+    assert main(["batch", str(job), str(bad), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert "[2J" in err and "\x1b" not in err
+    assert all(len(line) <= MAX_ERROR_LINE for line in err.splitlines())

@@ -3,10 +3,12 @@
 ``run_batch("job.toml", ["maps/*.x3p"], "batch-out")`` runs :func:`pipelines.job.run_job` and
 :func:`pipelines.report.write_report` once per map, with ``[surface] file`` replaced by the map
 (every other key of the job as written), in ``batch-out/<map stem>/``. Each folder is an
-ordinary, resumable run: running the batch again skips the stored stages. Maps run one per
-task: in this process, in ``workers`` processes, or one per task on a dask.distributed
-cluster. A map that fails (an unreadable file, loads below its pull-off force, any error) is
-recorded with its message and does not stop the others.
+ordinary, resumable run: running the batch again skips the stored stages, and a folder whose
+run is finished and identical (results.h5 holds the same stage keys after the run as before,
+its report there) is taken as it is, its figures not redrawn. Maps run one per task: in
+this process, in ``workers`` processes, or one per task on a dask.distributed cluster. A map
+that fails (an unreadable file, loads below its pull-off force, any error) is recorded with
+its message and does not stop the others.
 
 Outputs: ``summary.csv`` (one row per map: effective resolution, eta, R, sigma_s, lambda, and
 at each load A_r/A_n, static and sliding friction, the verdict when the job has one; then a
@@ -31,7 +33,9 @@ from asperity.pipelines.batch.summary import (
 )
 from asperity.pipelines.batch.summary import summary_values as _summary_values
 from asperity.pipelines.config import Document, JobConfig, config_from_dict
+from asperity.pipelines.engine.outdir import report_removed_on_failure
 from asperity.pipelines.engine.parallel import Scheduler, make_executor
+from asperity.pipelines.engine.store import ResultStore
 from asperity.pipelines.job import JobResult, run_job
 from asperity.pipelines.report import write_report
 
@@ -132,8 +136,11 @@ def run_one_map(
     record: MapRecord = {"map": map_path, "folder": folder, "status": "failed"}
     try:
         config = map_config(data, Path(base_dir), source, Path(map_path))
+        before = _stored_keys(folder)
         result = run_job(config, folder, force=force, workers=1)
-        write_report(result, folder)
+        if not _finished_report_in(folder, before):
+            with report_removed_on_failure(folder):  # never half a report
+                write_report(result, folder)
         record.update(
             status=_map_status(result),
             message="; ".join([*_invalid_reasons(result), *result.problems()][:3]),
@@ -145,6 +152,28 @@ def run_one_map(
         record["message"] = f"{kind}: {' '.join(str(exc).split())}"
         record["traceback"] = traceback.format_exc(limit=5)
     return record
+
+
+def _stored_keys(folder: str | Path) -> dict[str, str]:
+    """The stage keys stored in ``folder``'s results.h5 ({} when none can be read)."""
+    path = Path(folder) / "results.h5"
+    if not path.is_file():
+        return {}
+    try:
+        return {name: info.key for name, info in ResultStore(path).stored().items()}
+    except InputError:  # unreadable or hostile: run_job sets it aside and recomputes
+        return {}
+
+
+def _finished_report_in(folder: str | Path, before: dict[str, str]) -> bool:
+    """Whether ``folder`` already holds this run's report: results.h5 holds, after the run,
+    exactly the stages with exactly the keys it held before (the same job, the same
+    asperity, the same inputs: the same numbers and verdict), and report.md and report.html
+    are there. A finished identical run in the folder is then reused whole, its figures not
+    redrawn (``asperity report DIR`` redraws them)."""
+    folder = Path(folder)
+    same = bool(before) and "verdict" in before and _stored_keys(folder) == before
+    return same and (folder / "report.md").is_file() and (folder / "report.html").is_file()
 
 
 @dataclass

@@ -15,7 +15,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from asperity.errors import InputError
+from asperity.errors import InputError, error_line
 from asperity.files import describe_kind, require_output_dir
 from asperity.quantities import quantity
 from asperity.schema import read_toml
@@ -67,7 +67,7 @@ def handle_batch(args: argparse.Namespace) -> int:
         else:
             maps.append(pattern)
     for line in refused:
-        print(line, file=sys.stderr)
+        print(error_line("  ", line.strip()), file=sys.stderr)
     if not maps:
         raise InputError(f"MAP: none of the {len(args.maps)} entries is a height-map file")
     result = run_batch(
@@ -77,12 +77,13 @@ def handle_batch(args: argparse.Namespace) -> int:
         workers=args.workers,
         scheduler=args.scheduler,
         force=args.force,
-        log=lambda line: print(line, file=sys.stderr),
+        log=lambda line: print(error_line("", line), file=sys.stderr),
     )
     ok = sum(r["status"] == "ok" for r in result.records)
     print(f"{ok} / {len(result.records)} maps ok; summary: {result.summary_csv}")
     for record in result.records:
         if record["status"] in ("failed", "invalid", "not converged"):
             state = record["status"].upper()
-            print(f"  {state} {record['map']}: {record['message']}", file=sys.stderr)
+            line = error_line(f"  {state} ", f"{record['map']}: {record['message']}")
+            print(line, file=sys.stderr)
     return 2 if refused else result.status  # a refused map counts as a failed one

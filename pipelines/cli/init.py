@@ -21,6 +21,7 @@ from pathlib import Path
 from asperity.atomic import atomic_output, sync_directory, write_error
 from asperity.errors import ExitStatus, InputError, cut, inert
 from asperity.files import describe_kind
+from asperity.quantities import quantity
 
 #: File name endings of plain-text height files, which state no length unit.
 TEXT_SUFFIXES = (".txt", ".asc", ".xyz", ".csv")
@@ -126,7 +127,9 @@ def toml_string(text: str, option: str) -> str:
 _TOML_SHORT = {"\b": "\\b", "\t": "\\t", "\n": "\\n", "\f": "\\f", "\r": "\\r"}
 
 
-def starter_job(name: str, surface: str | None, unit: str | None = None) -> str:
+def starter_job(
+    name: str, surface: str | None, unit: str | None = None, pixel_size: float | None = None
+) -> str:
     """The text of a starter job file named ``name``.
 
     Parameters
@@ -140,6 +143,9 @@ def starter_job(name: str, surface: str | None, unit: str | None = None) -> str:
     unit : str or None
         The length unit of a plain-text ``surface`` (written as ``unit = "..."``); a
         placeholder line asks for it when the file is text and no unit is given.
+    pixel_size : float or None
+        The pixel size of a ``surface`` that carries none (a NumPy array, a text matrix), m
+        (written as ``pixel_size = ...``).
 
     Raises
     ------
@@ -158,11 +164,13 @@ def starter_job(name: str, surface: str | None, unit: str | None = None) -> str:
                 '\n# unit = "um"             # a text matrix or x y z / x z columns: '
                 "state their length unit (m, mm, um, nm)"
             )
+        if pixel_size is not None:
+            unit_line += f"\npixel_size = {float(pixel_size)!r}   # m, the map's pixel"
         text += _FILE.format(file=toml_string(surface, "surface"), unit_line=unit_line)
     return text + _REST.format(nominal_area="700e-6")
 
 
-def _surface_refusal(path: Path, unit: str | None) -> InputError | None:
+def _surface_refusal(path: Path, unit: str | None, pixel_size: float | None) -> InputError | None:
     """What the readers say of ``path`` read as the job will read it (None: it reads).
 
     A plain-text file without ``--unit`` is refused asking for it; any other refusal of the
@@ -171,7 +179,7 @@ def _surface_refusal(path: Path, unit: str | None) -> InputError | None:
     from asperity.topo import read_surface  # deferred: topo.io loads h5py
 
     try:
-        read_surface(path, unit=unit)
+        read_surface(path, unit=unit, pixel_size=pixel_size)
     except InputError as exc:
         if unit is None and "unit: is not stated" in str(exc):
             return InputError(
@@ -264,12 +272,12 @@ def run_init(args: argparse.Namespace) -> int:
     if args.surface is not None:
         path = Path(args.surface)
         surface = _surface_in_job(path, target)
-        refusal = _surface_refusal(path, args.unit)
+        refusal = _surface_refusal(path, args.unit, args.pixel_size)
         if refusal is not None:
             raise refusal
-    elif args.unit is not None:
-        raise InputError("--unit: given without --surface; it states a text file's unit")
-    text = starter_job(target.name, surface, args.unit)
+    elif args.unit is not None or args.pixel_size is not None:
+        raise InputError("--unit, --pixel-size: given without --surface; they describe its file")
+    text = starter_job(target.name, surface, args.unit, args.pixel_size)
     _write_validated(target, text)
     print(
         f"wrote {inert(target)}: edit the material and loads, then `asperity run {inert(target)}`"
@@ -292,6 +300,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     parser.add_argument(
         "--unit", help="length unit of a plain-text --surface (m, mm, um, nm): text states none"
+    )
+    parser.add_argument(
+        "--pixel-size",
+        type=quantity("surface.pixel_size").option("--pixel-size"),
+        default=None,
+        metavar="DX",
+        help="pixel size (m) of a --surface that carries none (.npy, .npz, a text matrix)",
     )
     parser.add_argument("--force", action="store_true", help="overwrite an existing JOB.toml")
     parser.set_defaults(func=run_init)

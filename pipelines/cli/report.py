@@ -26,7 +26,7 @@ from pathlib import Path
 
 from asperity.errors import InputError
 from asperity.files import describe_kind, require_regular_file
-from asperity.pipelines.engine.outdir import OutputLock
+from asperity.pipelines.engine.outdir import OutputLock, report_removed_on_failure
 from asperity.quantities import quantity
 from asperity.schema import clip
 
@@ -119,7 +119,9 @@ def handle_report(args: argparse.Namespace) -> int:
     with OutputLock(
         results.out_dir, log=lambda line: print(line, file=sys.stderr), option="OUT_DIR"
     ):
-        with interruptible():  # no safe point in the drawing: a Ctrl-C stops it at once
+        # no safe point in the drawing: a Ctrl-C stops it at once; a report that cannot
+        # finish removes what it wrote of itself
+        with report_removed_on_failure(results.out_dir), interruptible():
             report = write_report(results, results.out_dir, options)
     print(f"{report}, {report.with_suffix('.html')} and the figures ({', '.join(options.formats)})")
     print(verdict_wording(results.verdict))

@@ -23,7 +23,7 @@ from asperity.errors import InputError
 from asperity.files import require_output_dir
 from asperity.pipelines.cli import batch, report
 from asperity.pipelines.config import PRESETS, JobConfig, load_config, load_preset
-from asperity.pipelines.engine.outdir import OutputLock, write_error
+from asperity.pipelines.engine.outdir import OutputLock, report_removed_on_failure, write_error
 from asperity.quantities import quantity
 
 if TYPE_CHECKING:  # imported when a job runs (the CLI starts without the solvers)
@@ -59,7 +59,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="run a shipped preset instead of CONFIG.toml",
     )
     parser.add_argument(
-        "--force", action="store_true", help="recompute every stage even when results.h5 holds it"
+        "--force",
+        action="store_true",
+        help="recompute every stage even when results.h5 holds it; also needed to replace a "
+        "finished run of a different job in --out (refused otherwise, exit 2)",
     )
     parser.add_argument(
         "--compute-all",
@@ -141,11 +144,13 @@ def _run_and_report(args: argparse.Namespace, config: JobConfig) -> JobResult:
         progress=progress_enabled() and not args.quiet,
         log=_log_line,
     )
-    try:
-        with interruptible():  # no safe point in the drawing: a Ctrl-C stops it at once
-            write_report(result, args.out)
+    try:  # a report that cannot finish removes what it wrote of itself
+        with report_removed_on_failure(args.out), interruptible():
+            write_report(result, args.out)  # no safe point in the drawing: Ctrl-C stops it
     except OSError as exc:  # a full disk while writing the figures: results.h5 is complete
-        error = write_error(Path(args.out), exc, "results.h5 holds every stage")
+        error = write_error(
+            Path(args.out), exc, "results.h5 holds every stage; the unfinished report was removed"
+        )
         if error is None:
             raise
         raise error from exc

@@ -40,7 +40,7 @@ import re
 import socket
 import sys
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from pathlib import Path
 from types import TracebackType
 
@@ -188,6 +188,7 @@ class OutputLock:
 
     def acquire(self) -> None:
         """Take the lock (or re-enter it when this process holds it already)."""
+        self._created_directory = not self.directory.exists()
         try:
             self.directory.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
@@ -208,17 +209,28 @@ class OutputLock:
         remove_stale_temporaries(self.directory, self.log)
 
     def _take(self) -> None:
+        for _attempt in range(3):  # a lock file removed by its holder meanwhile: open it anew
+            handle = self._open_lock_file()
+            try:
+                locked = _lock_exclusive(handle)
+            except OSError:  # a file system without locks: fall back to the pid record alone
+                locked = not self._record_is_live()
+            if not locked or _same_file(handle, self.path):
+                break
+            handle.close()
+        self._hold(handle, locked)
+
+    def _open_lock_file(self):  # noqa: ANN202 (a binary file object)
         try:
-            handle = open(self.path, "a+b")  # noqa: SIM115 (held until release)
+            return open(self.path, "a+b")  # noqa: SIM115 (held until release)
         except OSError as exc:
             raise OutputDirError(
                 f"{self.option} {self.directory}: cannot write in the output directory "
                 f"({exc.strerror or exc}: {self.path})"
             ) from exc
-        try:
-            locked = _lock_exclusive(handle)
-        except OSError:  # a file system without locks: fall back to the pid record alone
-            locked = not self._record_is_live()
+
+    def _hold(self, handle, locked: bool) -> None:  # noqa: ANN001 (a binary file object)
+        """Keep ``handle`` as this run's lock (or refuse: another run holds it)."""
         if not locked:
             holder = _read_record(self.path)
             handle.close()
@@ -293,5 +305,137 @@ class OutputLock:
         if self._handle is not None:
             with contextlib.suppress(OSError):  # a cleared record: this run ended cleanly
                 self._handle.truncate(0)
+            self._remove_if_nothing_written()
             self._handle.close()  # closing the file releases flock / msvcrt locks
             self._handle = None
+
+    def _remove_if_nothing_written(self) -> None:
+        """A run that wrote nothing leaves nothing: the lock file goes (still locked, so a
+        run that opened it meanwhile sees it gone and opens a new one), and so does the
+        directory when this run created it."""
+        try:
+            if [p.name for p in self.directory.iterdir()] != [LOCK_NAME]:
+                return
+            self.path.unlink()
+        except OSError:
+            return
+        if getattr(self, "_created_directory", False):
+            with contextlib.suppress(OSError):
+                self.directory.rmdir()
+
+
+def _same_file(handle, path: Path) -> bool:  # noqa: ANN001 (a binary file object)
+    """Whether ``path`` still names the file ``handle`` has open (not removed, not replaced)."""
+    try:
+        return os.path.samestat(os.fstat(handle.fileno()), os.stat(path))
+    except OSError:
+        return False
+
+
+class DifferentJobError(InputError):
+    """The output folder holds a finished run of a different job (exit status 2)."""
+
+
+#: The stage whose presence makes a folder's run finished.
+FINISHED_STAGE = "verdict"
+
+
+def job_values(documents: Iterable[str]) -> dict[str, object]:
+    """The configuration values the stage keys hash, by key path (``loading.normal_loads``),
+    gathered from the stages' JSON key documents; asperity's version is left out, so the
+    same job run by another version is the same job."""
+    values: dict[str, object] = {}
+    for text in documents:
+        try:
+            document = json.loads(text) if text else None
+        except ValueError:
+            continue
+        config = document.get("config") if isinstance(document, dict) else None
+        if isinstance(config, dict):
+            values.update(config)
+    return values
+
+
+def refuse_a_different_finished_job(
+    directory: Path,
+    stored: Mapping[str, object],
+    planned: Mapping[str, str],
+    sources: tuple[str, str],
+) -> None:
+    """Refuse to overwrite a finished run of another job in ``directory``.
+
+    Parameters
+    ----------
+    directory : Path
+        The output folder.
+    stored : mapping
+        Its finished stages (:meth:`ResultStore.stored`: objects with ``key_inputs``).
+    planned : mapping
+        The new job's key documents (JSON) by stage.
+    sources : (str, str)
+        The stored job's and the new job's configuration sources, named in the message.
+
+    Raises
+    ------
+    DifferentJobError
+        The folder's run is finished (its verdict is stored) and a configuration value its
+        stages were computed with differs from the new job's: ``--force`` replaces it.
+    """
+    if FINISHED_STAGE not in stored:
+        return
+    old = job_values(getattr(info, "key_inputs", "") for info in stored.values())
+    new = job_values(planned.values())
+    differing = sorted(k for k in old.keys() & new.keys() if old[k] != new[k])
+    if not differing:
+        return
+    shown = ", ".join(differing[:6]) + (
+        f" and {len(differing) - 6} more" if len(differing) > 6 else ""
+    )
+    raise DifferentJobError(
+        f"{clip(str(directory))}: holds a finished run of another job ({clip(sources[0] or '?')}); "
+        f"this job ({clip(sources[1] or '?')}) differs in {shown}: choose another --out, or give "
+        "--force to replace that run"
+    )
+
+
+#: File name endings of what a report writes (report.md, report.html, figures, their CSVs).
+REPORT_SUFFIXES = (".md", ".html", ".png", ".pdf", ".svg", ".csv")
+
+
+def _report_files(directory: Path) -> dict[str, tuple[int, int]]:
+    """The report-like files in ``directory``: name -> (inode, modification time, ns)."""
+    found = {}
+    with contextlib.suppress(OSError):
+        for entry in os.scandir(directory):
+            if entry.name.endswith(REPORT_SUFFIXES) and entry.is_file(follow_symlinks=False):
+                info = entry.stat(follow_symlinks=False)
+                found[entry.name] = (info.st_ino, info.st_mtime_ns)
+    return found
+
+
+@contextlib.contextmanager
+def report_removed_on_failure(directory: str | Path) -> Iterator[None]:
+    """Write a report inside the block; if it cannot finish, remove what it wrote.
+
+    Every report file (:data:`REPORT_SUFFIXES`) the block created or replaced in
+    ``directory`` is removed when the block ends by an exception (a full disk, Ctrl-C, a
+    failing figure), and so are report.md and report.html, which would otherwise point at
+    figures that are gone: a half-written report is never left beside ``results.h5``. A
+    write error is re-raised with that said.
+    """
+    directory = Path(directory)
+    before = _report_files(directory)
+    try:
+        yield
+    except BaseException as exc:
+        after = _report_files(directory)
+        written = [name for name, stamp in after.items() if before.get(name) != stamp]
+        if written:
+            written += [n for n in ("report.md", "report.html") if n in after]
+            for name in set(written):
+                with contextlib.suppress(OSError):
+                    (directory / name).unlink()
+        if isinstance(exc, OutputWriteError):
+            removed = f"the unfinished report ({len(set(written))} files) was removed"
+            raise OutputWriteError(f"{exc}; {removed}", exc.errno) from exc
+        raise

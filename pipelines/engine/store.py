@@ -151,11 +151,14 @@ class StoredStage:
         SHA-256 of its stored values at write time.
     seconds : float
         Wall time it took, s.
+    key_inputs : str
+        The JSON document its key hashes ("" when the file has none).
     """
 
     key: str
     checksum: str
     seconds: float
+    key_inputs: str = ""
 
 
 class ResultStore:
@@ -242,6 +245,7 @@ class ResultStore:
                         _text(a.get("stage_key", "")),
                         _text(a.get("checksum", "")),
                         float(a.get("seconds", np.nan)),
+                        _text(a.get("key_inputs", "")),
                     )
                 except READ_ERRORS:
                     continue

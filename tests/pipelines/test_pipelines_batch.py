@@ -64,8 +64,13 @@ def test_batch_summary_failure_and_resume(small, tmp_path):
         assert (out / f"map{i}" / "results.h5").exists() and (
             out / f"map{i}" / "report.html"
         ).exists()
+    figures = [p for p in (out / "map0").iterdir() if p.suffix in (".md", ".html", ".png", ".csv")]
+    drawn = {p.name: p.stat().st_mtime_ns for p in figures}
     again = run_batch(job, [str(folder / "map0.npy")], out)
     assert again.records[0]["status"] == "ok" and again.records[0]["computed"] == []
+    # the finished identical run is reused whole: its report and figures are not redrawn
+    assert len(drawn) > 4
+    assert {p.name: p.stat().st_mtime_ns for p in figures} == drawn
 
 
 @pytest.mark.slow

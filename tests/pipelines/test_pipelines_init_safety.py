@@ -179,3 +179,13 @@ def test_force_onto_a_folder_names_the_folder_not_a_temporary(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "d.toml: is a directory" in err and ".tmp" not in err
     assert list(folder.iterdir()) == [] and sorted(tmp_path.iterdir()) == [folder]
+
+
+def test_a_numpy_map_needs_and_takes_its_pixel_size(tmp_path, capsys):
+    surface = tmp_path / "map.npy"
+    np.save(surface, np.random.default_rng(0).normal(size=(64, 64)) * 1e-6)
+    job = tmp_path / "job.toml"
+    assert main(["init", str(job), "--surface", str(surface)]) == 2  # the job could not run
+    assert "--pixel-size" in capsys.readouterr().err and not job.exists()
+    assert main(["init", str(job), "--surface", str(surface), "--pixel-size", "2e-6"]) == 0
+    assert load_config(job).surface.pixel_size == 2e-6

@@ -175,6 +175,10 @@ def test_a_killed_holder_releases_the_lock_and_its_record_is_taken_over(tmp_path
     with OutputLock(tmp_path, log=lines.append):
         assert json.loads((tmp_path / LOCK_NAME).read_text())["pid"] == os.getpid()
     assert any(f"took over the lock of pid {holder.pid}" in line for line in lines)
+    assert not (tmp_path / LOCK_NAME).exists()  # nothing else written: the lock file goes
+    (tmp_path / "results.h5").write_bytes(b"")  # a folder holding a run keeps its lock file
+    with OutputLock(tmp_path):
+        pass
     assert (tmp_path / LOCK_NAME).read_text() == ""  # a clean end clears the record
 
 

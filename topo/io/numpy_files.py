@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import io
 import math
+import re
 import tokenize
 import zipfile
 import zlib
@@ -58,6 +59,20 @@ _HEADER_ERRORS = (
 _ZIP_STREAM_ERRORS = (zipfile.BadZipFile, zlib.error, EOFError, OSError, RuntimeError, ValueError)
 
 
+def _header_refusal(exc: BaseException) -> str:
+    """Why an NPY header was refused, in asperity's words: numpy's refusal of an oversized
+    header advises ``allow_pickle=True`` (trusting the file), advice a reader of untrusted
+    files must not pass on."""
+    text = str(exc)
+    size = re.search(r"Header info length \((\d+)\)", text)
+    if size is not None:
+        return (
+            f"is {size.group(1)} bytes long, larger than numpy parses safely (a header of a "
+            "few hundred bytes describes any array); corrupt or hostile file"
+        )
+    return f"is unreadable ({text}); truncated or not NPY"
+
+
 def _npy_header(path: Path, handle: IO[bytes], where: str) -> tuple[tuple, bool, np.dtype]:
     """(shape, Fortran order, dtype) of one NPY stream's header, the type and rank checked."""
     try:
@@ -69,9 +84,7 @@ def _npy_header(path: Path, handle: IO[bytes], where: str) -> tuple[tuple, bool,
         else:
             raise ValueError(f"unknown NPY format version {version}")
     except _HEADER_ERRORS as exc:
-        raise CorruptFileError(
-            path, f"{where} NPY header", f"is unreadable ({exc}); truncated or not NPY"
-        ) from None
+        raise CorruptFileError(path, f"{where} NPY header", _header_refusal(exc)) from None
     if dtype.hasobject:
         raise TopographyFileError(
             path, f"{where} dtype", f"is {dtype}; object arrays need unpickling, which is refused"
