@@ -124,6 +124,12 @@ class ShearCurve:
         Wall time of the normal preload (s).
     final_traction : ndarray
         q_x (Pa) of the last step.
+    substeps : ndarray of int or None
+        The mixed-mode curve's transactional steps
+        (:func:`asperity.bem.shear.rough_mixed_mode.mixed_mode_shear_curve`): the number of
+        sub-steps of delta_T each requested step was solved in (1: as asked; 2, 4, ...: the step
+        failed, was undone and retried smaller, ``ShearOptions.max_step_halvings``); None for
+        the solvers that do not retry.
     """
 
     tangential_displacement: np.ndarray
@@ -141,6 +147,7 @@ class ShearCurve:
     seconds: np.ndarray
     normal_seconds: float
     final_traction: np.ndarray = field(repr=False)
+    substeps: np.ndarray | None = None
 
     @property
     def success(self) -> bool:

@@ -514,6 +514,46 @@ def _preload(prob: _Problem, normal_options: SolverOptions | None) -> _State:
         factor *= 2.0
 
 
+def _restore(prob: _Problem, st: _State, saved: _State, slope: float | None) -> None:
+    """Put ``st`` (in place) and the load controller's slope back as they were."""
+    st.c, st.slide, st.p, st.q, st.s, st.d = (
+        saved.c.copy(),
+        saved.slide.copy(),
+        saved.p.copy(),
+        saved.q.copy(),
+        saved.s.copy(),
+        saved.d,
+    )
+    prob.normal.slope = slope
+
+
+def _transactional_step(prob: _Problem, st: _State, start: float, end: float) -> dict:
+    """The step from delta_T = ``start`` to ``end`` (m) as a transaction: solved at once; if it
+    fails (status != 0) the state is put back as it was and the step is retried as 2, 4, ...
+    equal sub-steps, at most ``2**max_step_halvings``. The row is the last sub-step's, with the
+    iterations of every attempt summed and ``substeps`` the count that was kept; where even the
+    finest retry fails its state is kept and the row says so (status 1, its message, and
+    "after n sub-steps")."""
+    saved, slope = st.copy(), prob.normal.slope
+    nit = cg = 0
+    for halvings in range(prob.opts.max_step_halvings + 1):
+        if halvings:
+            _restore(prob, st, saved, slope)
+        n = 2**halvings
+        for k in range(1, n + 1):
+            value = end if k == n else start + (end - start) * k / n
+            row = _settle(prob, st, value, check_junctions=True)
+            nit, cg = nit + row["nit"], cg + row["cg"]
+            if row["status"]:
+                break
+        if not row["status"]:
+            break
+    if row["status"] and n > 1:
+        row["message"] = f"{row['message']} (after {n} sub-steps)"
+    row.update(nit=nit, cg=cg, substeps=n)
+    return row
+
+
 def _curve(d_t: np.ndarray, rows: list, normal_seconds: float, st: _State) -> ShearCurve:
     """The ShearCurve of the step rows ``(row, seconds)``."""
 
@@ -540,6 +580,7 @@ def _curve(d_t: np.ndarray, rows: list, normal_seconds: float, st: _State) -> Sh
         seconds=np.array([t for _, t in rows]),
         normal_seconds=normal_seconds,
         final_traction=st.q.copy(),
+        substeps=col("substeps", int),
     )
 
 
@@ -612,7 +653,9 @@ def mixed_mode_shear_curve(
         ``stick_area`` the adhesive area; ``slip_area`` the sliding contact; ``junctions`` the
         stick clusters plus the sliding ones in contact; ``converged`` per step; ``nit`` the
         active-set iterations; ``convolutions`` the conjugate-gradient iterations;
-        ``normal_seconds`` the preload's wall time (s).
+        ``normal_seconds`` the preload's wall time (s); ``substeps`` the sub-steps each step
+        was solved in (a failed step is undone and retried in 2, 4, ... sub-steps, up to
+        ``2**options.max_step_halvings``; a step that fails even then is kept, not converged).
     """
     check_poisson(poisson_ratio)
     knobs = dict(
@@ -636,10 +679,12 @@ def mixed_mode_shear_curve(
         raise BemInputError(f"preload did not settle under the mixed-mode law: {pre['message']}")
     normal_seconds = time.perf_counter() - t0
     rows = []
+    previous = 0.0
     for value in d_t:
         t1 = time.perf_counter()
-        r = _settle(prob, st, float(value), check_junctions=True)
+        r = _transactional_step(prob, st, previous, float(value))
         rows.append((r, time.perf_counter() - t1))
+        previous = float(value)
         if stop_when_sliding and r["n_stick"] == 0:
             break
     return _curve(d_t, rows, normal_seconds, st)
