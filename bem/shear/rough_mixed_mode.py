@@ -447,6 +447,7 @@ def _step_row(prob: _Problem, st: _State, delta_t: float, log: _StepLog, cg: int
     u_x = prob.op_t(st.q)
     st.s = np.where(st.c, st.s, delta_t - u_x)
     area = prob.area
+    energy = 0.5 * area * float(np.sum(st.p * prob.op_n(st.p)) + np.sum(st.q * u_x))
     _, n_stick = label_junctions(st.c, periodic=prob.periodic)
     _, n_slide = label_junctions(slide_contact, periodic=prob.periodic)
     return {
@@ -460,6 +461,8 @@ def _step_row(prob: _Problem, st: _State, delta_t: float, log: _StepLog, cg: int
         "message": log.message,
         "nit": log.nit,
         "cg": cg,
+        "separation": st.d,
+        "energy": energy,
     }
 
 
@@ -581,6 +584,8 @@ def _curve(d_t: np.ndarray, rows: list, normal_seconds: float, st: _State) -> Sh
         normal_seconds=normal_seconds,
         final_traction=st.q.copy(),
         substeps=col("substeps", int),
+        separation=col("separation"),
+        elastic_energy=col("energy"),
     )
 
 
