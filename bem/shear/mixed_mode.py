@@ -63,8 +63,14 @@ cascades. At delta < 0 the contact collapses to nothing; at delta > 0 it recedes
 the Hertz contact, where the mode-I ring is gone (K_I = 0) and the mode-II term alone cannot
 detach the compressed edge (Pohrt-Popov attach only on penetration, so the contact cannot
 spread back). A step is declared unstable when its area falls below ``collapse_fraction`` of
-the area at the step's start, or when the contact no longer carries tension
-(:data:`ADHESION_LOST`); the junction then slides (the paper's status map): its contact becomes
+the area at the step's start, when the contact no longer carries tension
+(:data:`ADHESION_LOST`), or when, under shear (delta_T > 0), an element that the step detached
+penetrates again: the receding edge has overshot to the Hertz contact, which is how the cascade
+past the fold shows on a mesh (issue 34: at 48 and 64 elements per JKR radius the
+simultaneous detachments of the cascade passed a_H, 284 of 3544 elements bonded again where
+they stood, with no tangential misfit, and that relaxed rim held a stick state with every
+element below w up to 1.09-1.12 delta_T^max, where PC's G is 3-11 % above w; docs/bem_shear.md);
+the junction then slides (the paper's status map): its contact becomes
 non-adhesive (w = 0, E:Hertz_theory) and carries the constant shear strength tau_0
 (:func:`sliding_state`).
 """
@@ -325,6 +331,7 @@ def adhesive_shear_solve(
     nit = 0
     u_x = np.zeros(shape)
     gap = np.zeros(shape)
+    gone = np.zeros(shape, dtype=bool)  # elements detached in this solve
     while True:
         nit += 1
         if not c.any():
@@ -378,6 +385,14 @@ def adhesive_shear_solve(
         c &= ~detach
         p[detach] = 0.0
         q[detach] = 0.0
+        gone |= detach
+        if tangential_displacement > 0 and area0 > 0 and (attach & gone).any():
+            stable = False
+            message = (
+                "collapsed through the fold: the receding edge overshot into penetration "
+                "(the Hertz contact), no stick state"
+            )
+            break
         if attach.any():
             u_x = ops.tangential(q)
             s[attach] = tangential_displacement - u_x[attach]
