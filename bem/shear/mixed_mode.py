@@ -657,10 +657,7 @@ def tangential_sweep(
         collapse_fraction=1e-6,
         **kw,
     )
-    preload = state
-    states: list[AdhesiveShearState] = []
-    jump = None
-    last = 0.0
+    preload, states, jump, last = state, [], None, 0.0
     for value in d_t:
         if jump is None:
             state = adhesive_shear_solve(
