@@ -238,6 +238,11 @@ class _Junctions:
     count: int
     area0: np.ndarray
     g0: np.ndarray
+    gone: np.ndarray | None = None  # elements detached during the step
+
+    def __post_init__(self) -> None:
+        if self.gone is None:
+            self.gone = np.zeros(self.labels.shape, dtype=bool)
 
     @property
     def ids(self) -> np.ndarray:
@@ -400,6 +405,16 @@ def _change_sets(
         if collapsed.any():
             _to_sliding(prob, st, junc, collapsed)
     near = _grow(st.slide, 1, prob.periodic)
+    if junc is not None and prob.opts.rebond_slides and delta_t > 0:
+        junc.gone |= detach
+        rebond = pen & ~near & junc.gone
+        if rebond.any():
+            # the junction's receding edge overshot into penetration: the cascade through its
+            # fold (mixed_mode's docstring), no stick state; it slides
+            through = np.isin(junc.ids, np.unique(junc.labels[rebond])) & (junc.area0 > 0)
+            if through.any():
+                _to_sliding(prob, st, junc, through)
+                near = _grow(st.slide, 1, prob.periodic)
     to_bond = pen & ~near
     if to_bond.any():
         u_x = prob.op_t(st.q)

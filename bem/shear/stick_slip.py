@@ -110,6 +110,11 @@ class ShearOptions:
         In [0, 8]: a step of the mixed-mode curve that fails (its active set does not settle, a
         linear solve stalls, the load is not reached) is undone and retried as 2, 4, ...
         sub-steps of delta_T, at most ``2**max_step_halvings``; 0: no retry.
+    rebond_slides : bool
+        Under shear, a junction of the mixed-mode curve that an element it detached in the
+        step penetrates again has passed its fold (the cascade overshot to the Hertz contact)
+        and slides (issue 34; :mod:`asperity.bem.shear.mixed_mode`); False: such elements bond
+        again where they stand (0.4.2).
     """
 
     tol: float = 1e-8
@@ -124,6 +129,7 @@ class ShearOptions:
     load_tolerance: float = 1e-8
     max_active_set: int = 500
     max_step_halvings: int = 3
+    rebond_slides: bool = True
 
     def __post_init__(self) -> None:
         self._check_curve_knobs()
@@ -173,6 +179,10 @@ class ShearOptions:
                 and low <= val <= high
             ):
                 raise BemInputError(f"{name}: expected an integer in [{low}, {high}], got {val!r}")
+        if not isinstance(self.rebond_slides, (bool, np.bool_)):
+            raise BemInputError(
+                f"rebond_slides: expected True or False, got {self.rebond_slides!r}"
+            )
         tol = self.load_tolerance
         if not (isinstance(tol, (int, float)) and 0.0 < tol <= 0.1):
             raise BemInputError(f"load_tolerance: expected a number in (0, 0.1], got {tol!r}")

@@ -83,6 +83,7 @@ def test_loose_keyword_overrides_options():
         ("load_tolerance", 0.0),
         ("max_active_set", 0),
         ("max_step_halvings", 9),
+        ("rebond_slides", 1),
     ],
 )
 def test_bad_knob_names_its_key(key, value):
