@@ -63,8 +63,14 @@ cascades. At delta < 0 the contact collapses to nothing; at delta > 0 it recedes
 the Hertz contact, where the mode-I ring is gone (K_I = 0) and the mode-II term alone cannot
 detach the compressed edge (Pohrt-Popov attach only on penetration, so the contact cannot
 spread back). A step is declared unstable when its area falls below ``collapse_fraction`` of
-the area at the step's start, or when the contact no longer carries tension
-(:data:`ADHESION_LOST`); the junction then slides (the paper's status map): its contact becomes
+the area at the step's start, when the contact no longer carries tension
+(:data:`ADHESION_LOST`), or when, under shear (delta_T > 0), an element that the step detached
+penetrates again: the receding edge has overshot to the Hertz contact, which is how the cascade
+past the fold shows on a mesh (issue 34: at 48 and 64 elements per JKR radius the
+simultaneous detachments of the cascade passed a_H, 284 of 3544 elements bonded again where
+they stood, with no tangential misfit, and that relaxed rim held a stick state with every
+element below w up to 1.09-1.12 delta_T^max, where PC's G is 3-11 % above w; docs/bem_shear.md);
+the junction then slides (the paper's status map): its contact becomes
 non-adhesive (w = 0, E:Hertz_theory) and carries the constant shear strength tau_0
 (:func:`sliding_state`).
 """
@@ -290,9 +296,65 @@ def adhesive_shear_solve(
     check_poisson(poisson_ratio)
     opts = options if options is not None else ShearOptions()
     h = np.asarray(heights, dtype=np.float64)
+    _check_solve_inputs(h, collapse_fraction, separation, tangential_displacement)
+    it = _starting_iterate(contact, slip, h.shape)
+    ops = operators if operators is not None else _operators(h.shape, dx, dy, e_star, opts)
+    fixed = _Fixed(h, dx, dy, e_star, float(separation), float(tangential_displacement), law, ops)
+    max_iter = opts.max_iterations(h.shape)
+    while True:
+        it.nit += 1
+        if not it.c.any():
+            it.stable = it.area0 == 0
+            it.message = "contact lost"
+            it.p[...] = 0.0
+            it.q[...] = 0.0
+            break
+        if _solve_fixed_set(it, fixed, opts.tol, max_iter):
+            break
+        if _update_sets(it, fixed, collapse_fraction):
+            break
+        if it.nit >= max_active_set:
+            it.status, it.message = 1, "active set did not settle"
+            break
+    return _closed_state(it, fixed, time.perf_counter() - t0)
+
+
+@dataclass
+class _Fixed:
+    """What one solve holds fixed: the surface, d and delta_T (m), the law, the operators."""
+
+    h: np.ndarray
+    dx: float
+    dy: float
+    e_star: float
+    separation: float
+    tangential_displacement: float
+    law: MixedModeLaw
+    ops: _Operators
+
+
+@dataclass
+class _Iterate:
+    """The active-set iteration of :func:`adhesive_shear_solve` (SI units)."""
+
+    c: np.ndarray  # contact (bonded) set
+    p: np.ndarray  # normal traction (Pa)
+    q: np.ndarray  # tangential traction (Pa)
+    s: np.ndarray  # tangential reference (m)
+    area0: int  # elements at the start
+    gap: np.ndarray = None  # normal gap (m) of the last iteration
+    gone: np.ndarray = None  # elements detached in this solve
+    nit: int = 0
+    cg: int = 0
+    status: int = 0
+    message: str = "equilibrium"
+    stable: bool = True
+
+
+def _check_solve_inputs(h, collapse_fraction, separation, tangential_displacement) -> None:
+    """BemInputError naming the argument of :func:`adhesive_shear_solve` that is not valid."""
     if h.ndim != 2 or not np.all(np.isfinite(h)):
         raise BemInputError(f"heights: expected a finite 2D array (m), got shape {h.shape}")
-    shape = h.shape
     if not (0.0 < collapse_fraction < 1.0):
         raise BemInputError(f"collapse_fraction: expected in (0, 1), got {collapse_fraction}")
     for name, val in (
@@ -301,6 +363,10 @@ def adhesive_shear_solve(
     ):
         if not math.isfinite(val):
             raise BemInputError(f"{name}: expected a finite number (m), got {val}")
+
+
+def _starting_iterate(contact, slip, shape) -> _Iterate:
+    """The iteration's start: a previous state (its tractions and slip) or a contact set."""
     p = np.zeros(shape)
     q = np.zeros(shape)
     if isinstance(contact, AdhesiveShearState):
@@ -314,103 +380,99 @@ def adhesive_shear_solve(
         s = np.zeros(shape) if slip is None else np.asarray(slip, dtype=np.float64).copy()
     if c.shape != shape or s.shape != shape:
         raise BemInputError(f"contact/slip: expected shape {shape}, got {c.shape} and {s.shape}")
-    ops = operators if operators is not None else _operators(shape, dx, dy, e_star, opts)
-    scale = e_star / math.sqrt(dx * dy)
-    max_iter = opts.max_iterations(shape)
-    inf = np.full(shape, np.inf)
-    area0 = int(c.sum())
-    cg_total = 0
-    status, message = 0, "equilibrium"
-    stable = True
-    nit = 0
-    u_x = np.zeros(shape)
-    gap = np.zeros(shape)
-    while True:
-        nit += 1
-        if not c.any():
-            stable = area0 == 0
-            message = "contact lost"
-            p[...] = 0.0
-            q[...] = 0.0
-            break
-        rn = box_conjugate_gradients(
-            ops.normal,
-            h - separation,
-            c,
-            -inf,
-            inf,
-            p,
-            norm=ops.normal.norm,
-            scale=scale,
-            tol=opts.tol,
-            max_iter=max_iter,
+    return _Iterate(c, p, q, s, int(c.sum()), np.zeros(shape), np.zeros(shape, dtype=bool))
+
+
+def _solve_fixed_set(it: _Iterate, fixed: _Fixed, tol: float, max_iter: int) -> bool:
+    """p and q on the frozen set by conjugate gradients, warm-started (in place). True when a
+    solve failed numerically (status 2): the iteration stops."""
+    ops = fixed.ops
+    inf = np.full(it.c.shape, np.inf)
+    kw = {"scale": fixed.e_star / math.sqrt(fixed.dx * fixed.dy), "tol": tol, "max_iter": max_iter}
+    rn = box_conjugate_gradients(
+        ops.normal, fixed.h - fixed.separation, it.c, -inf, inf, it.p, norm=ops.normal.norm, **kw
+    )
+    rt = box_conjugate_gradients(
+        ops.tangential,
+        fixed.tangential_displacement - it.s,
+        it.c,
+        -inf,
+        inf,
+        it.q,
+        norm=ops.tangential.norm,
+        **kw,
+    )
+    it.cg += rn.nit + rt.nit
+    it.p, it.q = rn.x, rt.x
+    if rn.status == 2 or rt.status == 2:
+        it.status = 2
+        it.message = f"linear solve failed: {rn.message if rn.status else rt.message}"
+        return True
+    if rn.status or rt.status:
+        it.status, it.message = 1, "a linear solve reached its iteration cap"
+    return False
+
+
+def _update_sets(it: _Iterate, fixed: _Fixed, collapse_fraction: float) -> bool:
+    """Detach where G_I + lambda G_II >= w, attach where the gap closes (in place). True when
+    the iteration ends: the sets settled (with the adhesion-lost test), or no stick state (the
+    cascade overshot into penetration under shear, or the area collapsed)."""
+    law, w = fixed.law, fixed.law.work_of_adhesion
+    g_rate = law.release_rate(it.p, it.q, fixed.dx, fixed.dy, fixed.e_star)
+    detach = it.c & (g_rate >= w)
+    it.gap = fixed.ops.normal(it.p) - fixed.h + fixed.separation
+    attach = ~it.c & (it.gap < 0.0)
+    if not detach.any() and not attach.any():
+        g_one = law.release_rate(it.p, np.zeros(it.c.shape), fixed.dx, fixed.dy, fixed.e_star)
+        if it.area0 > 0 and float(g_one.max()) < ADHESION_LOST * w:
+            it.stable = False
+            it.message = "adhesion lost: the contact carries no tension (K_I = 0), it slides"
+        return True
+    it.c &= ~detach
+    it.p[detach] = 0.0
+    it.q[detach] = 0.0
+    it.gone |= detach
+    if fixed.tangential_displacement > 0 and it.area0 > 0 and (attach & it.gone).any():
+        it.stable = False
+        it.message = (
+            "collapsed through the fold: the receding edge overshot into penetration "
+            "(the Hertz contact), no stick state"
         )
-        rt = box_conjugate_gradients(
-            ops.tangential,
-            tangential_displacement - s,
-            c,
-            -inf,
-            inf,
-            q,
-            norm=ops.tangential.norm,
-            scale=scale,
-            tol=opts.tol,
-            max_iter=max_iter,
-        )
-        cg_total += rn.nit + rt.nit
-        p, q = rn.x, rt.x
-        if rn.status == 2 or rt.status == 2:
-            status, message = 2, f"linear solve failed: {rn.message if rn.status else rt.message}"
-            break
-        if rn.status or rt.status:
-            status, message = 1, "a linear solve reached its iteration cap"
-        g_rate = law.release_rate(p, q, dx, dy, e_star)
-        detach = c & (g_rate >= law.work_of_adhesion)
-        u_z = ops.normal(p)
-        gap = u_z - h + separation
-        attach = ~c & (gap < 0.0)
-        if not detach.any() and not attach.any():
-            g_one = law.release_rate(p, np.zeros(shape), dx, dy, e_star)
-            if area0 > 0 and float(g_one.max()) < ADHESION_LOST * law.work_of_adhesion:
-                stable = False
-                message = "adhesion lost: the contact carries no tension (K_I = 0), it slides"
-            break
-        c &= ~detach
-        p[detach] = 0.0
-        q[detach] = 0.0
-        if attach.any():
-            u_x = ops.tangential(q)
-            s[attach] = tangential_displacement - u_x[attach]
-            c |= attach
-        if area0 > 0 and c.sum() < collapse_fraction * area0:
-            stable = False
-            message = "collapsed: no stick state (the junction slides or separates)"
-            break
-        if nit >= max_active_set:
-            status, message = 1, "active set did not settle"
-            break
-    u_x = ops.tangential(q)
-    gap = np.where(c, 0.0, gap)
-    s = np.where(c, s, tangential_displacement - u_x)
-    area = dx * dy
+        return True
+    if attach.any():
+        u_x = fixed.ops.tangential(it.q)
+        it.s[attach] = fixed.tangential_displacement - u_x[attach]
+        it.c |= attach
+    if it.area0 > 0 and it.c.sum() < collapse_fraction * it.area0:
+        it.stable = False
+        it.message = "collapsed: no stick state (the junction slides or separates)"
+        return True
+    return False
+
+
+def _closed_state(it: _Iterate, fixed: _Fixed, seconds: float) -> AdhesiveShearState:
+    """The AdhesiveShearState of a finished iteration (references reset off the contact)."""
+    delta_t = fixed.tangential_displacement
+    u_x = fixed.ops.tangential(it.q)
+    area = fixed.dx * fixed.dy
     return AdhesiveShearState(
-        pressure=p,
-        traction=q,
-        contact=c,
-        slip=s,
-        gap=gap,
-        separation=float(separation),
-        tangential_displacement=float(tangential_displacement),
-        normal_force=float(p.sum() * area),
-        tangential_force=float(q.sum() * area),
-        real_area=float(c.sum() * area),
-        stable=stable,
-        success=status == 0,
-        status=status,
-        message=message,
-        nit=nit,
-        cg_iterations=cg_total,
-        seconds=time.perf_counter() - t0,
+        pressure=it.p,
+        traction=it.q,
+        contact=it.c,
+        slip=np.where(it.c, it.s, delta_t - u_x),
+        gap=np.where(it.c, 0.0, it.gap),
+        separation=fixed.separation,
+        tangential_displacement=delta_t,
+        normal_force=float(it.p.sum() * area),
+        tangential_force=float(it.q.sum() * area),
+        real_area=float(it.c.sum() * area),
+        stable=it.stable,
+        success=it.status == 0,
+        status=it.status,
+        message=it.message,
+        nit=it.nit,
+        cg_iterations=it.cg,
+        seconds=seconds,
     )
 
 
@@ -595,10 +657,7 @@ def tangential_sweep(
         collapse_fraction=1e-6,
         **kw,
     )
-    preload = state
-    states: list[AdhesiveShearState] = []
-    jump = None
-    last = 0.0
+    preload, states, jump, last = state, [], None, 0.0
     for value in d_t:
         if jump is None:
             state = adhesive_shear_solve(

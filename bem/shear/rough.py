@@ -124,6 +124,19 @@ class ShearCurve:
         Wall time of the normal preload (s).
     final_traction : ndarray
         q_x (Pa) of the last step.
+    substeps : ndarray of int or None
+        The mixed-mode curve's transactional steps
+        (:func:`asperity.bem.shear.rough_mixed_mode.mixed_mode_shear_curve`): the number of
+        sub-steps of delta_T each requested step was solved in (1: as asked; 2, 4, ...: the step
+        failed, was undone and retried smaller, ``ShearOptions.max_step_halvings``); None for
+        the solvers that do not retry.
+    separation : ndarray or None
+        The mixed-mode curve's rigid-body separation d of each step (m; load control: the
+        flat's approach is -d); None for the other solvers.
+    elastic_energy : ndarray or None
+        The mixed-mode curve's elastic energy ``1/2 sum (p u_z + q u_x) dx dy`` of each step (J);
+        with the work of the drive it gives the dissipation along the path (E:failure_locus
+        dissipates ``(G - w) dA >= 0``, sliding ``tau_0`` times the slip); None for the others.
     """
 
     tangential_displacement: np.ndarray
@@ -141,6 +154,9 @@ class ShearCurve:
     seconds: np.ndarray
     normal_seconds: float
     final_traction: np.ndarray = field(repr=False)
+    substeps: np.ndarray | None = None
+    separation: np.ndarray | None = None
+    elastic_energy: np.ndarray | None = None
 
     @property
     def success(self) -> bool:

@@ -46,9 +46,11 @@ linear elasticity; loading along x only (q_y = 0).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 import warnings
+from dataclasses import dataclass
 
 import numpy as np
 from scipy import ndimage
@@ -160,6 +162,448 @@ class _LoadControlled:
         return p, d
 
 
+_DEPRECATED_KNOBS = (
+    "preload_load_factor",
+    "collapse_fraction",
+    "slide_margin",
+    "load_tolerance",
+    "max_active_set",
+)
+
+
+@dataclass
+class _State:
+    """The contact state between steps (SI units): the sets, the tractions, the references."""
+
+    c: np.ndarray  # adhesive stick elements
+    slide: np.ndarray  # sliding-junction elements (Signorini, tau_0 or mu p)
+    p: np.ndarray  # normal traction (Pa), tension < 0
+    q: np.ndarray  # tangential traction (Pa)
+    s: np.ndarray  # tangential reference (m): u_x = delta_T - s on c
+    d: float  # separation (m)
+
+    def copy(self) -> _State:
+        """An independent copy (a step's transaction restores it when the step fails)."""
+        return _State(
+            self.c.copy(), self.slide.copy(), self.p.copy(), self.q.copy(), self.s.copy(), self.d
+        )
+
+
+@dataclass
+class _Problem:
+    """What does not change along the path: the surface, the law, the operators, the knobs."""
+
+    h: np.ndarray
+    dx: float
+    dy: float
+    e_star: float
+    law: MixedModeLaw
+    periodic: bool
+    opts: ShearOptions
+    shear_strength: float | None
+    friction_coefficient: float | None
+    op_n: TangentialOperator
+    op_t: TangentialOperator
+    normal: _LoadControlled
+
+    @property
+    def area(self) -> float:
+        """Element area dx dy (m^2)."""
+        return self.dx * self.dy
+
+    @property
+    def scale(self) -> float:
+        """Pixel stiffness E* / sqrt(dx dy) (Pa/m)."""
+        return self.e_star / math.sqrt(self.dx * self.dy)
+
+    def mode_one(self, p: np.ndarray) -> np.ndarray:
+        """Element mode-I release rate ``min(p, 0)^2 chi / (dx dy E*)`` (J/m^2)."""
+        chi, _ = self.law.factors(self.dx, self.dy)
+        pt = np.minimum(p, 0.0)
+        return pt * pt * chi / (self.area * self.e_star)
+
+    def sliding_traction(self, p: np.ndarray, slide_contact: np.ndarray) -> np.ndarray:
+        """q (Pa) of the sliding contact: tau_0, or Coulomb mu p."""
+        if self.shear_strength is not None:
+            return np.where(slide_contact, float(self.shear_strength), 0.0)
+        return np.where(slide_contact, float(self.friction_coefficient) * np.maximum(p, 0.0), 0.0)
+
+
+@dataclass
+class _Junctions:
+    """The stick clusters at a step's start: labels, their areas (elements, zeroed once a
+    junction has gone to sliding) and their largest mode-I release rates (J/m^2)."""
+
+    labels: np.ndarray
+    count: int
+    area0: np.ndarray
+    g0: np.ndarray
+    gone: np.ndarray | None = None  # elements detached during the step
+
+    def __post_init__(self) -> None:
+        if self.gone is None:
+            self.gone = np.zeros(self.labels.shape, dtype=bool)
+
+    @property
+    def ids(self) -> np.ndarray:
+        """The labels 1..count."""
+        return np.arange(1, self.count + 1)
+
+
+@dataclass
+class _StepLog:
+    """What a step reports of its own iteration."""
+
+    nit: int = 0
+    status: int = 0
+    message: str = "equilibrium"
+
+
+def _check_curve_inputs(h, d_t, normal_force, shear_strength, friction_coefficient) -> None:
+    """BemInputError naming the argument that is not as documented."""
+    if h.ndim != 2 or not np.all(np.isfinite(h)):
+        raise BemInputError(f"heights: expected a finite 2D array (m), got shape {h.shape}")
+    if d_t.size == 0 or np.any(~np.isfinite(d_t)) or np.any(d_t < 0) or np.any(np.diff(d_t) < 0):
+        raise BemInputError(
+            "tangential_displacements: expected finite, non-negative, non-decreasing values (m)"
+        )
+    if not (math.isfinite(normal_force) and normal_force > 0):
+        raise BemInputError(f"normal_force: expected a positive number (N), got {normal_force}")
+    if (shear_strength is None) == (friction_coefficient is None):
+        raise BemInputError(
+            "give exactly one of shear_strength (tau_0, Pa) or friction_coefficient (mu), got "
+            f"{shear_strength!r} and {friction_coefficient!r}"
+        )
+    for name, val in (
+        ("shear_strength", shear_strength),
+        ("friction_coefficient", friction_coefficient),
+    ):
+        if val is not None and not (math.isfinite(val) and val >= 0):
+            raise BemInputError(f"{name}: expected a finite number >= 0, got {val}")
+
+
+def _options_with_knobs(options: ShearOptions | None, knobs: dict) -> ShearOptions:
+    """``options`` (default ShearOptions()) with the deprecated loose keywords given folded in
+    (a DeprecationWarning names them); the knobs are checked by ShearOptions."""
+    opts = options if options is not None else ShearOptions()
+    given = {k: v for k, v in knobs.items() if v is not None}
+    if given:
+        warnings.warn(
+            f"mixed_mode_shear_curve: the keywords {', '.join(sorted(given))} are deprecated; "
+            "pass them in ShearOptions (options=ShearOptions(...))",
+            DeprecationWarning,
+            stacklevel=3,
+        )
+        opts = dataclasses.replace(opts, **given)
+    return opts
+
+
+def _problem(h, dx, dy, e_star, normal_force, law, periodic, opts, strength, mu) -> _Problem:
+    """The operators and the load-controlled normal solver of the grid."""
+    shape = h.shape
+    kw = {"periodic": periodic, "fft_backend": opts.fft_backend, "threads": opts.threads}
+    op_n = TangentialOperator(shape, dx, dy, e_star, normal=True, **kw)
+    op_t = TangentialOperator(shape, dx, dy, e_star, **kw)
+    normal = _LoadControlled(
+        h, op_n, dx, dy, e_star, normal_force, opts, opts.max_iterations(shape)
+    )
+    return _Problem(h, dx, dy, e_star, law, periodic, opts, strength, mu, op_n, op_t, normal)
+
+
+def _junctions_at_start(prob: _Problem, st: _State) -> _Junctions:
+    """Label the stick clusters of ``st`` and record their areas and mode-I peaks."""
+    labels, n_lab = label_junctions(st.c, periodic=prob.periodic)
+    idx = np.arange(1, n_lab + 1)
+    area0 = np.bincount(labels.ravel(), minlength=n_lab + 1)[1:]
+    g0 = np.asarray(ndimage.maximum(prob.mode_one(st.p), labels, idx)) if n_lab else np.zeros(0)
+    return _Junctions(labels, n_lab, area0, g0)
+
+
+def _to_sliding(prob: _Problem, st: _State, junc: _Junctions, unstable: np.ndarray) -> None:
+    """The junctions ``unstable`` (start-of-step labels) become sliding, for good (in place);
+    their start areas are zeroed."""
+    foot = np.isin(junc.labels, junc.ids[unstable])
+    now_lab, _ = label_junctions(st.c, periodic=prob.periodic)
+    foot |= np.isin(now_lab, np.unique(now_lab[foot & st.c]))
+    st.slide = st.slide | (_grow(foot, prob.opts.slide_margin, prob.periodic) & ~(st.c & ~foot))
+    st.c = st.c & ~st.slide
+    st.p = np.where(st.c | st.slide, st.p, 0.0)
+    st.q = np.where(st.c, st.q, 0.0)
+    junc.area0 = np.where(unstable, 0, junc.area0)
+
+
+def _equilibrium(
+    prob: _Problem, st: _State, delta_t: float, log: _StepLog
+) -> tuple[np.ndarray, np.ndarray]:
+    """At fixed sets: p and d at F_z, then q on the stick set (in place). Returns the sliding
+    contact (sliding elements in compression) and the stick part of q (Pa)."""
+    opts = prob.opts
+    st.p, st.d = prob.normal.solve(
+        st.d, st.c, st.slide, st.p, max(opts.load_tolerance, 10.0 * opts.tol)
+    )
+    slide_contact = st.slide & (st.p > 0.0)
+    q_slide = prob.sliding_traction(st.p, slide_contact)
+    q_c = np.where(st.c, st.q, 0.0)
+    if st.c.any():
+        op_t = prob.op_t
+        rhs = delta_t - st.s - (op_t(q_slide) if slide_contact.any() else 0.0)
+        inf = np.full(st.c.shape, np.inf)
+        rt = box_conjugate_gradients(
+            op_t,
+            rhs,
+            st.c,
+            -inf,
+            inf,
+            q_c,
+            norm=op_t.norm,
+            scale=prob.scale,
+            tol=opts.tol,
+            max_iter=opts.max_iterations(st.c.shape),
+        )
+        prob.normal.cg += rt.nit
+        if rt.status:
+            log.status, log.message = 1, f"tangential solve: {rt.message}"
+        q_c = rt.x
+    st.q = q_c + q_slide
+    return slide_contact, q_c
+
+
+def _unstable_junctions(prob: _Problem, st: _State, junc: _Junctions) -> np.ndarray:
+    """Junctions past their instability with the sets settled (E:max_disp_PC): area below
+    ``collapse_fraction`` of the start, or their tension lost (ADHESION_LOST)."""
+    w = prob.law.work_of_adhesion
+    now = np.bincount(junc.labels[st.c].ravel(), minlength=junc.count + 1)[1:]
+    g_now = np.asarray(
+        ndimage.maximum(np.where(st.c, prob.mode_one(st.p), 0.0), junc.labels, junc.ids)
+    )
+    lost = (junc.g0 >= ADHESION_LOST * w) & (g_now < ADHESION_LOST * w)
+    return ((now < prob.opts.collapse_fraction * junc.area0) | lost) & (junc.area0 > 0)
+
+
+def _collapsed_junctions(prob: _Problem, st: _State, junc: _Junctions) -> np.ndarray:
+    """Junctions whose detachment cascades: area below ``collapse_fraction`` of the start."""
+    now = np.bincount(junc.labels[st.c].ravel(), minlength=junc.count + 1)[1:]
+    return (now < prob.opts.collapse_fraction * junc.area0) & (junc.area0 > 0)
+
+
+def _change_sets(
+    prob: _Problem,
+    st: _State,
+    delta_t: float,
+    detach: np.ndarray,
+    pen: np.ndarray,
+    junc: _Junctions | None,
+) -> None:
+    """Detach ``detach``; collapsed junctions slide at once (before the load is put back on
+    them); penetrating elements ``pen`` bond where they stand, or slide beside a sliding
+    junction (in place)."""
+    st.c = st.c & ~detach
+    st.p = np.where(detach, 0.0, st.p)
+    st.q = np.where(detach, 0.0, st.q)
+    if junc is not None:
+        collapsed = _collapsed_junctions(prob, st, junc)
+        if collapsed.any():
+            _to_sliding(prob, st, junc, collapsed)
+    near = _grow(st.slide, 1, prob.periodic)
+    if junc is not None and prob.opts.rebond_slides and delta_t > 0:
+        junc.gone |= detach
+        rebond = pen & ~near & junc.gone
+        if rebond.any():
+            # the junction's receding edge overshot into penetration: the cascade through its
+            # fold (mixed_mode's docstring), no stick state; it slides
+            through = np.isin(junc.ids, np.unique(junc.labels[rebond])) & (junc.area0 > 0)
+            if through.any():
+                _to_sliding(prob, st, junc, through)
+                near = _grow(st.slide, 1, prob.periodic)
+    to_bond = pen & ~near
+    if to_bond.any():
+        u_x = prob.op_t(st.q)
+        st.s = np.where(to_bond, delta_t - u_x, st.s)
+        st.c = st.c | to_bond
+    st.slide = st.slide | (pen & near)
+
+
+def _settle(prob: _Problem, st: _State, delta_t: float, check_junctions: bool) -> dict:
+    """One step at delta_T (in place): the active set settled, the junctions checked for
+    their instability; the step's row (forces N, areas m^2, counts, status)."""
+    junc = _junctions_at_start(prob, st)
+    checked = junc if check_junctions and junc.count else None
+    log = _StepLog()
+    cg0 = prob.normal.cg
+    prob.normal.failed = ""
+    w = prob.law.work_of_adhesion
+    while True:
+        log.nit += 1
+        slide_contact, q_c = _equilibrium(prob, st, delta_t, log)
+        rate = prob.law.release_rate(np.where(st.c, st.p, 0.0), q_c, prob.dx, prob.dy, prob.e_star)
+        detach = st.c & (rate >= w)
+        gap = prob.op_n(st.p) - prob.h + st.d
+        pen = ~(st.c | slide_contact) & ~st.slide & (gap < 0.0)
+        if not detach.any() and not pen.any():
+            if checked is None:
+                break
+            unstable = _unstable_junctions(prob, st, checked)
+            if not unstable.any():
+                break
+            _to_sliding(prob, st, checked, unstable)
+            continue
+        _change_sets(prob, st, delta_t, detach, pen, checked)
+        if log.nit >= prob.opts.max_active_set:
+            log.status, log.message = 1, "active set did not settle"
+            break
+    if prob.normal.failed:
+        log.status, log.message = 1, prob.normal.failed
+    return _step_row(prob, st, delta_t, log, prob.normal.cg - cg0)
+
+
+def _step_row(prob: _Problem, st: _State, delta_t: float, log: _StepLog, cg: int) -> dict:
+    """Close a step: references of the non-stick elements reset; the step's row."""
+    slide_contact = st.slide & (st.p > 0.0)
+    u_x = prob.op_t(st.q)
+    st.s = np.where(st.c, st.s, delta_t - u_x)
+    area = prob.area
+    energy = 0.5 * area * float(np.sum(st.p * prob.op_n(st.p)) + np.sum(st.q * u_x))
+    _, n_stick = label_junctions(st.c, periodic=prob.periodic)
+    _, n_slide = label_junctions(slide_contact, periodic=prob.periodic)
+    return {
+        "force": float(st.q.sum() * area),
+        "normal": float(st.p.sum() * area),
+        "stick": float(st.c.sum() * area),
+        "slip": float(slide_contact.sum() * area),
+        "n_stick": n_stick,
+        "n_slide": n_slide,
+        "status": log.status,
+        "message": log.message,
+        "nit": log.nit,
+        "cg": cg,
+        "separation": st.d,
+        "energy": energy,
+    }
+
+
+def _preload(prob: _Problem, normal_options: SolverOptions | None) -> _State:
+    """Pohrt-Popov load (to a multiple of F_z) then unload (to F_z) by the normal solver (at
+    delta_T = 0 the mixed-mode criterion is Pohrt-Popov's); the factor is doubled while the
+    loaded contact's rim holds more than RIM_TOLERANCE of the unloaded contact."""
+    h, periodic, opts = prob.h, prob.periodic, prob.opts
+    force = prob.normal.force
+    factor = opts.preload_load_factor
+    while True:
+        up, down = load_sweep(
+            h,
+            prob.dx,
+            prob.dy,
+            prob.e_star,
+            [factor * force, force],
+            work_of_adhesion=prob.law.work_of_adhesion,
+            periodic=periodic,
+            options=normal_options,
+        )
+        for r in (up, down):
+            if not r.converged:
+                raise BemInputError(f"preload did not converge: {r.message}")
+        zeros = np.zeros(h.shape)
+        st = _State(
+            down.contact_mask.copy(),
+            np.zeros(h.shape, dtype=bool),
+            np.where(down.contact_mask, down.pressure, 0.0),
+            zeros,
+            zeros.copy(),
+            float(down.separation),
+        )
+        # the loaded contact must hold the JKR contact: (almost) none of it on the loaded rim
+        start = up.contact_mask
+        held = int((st.c & (start & ~_shrink(start, periodic))).sum())
+        if held <= RIM_TOLERANCE * max(int(st.c.sum()), 1):
+            return st
+        # periodic: a bonded set near the whole map has no solution (the zero mode)
+        if (
+            up.contact_fraction >= (0.25 if periodic else 0.9)
+            or factor >= 8 * opts.preload_load_factor
+        ):
+            warnings.warn(
+                f"preload: {held / st.c.sum():.1%} of the unloaded contact lies on the rim "
+                f"of the contact loaded to {factor:g} F_z (the junctions of a few elements keep "
+                "their loaded footprint under Pohrt-Popov's criterion): the preload depends on "
+                "the path there",
+                stacklevel=3,
+            )
+            return st
+        factor *= 2.0
+
+
+def _restore(prob: _Problem, st: _State, saved: _State, slope: float | None) -> None:
+    """Put ``st`` (in place) and the load controller's slope back as they were."""
+    st.c, st.slide, st.p, st.q, st.s, st.d = (
+        saved.c.copy(),
+        saved.slide.copy(),
+        saved.p.copy(),
+        saved.q.copy(),
+        saved.s.copy(),
+        saved.d,
+    )
+    prob.normal.slope = slope
+
+
+def _transactional_step(prob: _Problem, st: _State, start: float, end: float) -> dict:
+    """The step from delta_T = ``start`` to ``end`` (m) as a transaction: solved at once; if it
+    fails (status != 0) the state is put back as it was and the step is retried as 2, 4, ...
+    equal sub-steps, at most ``2**max_step_halvings``. The row is the last sub-step's, with the
+    iterations of every attempt summed and ``substeps`` the count that was kept; where even the
+    finest retry fails its state is kept and the row says so (status 1, its message, and
+    "after n sub-steps")."""
+    saved, slope = st.copy(), prob.normal.slope
+    nit = cg = 0
+    for halvings in range(prob.opts.max_step_halvings + 1):
+        if halvings:
+            _restore(prob, st, saved, slope)
+        n = 2**halvings
+        for k in range(1, n + 1):
+            value = end if k == n else start + (end - start) * k / n
+            row = _settle(prob, st, value, check_junctions=True)
+            nit, cg = nit + row["nit"], cg + row["cg"]
+            if row["status"]:
+                break
+        if not row["status"]:
+            break
+    if row["status"] and n > 1:
+        row["message"] = f"{row['message']} (after {n} sub-steps)"
+    row.update(nit=nit, cg=cg, substeps=n)
+    return row
+
+
+def _curve(d_t: np.ndarray, rows: list, normal_seconds: float, st: _State) -> ShearCurve:
+    """The ShearCurve of the step rows ``(row, seconds)``."""
+
+    def col(key: str, dtype=float) -> np.ndarray:
+        return np.array([r[key] for r, _ in rows], dtype=dtype)
+
+    stick = col("stick")
+    slip = col("slip")
+    n_stick = col("n_stick", int)
+    n_slide = col("n_slide", int)
+    return ShearCurve(
+        tangential_displacement=d_t[: len(rows)].copy(),
+        tangential_force=col("force"),
+        normal_force=col("normal"),
+        real_area=stick + slip,
+        stick_area=stick,
+        slip_area=slip,
+        junctions=n_stick + n_slide,
+        sliding_junctions=n_slide,
+        sliding=n_stick == 0,
+        converged=col("status", int) == 0,
+        nit=col("nit", int),
+        convolutions=col("cg", int),
+        seconds=np.array([t for _, t in rows]),
+        normal_seconds=normal_seconds,
+        final_traction=st.q.copy(),
+        substeps=col("substeps", int),
+        separation=col("separation"),
+        elastic_energy=col("energy"),
+    )
+
+
 def mixed_mode_shear_curve(
     heights: np.ndarray,
     dx: float,
@@ -173,14 +617,14 @@ def mixed_mode_shear_curve(
     friction_coefficient: float | None = None,
     periodic: bool = True,
     poisson_ratio: float = 0.5,
-    preload_load_factor: float = 4.0,
-    collapse_fraction: float = 0.5,
-    slide_margin: int = 2,
-    load_tolerance: float = 1e-8,
-    max_active_set: int = 500,
     normal_options: SolverOptions | None = None,
     options: ShearOptions | None = None,
     stop_when_sliding: bool = False,
+    preload_load_factor: float | None = None,
+    collapse_fraction: float | None = None,
+    slide_margin: int | None = None,
+    load_tolerance: float | None = None,
+    max_active_set: int | None = None,
 ) -> ShearCurve:
     """Load-controlled shear curve of a rough surface with the mixed-mode law (module docstring).
 
@@ -205,29 +649,21 @@ def mixed_mode_shear_curve(
         Periodic domain (default) or free.
     poisson_ratio : float
         Must be 0.5.
-    preload_load_factor : float
-        > 1: the preload loads to this multiple of F_z, then unloads to F_z (Pohrt-Popov,
-        :func:`asperity.bem.load_sweep`); doubled while more than :data:`RIM_TOLERANCE` of the
-        unloaded contact still lies on the rim of the loaded one (at most 3 times, and not
-        past a loaded contact of a quarter of the map, periodic, or 90 %, free: then a warning
-        says how much of the preload is on that rim).
-    collapse_fraction : float
-        In (0, 1): a junction whose area falls below this fraction of its area at the step's
-        start has passed its instability.
-    slide_margin : int
-        >= 0: elements added round a sliding junction's footprint (its Hertz contact may
-        spread when the load redistributes).
-    load_tolerance : float
-        Relative error allowed on F_z (at least 10 times ``options.tol``: the load cannot be
-        closer than the conjugate-gradient solves).
-    max_active_set : int
-        Cap on active-set iterations per step.
     normal_options : SolverOptions, optional
         Options of the non-adhesive 'load' solve of the preload.
     options : ShearOptions, optional
-        Tolerance and FFT backend of the conjugate-gradient solves.
+        Tolerance and FFT backend of the conjugate-gradient solves, and the curve's knobs
+        (:class:`asperity.bem.shear.stick_slip.ShearOptions`): ``preload_load_factor`` (the
+        preload loads to this multiple of F_z, then unloads; doubled while more than
+        :data:`RIM_TOLERANCE` of the unloaded contact lies on the loaded rim, at most 3 times
+        and not past a loaded contact of a quarter of the map, periodic, or 90 %, free: then a
+        warning says how much of the preload is on that rim), ``collapse_fraction``,
+        ``slide_margin``, ``load_tolerance``, ``max_active_set``.
     stop_when_sliding : bool
         Stop after the first step in which every junction slides.
+    preload_load_factor, collapse_fraction, slide_margin, load_tolerance, max_active_set
+        Deprecated (a DeprecationWarning): the same knobs given loose; they override
+        ``options``.
 
     Returns
     -------
@@ -237,247 +673,38 @@ def mixed_mode_shear_curve(
         ``stick_area`` the adhesive area; ``slip_area`` the sliding contact; ``junctions`` the
         stick clusters plus the sliding ones in contact; ``converged`` per step; ``nit`` the
         active-set iterations; ``convolutions`` the conjugate-gradient iterations;
-        ``normal_seconds`` the preload's wall time (s).
+        ``normal_seconds`` the preload's wall time (s); ``substeps`` the sub-steps each step
+        was solved in (a failed step is undone and retried in 2, 4, ... sub-steps, up to
+        ``2**options.max_step_halvings``; a step that fails even then is kept, not converged).
     """
     check_poisson(poisson_ratio)
-    opts = options if options is not None else ShearOptions()
+    knobs = dict(
+        zip(
+            _DEPRECATED_KNOBS,
+            (preload_load_factor, collapse_fraction, slide_margin, load_tolerance, max_active_set),
+            strict=True,
+        )
+    )
+    opts = _options_with_knobs(options, knobs)
     h = np.asarray(heights, dtype=np.float64)
-    if h.ndim != 2 or not np.all(np.isfinite(h)):
-        raise BemInputError(f"heights: expected a finite 2D array (m), got shape {h.shape}")
     d_t = np.asarray(tangential_displacements, dtype=np.float64).ravel()
-    if d_t.size == 0 or np.any(~np.isfinite(d_t)) or np.any(d_t < 0) or np.any(np.diff(d_t) < 0):
-        raise BemInputError(
-            "tangential_displacements: expected finite, non-negative, non-decreasing values (m)"
-        )
-    if not (math.isfinite(normal_force) and normal_force > 0):
-        raise BemInputError(f"normal_force: expected a positive number (N), got {normal_force}")
-    if (shear_strength is None) == (friction_coefficient is None):
-        raise BemInputError(
-            "give exactly one of shear_strength (tau_0, Pa) or friction_coefficient (mu), got "
-            f"{shear_strength!r} and {friction_coefficient!r}"
-        )
-    for name, val in (
-        ("shear_strength", shear_strength),
-        ("friction_coefficient", friction_coefficient),
-    ):
-        if val is not None and not (math.isfinite(val) and val >= 0):
-            raise BemInputError(f"{name}: expected a finite number >= 0, got {val}")
-    if not (preload_load_factor > 1 and math.isfinite(preload_load_factor)):
-        raise BemInputError(
-            f"preload_load_factor: expected a number > 1, got {preload_load_factor}"
-        )
-    if not (0.0 < collapse_fraction < 1.0):
-        raise BemInputError(f"collapse_fraction: expected in (0, 1), got {collapse_fraction}")
-    if not (isinstance(slide_margin, int) and slide_margin >= 0):
-        raise BemInputError(f"slide_margin: expected an integer >= 0, got {slide_margin!r}")
-    shape = h.shape
-    area = dx * dy
-    w = law.work_of_adhesion
-    chi, _ = law.factors(dx, dy)
-    kw = {"periodic": periodic, "fft_backend": opts.fft_backend, "threads": opts.threads}
-    op_n = TangentialOperator(shape, dx, dy, e_star, normal=True, **kw)
-    op_t = TangentialOperator(shape, dx, dy, e_star, **kw)
-    max_iter = opts.max_iterations(shape)
-    scale = e_star / math.sqrt(dx * dy)
-    normal = _LoadControlled(h, op_n, dx, dy, e_star, normal_force, opts, max_iter)
-    inf = np.full(shape, np.inf)
-
-    def mode_one(p: np.ndarray) -> np.ndarray:
-        pt = np.minimum(p, 0.0)
-        return pt * pt * chi / (area * e_star)
-
-    def sliding_traction(p: np.ndarray, slide_contact: np.ndarray) -> np.ndarray:
-        if shear_strength is not None:
-            return np.where(slide_contact, float(shear_strength), 0.0)
-        return np.where(slide_contact, float(friction_coefficient) * np.maximum(p, 0.0), 0.0)
-
+    _check_curve_inputs(h, d_t, normal_force, shear_strength, friction_coefficient)
+    prob = _problem(
+        h, dx, dy, e_star, normal_force, law, periodic, opts, shear_strength, friction_coefficient
+    )
     t0 = time.perf_counter()
-    state: dict = {}
-
-    def settle(delta_t: float, check_junctions: bool) -> dict:
-        """One step: the active set at delta_T, junctions checked for instability."""
-        c, slide, s = state["c"], state["slide"], state["s"]
-        p, q, d = state["p"], state["q"], state["d"]
-        labels, n_lab = label_junctions(c, periodic=periodic)
-        idx = np.arange(1, n_lab + 1)
-        area0 = np.bincount(labels.ravel(), minlength=n_lab + 1)[1:]
-        g0 = np.asarray(ndimage.maximum(mode_one(p), labels, idx)) if n_lab else np.zeros(0)
-        nit, status, message = 0, 0, "equilibrium"
-        cg0 = normal.cg
-
-        def to_sliding(unstable, c, slide, p, q):
-            """The junctions ``unstable`` (start-of-step labels) become sliding, for good."""
-            foot = np.isin(labels, idx[unstable])
-            now_lab, _ = label_junctions(c, periodic=periodic)
-            foot |= np.isin(now_lab, np.unique(now_lab[foot & c]))
-            slide = slide | (_grow(foot, slide_margin, periodic) & ~(c & ~foot))
-            c = c & ~slide
-            return c, slide, np.where(c | slide, p, 0.0), np.where(c, q, 0.0)
-
-        normal.failed = ""
-        while True:
-            nit += 1
-            p, d = normal.solve(d, c, slide, p, max(load_tolerance, 10.0 * opts.tol))
-            slide_contact = slide & (p > 0.0)
-            q_slide = sliding_traction(p, slide_contact)
-            q_c = np.where(c, q, 0.0)
-            if c.any():
-                rhs = delta_t - s - (op_t(q_slide) if slide_contact.any() else 0.0)
-                rt = box_conjugate_gradients(
-                    op_t,
-                    rhs,
-                    c,
-                    -inf,
-                    inf,
-                    q_c,
-                    norm=op_t.norm,
-                    scale=scale,
-                    tol=opts.tol,
-                    max_iter=max_iter,
-                )
-                normal.cg += rt.nit
-                if rt.status:
-                    status, message = 1, f"tangential solve: {rt.message}"
-                q_c = rt.x
-            q = q_c + q_slide
-            rate = law.release_rate(np.where(c, p, 0.0), q_c, dx, dy, e_star)
-            detach = c & (rate >= w)
-            gap = op_n(p) - h + d
-            touching = c | slide_contact
-            pen = ~touching & ~slide & (gap < 0.0)
-            near = _grow(slide, 1, periodic)
-            to_slide = pen & near
-            to_bond = pen & ~near
-            if not detach.any() and not pen.any():
-                if not check_junctions or n_lab == 0:
-                    break
-                now = np.bincount(labels[c].ravel(), minlength=n_lab + 1)[1:]
-                g_now = np.asarray(ndimage.maximum(np.where(c, mode_one(p), 0.0), labels, idx))
-                lost = (g0 >= ADHESION_LOST * w) & (g_now < ADHESION_LOST * w)
-                unstable = ((now < collapse_fraction * area0) | lost) & (area0 > 0)
-                if not unstable.any():
-                    break
-                c, slide, p, q = to_sliding(unstable, c, slide, p, q)
-                area0 = np.where(unstable, 0, area0)
-                continue
-            c = c & ~detach
-            p = np.where(detach, 0.0, p)
-            q = np.where(detach, 0.0, q)
-            if check_junctions and n_lab:
-                # a junction whose detachment cascades (area below collapse_fraction of its start)
-                # has passed its fold: it slides at once, before the load is put back on it
-                now = np.bincount(labels[c].ravel(), minlength=n_lab + 1)[1:]
-                collapsed = (now < collapse_fraction * area0) & (area0 > 0)
-                if collapsed.any():
-                    c, slide, p, q = to_sliding(collapsed, c, slide, p, q)
-                    area0 = np.where(collapsed, 0, area0)
-                    near = _grow(slide, 1, periodic)
-                    to_slide = pen & near
-                    to_bond = pen & ~near
-            if to_bond.any():
-                u_x = op_t(q)
-                s = np.where(to_bond, delta_t - u_x, s)
-                c = c | to_bond
-            slide = slide | to_slide
-            if nit >= max_active_set:
-                status, message = 1, "active set did not settle"
-                break
-        if normal.failed:
-            status, message = 1, normal.failed
-        slide_contact = slide & (p > 0.0)
-        u_x = op_t(q)
-        s = np.where(c, s, delta_t - u_x)
-        state.update(c=c, slide=slide, p=p, q=q, s=s, d=d)
-        _, n_stick = label_junctions(c, periodic=periodic)
-        _, n_slide = label_junctions(slide_contact, periodic=periodic)
-        return {
-            "force": float(q.sum() * area),
-            "normal": float(p.sum() * area),
-            "stick": float(c.sum() * area),
-            "slip": float(slide_contact.sum() * area),
-            "n_stick": n_stick,
-            "n_slide": n_slide,
-            "status": status,
-            "message": message,
-            "nit": nit,
-            "cg": normal.cg - cg0,
-        }
-
-    factor = preload_load_factor
-    while True:
-        # Pohrt-Popov load (to factor F_z) then unload (to F_z), by the normal solver: at
-        # delta_T = 0 the mixed-mode criterion is Pohrt-Popov's
-        up, down = load_sweep(
-            h,
-            dx,
-            dy,
-            e_star,
-            [factor * normal_force, normal_force],
-            work_of_adhesion=w,
-            periodic=periodic,
-            options=normal_options,
-        )
-        for r in (up, down):
-            if not r.converged:
-                raise BemInputError(f"preload did not converge: {r.message}")
-        start = up.contact_mask
-        state.update(
-            c=down.contact_mask.copy(),
-            slide=np.zeros(shape, dtype=bool),
-            p=np.where(down.contact_mask, down.pressure, 0.0),
-            q=np.zeros(shape),
-            s=np.zeros(shape),
-            d=float(down.separation),
-        )
-        # the loaded contact must hold the JKR contact: (almost) none of it on the loaded rim
-        rim = start & ~_shrink(start, periodic)
-        held = int((state["c"] & rim).sum())
-        if held <= RIM_TOLERANCE * max(int(state["c"].sum()), 1):
-            break
-        # periodic: a bonded set near the whole map has no solution (the zero mode)
-        if up.contact_fraction >= (0.25 if periodic else 0.9) or factor >= 8 * preload_load_factor:
-            warnings.warn(
-                f"preload: {held / state['c'].sum():.1%} of the unloaded contact lies on the rim "
-                f"of the contact loaded to {factor:g} F_z (the junctions of a few elements keep "
-                "their loaded footprint under Pohrt-Popov's criterion): the preload depends on "
-                "the path there",
-                stacklevel=2,
-            )
-            break
-        factor *= 2.0
-    pre = settle(0.0, check_junctions=False)
+    st = _preload(prob, normal_options)
+    pre = _settle(prob, st, 0.0, check_junctions=False)
     if pre["status"]:
         raise BemInputError(f"preload did not settle under the mixed-mode law: {pre['message']}")
     normal_seconds = time.perf_counter() - t0
     rows = []
+    previous = 0.0
     for value in d_t:
         t1 = time.perf_counter()
-        r = settle(float(value), check_junctions=True)
+        r = _transactional_step(prob, st, previous, float(value))
         rows.append((r, time.perf_counter() - t1))
+        previous = float(value)
         if stop_when_sliding and r["n_stick"] == 0:
             break
-
-    def col(key: str, dtype=float) -> np.ndarray:
-        return np.array([r[key] for r, _ in rows], dtype=dtype)
-
-    stick = col("stick")
-    slip = col("slip")
-    n_stick = col("n_stick", int)
-    n_slide = col("n_slide", int)
-    return ShearCurve(
-        tangential_displacement=d_t[: len(rows)].copy(),
-        tangential_force=col("force"),
-        normal_force=col("normal"),
-        real_area=stick + slip,
-        stick_area=stick,
-        slip_area=slip,
-        junctions=n_stick + n_slide,
-        sliding_junctions=n_slide,
-        sliding=n_stick == 0,
-        converged=col("status", int) == 0,
-        nit=col("nit", int),
-        convolutions=col("cg", int),
-        seconds=np.array([t for _, t in rows]),
-        normal_seconds=normal_seconds,
-        final_traction=state["q"].copy(),
-    )
+    return _curve(d_t, rows, normal_seconds, st)

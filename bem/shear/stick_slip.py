@@ -91,6 +91,30 @@ class ShearOptions:
     precondition : bool
         Those solvers precondition the conjugate-gradient steps by junction
         (:class:`JunctionPreconditioner`); False: plain MPRGP.
+    preload_load_factor : float
+        > 1: the mixed-mode curve's preload
+        (:func:`asperity.bem.shear.rough_mixed_mode.mixed_mode_shear_curve`) loads to this
+        multiple of F_z, then unloads to F_z (Pohrt-Popov); doubled while its rim holds too much
+        of the unloaded contact.
+    collapse_fraction : float
+        In (0, 1): a junction whose area falls below this fraction of its area at the step's
+        start has passed its instability (E:max_disp_PC).
+    slide_margin : int
+        >= 0: elements added round a sliding junction's footprint.
+    load_tolerance : float
+        In (0, 0.1]: relative error allowed on F_z in load control (at least 10 ``tol`` is
+        used: the load cannot be closer than the conjugate-gradient solves).
+    max_active_set : int
+        >= 1: cap on the active-set iterations of one step.
+    max_step_halvings : int
+        In [0, 8]: a step of the mixed-mode curve that fails (its active set does not settle, a
+        linear solve stalls, the load is not reached) is undone and retried as 2, 4, ...
+        sub-steps of delta_T, at most ``2**max_step_halvings``; 0: no retry.
+    rebond_slides : bool
+        Under shear, a junction of the mixed-mode curve that an element it detached in the
+        step penetrates again has passed its fold (the cascade overshot to the Hertz contact)
+        and slides (issue 34; :mod:`asperity.bem.shear.mixed_mode`); False: such elements bond
+        again where they stand (0.4.2).
     """
 
     tol: float = 1e-8
@@ -99,8 +123,16 @@ class ShearOptions:
     threads: int | None = None
     dense_limit_bytes: int = 256 * 2**20
     precondition: bool = True
+    preload_load_factor: float = 4.0
+    collapse_fraction: float = 0.5
+    slide_margin: int = 2
+    load_tolerance: float = 1e-8
+    max_active_set: int = 500
+    max_step_halvings: int = 3
+    rebond_slides: bool = True
 
     def __post_init__(self) -> None:
+        self._check_curve_knobs()
         if not (
             isinstance(self.dense_limit_bytes, (int, np.integer)) and self.dense_limit_bytes >= 0
         ):
@@ -126,6 +158,34 @@ class ShearOptions:
                 "ShearOptions: fft_backend must be 'auto', 'pyfftw' or 'scipy', "
                 f"got {self.fft_backend!r}"
             )
+
+    def _check_curve_knobs(self) -> None:
+        """The knobs of the mixed-mode curve: a BemInputError naming the one out of range."""
+        factor = self.preload_load_factor
+        if not (isinstance(factor, (int, float)) and math.isfinite(factor) and factor > 1):
+            raise BemInputError(f"preload_load_factor: expected a number > 1, got {factor!r}")
+        frac = self.collapse_fraction
+        if not (isinstance(frac, (int, float)) and 0.0 < frac < 1.0):
+            raise BemInputError(f"collapse_fraction: expected in (0, 1), got {frac!r}")
+        for name, low, high in (
+            ("slide_margin", 0, 10**6),
+            ("max_active_set", 1, 10**6),
+            ("max_step_halvings", 0, 8),
+        ):
+            val = getattr(self, name)
+            if not (
+                isinstance(val, (int, np.integer))
+                and not isinstance(val, bool)
+                and low <= val <= high
+            ):
+                raise BemInputError(f"{name}: expected an integer in [{low}, {high}], got {val!r}")
+        if not isinstance(self.rebond_slides, (bool, np.bool_)):
+            raise BemInputError(
+                f"rebond_slides: expected True or False, got {self.rebond_slides!r}"
+            )
+        tol = self.load_tolerance
+        if not (isinstance(tol, (int, float)) and 0.0 < tol <= 0.1):
+            raise BemInputError(f"load_tolerance: expected a number in (0, 0.1], got {tol!r}")
 
     def max_iterations(self, shape: tuple[int, int]) -> int:
         """The iteration cap for a grid of ``shape``."""

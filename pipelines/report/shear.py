@@ -31,6 +31,7 @@ if TYPE_CHECKING:
 __all__ = [
     "SHEAR_CAPTIONS",
     "SHEAR_FIGURES",
+    "comparison_line",
     "draw_bem_shear_area",
     "draw_bem_shear_force",
     "model_judgement",
@@ -131,6 +132,31 @@ def model_judgement(shear: BemShearComparison, model_area: np.ndarray) -> str:
     )
 
 
+def comparison_line(result: Run, shear: BemShearComparison) -> str:
+    """One line: what the shear judgement compares with what, and whether it is like for like
+    with the normal BEM reference the model was calibrated on (the same map stride and, before
+    shear, the same adhesion law; the shear preload is Pohrt-Popov's)."""
+    used = f"stride {int(shear.grid_stride[0])} ({shear.grid_pixel_size[0] * 1e6:.3g} µm)"
+    head = (
+        f"Compared: the shear BEM on {used} with a Pohrt-Popov preload against the model at the "
+        "effective resolution"
+    )
+    ref = getattr(result, "bem_reference", None)
+    if ref is None:
+        return f"{head}; no normal BEM reference in this run to match it with."
+    law = ref.adhesion or "none"
+    gaps = []
+    if int(ref.stride) != int(shear.grid_stride[0]):
+        gaps.append(f"its pixel {shear.grid_pixel_size[0] / ref.dx:.3g}x the reference's")
+    if law != "pohrt-popov":
+        gaps.append(f"the reference's adhesion law is {law}, the preload's pohrt-popov")
+    verdict = "like for like" if not gaps else "not like for like: " + "; ".join(gaps)
+    return (
+        f"{head}; the model was calibrated on the normal BEM reference at stride "
+        f"{int(ref.stride)} ({ref.dx * 1e6:.3g} µm, adhesion {law}): {verdict}."
+    )
+
+
 def _grid_text(shear: BemShearComparison) -> str:
     grids = ", ".join(
         f"stride {int(s)} ({p * 1e6:.3g} µm)"
@@ -185,6 +211,7 @@ def shear_section(result: Run) -> list[str]:
         "",
         _md_table(header, rows),
         "",
+        f"- {comparison_line(result, shear)}",
         f"- {model_judgement(shear, _model_area(result, shear))}",
         f"- Discretisation: {_grid_text(shear)}.",
         f"- Cost: {_cost_text(shear)}.",
@@ -211,6 +238,7 @@ def shear_html(result: Run) -> str:
         return ""
     items = [
         model_judgement(shear, _model_area(result, shear)),
+        comparison_line(result, shear),
         f"Discretisation: {_grid_text(shear)}.",
         _cost_text(shear),
     ]

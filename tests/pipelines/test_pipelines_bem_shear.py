@@ -193,6 +193,12 @@ def test_small_job_with_the_stage_reports_it(small, tmp_path):
     report = (tmp_path / "report.md").read_text()
     assert "## Shear BEM against the model" in report
     assert "Model over BEM: static friction" in report
+    # one line says what is compared with what: the grids and the laws of both BEM sides
+    line = next(x for x in report.splitlines() if x.startswith("- Compared: the shear BEM"))
+    ref = result.bem_reference
+    assert f"reference at stride {ref.stride}" in line
+    same = ref.stride == result.bem_shear.grid_stride[0] and ref.adhesion == "pohrt-popov"
+    assert ("like for like." in line and "not like" not in line) == same
     assert "Shear BEM against the model" in (tmp_path / "report.html").read_text()
     for stem in ("fig4_bem_shear", "fig13_bem_shear"):
         assert (tmp_path / f"{stem}.png").is_file() and (tmp_path / f"{stem}.csv").is_file()
