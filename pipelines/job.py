@@ -120,6 +120,7 @@ def run_job(
     out_dir: str | Path,
     *,
     force: bool = False,
+    replace_run: bool = False,
     workers: int | None = None,
     scheduler: Scheduler = None,
     progress: bool = False,
@@ -135,6 +136,9 @@ def run_job(
         Output directory (created).
     force : bool
         Recompute every stage even when stored, and replace a finished run of another job.
+    replace_run : bool
+        Replace a finished run of another job in ``out_dir``, reusing the stored stages whose
+        inputs it shares (the others are recomputed).
     workers : int, optional
         Worker processes for the sweeps (default: ``config.run.workers``).
     scheduler : str or distributed.Client, optional
@@ -155,7 +159,7 @@ def run_job(
         Another run holds ``out_dir`` (its lock file ``.asperity.lock``).
     pipelines.engine.outdir.DifferentJobError
         ``out_dir`` holds a finished run of another job (a configuration value its stages were
-        computed with differs) and ``force`` is False: nothing is written.
+        computed with differs) and neither ``force`` nor ``replace_run``: nothing is written.
     pipelines.engine.outdir.OutputDirError, pipelines.engine.outdir.OutputWriteError
         ``out_dir`` cannot be written, or the disk is full: ``results.h5`` keeps what it held.
     KeyboardInterrupt
@@ -195,7 +199,7 @@ def run_job(
             force=force,
             log=log,
         )
-        if not force:  # a finished run of another job is never overwritten unasked
+        if not (force or replace_run):  # a finished run of another job is never overwritten unasked
             runner.plan(STAGES)
             refuse_a_different_finished_job(
                 out_dir,

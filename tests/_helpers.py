@@ -123,3 +123,53 @@ def paper_roughness(resolution: float) -> statmodel.Roughness:
     return statmodel.Roughness(
         652.1e6 * (resolution / 2e-6) ** -1.12, 0.041e-3 + 4.4 * (resolution - 2e-6), 0.032e-3
     )
+
+
+# --------------------------------------------------------------------------------------------
+# One adhesive paraboloid cap under the mixed-mode shear curve (tests/bem/test_bem_shear_*.py):
+# R = 1, E* = 1, w = 1e-6 (xi = 100), indented 3 R / xi^2, on a free grid of 3.5 JKR radii.
+# --------------------------------------------------------------------------------------------
+SHEAR_CAP_R, SHEAR_CAP_E_STAR, SHEAR_CAP_W = 1.0, 1.0, 1e-6
+SHEAR_CAP_DELTA = 3.0 * SHEAR_CAP_R / 100**2
+
+
+def shear_cap_load() -> float:
+    """The JKR load (fixed grip) of the cap at its indentation, in the units above."""
+    from asperity.statmodel.jkr import jkr_normal_load
+
+    r, w, e = SHEAR_CAP_R, SHEAR_CAP_W, SHEAR_CAP_E_STAR
+    return float(jkr_normal_load(SHEAR_CAP_DELTA, r, w, e))
+
+
+def shear_cap(n_per: int = 8) -> tuple[np.ndarray, float]:
+    """The cap's heights on a free grid of 3.5 JKR radii, ``n_per`` elements per radius, and
+    the element size."""
+    from asperity.statmodel.jkr import jkr_contact_radius
+
+    r, w, e = SHEAR_CAP_R, SHEAR_CAP_W, SHEAR_CAP_E_STAR
+    dx = float(jkr_contact_radius(SHEAR_CAP_DELTA, r, w, e)) / n_per
+    n = int(3.5 * n_per) + 2
+    x = (np.arange(n) - (n - 1) / 2) * dx
+    xx, yy = np.meshgrid(x, x, indexing="ij")
+    return -(xx**2 + yy**2) / (2 * r), dx
+
+
+def shear_cap_curve(**kw):
+    """The cap's mixed-mode shear curve (lambda 0.2, tau_0 1e-3 E*) in load control at its JKR
+    load, over delta_T = 0..2e-3 in 8 steps; ``kw`` go to ``mixed_mode_shear_curve``."""
+    from asperity.bem.shear.mixed_mode import MixedModeLaw
+    from asperity.bem.shear.rough_mixed_mode import mixed_mode_shear_curve
+
+    h, dx = shear_cap()
+    return mixed_mode_shear_curve(
+        h,
+        dx,
+        dx,
+        SHEAR_CAP_E_STAR,
+        shear_cap_load(),
+        np.linspace(0.0, 2e-3, 9),
+        MixedModeLaw(SHEAR_CAP_W, 0.2),
+        shear_strength=1e-3 * SHEAR_CAP_E_STAR,
+        periodic=False,
+        **kw,
+    )

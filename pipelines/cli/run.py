@@ -1,7 +1,7 @@
 """``asperity run``: the main job, from a surface to a calibrated friction prediction.
 
-``asperity run [CONFIG.toml] [--out DIR] [--preset default|paper] [--force] [--compute-all]
-[--workers N] [--scheduler ADDRESS]``
+``asperity run [CONFIG.toml] [--out DIR] [--preset default|paper] [--force] [--replace]
+[--compute-all] [--workers N] [--scheduler ADDRESS]``
 
 Without a configuration the embedded ``default`` preset runs (the paper-like synthetic surface
 on a reduced grid, about a minute). The configuration is validated before any heavy work; a
@@ -63,6 +63,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         action="store_true",
         help="recompute every stage even when results.h5 holds it; also needed to replace a "
         "finished run of a different job in --out (refused otherwise, exit 2)",
+    )
+    parser.add_argument(
+        "--replace",
+        action="store_true",
+        help="replace a finished run of a different job in --out, reusing the stages it shares "
+        "with this job (the others are recomputed)",
     )
     parser.add_argument(
         "--compute-all",
@@ -139,6 +145,7 @@ def _run_and_report(args: argparse.Namespace, config: JobConfig) -> JobResult:
         config,
         args.out,
         force=args.force,
+        replace_run=args.replace,
         workers=args.workers,
         scheduler=args.scheduler,
         progress=progress_enabled() and not args.quiet,

@@ -8,40 +8,8 @@ import numpy as np
 import pytest
 
 from asperity.bem.errors import BemInputError
-from asperity.bem.shear.mixed_mode import MixedModeLaw
-from asperity.bem.shear.rough_mixed_mode import mixed_mode_shear_curve
 from asperity.bem.shear.stick_slip import ShearOptions
-from asperity.statmodel.jkr import jkr_contact_radius, jkr_normal_load
-
-R, E_STAR, W = 1.0, 1.0, 1e-6
-DELTA = 3.0 * R / 100**2
-A_JKR = float(jkr_contact_radius(DELTA, R, W, E_STAR))
-P_CAP = float(jkr_normal_load(DELTA, R, W, E_STAR))
-
-
-def _cap(n_per: int = 8) -> tuple[np.ndarray, float]:
-    """One paraboloid cap (m) on a free grid of 3.5 JKR radii."""
-    dx = A_JKR / n_per
-    n = int(3.5 * n_per) + 2
-    x = (np.arange(n) - (n - 1) / 2) * dx
-    xx, yy = np.meshgrid(x, x, indexing="ij")
-    return -(xx**2 + yy**2) / (2 * R), dx
-
-
-def _curve(**kw):
-    h, dx = _cap()
-    return mixed_mode_shear_curve(
-        h,
-        dx,
-        dx,
-        E_STAR,
-        P_CAP,
-        np.linspace(0.0, 2e-3, 9),
-        MixedModeLaw(W, 0.2),
-        shear_strength=1e-3 * E_STAR,
-        periodic=False,
-        **kw,
-    )
+from tests._helpers import shear_cap_curve as _curve
 
 
 def _same(a, b) -> bool:

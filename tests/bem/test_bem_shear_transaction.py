@@ -7,10 +7,15 @@ import pytest
 from asperity.bem.shear import rough_mixed_mode as rmm
 from asperity.bem.shear.mixed_mode import MixedModeLaw
 from asperity.bem.shear.stick_slip import ShearOptions
+from tests._helpers import SHEAR_CAP_E_STAR as E_STAR
+from tests._helpers import SHEAR_CAP_W as W
+from tests._helpers import shear_cap as _cap
+from tests._helpers import shear_cap_curve as _curve
+from tests._helpers import shear_cap_load
 
-from .test_bem_shear_options import E_STAR, P_CAP, W, _cap, _curve
+P_CAP = shear_cap_load()
 
-D_T = np.linspace(0.0, 2e-3, 9)  # m, the path of test_bem_shear_options
+D_T = np.linspace(0.0, 2e-3, 9)  # m, the path of tests._helpers.shear_cap_curve
 
 
 @pytest.fixture(scope="module")

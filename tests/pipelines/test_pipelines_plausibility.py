@@ -17,7 +17,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from asperity.errors import ExitStatus
+from asperity.errors import ExitStatus, InputError
 from asperity.pipelines.config import ConfigError, config_from_dict
 from asperity.pipelines.stages.verdict import check_friction_plausibility, check_hardness
 
@@ -103,7 +103,8 @@ def test_hardness_key_is_optional_bounded_and_named(tmp_path):
 
 def test_small_job_with_a_soft_hardness_is_invalid(small_run, small, tmp_path):
     """The small job with H = 1 MPa: psi = (2.133 MPa / 1 MPa) sqrt(sigma_s/R) > 1: exit 3
-    with ``plastic_asperities``; the stored stages before the lambda stage are reused."""
+    with ``plastic_asperities``; replacing the small job's finished run, the stored stages
+    before the lambda stage are reused."""
     from asperity.pipelines.job import run_job
     from asperity.pipelines.stages.verdict import exit_status
 
@@ -111,7 +112,9 @@ def test_small_job_with_a_soft_hardness_is_invalid(small_run, small, tmp_path):
     data = small.data()
     data["material"]["hardness"] = 1e6
     shutil.copy(out / "results.h5", tmp_path / "results.h5")
-    result = run_job(config_from_dict(data, base_dir=tmp_path), tmp_path)
+    with pytest.raises(InputError, match="another job"):  # not unasked
+        run_job(config_from_dict(data, base_dir=tmp_path), tmp_path)
+    result = run_job(config_from_dict(data, base_dir=tmp_path), tmp_path, replace_run=True)
     codes = dict(zip(result.verdict.codes, result.verdict.severities, strict=True))
     assert codes["plastic_asperities"] == "invalid"
     r = result.statistical_model.roughness
