@@ -21,6 +21,7 @@ from pathlib import Path
 from asperity.atomic import atomic_output, sync_directory, write_error
 from asperity.errors import ExitStatus, InputError, cut, inert
 from asperity.files import describe_kind
+from asperity.pipelines.config import preset_text
 from asperity.quantities import quantity
 
 #: File name endings of plain-text height files, which state no length unit.
@@ -31,20 +32,14 @@ _HEAD = """\
 #     asperity run {name} --out asperity-out
 # SI units throughout (m, Pa, N, J/m^2, m^2). Every key and its bounds: docs/pipelines.md.
 
-[surface]
 """
 
-_SYNTHETIC = """\
-# The paper-like synthetic surface (10 mm square). For your measurement, replace the
-# [surface.synthetic] table below by one line: file = "your-map.x3p"
-detrend = "plane"          # form removed: none | mean | plane | quadratic
-max_stride = 26            # resolution scan over strides 1..26 of the map's pixel
+#: Above the default job's text in a job written without ``--surface``.
+_DEFAULT_NOTE = """\
+# This is the embedded default job (what `asperity run` runs without a file): the paper-like
+# synthetic surface. For your measurement, replace the [surface.synthetic] table below by one
+# line in [surface]: file = "your-map.x3p" (`asperity init JOB.toml --surface MAP` does that).
 
-[surface.synthetic]
-recipe = "paper_like"
-n = 1000                   # pixels per side
-pixel_size = 10e-6         # m
-seed = 0
 """
 
 _FILE = """\
@@ -68,7 +63,7 @@ equilibrium_distance = 0.2e-9  # epsilon, m
 
 [loading]
 nominal_area = {nominal_area}      # m^2, the apparent contact area A_n
-normal_loads = [0.56, 1.06, 2.08]   # N
+normal_loads = [0.56, 1.06, 1.58, 2.08, 2.57, 3.12]   # N, the six loads of Sahli et al.
 max_tangential_displacement = "auto"   # m, or "auto": until full sliding
 steps = 201
 
@@ -154,19 +149,18 @@ def starter_job(
     """
     text = _HEAD.format(name=inert(shlex.quote(name)))
     if surface is None:
-        text += _SYNTHETIC
-    else:
-        unit_line = ""
-        if unit is not None:
-            unit_line = f"\nunit = {toml_string(unit, 'unit')}   # length unit of the text file"
-        elif surface.lower().endswith(TEXT_SUFFIXES):
-            unit_line = (
-                '\n# unit = "um"             # a text matrix or x y z / x z columns: '
-                "state their length unit (m, mm, um, nm)"
-            )
-        if pixel_size is not None:
-            unit_line += f"\npixel_size = {float(pixel_size)!r}   # m, the map's pixel"
-        text += _FILE.format(file=toml_string(surface, "surface"), unit_line=unit_line)
+        return text + _DEFAULT_NOTE + preset_text("default")
+    unit_line = ""
+    if unit is not None:
+        unit_line = f"\nunit = {toml_string(unit, 'unit')}   # length unit of the text file"
+    elif surface.lower().endswith(TEXT_SUFFIXES):
+        unit_line = (
+            '\n# unit = "um"             # a text matrix or x y z / x z columns: '
+            "state their length unit (m, mm, um, nm)"
+        )
+    if pixel_size is not None:
+        unit_line += f"\npixel_size = {float(pixel_size)!r}   # m, the map's pixel"
+    text += "[surface]\n" + _FILE.format(file=toml_string(surface, "surface"), unit_line=unit_line)
     return text + _REST.format(nominal_area="700e-6")
 
 

@@ -31,6 +31,9 @@ def test_init_without_surface_is_the_default_synthetic_map(tmp_path):
     config, default = load_config(job), load_preset("default")
     assert config.surface.synthetic == default.surface.synthetic
     assert config.material == default.material
+    # the whole job is the one `asperity run` runs without a file: its six loads, its keys
+    assert config.loading == default.loading and len(config.loading.normal_loads) == 6
+    assert config.key_document() == default.key_document()
 
 
 def test_init_on_text_needs_the_unit(tmp_path, capsys):
