@@ -46,7 +46,8 @@ class ExitStatus(IntEnum):
         "bad input: a file, a configuration key, an option or a value (one line names it, what "
         "was expected and what was found); also an output folder or file in use by another "
         "run, not writable, or on a full disk, or a folder holding a finished run of a "
-        "different job (`run --force` replaces it) (every command; nothing partial is left)",
+        "different job (`run --force` or `--replace` replaces it) (every command; nothing "
+        "partial is left)",
     )
     INVALID_RESULT = (
         3,
