@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from asperity.statmodel.drive import DriveCurve, drive_curve
 from asperity.statmodel.jkr import jkr_zero_load_radius
 from asperity.statmodel.parameters import Material, Roughness
 from asperity.statmodel.shear import ShearCurve, shear_curve
@@ -41,6 +42,7 @@ __all__ = [
     "QuadratureChoice",
     "choose_quadrature",
     "initial_displacement_guess",
+    "model_drive_curve",
     "model_shear_area",
     "shear_curve_auto",
 ]
@@ -127,6 +129,32 @@ def shear_curve_auto(
 PEAK_SEARCH_STEPS = 51
 
 
+def _peak_search(
+    mode_mixity: float,
+    normal_load: float,
+    material: Material,
+    roughness: Roughness,
+    nominal_area: float,
+    max_tangential_displacement: float | None,
+    steps: int,
+    knobs: Mapping[str, float],
+) -> tuple[Material, ShearCurve]:
+    """The material at ``mode_mixity`` and its first curve at F_z (N) on the given or automatic
+    path with ``steps`` steps, whose ``static_displacement`` (m) is the static peak delta_s the
+    model curves of the lambda fits end or turn at."""
+    changed = dataclasses.replace(material, mode_mixity=float(mode_mixity))
+    first = shear_curve_auto(
+        changed,
+        roughness,
+        nominal_area,
+        normal_load,
+        max_tangential_displacement=max_tangential_displacement,
+        steps=steps,
+        knobs=knobs,
+    )
+    return changed, first
+
+
 def model_shear_area(
     mode_mixity: float,
     normal_load: float,
@@ -149,16 +177,10 @@ def model_shear_area(
     grid peak jump as lambda moves, and the objective is jagged at the 1e-3 level). Where the
     first curve finds no peak inside its path, that curve is returned.
     """
-    changed = dataclasses.replace(material, mode_mixity=float(mode_mixity))
-    first = shear_curve_auto(
-        changed,
-        roughness,
-        nominal_area,
-        normal_load,
-        max_tangential_displacement=max_tangential_displacement,
-        steps=min(steps, PEAK_SEARCH_STEPS),
-        knobs=knobs,
-    )
+    changed, first = _peak_search(
+        mode_mixity, normal_load, material, roughness, nominal_area,
+        max_tangential_displacement, min(steps, PEAK_SEARCH_STEPS), knobs,
+    )  # fmt: skip
     peak = float(first.static_displacement)
     path = np.asarray(first.tangential_displacement, dtype=float)
     if not (math.isfinite(peak) and 0 < peak < path[-1]):
@@ -167,6 +189,41 @@ def model_shear_area(
         changed, roughness, nominal_area, normal_load, np.linspace(0.0, peak, steps), **knobs
     )
     return np.asarray(curve.tangential_force, float), np.asarray(curve.real_area, float)
+
+
+def model_drive_curve(
+    mode_mixity: float,
+    normal_load: float,
+    *,
+    material: Material,
+    roughness: Roughness,
+    nominal_area: float,
+    drive_stiffness: float | None,
+    max_tangential_displacement: float | None,
+    steps: int,
+    knobs: Mapping[str, float],
+) -> DriveCurve:
+    """The model's F_x for one lambda and load seen from the drive (stiffness k N/m, None:
+    rigid): :func:`~asperity.statmodel.drive.drive_curve` (drive = delta_T + F_x / k, stick-slip
+    jumps).
+
+    As :func:`model_shear_area`, a first curve finds the static peak delta_s; the curve mapped
+    has ``steps`` equal steps from 0 to delta_s and ``steps`` more from there to the path's end
+    (the model's full sliding on the automatic path), so its nodes move smoothly with lambda
+    (a smooth fit objective) and its fall after the peak, where a jump starts, is resolved.
+    """
+    changed, first = _peak_search(
+        mode_mixity, normal_load, material, roughness, nominal_area,
+        max_tangential_displacement, PEAK_SEARCH_STEPS, knobs,
+    )  # fmt: skip
+    peak = float(first.static_displacement)
+    end = float(np.asarray(first.tangential_displacement)[-1])
+    curve = first
+    if math.isfinite(peak) and 0 < peak < end:
+        path = np.concatenate([np.linspace(0.0, peak, steps), np.linspace(peak, end, steps)[1:]])
+        curve = shear_curve(changed, roughness, nominal_area, normal_load, path, **knobs)
+    k = math.inf if drive_stiffness is None else float(drive_stiffness)
+    return drive_curve(curve, k)
 
 
 @dataclass

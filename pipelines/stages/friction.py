@@ -37,8 +37,8 @@ from asperity.statmodel.lambda_fit import LambdaFit, fit_mode_mixity, interpolat
 from asperity.statmodel.lambda_fit_friction import SourceFits, fit_sources
 from asperity.statmodel.results_io import ARRAY_UNITS, SCALAR_UNITS
 from asperity.statmodel.shear_path import (
-    PEAK_SEARCH_STEPS,
     choose_quadrature,
+    model_drive_curve,
     model_shear_area,
     shear_curve_auto,
 )
@@ -91,46 +91,6 @@ def _curve_job(
             knobs=knobs,
         )
     )
-
-
-def model_drive_curve(
-    mode_mixity: float,
-    normal_load: float,
-    *,
-    material: statmodel.Material,
-    roughness: statmodel.Roughness,
-    nominal_area: float,
-    drive_stiffness: float | None,
-    max_tangential_displacement: float | None,
-    steps: int,
-    knobs: Mapping[str, float],
-) -> statmodel.DriveCurve:
-    """The model's F_x for one lambda and load seen from the drive (stiffness k N/m, None:
-    rigid): :func:`statmodel.drive_curve` (drive = delta_T + F_x / k, stick-slip jumps).
-
-    As :func:`model_shear_area`, a first curve finds the static peak delta_s; the curve mapped
-    has ``steps`` equal steps from 0 to delta_s and ``steps`` more from there to the path's end
-    (the model's full sliding on the automatic path), so its nodes move smoothly with lambda
-    (a smooth fit objective) and its fall after the peak, where a jump starts, is resolved.
-    """
-    changed = dataclasses.replace(material, mode_mixity=float(mode_mixity))
-    first = shear_curve_auto(
-        changed,
-        roughness,
-        nominal_area,
-        normal_load,
-        max_tangential_displacement=max_tangential_displacement,
-        steps=PEAK_SEARCH_STEPS,
-        knobs=knobs,
-    )
-    peak = float(first.static_displacement)
-    end = float(np.asarray(first.tangential_displacement)[-1])
-    curve = first
-    if math.isfinite(peak) and 0 < peak < end:
-        path = np.concatenate([np.linspace(0.0, peak, steps), np.linspace(peak, end, steps)[1:]])
-        curve = statmodel.shear_curve(changed, roughness, nominal_area, normal_load, path, **knobs)
-    k = math.inf if drive_stiffness is None else float(drive_stiffness)
-    return statmodel.drive_curve(curve, k)
 
 
 @document_fields

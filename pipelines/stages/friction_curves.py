@@ -47,10 +47,10 @@ from asperity.pipelines.stages.friction import (
     MODE_MIXITY,
     FrictionPrediction,
     mode_mixity_interval,
-    model_drive_curve,
 )
 from asperity.pipelines.stages.statistical_model import STATISTICAL_MODEL
 from asperity.statmodel.lambda_fit_friction import noise_level, peak_end
+from asperity.statmodel.shear_path import model_drive_curve
 
 
 @document_fields

@@ -15,13 +15,13 @@ from asperity import statmodel
 from asperity.errors import InputError
 from asperity.pipelines.measured import ShearAreaCurve
 from asperity.pipelines.measured_friction import FrictionCurve
-from asperity.pipelines.stages.friction import model_drive_curve, model_shear_area
 from asperity.statmodel.lambda_fit import LambdaFit, interpolate_area
 from asperity.statmodel.lambda_fit_friction import (
     compare_sources,
     fit_mode_mixity_friction,
     fit_sources,
 )
+from asperity.statmodel.shear_path import model_drive_curve, model_shear_area
 
 WIRE = 9200.0  # N/m, the paper's loading wire
 TRUE_LAMBDA = 0.03

@@ -15,10 +15,10 @@ from asperity.pipelines.job import run_job
 from asperity.pipelines.measured_friction import FrictionCurve, write_friction_curves
 from asperity.pipelines.report import write_report
 from asperity.pipelines.report.figures import draw_figure
-from asperity.pipelines.stages.friction import model_drive_curve
 from asperity.pipelines.stages.friction_curves import _bem_fields, measured_peak
 from asperity.plotting import layout_problems
 from asperity.statmodel.lambda_fit_friction import noise_level
+from asperity.statmodel.shear_path import model_drive_curve
 
 WIRE = 9200.0
 
