@@ -417,11 +417,13 @@ def _report_files(directory: Path) -> dict[str, tuple[int, int]]:
 def report_removed_on_failure(directory: str | Path) -> Iterator[None]:
     """Write a report inside the block; if it cannot finish, remove what it wrote.
 
-    Every report file (:data:`REPORT_SUFFIXES`) the block created or replaced in
-    ``directory`` is removed when the block ends by an exception (a full disk, Ctrl-C, a
-    failing figure), and so are report.md and report.html, which would otherwise point at
-    figures that are gone: a half-written report is never left beside ``results.h5``. A
-    write error is re-raised with that said.
+    Every report file (:data:`REPORT_SUFFIXES`) the block created in ``directory`` is removed
+    when the block ends by an exception (a full disk, Ctrl-C, a failing figure), and so are a
+    report.md and report.html it created, which would otherwise point at figures that are
+    gone: a half-written first report is never left beside ``results.h5``. A report of an
+    earlier run that was there before is kept whole (each file is replaced atomically, so the
+    one that failed is unchanged; nothing finished is deleted). A write error is re-raised
+    with that said.
     """
     directory = Path(directory)
     before = _report_files(directory)
@@ -429,13 +431,11 @@ def report_removed_on_failure(directory: str | Path) -> Iterator[None]:
         yield
     except BaseException as exc:
         after = _report_files(directory)
-        written = [name for name, stamp in after.items() if before.get(name) != stamp]
-        if written:
-            written += [n for n in ("report.md", "report.html") if n in after]
-            for name in set(written):
-                with contextlib.suppress(OSError):
-                    (directory / name).unlink()
-        if isinstance(exc, OutputWriteError):
-            removed = f"the unfinished report ({len(set(written))} files) was removed"
+        written = [name for name in after if name not in before]
+        for name in written:
+            with contextlib.suppress(OSError):
+                (directory / name).unlink()
+        if isinstance(exc, OutputWriteError) and written:
+            removed = f"the unfinished report ({len(written)} new files) was removed"
             raise OutputWriteError(f"{exc}; {removed}", exc.errno) from exc
         raise

@@ -133,7 +133,7 @@ def test_a_report_that_cannot_finish_removes_what_it_wrote(
     monkeypatch.setattr(report_module, "write_figures", disk_fills_on_the_fourth_figure)
     assert main(["report", str(folder)]) == 2
     err = capsys.readouterr().err
-    assert "No space left on device" in err and "unfinished report (3 files) was removed" in err
+    assert "No space left on device" in err and "unfinished report (3 new files) was removed" in err
     assert sorted(p.name for p in folder.iterdir() if p.name != ".asperity.lock") == [
         "notes.txt",
         "results.h5",

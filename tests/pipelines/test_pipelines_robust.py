@@ -376,7 +376,9 @@ def test_a_changed_config_interrupted_at_each_stage_keeps_provenance_with_its_st
 ):
     """A new set of loads (the BEM onwards change), interrupted when ``stage_name`` starts:
     results.h5 is either untouched or carries the new provenance with only stages of the new
-    configuration beside it; the resumed run gives the numbers of an uninterrupted one."""
+    configuration beside it; the resumed run gives the numbers of an uninterrupted one. The
+    folder holds the small job's finished run: the changed job replaces it (``replace_run``;
+    unasked it is refused, tests/pipelines/test_pipelines_nothing_lost.py)."""
     _, reference_out, _ = small_run
     out = tmp_path / "out"
     shutil.copytree(reference_out, out)
@@ -384,7 +386,7 @@ def test_a_changed_config_interrupted_at_each_stage_keeps_provenance_with_its_st
     changed = small(tmp_path, small.data(normal_loads=[1.5, 2.5]))
     _interrupt_at(monkeypatch, stage_name)
     with pytest.raises(KeyboardInterrupt):
-        run_job(changed, out)
+        run_job(changed, out, replace_run=True)
     monkeypatch.undo()
     stored = assert_provenance_describes_the_stages(out / "results.h5", tmp_path)
     index = STAGE_NAMES.index(stage_name)
@@ -394,7 +396,7 @@ def test_a_changed_config_interrupted_at_each_stage_keeps_provenance_with_its_st
         assert stored == set(STAGE_NAMES[:index]) - PROFILE_ONLY
         with h5py.File(out / "results.h5", "r") as f:
             assert "1.5" in f.attrs["config_toml"]
-    resumed = run_job(changed, out)
+    resumed = run_job(changed, out, replace_run=True)
     fresh = run_job(changed, tmp_path / "fresh")
     _assert_same_results(resumed, fresh)
     stored = assert_provenance_describes_the_stages(out / "results.h5", tmp_path)
