@@ -38,7 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from asperity import topo
+from asperity import statmodel, topo
 from asperity.bem.options import SolverOptions
 from asperity.bem.shear.mixed_mode import MixedModeLaw
 from asperity.bem.shear.rough import ShearCurve
@@ -289,13 +289,15 @@ def _solve_curve(
     dy: float,
     map_load: float,
     path: np.ndarray,
-    material: tuple[float, float, float, float],
+    material: statmodel.Material,
     law: str,
     tol: float,
     periodic: bool,
 ) -> dict:
-    """One load on one grid (a worker job): the curve on the map, its warnings and time."""
-    e_star, w, lam, tau0 = material
+    """One load on one grid (a worker job): the curve on the map, its warnings and time;
+    ``material`` gives E* (Pa), w (J/m^2), lambda and tau_0 (Pa)."""
+    e_star, w = material.e_star, material.work_of_adhesion
+    lam, tau0 = material.mode_mixity, material.shear_strength
     options = ShearOptions(tol=tol, threads=worker_threads())
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -410,7 +412,7 @@ def bem_shear_comparison(
     paths = np.array(
         [np.linspace(0.0, _path_end(friction, i, settings), settings.steps) for i in index]
     )
-    material = (e_star, work_of_adhesion, mode_mixity, shear_strength)
+    material = statmodel.Material(e_star, work_of_adhesion, mode_mixity, shear_strength)
     map_area = np.array([g.nx * g.dx * g.ny * g.dy for g in grids])
     jobs = [
         (_centred(grid), grid.dx, grid.dy, float(f) * map_area[g] / nominal_area, paths[j],
