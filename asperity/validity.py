@@ -65,6 +65,16 @@ class Finding:
     value: float = math.nan
     threshold: float = math.nan
 
+    @property
+    def severity(self) -> Level:
+        """``level`` under the name a verdict reason had (asperity 0.4's ``Reason``)."""
+        return self.level
+
+    @property
+    def text(self) -> str:
+        """``message`` under the name a verdict reason had (asperity 0.4's ``Reason``)."""
+        return self.message
+
 
 class ValidityWarning(UserWarning):
     """A result outside what its model means; ``code`` and ``level`` say which (see

@@ -127,6 +127,7 @@ from asperity.pipelines.stages.surface import SCAN, SURFACE, LevelledSurface
 from asperity.statmodel import Material, Roughness, plausibility
 from asperity.statmodel.checks import Check
 from asperity.statmodel.regimes import AdhesionRegime, adhesion_regime
+from asperity.validity import Finding
 
 #: A_r/A_n above which an independent-asperity model cannot mean anything (junctions merge).
 MAX_AREA_FRACTION = 0.15
@@ -145,23 +146,10 @@ LOAD_MATCH = measured.LOAD_MATCH
 VERDICTS: tuple[str, ...] = ("valid", "warnings", "invalid")
 
 
-@dataclass(frozen=True)
-class Reason:
-    """One reason of a verdict.
-
-    Attributes
-    ----------
-    code : str
-        Short name (module docstring).
-    severity : str
-        "invalid" or "warning".
-    text : str
-        The number, the threshold and why.
-    """
-
-    code: str
-    severity: str
-    text: str
+#: One reason of a verdict: an :class:`asperity.validity.Finding` (code, level "invalid" or
+#: "warning", message: the number, the threshold and why; value and threshold where a single
+#: number decides), the one validity type of bem, statmodel and the verdict.
+Reason = Finding
 
 
 @document_fields
@@ -230,16 +218,16 @@ class Verdict:
     @classmethod
     def from_reasons(cls, reasons: Sequence[Reason]) -> Verdict:
         """The verdict of a list of reasons (invalid ones listed first)."""
-        ordered = sorted(reasons, key=lambda r: r.severity != "invalid")
-        if any(r.severity == "invalid" for r in ordered):
+        ordered = sorted(reasons, key=lambda r: r.level != "invalid")
+        if any(r.level == "invalid" for r in ordered):
             verdict = "invalid"
         else:
             verdict = "warnings" if ordered else "valid"
         return cls(
             verdict,
-            [r.text for r in ordered],
+            [r.message for r in ordered],
             [r.code for r in ordered],
-            [r.severity for r in ordered],
+            [r.level for r in ordered],
         )
 
     @property
@@ -1157,8 +1145,8 @@ def preview_adhesion_regime(context: StageContext) -> PreviewNote:
         line = f"adhesion regime judged from the map: partial contact ({numbers})"
     record = {
         "codes": [r.code for r in reasons],
-        "severities": [r.severity for r in reasons],
-        "reasons": [r.text for r in reasons],
+        "severities": [r.level for r in reasons],
+        "reasons": [r.message for r in reasons],
         "adhesion_energy_ratio": float(regime.energy_ratio),
         "stickiness": float(regime.stickiness),
     }
