@@ -177,40 +177,25 @@ write_report(result, work / "out")  # report.md, report.html and the figures wit
 print(summary_text(result))
 
 # %%
-# 5. Reading the summary
-# ----------------------
-# * **surface**, **effective resolution**: the grid the BEM solved and the stride whose
-#   statistics fit the BEM best; **R**, **eta**, **sigma_s** are the statistics at that
-#   stride, and **Tabor parameter mu** says whether the JKR law of adhesive asperities holds
-#   (it needs :math:`\mu \gtrsim 5`).
-# * **misfit**: the rms of :math:`\ln(A_{model}/A_{BEM})` over the loads at the effective
-#   resolution: 0.2 is a good fit, 0.7 (a factor 2) the limit.
-# * **BEM grid**: the BEM is re-solved on coarser grids to bound its own discretisation error.
-# * the PSD lines: the roll-off wavelength and Hurst exponent of the power spectrum, the rms
-#   slope that Persson's theory uses.
-# * the table, per normal load: the real contact area fraction from the BEM (without and with
-#   adhesion), from the statistical model and from Persson's theory; the static (peak) and
-#   sliding friction; the tangential displacement at full sliding.
-# * ``+- u``: each number's error bar (the line "error bars" says how each is computed). The
-#   BEM's comes from its grid check: here the coarser grid moved the area by more than half,
-#   so the BEM's own error bar is as large as its value. The model's comes from the interval
-#   of the effective resolution; ``+- >`` marks a lower bound, where that interval is open.
-#
-# 6. The verdict
-# --------------
-# The verdict is the first thing to read. Here the BEM finds a few per cent of real contact,
-# as expected for a stiff material on a nanometre-rough map, but the statistical model, fed
-# with this map's summits (a few nanometres high, millimetres in radius, adhesive), puts
-# several times the nominal area in contact: the independent-asperity picture does not
-# describe this nearly flat surface, no resolution of the scan fixes it, and asperity says so
-# rather than printing a friction force. Every number the verdict does not stand behind is
-# marked ``invalid:``; ``asperity run`` would exit with status 3.
+# 5. The early verdict
+# --------------------
+# The verdict is the first thing to read, and here it came before the BEM. The regime check
+# compares the elastic energy of flattening these few nanometres of roughness with the
+# work of adhesion: for this smooth map and this adhesive pair, adhesion wins and pulls the
+# surfaces into *full contact* (``adhesion_full_contact``). The independent-asperity model
+# then does not apply at all, so the job stops there: it states the full-contact limit
+# (:math:`A_r \to A_n` at every load, sliding friction :math:`\to \tau_0 A_n`), skips the
+# BEM, statistical-model, :math:`\lambda`, friction and PSD stages (their results are
+# ``None``) and ``asperity run`` exits with status 3.
 from asperity.errors import ExitStatus
+from asperity.pipelines.stages.early_verdict import limit_lines
 
 verdict = result.verdict
 print("verdict:", verdict.verdict)
 for severity, code, reason in zip(verdict.severities, verdict.codes, verdict.reasons, strict=True):
     print(f"[{severity}] {code}: {reason[:110]}...")
+for line in limit_lines(verdict):  # the full-contact-limit statement of the report
+    print(line)
 if not result.converged:  # a solver that did not converge takes precedence
     status = ExitStatus.NOT_CONVERGED
 else:
@@ -219,9 +204,26 @@ print(f"exit status of `asperity run`: {int(status)} ({status.name})")
 print("written:", ", ".join(sorted(p.name for p in (work / "out").iterdir() if p.name[0] != ".")))
 
 # %%
-# The job's Fig. 12 shows it: (a-c) the statistics against the resolution, (d) the model's
-# :math:`A_r/A_n` far above the BEM's and Persson's at every load.
-fig_job = draw_resolution(result)[0]
+# 6. Computing the model anyway, to see why it fails
+# --------------------------------------------------
+# ``[run] compute_all = true`` in the job file (``asperity run --compute-all``) runs every
+# stage despite the early verdict. The numbers it prints are **invalid**, and the report marks
+# them ``invalid:``: the statistical model assumes separate asperities, and in full contact
+# there are none. It shows the failure: the BEM finds a few per cent of real contact, while the
+# model, fed with this map's summits (a few nanometres high, millimetres in radius, adhesive),
+# puts several times the nominal area in contact, at every resolution of the scan.
+(work / "job_all.toml").write_text(job_toml + "\n[run]\ncompute_all = true\n")
+result_all = run_job(load_config(work / "job_all.toml"), work / "out_all")
+print(summary_text(result_all))
+
+# %%
+# Reading that summary: **effective resolution** is the stride whose statistics fit the BEM
+# best (**R**, **eta**, **sigma_s** at that stride; **Tabor parameter mu** says whether the JKR
+# law of adhesive asperities holds, it needs :math:`\mu \gtrsim 5`); **misfit** is the rms of
+# :math:`\ln(A_{model}/A_{BEM})` over the loads (0.2 good, 0.7 the limit); ``+- u`` is each
+# number's error bar. The job's Fig. 12 shows the failure: (a-c) the statistics against the
+# resolution, (d) the model's :math:`A_r/A_n` far above the BEM's and Persson's at every load.
+fig_job = draw_resolution(result_all)[0]
 
 # %%
 # What next? The verdict's reasons point at the model's assumptions: a rougher

@@ -194,12 +194,13 @@ def fit_excluded(scan: ScanResult) -> np.ndarray:
 
 
 def _mark_resolution(
-    ax: Axes, xu: DisplayUnit, res: ResolutionChoice, scan: ScanResult, y: np.ndarray
+    ax: Axes, xu: DisplayUnit, res: ResolutionChoice | None, scan: ScanResult, y: np.ndarray
 ) -> None:
     """The effective resolution (dashed; the located one, whose statistics the model uses) and
     the strides left out of the fits (grey)."""
-    at = xu(res.effective_resolution)
-    ax.axvline(at, color="k", ls="--", lw=1, label=f"effective, {at:.3g} {xu.symbol}")
+    if res is not None:  # None: a run stopped at its early verdict has no effective resolution
+        at = xu(res.effective_resolution)
+        ax.axvline(at, color="k", ls="--", lw=1, label=f"effective, {at:.3g} {xu.symbol}")
     out = fit_excluded(scan)
     if out.any():
         ax.plot(
@@ -436,7 +437,11 @@ def draw_resolution(result: Run) -> tuple[Figure, FigureTable]:
                 "fit",
                 {"resolution (m)": spec["fit_x"], spec["column"]: spec["fit"]},
             )
-    _draw_area_vs_load(axes[1, 1], result, table)
+    if result.statistical_model is not None:
+        _draw_area_vs_load(axes[1, 1], result, table)
+    else:  # the run stopped at its early verdict: no model stage to draw (run.compute_all)
+        axes[1, 1].set_axis_off()
+        axes[1, 1].text(0.5, 0.5, "model stages not computed\n(run.compute_all)", ha="center")
     return fig, table
 
 
