@@ -171,6 +171,7 @@ def test_version_change_recomputes_and_a_corrupted_stage_is_not_reused(
         "friction": "computed",
         "realisations": "disabled",  # a line-profile stage; the small job is a map
         "bem_shear": "disabled",  # off without [bem_shear]
+        "friction_tests": "disabled",  # the new stage 10, off without its section
     }
     assert "checksum" in next(s for s in again.stages if s.name == "friction").note
     assert again.friction.static_friction[0] < 10.0
