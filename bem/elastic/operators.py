@@ -2,15 +2,14 @@
 
 Planning FFTW and building a kernel cost more than a small solve, so operators are kept per
 thread (a :class:`~asperity.bem.elastic.fft_backend.Convolution` owns work buffers and must never
-serve
-two solves at once).
+serve two solves at once).
 
 Memory: the operators of one grid (the influence kernel and the preconditioner, double and
 single precision) share one transform workspace, a complex128 half-spectrum (8 B per grid
-point; :func:`~asperity.bem.elastic.fft_backend.new_workspace`), and the multipliers that depend on
-|q|
-alone (the periodic point-force kernel 2 / (E* |q|) and the stiffness E* |q| / 2) are evaluated
-where they are applied from two 1D arrays instead of being stored (4 B per grid point each in
+point; :func:`~asperity.bem.elastic.fft_backend.new_workspace`), and the multipliers that depend
+on ``|q|`` alone (the periodic point-force kernel 2 / (E* |q|) and the stiffness E* |q| / 2)
+are evaluated where they are applied from two 1D arrays instead of being stored (4 B per grid point
+each in
 double precision, 2 B in single). Measured at 5000^2: before, the four operators held 24 B per
 point of spectra, 12 B of multipliers and 8 B of single-precision scratch.
 

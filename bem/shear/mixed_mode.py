@@ -25,9 +25,8 @@ Two choices of chi_T, the :class:`MixedModeLaw` field ``tangential_energy``:
     K_I^2 / (2 E*). This is the law of the paper and of Papangelo-Ciavarella, whose K_II is the
     nominal ``T / (2 a sqrt(pi a))`` all round the edge (Savkoor-Briggs), mode III included.
     E:PC_indent..E:PC_T are reproduced with it (``tests/bem/test_bem_shear_pc_sphere.py``).
-``"cerruti"``: chi_T = :func:`asperity.bem.elastic.tangential_influence.tangential_chi` (1.5 chi on
-a
-    square element), the energy actually released by removing the element's tangential
+``"cerruti"``: chi_T = :func:`asperity.bem.elastic.tangential_influence.tangential_chi`
+    (1.5 chi on a square element), the energy actually released by removing the element's tangential
     traction. Where the edge runs along x the tangential field is mode III, whose release
     rate for an incompressible body on a rigid flat is ``K_III^2 / (4 G) = K_III^2 / E*``, twice
     the mode-II one: averaged round a circular edge the energy release of a tangential load is
