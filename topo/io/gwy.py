@@ -15,10 +15,9 @@ and nothing is executed or unpickled.
 
 from __future__ import annotations
 
-import builtins
 import struct
 from pathlib import Path
-from typing import overload
+from typing import Any, overload
 
 import numpy as np
 
@@ -83,7 +82,7 @@ class _Parser:
             components[key], pos = self.value(kind, pos, stop, f"{name}.{key}")
         return components, stop
 
-    def value(self, kind: str, pos: int, end: int, field: str) -> tuple[builtins.object, int]:
+    def value(self, kind: str, pos: int, end: int, field: str) -> tuple[Any, int]:
         if kind in _SCALAR:
             size = struct.calcsize(_SCALAR[kind])
             if pos + size > end:
