@@ -158,10 +158,12 @@ def test_resume_after_interruption_skips_finished_stages(tmp_path, monkeypatch, 
         False,
         False,  # the line-profile realisations: disabled on a map
         False,  # the shear BEM: off without [bem_shear]
+        False,  # the friction tests: off without [measured] friction_curves
         False,
     ]
 
-    # a change of the loads recomputes the BEM and what follows, not the surface
+    # a change of the loads recomputes the BEM and what follows, not the surface (the finished
+    # run of the first loads is replaced on purpose: unasked it is refused)
     changed = config_from_dict(
         {
             **tomllib.loads(cfg.to_toml()),
@@ -173,7 +175,7 @@ def test_resume_after_interruption_skips_finished_stages(tmp_path, monkeypatch, 
         },
         base_dir=tmp_path,
     )
-    result = run_job(changed, out)
+    result = run_job(changed, out, replace_run=True)
     assert [s.cached for s in result.stages] == [
         True,
         True,

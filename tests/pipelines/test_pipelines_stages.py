@@ -203,7 +203,8 @@ def test_bem_disabled_calibrates_on_the_measurement_alone(small, small_run, tmp_
     data = small.data()
     data["bem"]["enabled"] = False
     data["measured"] = {"normal_area": "area.csv"}
-    result = run_job(small(tmp_path, data), tmp_path / "out")
+    # replaces the finished small run in the folder, reusing its surface stages
+    result = run_job(small(tmp_path, data), tmp_path / "out", replace_run=True)
     status = {s.name: s.status for s in result.stages}
     assert status["bem_reference"] == "disabled" and result.bem_reference is None
     assert status["surface"] == status["resolution_scan"] == "stored"
