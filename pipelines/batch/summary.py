@@ -2,7 +2,7 @@
 
 ``summary.csv``: one row per map (``map``, ``folder``, ``status``, ``message``, then the
 numbers of :func:`summary_values`, SI units in the headers, each predicted quantity with its
-``... uncertainty (unit)`` column, and the ``verdict`` column; every number of a map whose
+``<quantity> uncertainty (unit)`` column, and the ``verdict`` column; every number of a map whose
 verdict is invalid is written ``invalid: 4389.5``, text that no spreadsheet reads as a
 number), then a ``mean``
 and a ``std`` row (sample standard deviation, ddof = 1) over the maps whose result the
@@ -68,7 +68,7 @@ def verdict_text(result: object) -> str:
 
 def summary_values(result: object) -> dict[str, float | str]:
     """The summary numbers of one run (SI; column names carry the units), each predicted
-    quantity followed by its ``... uncertainty (unit)`` column (NaN where the model could not
+    quantity followed by its ``<quantity> uncertainty (unit)`` column (NaN where the model could not
     estimate it), then ``verdict`` and ``validity``. A run stopped where its verdict was known
     (:mod:`asperity.pipelines.stages.early_verdict`) has no model numbers: only its verdict."""
     verdict = getattr(result, "verdict", None)
