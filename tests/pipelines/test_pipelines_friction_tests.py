@@ -83,7 +83,7 @@ def test_job_fits_lambda_to_friction_tests_and_compares(small, tmp_path):
     data["loading"]["drive_stiffness"] = WIRE
     data["measured"] = {"friction_curves": "friction.csv"}
     data["fit"]["source"] = "friction"
-    result = run_job(small(tmp_path, data=data), out)
+    result = run_job(small(tmp_path, data=data), out, replace_run=True)  # the first run replaced
     lam = result.mode_mixity
     assert lam.fitted and lam.fit_source == "friction"
     assert lam.interval_low <= 0.03 <= lam.interval_high
