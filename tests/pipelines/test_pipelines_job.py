@@ -186,6 +186,7 @@ def test_resume_after_interruption_skips_finished_stages(tmp_path, monkeypatch, 
         False,
         False,  # the line-profile realisations: disabled on a map
         False,  # the shear BEM: off without [bem_shear]
+        False,  # the friction tests: off without [measured] friction_curves
         False,
     ]
     assert calls == {"surface": 1, "bem": 2}
