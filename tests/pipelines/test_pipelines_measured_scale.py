@@ -127,8 +127,8 @@ def test_job_stores_reports_and_judges_the_scale_factors(small_run, small, tmp_p
     (tmp_path / "job.toml").write_text(dump_toml(data))
     run = tmp_path / "run"
     run.mkdir()
-    shutil.copy(out / "results.h5", run / "results.h5")  # stages 1-4 reused
-    status = main(["run", str(tmp_path / "job.toml"), "--out", str(run)])
+    shutil.copy(out / "results.h5", run / "results.h5")  # stages 1-4 reused: --replace
+    status = main(["run", str(tmp_path / "job.toml"), "--out", str(run), "--replace"])
     printed = capsys.readouterr().out
     assert status == 3
     assert "INVALID (shape_scale): the shape fit scales the model's A_r(F_x) by c = 3" in printed

@@ -65,12 +65,13 @@ def measured_run(tmp_path_factory):
 @pytest.fixture(scope="module")
 def synthesis_run(measured_run):
     """BEM on 64^2 maps synthesised from the profile, three realisations, in the same folder
-    (the read-and-level and scan stages are reused from the measured run)."""
+    (the read-and-level and scan stages are reused from the measured run, which this job
+    replaces on purpose: ``replace_run``)."""
     _, out, _ = measured_run
     data = _data(out, profile_realisations=3, profile_seed=7)
     config = config_from_dict(data, source="profile.toml", base_dir=out)
     with pytest.warns(StatmodelWarning) as caught:
-        result = run_job(config, out)
+        result = run_job(config, out, replace_run=True)
     assert any(issubclass(w.category, TaborWarning) for w in caught)
     return config, out, result
 
