@@ -137,6 +137,11 @@ class ShearCurve:
         The mixed-mode curve's elastic energy ``1/2 sum (p u_z + q u_x) dx dy`` of each step (J);
         with the work of the drive it gives the dissipation along the path (E:failure_locus
         dissipates ``(G - w) dA >= 0``, sliding ``tau_0`` times the slip); None for the others.
+    preload_rim_fraction : float or None
+        The mixed-mode curve's share of the bonded elements before shear that lie on the rim
+        of the overloaded contact of its Pohrt-Popov preload (there the preload depends on the
+        path: :data:`asperity.bem.shear.rough_mixed_mode.RIM_TOLERANCE`); 0 for a preload given
+        as a monotone loading state (``initial``); None for the other solvers.
     """
 
     tangential_displacement: np.ndarray
@@ -157,6 +162,7 @@ class ShearCurve:
     substeps: np.ndarray | None = None
     separation: np.ndarray | None = None
     elastic_energy: np.ndarray | None = None
+    preload_rim_fraction: float | None = None
 
     @property
     def success(self) -> bool:

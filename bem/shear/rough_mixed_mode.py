@@ -59,6 +59,7 @@ from asperity.bem.elastic.tangential_influence import check_poisson
 from asperity.bem.errors import BemInputError
 from asperity.bem.normal.sweep import load_sweep
 from asperity.bem.options import SolverOptions
+from asperity.bem.result import ContactResult
 from asperity.bem.shear.mixed_mode import ADHESION_LOST, MixedModeLaw
 from asperity.bem.shear.rough import ShearCurve, label_junctions
 from asperity.bem.shear.stick_slip import ShearOptions, TangentialOperator, box_conjugate_gradients
@@ -481,10 +482,11 @@ def _step_row(prob: _Problem, st: _State, delta_t: float, log: _StepLog, cg: int
     }
 
 
-def _preload(prob: _Problem, normal_options: SolverOptions | None) -> _State:
+def _preload(prob: _Problem, normal_options: SolverOptions | None) -> tuple[_State, float]:
     """Pohrt-Popov load (to a multiple of F_z) then unload (to F_z) by the normal solver (at
     delta_T = 0 the mixed-mode criterion is Pohrt-Popov's); the factor is doubled while the
-    loaded contact's rim holds more than RIM_TOLERANCE of the unloaded contact."""
+    loaded contact's rim holds more than RIM_TOLERANCE of the unloaded contact. Returns the
+    state and that rim fraction (bonded elements on the loaded rim / bonded elements)."""
     h, periodic, opts = prob.h, prob.periodic, prob.opts
     force = prob.normal.force
     factor = opts.preload_load_factor
@@ -502,34 +504,61 @@ def _preload(prob: _Problem, normal_options: SolverOptions | None) -> _State:
         for r in (up, down):
             if not r.converged:
                 raise BemInputError(f"preload did not converge: {r.message}")
-        zeros = np.zeros(h.shape)
-        st = _State(
-            down.contact_mask.copy(),
-            np.zeros(h.shape, dtype=bool),
-            np.where(down.contact_mask, down.pressure, 0.0),
-            zeros,
-            zeros.copy(),
-            float(down.separation),
-        )
+        st = _bonded_state(down)
         # the loaded contact must hold the JKR contact: (almost) none of it on the loaded rim
         start = up.contact_mask
         held = int((st.c & (start & ~_shrink(start, periodic))).sum())
-        if held <= RIM_TOLERANCE * max(int(st.c.sum()), 1):
-            return st
+        rim = held / max(int(st.c.sum()), 1)
+        if rim <= RIM_TOLERANCE:
+            return st, rim
         # periodic: a bonded set near the whole map has no solution (the zero mode)
         if (
             up.contact_fraction >= (0.25 if periodic else 0.9)
             or factor >= 8 * opts.preload_load_factor
         ):
             warnings.warn(
-                f"preload: {held / st.c.sum():.1%} of the unloaded contact lies on the rim "
+                f"preload: {rim:.1%} of the unloaded contact lies on the rim "
                 f"of the contact loaded to {factor:g} F_z (the junctions of a few elements keep "
                 "their loaded footprint under Pohrt-Popov's criterion): the preload depends on "
                 "the path there",
                 stacklevel=3,
             )
-            return st
+            return st, rim
         factor *= 2.0
+
+
+def _bonded_state(normal: ContactResult) -> _State:
+    """The state before shear of a normal solution: its contact set bonded (adhesive stick),
+    its pressure there (Pa; a Maugis-Dugdale law's cohesive tension outside the contact is
+    dropped: the mixed-mode law has no cohesive zone), its separation d (m); no shear yet."""
+    zeros = np.zeros(normal.contact_mask.shape)
+    return _State(
+        normal.contact_mask.copy(),
+        np.zeros(zeros.shape, dtype=bool),
+        np.where(normal.contact_mask, normal.pressure, 0.0),
+        zeros,
+        zeros.copy(),
+        float(normal.separation),
+    )
+
+
+def _given_preload(prob: _Problem, initial: ContactResult) -> tuple[_State, float]:
+    """The caller's normal state at F_z on this grid as the state before shear (a monotone
+    loading path: no loaded rim, fraction 0); a BemInputError where its grid or load differ."""
+    if initial.contact_mask.shape != prob.h.shape:
+        raise BemInputError(
+            f"initial: expected a normal solution on the {prob.h.shape} grid of heights, got "
+            f"{initial.contact_mask.shape}"
+        )
+    force = prob.normal.force
+    if not abs(float(initial.normal_force) - force) <= 1e-3 * abs(force):
+        raise BemInputError(
+            f"initial: expected a normal solution at F_z = {force:.6g} N, got "
+            f"{float(initial.normal_force):.6g} N"
+        )
+    if not initial.contact_mask.any():
+        raise BemInputError("initial: the normal solution has no contact to shear")
+    return _bonded_state(initial), 0.0
 
 
 def _restore(prob: _Problem, st: _State, saved: _State, slope: float | None) -> None:
@@ -572,7 +601,9 @@ def _transactional_step(prob: _Problem, st: _State, start: float, end: float) ->
     return row
 
 
-def _curve(d_t: np.ndarray, rows: list, normal_seconds: float, st: _State) -> ShearCurve:
+def _curve(
+    d_t: np.ndarray, rows: list, normal_seconds: float, st: _State, rim: float
+) -> ShearCurve:
     """The ShearCurve of the step rows ``(row, seconds)``."""
 
     def col(key: str, dtype=float) -> np.ndarray:
@@ -601,6 +632,7 @@ def _curve(d_t: np.ndarray, rows: list, normal_seconds: float, st: _State) -> Sh
         substeps=col("substeps", int),
         separation=col("separation"),
         elastic_energy=col("energy"),
+        preload_rim_fraction=rim,
     )
 
 
@@ -620,6 +652,7 @@ def mixed_mode_shear_curve(
     normal_options: SolverOptions | None = None,
     options: ShearOptions | None = None,
     stop_when_sliding: bool = False,
+    initial: ContactResult | None = None,
     preload_load_factor: float | None = None,
     collapse_fraction: float | None = None,
     slide_margin: int | None = None,
@@ -661,6 +694,13 @@ def mixed_mode_shear_curve(
         ``slide_margin``, ``load_tolerance``, ``max_active_set``.
     stop_when_sliding : bool
         Stop after the first step in which every junction slides.
+    initial : ContactResult, optional
+        The normal state before shear, at ``normal_force`` on this grid: its contact set is
+        bonded and settled under the mixed-mode law at delta_T = 0 (its pressure, Pa, and
+        separation, m, the start). For example the BEM reference's adhesive solve at F_z
+        (the Maugis-Dugdale loading branch, :func:`asperity.bem.solve_contact` with
+        ``adhesion="maugis"``), so that the shear starts from the state the reference and the
+        model calibrated on it describe. None: the Pohrt-Popov preload (``options``).
     preload_load_factor, collapse_fraction, slide_margin, load_tolerance, max_active_set
         Deprecated (a DeprecationWarning): the same knobs given loose; they override
         ``options``.
@@ -693,7 +733,7 @@ def mixed_mode_shear_curve(
         h, dx, dy, e_star, normal_force, law, periodic, opts, shear_strength, friction_coefficient
     )
     t0 = time.perf_counter()
-    st = _preload(prob, normal_options)
+    st, rim = _preload(prob, normal_options) if initial is None else _given_preload(prob, initial)
     pre = _settle(prob, st, 0.0, check_junctions=False)
     if pre["status"]:
         raise BemInputError(f"preload did not settle under the mixed-mode law: {pre['message']}")
@@ -707,4 +747,4 @@ def mixed_mode_shear_curve(
         previous = float(value)
         if stop_when_sliding and r["n_stick"] == 0:
             break
-    return _curve(d_t, rows, normal_seconds, st)
+    return _curve(d_t, rows, normal_seconds, st, rim)

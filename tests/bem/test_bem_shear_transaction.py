@@ -24,7 +24,7 @@ def before_step_four():
     h, dx = _cap()
     law = MixedModeLaw(W, 0.2)
     prob = rmm._problem(h, dx, dx, E_STAR, P_CAP, law, False, ShearOptions(), 1e-3, None)
-    st = rmm._preload(prob, None)
+    st, _ = rmm._preload(prob, None)
     rmm._settle(prob, st, 0.0, check_junctions=False)
     for value in D_T[1:4]:
         assert rmm._settle(prob, st, float(value), check_junctions=True)["status"] == 0
