@@ -42,6 +42,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 from numba import njit, prange
+from numba.extending import overload
 
 from asperity.bem.errors import BemInputError
 
@@ -79,33 +80,6 @@ def _timed(conv: Convolution, x: np.ndarray, out: np.ndarray) -> float:
     t0 = time.perf_counter()
     conv(x, out)
     return time.perf_counter() - t0
-
-
-@njit(cache=True, fastmath=False, parallel=True)
-def _multiply_with_energy(spec, mult, ny):  # pragma: no cover - compiled
-    """spec *= mult in place; returns sum over the full spectrum of mult |spec|^2 (Parseval),
-    summed per row and then over the rows in order (as the radial multipliers: the same
-    energy for a stored and a radial multiplier, whatever the number of threads)."""
-    nx, nyh = spec.shape
-    last = nyh - 1 if ny % 2 == 0 else -1
-    rows = np.zeros(nx)
-    for i in prange(nx):
-        e0 = 0.0
-        e1 = 0.0
-        for j in range(nyh):
-            z = spec[i, j]
-            m = mult[i, j]
-            a = m * (z.real * z.real + z.imag * z.imag)
-            if j == 0 or j == last:
-                e0 += a
-            else:
-                e1 += a
-            spec[i, j] = z * m
-        rows[i] = e0 + 2.0 * e1
-    total = 0.0
-    for i in range(nx):
-        total += rows[i]
-    return total
 
 
 class RadialMultiplier(NamedTuple):
@@ -149,20 +123,50 @@ def _radial_fill(out, qx2, qy2, coef, power, q00, nn):  # pragma: no cover - com
             out[i, j] = _radial_value(qx2, qy2, i, j, coef, power, q00, nn)
 
 
+def _in_precision_of(spec, v):
+    """``v`` (a multiplier value, float64) in the real type of ``spec``'s elements: rounded to
+    float32 for a complex64 spectrum (as a stored float32 multiplier would hold it), unchanged
+    for a complex128 one. Compiled code uses the overload below (chosen by ``spec``'s type)."""
+    return spec.real.dtype.type(v)
+
+
+@overload(_in_precision_of)
+def _in_precision_of_compiled(spec, v):  # pragma: no cover - compiled
+    if spec.dtype == numba.types.complex64:
+        return lambda spec, v: np.float32(v)
+    return lambda spec, v: v
+
+
+# How _multiply_spectrum reads its multiplier M[i, j]: a stored half-spectrum table[i, j];
+# the rows 0 .. nx // 2 of one even in qx, table[min(i, nx - i), j]; or m(|q|) of a radial one.
+_STORED, _EVEN, _RADIAL = 0, 1, 2
+_NO_TABLE = np.zeros((1, 1))
+_NO_RADIAL = (np.zeros(1), np.zeros(1), 0.0, -1, 0.0)
+
+
 @njit(cache=True, fastmath=False, parallel=True)
-def _radial_multiply_double(spec, qx2, qy2, coef, power, q00, nn, ny, energy):  # pragma: no cover
-    """spec *= m in place (complex128, m float64); returns sum mult |spec|^2 (Parseval) when
-    ``energy``, as :func:`_multiply_with_energy` with a stored multiplier. Rows run in
-    parallel (numba threads); the energy is summed per row, then over the rows in order, so
-    it does not depend on the number of threads."""
+def _multiply_spectrum(spec, ny, energy, kind, table, radial, nn):  # pragma: no cover - compiled
+    """spec *= M in place (M read as ``kind`` says, in the precision of ``spec``); returns the
+    Parseval sum over the full spectrum of M |spec|^2 when ``energy`` (the columns 0 and, for
+    an even ``ny``, ny // 2 once, the others twice), else 0. Rows run in parallel (numba
+    threads); the energy is summed per row, then over the rows in order, so it does not depend
+    on the number of threads, nor on how M is held."""
+    qx2, qy2, coef, power, q00 = radial
     nx, nyh = spec.shape
     last = nyh - 1 if ny % 2 == 0 else -1
     rows = np.zeros(nx)
     for i in prange(nx):
+        k = np.int64(i)
+        if kind == _EVEN and k > nx // 2:
+            k = nx - k
         e0 = 0.0
         e1 = 0.0
         for j in range(nyh):
-            m = _radial_value(qx2, qy2, i, j, coef, power, q00, nn)
+            if kind == _RADIAL:
+                v = _radial_value(qx2, qy2, i, j, coef, power, q00, nn)
+            else:
+                v = table[k, j]
+            m = _in_precision_of(spec, v)
             z = spec[i, j]
             if energy:
                 a = m * (z.real * z.real + z.imag * z.imag)
@@ -178,31 +182,29 @@ def _radial_multiply_double(spec, qx2, qy2, coef, power, q00, nn, ny, energy):  
     return total
 
 
-@njit(cache=True, fastmath=False, parallel=True)
-def _radial_multiply_single(spec, qx2, qy2, coef, power, q00, nn, ny, energy):  # pragma: no cover
-    """As :func:`_radial_multiply_double` for a complex64 spectrum: the multiplier is rounded
-    to float32 as a stored float32 one would be."""
-    nx, nyh = spec.shape
-    last = nyh - 1 if ny % 2 == 0 else -1
-    rows = np.zeros(nx)
-    for i in prange(nx):
-        e0 = 0.0
-        e1 = 0.0
-        for j in range(nyh):
-            m = np.float32(_radial_value(qx2, qy2, i, j, coef, power, q00, nn))
-            z = spec[i, j]
-            if energy:
-                a = m * (z.real * z.real + z.imag * z.imag)
-                if j == 0 or j == last:
-                    e0 += a
-                else:
-                    e1 += a
-            spec[i, j] = z * m
-        rows[i] = e0 + 2.0 * e1
-    total = 0.0
-    for i in range(nx):
-        total += rows[i]
-    return total
+def _multiply_stored(spec: np.ndarray, mult: np.ndarray, ny: int) -> float:
+    """``spec *= mult`` in place (a stored half-spectrum multiplier, its values already divided
+    by the number of grid points: m/Pa or Pa/m); returns the energy sum(x * y) of the
+    convolution (J, for x in Pa and y in m on a unit pixel), as :func:`_multiply_spectrum`."""
+    return _multiply_spectrum(spec, ny, True, _STORED, mult, _NO_RADIAL, 1.0)
+
+
+def _multiply_radial(
+    spec: np.ndarray, rm: RadialMultiplier, nn: float, ny: int, energy: bool
+) -> float:
+    """``spec *= m(|q|) / nn`` in place for the radial multiplier ``rm`` (``nn`` the number of
+    grid points); returns the energy when ``energy``, else 0 (:func:`_multiply_spectrum`)."""
+    radial = (rm.qx2, rm.qy2, float(rm.coef), int(rm.power), float(rm.q00))
+    e = _multiply_spectrum(spec, ny, energy, _RADIAL, _NO_TABLE, radial, nn)
+    return e if energy else 0.0
+
+
+def _multiply_even(spec: np.ndarray, half: np.ndarray, ny: int, energy: bool) -> float:
+    """``spec *= M`` in place for a multiplier even in qx stored as its rows 0 .. nx // 2
+    (``half``, float64, already divided by the number of grid points); returns the energy
+    when ``energy``, else 0 (:func:`_multiply_spectrum`)."""
+    e = _multiply_spectrum(spec, ny, energy, _EVEN, half, _NO_RADIAL, 1.0)
+    return e if energy else 0.0
 
 
 @njit(cache=True, fastmath=False, parallel=True)
@@ -793,19 +795,12 @@ class Convolution:
             spec = scipy.fft.rfft2(np.asarray(x, dtype=self.dtype), workers=self.threads)
         e = 0.0
         if self._radial is not None:
-            rm = self._radial
-            kernel = (
-                _radial_multiply_double if self.precision == "double" else _radial_multiply_single
-            )
             nn = float(self.shape[0] * self.shape[1])
             with _NumbaThreads(self.threads):
-                e = kernel(
-                    spec, rm.qx2, rm.qy2, rm.coef, rm.power, rm.q00, nn, self.shape[1], energy
-                )
-            e = e if energy else 0.0
+                e = _multiply_radial(spec, self._radial, nn, self.shape[1], energy)
         elif energy:
             with _NumbaThreads(self.threads):
-                e = _multiply_with_energy(spec, self._mult, self.shape[1])
+                e = _multiply_stored(spec, self._mult, self.shape[1])
         else:
             np.multiply(spec, self._mult, out=spec)
         self._pending = spec

@@ -31,7 +31,7 @@ from collections import OrderedDict
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from asperity.bem.elastic import fft_backend as fb
 from asperity.bem.elastic.fft_backend import Convolution, RadialMultiplier, new_workspace
@@ -171,68 +171,6 @@ class EvenMultiplier(NamedTuple):
     where it is applied, as a stored float32 copy would hold it)."""
 
     half: np.ndarray  # (gx // 2 + 1, gy // 2 + 1), m/Pa (or Pa/m) over gx * gy
-
-
-@njit(cache=True, fastmath=False, parallel=True)
-def _even_multiply_double(spec, half, ny, energy):  # pragma: no cover - compiled
-    """spec *= M in place (complex128), M[i] = half[min(i, gx - i)] (:class:`EvenMultiplier`);
-    returns sum M |spec|^2 over the full spectrum (Parseval) when ``energy``, summed per row
-    and then over the rows in order, as
-    :func:`~asperity.bem.elastic.fft_backend._multiply_with_energy` with the full stored array."""
-    gx, nyh = spec.shape
-    last = nyh - 1 if ny % 2 == 0 else -1
-    rows = np.zeros(gx)
-    for i in prange(gx):
-        k = np.int64(i)
-        if k > gx // 2:
-            k = gx - k
-        e0 = 0.0
-        e1 = 0.0
-        for j in range(nyh):
-            m = half[k, j]
-            z = spec[i, j]
-            if energy:
-                a = m * (z.real * z.real + z.imag * z.imag)
-                if j == 0 or j == last:
-                    e0 += a
-                else:
-                    e1 += a
-            spec[i, j] = z * m
-        rows[i] = e0 + 2.0 * e1
-    total = 0.0
-    for i in range(gx):
-        total += rows[i]
-    return total
-
-
-@njit(cache=True, fastmath=False, parallel=True)
-def _even_multiply_single(spec, half, ny, energy):  # pragma: no cover - compiled
-    """As :func:`_even_multiply_double` for a complex64 spectrum, each value of the multiplier
-    rounded to float32 (as a stored float32 copy would hold it)."""
-    gx, nyh = spec.shape
-    last = nyh - 1 if ny % 2 == 0 else -1
-    rows = np.zeros(gx)
-    for i in prange(gx):
-        k = np.int64(i)
-        if k > gx // 2:
-            k = gx - k
-        e0 = 0.0
-        e1 = 0.0
-        for j in range(nyh):
-            m = np.float32(half[k, j])
-            z = spec[i, j]
-            if energy:
-                a = m * (z.real * z.real + z.imag * z.imag)
-                if j == 0 or j == last:
-                    e0 += a
-                else:
-                    e1 += a
-            spec[i, j] = z * m
-        rows[i] = e0 + 2.0 * e1
-    total = 0.0
-    for i in range(gx):
-        total += rows[i]
-    return total
 
 
 class PaddedConvolution:
@@ -516,19 +454,12 @@ class PaddedConvolution:
         e = 0.0
         gy = self.grid[1]
         if self._radial is not None:
-            rm = self._radial
-            double = self.precision == "double"
-            kernel = fb._radial_multiply_double if double else fb._radial_multiply_single
             nn = float(self.grid[0] * self.grid[1])
-            e = kernel(spec, rm.qx2, rm.qy2, rm.coef, rm.power, rm.q00, nn, gy, energy)
-            e = e if energy else 0.0
+            e = fb._multiply_radial(spec, self._radial, nn, gy, energy)
         elif self._even is not None:
-            double = self.precision == "double"
-            kernel = _even_multiply_double if double else _even_multiply_single
-            e = kernel(spec, self._even.half, gy, energy)
-            e = e if energy else 0.0
+            e = fb._multiply_even(spec, self._even.half, gy, energy)
         elif energy:
-            e = fb._multiply_with_energy(spec, self._mult, gy)
+            e = fb._multiply_stored(spec, self._mult, gy)
         else:
             # the real and imaginary parts apart: same values as spec * mult, without the
             # ufunc's casting buffer (64 KiB)
