@@ -102,50 +102,114 @@ class PressureStep(NamedTuple):
 
 
 @njit(inline="always")
-def _gap_elem(w, h, c, i, shift):  # pragma: no cover - compiled
-    g = w[i] - h[i]
-    w[i] = g
-    ci = c[i]
-    d = (g - shift) * (1.0 if ci else 0.0)
-    return ci, d, d * d
-
-
-@njit(cache=True, fastmath=False)
-def _deflection_to_gap_stats_block(w, h, c, shift):  # pragma: no cover - compiled
-    """w -= h in place (deflection -> gap without the rigid-body term); returns n, sum(g - shift)
-    and sum((g - shift)^2) over the contact set."""
-    n = 0
-    a0 = a1 = a2 = a3 = 0.0
-    b0 = b1 = b2 = b3 = 0.0
-    size = w.size
-    m4 = size - size % 4
-    for i in range(0, m4, 4):
-        k0, x0, y0 = _gap_elem(w, h, c, i, shift)
-        k1, x1, y1 = _gap_elem(w, h, c, i + 1, shift)
-        k2, x2, y2 = _gap_elem(w, h, c, i + 2, shift)
-        k3, x3, y3 = _gap_elem(w, h, c, i + 3, shift)
-        n += k0 + k1 + k2 + k3
-        a0 += x0
-        a1 += x1
-        a2 += x2
-        a3 += x3
-        b0 += y0
-        b1 += y1
-        b2 += y2
-        b3 += y3
-    for i in range(m4, size):
-        k0, x0, y0 = _gap_elem(w, h, c, i, shift)
-        n += k0
-        a0 += x0
-        b0 += y0
-    return GapStats(n, (a0 + a1) + (a2 + a3), (b0 + b1) + (b2 + b3))
+def _blocks(size):  # pragma: no cover - compiled
+    return max(1, (size + CHUNK - 1) // CHUNK)  # one (empty) block for an empty array
 
 
 @njit(inline="always")
-def _stats_elem(w, c, i, shift):  # pragma: no cover - compiled
-    ci = c[i]
-    d = (w[i] - shift) * (1.0 if ci else 0.0)
-    return ci, d, d * d
+def _fsum(a):  # pragma: no cover - compiled
+    total = a[0] * 0
+    for k in range(a.size):
+        total += a[k]
+    return total
+
+
+@njit(inline="always")
+def _lane_sums(elem, lo, hi, args):  # pragma: no cover - compiled
+    """The sums over lo <= i < hi of ``elem(i, args) = (k1, k2, k3, x, y)`` (three counts, two
+    values; an element kernel also writes its arrays at i): the counts exactly, x and y each in
+    four interleaved lanes (the blocks of four from ``lo``, the tail in lane 0) added as
+    (l0 + l1) + (l2 + l3). The one reduction of the module's kernels (inlined: the slots a
+    kernel leaves at 0 are dead code)."""
+    n1 = n2 = n3 = 0
+    x0 = x1 = x2 = x3 = 0.0
+    y0 = y1 = y2 = y3 = 0.0
+    m4 = hi - (hi - lo) % 4
+    for i in range(lo, m4, 4):
+        a1, a2, a3, ax, ay = elem(i, args)
+        b1, b2, b3, bx, by = elem(i + 1, args)
+        c1, c2, c3, cx, cy = elem(i + 2, args)
+        d1, d2, d3, dx, dy = elem(i + 3, args)
+        n1 += a1 + b1 + c1 + d1
+        n2 += a2 + b2 + c2 + d2
+        n3 += a3 + b3 + c3 + d3
+        x0 += ax
+        x1 += bx
+        x2 += cx
+        x3 += dx
+        y0 += ay
+        y1 += by
+        y2 += cy
+        y3 += dy
+    for i in range(m4, hi):
+        a1, a2, a3, ax, ay = elem(i, args)
+        n1 += a1
+        n2 += a2
+        n3 += a3
+        x0 += ax
+        y0 += ay
+    return n1, n2, n3, (x0 + x1) + (x2 + x3), (y0 + y1) + (y2 + y3)
+
+
+@njit(inline="always")
+def _dot_elem(i, args):  # pragma: no cover - compiled
+    a, b = args
+    return 0, 0, 0, a[i] * b[i], 0.0
+
+
+@njit(cache=True, fastmath=False)
+def dot(a, b):  # pragma: no cover - compiled
+    """sum(a * b) in the module's fixed four-lane order."""
+    return _lane_sums(_dot_elem, 0, a.size, (a, b))[3]
+
+
+@njit(inline="always")
+def _block_sums(block, size, args):  # pragma: no cover - compiled
+    """The sums of ``block(lo, hi, args)`` (a serial kernel: :func:`_lane_sums` of one element
+    kernel over lo <= i < hi) over the whole array (``size`` elements): in one call below
+    :data:`PARALLEL_MIN`, else over blocks of :data:`CHUNK` in parallel (``prange``, in the
+    caller's parallel region), the blocks' sums added in block order. The element kernels
+    run only inside the serial ``block``: inlined into a parallel function, numba 0.68 drops
+    some of their array writes."""
+    if size < PARALLEL_MIN:
+        return block(0, size, args)
+    nb = _blocks(size)
+    n1 = np.zeros(nb, dtype=np.int64)
+    n2 = np.zeros(nb, dtype=np.int64)
+    n3 = np.zeros(nb, dtype=np.int64)
+    sx = np.zeros(nb)
+    sy = np.zeros(nb)
+    for k in prange(nb):
+        lo, hi = k * CHUNK, min((k + 1) * CHUNK, size)
+        n1[k], n2[k], n3[k], sx[k], sy[k] = block(lo, hi, args)
+    return _fsum(n1), _fsum(n2), _fsum(n3), _fsum(sx), _fsum(sy)
+
+
+@njit(inline="always")
+def _contact_moments(ci, g, shift):  # pragma: no cover - compiled
+    """The slots of a gap-statistics element: (c, 0, 0, d, d^2), d = g - shift on the contact
+    set (c = 1), 0 outside."""
+    d = (g - shift) * (1.0 if ci else 0.0)
+    return ci, 0, 0, d, d * d
+
+
+@njit(inline="always")
+def _gap_elem(i, args):  # pragma: no cover - compiled
+    w, h, c, shift = args
+    g = w[i] - h[i]
+    w[i] = g
+    return _contact_moments(c[i], g, shift)
+
+
+@njit(cache=True, fastmath=False)
+def _gap_block(lo, hi, args):  # pragma: no cover - compiled
+    return _lane_sums(_gap_elem, lo, hi, args)
+
+
+@njit(inline="always")
+def _stats_elem(i, args):  # pragma: no cover - compiled
+    w, c, shift = args
+    return _contact_moments(c[i], w[i], shift)
 
 
 @njit(cache=True, fastmath=False)
@@ -153,208 +217,84 @@ def gap_stats(w, c, shift):  # pragma: no cover - compiled
     """The statistics of :func:`deflection_to_gap_stats` of a ``w`` that already holds the
     gap (nothing is written): n, sum(g - shift) and sum((g - shift)^2) over the contact set,
     summed in the same order (bit-identical)."""
-    n = 0
-    a0 = a1 = a2 = a3 = 0.0
-    b0 = b1 = b2 = b3 = 0.0
-    size = w.size
-    m4 = size - size % 4
-    for i in range(0, m4, 4):
-        k0, x0, y0 = _stats_elem(w, c, i, shift)
-        k1, x1, y1 = _stats_elem(w, c, i + 1, shift)
-        k2, x2, y2 = _stats_elem(w, c, i + 2, shift)
-        k3, x3, y3 = _stats_elem(w, c, i + 3, shift)
-        n += k0 + k1 + k2 + k3
-        a0 += x0
-        a1 += x1
-        a2 += x2
-        a3 += x3
-        b0 += y0
-        b1 += y1
-        b2 += y2
-        b3 += y3
-    for i in range(m4, size):
-        k0, x0, y0 = _stats_elem(w, c, i, shift)
-        n += k0
-        a0 += x0
-        b0 += y0
-    return GapStats(n, (a0 + a1) + (a2 + a3), (b0 + b1) + (b2 + b3))
+    n, _, _, s1, s2 = _lane_sums(_stats_elem, 0, w.size, (w, c, shift))
+    return GapStats(n, s1, s2)
 
 
 @njit(inline="always")
-def _direction_elem(w, c, t, tc, i, offset, beta):  # pragma: no cover - compiled
+def _direction_elem(i, args):  # pragma: no cover - compiled
+    w, c, t, tc, offset, beta = args
     g = w[i] - offset
     m = 1.0 if c[i] else 0.0
     ti = m * (g + beta * t[i])
     t[i] = ti
     tc[i] = ti
     q = min(g, 0.0) * (1.0 - m)
-    return g * ti, q * q, 1 if q < 0.0 else 0
+    return 1 if q < 0.0 else 0, 0, 0, g * ti, q * q
 
 
 @njit(cache=True, fastmath=False)
-def _update_direction_block(w, c, t, tc, offset, beta):  # pragma: no cover - compiled
-    """t = g + beta t on the contact set (0 outside), g = w - offset.
-
-    Returns sum_c g t, the squared penetration outside the set and its pixel count.
-    """
-    a0 = a1 = a2 = a3 = 0.0
-    b0 = b1 = b2 = b3 = 0.0
-    npen = 0
-    size = w.size
-    m4 = size - size % 4
-    for i in range(0, m4, 4):
-        x0, y0, k0 = _direction_elem(w, c, t, tc, i, offset, beta)
-        x1, y1, k1 = _direction_elem(w, c, t, tc, i + 1, offset, beta)
-        x2, y2, k2 = _direction_elem(w, c, t, tc, i + 2, offset, beta)
-        x3, y3, k3 = _direction_elem(w, c, t, tc, i + 3, offset, beta)
-        a0 += x0
-        a1 += x1
-        a2 += x2
-        a3 += x3
-        b0 += y0
-        b1 += y1
-        b2 += y2
-        b3 += y3
-        npen += k0 + k1 + k2 + k3
-    for i in range(m4, size):
-        x0, y0, k0 = _direction_elem(w, c, t, tc, i, offset, beta)
-        a0 += x0
-        b0 += y0
-        npen += k0
-    return DirectionUpdate((a0 + a1) + (a2 + a3), (b0 + b1) + (b2 + b3), npen)
+def _direction_block(lo, hi, args):  # pragma: no cover - compiled
+    return _lane_sums(_direction_elem, lo, hi, args)
 
 
 @njit(inline="always")
-def _residual_elem(w, c, s, i, offset):  # pragma: no cover - compiled
+def _residual_elem(i, args):  # pragma: no cover - compiled
+    w, c, s, offset = args
     g = w[i] - offset
     m = 1.0 if c[i] else 0.0
     s[i] = m * g
     q = min(g, 0.0) * (1.0 - m)
-    return q * q, 1 if q < 0.0 else 0
+    return 1 if q < 0.0 else 0, 0, 0, q * q, 0.0
 
 
 @njit(cache=True, fastmath=False)
-def _residual_field_block(w, c, s, offset):  # pragma: no cover - compiled
-    """s = g on the contact set, 0 outside (g = w - offset), the input of the preconditioner;
-    returns the squared penetration outside the set and its pixel count."""
-    b0 = b1 = b2 = b3 = 0.0
-    npen = 0
-    size = w.size
-    m4 = size - size % 4
-    for i in range(0, m4, 4):
-        y0, k0 = _residual_elem(w, c, s, i, offset)
-        y1, k1 = _residual_elem(w, c, s, i + 1, offset)
-        y2, k2 = _residual_elem(w, c, s, i + 2, offset)
-        y3, k3 = _residual_elem(w, c, s, i + 3, offset)
-        b0 += y0
-        b1 += y1
-        b2 += y2
-        b3 += y3
-        npen += k0 + k1 + k2 + k3
-    for i in range(m4, size):
-        y0, k0 = _residual_elem(w, c, s, i, offset)
-        b0 += y0
-        npen += k0
-    return ResidualField((b0 + b1) + (b2 + b3), npen)
-
-
-@njit(cache=True, fastmath=False)
-def _masked_sum_block(z, c):  # pragma: no cover - compiled
-    """Sum of z over the contact set."""
-    s0 = s1 = s2 = s3 = 0.0
-    size = z.size
-    m4 = size - size % 4
-    for i in range(0, m4, 4):
-        s0 += z[i] * (1.0 if c[i] else 0.0)
-        s1 += z[i + 1] * (1.0 if c[i + 1] else 0.0)
-        s2 += z[i + 2] * (1.0 if c[i + 2] else 0.0)
-        s3 += z[i + 3] * (1.0 if c[i + 3] else 0.0)
-    for i in range(m4, size):
-        s0 += z[i] * (1.0 if c[i] else 0.0)
-    return (s0 + s1) + (s2 + s3)
+def _residual_block(lo, hi, args):  # pragma: no cover - compiled
+    return _lane_sums(_residual_elem, lo, hi, args)
 
 
 @njit(inline="always")
-def _pc_direction_elem(w, c, t, tc, z, i, offset, zbar, beta):  # pragma: no cover - compiled
+def _masked_elem(i, args):  # pragma: no cover - compiled
+    z, c = args
+    return 0, 0, 0, z[i] * (1.0 if c[i] else 0.0), 0.0
+
+
+@njit(cache=True, fastmath=False)
+def _masked_block(lo, hi, args):  # pragma: no cover - compiled
+    return _lane_sums(_masked_elem, lo, hi, args)
+
+
+@njit(inline="always")
+def _pc_direction_elem(i, args):  # pragma: no cover - compiled
+    w, c, t, tc, z, offset, zbar, beta = args
     m = 1.0 if c[i] else 0.0
     ti = m * ((z[i] - zbar) + beta * t[i])
     t[i] = ti
     tc[i] = ti
-    return (w[i] - offset) * ti
+    return 0, 0, 0, (w[i] - offset) * ti, 0.0
 
 
 @njit(cache=True, fastmath=False)
-def _update_direction_preconditioned_block(w, c, t, tc, z, offset, zbar, beta):  # pragma: no cover
-    """t = (z - zbar) + beta t on the contact set, 0 outside, z the preconditioned gap;
-    returns sum_c g t with g = w - offset."""
-    a0 = a1 = a2 = a3 = 0.0
-    size = w.size
-    m4 = size - size % 4
-    for i in range(0, m4, 4):
-        a0 += _pc_direction_elem(w, c, t, tc, z, i, offset, zbar, beta)
-        a1 += _pc_direction_elem(w, c, t, tc, z, i + 1, offset, zbar, beta)
-        a2 += _pc_direction_elem(w, c, t, tc, z, i + 2, offset, zbar, beta)
-        a3 += _pc_direction_elem(w, c, t, tc, z, i + 3, offset, zbar, beta)
-    for i in range(m4, size):
-        a0 += _pc_direction_elem(w, c, t, tc, z, i, offset, zbar, beta)
-    return (a0 + a1) + (a2 + a3)
-
-
-@njit(cache=True, fastmath=False)
-def dot(a, b):  # pragma: no cover - compiled
-    s0 = s1 = s2 = s3 = 0.0
-    size = a.size
-    m4 = size - size % 4
-    for i in range(0, m4, 4):
-        s0 += a[i] * b[i]
-        s1 += a[i + 1] * b[i + 1]
-        s2 += a[i + 2] * b[i + 2]
-        s3 += a[i + 3] * b[i + 3]
-    for i in range(m4, size):
-        s0 += a[i] * b[i]
-    return (s0 + s1) + (s2 + s3)
+def _pc_direction_block(lo, hi, args):  # pragma: no cover - compiled
+    return _lane_sums(_pc_direction_elem, lo, hi, args)
 
 
 @njit(inline="always")
-def _scale_elem(p, w, h, c, i, alpha, shift):  # pragma: no cover - compiled
+def _scale_elem(i, args):  # pragma: no cover - compiled
+    p, w, h, c, alpha, shift = args
     p[i] *= alpha
     hi = h[i]
     wi = alpha * (w[i] + hi) - hi
     w[i] = wi
-    ci = c[i]
-    d = (wi - shift) * (1.0 if ci else 0.0)
-    return ci, d
+    return _contact_moments(c[i], wi, shift)
 
 
 @njit(cache=True, fastmath=False)
 def scale_with_stats(p, w, h, c, alpha, shift):  # pragma: no cover - compiled
     """p *= alpha and the gap w = u - h follows (u = K p is linear in p); returns the
     contact-set gap statistics after."""
-    n = 0
-    a0 = a1 = a2 = a3 = 0.0
-    b0 = b1 = b2 = b3 = 0.0
-    size = w.size
-    m4 = size - size % 4
-    for i in range(0, m4, 4):
-        k0, d0 = _scale_elem(p, w, h, c, i, alpha, shift)
-        k1, d1 = _scale_elem(p, w, h, c, i + 1, alpha, shift)
-        k2, d2 = _scale_elem(p, w, h, c, i + 2, alpha, shift)
-        k3, d3 = _scale_elem(p, w, h, c, i + 3, alpha, shift)
-        n += k0 + k1 + k2 + k3
-        a0 += d0
-        a1 += d1
-        a2 += d2
-        a3 += d3
-        b0 += d0 * d0
-        b1 += d1 * d1
-        b2 += d2 * d2
-        b3 += d3 * d3
-    for i in range(m4, size):
-        k0, d0 = _scale_elem(p, w, h, c, i, alpha, shift)
-        n += k0
-        a0 += d0
-        b0 += d0 * d0
-    return GapStats(n, (a0 + a1) + (a2 + a3), (b0 + b1) + (b2 + b3))
+    n, _, _, s1, s2 = _lane_sums(_scale_elem, 0, w.size, (p, w, h, c, alpha, shift))
+    return GapStats(n, s1, s2)
 
 
 @njit(cache=True, fastmath=False)
@@ -370,8 +310,8 @@ def shift_on_contact(p, c, delta):  # pragma: no cover - compiled
 
 
 @njit(inline="always")
-def _step_elem(p, t, w, c, i, step):  # pragma: no cover - compiled
-    tau, offset, lower, allow_change, gain = step
+def _step_elem(i, args):  # pragma: no cover - compiled
+    p, t, w, c, tau, offset, lower, allow_change, gain = args
     ci = c[i]
     pi = p[i] - tau * t[i]  # t = 0 and p = 0 outside the contact set
     g = w[i] - offset
@@ -383,118 +323,33 @@ def _step_elem(p, t, w, c, i, step):  # pragma: no cover - compiled
     cn = 1 if enter else cn
     c[i] = cn
     p[i] = pi
-    return 1 if leave else 0, 1 if enter else 0, pi, cn
+    return 1 if leave else 0, 1 if enter else 0, cn, pi, pi * pi
 
 
 @njit(cache=True, fastmath=False)
-def _step_pressure_block(p, t, w, c, tau, offset, lower, allow_change, gain):  # pragma: no cover
-    """The pressure and contact-set update of a Polonsky-Keer step, without the gap.
-
-    p -= tau t; when ``allow_change`` elements leave where p < -lower and enter (p = -gain g)
-    where the gap g = w - offset < 0. Returns a :class:`PressureStep`; the gap follows with
-    :func:`gap_step` once r = K t is known, or from a fresh u = K p."""
-    step = (tau, offset, lower, allow_change, gain)
-    left = 0
-    entered = 0
-    n = 0
-    ps0 = ps1 = ps2 = ps3 = 0.0
-    pq0 = pq1 = pq2 = pq3 = 0.0
-    size = w.size
-    m4 = size - size % 4
-    for i in range(0, m4, 4):
-        l0, e0, p0, k0 = _step_elem(p, t, w, c, i, step)
-        l1, e1, p1, k1 = _step_elem(p, t, w, c, i + 1, step)
-        l2, e2, p2, k2 = _step_elem(p, t, w, c, i + 2, step)
-        l3, e3, p3, k3 = _step_elem(p, t, w, c, i + 3, step)
-        left += l0 + l1 + l2 + l3
-        entered += e0 + e1 + e2 + e3
-        n += k0 + k1 + k2 + k3
-        ps0 += p0
-        ps1 += p1
-        ps2 += p2
-        ps3 += p3
-        pq0 += p0 * p0
-        pq1 += p1 * p1
-        pq2 += p2 * p2
-        pq3 += p3 * p3
-    for i in range(m4, size):
-        l0, e0, p0, k0 = _step_elem(p, t, w, c, i, step)
-        left += l0
-        entered += e0
-        n += k0
-        ps0 += p0
-        pq0 += p0 * p0
-    return PressureStep(left, entered, (ps0 + ps1) + (ps2 + ps3), (pq0 + pq1) + (pq2 + pq3), n)
+def _step_block(lo, hi, args):  # pragma: no cover - compiled
+    return _lane_sums(_step_elem, lo, hi, args)
 
 
 @njit(inline="always")
-def _gap_step_elem(w, r, c, i, tau, shift):  # pragma: no cover - compiled
+def _gap_step_elem(i, args):  # pragma: no cover - compiled
+    w, r, c, tau, shift = args
     wi = w[i] - tau * r[i]
     w[i] = wi
-    ci = c[i]
-    d = (wi - shift) * (1.0 if ci else 0.0)
-    return ci, d
+    return _contact_moments(c[i], wi, shift)
 
 
 @njit(cache=True, fastmath=False)
-def _gap_step_block(w, r, c, tau, shift):  # pragma: no cover - compiled
-    """The gap update of a Polonsky-Keer step (after :func:`step_pressure`): w -= tau r.
-
-    Returns the contact-set gap statistics about ``shift`` (a :class:`GapStats`)."""
-    n = 0
-    a0 = a1 = a2 = a3 = 0.0
-    b0 = b1 = b2 = b3 = 0.0
-    size = w.size
-    m4 = size - size % 4
-    for i in range(0, m4, 4):
-        k0, d0 = _gap_step_elem(w, r, c, i, tau, shift)
-        k1, d1 = _gap_step_elem(w, r, c, i + 1, tau, shift)
-        k2, d2 = _gap_step_elem(w, r, c, i + 2, tau, shift)
-        k3, d3 = _gap_step_elem(w, r, c, i + 3, tau, shift)
-        n += k0 + k1 + k2 + k3
-        a0 += d0
-        a1 += d1
-        a2 += d2
-        a3 += d3
-        b0 += d0 * d0
-        b1 += d1 * d1
-        b2 += d2 * d2
-        b3 += d3 * d3
-    for i in range(m4, size):
-        k0, d0 = _gap_step_elem(w, r, c, i, tau, shift)
-        n += k0
-        a0 += d0
-        b0 += d0 * d0
-    return GapStats(n, (a0 + a1) + (a2 + a3), (b0 + b1) + (b2 + b3))
-
-
-@njit(inline="always")
-def _blocks(size):  # pragma: no cover - compiled
-    return max(1, (size + CHUNK - 1) // CHUNK)  # one (empty) block for an empty array
-
-
-@njit(inline="always")
-def _fsum(a):  # pragma: no cover - compiled
-    total = a[0] * 0
-    for k in range(a.size):
-        total += a[k]
-    return total
+def _gap_step_block(lo, hi, args):  # pragma: no cover - compiled
+    return _lane_sums(_gap_step_elem, lo, hi, args)
 
 
 @njit(cache=True, fastmath=False, parallel=True)
 def deflection_to_gap_stats(w, h, c, shift):  # pragma: no cover - compiled
     """w -= h in place (deflection -> gap without the rigid-body term); returns n, sum(g - shift)
     and sum((g - shift)^2) over the contact set (a :class:`GapStats`), in parallel blocks."""
-    if w.size < PARALLEL_MIN:
-        return _deflection_to_gap_stats_block(w, h, c, shift)
-    nb = _blocks(w.size)
-    n = np.zeros(nb, dtype=np.int64)
-    s1 = np.zeros(nb)
-    s2 = np.zeros(nb)
-    for k in prange(nb):
-        lo, hi = k * CHUNK, min((k + 1) * CHUNK, w.size)
-        n[k], s1[k], s2[k] = _deflection_to_gap_stats_block(w[lo:hi], h[lo:hi], c[lo:hi], shift)
-    return GapStats(_fsum(n), _fsum(s1), _fsum(s2))
+    n, _, _, s1, s2 = _block_sums(_gap_block, w.size, (w, h, c, shift))
+    return GapStats(n, s1, s2)
 
 
 @njit(cache=True, fastmath=False)
@@ -510,46 +365,22 @@ def update_direction(w, c, t, offset, beta):  # pragma: no cover - compiled
 def update_direction_into(w, c, t, tc, offset, beta):  # pragma: no cover - compiled
     """:func:`update_direction` that also writes t into ``tc`` (the float32 input of the
     single-precision transform of t: no cast pass; ``tc`` may be ``t`` itself)."""
-    if w.size < PARALLEL_MIN:
-        return _update_direction_block(w, c, t, tc, offset, beta)
-    nb = _blocks(w.size)
-    s1 = np.zeros(nb)
-    s2 = np.zeros(nb)
-    n = np.zeros(nb, dtype=np.int64)
-    for k in prange(nb):
-        lo, hi = k * CHUNK, min((k + 1) * CHUNK, w.size)
-        s1[k], s2[k], n[k] = _update_direction_block(
-            w[lo:hi], c[lo:hi], t[lo:hi], tc[lo:hi], offset, beta
-        )
-    return DirectionUpdate(_fsum(s1), _fsum(s2), _fsum(n))
+    n, _, _, s1, s2 = _block_sums(_direction_block, w.size, (w, c, t, tc, offset, beta))
+    return DirectionUpdate(s1, s2, n)
 
 
 @njit(cache=True, fastmath=False, parallel=True)
 def residual_field(w, c, s, offset):  # pragma: no cover - compiled
     """s = g on the contact set, 0 outside (g = w - offset), the input of the preconditioner;
     returns the squared penetration outside the set and its pixel count (parallel blocks)."""
-    if w.size < PARALLEL_MIN:
-        return _residual_field_block(w, c, s, offset)
-    nb = _blocks(w.size)
-    s2 = np.zeros(nb)
-    n = np.zeros(nb, dtype=np.int64)
-    for k in prange(nb):
-        lo, hi = k * CHUNK, min((k + 1) * CHUNK, w.size)
-        s2[k], n[k] = _residual_field_block(w[lo:hi], c[lo:hi], s[lo:hi], offset)
-    return ResidualField(_fsum(s2), _fsum(n))
+    n, _, _, s2, _ = _block_sums(_residual_block, w.size, (w, c, s, offset))
+    return ResidualField(s2, n)
 
 
 @njit(cache=True, fastmath=False, parallel=True)
 def masked_sum(z, c):  # pragma: no cover - compiled
     """Sum of z over the contact set (parallel blocks)."""
-    if z.size < PARALLEL_MIN:
-        return _masked_sum_block(z, c)
-    nb = _blocks(z.size)
-    s = np.zeros(nb)
-    for k in prange(nb):
-        lo, hi = k * CHUNK, min((k + 1) * CHUNK, z.size)
-        s[k] = _masked_sum_block(z[lo:hi], c[lo:hi])
-    return _fsum(s)
+    return _block_sums(_masked_block, z.size, (z, c))[3]
 
 
 @njit(cache=True, fastmath=False)
@@ -563,16 +394,8 @@ def update_direction_preconditioned(w, c, t, z, offset, zbar, beta):  # pragma: 
 def update_direction_preconditioned_into(w, c, t, tc, z, offset, zbar, beta):  # pragma: no cover
     """:func:`update_direction_preconditioned` that also writes t into ``tc`` (the float32
     input of the single-precision transform of t; ``tc`` may be ``t`` itself)."""
-    if w.size < PARALLEL_MIN:
-        return _update_direction_preconditioned_block(w, c, t, tc, z, offset, zbar, beta)
-    nb = _blocks(w.size)
-    s = np.zeros(nb)
-    for k in prange(nb):
-        lo, hi = k * CHUNK, min((k + 1) * CHUNK, w.size)
-        s[k] = _update_direction_preconditioned_block(
-            w[lo:hi], c[lo:hi], t[lo:hi], tc[lo:hi], z[lo:hi], offset, zbar, beta
-        )
-    return _fsum(s)
+    args = (w, c, t, tc, z, offset, zbar, beta)
+    return _block_sums(_pc_direction_block, w.size, args)[3]
 
 
 @njit(cache=True, fastmath=False, parallel=True)
@@ -582,20 +405,9 @@ def step_pressure(p, t, w, c, tau, offset, lower, allow_change, gain):  # pragma
     p -= tau t; when ``allow_change`` elements leave where p < -lower and enter (p = -gain g)
     where the gap g = w - offset < 0. Returns a :class:`PressureStep`; the gap follows with
     :func:`gap_step` once r = K t is known, or from a fresh u = K p. Parallel blocks."""
-    if w.size < PARALLEL_MIN:
-        return _step_pressure_block(p, t, w, c, tau, offset, lower, allow_change, gain)
-    nb = _blocks(w.size)
-    nl = np.zeros(nb, dtype=np.int64)
-    ne = np.zeros(nb, dtype=np.int64)
-    nc = np.zeros(nb, dtype=np.int64)
-    s1 = np.zeros(nb)
-    s2 = np.zeros(nb)
-    for k in prange(nb):
-        lo, hi = k * CHUNK, min((k + 1) * CHUNK, w.size)
-        nl[k], ne[k], s1[k], s2[k], nc[k] = _step_pressure_block(
-            p[lo:hi], t[lo:hi], w[lo:hi], c[lo:hi], tau, offset, lower, allow_change, gain
-        )
-    return PressureStep(_fsum(nl), _fsum(ne), _fsum(s1), _fsum(s2), _fsum(nc))
+    args = (p, t, w, c, tau, offset, lower, allow_change, gain)
+    left, entered, n, s1, s2 = _block_sums(_step_block, w.size, args)
+    return PressureStep(left, entered, s1, s2, n)
 
 
 @njit(cache=True, fastmath=False, parallel=True)
@@ -604,13 +416,5 @@ def gap_step(w, r, c, tau, shift):  # pragma: no cover - compiled
 
     Returns the contact-set gap statistics about ``shift`` (a :class:`GapStats`); parallel
     blocks."""
-    if w.size < PARALLEL_MIN:
-        return _gap_step_block(w, r, c, tau, shift)
-    nb = _blocks(w.size)
-    n = np.zeros(nb, dtype=np.int64)
-    s1 = np.zeros(nb)
-    s2 = np.zeros(nb)
-    for k in prange(nb):
-        lo, hi = k * CHUNK, min((k + 1) * CHUNK, w.size)
-        n[k], s1[k], s2[k] = _gap_step_block(w[lo:hi], r[lo:hi], c[lo:hi], tau, shift)
-    return GapStats(_fsum(n), _fsum(s1), _fsum(s2))
+    n, _, _, s1, s2 = _block_sums(_gap_step_block, w.size, (w, r, c, tau, shift))
+    return GapStats(n, s1, s2)
