@@ -6,6 +6,7 @@ folder; what a fixture hands out may be defined here.
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -173,3 +174,69 @@ def shear_cap_curve(**kw):
         periodic=False,
         **kw,
     )
+
+
+# --------------------------------------------------------------------------------------------
+# statmodel: the model's A_r(F_x) up to the peak, sampled as measured curves (lambda fits)
+# --------------------------------------------------------------------------------------------
+
+
+def shear_area_model(material, roughness, nominal_area: float, steps: int):
+    """``model(lam, f_z) -> (F_x (N), A_r (m^2))``: the statistical model's shear path for
+    these parameters (``nominal_area`` in m^2), no displacement cap, default quadrature."""
+    from asperity.statmodel.shear_path import model_shear_area
+
+    return functools.partial(
+        model_shear_area,
+        material=material,
+        roughness=roughness,
+        nominal_area=nominal_area,
+        max_tangential_displacement=None,
+        steps=steps,
+        knobs={},
+    )
+
+
+def area_to_peak(model, lam: float, loads) -> list[tuple[np.ndarray, np.ndarray]]:
+    """(F_x, A_r) of ``model`` at mode mixity ``lam`` up to its peak force, per load (N)."""
+    from asperity.statmodel.lambda_fit import area_up_to_peak
+
+    return [area_up_to_peak(*model(lam, f)) for f in loads]
+
+
+def sampled_area_curves(peaks, loads, points: int, fraction: float, noise=0.0, rng=None):
+    """A ShearAreaCurve per load (N) and curve of ``peaks`` (:func:`area_to_peak`): ``points``
+    forces from 0 to ``fraction`` of the peak, the model's area there, times 1 + N(0, noise)
+    drawn from ``rng`` in load order when ``noise`` (relative)."""
+    from asperity.pipelines.measured import ShearAreaCurve
+    from asperity.statmodel.lambda_fit import interpolate_area
+
+    curves = []
+    for f, (fx, ar) in zip(loads, peaks, strict=True):
+        picks = np.linspace(0.0, fraction * fx[-1], points)
+        area = interpolate_area(fx, ar, picks)
+        if noise:
+            area = area * (1 + rng.normal(0, noise, picks.size))
+        curves.append(ShearAreaCurve(f, picks, area))
+    return curves
+
+
+# --------------------------------------------------------------------------------------------
+# pipelines: the small job (a 2.56 mm, 64 x 64 patch of the paper-like surface)
+# --------------------------------------------------------------------------------------------
+
+
+def small_data(**loading) -> dict:
+    """TOML data of the small job: three loads, 41 shear steps, a few seconds in all."""
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # pragma: no cover
+        import tomli as tomllib
+    from asperity.pipelines.config import preset_text
+
+    data = tomllib.loads(preset_text("default"))
+    data["surface"]["synthetic"].update(n=64, pixel_size=40e-6, seed=3)
+    data["surface"]["max_stride"] = 4
+    data["bem"]["max_stride"] = 2
+    data["loading"].update({"normal_loads": [1.0, 2.0, 3.0], "steps": 41, **loading})
+    return data

@@ -6,6 +6,7 @@ subclass of :class:`asperity.validity.ValidityWarning` with a ``code``.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 
@@ -14,14 +15,9 @@ import pytest
 
 from asperity import bem, statmodel, topo
 from asperity.validity import CODES, ValidityWarning
+from tests._helpers import PAPER_MATERIAL
 
-MATERIAL = statmodel.Material(
-    e_star=2.133e6,
-    work_of_adhesion=0.040,
-    mode_mixity=0.2,
-    shear_strength=0.13e6,
-    equilibrium_distance=0.2e-9,
-)
+MATERIAL = dataclasses.replace(PAPER_MATERIAL, mode_mixity=0.2)
 PATH = np.linspace(0.0, 14e-6, 15)
 
 

@@ -4,24 +4,10 @@ from __future__ import annotations
 
 import pytest
 
-from asperity.pipelines.config import config_from_dict, preset_text
+from asperity.pipelines.config import config_from_dict
 from asperity.pipelines.job import run_job
 from asperity.pipelines.report import write_report
-
-try:
-    import tomllib
-except ModuleNotFoundError:  # pragma: no cover
-    import tomli as tomllib
-
-
-def small_data(**loading) -> dict:
-    """TOML data of the small job: three loads, 41 shear steps, a few seconds in all."""
-    data = tomllib.loads(preset_text("default"))
-    data["surface"]["synthetic"].update(n=64, pixel_size=40e-6, seed=3)
-    data["surface"]["max_stride"] = 4
-    data["bem"]["max_stride"] = 2
-    data["loading"].update({"normal_loads": [1.0, 2.0, 3.0], "steps": 41, **loading})
-    return data
+from tests._helpers import small_data
 
 
 def small_config(base_dir, **loading):

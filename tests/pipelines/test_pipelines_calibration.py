@@ -11,32 +11,17 @@ from asperity import statmodel
 from asperity.pipelines.cli import main
 from asperity.pipelines.config import ConfigError, config_from_dict, preset_text
 from asperity.pipelines.job import run_job
-from asperity.pipelines.measured import NormalAreaCurve, ShearAreaCurve, write_shear_area
+from asperity.pipelines.measured import NormalAreaCurve, write_shear_area
 from asperity.pipelines.stages._pull_off import roughness_from_scan
 from asperity.pipelines.stages.statistical_model import material_from_config
 from asperity.pipelines.stages.surface import read_and_level, scan_resolutions
-from asperity.statmodel.lambda_fit import area_up_to_peak, interpolate_area
-from asperity.statmodel.shear_path import model_shear_area
-
-try:
-    import tomllib
-except ModuleNotFoundError:  # pragma: no cover
-    import tomli as tomllib
-
-
-def _data(**loading):
-    data = tomllib.loads(preset_text("default"))
-    data["surface"]["synthetic"].update(n=64, pixel_size=40e-6, seed=3)
-    data["surface"]["max_stride"] = 4
-    data["bem"]["max_stride"] = 2
-    data["loading"].update({"normal_loads": [1.0, 2.0, 3.0], "steps": 41, **loading})
-    return data
+from tests._helpers import area_to_peak, sampled_area_curves, shear_area_model, small_data
 
 
 def test_effective_resolution_and_lambda_recovered_from_measurements(tmp_path):
     """Measured A_r(F_z) made by the model at stride 3 and A_r(F_x) made with lambda = 0.1
     (1 % noise): the job picks stride 3 and fits lambda within its uncertainty."""
-    data = _data()
+    data = small_data()
     cfg = config_from_dict(data, base_dir=tmp_path)
     scan = scan_resolutions(read_and_level(cfg.surface), cfg.surface.max_stride)
     truth = roughness_from_scan(scan, 2)  # stride 3
@@ -49,23 +34,8 @@ def test_effective_resolution_and_lambda_recovered_from_measurements(tmp_path):
         + "".join(f"{float(f)!r},{float(a)!r}\n" for f, a in zip(loads, area, strict=True))
     )
     rng = np.random.default_rng(0)
-    curves = []
-    for f in (1.0, 3.0):
-        fx, ar = area_up_to_peak(
-            *model_shear_area(
-                0.1,
-                f,
-                material=material,
-                roughness=truth,
-                nominal_area=a_n,
-                max_tangential_displacement=None,
-                steps=81,
-                knobs={},
-            )
-        )
-        picks = np.linspace(0, 0.95 * fx[-1], 25)
-        measured = interpolate_area(fx, ar, picks) * (1 + rng.normal(0, 0.01, picks.size))
-        curves.append(ShearAreaCurve(f, picks, measured))
+    peaks = area_to_peak(shear_area_model(material, truth, a_n, 81), 0.1, (1.0, 3.0))
+    curves = sampled_area_curves(peaks, (1.0, 3.0), 25, 0.95, noise=0.01, rng=rng)
     write_shear_area(tmp_path / "shear.csv", curves)
     data["measured"] = {"normal_area": "area.csv", "shear_area": "shear.csv"}
     data["fit"] = {"mode_mixity_bounds": [1e-3, 1.0]}
@@ -86,9 +56,9 @@ def test_load_below_pull_off_refused_before_bem(tmp_path, monkeypatch):
     # with the BEM a load <= 0 is refused at validation (its non-adhesive sweep needs a
     # compressive load); without it, the pull-off bound is checked after the resolution scan
     with pytest.raises(ConfigError, match=r"loading\.normal_loads: expected loads > 0 N"):
-        config_from_dict(_data(normal_loads=[-1e3, 1.0]), base_dir=tmp_path)
+        config_from_dict(small_data(normal_loads=[-1e3, 1.0]), base_dir=tmp_path)
     (tmp_path / "area.csv").write_text("normal_load,real_area\n1.0,1e-6\n2.0,2e-6\n")
-    data = _data(normal_loads=[-1e3, 1.0])
+    data = small_data(normal_loads=[-1e3, 1.0])
     data["bem"]["enabled"] = False
     data["measured"] = {"normal_area": "area.csv"}
     cfg = config_from_dict(data, base_dir=tmp_path)
@@ -105,7 +75,7 @@ def test_load_below_pull_off_refused_before_bem(tmp_path, monkeypatch):
 
 @pytest.mark.slow  # several seconds: the default run stays under 3 min on 2 cores
 def test_cli_exit_1_when_a_solver_did_not_converge(tmp_path, capsys):
-    data = _data()
+    data = small_data()
     data["bem"]["max_iter"] = 1  # the BEM cannot converge in one iteration
     text = preset_text("default")
     path = tmp_path / "job.toml"
@@ -139,7 +109,7 @@ def _compare(a, b):
 def test_parallel_runs_match_serial(tmp_path):
     """Two worker processes, and a dask.distributed cluster, give the serial numbers."""
     distributed = pytest.importorskip("distributed")
-    cfg = config_from_dict(_data(), base_dir=tmp_path)
+    cfg = config_from_dict(small_data(), base_dir=tmp_path)
     serial = run_job(cfg, tmp_path / "serial")
     pooled = run_job(cfg, tmp_path / "pool", workers=2)
     _compare(serial, pooled)

@@ -16,15 +16,13 @@ sample within a factor 1.28 of the optimum.
 
 from __future__ import annotations
 
-import functools
-
 import numpy as np
 import pytest
 
 from asperity import topo
 from asperity.pipelines.config import load_preset
-from asperity.pipelines.measured import NormalAreaCurve, ShearAreaCurve
-from asperity.pipelines.stages.friction import calibrate_mode_mixity, model_shear_area
+from asperity.pipelines.measured import NormalAreaCurve
+from asperity.pipelines.stages.friction import calibrate_mode_mixity
 from asperity.pipelines.stages.statistical_model import (
     areas_at_loads,
     normal_contact_material,
@@ -32,7 +30,7 @@ from asperity.pipelines.stages.statistical_model import (
 )
 from asperity.pipelines.stages.surface import ScanResult, scan_resolutions
 from asperity.statmodel.effective_resolution import roughness_at_resolution
-from asperity.statmodel.lambda_fit import area_up_to_peak, interpolate_area
+from tests._helpers import area_to_peak, sampled_area_curves, shear_area_model
 
 LOADS = np.array([0.56, 1.06, 1.58, 2.08, 2.57, 3.12])
 SHEAR_LOADS = (1.06, 2.08, 3.12)
@@ -51,26 +49,13 @@ def test_resolution_and_lambda_intervals_cover_the_truth():
     scan = ScanResult.from_scan(scan_resolutions(surface, 5))
     truth = roughness_at_resolution(surface, TRUE_RESOLUTION)
     area = areas_at_loads(normal, truth, a_n, LOADS)[0]
-    make = functools.partial(
-        model_shear_area,
-        material=material,
-        roughness=truth,
-        nominal_area=a_n,
-        max_tangential_displacement=None,
-        steps=401,
-        knobs={},
-    )
-    clean = [area_up_to_peak(*make(TRUE_LAMBDA, f)) for f in SHEAR_LOADS]
+    clean = area_to_peak(shear_area_model(material, truth, a_n, 401), TRUE_LAMBDA, SHEAR_LOADS)
     covered_resolution = covered_lambda = 0
     for seed in SEEDS:
         rng = np.random.default_rng(seed)
         measured = NormalAreaCurve(LOADS, area * np.exp(0.05 * rng.standard_normal(LOADS.size)))
         res = statistical_model_scan(scan, normal, a_n, LOADS, measured=measured, surface=surface)
-        curves = []
-        for f, (fx, ar) in zip(SHEAR_LOADS, clean, strict=True):
-            picks = np.linspace(0.0, 0.9 * fx[-1], 20)
-            noisy = interpolate_area(fx, ar, picks) * (1 + rng.normal(0, 0.01, picks.size))
-            curves.append(ShearAreaCurve(f, picks, noisy))
+        curves = sampled_area_curves(clean, SHEAR_LOADS, 20, 0.9, noise=0.01, rng=rng)
         lam = calibrate_mode_mixity(
             material,
             res.roughness,

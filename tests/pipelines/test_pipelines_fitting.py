@@ -2,14 +2,13 @@
 
 from __future__ import annotations
 
-import functools
-
 import numpy as np
 import pytest
 
 from asperity.errors import InputError
 from asperity.pipelines.measured import ShearAreaCurve
 from asperity.statmodel.lambda_fit import area_up_to_peak, fit_mode_mixity, interpolate_area
+from tests._helpers import area_to_peak, sampled_area_curves, shear_area_model
 
 A_N = 700e-6
 
@@ -24,14 +23,8 @@ def _toy_model(mode_mixity: float, normal_load: float) -> tuple[np.ndarray, np.n
     return force, area
 
 
-def _noisy_curves(model, lam, loads, noise, rng, fraction=0.9):
-    curves = []
-    for f in loads:
-        fx, ar = area_up_to_peak(*model(lam, f))
-        picks = np.linspace(0, fx[-1] * fraction, 25)
-        truth = interpolate_area(fx, ar, picks)
-        curves.append(ShearAreaCurve(f, picks, truth * (1 + rng.normal(0, noise, picks.size))))
-    return curves
+def _noisy_curves(model, lam, loads, noise, rng):
+    return sampled_area_curves(area_to_peak(model, lam, loads), loads, 25, 0.9, noise, rng)
 
 
 def test_area_up_to_peak_keeps_stick_branch():
@@ -76,27 +69,15 @@ def test_recovers_lambda_from_statistical_model_curves():
     """Curves made by the statistical model itself (Fig 13 roughness) with 1 % noise: the fit
     finds the lambda that made them within its own uncertainty."""
     from asperity import statmodel
-    from asperity.statmodel.shear_path import model_shear_area
 
     material = statmodel.Material(2.133e6, 0.040, 0.03, 0.13e6, 0.2e-9)
     roughness = statmodel.Roughness(2.25e6, 1.180e-3, 0.0419e-3)
-    model = functools.partial(
-        model_shear_area,
-        material=material,
-        roughness=roughness,
-        nominal_area=A_N,
-        max_tangential_displacement=None,
-        steps=121,
-        knobs={},
-    )
+    model = shear_area_model(material, roughness, A_N, 121)
     true_lambda = 0.05
     rng = np.random.default_rng(7)
-    curves = []
-    for f in (1.06, 2.08, 3.12):
-        fx, ar = area_up_to_peak(*model(true_lambda, f))
-        picks = np.linspace(0, 0.95 * fx[-1], 30)
-        truth = interpolate_area(fx, ar, picks)
-        curves.append(ShearAreaCurve(f, picks, truth * (1 + rng.normal(0, 0.01, picks.size))))
+    loads = (1.06, 2.08, 3.12)
+    peaks = area_to_peak(model, true_lambda, loads)
+    curves = sampled_area_curves(peaks, loads, 30, 0.95, noise=0.01, rng=rng)
     fit = fit_mode_mixity(curves, model, bounds=(1e-3, 1.0), grid_points=7)
     assert fit.success
     assert abs(fit.mode_mixity - true_lambda) < 3 * fit.mode_mixity_std

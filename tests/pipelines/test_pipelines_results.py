@@ -19,6 +19,7 @@ from asperity.pipelines.report.friction_curves import FRICTION_TEST_FIGURES
 from asperity.pipelines.report.html import find_verdict, write_html
 from asperity.pipelines.report.numbers import plain_text
 from asperity.pipelines.results import ALIASES
+from tests._helpers import area_to_peak, sampled_area_curves, shear_area_model
 
 
 def test_open_results_gives_back_every_stage(small_run):
@@ -185,34 +186,15 @@ def test_model_values_are_stored_beside_the_measured_points(tmp_path):
     the measured points reproduce them, and they read back from results.h5 beside them."""
     from asperity import statmodel
     from asperity.pipelines.engine.store import ResultStore
-    from asperity.pipelines.measured import ShearAreaCurve
-    from asperity.pipelines.stages.friction import (
-        ModeMixityChoice,
-        calibrate_mode_mixity,
-        model_shear_area,
-    )
-    from asperity.statmodel.lambda_fit import area_up_to_peak, interpolate_area
+    from asperity.pipelines.stages.friction import ModeMixityChoice, calibrate_mode_mixity
 
     material = statmodel.Material(
         e_star=2.133e6, work_of_adhesion=0.04, mode_mixity=0.03, shear_strength=0.13e6
     )
     roughness = statmodel.Roughness(6e6, 0.3e-3, 40e-6)
-    a_n, curves = 700e-6, []
-    for f in (1.0, 3.0):
-        fx, ar = area_up_to_peak(
-            *model_shear_area(
-                0.1,
-                f,
-                material=material,
-                roughness=roughness,
-                nominal_area=a_n,
-                max_tangential_displacement=None,
-                steps=81,
-                knobs={},
-            )
-        )
-        picks = np.linspace(0, 0.9 * fx[-1], 8)
-        curves.append(ShearAreaCurve(f, picks, interpolate_area(fx, ar, picks)))
+    a_n = 700e-6
+    peaks = area_to_peak(shear_area_model(material, roughness, a_n, 81), 0.1, (1.0, 3.0))
+    curves = sampled_area_curves(peaks, (1.0, 3.0), 8, 0.9)
     choice = calibrate_mode_mixity(material, roughness, a_n, curves, steps=81)
     np.testing.assert_allclose(
         choice.model_real_area_at_measured, choice.measured_real_area, rtol=1e-3

@@ -13,6 +13,7 @@ from hypothesis import strategies as st
 from asperity import statmodel
 from asperity.errors import InputError
 from asperity.statmodel.drive import drive_curve, map_to_drive
+from tests._helpers import PAPER_MATERIAL
 
 #: The paper's wire (Sahli et al.): the rig of its Fig 6.
 WIRE = 9200.0
@@ -77,13 +78,7 @@ def test_followed_path_never_goes_back():
 
 @pytest.fixture(scope="module")
 def paper_curve() -> statmodel.ShearCurve:
-    mat = statmodel.Material(
-        e_star=2.133e6,
-        work_of_adhesion=0.040,
-        mode_mixity=0.03,
-        shear_strength=0.13e6,
-        equilibrium_distance=0.2e-9,
-    )
+    mat = PAPER_MATERIAL
     rough = statmodel.Roughness(
         asperity_density=652.1e6, summit_radius=0.041e-3, summit_height_rms=0.032e-3
     )
