@@ -116,6 +116,15 @@ PAPER_MATERIAL = statmodel.Material(
 )
 #: The paper's nominal contact area, m^2.
 PAPER_NOMINAL_AREA = 700e-6
+#: The Fig. 4 case: lambda = 0.2, no equilibrium distance given (SI units), its roughness
+#: (eta in m^-2, R and sigma_s in m), A_n (m^2) and F_z (N).
+FIG4_MATERIAL = statmodel.Material(
+    e_star=2.133e6, work_of_adhesion=0.040, mode_mixity=0.2, shear_strength=0.13e6
+)
+FIG4_ROUGHNESS = statmodel.Roughness(
+    asperity_density=652.1e6, summit_radius=0.041e-3, summit_height_rms=0.032e-3
+)
+FIG4_AREA, FIG4_LOAD = 700e-6, 3.1
 
 
 def paper_roughness(resolution: float) -> statmodel.Roughness:
@@ -240,3 +249,25 @@ def small_data(**loading) -> dict:
     data["bem"]["max_stride"] = 2
     data["loading"].update({"normal_loads": [1.0, 2.0, 3.0], "steps": 41, **loading})
     return data
+
+
+def adhesive_in_tension_toml(steps: int) -> str:
+    """The ``asperity-statmodel friction`` TOML of a smooth adhesive contact held in tension
+    (F_z = -1 N; E* 1 MPa, w 0.05 J/m^2, sigma_s 30 nm), ``steps`` shear steps: shear peels
+    the junctions until the tensile load can no longer be carried (exit status 1)."""
+    return f"""
+[material]
+E_star = 1e6
+work_of_adhesion = 0.05
+mode_mixity = 0.2
+shear_strength = 1e5
+[roughness]
+asperity_density = 1e9
+summit_radius = 1e-4
+summit_height_rms = 3e-8
+[loading]
+normal_load = -1.0
+nominal_area = 1e-4
+max_tangential_displacement = 50e-6
+steps = {steps}
+"""

@@ -25,6 +25,7 @@ import pytest
 from asperity.errors import ExitStatus, InputError, exit_status_epilog, exit_status_table
 from asperity.pipelines.cli import main
 from asperity.statmodel import TaborWarning
+from tests._helpers import adhesive_in_tension_toml
 
 DATA = Path(__file__).resolve().parent / "data"
 FRICTION_EXAMPLE = Path(__file__).resolve().parents[1] / "statmodel" / "examples" / "fig4.toml"
@@ -64,22 +65,7 @@ def test_success_is_0(capsys, tmp_path):
     assert "wrote" in out and err == ""
 
 
-ADHESIVE_IN_TENSION = """
-[material]
-E_star = 1e6
-work_of_adhesion = 0.05
-mode_mixity = 0.2
-shear_strength = 1e5
-[roughness]
-asperity_density = 1e9
-summit_radius = 1e-4
-summit_height_rms = 3e-8
-[loading]
-normal_load = -1.0
-nominal_area = 1e-4
-max_tangential_displacement = 50e-6
-steps = 11
-"""
+ADHESIVE_IN_TENSION = adhesive_in_tension_toml(11)
 
 
 def test_a_solve_that_fails_is_1_with_its_results(capsys, tmp_path):

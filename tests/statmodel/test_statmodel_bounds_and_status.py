@@ -6,21 +6,13 @@ import numpy as np
 import pytest
 
 from asperity.errors import InputError
-from asperity.statmodel import (
-    Material,
-    QuadratureOptions,
-    Roughness,
-    preload,
-    pull_off_force,
-    shear_curve,
-)
+from asperity.statmodel import Material, QuadratureOptions, Roughness
 from asperity.statmodel.checks import StatmodelWarning
-from asperity.statmodel.preloading import PRELOAD_STATUS
-from asperity.statmodel.shear import MAX_STEPS, SHEAR_STATUS
+from asperity.statmodel.preloading import PRELOAD_STATUS, preload, pull_off_force
+from asperity.statmodel.shear import MAX_STEPS, SHEAR_STATUS, shear_curve
+from tests._helpers import FIG4_AREA, FIG4_LOAD, FIG4_MATERIAL, FIG4_ROUGHNESS
 
-MAT = Material(e_star=2.133e6, work_of_adhesion=0.040, mode_mixity=0.2, shear_strength=0.13e6)
-ROUGH = Roughness(asperity_density=652.1e6, summit_radius=0.041e-3, summit_height_rms=0.032e-3)
-AREA, LOAD = 700e-6, 3.1
+MAT, ROUGH, AREA, LOAD = FIG4_MATERIAL, FIG4_ROUGHNESS, FIG4_AREA, FIG4_LOAD
 DTS = np.linspace(0.0, 14e-6, 29)
 
 

@@ -10,6 +10,7 @@ import pytest
 
 from asperity.pipelines.cli import main
 from asperity.statmodel import Material, Roughness, shear_curve
+from tests._helpers import adhesive_in_tension_toml
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "statmodel" / "examples" / "fig4.toml"
 
@@ -139,22 +140,7 @@ def test_friction_unknown_table_and_missing_file(tmp_path, capsys):
     assert status == 2 and "missing.toml" in err
 
 
-ADHESIVE_TOML = """
-[material]
-E_star = 1e6
-work_of_adhesion = 0.05
-mode_mixity = 0.2
-shear_strength = 1e5
-[roughness]
-asperity_density = 1e9
-summit_radius = 1e-4
-summit_height_rms = 3e-8
-[loading]
-normal_load = -1.0
-nominal_area = 1e-4
-max_tangential_displacement = 50e-6
-steps = 51
-"""
+ADHESIVE_TOML = adhesive_in_tension_toml(51)
 
 
 def test_friction_pull_off_under_shear_exits_1_with_results(tmp_path, capsys):

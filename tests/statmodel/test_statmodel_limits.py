@@ -23,10 +23,9 @@ from asperity.statmodel import (
     unloading_pull_off_force,
 )
 from asperity.statmodel.checks import StatmodelWarning
+from tests._helpers import FIG4_AREA, FIG4_LOAD, FIG4_MATERIAL, FIG4_ROUGHNESS
 
-MAT = Material(e_star=2.133e6, work_of_adhesion=0.040, mode_mixity=0.2, shear_strength=0.13e6)
-ROUGH = Roughness(asperity_density=652.1e6, summit_radius=0.041e-3, summit_height_rms=0.032e-3)
-AREA, LOAD = 700e-6, 3.1
+MAT, ROUGH, AREA, LOAD = FIG4_MATERIAL, FIG4_ROUGHNESS, FIG4_AREA, FIG4_LOAD
 
 # a smooth, strongly adhesive surface (sigma_s comparable to the JKR length scales)
 SMOOTH_MAT = Material(1e6, 0.05, 0.2, 1e5)

@@ -22,11 +22,10 @@ from asperity.statmodel import (
     tabor_parameter,
 )
 from asperity.statmodel.reference import ReferenceModel
+from tests._helpers import FIG4_AREA, FIG4_LOAD, FIG4_MATERIAL, FIG4_ROUGHNESS
 
 # Fig. 4 case (the TOML)
-MAT = Material(e_star=2.133e6, work_of_adhesion=0.040, mode_mixity=0.2, shear_strength=0.13e6)
-ROUGH = Roughness(asperity_density=652.1e6, summit_radius=0.041e-3, summit_height_rms=0.032e-3)
-AREA, LOAD = 700e-6, 3.1
+MAT, ROUGH, AREA, LOAD = FIG4_MATERIAL, FIG4_ROUGHNESS, FIG4_AREA, FIG4_LOAD
 DTS = np.linspace(0.0, 14e-6, 281)
 
 
