@@ -271,3 +271,31 @@ nominal_area = 1e-4
 max_tangential_displacement = 50e-6
 steps = {steps}
 """
+
+
+def planned_keys(config, version: str = "1.0") -> dict:
+    """The stage keys a runner plans for ``config`` at package ``version`` (no stage runs)."""
+    from asperity.pipelines.engine.parallel import SerialExecutor
+    from asperity.pipelines.engine.stage import Runner, StageContext
+    from asperity.pipelines.engine.store import ResultStore
+    from asperity.pipelines.job import STAGES
+
+    runner = Runner(
+        store=ResultStore("unused.h5"),
+        context=StageContext(config, {}, SerialExecutor()),
+        config_document=config.key_document(),
+        version=version,
+        root_attrs={},
+    )
+    runner.plan(STAGES)
+    return runner.keys
+
+
+def python_stdout(code: str) -> str:
+    """The stripped standard output of ``code`` run in a fresh Python process (fails on an
+    error): what a statement imports, seen from a clean interpreter."""
+    import subprocess
+    import sys
+
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    return out.stdout.strip()

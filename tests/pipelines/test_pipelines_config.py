@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
@@ -15,6 +13,7 @@ from asperity.pipelines.config import (
     load_preset,
     preset_text,
 )
+from tests._helpers import python_stdout
 
 try:
     import tomllib
@@ -208,8 +207,7 @@ def test_validation_imports_no_numerical_library():
         "print(sorted(m for m in ('numpy', 'h5py', 'scipy', 'numba', 'asperity.bem', "
         "'asperity.topo', 'asperity.statmodel.shear') if m in sys.modules))"
     )
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    assert out.stdout.strip() == "[]"
+    assert python_stdout(code) == "[]"
 
 
 def test_cli_bad_config_exits_2_naming_the_key(tmp_path, capsys):

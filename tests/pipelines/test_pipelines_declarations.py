@@ -5,8 +5,6 @@ from __future__ import annotations
 
 import copy
 import dataclasses
-import subprocess
-import sys
 import typing
 
 import numpy as np
@@ -23,6 +21,7 @@ from asperity.pipelines.stages import STAGES, stage_number
 from asperity.pipelines.stages import bem as bem_stage
 from asperity.pipelines.stages.statistical_model import normal_contact_material
 from asperity.pipelines.stages.surface import SCAN, SURFACE
+from tests._helpers import python_stdout
 
 
 def _plan(config, document):
@@ -221,5 +220,4 @@ def test_results_module_does_not_import_the_job():
         "assert r.Results(path=pathlib.Path('results.h5')).problems() == []; "
         "print('asperity.pipelines.job' in sys.modules)"
     )
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    assert out.stdout.strip() == "False"
+    assert python_stdout(code) == "False"

@@ -37,11 +37,11 @@ from asperity.pipelines.engine.outdir import (
     OutputWriteError,
     remove_stale_temporaries,
 )
-from asperity.pipelines.engine.parallel import SerialExecutor
-from asperity.pipelines.engine.stage import Runner, StageContext
+from asperity.pipelines.engine.stage import Runner
 from asperity.pipelines.engine.store import ResultStore
 from asperity.pipelines.job import STAGE_NAMES, STAGES, run_job
 from asperity.pipelines.report import write_report
+from tests._helpers import planned_keys
 
 try:
     import tomllib
@@ -82,16 +82,7 @@ def _write_config(tmp_path, small, name="job.toml", data=None):
     return path
 
 
-def _planned_keys(config, version):
-    runner = Runner(
-        store=ResultStore("unused.h5"),
-        context=StageContext(config, {}, SerialExecutor()),
-        config_document=config.key_document(),
-        version=version,
-        root_attrs={},
-    )
-    runner.plan(STAGES)
-    return runner.keys
+_planned_keys = planned_keys
 
 
 #: Stages the small job (a map) leaves disabled: the line-profile realisations.

@@ -12,12 +12,12 @@ import pytest
 import asperity
 from asperity import statmodel
 from asperity.fields import field_specs
-from asperity.pipelines.engine.parallel import SerialExecutor
-from asperity.pipelines.engine.stage import DISABLED, Runner, StageContext
+from asperity.pipelines.engine.stage import DISABLED
 from asperity.pipelines.engine.store import ResultStore
 from asperity.pipelines.job import STAGES, run_job
 from asperity.pipelines.report import write_report
 from asperity.statmodel.results_io import ARRAY_UNITS, SCALAR_UNITS
+from tests._helpers import planned_keys
 
 
 def _assert_same(a, b, cls):
@@ -78,16 +78,7 @@ def test_friction_result_declares_every_shear_curve_field_with_its_units():
         assert specs[name].units == units and specs[name].dims == ("normal_load",)
 
 
-def _keys(config, version="1.0"):
-    runner = Runner(
-        store=ResultStore("unused.h5"),
-        context=StageContext(config, {}, SerialExecutor()),
-        config_document=config.key_document(),
-        version=version,
-        root_attrs={},
-    )
-    runner.plan(STAGES)
-    return runner.keys
+_keys = planned_keys
 
 
 def _changed(before, after):
