@@ -20,6 +20,7 @@ from asperity.bem.options import SolverOptions
 from asperity.bem.reference.adhesion_range import RangeChoice
 from asperity.bem.reference.discretisation import combined_uncertainty
 from asperity.bem.reference.grid_refinement import (
+    GridCheck,
     boundary_warning,
     discretisation_estimate,
     edge_mismatch,
@@ -27,7 +28,7 @@ from asperity.bem.reference.grid_refinement import (
 )
 from asperity.bem.reference.interpolated_refinement import InterpolatedRefinement
 from asperity.bem.reference.load_sweeps import ContactSetup, LoadChain
-from asperity.bem.reference.solve import ChainMap, solve_reference
+from asperity.bem.reference.solve import ChainMap, ReferenceSolves, solve_reference
 from asperity.fields import array, document_fields, scalar, text
 from asperity.pipelines.config import BemConfig, bem_settings
 from asperity.pipelines.engine.parallel import run_map, share, worker_threads
@@ -329,78 +330,122 @@ def bem_reference(
     settings = bem_settings(settings, "bem_reference", deprecated_settings)
     loads = np.asarray(normal_loads, dtype=float)
     w = work_of_adhesion if settings.adhesive and work_of_adhesion > 0 else 0.0
+    run = _solve_on_map(surface, e_star, w, loads, nominal_area, settings, executor, progress)
+    fraction = run.field("contact_fraction")
+    return BemReference(
+        normal_load=loads,
+        boundary=settings.boundary,
+        area_tolerance=float(settings.area_tolerance),
+        **_map_fields(run, loads, fraction, w),
+        **_check_fields(run, loads, nominal_area, settings.area_tolerance),
+        **_discretisation_fields(run.check, surface.dx, fraction),
+        **_note_fields(run.grid, settings, w),
+        **_refinement_fields(run.check.refinement),
+        **_range_fields(run.check.range_choice, fraction[-1]),
+    )
+
+
+def _solve_on_map(
+    surface: topo.HeightMap,
+    e_star: float,
+    w: float,
+    loads: np.ndarray,
+    nominal_area: float,
+    settings: BemConfig,
+    executor: Executor | None,
+    progress: bool,
+) -> ReferenceSolves:
+    """The reference's solves (:func:`bem.solve_reference`) at ``loads`` (N) with the work of
+    adhesion ``w`` (J/m^2; 0: non-adhesive) and the ``[bem]`` settings."""
     options = SolverOptions(tol=settings.tol, max_iter=settings.max_iter)
     setup = ContactSetup(e_star, w, options, periodic=settings.boundary == "periodic")
-    run = solve_reference(
+    return solve_reference(
         surface.heights, surface.dx, surface.dy, _with_worker_threads(setup), loads,
         nominal_area, max_stride=settings.max_stride, area_tolerance=settings.area_tolerance,
         coarsen=settings.coarsen, adhesion=settings.adhesion,
         adhesion_range=settings.adhesion_range, max_refinement=settings.max_refinement,
         refinement_pixels=settings.refinement_pixels, map_chains=_chain_map(executor, progress),
     )  # fmt: skip
+
+
+def _map_fields(run: ReferenceSolves, loads: np.ndarray, fraction: np.ndarray, w: float) -> dict:
+    """The fields of :class:`BemReference` from the solves on the chosen grid: the contact
+    fraction per load (its adhesive mode when ``w`` > 0), the solver's record, the mask."""
+    grid = run.grid
+    solves, iterations, convolutions = run.totals()
+    return {
+        "mode": np.arange(len(run.solves)),
+        "mask_x": np.arange(run.mask.shape[0]) * grid.dx,
+        "mask_y": np.arange(run.mask.shape[1]) * grid.dy,
+        "map_normal_load": run.map_loads,
+        "contact_fraction": fraction[0],
+        "iterations": run.field("iterations", int),
+        "converged": run.field("converged", bool),
+        "solve_seconds": run.field("seconds"),
+        "contact_mask": run.mask,
+        "messages": run.messages(loads),
+        "convolutions": run.field("convolutions", int),
+        "branch": [[s.branch for s in row] for row in run.solves],
+        "solves": solves,
+        "total_iterations": iterations,
+        "total_convolutions": convolutions,
+        "contact_fraction_adhesive": fraction[1] if w > 0 else None,
+    }
+
+
+def _check_fields(
+    run: ReferenceSolves, loads: np.ndarray, nominal_area: float, area_tolerance: float
+) -> dict:
+    """The grid check's fields of :class:`BemReference`: its strides, areas, solver record and
+    choice, at the check load (N; its pressure over ``nominal_area``, Pa)."""
     check, grid, k = run.check, run.grid, run.check_index
+    return {
+        "check_stride": check.strides,
+        "check_contact_fraction": check.fractions(),
+        "check_relative_change": check.relative_change,
+        "stride": check.stride,
+        "dx": grid.dx,
+        "dy": grid.dy,
+        "check_pressure": float(loads[k]) / nominal_area,
+        "grid_converged": check.converged(area_tolerance),
+        "grid_reason": check.reason,
+        "check_error": check.error,
+        "check_iterations": check.field("iterations", int),
+        "check_convolutions": check.field("convolutions", int),
+        "check_seconds": check.field("seconds"),
+        "check_branch": [[s.branch for s in row] for row in check.solves],
+        "check_load": float(loads[k]),
+        "grid_error": float(check.error[check.chosen]),
+    }
+
+
+def _discretisation_fields(check: GridCheck, dx: float, fraction: np.ndarray) -> dict:
+    """The discretisation estimate's fields of :class:`BemReference` (the map's pixel ``dx``,
+    m): the extrapolated fraction and its uncertainty, the resolution dependence."""
+    extrapolations, relative = discretisation_estimate(check, dx)
+    dependence, dependence_message = resolution_dependence(check, dx)
+    return {
+        "check_extrapolated_fraction": np.array([e.value for e in extrapolations]),
+        "check_extrapolation_uncertainty": np.array([e.uncertainty for e in extrapolations]),
+        "extrapolation_order": np.array([e.order for e in extrapolations]),
+        "extrapolation_safety_factor": np.array([e.safety_factor for e in extrapolations]),
+        "extrapolation_messages": [e.message for e in extrapolations],
+        "discretisation_relative_uncertainty": relative,
+        "contact_fraction_discretisation_uncertainty": relative[:, None] * fraction,
+        "resolution_dependence": dependence,
+        "resolution_message": dependence_message,
+    }
+
+
+def _note_fields(grid: topo.HeightMap, settings: BemConfig, w: float) -> dict:
+    """The boundary's edge mismatch, the law used (None: non-adhesive) and the notes on both."""
     mismatch = edge_mismatch(grid.heights)
     law = settings.adhesion if w > 0 else None
     notes = (
         boundary_warning(settings.boundary, mismatch),
         law == "pohrt-popov" and POHRT_POPOV_NOTE,
     )
-    extrapolations, relative = discretisation_estimate(check, surface.dx)
-    dependence, dependence_message = resolution_dependence(check, surface.dx)
-    fraction = run.field("contact_fraction")
-    solves, iterations, convolutions = run.totals()
-    reference = BemReference(
-        normal_load=loads,
-        mode=np.arange(len(run.solves)),
-        check_stride=check.strides,
-        mask_x=np.arange(run.mask.shape[0]) * grid.dx,
-        mask_y=np.arange(run.mask.shape[1]) * grid.dy,
-        map_normal_load=run.map_loads,
-        contact_fraction=fraction[0],
-        iterations=run.field("iterations", int),
-        converged=run.field("converged", bool),
-        solve_seconds=run.field("seconds"),
-        check_contact_fraction=check.fractions(),
-        check_relative_change=check.relative_change,
-        contact_mask=run.mask,
-        stride=check.stride,
-        dx=grid.dx,
-        dy=grid.dy,
-        check_pressure=float(loads[k]) / nominal_area,
-        grid_converged=check.converged(settings.area_tolerance),
-        grid_reason=check.reason,
-        messages=run.messages(loads),
-        convolutions=run.field("convolutions", int),
-        branch=[[s.branch for s in row] for row in run.solves],
-        check_error=check.error,
-        check_iterations=check.field("iterations", int),
-        check_convolutions=check.field("convolutions", int),
-        check_seconds=check.field("seconds"),
-        check_branch=[[s.branch for s in row] for row in check.solves],
-        check_load=float(loads[k]),
-        grid_error=float(check.error[check.chosen]),
-        boundary=settings.boundary,
-        edge_mismatch=mismatch,
-        warnings=[note for note in notes if note],
-        solves=solves,
-        total_iterations=iterations,
-        total_convolutions=convolutions,
-        contact_fraction_adhesive=fraction[1] if w > 0 else None,
-        area_tolerance=float(settings.area_tolerance),
-        check_extrapolated_fraction=np.array([e.value for e in extrapolations]),
-        check_extrapolation_uncertainty=np.array([e.uncertainty for e in extrapolations]),
-        extrapolation_order=np.array([e.order for e in extrapolations]),
-        extrapolation_safety_factor=np.array([e.safety_factor for e in extrapolations]),
-        extrapolation_messages=[e.message for e in extrapolations],
-        discretisation_relative_uncertainty=relative,
-        contact_fraction_discretisation_uncertainty=relative[:, None] * fraction,
-        adhesion=law,
-        resolution_dependence=dependence,
-        resolution_message=dependence_message,
-        **_refinement_fields(check.refinement),
-        **_range_fields(check.range_choice, fraction[-1]),
-    )
-    return reference
+    return {"edge_mismatch": mismatch, "warnings": [n for n in notes if n], "adhesion": law}
 
 
 def _refinement_fields(refinement: InterpolatedRefinement | None) -> dict:
