@@ -670,18 +670,9 @@ def statistical_model_scan(
         raise InputError("statistical_model_scan: expected bem= or measured=, got neither")
     loads = np.asarray(normal_loads, dtype=float)
     roughness = _scan_roughness(scan)
-    load_sets = [loads] if measured is None else [loads, measured.normal_load]
-    tables, messages = _model_areas(
-        scan, material, roughness, nominal_area, load_sets, executor, progress
+    area, at_measured, pairs, messages = _areas_and_pairs(
+        scan, material, roughness, nominal_area, loads, bem, measured, executor, progress
     )
-    area, at_measured = tables[0], (tables[1] if measured is not None else None)
-    pairs: dict = {"misfit_bem": np.full(len(scan.stride), np.nan)}
-    if bem is not None:
-        found, more = _bem_pairs(
-            scan, material, roughness, nominal_area, loads, bem, executor, progress
-        )
-        pairs.update(found)
-        messages += more
     misfit_measured = None
     if measured is not None:
         misfit_measured = _misfit_curve(at_measured, roughness, measured.real_area)
@@ -689,20 +680,10 @@ def statistical_model_scan(
     misfit = misfit_measured if measured is not None else pairs["misfit_bem"]
     index = _best_index(misfit, messages)
     pull_off, pull_off_refusals = pull_off_forces(material, scan, nominal_area)
-    located: OptimumFields = {}
-    if surface is not None:
-        located = _locate_optimum(
-            surface, scan, misfit, material, nominal_area, loads, measured, bem, pairs,
-            at_measured,
-        )  # fmt: skip
-    best = roughness[index]
-    effective = float(scan.resolution[index])
-    if located:
-        best = _located_roughness(located)
-        effective = float(located["optimum_resolution"])
-        located.update(_pairs_at(best, material, nominal_area, loads, pairs))
-    elif bem is not None:
-        located.update(_pairs_at(best, material, nominal_area, loads, pairs))
+    best, effective, located = _effective_statistics(
+        surface, scan, misfit, material, nominal_area, loads, measured, bem, pairs, at_measured,
+        index, roughness[index],
+    )  # fmt: skip
     mu, validity = _validity_at(located, best, area[index], material, nominal_area)
     located.update(_regime_fields(best, material, pairs))
     for note in validity:
@@ -732,6 +713,69 @@ def statistical_model_scan(
         **pairs,
         **located,
     )
+
+
+def _areas_and_pairs(
+    scan: ScanResult,
+    material: statmodel.Material,
+    roughness: dict[int, statmodel.Roughness],
+    nominal_area: float,
+    loads: np.ndarray,
+    bem: BemReference | None,
+    measured: NormalAreaCurve | None,
+    executor: Executor | None,
+    progress: bool,
+) -> tuple[np.ndarray, np.ndarray | None, dict, list[str]]:
+    """The model's A_r (m^2) per stride at ``loads`` (N) and at the measured loads (None
+    without a measured curve), the fields paired with the BEM reference (its misfit NaN
+    without one) and the messages so far."""
+    load_sets = [loads] if measured is None else [loads, measured.normal_load]
+    tables, messages = _model_areas(
+        scan, material, roughness, nominal_area, load_sets, executor, progress
+    )
+    area, at_measured = tables[0], (tables[1] if measured is not None else None)
+    pairs: dict = {"misfit_bem": np.full(len(scan.stride), np.nan)}
+    if bem is not None:
+        found, more = _bem_pairs(
+            scan, material, roughness, nominal_area, loads, bem, executor, progress
+        )
+        pairs.update(found)
+        messages += more
+    return area, at_measured, pairs, messages
+
+
+def _effective_statistics(
+    surface: topo.HeightMap | None,
+    scan: ScanResult,
+    misfit: np.ndarray,
+    material: statmodel.Material,
+    nominal_area: float,
+    loads: np.ndarray,
+    measured: NormalAreaCurve | None,
+    bem: BemReference | None,
+    pairs: dict,
+    at_measured: np.ndarray | None,
+    index: int,
+    at_index: statmodel.Roughness,
+) -> tuple[statmodel.Roughness, float, OptimumFields]:
+    """The effective statistics (eta 1/m^2, R m, sigma_s m), resolution (m) and the located
+    optimum's fields: between the strides when the map is given, else at scan entry ``index``
+    (statistics ``at_index``; with the BEM pairs there when a BEM reference is)."""
+    located: OptimumFields = {}
+    if surface is not None:
+        located = _locate_optimum(
+            surface, scan, misfit, material, nominal_area, loads, measured, bem, pairs,
+            at_measured,
+        )  # fmt: skip
+    best = at_index
+    effective = float(scan.resolution[index])
+    if located:
+        best = _located_roughness(located)
+        effective = float(located["optimum_resolution"])
+        located.update(_pairs_at(best, material, nominal_area, loads, pairs))
+    elif bem is not None:
+        located.update(_pairs_at(best, material, nominal_area, loads, pairs))
+    return best, effective, located
 
 
 def _located_roughness(located: OptimumFields) -> statmodel.Roughness:
