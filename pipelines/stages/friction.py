@@ -37,6 +37,7 @@ from asperity.statmodel.lambda_fit import LambdaFit, fit_mode_mixity, interpolat
 from asperity.statmodel.lambda_fit_friction import SourceFits, fit_sources
 from asperity.statmodel.results_io import ARRAY_UNITS, SCALAR_UNITS
 from asperity.statmodel.shear_path import (
+    QuadratureChoice,
     choose_quadrature,
     model_drive_curve,
     model_shear_area,
@@ -409,15 +410,8 @@ def calibrate_mode_mixity(
         )
     if not friction_curves:
         return choice
-    drive_model = functools.partial(
-        model_drive_curve,
-        material=material,
-        roughness=roughness,
-        nominal_area=nominal_area,
-        drive_stiffness=drive_stiffness,
-        max_tangential_displacement=max_tangential_displacement,
-        steps=max(steps, MIN_FIT_STEPS) // 2 + 1,
-        knobs=quad,
+    drive_model = _drive_model(
+        material, roughness, nominal_area, drive_stiffness, max_tangential_displacement, steps, quad
     )
     fits = fit_sources(
         source,
@@ -432,13 +426,42 @@ def calibrate_mode_mixity(
         area_fit=area_fit,
     )
     if choice is None:  # friction tests only: fitted to them, or (source "area") configured
-        chosen = fits.chosen
-        choice = ModeMixityChoice(
-            mode_mixity=material.mode_mixity if chosen is None else chosen.mode_mixity,
-            fitted=chosen is not None,
-        )
+        choice = _friction_only_choice(material, fits.chosen)
     _record_sources(choice, fits)
     return choice
+
+
+def _drive_model(
+    material: statmodel.Material,
+    roughness: statmodel.Roughness,
+    nominal_area: float,
+    drive_stiffness: float | None,
+    max_tangential_displacement: float | None,
+    steps: int,
+    knobs: dict,
+) -> functools.partial:
+    """``model(lam, f_z) -> (drive (m), F_x (N))``: the model's friction test through the
+    loading system's stiffness (N/m; None: rigid), on half the fit's steps."""
+    return functools.partial(
+        model_drive_curve,
+        material=material,
+        roughness=roughness,
+        nominal_area=nominal_area,
+        drive_stiffness=drive_stiffness,
+        max_tangential_displacement=max_tangential_displacement,
+        steps=max(steps, MIN_FIT_STEPS) // 2 + 1,
+        knobs=knobs,
+    )
+
+
+def _friction_only_choice(
+    material: statmodel.Material, chosen: LambdaFit | None
+) -> ModeMixityChoice:
+    """The lambda of friction tests alone: their fit's when ``chosen``, else the configured one."""
+    return ModeMixityChoice(
+        mode_mixity=material.mode_mixity if chosen is None else chosen.mode_mixity,
+        fitted=chosen is not None,
+    )
 
 
 def _area_choice(
@@ -769,18 +792,8 @@ def friction_prediction(
         max_tangential_displacement=max_tangential_displacement,
         steps=steps,
     )
-    jobs = [
-        (
-            material,
-            roughness,
-            nominal_area,
-            float(f),
-            max_tangential_displacement,
-            steps,
-            quad.knobs,
-        )
-        for f in loads
-    ]
+    max_dt = max_tangential_displacement
+    jobs = [(material, roughness, nominal_area, float(f), max_dt, steps, quad.knobs) for f in loads]
     results = run_map(_curve_job, jobs, executor, desc="shear curves", progress=progress)
     decade = (
         _mode_mixity_decade(material, jobs, executor)
@@ -789,18 +802,17 @@ def friction_prediction(
     )
     names = (*CURVE_FIELDS, *CURVE_SCALARS)
     per_load = {name: np.array([r[name] for r in results]) for name in names}
+    curve_at = functools.partial(
+        _shear_curve_at, nominal_area=nominal_area, max_dt=max_dt, steps=steps, knobs=quad.knobs
+    )
     return FrictionPrediction(
         normal_load=loads,
         converged=np.array([r["converged"] for r in results], dtype=bool),
-        quadrature_relative_change=quad.relative_change,
-        quadrature_seconds=quad.seconds,
         mode_mixity=material.mode_mixity,
         shear_strength=material.shear_strength,
         nominal_area=float(nominal_area),
         messages=[r["message"] for r in results],
-        quadrature_knobs=quad.knobs,
-        quadrature_ladder=quad.ladder,
-        quadrature_reason=quad.reason,
+        **_quadrature_fields(quad),
         **decade,
         **per_load,
         **prediction_uncertainty(
@@ -811,15 +823,20 @@ def friction_prediction(
             roughness_interval,
             mode_mixity_interval,
             interval_open,
-            functools.partial(
-                _shear_curve_at,
-                nominal_area=nominal_area,
-                max_dt=max_tangential_displacement,
-                steps=steps,
-                knobs=quad.knobs,
-            ),
-        ),
+            curve_at,
+        ),  # fmt: skip
     )
+
+
+def _quadrature_fields(quad: QuadratureChoice) -> dict:
+    """The quadrature choice's fields of :class:`FrictionPrediction`."""
+    return {
+        "quadrature_relative_change": quad.relative_change,
+        "quadrature_seconds": quad.seconds,
+        "quadrature_knobs": quad.knobs,
+        "quadrature_ladder": quad.ladder,
+        "quadrature_reason": quad.reason,
+    }
 
 
 #: The factor about an assumed lambda shown in the report (a decade: sqrt(10) each way).
