@@ -436,6 +436,47 @@ def _save_wisdom() -> None:
         pass
 
 
+def _checked_multiplier(
+    multiplier: np.ndarray | RadialMultiplier,
+    spectral_shape: tuple[int, int],
+    shape: tuple[int, int],
+) -> np.ndarray | RadialMultiplier:
+    """The multiplier of a :class:`Convolution` of the grid ``shape`` (an array as float64),
+    a BemInputError when it does not cover the half-spectrum ``spectral_shape``."""
+    if isinstance(multiplier, RadialMultiplier):
+        found = (multiplier.qx2.size, multiplier.qy2.size)
+    else:
+        multiplier = np.asarray(multiplier, dtype=np.float64)
+        found = multiplier.shape
+    if found != spectral_shape:
+        raise BemInputError(
+            f"Convolution: multiplier shape {found} does not match the half "
+            f"spectrum {spectral_shape} of the grid {shape}"
+        )
+    return multiplier
+
+
+def _check_workspace(workspace: np.ndarray | None, shape: tuple[int, int]) -> None:
+    """A BemInputError unless ``workspace`` is None or a uint8 array of
+    :func:`workspace_bytes` (shape) bytes at least."""
+    if workspace is not None and (
+        workspace.dtype != np.uint8 or workspace.size < workspace_bytes(shape)
+    ):
+        raise BemInputError(
+            f"Convolution: workspace must be a uint8 array of at least "
+            f"{workspace_bytes(shape)} bytes (new_workspace), got {workspace.dtype} "
+            f"of {workspace.size}"
+        )
+
+
+def _check_backend(backend: str) -> None:
+    """A BemInputError for an unknown backend, or pyFFTW asked for and not installed."""
+    if backend not in ("auto", "pyfftw", "scipy"):
+        raise BemInputError(f"fft_backend: expected 'auto', 'pyfftw' or 'scipy', got {backend!r}")
+    if backend == "pyfftw" and "pyfftw" not in available_backends():
+        raise BemInputError("fft_backend='pyfftw' requested but pyFFTW is not installed")
+
+
 class Convolution:
     """Periodic convolution ``out = irfft2(multiplier * rfft2(x))`` on a fixed real grid shape.
 
@@ -476,31 +517,10 @@ class Convolution:
             )
         self.precision = precision
         self.dtype, self.cdtype = PRECISIONS[precision]
-        if isinstance(multiplier, RadialMultiplier):
-            found = (multiplier.qx2.size, multiplier.qy2.size)
-        else:
-            multiplier = np.asarray(multiplier, dtype=np.float64)
-            found = multiplier.shape
-        if found != self.spectral_shape:
-            raise BemInputError(
-                f"Convolution: multiplier shape {found} does not match the half "
-                f"spectrum {self.spectral_shape} of the grid {self.shape}"
-            )
-        if workspace is not None and (
-            workspace.dtype != np.uint8 or workspace.size < workspace_bytes(self.shape)
-        ):
-            raise BemInputError(
-                f"Convolution: workspace must be a uint8 array of at least "
-                f"{workspace_bytes(self.shape)} bytes (new_workspace), got {workspace.dtype} "
-                f"of {workspace.size}"
-            )
+        multiplier = _checked_multiplier(multiplier, self.spectral_shape, self.shape)
+        _check_workspace(workspace, self.shape)
         self.threads = int(threads) if threads else default_threads()
-        if backend not in ("auto", "pyfftw", "scipy"):
-            raise BemInputError(
-                f"fft_backend: expected 'auto', 'pyfftw' or 'scipy', got {backend!r}"
-            )
-        if backend == "pyfftw" and "pyfftw" not in available_backends():
-            raise BemInputError("fft_backend='pyfftw' requested but pyFFTW is not installed")
+        _check_backend(backend)
         self._fwd = None
         self.calls = 0  # convolutions started (a machine-independent cost measure)
         self.transforms = 0  # FFTs done, forward and inverse (2 per full convolution)

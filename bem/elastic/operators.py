@@ -173,6 +173,47 @@ class EvenMultiplier(NamedTuple):
     half: np.ndarray  # (gx // 2 + 1, gy // 2 + 1), m/Pa (or Pa/m) over gx * gy
 
 
+def _checked_backend(
+    shape: tuple[int, int], grid: tuple[int, int], backend: str, precision: str, workspace
+) -> str:
+    """The backend a :class:`PaddedConvolution` of ``shape`` on the FFT ``grid`` uses ("auto"
+    resolved); a BemInputError for a grid that does not hold the map, an unknown precision or
+    backend, a missing pyFFTW or a workspace short of :func:`fb.workspace_bytes` (grid)."""
+    if grid[0] < shape[0] or grid[1] < shape[1]:
+        raise BemInputError(f"PaddedConvolution: the FFT grid {grid} must hold the map {shape}")
+    if precision not in fb.PRECISIONS:
+        raise BemInputError(
+            f"PaddedConvolution: precision must be 'double' or 'single', got {precision!r}"
+        )
+    if backend not in ("auto", "pyfftw", "scipy"):
+        raise BemInputError(f"fft_backend: expected 'auto', 'pyfftw' or 'scipy', got {backend!r}")
+    if backend == "auto":
+        backend = "pyfftw" if "pyfftw" in fb.available_backends() else "scipy"
+    if backend == "pyfftw" and "pyfftw" not in fb.available_backends():
+        raise BemInputError("fft_backend='pyfftw' requested but pyFFTW is not installed")
+    if workspace.dtype != np.uint8 or workspace.size < fb.workspace_bytes(grid):
+        raise BemInputError(
+            f"PaddedConvolution: workspace must be a uint8 array of at least "
+            f"{fb.workspace_bytes(grid)} bytes, got {workspace.dtype} of "
+            f"{workspace.size}"
+        )
+    return backend
+
+
+def _multiplier_shape(multiplier, spectral_shape: tuple[int, int]) -> tuple[int, ...]:
+    """The half-spectrum shape a multiplier stands for (an even one's half rows counted as
+    the full gx; a callable's kernel is made on the grid, so it fits)."""
+    gx = spectral_shape[0]
+    if isinstance(multiplier, RadialMultiplier):
+        return (multiplier.qx2.size, multiplier.qy2.size)
+    if isinstance(multiplier, EvenMultiplier):
+        rows, cols = multiplier.half.shape
+        return (gx if rows == gx // 2 + 1 else rows, cols)
+    if callable(multiplier):
+        return spectral_shape
+    return np.shape(multiplier)
+
+
 class PaddedConvolution:
     """Convolution ``out = K * x`` of arrays of the map's shape on a larger FFT grid, in place.
 
@@ -225,48 +266,31 @@ class PaddedConvolution:
     ) -> None:
         self.shape = (int(shape[0]), int(shape[1]))
         self.grid = (int(grid[0]), int(grid[1]))
-        if self.grid[0] < self.shape[0] or self.grid[1] < self.shape[1]:
-            raise BemInputError(
-                f"PaddedConvolution: the FFT grid {self.grid} must hold the map {self.shape}"
-            )
-        if precision not in fb.PRECISIONS:
-            raise BemInputError(
-                f"PaddedConvolution: precision must be 'double' or 'single', got {precision!r}"
-            )
-        if backend not in ("auto", "pyfftw", "scipy"):
-            raise BemInputError(
-                f"fft_backend: expected 'auto', 'pyfftw' or 'scipy', got {backend!r}"
-            )
-        if backend == "auto":
-            backend = "pyfftw" if "pyfftw" in fb.available_backends() else "scipy"
-        if backend == "pyfftw" and "pyfftw" not in fb.available_backends():
-            raise BemInputError("fft_backend='pyfftw' requested but pyFFTW is not installed")
-        if workspace.dtype != np.uint8 or workspace.size < fb.workspace_bytes(self.grid):
-            raise BemInputError(
-                f"PaddedConvolution: workspace must be a uint8 array of at least "
-                f"{fb.workspace_bytes(self.grid)} bytes, got {workspace.dtype} of "
-                f"{workspace.size}"
-            )
-        self.backend = backend
+        self.backend = _checked_backend(self.shape, self.grid, backend, precision, workspace)
         self.precision = precision
         self.dtype, self.cdtype = fb.PRECISIONS[precision]
         self.threads = int(threads) if threads else fb.default_threads()
         gx, gy = self.grid
         self.spectral_shape = (gx, gy // 2 + 1)
-        if isinstance(multiplier, RadialMultiplier):
-            found = (multiplier.qx2.size, multiplier.qy2.size)
-        elif isinstance(multiplier, EvenMultiplier):
-            rows, cols = multiplier.half.shape
-            found = (gx if rows == gx // 2 + 1 else rows, cols)
-        elif callable(multiplier):
-            found = self.spectral_shape
-        else:
-            found = np.shape(multiplier)
+        found = _multiplier_shape(multiplier, self.spectral_shape)
         if found != self.spectral_shape:
             raise BemInputError(
                 f"PaddedConvolution: multiplier shape {found} does not match the half "
                 f"spectrum {self.spectral_shape} of the grid {self.grid}"
             )
+        self._hold_workspace(workspace)
+        self._pending: np.ndarray | None = None
+        self.calls = 0  # convolutions started
+        self.transforms = 0  # FFTs done, forward and inverse
+        self.seconds = 0.0  # wall time spent in them (s)
+        self._fwd = self._inv = None
+        if self.backend == "pyfftw":
+            self._plan()
+        self._set_multiplier(multiplier, normalised)
+
+    def _hold_workspace(self, workspace: np.ndarray) -> None:
+        """The spectrum and the padded real grid as views of ``workspace`` (uint8)."""
+        gx, gy = self.grid
         nbytes = self.spectral_shape[0] * self.spectral_shape[1] * np.dtype(self.cdtype).itemsize
         # held as given: the views below keep only the buffer alive (numpy collapses a view's
         # base to the owner), so without this reference the per-thread pool forgets the
@@ -276,13 +300,11 @@ class PaddedConvolution:
         self._spec = workspace[:nbytes].view(self.cdtype).reshape(self.spectral_shape)
         padded = workspace[:nbytes].view(self.dtype).reshape(gx, 2 * self.spectral_shape[1])
         self._real = padded[:, :gy]
-        self._pending: np.ndarray | None = None
-        self.calls = 0  # convolutions started
-        self.transforms = 0  # FFTs done, forward and inverse
-        self.seconds = 0.0  # wall time spent in them (s)
-        self._fwd = self._inv = None
-        if backend == "pyfftw":
-            self._plan()
+
+    def _set_multiplier(self, multiplier, normalised: bool) -> None:
+        """Keep the multiplier as applied: radial (evaluated where used), even (its half rows;
+        a callable's kernel transformed here), or a stored array divided by gx * gy unless
+        ``normalised``, in the operator's precision."""
         self._radial: RadialMultiplier | None = None
         self._mult: np.ndarray | None = None
         self._even: EvenMultiplier | None = None
@@ -295,7 +317,7 @@ class PaddedConvolution:
         else:
             mult = np.asarray(multiplier, dtype=np.float64)
             if not normalised:
-                mult = mult / (gx * gy)
+                mult = mult / (self.grid[0] * self.grid[1])
             self._mult = np.ascontiguousarray(mult, dtype=self.dtype)
 
     def _transformed_kernel(self, fill) -> EvenMultiplier:
