@@ -1094,20 +1094,53 @@ def solve_tangential(
     t0 = time.perf_counter()
     check_poisson(poisson_ratio)
     opts = options if options is not None else ShearOptions()
+    contact = _checked_contact(contact, periodic)
+    if not math.isfinite(tangential_displacement):
+        raise BemInputError(
+            f"tangential_displacement: expected a finite number (m), got {tangential_displacement}"
+        )
+    q_max, s_prev, x0 = _checked_state(contact, bound, slip, initial)
+    op = _tangential_operator(operator, contact.shape, dx, dy, e_star, periodic, opts)
+    rhs = tangential_displacement - s_prev
+    cg = box_conjugate_gradients(
+        op,
+        rhs,
+        contact,
+        -q_max,
+        q_max,
+        x0,
+        norm=op.norm,
+        scale=e_star / math.sqrt(dx * dy),
+        tol=opts.tol,
+        max_iter=opts.max_iterations(contact.shape),
+    )
+    return _tangential_result(cg, contact, q_max, rhs, s_prev, tangential_displacement, dx * dy, t0)
+
+
+def _checked_contact(contact: np.ndarray, periodic: bool) -> np.ndarray:
+    """The contact set as a 2D bool array; a BemInputError for another rank, or a periodic
+    cell in full contact (singular: the q = 0 mode is the reference)."""
     contact = np.asarray(contact, dtype=bool)
     if contact.ndim != 2:
         raise BemInputError(f"contact: expected a 2D boolean array, got shape {contact.shape}")
-    shape = contact.shape
     if periodic and contact.all():
         raise BemInputError(
             "contact: covers the whole periodic cell; the periodic tangential operator has no "
             "stiffness for a uniform traction (its q = 0 mode is the reference), so the problem "
             "is singular: use a free domain or a partial contact"
         )
-    if not math.isfinite(tangential_displacement):
-        raise BemInputError(
-            f"tangential_displacement: expected a finite number (m), got {tangential_displacement}"
-        )
+    return contact
+
+
+def _checked_state(
+    contact: np.ndarray,
+    bound: np.ndarray | None,
+    slip: np.ndarray | None,
+    initial: np.ndarray | TangentialResult | None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The slip threshold q_max (Pa; inf: full stick), the slip before the step (m) and the
+    start tractions (Pa) on the contact's grid; a BemInputError naming a misfit one."""
+    shape = contact.shape
     if bound is None:
         q_max = np.full(shape, np.inf)
     else:
@@ -1125,9 +1158,22 @@ def solve_tangential(
     x0 = np.zeros(shape) if initial is None else np.asarray(initial, dtype=np.float64)
     if x0.shape != shape:
         raise BemInputError(f"initial: expected shape {shape}, got {x0.shape}")
-    op = operator
-    if op is None:
-        op = TangentialOperator(
+    return q_max, s_prev, x0
+
+
+def _tangential_operator(
+    operator: TangentialOperator | None,
+    shape: tuple[int, int],
+    dx: float,
+    dy: float,
+    e_star: float,
+    periodic: bool,
+    opts: ShearOptions,
+) -> TangentialOperator:
+    """``operator`` when it fits the problem (grid, boundary, tangential), a new one when
+    None (pixel sizes m, E* Pa); a BemInputError for a misfit one."""
+    if operator is None:
+        return TangentialOperator(
             shape,
             dx,
             dy,
@@ -1136,31 +1182,34 @@ def solve_tangential(
             fft_backend=opts.fft_backend,
             threads=opts.threads,
         )
-    elif op.shape != shape or op.periodic != periodic or op.normal:
+    if operator.shape != shape or operator.periodic != periodic or operator.normal:
         raise BemInputError(
-            f"operator: built for shape {op.shape}, periodic={op.periodic}, normal={op.normal}; "
-            f"the problem needs {shape}, periodic={periodic}, tangential"
+            f"operator: built for shape {operator.shape}, periodic={operator.periodic}, "
+            f"normal={operator.normal}; the problem needs {shape}, periodic={periodic}, "
+            "tangential"
         )
-    rhs = tangential_displacement - s_prev
-    cg = box_conjugate_gradients(
-        op,
-        rhs,
-        contact,
-        -q_max,
-        q_max,
-        x0,
-        norm=op.norm,
-        scale=e_star / math.sqrt(dx * dy),
-        tol=opts.tol,
-        max_iter=opts.max_iterations(shape),
-    )
+    return operator
+
+
+def _tangential_result(
+    cg: BoxCGResult,
+    contact: np.ndarray,
+    q_max: np.ndarray,
+    rhs: np.ndarray,
+    s_prev: np.ndarray,
+    tangential_displacement: float,
+    area: float,
+    t0: float,
+) -> TangentialResult:
+    """The step's :class:`TangentialResult` from the box-constrained solve ``cg``: stick where
+    |q| < q_max, the slip updated elsewhere on the contact, forces and areas over the element
+    ``area`` (m^2), the time since ``t0`` (s, perf_counter)."""
     q = cg.x
     # u_x on the contact set from the final gradient g = u_x - (delta_T - s_prev): no extra
     # convolution; off the contact set it is not needed (NaN)
     u = np.where(contact, cg.gradient + rhs, np.nan)
     stick = contact & (np.abs(q) < q_max)
     new_slip = np.where(contact & ~stick, tangential_displacement - u, s_prev)
-    area = dx * dy
     return TangentialResult(
         traction=q,
         displacement=u,
