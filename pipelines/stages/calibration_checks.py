@@ -7,6 +7,9 @@ magnification) and an additive offset (+0.2 A_r(F_x = 0) on every point: the con
 threshold of the image analysis) both show as c ~ 1.2, and the fit absorbs either without a
 trace. Two checks, each with its verdict code (warnings; thresholds here):
 
+The numbers are :mod:`asperity.statmodel.calibration_checks`' (for a notebook user as well);
+this module words them as the verdict's reasons.
+
 * ``measured_area_scale``: a curve's A_r(F_x = 0), c times the model's, at least
   :data:`SCALE_TOLERANCE` (10 %) from the model beyond the model's own one-sigma relative
   uncertainty at F_x = 0 at that load (``friction.model_real_area_uncertainty``). The file then
@@ -25,24 +28,33 @@ import math
 
 import numpy as np
 
-#: A measured level this far from the model (|c - 1|, beyond the model's own uncertainty).
-SCALE_TOLERANCE = 0.10
-#: Delta chi^2 by which the offset reading must fit better to be named (two sigma).
-OFFSET_DELTA_CHI2 = 4.0
-#: The band of c the ``shape_scale`` reason leaves silent (exp(+-0.2)).
-SHAPE_SCALE_BAND = (math.exp(-0.2), math.exp(0.2))
+from asperity.statmodel import calibration_checks as checks
+from asperity.statmodel.calibration_checks import (
+    OFFSET_DELTA_CHI2,
+    SCALE_TOLERANCE,
+    SHAPE_SCALE_BAND,
+)
+
+__all__ = [
+    "OFFSET_DELTA_CHI2",
+    "SCALE_TOLERANCE",
+    "SHAPE_SCALE_BAND",
+    "model_relative_uncertainty",
+    "offset_reasons",
+    "scale_reasons",
+]
 
 
 def model_relative_uncertainty(friction: object, load: float) -> float:
-    """u(A_model)/A_model at F_x = 0 at the configured load nearest ``load`` (0 when the
-    friction stage did not estimate it)."""
-    area = getattr(friction, "model_real_area", None)
-    u = getattr(friction, "model_real_area_uncertainty", None)
-    if area is None or u is None:
-        return 0.0
-    i = int(np.argmin(np.abs(np.asarray(friction.normal_load, dtype=float) - load)))
-    value = float(u[i]) / float(area[i]) if float(area[i]) > 0 else math.nan
-    return value if math.isfinite(value) else 0.0
+    """u(A_model)/A_model at F_x = 0 at the configured load nearest ``load`` (N) of the
+    friction stage's result (0 when it did not estimate it):
+    :func:`asperity.statmodel.calibration_checks.model_relative_uncertainty`."""
+    return checks.model_relative_uncertainty(
+        getattr(friction, "normal_load", ()),
+        getattr(friction, "model_real_area", None),
+        getattr(friction, "model_real_area_uncertainty", None),
+        load,
+    )
 
 
 def _interval_text(interval: object) -> str:
@@ -73,12 +85,12 @@ def scale_reasons(choice: object, friction: object) -> list[tuple[str, str, str]
         return []
     if getattr(choice, "fit_mode", "shape") != "shape":
         return []
-    low, high = SHAPE_SCALE_BAND
-    flagged = []
-    for c, load in zip(np.asarray(scales, float), np.asarray(loads, float), strict=True):
-        u = model_relative_uncertainty(friction, load)
-        if low <= c <= high and abs(c - 1.0) >= SCALE_TOLERANCE + u:
-            flagged.append(f"c = {c:.3g} at F_z = {load:.4g} N (model's own u {100 * u:.2g} %)")
+    flagged = [
+        f"c = {c:.3g} at F_z = {load:.4g} N (model's own u {100 * u:.2g} %)"
+        for c, load, u in checks.scale_outliers(
+            scales, loads, lambda f: model_relative_uncertainty(friction, f)
+        )
+    ]
     if not flagged:
         return []
     text = (
@@ -99,8 +111,7 @@ def offset_reasons(choice: object) -> list[tuple[str, str, str]]:
     if offset_rms is None or rms is None or not n or not math.isfinite(offset_rms):
         return []
     curves = len(np.atleast_1d(choice.shape_scale))
-    variance = min(rms, offset_rms) ** 2 * n / max(n - 1 - curves, 1)
-    delta = n * (rms**2 - offset_rms**2) / variance if variance > 0 else 0.0
+    delta = checks.offset_delta_chi2(rms, offset_rms, n, curves)
     if delta <= OFFSET_DELTA_CHI2:
         return []
     fractions = ", ".join(f"{100 * d:.3g} %" for d in np.atleast_1d(choice.offset_fraction))
