@@ -23,22 +23,15 @@ def _run(capsys, argv):
     return status, out, err
 
 
+def _bem(path, *args: str) -> list[str]:
+    """The ``asperity bem`` argv on ``path`` with E* = 1 GPa and 1 um pixels, then ``args``."""
+    return ["bem", str(path), "--e-star", "1e9", "--pixel-size", "1e-6", *args]
+
+
 def test_single_load_json(capsys, npy_surface):
     status, out, _ = _run(
         capsys,
-        [
-            "bem",
-            str(npy_surface),
-            "--e-star",
-            "1e9",
-            "--mean-pressure",
-            "4e7",
-            "--pixel-size",
-            "1e-6",
-            "--detrend",
-            "mean",
-            "--json",
-        ],
+        _bem(str(npy_surface), "--mean-pressure", "4e7", "--detrend", "mean", "--json"),
     )
     assert status == 0
     data = json.loads(out)
@@ -56,21 +49,16 @@ def test_sweep_json_lists_and_matches_api(capsys, npy_surface, contact_ok):
 
     status, out, _ = _run(
         capsys,
-        [
-            "bem",
+        _bem(
             str(npy_surface),
-            "--e-star",
-            "1e9",
             "--load",
             "0.1,0.15,0.2",
-            "--pixel-size",
-            "1e-6",
             "--detrend",
             "none",
             "--tol",
             "1e-10",
             "--json",
-        ],
+        ),
     )
     assert status == 0
     data = json.loads(out)
@@ -89,19 +77,7 @@ def test_sweep_json_lists_and_matches_api(capsys, npy_surface, contact_ok):
 def test_non_convergence_exits_1(capsys, npy_surface):
     status, out, err = _run(
         capsys,
-        [
-            "bem",
-            str(npy_surface),
-            "--e-star",
-            "1e9",
-            "--load",
-            "0.1",
-            "--pixel-size",
-            "1e-6",
-            "--max-iter",
-            "2",
-            "--json",
-        ],
+        _bem(str(npy_surface), "--load", "0.1", "--max-iter", "2", "--json"),
     )
     assert status == 1
     assert json.loads(out)["converged"] is False
@@ -111,18 +87,7 @@ def test_non_convergence_exits_1(capsys, npy_surface):
 def test_table_output_and_adhesion(capsys, npy_surface):
     status, out, _ = _run(
         capsys,
-        [
-            "bem",
-            str(npy_surface),
-            "--e-star",
-            "1e9",
-            "--load",
-            "0.1",
-            "--work-of-adhesion",
-            "0.05",
-            "--pixel-size",
-            "1e-6",
-        ],
+        _bem(str(npy_surface), "--load", "0.1", "--work-of-adhesion", "0.05"),
     )
     assert status == 0
     assert "contact_fraction" in out and "w = 0.05 J/m^2" in out
@@ -150,16 +115,7 @@ def test_bad_input_exits_2(capsys, npy_surface, extra, message):
 def test_missing_file_exits_2(capsys, tmp_path):
     status, _, err = _run(
         capsys,
-        [
-            "bem",
-            str(tmp_path / "none.npy"),
-            "--e-star",
-            "1e9",
-            "--load",
-            "1",
-            "--pixel-size",
-            "1e-6",
-        ],
+        _bem(str(tmp_path / "none.npy"), "--load", "1"),
     )
     assert status == 2 and "none.npy" in err
 
@@ -171,18 +127,7 @@ def test_nan_pixels_are_refused(capsys, tmp_path):
     np.save(path, h)
     status, _, err = _run(
         capsys,
-        [
-            "bem",
-            str(path),
-            "--e-star",
-            "1e9",
-            "--load",
-            "1",
-            "--pixel-size",
-            "1e-6",
-            "--detrend",
-            "none",
-        ],
+        _bem(str(path), "--load", "1", "--detrend", "none"),
     )
     assert status == 2 and "holes.npy" in err and "missing" in err
 
