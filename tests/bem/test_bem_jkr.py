@@ -1,5 +1,7 @@
 """JKR sphere with the Pohrt-Popov criterion: pull-off -3/2 pi w R, a(P), hysteresis."""
 
+import functools
+
 import numpy as np
 import pytest
 
@@ -115,31 +117,22 @@ def test_load_controlled_adhesive_solve(cycles, contact_ok):
     h, dx, _, unloading = cycles[64]
     # a tensile load above the pull-off force, warm-started from a state on the retraction branch
     start = min(unloading, key=lambda r: abs(r.normal_force - 0.5 * P_PULL))
-    res = solve_contact(
+    at_load = functools.partial(
+        solve_contact,
         h,
         dx,
         dx,
         E,
-        normal_force=0.5 * P_PULL,
         work_of_adhesion=W,
         periodic=False,
         initial=start,
         options=SolverOptions(tol=1e-8),
     )
+    res = at_load(normal_force=0.5 * P_PULL)
     assert res.converged, res.message
     contact_ok(res, h, force=0.5 * P_PULL, rel_force=1e-6)
     # beyond the pull-off force the contact cannot hold: reported, not silent
-    res = solve_contact(
-        h,
-        dx,
-        dx,
-        E,
-        normal_force=1.5 * P_PULL,
-        work_of_adhesion=W,
-        periodic=False,
-        initial=start,
-        options=SolverOptions(tol=1e-8),
-    )
+    res = at_load(normal_force=1.5 * P_PULL)
     assert not res.converged
     assert "contact lost" in res.message or "stalled" in res.message or "-Sigma" in res.message
 

@@ -1,6 +1,7 @@
 """Stick/slip under tangential displacement: Cattaneo-Mindlin for a Hertz sphere (Coulomb), the
 constant shear strength limit, history through the slip only, warm starts, input errors."""
 
+import functools
 import math
 
 import numpy as np
@@ -97,7 +98,8 @@ def test_monotonic_history_and_warm_start(hertz):
         )
         assert prev.success
     assert np.allclose(prev.traction, one.traction, atol=1e-6 * np.abs(one.traction).max())
-    cold = solve_tangential(
+    next_step = functools.partial(
+        solve_tangential,
         res.contact_mask,
         bound,
         dx,
@@ -108,18 +110,8 @@ def test_monotonic_history_and_warm_start(hertz):
         operator=op,
         slip=one.slip,
     )
-    warm = solve_tangential(
-        res.contact_mask,
-        bound,
-        dx,
-        dx,
-        E_STAR,
-        1.02 * d_end,
-        periodic=False,
-        operator=op,
-        slip=one.slip,
-        initial=one,
-    )
+    cold = next_step()
+    warm = next_step(initial=one)
     assert warm.nit < cold.nit
     assert np.allclose(warm.traction, cold.traction, atol=1e-6 * np.abs(one.traction).max())
 
