@@ -34,6 +34,14 @@ def _rough(n: int, seed: int) -> np.ndarray:
     return h * (1e-6 / h.std())
 
 
+def _solve_rough(options: bem.SolverOptions, periodic: bool = True):
+    """The 128^2 rough surface (seed 5) pressed at 0.5 % of E* on the mean."""
+    h = _rough(128, seed=5)
+    return bem.solve_contact(
+        h, DX, DX, E_STAR, mean_pressure=0.005 * E_STAR, periodic=periodic, options=options
+    )
+
+
 def test_auto_backend_is_timed_once_per_grid_for_both_precisions(monkeypatch):
     shape = (30, 22)  # a grid no other test uses: its choice is not cached yet
     for key in [k for k in fft_backend._AUTO_CHOICE if k[0] == shape]:
@@ -58,15 +66,7 @@ def test_auto_backend_is_timed_once_per_grid_for_both_precisions(monkeypatch):
 
 @pytest.mark.parametrize("precision", ["double", "mixed"])
 def test_a_preconditioned_iteration_transforms_at_most_five_times(precision):
-    h = _rough(128, seed=5)
-    res = bem.solve_contact(
-        h,
-        DX,
-        DX,
-        E_STAR,
-        mean_pressure=0.005 * E_STAR,
-        options=bem.SolverOptions(tol=1e-8, precision=precision),
-    )
+    res = _solve_rough(bem.SolverOptions(tol=1e-8, precision=precision))
     assert res.converged
     assert res.nit > 5
     transforms = res.extra["fft_transforms"]
@@ -128,16 +128,8 @@ def test_an_iteration_transforms_twice_per_convolution_and_once_more_per_set_jum
     iteration whose contact set jumped or whose gap was refreshed (u = K p recomputed instead
     of K t's inverse); the first u = K p and the exact one at the switch to double precision:
     2 each. The free boundary's padded transforms count the same way."""
-    h = _rough(128, seed=5)
-    res = bem.solve_contact(
-        h,
-        DX,
-        DX,
-        E_STAR,
-        mean_pressure=0.005 * E_STAR,
-        periodic=periodic,
-        options=bem.SolverOptions(tol=1e-8, precision="mixed", precondition=precondition),
-    )
+    options = bem.SolverOptions(tol=1e-8, precision="mixed", precondition=precondition)
+    res = _solve_rough(options, periodic=periodic)
     assert res.converged
     ex = res.extra
     assert ex["preconditioner_dropped_at"] is None

@@ -21,7 +21,8 @@ from asperity.statmodel.lambda_fit_friction import (
     fit_mode_mixity_friction,
     fit_sources,
 )
-from asperity.statmodel.shear_path import model_drive_curve, model_shear_area
+from asperity.statmodel.shear_path import model_drive_curve
+from tests._helpers import shear_area_model
 
 WIRE = 9200.0  # N/m, the paper's loading wire
 TRUE_LAMBDA = 0.03
@@ -123,15 +124,7 @@ def test_sources_compared_by_their_intervals():
 def test_joint_fit_sits_between_and_narrows():
     """A_r(F_x) made at lambda 0.03 and a friction test: the joint interval covers 0.03 and is
     no wider than the narrower single-source one, up to the profile's bisection."""
-    area_model = functools.partial(
-        model_shear_area,
-        material=MATERIAL,
-        roughness=ROUGHNESS,
-        nominal_area=700e-6,
-        max_tangential_displacement=None,
-        steps=201,
-        knobs={},
-    )
+    area_model = shear_area_model(MATERIAL, ROUGHNESS, 700e-6, 201)
     fine_fx, fine_ar = area_model(TRUE_LAMBDA, 0.56, steps=801)  # not the fit's own nodes
     fx = np.linspace(0.0, 0.98 * fine_fx.max(), 40)
     ar = interpolate_area(fine_fx, fine_ar, fx)
