@@ -102,6 +102,17 @@ def _name_stall_causes(
     return Stop(stop.status, stop.message + text), extra
 
 
+#: The cost counters of a solve's ``extra`` (:func:`_diagnostics`) that a solve made on the way
+#: to another one (a non-adhesive start) reports beside its own.
+COST_COUNTERS = (
+    "convolutions",
+    "single_precision_convolutions",
+    "fft_seconds",
+    "fft_transforms",
+    "single_precision_transforms",
+)
+
+
 def _diagnostics(s: IterationState, problem: ContactProblem, counters: dict) -> dict:
     """FFT counters since the start of the solve, the preconditioner fallback and the end of
     the single-precision phase (``precision_switched_at``: the iteration, None when the solve

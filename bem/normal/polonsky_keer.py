@@ -59,7 +59,7 @@ import time
 
 import numpy as np
 
-from asperity.bem.normal.assembly import assemble_result, first_contact_result
+from asperity.bem.normal.assembly import COST_COUNTERS, assemble_result, first_contact_result
 from asperity.bem.normal.branch import solve_branch
 from asperity.bem.normal.iteration import iterate, new_state
 from asperity.bem.normal.problem import ContactProblem, set_up_problem
@@ -124,17 +124,10 @@ def _solve_on_loading_branch(
     else:
         plain = dataclasses.replace(problem, work_of_adhesion=0.0, critical_tension=0.0)
         contact = _iterate_from(plain, warm, opts, time.perf_counter(), "unique", {})
-        keys = (
-            "convolutions",
-            "single_precision_convolutions",
-            "fft_seconds",
-            "fft_transforms",
-            "single_precision_transforms",
-        )
         extra = {
             "loading_iterations": contact.nit,
             "loading_message": contact.message,
-            **{f"loading_{k}": contact.extra[k] for k in keys},
+            **{f"loading_{k}": contact.extra[k] for k in COST_COUNTERS},
         }
     return _iterate_from(problem, contact, opts, started, "loading", extra)
 

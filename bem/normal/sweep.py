@@ -28,6 +28,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from asperity.bem.errors import BemInputError
+from asperity.bem.normal.assembly import COST_COUNTERS
 from asperity.bem.normal.contact import solve_contact
 from asperity.bem.result import ContactResult
 
@@ -165,14 +166,8 @@ def _checked_non_adhesive(
 
 def _counters(res: ContactResult) -> dict:
     """The cost of a non-adhesive start solved inside the sweep (for the result's extra)."""
-    keys = (
-        "convolutions",
-        "single_precision_convolutions",
-        "fft_seconds",
-        "fft_transforms",
-        "single_precision_transforms",
-    )
-    return {"nit": res.nit, "seconds": res.seconds, **{k: res.extra.get(k, 0) for k in keys}}
+    counters = {k: res.extra.get(k, 0) for k in COST_COUNTERS}
+    return {"nit": res.nit, "seconds": res.seconds, **counters}
 
 
 # widest step ratio r = (F - F_k) / (F_k - F_{k-1}) extrapolated; beyond it (or for r <= 0,

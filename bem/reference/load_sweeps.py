@@ -200,14 +200,15 @@ def summarise(result: ContactResult) -> SolveSummary:
     )
 
 
-def solve_non_adhesive(
+def _solve_on(
     grid: Grid,
     setup: ContactSetup,
     force: float,
-    initial: ContactResult | np.ndarray | None = None,
+    initial: ContactResult | np.ndarray | None,
+    **adhesion: object,
 ) -> ContactResult:
-    """The non-adhesive solve at ``force`` (N) from ``initial`` (a result, a pressure field in
-    Pa, or None for a cold start)."""
+    """:func:`solve_contact` on ``grid`` at ``force`` (N) with ``setup``'s modulus, boundary and
+    options; ``adhesion``: the work of adhesion and the law (none: non-adhesive)."""
     return solve_contact(
         grid.heights,
         grid.dx,
@@ -217,7 +218,19 @@ def solve_non_adhesive(
         initial=initial,
         periodic=setup.periodic,
         options=setup.options,
+        **adhesion,
     )
+
+
+def solve_non_adhesive(
+    grid: Grid,
+    setup: ContactSetup,
+    force: float,
+    initial: ContactResult | np.ndarray | None = None,
+) -> ContactResult:
+    """The non-adhesive solve at ``force`` (N) from ``initial`` (a result, a pressure field in
+    Pa, or None for a cold start)."""
+    return _solve_on(grid, setup, force, initial)
 
 
 def solve_adhesive_loading(
@@ -231,17 +244,8 @@ def solve_adhesive_loading(
     it by round-off, which the solver would otherwise read as a (tiny) unloading step.
     """
     start = dataclasses.replace(plain, normal_force=float(force))
-    return solve_contact(
-        grid.heights,
-        grid.dx,
-        grid.dy,
-        setup.e_star,
-        normal_force=force,
-        work_of_adhesion=setup.work_of_adhesion,
-        initial=start,
-        periodic=setup.periodic,
-        options=setup.options,
-        **setup.law(),
+    return _solve_on(
+        grid, setup, force, start, work_of_adhesion=setup.work_of_adhesion, **setup.law()
     )
 
 
