@@ -86,10 +86,10 @@ def dimensionless_state(a_bar: float, lam: float) -> tuple[float, float, float]:
     return m, p, delta
 
 
-@dataclass(frozen=True)
-class MaugisDugdale:
-    """A sphere of radius R (m) on a flat, reduced modulus E* (Pa), work of adhesion w (J/m^2)
-    and Dugdale range h_0 (m): sigma_0 = w / h_0 (Pa)."""
+class MaugisScales:
+    """The Maugis-Dugdale scales of a sphere with ``radius`` R (m), ``e_star`` E* (Pa),
+    ``work`` w (J/m^2) and ``adhesion_range`` h_0 (m) (the attributes of the classes that
+    inherit them)."""
 
     radius: float
     e_star: float
@@ -103,20 +103,32 @@ class MaugisDugdale:
 
     @property
     def lam(self) -> float:
-        """The Maugis parameter lambda (dimensionless)."""
+        """The Maugis parameter lambda = 2 sigma_0 (R / (pi w K^2))^(1/3) (dimensionless),
+        sigma_0 = w / h_0."""
         return maugis_parameter(
             self.work / self.adhesion_range, self.radius, self.work, self.e_star
         )
 
     @property
     def length_scale(self) -> float:
-        """(pi w R^2 / K)^(1/3) (m), the unit of a and c."""
+        """l = (pi w R^2 / K)^(1/3) (m), the unit of a and c."""
         return (math.pi * self.work * self.radius**2 / self.k) ** (1.0 / 3.0)
 
     @property
     def force_scale(self) -> float:
         """pi w R (N), the unit of F."""
         return math.pi * self.work * self.radius
+
+
+@dataclass(frozen=True)
+class MaugisDugdale(MaugisScales):
+    """A sphere of radius R (m) on a flat, reduced modulus E* (Pa), work of adhesion w (J/m^2)
+    and Dugdale range h_0 (m): sigma_0 = w / h_0 (Pa)."""
+
+    radius: float
+    e_star: float
+    work: float
+    adhesion_range: float
 
     @property
     def approach_scale(self) -> float:

@@ -90,7 +90,7 @@ from scipy.optimize import brentq
 from asperity.errors import InputError
 from asperity.quantities import quantity
 from asperity.statmodel.integrals import gauss_legendre
-from asperity.statmodel.maugis_dugdale import maugis_parameter
+from asperity.statmodel.maugis_dugdale import MaugisScales, maugis_parameter
 from asperity.statmodel.maugis_march import first_crossing
 from asperity.statmodel.options import check_nominal_area
 from asperity.statmodel.parameters import Roughness, tabor_parameter
@@ -210,7 +210,7 @@ class _Piece:
 
 
 @dataclass(frozen=True)
-class MaugisAsperity:
+class MaugisAsperity(MaugisScales):
     """The Maugis-Dugdale sphere on its loading branch (the branch the BEM follows on approach).
 
     Parameters
@@ -240,28 +240,11 @@ class MaugisAsperity:
         object.__setattr__(self, "_tables", {})
         object.__setattr__(self, "_pieces", self._build_pieces())
 
-    # --- scales -------------------------------------------------------------------------
-    @property
-    def lam(self) -> float:
-        """Maugis parameter lambda = 2 sigma_0 (R / (pi w K^2))^(1/3), K = 4 E*/3."""
-        return maugis_parameter(
-            self.work / self.adhesion_range, self.radius, self.work, self.e_star
-        )
-
-    @property
-    def length_scale(self) -> float:
-        """l = (pi w R^2 / K)^(1/3) (m), the unit of a and c."""
-        return (math.pi * self.work * self.radius**2 / (4.0 * self.e_star / 3.0)) ** (1 / 3)
-
+    # --- scales (lam, length_scale, force_scale: MaugisScales) ---------------------------
     @property
     def approach_scale(self) -> float:
         """l^2 / R (m), the unit of the approach delta."""
         return self.length_scale**2 / self.radius
-
-    @property
-    def force_scale(self) -> float:
-        """pi w R (N), the unit of the force."""
-        return math.pi * self.work * self.radius
 
     @property
     def pieces(self) -> tuple[_Piece, ...]:
