@@ -299,3 +299,11 @@ def python_stdout(code: str) -> str:
 
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     return out.stdout.strip()
+
+
+def copied_run(out_dir, to):
+    """A copy of a finished run's folder ``out_dir`` at ``to`` (its path): a run to alter."""
+    import shutil
+
+    shutil.copytree(out_dir, to)
+    return to

@@ -42,6 +42,15 @@ def hertz():
     return res, dx, op
 
 
+def _shear(hertz, bound, d_t, **kw):
+    """solve_tangential on the Hertz contact of the fixture (free boundary, its operator) at
+    delta_T = ``d_t`` (m) with the slip threshold ``bound`` (Pa)."""
+    res, dx, op = hertz
+    return solve_tangential(
+        res.contact_mask, bound, dx, dx, E_STAR, d_t, periodic=False, operator=op, **kw
+    )
+
+
 @pytest.mark.parametrize("ratio", [0.3, 0.6, 0.9])
 def test_cattaneo_mindlin(hertz, ratio):
     """delta_T from Cattaneo-Mindlin at T = ratio mu P: the BEM's T and stick radius agree."""
@@ -49,17 +58,7 @@ def test_cattaneo_mindlin(hertz, ratio):
     t_ref = ratio * MU * P_H
     d_t = cattaneo_mindlin_displacement(t_ref, MU, P_H, A_H, E_STAR)
     bound = traction_bound(res.contact_mask, pressure=res.pressure, friction_coefficient=MU)
-    tr = solve_tangential(
-        res.contact_mask,
-        bound,
-        dx,
-        dx,
-        E_STAR,
-        d_t,
-        periodic=False,
-        operator=op,
-        options=ShearOptions(tol=1e-8),
-    )
+    tr = _shear(hertz, bound, d_t, options=ShearOptions(tol=1e-8))
     assert tr.success and tr.status == 0 and tr.nit > 0
     # the compliance: T(delta_T) within 0.2 % (measured 5e-5 .. 1e-5)
     assert tr.tangential_force == pytest.approx(t_ref, rel=2e-3)
@@ -79,37 +78,13 @@ def test_monotonic_history_and_warm_start(hertz):
     res, dx, op = hertz
     bound = traction_bound(res.contact_mask, pressure=res.pressure, friction_coefficient=MU)
     d_end = cattaneo_mindlin_displacement(0.7 * MU * P_H, MU, P_H, A_H, E_STAR)
-    one = solve_tangential(
-        res.contact_mask, bound, dx, dx, E_STAR, d_end, periodic=False, operator=op
-    )
+    one = _shear(hertz, bound, d_end)
     prev = None
     for d_t in np.linspace(0.25, 1.0, 4) * d_end:
-        prev = solve_tangential(
-            res.contact_mask,
-            bound,
-            dx,
-            dx,
-            E_STAR,
-            d_t,
-            periodic=False,
-            operator=op,
-            slip=None if prev is None else prev.slip,
-            initial=prev,
-        )
+        prev = _shear(hertz, bound, d_t, slip=None if prev is None else prev.slip, initial=prev)
         assert prev.success
     assert np.allclose(prev.traction, one.traction, atol=1e-6 * np.abs(one.traction).max())
-    next_step = functools.partial(
-        solve_tangential,
-        res.contact_mask,
-        bound,
-        dx,
-        dx,
-        E_STAR,
-        1.02 * d_end,
-        periodic=False,
-        operator=op,
-        slip=one.slip,
-    )
+    next_step = functools.partial(_shear, hertz, bound, 1.02 * d_end, slip=one.slip)
     cold = next_step()
     warm = next_step(initial=one)
     assert warm.nit < cold.nit

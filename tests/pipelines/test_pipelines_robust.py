@@ -41,7 +41,7 @@ from asperity.pipelines.engine.stage import Runner
 from asperity.pipelines.engine.store import ResultStore
 from asperity.pipelines.job import STAGE_NAMES, STAGES, run_job
 from asperity.pipelines.report import write_report
-from tests._helpers import planned_keys
+from tests._helpers import copied_run, planned_keys
 
 try:
     import tomllib
@@ -264,8 +264,7 @@ def test_stale_temporaries_of_dead_runs_are_removed_live_ones_kept(tmp_path):
 
 def test_the_job_removes_a_stale_temporary_and_says_so(small_run, tmp_path):
     cfg, reference_out, _ = small_run
-    out = tmp_path / "out"
-    shutil.copytree(reference_out, out)
+    out = copied_run(reference_out, tmp_path / "out")
     stale = out / f".results.h5.{_dead_pid()}.tmp"
     stale.write_bytes(b"\x89HDF\r\n\x1a\n" + bytes(100))
     lines = []
@@ -293,8 +292,7 @@ def test_disk_full_mid_write_keeps_the_previous_file_and_leaves_no_temporary(
     small_run, tmp_path, monkeypatch, capsys
 ):
     cfg, reference_out, _ = small_run
-    out = tmp_path / "out"
-    shutil.copytree(reference_out, out)
+    out = copied_run(reference_out, tmp_path / "out")
     before = (out / "results.h5").read_bytes()
     _fill_disk_after(monkeypatch, 1000)
     with pytest.raises(OutputWriteError, match="No space left on device") as info:
@@ -329,8 +327,7 @@ def test_a_defect_during_the_write_is_not_relabelled_as_a_full_disk(tmp_path, mo
 
 def test_a_rejected_config_leaves_results_h5_byte_identical(small, small_run, tmp_path, capsys):
     _, reference_out, _ = small_run
-    out = tmp_path / "out"
-    shutil.copytree(reference_out, out)
+    out = copied_run(reference_out, tmp_path / "out")
     before = (out / "results.h5").read_bytes()
     listing = sorted(p.name for p in out.iterdir())
     data = small.data()
@@ -371,8 +368,7 @@ def test_a_changed_config_interrupted_at_each_stage_keeps_provenance_with_its_st
     folder holds the small job's finished run: the changed job replaces it (``replace_run``;
     unasked it is refused, tests/pipelines/test_pipelines_nothing_lost.py)."""
     _, reference_out, _ = small_run
-    out = tmp_path / "out"
-    shutil.copytree(reference_out, out)
+    out = copied_run(reference_out, tmp_path / "out")
     before = (out / "results.h5").read_bytes()
     changed = small(tmp_path, small.data(normal_loads=[1.5, 2.5]))
     _interrupt_at(monkeypatch, stage_name)
@@ -426,8 +422,7 @@ def test_interrupted_before_each_stage_resumes_to_the_uninterrupted_numbers(
 
 def test_an_interruption_inside_the_write_keeps_the_previous_file(small_run, tmp_path, monkeypatch):
     cfg, reference_out, _ = small_run
-    out = tmp_path / "out"
-    shutil.copytree(reference_out, out)
+    out = copied_run(reference_out, tmp_path / "out")
     before = (out / "results.h5").read_bytes()
 
     def interrupted(path, data):
@@ -448,8 +443,7 @@ def test_a_flipped_stored_value_is_recomputed_and_the_report_says_so(
     small_run, tmp_path, monkeypatch
 ):
     cfg, reference_out, reference = small_run
-    out = tmp_path / "out"
-    shutil.copytree(reference_out, out)
+    out = copied_run(reference_out, tmp_path / "out")
     with h5py.File(out / "results.h5", "a") as f:
         f["bem_reference/contact_fraction"][1] *= 1.5  # a flipped value on disk
         f["statistical_model"].attrs["summit_radius"] = 1.0  # and a scalar attribute
@@ -470,8 +464,7 @@ def test_a_flipped_stored_value_is_recomputed_and_the_report_says_so(
 
 def test_an_unreadable_stored_stage_is_recomputed_not_a_crash(small_run, tmp_path):
     cfg, reference_out, reference = small_run
-    out = tmp_path / "out"
-    shutil.copytree(reference_out, out)
+    out = copied_run(reference_out, tmp_path / "out")
     with h5py.File(out / "results.h5", "a") as f:
         del f["friction/static_friction"]
     result = run_job(cfg, out)
@@ -555,8 +548,7 @@ def _report_fails_half_way_at(name, small_run, tmp_path, monkeypatch, capsys):
     """``asperity report`` whose write of ``name`` fails half-way: exit 2 in one line naming
     it, the old file whole, no temporary; returns the output folder."""
     _, reference_out, _ = small_run
-    out = tmp_path / "out"
-    shutil.copytree(reference_out, out)
+    out = copied_run(reference_out, tmp_path / "out")
     before = (out / name).read_bytes()
     stale = out / f".{name}.{_dead_pid()}.tmp"  # left by a report killed with kill -9
     stale.write_bytes(b"half")

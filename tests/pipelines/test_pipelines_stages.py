@@ -17,7 +17,7 @@ from asperity.pipelines.engine.store import ResultStore
 from asperity.pipelines.job import STAGES, run_job
 from asperity.pipelines.report import write_report
 from asperity.statmodel.results_io import ARRAY_UNITS, SCALAR_UNITS
-from tests._helpers import planned_keys
+from tests._helpers import copied_run, planned_keys
 
 
 def _assert_same(a, b, cls):
@@ -151,8 +151,7 @@ def test_version_change_recomputes_and_a_corrupted_stage_is_not_reused(
     small_run, tmp_path, monkeypatch
 ):
     cfg, out, _ = small_run
-    copy = tmp_path / "copy"
-    shutil.copytree(out, copy)
+    copy = copied_run(out, tmp_path / "copy")
     with h5py.File(copy / "results.h5", "a") as f:
         f["friction/static_friction"][0] = 1e3  # a flipped value on disk
     again = run_job(cfg, copy)
