@@ -27,7 +27,12 @@ from scipy.optimize import minimize_scalar
 from asperity.errors import InputError
 from asperity.statmodel import integrals as _k
 from asperity.statmodel.jkr import jkr_jump_off_kernel
-from asperity.statmodel.options import ModelSetup, QuadratureOptions, setup_model
+from asperity.statmodel.options import (
+    ModelSetup,
+    QuadratureOptions,
+    finite_number,
+    setup_model,
+)
 from asperity.statmodel.parameters import Material, Roughness
 
 
@@ -273,12 +278,7 @@ def solve_preload(
 
     ``pull_off`` is :func:`pull_off_point` of the same setup when already known.
     """
-    try:
-        target = float(normal_load)
-    except (TypeError, ValueError):
-        raise InputError(f"normal_load: expected a number in N, got {normal_load!r}") from None
-    if not math.isfinite(target):
-        raise InputError(f"normal_load: expected a finite load in N, got {normal_load!r}")
+    target = finite_number(normal_load, "normal_load", "N", "load")
     f_min, d_min_force = pull_off_point(setup) if pull_off is None else pull_off
     if target < f_min:
         raise InputError(

@@ -39,7 +39,12 @@ from asperity.errors import InputError
 from asperity.fields import array, document_fields, scalar, text
 from asperity.statmodel import integrals as _k
 from asperity.statmodel.checks import StatmodelWarning, area_fraction_finding
-from asperity.statmodel.options import ModelSetup, QuadratureOptions, setup_model
+from asperity.statmodel.options import (
+    ModelSetup,
+    QuadratureOptions,
+    finite_number,
+    setup_model,
+)
 from asperity.statmodel.parameters import TABOR_JKR_LIMIT, Material, Roughness
 from asperity.statmodel.preloading import PreloadResult, pull_off_point, solve_preload
 from asperity.validity import Finding, raise_findings
@@ -672,12 +677,7 @@ def shear_curve_fixed_separation(
         material, roughness, nominal_area, QuadratureOptions.from_knobs(**accuracy_knobs)
     )
     dts = _check_displacements(tangential_displacement)
-    try:
-        d = float(separation)
-    except (TypeError, ValueError):
-        raise InputError(f"separation: expected a number in m, got {separation!r}") from None
-    if not math.isfinite(d):
-        raise InputError(f"separation: expected a finite separation in m, got {separation!r}")
+    d = finite_number(separation, "separation", "m", "separation")
     prm = setup.with_preload_separation(d)
     results = np.empty((dts.size, _k.N_RESULTS))
     _k.fixed_separation_path(dts, d, prm, setup.gl_x, setup.gl_w, setup.panels, results)

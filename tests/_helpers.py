@@ -19,6 +19,21 @@ from asperity.bem.reference_solutions import MaugisDugdale
 # --------------------------------------------------------------------------------------------
 
 
+#: hypothesis strategies of the kernels' property tests: pixel sizes (m) and moduli E* (Pa).
+def pixel_size_strategy():
+    """Pixel sizes from 0.1 um to 1 cm (m)."""
+    from hypothesis import strategies as st
+
+    return st.floats(min_value=1e-7, max_value=1e-2, allow_nan=False)
+
+
+def modulus_strategy():
+    """Reduced moduli E* from 1 kPa to 1 TPa (Pa)."""
+    from hypothesis import strategies as st
+
+    return st.floats(min_value=1e3, max_value=1e12, allow_nan=False)
+
+
 def sphere_heights(n: int, box: float, radius: float) -> tuple[np.ndarray, float]:
     """Parabolic sphere cap h = -r^2 / (2 R) (m), apex at the grid centre; returns (h, dx)."""
     dx = box / n

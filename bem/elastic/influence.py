@@ -105,6 +105,15 @@ def point_force_multiplier(nx: int, ny: int, dx: float, dy: float, e_star: float
     return out
 
 
+@njit(inline="always")
+def _alias_sinc(s, big_q, m, d):  # pragma: no cover - compiled
+    """sinc(Q d / 2) of the alias Q = q + 2 pi m / d, from s = sin(q d / 2): the sine of the
+    alias is (-1)^m s (1 at Q = 0)."""
+    if big_q == 0.0:
+        return 1.0
+    return (s if m % 2 == 0 else -s) / (0.5 * big_q * d)
+
+
 @njit(cache=True, parallel=True, fastmath=False)
 def _alias_sum(qx, qy, dx, dy, m_max):  # pragma: no cover - compiled
     nx = qx.shape[0]
@@ -119,18 +128,12 @@ def _alias_sum(qx, qy, dx, dy, m_max):  # pragma: no cover - compiled
             acc = 0.0
             for m in range(-m_max, m_max + 1):
                 big_qx = qx[i] + kx * m
-                if big_qx == 0.0:
-                    cx = 1.0
-                else:
-                    cx = (sx if m % 2 == 0 else -sx) / (0.5 * big_qx * dx)
+                cx = _alias_sinc(sx, big_qx, m, dx)
                 if cx == 0.0:
                     continue
                 for n in range(-m_max, m_max + 1):
                     big_qy = qy[j] + ky * n
-                    if big_qy == 0.0:
-                        cy = 1.0
-                    else:
-                        cy = (sy if n % 2 == 0 else -sy) / (0.5 * big_qy * dy)
+                    cy = _alias_sinc(sy, big_qy, n, dy)
                     q = math.sqrt(big_qx * big_qx + big_qy * big_qy)
                     if q > 0.0:
                         acc += cx * cy / q

@@ -18,9 +18,9 @@ from asperity.bem.elastic.influence import (
 )
 from asperity.bem.elastic.pohrt_popov import pohrt_popov_chi
 from asperity.bem.normal import kernels as kr
+from tests._helpers import modulus_strategy, pixel_size_strategy
 
-sizes = st.floats(min_value=1e-7, max_value=1e-2, allow_nan=False)
-moduli = st.floats(min_value=1e3, max_value=1e12, allow_nan=False)
+sizes, moduli = pixel_size_strategy(), modulus_strategy()
 
 
 @given(dx=sizes, ratio=st.floats(0.2, 5.0), e_star=moduli)

@@ -18,9 +18,9 @@ from asperity.bem.elastic.tangential_influence import (
 )
 from asperity.bem.errors import BemInputError
 from asperity.bem.shear.stick_slip import TangentialOperator, box_conjugate_gradients
+from tests._helpers import modulus_strategy, pixel_size_strategy
 
-sizes = st.floats(min_value=1e-7, max_value=1e-2, allow_nan=False)
-moduli = st.floats(min_value=1e3, max_value=1e12, allow_nan=False)
+sizes, moduli = pixel_size_strategy(), modulus_strategy()
 
 
 def _cerruti_point(x, y, e_star):
