@@ -534,6 +534,22 @@ def transform_input(s: IterationState, keep: np.ndarray | None = None) -> np.nda
     return direct.ravel() if direct is not None else s.tf
 
 
+def _progress(
+    s: IterationState, problem: ContactProblem, options: SolverOptions, g_sq: float, pen: float
+) -> Stop | str | None:
+    """:func:`check_progress`'s verdict, the switch to double precision made on :data:`SWITCH`
+    (the iteration then ends: the next one starts in double precision)."""
+    verdict = check_progress(s, problem, options, g_sq, pen)
+    if verdict == SWITCH:
+        switch_to_double(s, problem)
+    return verdict
+
+
+def _ended(verdict: Stop | str) -> Stop | None:
+    """What an iteration that ends at ``verdict`` returns: the Stop, or None after a switch."""
+    return verdict if isinstance(verdict, Stop) else None
+
+
 def plain_pk_iteration(
     s: IterationState, problem: ContactProblem, options: SolverOptions
 ) -> Stop | None:
@@ -543,12 +559,9 @@ def plain_pk_iteration(
         return gap
     beta = 0.0 if s.reset or s.g_old <= 0 else gap.g_sq / s.g_old
     d = kr.update_direction_into(s.wf, s.cf, s.tf, transform_input(s), s.offset, beta)
-    verdict = check_progress(s, problem, options, gap.g_sq, d.penetration_sq)
-    if isinstance(verdict, Stop):
-        return verdict
-    if verdict == SWITCH:
-        switch_to_double(s, problem)
-        return None
+    verdict = _progress(s, problem, options, gap.g_sq, d.penetration_sq)
+    if isinstance(verdict, Stop) or verdict == SWITCH:
+        return _ended(verdict)
     return _take_step(s, problem, options, gap.g_sq, d.sum_gt, d.n_penetrating)
 
 
@@ -591,12 +604,9 @@ def preconditioned_pk_iteration(
     direct = s.pre.direct_input()
     s_arr = direct if direct is not None else s.s_arr
     res = kr.residual_field(s.wf, s.cf, s_arr.ravel(), s.offset)
-    verdict = check_progress(s, problem, options, gap.g_sq, res.penetration_sq)
-    if isinstance(verdict, Stop):
-        return verdict
-    if verdict == SWITCH:
-        switch_to_double(s, problem)
-        return None
+    verdict = _progress(s, problem, options, gap.g_sq, res.penetration_sq)
+    if isinstance(verdict, Stop) or verdict == SWITCH:
+        return _ended(verdict)
     if verdict == FALL_BACK:
         drop_preconditioner(s)
         d = kr.update_direction(s.wf, s.cf, s.tf, s.offset, 0.0)
