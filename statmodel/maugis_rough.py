@@ -93,7 +93,7 @@ from asperity.statmodel.integrals import gauss_legendre
 from asperity.statmodel.maugis_dugdale import MaugisScales, maugis_parameter
 from asperity.statmodel.maugis_march import first_crossing
 from asperity.statmodel.options import check_nominal_area
-from asperity.statmodel.parameters import Roughness, tabor_parameter
+from asperity.statmodel.parameters import Roughness, checked_number, is_positive, tabor_parameter
 
 __all__ = [
     "AsperityLawRegime",
@@ -571,13 +571,12 @@ STATUS: dict[int, str] = {
 
 
 def _positive(name: str, value: object) -> float:
-    try:
-        out = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        raise InputError(f"{name}: expected a positive number (SI), got {value!r}") from None
-    if not (math.isfinite(out) and out > 0):
-        raise InputError(f"{name}: expected a positive finite number (SI), got {value!r}")
-    return out
+    return checked_number(
+        value,
+        is_positive,
+        f"{name}: expected a positive number (SI), got {value!r}",
+        f"{name}: expected a positive finite number (SI), got {value!r}",
+    )
 
 
 def _loads(normal_loads: ArrayLike) -> np.ndarray:

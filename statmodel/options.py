@@ -31,7 +31,6 @@ relative at every step of the issue's test case (see docs/statmodel.md for the m
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, fields
 from typing import Any
 
@@ -106,18 +105,6 @@ class ModelSetup:
         prm = self.prm.copy()
         prm[_k.P_D_PRELOAD] = separation
         return prm
-
-
-def finite_number(value: object, name: str, unit: str, noun: str) -> float:
-    """``value`` as a float; an InputError naming ``name`` when it is not a number (in
-    ``unit``, e.g. "N" or "m") or not finite (a ``noun``, e.g. "load")."""
-    try:
-        number = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        raise InputError(f"{name}: expected a number in {unit}, got {value!r}") from None
-    if not math.isfinite(number):
-        raise InputError(f"{name}: expected a finite {noun} in {unit}, got {value!r}")
-    return number
 
 
 def check_nominal_area(roughness: Roughness, nominal_area: float) -> float:

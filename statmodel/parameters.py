@@ -10,9 +10,12 @@ wide enough for every real interface and narrow enough that the model's arithmet
 
 from __future__ import annotations
 
+import math
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass, fields
 
+from asperity.errors import InputError
 from asperity.quantities import quantity
 from asperity.statmodel.checks import StatmodelWarning
 
@@ -171,3 +174,33 @@ def material_tabor_parameter(
         material.equilibrium_distance,
         warn=warn,
     )
+
+
+def checked_number(
+    value: object, accept: Callable[[float], bool], not_a_number: str, refused: str
+) -> float:
+    """``value`` as a float (SI, as given); an InputError with the message ``not_a_number``
+    when it is not a number, ``refused`` when ``accept`` refuses it."""
+    try:
+        number = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise InputError(not_a_number) from None
+    if not accept(number):
+        raise InputError(refused)
+    return number
+
+
+def finite_number(value: object, name: str, unit: str, noun: str) -> float:
+    """``value`` as a float; an InputError naming ``name`` when it is not a number (in
+    ``unit``, e.g. "N" or "m") or not finite (a ``noun``, e.g. "load")."""
+    return checked_number(
+        value,
+        math.isfinite,
+        f"{name}: expected a number in {unit}, got {value!r}",
+        f"{name}: expected a finite {noun} in {unit}, got {value!r}",
+    )
+
+
+def is_positive(number: float) -> bool:
+    """Finite and > 0."""
+    return math.isfinite(number) and number > 0

@@ -55,6 +55,7 @@ import numpy as np
 from scipy.special import erf
 
 from asperity.errors import InputError
+from asperity.statmodel.parameters import checked_number, is_positive
 from asperity.statmodel.spectral_moments import isotropic_moment, validate_spectrum
 from asperity.topo.heightmap import HeightMap
 from asperity.topo.psd import RadialPSD, radial_psd
@@ -137,13 +138,12 @@ class PerssonResult:
 
 
 def _positive(value: object, name: str, unit: str, where: str) -> float:
-    try:
-        number = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        raise InputError(f"{where}: {name} must be a number in {unit}, got {value!r}") from None
-    if not (math.isfinite(number) and number > 0):
-        raise InputError(f"{where}: {name} must be finite and > 0 {unit}, got {value!r}")
-    return number
+    return checked_number(
+        value,
+        is_positive,
+        f"{where}: {name} must be a number in {unit}, got {value!r}",
+        f"{where}: {name} must be finite and > 0 {unit}, got {value!r}",
+    )
 
 
 def _pressures(values: object, name: str, unit: str, where: str) -> np.ndarray:

@@ -27,13 +27,8 @@ from scipy.optimize import minimize_scalar
 from asperity.errors import InputError
 from asperity.statmodel import integrals as _k
 from asperity.statmodel.jkr import jkr_jump_off_kernel
-from asperity.statmodel.options import (
-    ModelSetup,
-    QuadratureOptions,
-    finite_number,
-    setup_model,
-)
-from asperity.statmodel.parameters import Material, Roughness
+from asperity.statmodel.options import ModelSetup, QuadratureOptions, setup_model
+from asperity.statmodel.parameters import Material, Roughness, finite_number
 
 
 @dataclass(frozen=True)

@@ -39,13 +39,8 @@ from asperity.errors import InputError
 from asperity.fields import array, document_fields, scalar, text
 from asperity.statmodel import integrals as _k
 from asperity.statmodel.checks import StatmodelWarning, area_fraction_finding
-from asperity.statmodel.options import (
-    ModelSetup,
-    QuadratureOptions,
-    finite_number,
-    setup_model,
-)
-from asperity.statmodel.parameters import TABOR_JKR_LIMIT, Material, Roughness
+from asperity.statmodel.options import ModelSetup, QuadratureOptions, setup_model
+from asperity.statmodel.parameters import TABOR_JKR_LIMIT, Material, Roughness, finite_number
 from asperity.statmodel.preloading import PreloadResult, pull_off_point, solve_preload
 from asperity.validity import Finding, raise_findings
 
