@@ -6,6 +6,7 @@ folder; what a fixture hands out may be defined here.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 
@@ -121,16 +122,6 @@ def retract_to_pull_off(h, dx, kw, md, steps: int = 24) -> tuple[float, list]:
 # statmodel: the paper's material and roughness laws (resolution and prediction uncertainty)
 # --------------------------------------------------------------------------------------------
 
-#: The paper's PDMS-on-glass material (SI units).
-PAPER_MATERIAL = statmodel.Material(
-    e_star=2.133e6,
-    work_of_adhesion=0.040,
-    mode_mixity=0.03,
-    shear_strength=0.13e6,
-    equilibrium_distance=0.2e-9,
-)
-#: The paper's nominal contact area, m^2.
-PAPER_NOMINAL_AREA = 700e-6
 #: The Fig. 4 case: lambda = 0.2, no equilibrium distance given (SI units), its roughness
 #: (eta in m^-2, R and sigma_s in m), A_n (m^2) and F_z (N).
 FIG4_MATERIAL = statmodel.Material(
@@ -140,6 +131,11 @@ FIG4_ROUGHNESS = statmodel.Roughness(
     asperity_density=652.1e6, summit_radius=0.041e-3, summit_height_rms=0.032e-3
 )
 FIG4_AREA, FIG4_LOAD = 700e-6, 3.1
+#: The paper's PDMS-on-glass material (SI units): Fig. 4's with the fitted lambda = 0.03
+#: (Section 5) and z_0 = 0.2 nm.
+PAPER_MATERIAL = dataclasses.replace(FIG4_MATERIAL, mode_mixity=0.03, equilibrium_distance=0.2e-9)
+#: The paper's nominal contact area, m^2.
+PAPER_NOMINAL_AREA = 700e-6
 
 
 def paper_roughness(resolution: float) -> statmodel.Roughness:
