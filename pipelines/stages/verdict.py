@@ -624,6 +624,7 @@ def check_bem_shear(shear: BemShearComparison | None) -> list[Reason]:
                 f"end of the path at F_z = {where}: {slide.reason}",
             )
         )
+    reasons += _preload_mismatch(shear)
     misfit = SHEAR_THRESHOLDS["bem_shear_model_misfit"]
     bem = np.asarray(shear.static_friction[0], dtype=float)
     model = np.asarray(shear.model_static_friction, dtype=float)
@@ -645,6 +646,30 @@ def check_bem_shear(shear: BemShearComparison | None) -> list[Reason]:
             )
         )
     return reasons
+
+
+def _preload_mismatch(shear: BemShearComparison) -> list[Reason]:
+    """The shear BEM's A_r(F_x = 0) against the normal reference's at the same loads (none
+    where the reference has no area at a load sheared)."""
+    reference = getattr(shear, "reference_area", None)
+    if reference is None or not np.any(np.isfinite(reference)):
+        return []
+    threshold = SHEAR_THRESHOLDS["bem_shear_preload_mismatch"]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        gap = np.abs(np.asarray(shear.real_area[0, :, 0]) / np.asarray(reference) - 1.0)
+    if not np.nanmax(gap) > threshold.warning:
+        return []
+    i = int(np.nanargmax(gap))
+    return [
+        Reason(
+            threshold.code,
+            "warning",
+            f"shear BEM A_r(F_x = 0) at F_z = {shear.normal_load[i]:.4g} N is "
+            f"{gap[i]:.1%} from the normal BEM reference's ({shear.preload}, stride "
+            f"{int(shear.grid_stride[0])} against {int(shear.reference_stride)}): "
+            f"{threshold.reason}",
+        )
+    ]
 
 
 def check_surface(preparation: dict | None) -> list[Reason]:
