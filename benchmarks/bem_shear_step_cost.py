@@ -58,7 +58,7 @@ def _row(n: int, steps: int, end: float) -> dict:
 
     dx = SIZE / n
     h = np.asarray(paper_like(n=n, pixel_size=dx, seed=0).heights, dtype=np.float64)
-    h -= h.mean()
+    h = h - h.mean()
     force = F_Z * SIZE * SIZE / A_N
     t0 = time.perf_counter()
     plain = solve_contact(h, dx, dx, E_STAR, normal_force=force)
