@@ -121,8 +121,9 @@ SHEAR_THRESHOLDS: dict[str, Threshold] = {
             "junctions still sticking at the last delta_T (grid used)",
             0.0,
             math.inf,
-            "full sliding not reached within the path: the BEM's sliding friction there is "
-            "not a result and its static peak may lie beyond the path (extend "
+            "full sliding not reached within the path, extended to bem_shear.path_extension "
+            "times its planned end: the BEM's sliding friction there is not a result and its "
+            "static peak may lie beyond the path (raise bem_shear.path_extension or "
             "bem_shear.max_displacement)",
         ),
         Threshold(
