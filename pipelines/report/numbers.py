@@ -12,8 +12,9 @@ spelling of micro and no Python reprs (report.md, report.html and the terminal s
   the number between 1 and 1000 (``7.014e-08 m`` is ``70.14 nm``) for lengths, forces, pressures
   and areas (``power=2``: mm², µm²).
 * :func:`plain_text` is applied to every text the report writes: the unit ``um`` becomes ``µm``
-  (messages of other packages say ``um``) and a Python dict written into a message (``setting
-  {'nodes': 8, 'panels': 4}``) becomes ``nodes = 8, panels = 4``.
+  (messages of other packages say ``um``), a Python dict written into a message (``setting
+  {'nodes': 8, 'panels': 4}``) becomes ``nodes = 8, panels = 4`` and a paper label that stands
+  as an equation's name gets its name and number beside it.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ import re
 import numpy as np
 from numpy.typing import ArrayLike
 
+from asperity.equations import name_equations
 from asperity.plotting import DisplayUnit, display_unit
 
 #: Written between a value and its uncertainty, in every output (terminal, report.md,
@@ -247,8 +249,10 @@ def _prefixed(match: re.Match[str]) -> str:
 
 
 def plain_text(text: str) -> str:
-    """A report text with readable SI prefixes, ``um`` spelt ``µm`` and every Python dict repr
-    written as words.
+    """A report text with readable SI prefixes, ``um`` spelt ``µm``, every Python dict repr
+    written as words and each bare paper label named
+    (:func:`asperity.equations.name_equations`: ``E:Ar_Greenwood`` -> ``preload real contact
+    area (Eq. 16, E:Ar_Greenwood)``).
 
     ``"setting {'nodes': 8, 'panels': 4}"`` -> ``"setting nodes = 8, panels = 4"``;
     ``"a 20 um grid"`` -> ``"a 20 µm grid"`` (words such as "sum" or "spectrum" untouched);
@@ -259,5 +263,5 @@ def plain_text(text: str) -> str:
     def words(match: re.Match[str]) -> str:
         return ", ".join(f"{k} = {v.strip()}" for k, v in _PAIR.findall(match.group(1)))
 
-    text = _DICT.sub(words, str(text))
+    text = name_equations(_DICT.sub(words, str(text)))
     return _MICRO.sub("\u00b5m", _SI_NUMBER.sub(_prefixed, text))
