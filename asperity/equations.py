@@ -46,8 +46,12 @@ _NAMED = re.compile(r"Eqs?\. [A-Z]?[\d.\-]+[,:] ?`?$")
 
 
 def equation_name(label: str) -> str:
-    """``"preload real contact area (Eq. 16, E:Ar_Greenwood)"``; the label itself when the
-    paper has no such label."""
+    """The readable name of ``label`` with its number and the label beside it (the label
+    itself when the paper has no such label).
+
+    ``equation_name("E:Ar_Greenwood")`` is ``"preload real contact area (Eq. 16,
+    E:Ar_Greenwood)"``.
+    """
     if label not in EQUATIONS:
         return label
     number, name = EQUATIONS[label]

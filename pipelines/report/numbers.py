@@ -28,8 +28,7 @@ from numpy.typing import ArrayLike
 from asperity.equations import name_equations
 from asperity.plotting import DisplayUnit, display_unit
 
-#: Written between a value and its uncertainty, in every output (terminal, report.md,
-#: report.html, summary.csv): one form.
+#: The sign between a value and its uncertainty, the same in every output.
 PLUS_MINUS = "\u00b1"
 
 #: Significant digits of an uncertainty.
@@ -250,9 +249,10 @@ def _prefixed(match: re.Match[str]) -> str:
 
 def plain_text(text: str) -> str:
     """A report text with readable SI prefixes, ``um`` spelt ``µm``, every Python dict repr
-    written as words and each bare paper label named
-    (:func:`asperity.equations.name_equations`: ``E:Ar_Greenwood`` -> ``preload real contact
-    area (Eq. 16, E:Ar_Greenwood)``).
+    written as words and each bare paper label named.
+
+    A label is named by :func:`asperity.equations.name_equations` (``E:Ar_Greenwood`` ->
+    ``preload real contact area (Eq. 16, E:Ar_Greenwood)``).
 
     ``"setting {'nodes': 8, 'panels': 4}"`` -> ``"setting nodes = 8, panels = 4"``;
     ``"a 20 um grid"`` -> ``"a 20 µm grid"`` (words such as "sum" or "spectrum" untouched);

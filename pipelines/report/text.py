@@ -398,8 +398,9 @@ def gain_key_numbers(result: Run) -> list[tuple[str, str]]:
 
 
 def regime_key_numbers(verdict: Verdict) -> list[tuple[str, str]]:
-    """The adhesion regime's row (empty without one), its numbers as the verdict's preview
-    line before the BEM writes them (3 significant digits)."""
+    """The adhesion regime's row (empty without one): U_el/(A0 w) and S_PR as the verdict's
+    preview line before the BEM writes them (3 significant digits), the Tabor parameter as
+    its key row (4)."""
     ratio = getattr(verdict, "adhesion_energy_ratio", None)
     if ratio is None:
         return []
@@ -409,7 +410,7 @@ def regime_key_numbers(verdict: Verdict) -> list[tuple[str, str]]:
             "adhesion regime",
             f"U_el/(A0 w) = {ratio:.3g} ({full}; Persson-Tosatti, threshold 1); "
             f"stickiness S_PR = {verdict.stickiness:.3g} (Pastewka-Robbins, sticky below 1); "
-            f"Tabor mu = {verdict.regime_tabor_parameter:.3g}",
+            f"Tabor mu = {format_number(verdict.regime_tabor_parameter)}",  # as its key row
         )
     ]
 
