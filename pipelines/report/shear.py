@@ -186,14 +186,14 @@ def _grid_text(shear: BemShearComparison) -> str:
     )
     if shear.grid_stride.size > 2:
         check = (
-            "the +- is the grid error of the grid used from the three grids (Richardson with "
+            "the ± is the grid error of the grid used from the three grids (Richardson with "
             "the observed order, bounded, and Roache's grid convergence index: safety 1.25 "
             "where the order is the formal one, else 3; the band holds the extrapolated value "
             "and the spread of the grids)"
         )
     elif shear.grid_stride.size == 2:
         check = (
-            "the +- is the grid error from two grids (first order assumed, Roache's safety "
+            "the ± is the grid error from two grids (first order assumed, Roache's safety "
             "factor 3: four times their difference)"
         )
     else:

@@ -641,7 +641,7 @@ def check_bem_shear(shear: BemShearComparison | None) -> list[Reason]:
                 misfit.code,
                 "warning",
                 f"static friction at F_z = {shear.normal_load[i]:.4g} N: model "
-                f"{model[i]:.4g} N, BEM {bem[i]:.4g} +- {error[i]:.2g} N (|ln ratio| "
+                f"{model[i]:.4g} N, BEM {bem[i]:.3g} ± {error[i]:.2g} N (|ln ratio| "
                 f"{gap[i]:.2f} > {misfit.warning:g} beyond the grid error): {misfit.reason}",
             )
         )
@@ -981,7 +981,7 @@ def check_hardness(
 
 
 def check_prediction_uncertainty(friction: FrictionPrediction) -> list[Reason]:
-    """Predictions written "+- ?": the model's uncertainty could not be estimated (e.g. one
+    """Predictions written "± ?": the model's uncertainty could not be estimated (e.g. one
     load: the misfit has no scatter to size the effective resolution's interval from)."""
     u = friction.static_friction_uncertainty
     if u is None or bool(np.all(np.isfinite(np.asarray(u, dtype=float)))):
@@ -991,7 +991,7 @@ def check_prediction_uncertainty(friction: FrictionPrediction) -> list[Reason]:
         Reason(
             "prediction_uncertainty_unknown",
             "warning",
-            f"the model's predictions carry no uncertainty (+- ?): {why}; add normal loads "
+            f"the model's predictions carry no uncertainty (± ?): {why}; add normal loads "
             "(the effective resolution's interval comes from the misfit's scatter over them)",
         )
     ]
