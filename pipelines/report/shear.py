@@ -37,6 +37,7 @@ __all__ = [
     "model_judgement",
     "shear_html",
     "shear_section",
+    "shear_key_numbers",
     "shear_table",
 ]
 
@@ -109,13 +110,7 @@ def model_judgement(shear: BemShearComparison, model_area: np.ndarray) -> str:
     the BEM (grid used) for F_s, its delta_T, F_d and A_r(F_x = 0) (``model_area``, m^2 per
     load sheared), and the area drops side by side (ranges over the loads)."""
 
-    def span(values: np.ndarray) -> str:
-        values = values[np.isfinite(values)]
-        if not values.size:
-            return "n/a"
-        low, high = float(values.min()), float(values.max())
-        return f"{low:.3g}" if math.isclose(low, high, rel_tol=5e-3) else f"{low:.3g}-{high:.3g}"
-
+    span = _span
     with np.errstate(divide="ignore", invalid="ignore"):
         static = shear.model_static_friction / shear.static_friction[0]
         sliding = shear.model_sliding_friction / shear.sliding_friction[0]
@@ -177,6 +172,43 @@ def _start_area_ratio(shear: BemShearComparison) -> tuple[str, float] | None:
     low, high = float(ratio.min()), float(ratio.max())
     span = f"x {low:.3f}" if math.isclose(low, high, rel_tol=5e-4) else f"x {low:.3f}-{high:.3f}"
     return span, float(np.max(np.abs(ratio - 1.0)))
+
+
+def shear_key_numbers(result: Run) -> list[tuple[str, str]]:
+    """The headline rows of the shear BEM (none when the stage did not run): what it was
+    compared with (like for like or not, :func:`comparison_line`'s test), the model over the
+    BEM for F_s and F_d, and the loads that reached full sliding."""
+    shear = _shear(result)
+    if shear is None:
+        return []
+    ratio = _start_area_ratio(shear)
+    ref = getattr(result, "bem_reference", None)
+    line = comparison_line(result, shear)
+    like = "not like for like" if "not like" in line else "like for like"
+    grid = f"{shear.grid_pixel_size[0] * 1e6:.3g} µm grid"
+    start = f", A_r(F_x = 0) / reference {ratio[0]}" if ratio and ref is not None else ""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        static = shear.model_static_friction / shear.static_friction[0]
+        sliding = shear.model_sliding_friction / shear.sliding_friction[0]
+    slid = int(np.sum(shear.stuck_junctions[0] == 0))
+    return [
+        ("shear BEM, compared", f"{like} ({grid}{start})"),
+        (
+            "shear BEM, model over BEM",
+            f"F_s x {_span(static)}, F_d x {_span(sliding)}; full sliding at {slid} / "
+            f"{shear.normal_load.size} loads (report: the table with the BEM's grid error)",
+        ),
+    ]
+
+
+def _span(values: np.ndarray) -> str:
+    """'a' or 'a-b' over the finite values (3 digits), 'n/a' without any."""
+    values = np.asarray(values, dtype=float)
+    values = values[np.isfinite(values)]
+    if not values.size:
+        return "n/a"
+    low, high = float(values.min()), float(values.max())
+    return f"{low:.3g}" if math.isclose(low, high, rel_tol=5e-3) else f"{low:.3g}-{high:.3g}"
 
 
 def _grid_text(shear: BemShearComparison) -> str:

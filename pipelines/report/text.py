@@ -36,7 +36,7 @@ from asperity.pipelines.report.profile import (
     profile_key_numbers,
     profile_section,
 )
-from asperity.pipelines.report.shear import SHEAR_CAPTIONS, shear_section
+from asperity.pipelines.report.shear import SHEAR_CAPTIONS, shear_key_numbers, shear_section
 from asperity.pipelines.report.static_peak import MeasuredPeak, measured_peaks
 from asperity.pipelines.report.uncertainty import (
     bem_cells,
@@ -106,6 +106,7 @@ JUDGED_KEYS: tuple[str, ...] = (
     "Tabor",
     "misfit",
     "mode mixity lambda",  # fitted, or configured with what a decade of it does to F_s
+    "shear BEM, model over BEM",
 )
 
 
@@ -124,6 +125,7 @@ def key_numbers(result: Run) -> list[tuple[str, str]]:
     rows += psd_key_numbers(result)
     rows += uncertainty_rows(result)
     rows += profile_key_numbers(result)
+    rows += shear_key_numbers(result)
     rows += [
         ("statmodel quadrature", fr.quadrature_reason),
         ("shear curves converged", f"{int(np.sum(fr.converged))} / {fr.converged.size}"),

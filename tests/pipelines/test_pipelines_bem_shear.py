@@ -212,6 +212,11 @@ def test_small_job_with_the_stage_reports_it(small, tmp_path):
     assert f"reference at stride {ref.stride}" in line
     assert "like for like (A_r(F_x = 0) / reference A_r: x 1.0" in line and "not like" not in line
     assert "Shear BEM against the model" in (tmp_path / "report.html").read_text()
+    from asperity.pipelines.report.text import key_numbers
+
+    rows = dict(key_numbers(result))  # the terminal summary's and the report's headline rows
+    assert rows["shear BEM, compared"].startswith("like for like (")
+    assert "full sliding at 2 / 2 loads" in rows["shear BEM, model over BEM"]
     for stem in ("fig4_bem_shear", "fig13_bem_shear"):
         assert (tmp_path / f"{stem}.png").is_file() and (tmp_path / f"{stem}.csv").is_file()
     from asperity.pipelines.report.figures import draw_figure
