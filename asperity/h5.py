@@ -24,6 +24,7 @@ never a truncated one, and libhdf5 never holds a half-written file on a full dis
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import io
 import json
 from collections.abc import Iterator, Mapping, Sequence
@@ -185,12 +186,21 @@ def write_result(group: h5py.Group, result: Any) -> None:
 def read_result(group: h5py.Group, cls: type[R]) -> R:
     """Read a result dataclass written by :func:`write_result` (arrays loaded into memory).
 
+    A field the group lacks reads as None where it is optional, and as its declared default
+    where it has one (a file written before the field was added: asperity 0.4's shear stage
+    has no ``preload``).
+
     Raises
     ------
     StoredStageError
         A required field is missing (the group was written for another declaration).
     """
     kwargs, derived = {}, {}
+    defaulted = {
+        f.name
+        for f in dataclasses.fields(cls)  # type: ignore[arg-type]
+        if f.default is not dataclasses.MISSING or f.default_factory is not dataclasses.MISSING
+    }
     for spec in field_specs(cls):
         if spec.kind == "array":
             value = group[spec.name][()] if spec.name in group else None
@@ -200,6 +210,8 @@ def read_result(group: h5py.Group, cls: type[R]) -> R:
         else:
             value = None
         if value is None and not spec.optional:
+            if spec.name in defaulted and spec.init:
+                continue  # an older file: the declared default
             raise StoredStageError(f"group {group.name!r} has no {spec.name!r}")
         (kwargs if spec.init else derived)[spec.name] = value
     result = cls(**kwargs)

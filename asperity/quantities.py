@@ -419,6 +419,20 @@ _ENTRIES = (
     # the shear BEM stage ([bem_shear] of the job)
     _count("bem_shear.stride", 1, 64, "decimation of the map for the shear solves"),
     _count("bem_shear.steps", 3, 10_000, "delta_T values per curve, each a mixed-mode solve"),
+    _count(
+        "bem_shear.check_grids",
+        0,
+        3,
+        "coarser grids (strides x2, x4, x8) solved for the grid error: three grids give the "
+        "observed order",
+    ),
+    _q(
+        "bem_shear.path_extension",
+        "",
+        1,
+        100,
+        "the path may continue past its planned end up to this multiple of it (1: not at all)",
+    ),
     _q("bem_shear.max_displacement", "m", 0, 1, "a shear path up to 1 m", open_low=True),
     _q(
         "bem_shear.tol",

@@ -1,10 +1,10 @@
 """Reference solutions: the closed forms the BEM is checked against.
 
 Plain functions of SI quantities (m, Pa, N, J/m^2), scalars or broadcast arrays, used by the
-tests of :mod:`asperity.bem`, the benchmarks and the documentation examples. Where the paper's
-statistical model already holds a law (:mod:`asperity.statmodel.hertz`,
-:mod:`asperity.statmodel.jkr`, :mod:`asperity.statmodel.maugis_dugdale`) it is reused here, not
-written again.
+tests of :mod:`asperity.bem`, the benchmarks and the documentation examples. Where a
+single-asperity law is one the statistical model uses too (:mod:`asperity.single_asperity`:
+Hertz, JKR, Maugis-Dugdale, Papangelo-Ciavarella, the ground both packages stand on) it is
+reused from there, not written again, and the BEM does not import the model it checks.
 
 Sections
 --------
@@ -19,7 +19,7 @@ JKR sphere
     the paper's E:JKR_indent, E:JKR_load, E:JKR_delta_min_unloading.
 Maugis-Dugdale sphere
     The adhesive sphere with a Dugdale cohesive zone, from JKR to DMT: re-exposed from
-    :mod:`asperity.statmodel.maugis_dugdale` (Maugis 1992, J. Colloid Interface Sci. 150, 243;
+    :mod:`asperity.single_asperity.maugis_dugdale` (Maugis 1992, J. Colloid Interface Sci. 150, 243;
     notation of Johnson & Greenwood 1997).
 Westergaard sinusoid
     A periodic 1D wavy surface h(x) = g cos(2 pi x / lambda) pressed flat against a rigid
@@ -34,7 +34,7 @@ Shear (nu = 1/2 throughout)
     initial slope is Mindlin's full-stick compliance 3 / (4 E* a), i.e. E:PC_T
     T = 4/3 E* a delta_T. The Papangelo-Ciavarella adhesive sphere in fixed grip
     (E:PC_indent, E:PC_P, E:PC_T, E:PC_a_min_1, E:max_disp_PC) and its Hertz sliding state
-    (E:Hertz_theory) are those of :mod:`asperity.statmodel.papangelo_ciavarella`,
+    (E:Hertz_theory) are those of :mod:`asperity.single_asperity.papangelo_ciavarella`,
     gathered by :func:`pc_sphere`.
 """
 
@@ -47,15 +47,19 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from asperity.bem.errors import BemInputError
-from asperity.statmodel import papangelo_ciavarella as pc
-from asperity.statmodel.hertz import hertz_normal_load
-from asperity.statmodel.jkr import (
+from asperity.single_asperity import papangelo_ciavarella as pc
+from asperity.single_asperity.hertz import hertz_normal_load
+from asperity.single_asperity.jkr import (
     jkr_jump_off_distance,
     jkr_load_from_radius,
     jkr_pull_off_force_fixed_grip,
     jkr_pull_off_force_load_control,
 )
-from asperity.statmodel.maugis_dugdale import MaugisDugdale, dimensionless_state, maugis_parameter
+from asperity.single_asperity.maugis_dugdale import (
+    MaugisDugdale,
+    dimensionless_state,
+    maugis_parameter,
+)
 
 __all__ = [
     # Hertz sphere
@@ -145,7 +149,7 @@ def hertz_sphere_force(
 ) -> np.ndarray | float:
     """Hertz load P = 4/3 E* sqrt(R) delta^(3/2) at the approach delta (0 for delta < 0).
 
-    The law of :func:`asperity.statmodel.hertz.hertz_normal_load` (E:Hertz_theory).
+    The law of :func:`asperity.single_asperity.hertz.hertz_normal_load` (E:Hertz_theory).
 
     Parameters
     ----------
@@ -263,7 +267,7 @@ def jkr_sphere_force(
 ) -> np.ndarray | float:
     """JKR load P = 4 E* a^3 / (3 R) - sqrt(8 pi E* a^3 w) at the contact radius a.
 
-    E:JKR_load, by :func:`asperity.statmodel.jkr.jkr_load_from_radius`.
+    E:JKR_load, by :func:`asperity.single_asperity.jkr.jkr_load_from_radius`.
 
     Parameters
     ----------
@@ -291,7 +295,7 @@ def jkr_sphere_approach(
     """JKR approach delta = a^2 / R - sqrt(2 pi w a / E*) at the contact radius a.
 
     E:JKR_indent, whose inverse (the stable fixed-grip branch a(delta)) is
-    :func:`asperity.statmodel.jkr.jkr_contact_radius`.
+    :func:`asperity.single_asperity.jkr.jkr_contact_radius`.
 
     Parameters
     ----------
@@ -315,7 +319,7 @@ def jkr_sphere_approach(
 
 # --------------------------------------------------------------------------------------------
 # Maugis-Dugdale sphere: MaugisDugdale, dimensionless_state, maugis_parameter, re-exposed from
-# asperity.statmodel.maugis_dugdale (Maugis 1992; Johnson & Greenwood 1997).
+# asperity.single_asperity.maugis_dugdale (Maugis 1992; Johnson & Greenwood 1997).
 # --------------------------------------------------------------------------------------------
 
 
@@ -536,7 +540,7 @@ def pc_sphere(
     shear_strength: float | None = None,
 ) -> PCSphereState:
     """The PC sphere at fixed (delta, delta_T): E:PC_indent, E:PC_P, E:PC_T, E:max_disp_PC,
-    E:Hertz_theory (from :mod:`asperity.statmodel.papangelo_ciavarella`)."""
+    E:Hertz_theory (from :mod:`asperity.single_asperity.papangelo_ciavarella`)."""
     args = (radius, work_of_adhesion, e_star, mode_mixity)
     a = float(pc.pc_contact_radius(indentation, tangential_displacement, *args))
     p = float(pc.pc_normal_load(indentation, tangential_displacement, *args))

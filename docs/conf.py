@@ -135,8 +135,19 @@ def skip_type_aliases(app, what, name, obj, skip, options):  # Sphinx calls it s
     return None
 
 
+def drop_sourceless_modules(app):  # Sphinx calls it so, before viewcode's own handler
+    """Leave modules viewcode found no source for (``builtins``, from an object whose
+    ``__module__`` is a built-in) out of ``_modules/index.html``: viewcode lists every module
+    it looked at there, and one without a page was a broken local link (builtins.html)."""
+    modules = getattr(app.env, "_viewcode_modules", {})
+    for name in [name for name, entry in modules.items() if not entry]:
+        del modules[name]
+    return []
+
+
 def setup(app) -> None:
     app.connect("autodoc-skip-member", skip_type_aliases)
+    app.connect("html-collect-pages", drop_sourceless_modules, priority=400)
 
 
 autosummary_context = {"public_names": public_names}

@@ -346,6 +346,10 @@ def bem_settings(settings: BemConfig | None, caller: str, keywords: Mapping[str,
 SHEAR_LAWS: tuple[str, ...] = ("pc", "cerruti")
 
 
+#: ``bem_shear.preload``: the state before shear (:class:`BemShearConfig`).
+SHEAR_PRELOADS = ("reference", "pohrt-popov")
+
+
 @dataclass(frozen=True)
 class BemShearConfig:
     """The shear BEM stage (``[bem_shear]``, :mod:`asperity.pipelines.stages.bem_shear`).
@@ -359,12 +363,28 @@ class BemShearConfig:
     loads : tuple of float or None
         Experiment loads F_z (N) sheared, each one of ``loading.normal_loads``; None ("auto"):
         all of them.
-    stride : int
-        The map decimated by this stride is the grid of the shear solves.
+    stride : int or None
+        The map decimated by this stride is the grid of the shear solves; None ("auto", the
+        default): the BEM reference's stride (``bem`` stage), so that the shear is judged on
+        the grid the model was calibrated against.
     grid_check : bool
-        Solve again on the grid twice as coarse (stride x 2): the discretisation error.
+        Solve on coarser grids too (``check_grids`` of them): the discretisation error;
+        false is ``check_grids = 0``.
+    check_grids : int
+        Coarser grids solved with ``grid_check`` (strides x 2, x 4, x 8): with two, the grid
+        error is Richardson's with the observed order (Roache's grid convergence index); with
+        one, first order and a safety factor 3.
+    preload : str
+        The state before shear: ``"reference"`` (default) the BEM reference's adhesive solve at
+        F_z on the grid (its law: the Maugis-Dugdale loading branch at its range h_0, or
+        Pohrt-Popov's loading branch), settled under the mixed-mode law, so that
+        A_r(F_x = 0) is the reference's; ``"pohrt-popov"`` the Pohrt-Popov overload-unload
+        preload (the unloading branch; path-dependent on coarse grids).
     steps : int
-        delta_T values per curve, the first at 0.
+        delta_T values per curve up to its planned end, the first at 0.
+    path_extension : float
+        While a junction still sticks at the planned end, the path goes on with the same step
+        up to this multiple of it (1: it stops there); beyond it, a warning.
     max_displacement : float or None
         Last delta_T, m; None ("auto"): :data:`~asperity.pipelines.stages.bem_shear.PATH_FACTOR`
         times the model's sliding displacement at that load.
@@ -377,12 +397,20 @@ class BemShearConfig:
 
     enabled: bool = False
     loads: tuple[float, ...] | None = None
-    stride: int = 4
+    stride: int | None = None
     grid_check: bool = True
     steps: int = 40
     max_displacement: float | None = None
     law: str = "pc"
     tol: float = 1e-6
+    check_grids: int = 2
+    preload: str = "reference"
+    path_extension: float = 3.0
+
+    @property
+    def coarser_grids(self) -> int:
+        """Coarser grids solved: ``check_grids``, none without ``grid_check``."""
+        return self.check_grids if self.grid_check else 0
 
 
 @dataclass(frozen=True)
@@ -719,9 +747,12 @@ JOB_SCHEMA = Schema(
                     OrAuto(ListOf(LOAD, 1, 100, why="each load is a shear curve")),
                     None,
                 ),
-                _bounded("bem_shear.stride", BemShearConfig.stride),
+                Key("stride", OrAuto(quantity("bem_shear.stride").kind), None),
                 Key("grid_check", Flag(), BemShearConfig.grid_check),
+                _bounded("bem_shear.check_grids", BemShearConfig.check_grids),
+                Key("preload", Choice(SHEAR_PRELOADS), BemShearConfig.preload),
                 _bounded("bem_shear.steps", BemShearConfig.steps),
+                _bounded("bem_shear.path_extension", BemShearConfig.path_extension),
                 Key(
                     "max_displacement",
                     OrAuto(quantity("bem_shear.max_displacement").kind),

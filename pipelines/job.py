@@ -208,9 +208,7 @@ def run_job(
                 (str(runner.store.root_attrs().get("config_source", "")), config.source),
             )
         try:
-            # a long BEM stage shows its solves as they finish (terminal only)
-            with solve_progress("BEM solves", enabled=progress, note=SOLVES_NOTE):
-                run_stages(runner)
+            run_stages(runner)  # each stage that solves shows its BEM solves (terminal only)
         except KeyboardInterrupt:
             interrupts.acknowledge()  # seen: the lock and the executor are released undisturbed
             raise
@@ -239,6 +237,7 @@ class InterruptibleRunner(Runner):
 
     stage_list: tuple[Stage, ...] = ()
     known_invalid: list[str] | None = None
+    solves_note_shown: bool = False
 
     def run_all(self, stages: Sequence[Stage]) -> None:
         """:meth:`Runner.run_all`, the stages kept for re-keying after a skip."""
@@ -254,7 +253,16 @@ class InterruptibleRunner(Runner):
             if self.known_invalid:
                 self._skip(stage)
                 return None
-        return super().run(stage)
+        return self._run_with_solves_bar(stage)
+
+    def _run_with_solves_bar(self, stage: Stage[R]) -> R | None:
+        """:meth:`Runner.run` with a bar of the stage's BEM solves (n/N, time left) from its
+        first solve to its end, when progress is shown; :data:`SOLVES_NOTE` said once a job."""
+        note = None if self.solves_note_shown else SOLVES_NOTE
+        with solve_progress("BEM solves", enabled=self.context.progress, note=note) as bar:
+            result = super().run(stage)
+        self.solves_note_shown |= bar is not None and bar.shown
+        return result
 
     def _judge_before(self, stage: Stage) -> list[str]:
         """Run the previews that precede ``stage`` or a disabled stage before it (the BEM's,

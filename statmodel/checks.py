@@ -1,7 +1,8 @@
 """One checked quantity for the validity verdict: its value, thresholds, level and message.
 
 The adhesion regime (:mod:`asperity.statmodel.regimes`) and the plausibility of the
-predicted friction (:mod:`asperity.statmodel.plausibility`) each return a :class:`Check`; the
+predicted friction (:mod:`asperity.statmodel.plausibility`) each return a :class:`Check` (an
+:class:`asperity.validity.Finding` with its thresholds: one validity type); the
 job's verdict turns a level into a reason (``"warning"`` or ``"invalid"``) with the check's code,
 number, threshold and message. Units are those of the quantity checked (stated per check).
 """
@@ -75,41 +76,39 @@ Level = Literal["ok", "warning", "invalid"]
 
 
 @dataclass(frozen=True)
-class Check:
-    """A quantity compared with its thresholds (see the module doc).
+class Check(Finding):
+    """A quantity compared with its thresholds (see the module doc): a
+    :class:`asperity.validity.Finding` (the one validity type of bem, statmodel and the
+    verdict) that also carries how it was graded, and may be ``"ok"``.
 
     Attributes
     ----------
     code : str
         The reason code the verdict uses (e.g. ``"adhesion_full_contact"``).
-    bad_when : {"above", "below"}
-        The direction in which a threshold is crossed: a value above it (most checks) or below
-        it (the energy ratio of the full-contact criterion).
+    level : {"ok", "warning", "invalid"}
+        The outcome.
+    message : str
+        What the value means and, when not ok, the parameters to check.
     value : float
         The quantity (dimensionless unless the check says otherwise).
     threshold : float
         The threshold that decided the level: the invalid one when crossed, else the warning
         one (the invalid one for a check without a warning level).
+    bad_when : {"above", "below"}
+        The direction in which a threshold is crossed: a value above it (most checks) or below
+        it (the energy ratio of the full-contact criterion).
     warning_threshold, invalid_threshold : float
         Where the level becomes "warning" and "invalid" (``inf`` or ``-inf``: never).
-    level : {"ok", "warning", "invalid"}
-        The outcome.
-    message : str
-        What the value means and, when not ok, the parameters to check.
     parameters : tuple of str
         The configuration keys or inputs to check when the level is not ok.
     reference : str
         Where the formula and the thresholds come from.
     """
 
-    code: str
-    bad_when: Literal["above", "below"]
-    value: float
-    threshold: float
-    warning_threshold: float
-    invalid_threshold: float
-    level: Level
-    message: str
+    level: Level  # type: ignore[assignment]  # a Finding that may also be "ok"
+    bad_when: Literal["above", "below"] = "above"
+    warning_threshold: float = math.inf
+    invalid_threshold: float = math.inf
     parameters: tuple[str, ...] = ()
     reference: str = ""
 

@@ -1002,14 +1002,14 @@ def asperity_law_regime(
     dmt = 2.0 * asp.force_scale
     statement = (
         f"At R = {radius:.4g} m the BEM's Maugis-Dugdale law (h_0 = {h0:.3g} m) has lambda = "
-        f"{lam:.3g} ({_side(lam)}) while the JKR model has Tabor mu = {mu:.3g} "
+        f"{lam:.3g} ({_side(lam)}) while the JKR model has Tabor mu = {mu:.4g} "
         f"({_side(1.16 * mu)}): the adhesive BEM can only show the area gain of its own law, "
         "the like-for-like partner is the Maugis-Dugdale model at the same h_0, and the JKR "
         "model's larger adhesive gain (a short-range law the grid cannot resolve) is a "
         "prediction that no BEM at this range checks"
         if _side(lam) != _side(1.16 * mu)
         else f"At R = {radius:.4g} m the BEM's law has lambda = {lam:.3g} and the JKR model "
-        f"mu = {mu:.3g}, both on the {_side(lam)}: the JKR model and the BEM share the regime "
+        f"mu = {mu:.4g}, both on the {_side(lam)}: the JKR model and the BEM share the regime "
         f"(pull-off per summit {dmt:.3g} N at most)"
     )
     return AsperityLawRegime(lam, mu, work / h0, statement)

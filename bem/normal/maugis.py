@@ -109,7 +109,7 @@ def resolving_range(
     """The range h_0 (m) whose cohesive zone at a crack-like contact edge spans ``elements``
     pixels of size dx (m): the Maugis-Dugdale zone length on the JKR side,
     c - a = pi E* w / (4 sigma_0^2) (the lambda -> infinity limit of the closed form,
-    :mod:`asperity.statmodel.maugis_dugdale`; Dugdale's pi/8 (K_I / sigma_0)^2 with
+    :mod:`asperity.single_asperity.maugis_dugdale`; Dugdale's pi/8 (K_I / sigma_0)^2 with
     K_I^2 = 2 E* w), set to ``elements * dx``: ``h_0 = sqrt(4 w elements dx / (pi E*))``.
     w in J/m^2, E* in Pa. Away from the JKR side the zone is narrower than this estimate
     (on a sphere at the load pi w R: 0.94x at lambda = 5, 0.48x at lambda = 1)."""

@@ -114,6 +114,15 @@ class GridExtrapolation:
     message: str
 
     @property
+    def finest_error(self) -> float:
+        """The error band of the finest grid's value, ``|finest - value| + uncertainty``, in
+        the unit of the values: finest +- it holds the whole band value +- uncertainty; NaN
+        with one grid."""
+        if not (math.isfinite(self.value) and math.isfinite(self.uncertainty)):
+            return math.nan
+        return abs(self.finest - self.value) + self.uncertainty
+
+    @property
     def relative_uncertainty(self) -> float:
         """u / |f_0| (1); NaN when f_0 is 0 or unknown."""
         if not math.isfinite(self.value) or self.value == 0:

@@ -46,6 +46,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from asperity.bem.progress import expect_solves
 from asperity.bem.reference.adhesion_range import (
     RangeChoice,
     given_range,
@@ -388,12 +389,15 @@ def check_grids(
     """
     setup = dataclasses.replace(setup, adhesion_range=None)
     strides = check_strides(heights.shape[0], heights.shape[1], max_stride)
+    expect_solves(len(strides))  # the non-adhesive check solves (a progress bar's N)
     plains = _non_adhesive_solves(heights, dx, dy, setup, check_pressure, strides)
     range_stride = range_grid_stride(heights.shape[0], heights.shape[1], strides)
     range_solve = plains[range_stride]
     choice = _range_choice(range_solve, setup, adhesion, adhesion_range)
     if choice is not None:
         setup = dataclasses.replace(setup, adhesion_range=choice.adhesion_range)
+    if setup.adhesive:  # the adhesive check solves, the range grid's done by the search
+        expect_solves(len(strides) - (choice is not None))
     solves, masks, starts, grids = [], {}, {}, {}
     for s in strides:
         solve = plains.pop(s)

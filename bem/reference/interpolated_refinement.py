@@ -44,6 +44,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from asperity.bem.elastic.fft_backend import crop_to_fast_size
+from asperity.bem.progress import expect_solves
 from asperity.bem.reference.discretisation import GridExtrapolation, richardson_extrapolation
 from asperity.bem.reference.load_sweeps import (
     ContactSetup,
@@ -387,6 +388,8 @@ def refine_by_interpolation(
     x0, y0 = corner
     previous = np.array(start[x0 : x0 + nx, y0 : y0 + ny]) if windowed else start
     factors = _refinement_factors(nx * ny, max_refinement, max_pixels)
+    levels = sum(not (factor == 1 and not windowed) for factor in factors)
+    expect_solves(levels * (2 if setup.adhesive else 1))  # a progress bar's N
     solves: list[list[SolveSummary]] = []
     half = (math.nan, math.nan, math.nan)
     for factor in factors:

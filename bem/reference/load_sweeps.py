@@ -37,6 +37,7 @@ import numpy as np
 from asperity.bem.elastic.fft_backend import crop_to_fast_size
 from asperity.bem.normal.contact import solve_contact
 from asperity.bem.options import SolverOptions
+from asperity.bem.progress import expect_solves
 from asperity.bem.result import ContactResult
 
 __all__ = [
@@ -325,6 +326,7 @@ def solve_chain(
     """
     older, last = None, start
     chain = LoadChain([], [])
+    expect_solves(len(forces) * (2 if setup.adhesive else 1))  # a progress bar's N
     for i, force in enumerate(forces):
         plain = solve_non_adhesive(grid, setup, force, secant_start(older, last, force))
         final = plain

@@ -2,7 +2,9 @@
 
 ``summary.csv``: one row per map (``map``, ``folder``, ``status``, ``message``, then the
 numbers of :func:`summary_values`, SI units in the headers, each predicted quantity with its
-``<quantity> uncertainty (unit)`` column, and the ``verdict`` column; every number of a map whose
+``<quantity> uncertainty (unit)`` column (full precision) and its ``<quantity> written (unit)``
+column (text: the value and its uncertainty as the report writes them, ``0.300 ± 0.024``),
+and the ``verdict`` column; every number of a map whose
 verdict is invalid is written ``invalid: 4389.5``, text that no spreadsheet reads as a
 number), then a ``mean``
 and a ``std`` row (sample standard deviation, ddof = 1) over the maps whose result the
@@ -42,13 +44,36 @@ def _at(values: object, i: int) -> float:
     return float("nan") if values is None else float(np.asarray(values, dtype=float)[i])
 
 
+#: Ends the name of a column of text: a quantity written with its uncertainty, as the
+#: terminal summary, report.md and report.html write it ("static friction at F_z=1 N written
+#: (N)": "0.300 ± 0.024").
+WRITTEN = " written ("
+
+
+def is_text_column(name: str) -> bool:
+    """A column of text (no mean or std): :data:`TEXT_COLUMNS` and the written forms."""
+    return name in TEXT_COLUMNS or WRITTEN in name
+
+
 def _with_uncertainty(
-    values: dict[str, float | str], name: str, value: float, uncertainty: float
+    values: dict[str, float | str],
+    name: str,
+    value: float,
+    uncertainty: float,
+    lower_bound: bool = False,
 ) -> None:
-    """``values[name] = value`` and, beside it, ``values[<name> uncertainty (<unit>)]``."""
+    """``values[name] = value`` (SI, full precision) and, beside it,
+    ``values[<name> uncertainty (<unit>)]`` and ``values[<name> written (<unit>)]``: the value
+    with its uncertainty in the digits the uncertainty supports, in the column's unit
+    (:func:`asperity.pipelines.report.numbers.format_number`; ``± ?`` where u is unknown)."""
+    from asperity.pipelines.report.numbers import format_number  # matplotlib-free, report's
+
     quantity, _, unit = name.rpartition(" (")
     values[name] = float(value)
     values[f"{quantity} uncertainty ({unit}"] = float(uncertainty)
+    values[f"{quantity}{WRITTEN}{unit}"] = format_number(
+        float(value), float(uncertainty), lower_bound=lower_bound
+    )
 
 
 def verdict_text(result: object) -> str:
@@ -89,15 +114,18 @@ def summary_values(result: object) -> dict[str, float | str]:
     values["rms summit height sigma_s (m)"] = float(res.summit_height_rms)
     lam_u = lam.mode_mixity_std if lam.mode_mixity_std is not None else float("nan")
     _with_uncertainty(values, "mode mixity lambda (1)", lam.mode_mixity, lam_u)
+    low = bool(getattr(fr, "uncertainty_lower_bound", False))
     for i, load in enumerate(fr.normal_load):
         at = f"at F_z={load:.6g} N"
         area_u = _at(fr.model_real_area_uncertainty, i) / res.nominal_area
         area = float(res.real_area[res.index, i] / res.nominal_area)
-        _with_uncertainty(values, f"A_r/A_n {at} (1)", area, area_u)
+        _with_uncertainty(values, f"A_r/A_n {at} (1)", area, area_u, low)
         static_u = _at(fr.static_friction_uncertainty, i)
-        _with_uncertainty(values, f"static friction {at} (N)", fr.static_friction[i], static_u)
+        _with_uncertainty(values, f"static friction {at} (N)", fr.static_friction[i], static_u, low)
         sliding_u = _at(fr.sliding_friction_uncertainty, i)
-        _with_uncertainty(values, f"sliding friction {at} (N)", fr.sliding_friction[i], sliding_u)
+        _with_uncertainty(
+            values, f"sliding friction {at} (N)", fr.sliding_friction[i], sliding_u, low
+        )
     values["verdict"] = verdict_text(result)
     values["validity"] = "; ".join(res.validity) or "within the model's assumptions"
     return values
@@ -149,7 +177,7 @@ def _statistics(
     spread: dict[str, str | float] = {"map": "std"}
     sound = [r for r in records if r["status"] == "ok"]
     for name in columns:
-        if name in TEXT_COLUMNS:
+        if is_text_column(name):
             continue
         v = column_values(sound, name)
         v = v[np.isfinite(v)]
@@ -161,14 +189,16 @@ def _statistics(
     return mean, spread
 
 
-def _cell(value: object, invalid: bool = False) -> str:
+def _cell(value: object, invalid: bool = False, written: bool = False) -> str:
     """A CSV cell: a number as ``repr`` ("" for NaN), marked ``invalid: <number>`` on a map
-    whose verdict is invalid (never a bare number a spreadsheet would average)."""
+    whose verdict is invalid (never a bare number a spreadsheet would average); a ``written``
+    value (text) marked the same way."""
     if isinstance(value, float | int) and not isinstance(value, bool):
         if not np.isfinite(value):
             return ""
         return f"{INVALID_MARK}: {value!r}" if invalid else repr(float(value))
-    return "" if value is None else str(value)
+    text = "" if value is None else str(value)
+    return f"{INVALID_MARK}: {text}" if invalid and written and text else text
 
 
 #: Map statuses the summary counts, in the order its header names them.
@@ -206,7 +236,10 @@ def write_summary_csv(records: list[MapRecord], path: Path) -> Path:
         for row in rows:
             invalid = row.get("status") == "invalid"  # the mean and std rows have no status
             writer.writerow(
-                [_cell(row.get(name, ""), invalid) for name in (*LEAD_COLUMNS, *columns)]
+                [
+                    _cell(row.get(name, ""), invalid, WRITTEN in name)
+                    for name in (*LEAD_COLUMNS, *columns)
+                ]
             )
     return path
 
@@ -238,7 +271,9 @@ def _panel(ax: Axes, records: list[MapRecord], name: str, base: str, power: int)
 def _per_load_panel(ax: Axes, records: list[MapRecord], prefix: str, base: str) -> None:
     """A per-load quantity against F_z, one line per map."""
     columns = [
-        c for c in numeric_columns(records) if c.startswith(prefix) and "uncertainty" not in c
+        c
+        for c in numeric_columns(records)
+        if c.startswith(prefix) and "uncertainty" not in c and not is_text_column(c)
     ]
     loads = np.array([float(c.split("F_z=")[1].split(" N")[0]) for c in columns])
     table = np.array([column_values(records, c) for c in columns]).T  # (map, load)

@@ -259,12 +259,23 @@ def main(argv: Sequence[str] | None = None) -> int:
     return status
 
 
+def _escape_unencodable(*streams: object) -> None:
+    """A character a stream's encoding lacks (``±``, ``µ`` on an ASCII terminal) written as its
+    escape (``\\xb1``), never an error that ends the run."""
+    for stream in streams:
+        reconfigure = getattr(stream, "reconfigure", None)
+        if reconfigure is not None:
+            with contextlib.suppress(OSError, ValueError, TypeError):
+                reconfigure(errors="backslashreplace")
+
+
 def _command(argv: Sequence[str] | None) -> int:
     """The body of :func:`main`: parse, run the handler, turn the outcome into a status."""
     # Ctrl-C stops the run at its next safe point (pipelines.engine.interrupts); for the
     # command itself (argv None) one while the interpreter shuts down still ends with 130.
     interrupts = InterruptGuard(final=argv is None)
     if argv is None:  # the command itself: a reader that closes the pipe ends nothing
+        _escape_unencodable(sys.stdout, sys.stderr)
         sys.stdout, sys.stderr = ClosedPipeTolerant(sys.stdout), ClosedPipeTolerant(sys.stderr)
     command = "?"
     try:

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from asperity.bem.reference.grid_refinement import EDGE_MISMATCH_LIMIT
 from asperity.pipelines.report._run import Run
+from asperity.pipelines.report.numbers import format_number, format_uncertainty
 from asperity.pipelines.stages.bem import BemReference
 
 #: The BEM modes, in the order of the second axis of its grid-check arrays.
@@ -86,7 +87,8 @@ def discretisation_lines(bem: BemReference) -> list[str]:
         return lines
     modes = BEM_MODES[: len(bem.check_extrapolated_fraction)]
     parts = [
-        f"{m}: {f0:.4g} +- {u:.2g} (p = {p:.3g}, safety factor {fs:g}); grid used +- {rel:.1%}"
+        f"{m}: {format_number(f0, u)} (p = {p:.3g}, safety factor {fs:g}); grid used "
+        f"{format_uncertainty(rel, percent=True)}"
         for m, f0, u, p, fs, rel in zip(
             modes,
             bem.check_extrapolated_fraction,
@@ -109,7 +111,7 @@ def discretisation_lines(bem: BemReference) -> list[str]:
     lines.append(
         f"- Discretisation error, the BEM's error bar ({source}): " + "; ".join(parts) + ". "
         "The grid used's relative uncertainty (|f - f_0| + u) / f, measured at the check load "
-        f"({bem.check_load:.4g} N), is applied to every load of the same grid (the A_r/A_n +- u "
+        f"({bem.check_load:.4g} N), is applied to every load of the same grid (the A_r/A_n ± u "
         "of the load table), with the adhesion range's part in quadrature for the adhesive one."
     )
     if refined:

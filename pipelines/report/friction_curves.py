@@ -442,10 +442,10 @@ FRICTION_TEST_CAPTIONS: dict[str, str] = {
         f"{i + 1}, measured F_x against the drive (dots) and the model through the loading "
         "system's spring (its k in the title; solid: the path a forward drive follows, with the "
         "stick-slip drop; dotted: the branch it cannot hold), the measured and predicted peaks "
-        "+- one sigma."
+        "± one sigma."
         for i in range(MAX_TEST_FIGURES)
     },
     "friction_coefficient": f"Stage {stage_number('friction_tests')}: friction coefficient "
-    "against normal load, the model's mu_s = F_s/F_z (+- one sigma) and mu_d = F_d/F_z, with "
+    "against normal load, the model's mu_s = F_s/F_z (± one sigma) and mu_d = F_d/F_z, with "
     "the measured tests' points.",
 }

@@ -26,7 +26,7 @@ from asperity.atomic import write_text_atomic
 from asperity.pipelines.report._run import Run
 from asperity.pipelines.report.figures import draw_figure
 from asperity.pipelines.report.friction_curves import friction_tests_html
-from asperity.pipelines.report.numbers import plain_text
+from asperity.pipelines.report.numbers import PLUS_MINUS, plain_text
 from asperity.pipelines.report.shear import shear_html
 from asperity.pipelines.report.text import headline_numbers, key_numbers, load_table
 from asperity.pipelines.stages.early_verdict import limit_lines
@@ -98,14 +98,18 @@ def verdict_html(verdict: Verdict) -> str:
 
 
 def _cell(text: str) -> str:
-    """A table cell's text escaped, each "value +- u" as "value ± u" on one line (no-break
-    spaces: a cell wraps between values, never inside one)."""
+    """A table cell's text escaped, each "value ± u" (or another package's "value +- u") as
+    "value ± u" on one line (no-break spaces: a cell wraps between values, never inside one)."""
     escaped = html.escape(plain_text(text))
-    return escaped.replace(" +- ", "\u00a0±\u00a0").replace("(+- ", "(±\u00a0")
+    for spelt in (" +- ", f" {PLUS_MINUS} "):
+        escaped = escaped.replace(spelt, f"\u00a0{PLUS_MINUS}\u00a0")
+    return escaped.replace("(+- ", f"({PLUS_MINUS}\u00a0").replace(
+        f"({PLUS_MINUS} ", f"({PLUS_MINUS}\u00a0"
+    )
 
 
 def table_html(header: list[str], rows: list[list[str]]) -> str:
-    """An HTML table of text cells (escaped; ``+-`` shown as ``±``)."""
+    """An HTML table of text cells (escaped; ``±`` kept on one line with its numbers)."""
     head = "".join(f"<th>{_cell(h)}</th>" for h in header)
     body = "".join(
         "<tr>" + "".join(f"<td>{_cell(str(c))}</td>" for c in row) + "</tr>" for row in rows

@@ -3,15 +3,18 @@ spelling of micro and no Python reprs (report.md, report.html and the terminal s
 
 * :func:`format_number` writes a value (already in its display unit) with its uncertainty: the
   uncertainty to two significant digits, the value to the same decimal place (``0.00613 +-
-  0.0021`` is written ``0.0061 +- 0.0021``); a lower-bound uncertainty is rounded down and
-  written ``+- >u``, an unknown one ``+- ?``. Without an uncertainty the value keeps ``digits``
-  significant digits.
+  0.0021`` is written ``0.0061 ± 0.0021``, ``0.2998 +- 0.0240`` is ``0.300 ± 0.024``); a
+  lower-bound uncertainty is rounded down and written ``± >u``, an unknown one ``± ?``. Without
+  an uncertainty the value keeps ``digits`` (4) significant digits. It is the one form of a
+  value with its uncertainty in the terminal summary, report.md, report.html and the text
+  columns of a batch's summary.csv (:data:`PLUS_MINUS` between them).
 * :func:`format_quantity` does the same for a value in SI units, with the SI prefix that puts
   the number between 1 and 1000 (``7.014e-08 m`` is ``70.14 nm``) for lengths, forces, pressures
   and areas (``power=2``: mm², µm²).
 * :func:`plain_text` is applied to every text the report writes: the unit ``um`` becomes ``µm``
-  (messages of other packages say ``um``) and a Python dict written into a message (``setting
-  {'nodes': 8, 'panels': 4}``) becomes ``nodes = 8, panels = 4``.
+  (messages of other packages say ``um``), a Python dict written into a message (``setting
+  {'nodes': 8, 'panels': 4}``) becomes ``nodes = 8, panels = 4`` and a paper label that stands
+  as an equation's name gets its name and number beside it.
 """
 
 from __future__ import annotations
@@ -22,7 +25,11 @@ import re
 import numpy as np
 from numpy.typing import ArrayLike
 
+from asperity.equations import name_equations
 from asperity.plotting import DisplayUnit, display_unit
+
+#: The sign between a value and its uncertainty, the same in every output.
+PLUS_MINUS = "\u00b1"
 
 #: Significant digits of an uncertainty.
 UNCERTAINTY_DIGITS = 2
@@ -87,17 +94,17 @@ def format_number(
         The value, in its display unit (the caller has applied any SI prefix).
     u : float or None
         Its standard uncertainty (>= 0) in the same unit; None: not estimated (the value alone
-        to ``digits`` significant digits); NaN or inf: not known (``+- ?``).
+        to ``digits`` significant digits); NaN or inf: not known (``± ?``).
     lower_bound : bool
-        ``u`` is only a lower bound: rounded down and written ``+- >u``.
+        ``u`` is only a lower bound: rounded down and written ``± >u``.
     digits : int
         Significant digits of a value written without an uncertainty.
 
     Returns
     -------
     str
-        E.g. ``"0.0061 +- 0.0021"``, ``"12.35"``, ``"3.1 +- >1.0"``, ``"(4.20 +- 0.13)e-06"``
-        (a power of ten outside 1e-3 <= |x| < 1e5), ``"0.52 +- ?"``.
+        E.g. ``"0.0061 ± 0.0021"``, ``"12.35"``, ``"3.1 ± >1.0"``, ``"(4.20 ± 0.13)e-06"``
+        (a power of ten outside 1e-3 <= |x| < 1e5), ``"0.52 ± ?"``.
 
     Raises
     ------
@@ -115,9 +122,9 @@ def format_number(
     if math.isfinite(u) and u < 0:
         raise ValueError(f"format_number: uncertainty u must be >= 0, got {u!r}")
     if not math.isfinite(u):
-        return f"{_significant(v, digits)} +- ?"
+        return f"{_significant(v, digits)} {PLUS_MINUS} ?"
     if u == 0:
-        return f"{_significant(v, digits)} +- 0"
+        return f"{_significant(v, digits)} {PLUS_MINUS} 0"
     size = max(abs(v), u)
     exponent = math.floor(math.log10(size))
     if _PLAIN_RANGE[0] <= exponent < _PLAIN_RANGE[1]:
@@ -126,13 +133,46 @@ def format_number(
 
 
 def _pair(v: float, u: float, lower_bound: bool, exponent: int) -> str:
-    """``v +- u`` scaled by 10**-exponent, v to u's last digit (at most a float's digits)."""
+    """``v ± u`` scaled by 10**-exponent, v to u's last digit (at most a float's digits)."""
     v, u = v / 10.0**exponent, u / 10.0**exponent
     u_rounded, place = _round_uncertainty(u, UNCERTAINTY_DIGITS, lower_bound)
     if v != 0:
         place = max(place, math.floor(math.log10(abs(v))) - (_FLOAT_DIGITS - 1))
     mark = ">" if lower_bound else ""
-    return f"{_decimal_text(v, place)} +- {mark}{_decimal_text(u_rounded, place)}"
+    return f"{_decimal_text(v, place)} {PLUS_MINUS} {mark}{_decimal_text(u_rounded, place)}"
+
+
+def format_uncertainty(u: float, *, percent: bool = False, lower_bound: bool = False) -> str:
+    """An uncertainty written alone, to its two significant digits (``± 17 %``, ``± 8.1e-06``).
+
+    Parameters
+    ----------
+    u : float
+        The uncertainty (>= 0), in its display unit, or relative (1) with ``percent``.
+    percent : bool
+        Write ``u`` (relative, 1) as a percentage.
+    lower_bound : bool
+        ``u`` is only a lower bound: rounded down and written ``± >u``.
+
+    Returns
+    -------
+    str
+        ``"± 17 %"``, ``"± 0.0012"``, ``"± ?"`` (not finite), ``"± 0"``.
+    """
+    u = float(u) * (100.0 if percent else 1.0)
+    unit = " %" if percent else ""
+    if not math.isfinite(u):
+        return f"{PLUS_MINUS} ?"
+    if u < 0:
+        raise ValueError(f"format_uncertainty: uncertainty u must be >= 0, got {u!r}")
+    if u == 0:
+        return f"{PLUS_MINUS} 0{unit}"
+    rounded, place = _round_uncertainty(u, UNCERTAINTY_DIGITS, lower_bound)
+    mark = ">" if lower_bound else ""
+    exponent = math.floor(math.log10(rounded))
+    if _PLAIN_RANGE[0] <= exponent < _PLAIN_RANGE[1]:
+        return f"{PLUS_MINUS} {mark}{_decimal_text(rounded, place)}{unit}"
+    return f"{PLUS_MINUS} {mark}{rounded:.{UNCERTAINTY_DIGITS - 1}e}{unit}"
 
 
 #: A table keeps the plain SI unit (N, m) while its largest value lies in this range: the
@@ -179,7 +219,7 @@ def format_quantity(
     Returns
     -------
     str
-        E.g. ``"70.14 nm"``, ``"1.18 +- 0.05 mm"``, ``"2.25 mm⁻²"``.
+        E.g. ``"70.14 nm"``, ``"1.18 ± 0.05 mm"``, ``"2.25 mm⁻²"``.
     """
     known = [abs(float(value))] + ([] if u is None or not math.isfinite(u) else [float(u)])
     unit = text_unit(known, base, power)
@@ -208,8 +248,11 @@ def _prefixed(match: re.Match[str]) -> str:
 
 
 def plain_text(text: str) -> str:
-    """A report text with readable SI prefixes, ``um`` spelt ``µm`` and every Python dict repr
-    written as words.
+    """A report text with readable SI prefixes, ``um`` spelt ``µm``, every Python dict repr
+    written as words and each bare paper label named.
+
+    A label is named by :func:`asperity.equations.name_equations` (``E:Ar_Greenwood`` ->
+    ``preload real contact area (Eq. 16, E:Ar_Greenwood)``).
 
     ``"setting {'nodes': 8, 'panels': 4}"`` -> ``"setting nodes = 8, panels = 4"``;
     ``"a 20 um grid"`` -> ``"a 20 µm grid"`` (words such as "sum" or "spectrum" untouched);
@@ -220,5 +263,5 @@ def plain_text(text: str) -> str:
     def words(match: re.Match[str]) -> str:
         return ", ".join(f"{k} = {v.strip()}" for k, v in _PAIR.findall(match.group(1)))
 
-    text = _DICT.sub(words, str(text))
+    text = name_equations(_DICT.sub(words, str(text)))
     return _MICRO.sub("\u00b5m", _SI_NUMBER.sub(_prefixed, text))

@@ -37,6 +37,7 @@ __all__ = [
     "model_judgement",
     "shear_html",
     "shear_section",
+    "shear_key_numbers",
     "shear_table",
 ]
 
@@ -109,13 +110,7 @@ def model_judgement(shear: BemShearComparison, model_area: np.ndarray) -> str:
     the BEM (grid used) for F_s, its delta_T, F_d and A_r(F_x = 0) (``model_area``, m^2 per
     load sheared), and the area drops side by side (ranges over the loads)."""
 
-    def span(values: np.ndarray) -> str:
-        values = values[np.isfinite(values)]
-        if not values.size:
-            return "n/a"
-        low, high = float(values.min()), float(values.max())
-        return f"{low:.3g}" if math.isclose(low, high, rel_tol=5e-3) else f"{low:.3g}-{high:.3g}"
-
+    span = _span
     with np.errstate(divide="ignore", invalid="ignore"):
         static = shear.model_static_friction / shear.static_friction[0]
         sliding = shear.model_sliding_friction / shear.sliding_friction[0]
@@ -134,11 +129,13 @@ def model_judgement(shear: BemShearComparison, model_area: np.ndarray) -> str:
 
 def comparison_line(result: Run, shear: BemShearComparison) -> str:
     """One line: what the shear judgement compares with what, and whether it is like for like
-    with the normal BEM reference the model was calibrated on (the same map stride and, before
-    shear, the same adhesion law; the shear preload is Pohrt-Popov's)."""
+    with the normal BEM reference the model was calibrated on: the same grid (stride) and,
+    before shear, the same state (the reference's adhesive solve at F_z), with the numbers
+    (A_r(F_x = 0) of the shear BEM over the reference's, per load)."""
     used = f"stride {int(shear.grid_stride[0])} ({shear.grid_pixel_size[0] * 1e6:.3g} µm)"
+    preload = getattr(shear, "preload", "pohrt-popov overload-unload")
     head = (
-        f"Compared: the shear BEM on {used} with a Pohrt-Popov preload against the model at the "
+        f"Compared: the shear BEM on {used}, preloaded by {preload}, against the model at the "
         "effective resolution"
     )
     ref = getattr(result, "bem_reference", None)
@@ -148,13 +145,70 @@ def comparison_line(result: Run, shear: BemShearComparison) -> str:
     gaps = []
     if int(ref.stride) != int(shear.grid_stride[0]):
         gaps.append(f"its pixel {shear.grid_pixel_size[0] / ref.dx:.3g}x the reference's")
-    if law != "pohrt-popov":
-        gaps.append(f"the reference's adhesion law is {law}, the preload's pohrt-popov")
+    if not preload.startswith("the reference's"):
+        gaps.append(f"its preload is {preload}, not the reference's adhesive state ({law})")
+    ratio = _start_area_ratio(shear)
+    if ratio:
+        gaps += [] if ratio[1] <= 0.05 else [f"A_r(F_x = 0) {ratio[0]} the reference's"]
     verdict = "like for like" if not gaps else "not like for like: " + "; ".join(gaps)
+    numbers = f" (A_r(F_x = 0) / reference A_r: {ratio[0]})" if ratio else ""
     return (
         f"{head}; the model was calibrated on the normal BEM reference at stride "
-        f"{int(ref.stride)} ({ref.dx * 1e6:.3g} µm, adhesion {law}): {verdict}."
+        f"{int(ref.stride)} ({ref.dx * 1e6:.3g} µm, adhesion {law}): {verdict}{numbers}."
     )
+
+
+def _start_area_ratio(shear: BemShearComparison) -> tuple[str, float] | None:
+    """The shear BEM's A_r(F_x = 0) over the reference's per load (text, "x a-b") and the
+    largest |ratio - 1|; None without reference areas."""
+    reference = getattr(shear, "reference_area", None)
+    if reference is None or not np.any(np.isfinite(reference)):
+        return None
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.asarray(shear.real_area[0, :, 0]) / np.asarray(reference)
+    ratio = ratio[np.isfinite(ratio)]
+    if not ratio.size:
+        return None
+    low, high = float(ratio.min()), float(ratio.max())
+    span = f"x {low:.3f}" if math.isclose(low, high, rel_tol=5e-4) else f"x {low:.3f}-{high:.3f}"
+    return span, float(np.max(np.abs(ratio - 1.0)))
+
+
+def shear_key_numbers(result: Run) -> list[tuple[str, str]]:
+    """The headline rows of the shear BEM (none when the stage did not run): what it was
+    compared with (like for like or not, :func:`comparison_line`'s test), the model over the
+    BEM for F_s and F_d, and the loads that reached full sliding."""
+    shear = _shear(result)
+    if shear is None:
+        return []
+    ratio = _start_area_ratio(shear)
+    ref = getattr(result, "bem_reference", None)
+    line = comparison_line(result, shear)
+    like = "not like for like" if "not like" in line else "like for like"
+    grid = f"{shear.grid_pixel_size[0] * 1e6:.3g} µm grid"
+    start = f", A_r(F_x = 0) / reference {ratio[0]}" if ratio and ref is not None else ""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        static = shear.model_static_friction / shear.static_friction[0]
+        sliding = shear.model_sliding_friction / shear.sliding_friction[0]
+    slid = int(np.sum(shear.stuck_junctions[0] == 0))
+    return [
+        ("shear BEM, compared", f"{like} ({grid}{start})"),
+        (
+            "shear BEM, model over BEM",
+            f"F_s x {_span(static)}, F_d x {_span(sliding)}; full sliding at {slid} / "
+            f"{shear.normal_load.size} loads (report: the table with the BEM's grid error)",
+        ),
+    ]
+
+
+def _span(values: np.ndarray) -> str:
+    """'a' or 'a-b' over the finite values (3 digits), 'n/a' without any."""
+    values = np.asarray(values, dtype=float)
+    values = values[np.isfinite(values)]
+    if not values.size:
+        return "n/a"
+    low, high = float(values.min()), float(values.max())
+    return f"{low:.3g}" if math.isclose(low, high, rel_tol=5e-3) else f"{low:.3g}-{high:.3g}"
 
 
 def _grid_text(shear: BemShearComparison) -> str:
@@ -162,12 +216,22 @@ def _grid_text(shear: BemShearComparison) -> str:
         f"stride {int(s)} ({p * 1e6:.3g} µm)"
         for s, p in zip(shear.grid_stride, shear.grid_pixel_size, strict=True)
     )
-    check = (
-        "the +- is the difference from the grid twice as coarse (the error of the grid used "
-        "at first order)"
-        if shear.grid_stride.size > 1
-        else "no check grid ([bem_shear] grid_check = false): the discretisation error is unknown"
-    )
+    if shear.grid_stride.size > 2:
+        check = (
+            "the ± is the grid error of the grid used from the three grids (Richardson with "
+            "the observed order, bounded, and Roache's grid convergence index: safety 1.25 "
+            "where the order is the formal one, else 3; the band holds the extrapolated value "
+            "and the spread of the grids)"
+        )
+    elif shear.grid_stride.size == 2:
+        check = (
+            "the ± is the grid error from two grids (first order assumed, Roache's safety "
+            "factor 3: four times their difference)"
+        )
+    else:
+        check = (
+            "no check grid ([bem_shear] grid_check = false): the discretisation error is unknown"
+        )
     return f"grids {grids}; {check}"
 
 
@@ -188,9 +252,10 @@ def _md_table(header: list[str], rows: list[list[str]]) -> str:
 
 
 def _intro(shear: BemShearComparison) -> str:
+    preload = getattr(shear, "preload", "pohrt-popov")
     return (
         f"The paper's shear experiment solved by the BEM on the map (F_z held, the flat "
-        f"displaced along x; Pohrt-Popov preload, the mixed-mode edge law G_I + lambda G_II = w "
+        f"displaced along x; preload: {preload}; the mixed-mode edge law G_I + lambda G_II = w "
         f"with lambda = {shear.mode_mixity:.3g} and chi_T = {shear.law}, a junction past its "
         f"instability slides with tau_0 = {format_quantity(shear.shear_strength, 'Pa')}; "
         f"{shear.boundary} boundary), beside the statistical model at the effective resolution. "
@@ -284,7 +349,8 @@ def draw_bem_shear_force(result: Run) -> tuple[Figure, FigureTable]:
             fx = shear.tangential_force[g, j]
             style = {"lw": 1.8} if g == 0 else {"lw": 0.8, "alpha": 0.7}
             label = f"BEM $F_z$ = {f:.3g} N" if g == 0 else None
-            ax.plot(du(path), fu(fx), "-", color=colour, label=label, **style)
+            if g < 2:  # the coarser check grids are in the CSV
+                ax.plot(du(path), fu(fx), "-", color=colour, label=label, **style)
             table.add("all", f"BEM stride {int(stride)} F_z = {f:.6g} N", {x_col: path, y_col: fx})
         i = _model_index(result, f)
         ax.plot(du(fr.tangential_displacement[i]), fu(fr.tangential_force[i]), "--", color=colour)
@@ -297,11 +363,27 @@ def draw_bem_shear_force(result: Run) -> tuple[Figure, FigureTable]:
     if shear.grid_stride.size > 1:
         ax.plot([], [], "k-", lw=0.8, alpha=0.7, label=f"BEM stride {int(shear.grid_stride[1])}")
     ax.set_title(grid_title(shear), fontsize=9)
-    ax.set_xlim(0, du(float(np.nanmax(shear.tangential_displacement))))
+    ax.set_xlim(0, du(_shown_displacement(shear, fr, result)))
     ax.set_xlabel(du.label("tangential displacement $\\delta_T$"))
     ax.set_ylabel(fu.label("tangential force $F_x$"))
     ax.legend(fontsize=7)
     return fig, table
+
+
+def _shown_displacement(shear: BemShearComparison, fr, result: Run) -> float:
+    """The delta_T (m) the force figure spans: the last step any BEM curve solved (a path
+    extends past its plan only while junctions stick) and the model's curves shown."""
+    solved = np.isfinite(shear.tangential_force).any(axis=0)  # (load, step)
+    ends = [
+        float(shear.tangential_displacement[j][solved[j]].max())
+        for j in range(shear.normal_load.size)
+        if solved[j].any()
+    ]
+    model = [
+        float(np.nanmax(fr.tangential_displacement[_model_index(result, f)]))
+        for f in shear.normal_load
+    ]
+    return max(ends + model)
 
 
 def grid_title(shear: BemShearComparison) -> str:
@@ -312,23 +394,28 @@ def grid_title(shear: BemShearComparison) -> str:
         f"(the map at stride {int(shear.grid_stride[0])})"
     )
     if shear.grid_stride.size > 1:
-        check = display_unit(shear.grid_pixel_size[1], "m")
-        text += (
-            f"; check grid {check(shear.grid_pixel_size[1]):.3g} {check.symbol} "
-            f"(stride {int(shear.grid_stride[1])})"
-        )
+        check = display_unit(shear.grid_pixel_size[-1], "m")
+        sizes = ", ".join(f"{check(p):.3g}" for p in shear.grid_pixel_size[1:])
+        strides = ", ".join(str(int(s)) for s in shear.grid_stride[1:])
+        grids = "grid" if shear.grid_stride.size == 2 else "grids"
+        text += f"; check {grids} {sizes} {check.symbol} (stride {strides})"
     return text
 
 
 def _grid_error_bars(ax, shear: BemShearComparison, j: int, fu, colour) -> bool:
-    """Error bars of one load's BEM curve on the grid used, from the check grid: A_r/A_n at
-    F_x = 0 (the two grids' difference) and the static peak (F_s and the area there, with
-    the stage's stated errors). False when the stage has no second grid."""
+    """Error bars of one load's BEM curve on the grid used: A_r/A_n at F_x = 0 (the normal
+    reference's stated uncertainty where the shear starts from its state, else the check
+    grid's difference) and the static peak (F_s and the area there, with the stage's grid
+    errors). False when the stage has no second grid."""
     if shear.grid_stride.size < 2:
         return False
     a_n = shear.nominal_area
     fx, ar = shear.tangential_force[0, j], shear.real_area[0, j] / a_n
-    zero = abs(ar[0] - shear.real_area[1, j][0] / a_n)
+    band = getattr(shear, "reference_area_uncertainty", None)
+    if band is not None and np.isfinite(band[j]):
+        zero = float(band[j]) / a_n
+    else:
+        zero = abs(ar[0] - shear.real_area[1, j][0] / a_n)
     ax.errorbar(fu(fx[0]), ar[0], yerr=zero, fmt="none", ecolor=colour, capsize=3, lw=1)
     if not np.isfinite(fx).any():
         return True
@@ -368,14 +455,20 @@ def draw_bem_shear_area(result: Run) -> tuple[Figure, FigureTable]:
             f"BEM stick area stride {int(shear.grid_stride[0])} F_z = {f:.6g} N",
             {x_col: shear.tangential_force[0, j], y_col: stick},
         )
+        reference = getattr(shear, "reference_area", None)
+        if reference is not None and np.isfinite(reference[j]):
+            ax.plot(0.0, reference[j] / a_n, "x", color=colour, ms=8, mew=1.5)
         i = _model_index(result, f)
         model = fr.real_area[i] / a_n
         ax.plot(fu(fr.tangential_force[i]), model, "--", color=colour)
         table.add("all", f"model F_z = {f:.6g} N", {x_col: fr.tangential_force[i], y_col: model})
     ax.plot([], [], "k--", label="model")
     ax.plot([], [], "k:", lw=1, label="BEM stick (adhesive) part")
+    reference = getattr(shear, "reference_area", None)
+    if reference is not None and np.isfinite(reference).any():
+        ax.plot([], [], "kx", ms=8, mew=1.5, label="normal BEM reference, $F_x$ = 0")
     if bars:
-        label = "BEM ± grid error (against the check grid): F_x = 0, static peak"
+        label = "BEM ± its error: the reference's at $F_x$ = 0, grid error at the static peak"
         ax.errorbar([], [], yerr=[], fmt="none", ecolor="k", capsize=3, lw=1, label=label)
     ax.set_title(grid_title(shear), fontsize=9)
     ax.set_ylim(0, None)
@@ -399,9 +492,9 @@ SHEAR_FIGURES = {
 #: Their captions (the form of :data:`asperity.pipelines.report.text.CAPTIONS`).
 SHEAR_CAPTIONS: dict[str, str] = {
     "bem_shear_force": f"Stage {stage_number('bem_shear')}: Fig 4 by the BEM, F_x against "
-    "delta_T at each load sheared (solid: grid used; thin: the check grid twice as coarse; "
-    "dashed: the statistical model).",
+    "delta_T at each load sheared (solid: grid used; thin: the check grid twice as coarse, "
+    "the coarser ones in the CSV; dashed: the statistical model).",
     "bem_shear_area": f"Stage {stage_number('bem_shear')}: Fig 13 by the BEM, A_r/A_n against "
-    "F_x (solid: grid used; thin: check grid; dotted: the BEM's sticking adhesive part; "
-    "dashed: the statistical model).",
+    "F_x (solid: grid used, with its error bars; crosses: the normal BEM reference's A_r/A_n "
+    "at the load; dotted: the BEM's sticking adhesive part; dashed: the statistical model).",
 }

@@ -25,12 +25,18 @@ from asperity.pipelines.report.friction_curves import (
     friction_tests_section,
 )
 from asperity.pipelines.report.measured import shape_scale_key_numbers
-from asperity.pipelines.report.numbers import format_number, format_quantity, plain_text, text_unit
+from asperity.pipelines.report.numbers import (
+    format_number,
+    format_quantity,
+    format_uncertainty,
+    plain_text,
+    text_unit,
+)
 from asperity.pipelines.report.profile import (
     profile_key_numbers,
     profile_section,
 )
-from asperity.pipelines.report.shear import SHEAR_CAPTIONS, shear_section
+from asperity.pipelines.report.shear import SHEAR_CAPTIONS, shear_key_numbers, shear_section
 from asperity.pipelines.report.static_peak import MeasuredPeak, measured_peaks
 from asperity.pipelines.report.uncertainty import (
     bem_cells,
@@ -61,7 +67,8 @@ def _grid_error_text(bem: BemReference) -> str:
     relative = getattr(bem, "discretisation_relative_uncertainty", None)
     if relative is not None and np.all(np.isfinite(relative)):
         return (
-            f"discretisation error +- {float(np.max(relative)):.1%} (the grid used against its "
+            f"discretisation error {format_uncertainty(float(np.max(relative)), percent=True)} "
+            "(the grid used against its "
             "Fourier-interpolated refinement, at the check load)"
         )
     if bem.stride <= int(np.min(bem.check_stride)):
@@ -90,19 +97,50 @@ def pixel_size_text(surface: LevelledSurface) -> str:
     return f"{dx} x {dy} {unit.text} pixels (dx x dy)"
 
 
+#: Key-number rows the verdict judges (marked under an invalid one: :func:`mark`).
+JUDGED_KEYS: tuple[str, ...] = (
+    "effective resolution",
+    "summit",
+    "asperity",
+    "rms summit",
+    "Tabor",
+    "misfit",
+    "mode mixity lambda",  # fitted, or configured with what a decade of it does to F_s
+    "shear BEM, model over BEM",
+)
+
+
 def key_numbers(result: Run) -> list[tuple[str, str]]:
     """(quantity, value with unit) rows of the report's headline table (the full-contact
-    limit's when the job stopped where its verdict was known: :mod:`.early`)."""
+    limit's when the job stopped where its verdict was known: :mod:`.early`): the surface and
+    the statistics at the effective resolution, lambda, the BEM, the PSD, the error bars, the
+    profiles and the quadrature, each number with the digits its uncertainty supports
+    (:mod:`~asperity.pipelines.report.numbers`); the rows the verdict judges marked by it."""
     if is_early(result):
         return early_key_numbers(result, pixel_size_text(result.surface))
-    res, fr, bem, lam = (
-        result.statistical_model,
-        result.friction,
-        result.bem_reference,
-        result.mode_mixity,
-    )
+    fr = result.friction
+    rows = roughness_key_numbers(result) + [mode_mixity_key_number(result)]
+    rows += shape_scale_key_numbers(result)
+    rows += bem_key_numbers(result)
+    rows += psd_key_numbers(result)
+    rows += uncertainty_rows(result)
+    rows += profile_key_numbers(result)
+    rows += shear_key_numbers(result)
+    rows += [
+        ("statmodel quadrature", fr.quadrature_reason),
+        ("shear curves converged", f"{int(np.sum(fr.converged))} / {fr.converged.size}"),
+    ]
+    verdict = getattr(result, "verdict", None)
+    rows = [(k, mark(v, verdict) if k.startswith(JUDGED_KEYS) else v) for k, v in rows]
+    return [(plain_text(k), plain_text(v)) for k, v in rows]
+
+
+def roughness_key_numbers(result: Run) -> list[tuple[str, str]]:
+    """The surface, the effective resolution, the summit statistics (R, m; eta, 1/m^2;
+    sigma_s, m) and the Tabor parameter at it, and the misfit there."""
+    res = result.statistical_model
     r = res.roughness
-    rows = [
+    return [
         (
             "surface",
             f"{result.surface.nx} x {result.surface.ny} px, {pixel_size_text(result.surface)}",
@@ -111,60 +149,48 @@ def key_numbers(result: Run) -> list[tuple[str, str]]:
         ("summit radius R", format_quantity(r.summit_radius, "m")),
         ("asperity density eta", format_quantity(r.asperity_density, "m", power=-2)),
         ("rms summit height sigma_s", format_quantity(r.summit_height_rms, "m")),
-        ("Tabor parameter mu", f"{res.tabor_parameter:.4g}"),
+        ("Tabor parameter mu", format_number(res.tabor_parameter)),
         ("misfit at effective resolution", misfit_text(res)),
     ]
-    if lam.fitted:
-        shift = getattr(lam, "mode_mixity_roughness_shift", None)
-        united = (
-            ""
-            if shift is None
-            else f"; interval {lam.interval_low:.4g}..{lam.interval_high:.4g}: the profile's "
-            f"united with lambda fitted at the resolution interval's ends ({shift[0]:.4g}, "
-            f"{shift[1]:.4g})"
-        )
-        rows.append(
-            (
-                "mode mixity lambda (fitted)",
-                f"{format_number(lam.mode_mixity, lam.mode_mixity_std)} "
-                f"(rms relative residual {lam.residual_rms:.3g}, "
-                f"{lam.n_points} points{united})",
-            )
-        )
-    else:
-        rows.append(("mode mixity lambda (configured)", assumed_lambda_text(result)))
-    rows += shape_scale_key_numbers(result)
-    if bem is None:
-        rows.append(("BEM", "not run ([bem] enabled = false): calibrated on the measurement"))
-    else:
-        rows += [
-            (
-                "BEM grid",
-                f"stride {bem.stride} ({format_quantity(bem.dx, 'm')}), {_grid_error_text(bem)}; "
-                f"{bem.boundary} boundary",
-            ),
-            ("BEM solves converged", f"{int(np.sum(bem.converged))} / {bem.converged.size}"),
-        ]
-        rows += adhesion_key_numbers(result)
-    rows += psd_key_numbers(result)
-    rows += uncertainty_rows(result)
-    rows += profile_key_numbers(result)
-    rows += [
-        ("statmodel quadrature", fr.quadrature_reason),
-        ("shear curves converged", f"{int(np.sum(fr.converged))} / {fr.converged.size}"),
-    ]
-    verdict = getattr(result, "verdict", None)
-    judged = (
-        "effective resolution",
-        "summit",
-        "asperity",
-        "rms summit",
-        "Tabor",
-        "misfit",
-        "mode mixity lambda",  # fitted, or configured with what a decade of it does to F_s
+
+
+def mode_mixity_key_number(result: Run) -> tuple[str, str]:
+    """lambda fitted (with its u, residual and points; the interval united with the
+    roughness's shift where computed), or configured (:func:`assumed_lambda_text`)."""
+    lam = result.mode_mixity
+    if not lam.fitted:
+        return ("mode mixity lambda (configured)", assumed_lambda_text(result))
+    shift = getattr(lam, "mode_mixity_roughness_shift", None)
+    united = (
+        ""
+        if shift is None
+        else f"; interval {format_number(lam.interval_low)}..{format_number(lam.interval_high)}"
+        ": the profile's united with lambda fitted at the resolution interval's ends "
+        f"({format_number(shift[0])}, {format_number(shift[1])})"
     )
-    rows = [(k, mark(v, verdict) if k.startswith(judged) else v) for k, v in rows]
-    return [(plain_text(k), plain_text(v)) for k, v in rows]
+    return (
+        "mode mixity lambda (fitted)",
+        f"{format_number(lam.mode_mixity, lam.mode_mixity_std)} "
+        f"(rms relative residual {lam.residual_rms:.3g}, {lam.n_points} points{united})",
+    )
+
+
+def bem_key_numbers(result: Run) -> list[tuple[str, str]]:
+    """The BEM's grid (stride, pixel m, its discretisation error, boundary), its solves
+    converged and its adhesive law's rows (:func:`adhesion_key_numbers`); one row when the
+    BEM was not run."""
+    bem = result.bem_reference
+    if bem is None:
+        return [("BEM", "not run ([bem] enabled = false): calibrated on the measurement")]
+    rows = [
+        (
+            "BEM grid",
+            f"stride {bem.stride} ({format_quantity(bem.dx, 'm')}), {_grid_error_text(bem)}; "
+            f"{bem.boundary} boundary",
+        ),
+        ("BEM solves converged", f"{int(np.sum(bem.converged))} / {bem.converged.size}"),
+    ]
+    return rows + adhesion_key_numbers(result)
 
 
 #: Key numbers shown first (report.html's "Key numbers"), shortened to their value.
@@ -225,28 +251,37 @@ def headline_numbers(result: Run) -> list[tuple[str, str]]:
 def assumed_lambda_text(result: Run) -> str:
     """The configured lambda, said to be assumed, and what a decade of it does to the static
     friction at the lightest and heaviest loads (the friction stage's
-    ``static_friction_mode_mixity_decade``)."""
+    ``static_friction_mode_mixity_decade``), each number in the form the load table writes it
+    (the configured lambda's F_s with its u: :func:`decade_forces`)."""
     lam, fr = result.mode_mixity, result.friction
     text = (
-        f"{lam.mode_mixity:.4g}, assumed: no measured A_r(F_x) curves, so lambda is not "
-        "fitted, carries no uncertainty and the error bars leave it out"
+        f"{format_number(lam.mode_mixity)}, assumed: no measured A_r(F_x) curves, so lambda is "
+        "not fitted, carries no uncertainty and the error bars leave it out"
     )
-    decade = getattr(fr, "static_friction_mode_mixity_decade", None)
-    if decade is None:
+    if getattr(fr, "static_friction_mode_mixity_decade", None) is None:
         return text
     low, high = fr.mode_mixity_decade
+    force = text_unit([fr.static_friction, fr.sliding_friction], "N")
     ends = [int(np.argmin(fr.normal_load)), int(np.argmax(fr.normal_load))]
-    force = text_unit(np.concatenate([np.ravel(decade), np.ravel(fr.static_friction)]), "N")
     moves = "; ".join(
-        f"F_s({fr.normal_load[i]:.3g} N) = "
-        + " / ".join(
-            format_number(force(f), digits=3)
-            for f in (decade[0, i], fr.static_friction[i], decade[1, i])
-        )  # fmt: skip
-        + f" {force.text}"
+        f"F_s({format_quantity(fr.normal_load[i], 'N')}) = "
+        f"{' / '.join(decade_forces(result, i, force))} {force.text}"
         for i in dict.fromkeys(ends)
     )
-    return f"{text}; a decade of lambda ({low:.3g} / {lam.mode_mixity:.3g} / {high:.3g}): {moves}"
+    lambdas = " / ".join(format_number(v) for v in (low, lam.mode_mixity, high))
+    return f"{text}; a decade of lambda ({lambdas}): {moves}"
+
+
+def decade_forces(result: Run, i: int, force: DisplayUnit) -> tuple[str, str, str]:
+    """Load ``i``'s static friction at lambda / sqrt(10), at the configured lambda (with its
+    u, as the load table's "static F_s" cell) and at lambda x sqrt(10), in ``force``'s unit;
+    the decade's ends carry no u of their own (4 significant digits)."""
+    fr = result.friction
+    decade = fr.static_friction_mode_mixity_decade
+    low = bool(getattr(fr, "uncertainty_lower_bound", False))
+    u = _at(getattr(fr, "static_friction_uncertainty", None), i)
+    configured = plus_minus(fr.static_friction[i], u, force.factor, low)  # = model_cells'
+    return format_number(force(decade[0, i])), configured, format_number(force(decade[1, i]))
 
 
 def adhesion_key_numbers(result: Run) -> list[tuple[str, str]]:
@@ -261,7 +296,8 @@ def adhesion_key_numbers(result: Run) -> list[tuple[str, str]]:
         rows.append(
             (
                 "BEM range uncertainty",
-                f"A_r/A_n +- {bem.area_range_uncertainty:.2g} (half spread over h_0/2, h_0, "
+                f"A_r/A_n {format_uncertainty(bem.area_range_uncertainty)} (half spread over "
+                "h_0/2, h_0, "
                 f"2 h_0: {spread[0]:.4g}, {spread[1]:.4g}, {spread[2]:.4g} at "
                 f"{bem.check_load:.4g} N; {_range_resolution_text(bem)})",
             )
@@ -356,7 +392,7 @@ def gain_key_numbers(result: Run) -> list[tuple[str, str]]:
         rows.append(
             (
                 "BEM Maugis parameter / model Tabor parameter",
-                f"lambda = {lam:.3g} / mu = {res.tabor_parameter:.4g} at R = "
+                f"lambda = {format_number(lam)} / mu = {format_number(res.tabor_parameter)} at R = "
                 f"{format_quantity(res.summit_radius, 'm')}: {res.adhesion_statement}",
             )
         )
@@ -364,7 +400,9 @@ def gain_key_numbers(result: Run) -> list[tuple[str, str]]:
 
 
 def regime_key_numbers(verdict: Verdict) -> list[tuple[str, str]]:
-    """The adhesion regime's row (empty without one)."""
+    """The adhesion regime's row (empty without one): U_el/(A0 w) and S_PR as the verdict's
+    preview line before the BEM writes them (3 significant digits), the Tabor parameter as
+    its key row (4)."""
     ratio = getattr(verdict, "adhesion_energy_ratio", None)
     if ratio is None:
         return []
@@ -374,7 +412,7 @@ def regime_key_numbers(verdict: Verdict) -> list[tuple[str, str]]:
             "adhesion regime",
             f"U_el/(A0 w) = {ratio:.3g} ({full}; Persson-Tosatti, threshold 1); "
             f"stickiness S_PR = {verdict.stickiness:.3g} (Pastewka-Robbins, sticky below 1); "
-            f"Tabor mu = {verdict.regime_tabor_parameter:.3g}",
+            f"Tabor mu = {format_number(verdict.regime_tabor_parameter)}",  # as its key row
         )
     ]
 
@@ -405,7 +443,7 @@ def psd_key_numbers(result: Run) -> list[tuple[str, str]]:
             "effective Nyquist wavelength 2x",
             format_quantity(psd.effective_nyquist_wavelength, "m"),
         ),
-        ("rms slope h' (Persson)", f"{psd.persson_rms_slope:.4g}"),
+        ("rms slope h' (Persson)", format_number(psd.persson_rms_slope)),
     ]
 
 
@@ -502,14 +540,15 @@ def decade_column(
         return header, rows
     low, high = fr.mode_mixity_decade
     force = text_unit([fr.static_friction, fr.sliding_friction], "N")
-    name = f"static F_s at lambda {low:.3g} .. {high:.3g} ({force.text}, lambda assumed)"
+    name = (
+        f"static F_s at lambda {format_number(low)} .. {format_number(high)} "
+        f"({force.text}, lambda assumed)"
+    )
     verdict = getattr(result, "verdict", None)
-    cells = [
-        mark(
-            f"{format_number(force(decade[0, i]))} .. {format_number(force(decade[1, i]))}", verdict
-        )
-        for i in range(decade.shape[1])
-    ]
+    cells = []
+    for i in range(decade.shape[1]):
+        at_low, _, at_high = decade_forces(result, i, force)
+        cells.append(mark(f"{at_low} .. {at_high}", verdict))
     return [*header, name], [[*row, cell] for row, cell in zip(rows, cells, strict=True)]
 
 

@@ -1,4 +1,4 @@
-"""Error bars wherever a predicted number is shown: ``value +- u`` text and the uncertainties
+"""Error bars wherever a predicted number is shown: ``value ± u`` text and the uncertainties
 the figures draw as bands and error bars (drawn in :mod:`~asperity.pipelines.report.figures`;
 docs/pipelines.md, "Uncertainties").
 
@@ -11,8 +11,8 @@ Where the numbers come from (all SI, stored in results.h5):
 * the model's A_r, static and sliding friction, sliding displacement:
   ``friction.*_uncertainty`` (:func:`statmodel.uncertainty.propagate_to_predictions`).
 
-An uncertainty that is a lower bound (an interval open on a side) is written ``+- >u``; one
-that is not known ``+- ?``: never a bare number that looks exact.
+An uncertainty that is a lower bound (an interval open on a side) is written ``± >u``; one
+that is not known ``± ?``: never a bare number that looks exact.
 """
 
 from __future__ import annotations
@@ -29,10 +29,10 @@ from asperity.pipelines.stages.statistical_model import ResolutionChoice
 
 
 def plus_minus(value: float, u: float | None, scale: float = 1.0, lower_bound: bool = False) -> str:
-    """``"value +- u"`` in the display unit ``scale`` (e.g. 1e6 for µm) with the digits u
+    """``"value ± u"`` in the display unit ``scale`` (e.g. 1e6 for µm) with the digits u
     supports (:func:`~asperity.pipelines.report.numbers.format_number`: u to 2 significant
-    digits, the value to the same decimal place; 4 significant digits without u); ``+- ?``
-    when u is not known, ``+- >u`` (rounded down) when it is a lower bound."""
+    digits, the value to the same decimal place; 4 significant digits without u); ``± ?``
+    when u is not known, ``± >u`` (rounded down) when it is a lower bound."""
     v = float(value) * scale
     if u is None or not math.isfinite(v):
         return format_number(v)
@@ -112,14 +112,14 @@ def misfit_text(res: ResolutionChoice) -> str:
 
 
 def uncertainty_rows(result: Run) -> list[tuple[str, str]]:
-    """Key-number rows saying what the +- u of the load table are and what limits them."""
+    """Key-number rows saying what the ± u of the load table are and what limits them."""
     fr = result.friction
     message = getattr(fr, "uncertainty_message", None)
     if message is None:
         return []
     return [
         (
-            "error bars (+- u)",
+            "error bars (± u)",
             f"model, one sigma: {message}; BEM: grid convergence index of the grid used "
             "refined by Fourier interpolation (Richardson extrapolation, about 95 %)",
         )

@@ -80,7 +80,7 @@ def stamp_verdict(fig: Figure, verdict: Verdict | None) -> Figure:
         return fig
     text = verdict_wording(verdict)
     if verdict.reasons:
-        text += f". First reason ({verdict.codes[0]}): {first_reason(verdict)}"
+        text += f". First reason: {first_reason(verdict)}"  # "INVALID (code): ..." once
         more = len(verdict.reasons) - 1
         if more:
             text += f" (+{more} more reason{'s' if more > 1 else ''} in report.md)"

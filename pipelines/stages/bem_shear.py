@@ -2,11 +2,27 @@
 
 The paper's experiment on the map (Section 5, Figs 4 and 13): the normal force F_z held, the
 rigid flat displaced along x up to full sliding. Each curve is
-:func:`asperity.bem.shear.rough_mixed_mode.mixed_mode_shear_curve`: a Pohrt-Popov preload (JKR
-equilibrium before shear), the paper's mixed-mode edge law G_I + lambda G_II = w
-(E:failure_locus) element by element, and a junction past its instability (E:max_disp_PC)
-sliding with tau_0 on its non-adhesive contact (E:Hertz_theory), as the paper's status map
-says. The job's E*, w, lambda (the lambda stage's) and tau_0; the loads ``bem_shear.loads``.
+:func:`asperity.bem.shear.rough_mixed_mode.mixed_mode_shear_curve`: the paper's mixed-mode
+edge law G_I + lambda G_II = w (E:failure_locus) element by element, and a junction past its
+instability (E:max_disp_PC) sliding with tau_0 on its non-adhesive contact (E:Hertz_theory), as
+the paper's status map says. The job's E*, w, lambda (the lambda stage's) and tau_0; the loads
+``bem_shear.loads``.
+
+Like for like (the default). The model was calibrated at rest against the normal BEM
+reference (the ``bem`` stage): its grid (stride) and its adhesive solve at each load (the
+Maugis-Dugdale loading branch at its range h_0, or Pohrt-Popov's loading branch). The shear
+BEM solves on that grid (``stride = "auto"``: the same decimation and crop,
+:func:`asperity.bem.reference.load_sweeps.decimated_grid`) and starts from that state
+(``preload = "reference"``): the reference's solve at F_z, its contact bonded and settled under
+the mixed-mode law at delta_T = 0, where the criterion is Pohrt-Popov's. The choice: the
+mixed-mode law has no cohesive zone, so its partner at rest is not the Maugis-Dugdale law
+itself but the Maugis-Dugdale state; on the default map no element of that state detaches or
+penetrates when it is settled, so A_r(F_x = 0) is the reference's A_r at the load, stored beside
+it (``reference_area``; the verdict warns beyond 5 %, ``bem_shear_preload_mismatch``). On the
+sphere (Maugis parameter 0.5, zone resolved) that state is the Maugis-Dugdale closed form's
+radius (+0.5 %) and under shear reaches PC's static peak (+0.7 %) (tests/bem). The model side
+is the friction stage's curves at the effective resolution. ``preload = "pohrt-popov"`` keeps
+0.4's overload-unload preload (its unloading branch carries more contact).
 
 Per load and grid: F_x(delta_T), A_r(delta_T), the stick and slip areas, the junction counts,
 the static peak F_s (largest F_x before gross sliding) and where it lies, the sliding
@@ -14,10 +30,19 @@ friction F_d (F_x at the first step where every junction slides), the area drop
 A_r(peak) / A_r(0) (E:NewFormulation_Ar's reduction, Fig 13), beside the model's (the friction
 stage's curves at the effective resolution).
 
-Grids: the map decimated by ``stride`` (the grid used) and, with ``grid_check``, by twice it.
-The discretisation error of a quantity is its difference between the two grids (the error of
-the finer grid if the error falls as the element size, first order: Richardson with p = 1);
-the mesh-dependent edge law and the roughness each grid carries both enter it.
+The path: ``steps`` values of delta_T up to the planned end (``max_displacement``, or
+:data:`PATH_FACTOR` times the model's sliding displacement), then on with the same step while a
+junction sticks, up to ``path_extension`` times the planned end; a curve stops at its first
+step of full sliding; where junctions still stick at the bound, the verdict says so.
+
+Grids: the grid used and ``check_grids`` coarser ones (strides x2, x4; fewer than
+:data:`MIN_GRID_PIXELS` a side left out, with a note). The grid error of each feature is
+Richardson's extrapolation with Roache's grid convergence index over them (formal order 1;
+three grids give the observed order), ``|f - f_extrapolated| + GCI``: the band holds the
+extrapolated value and the spread of the grids. Decimated grids carry less roughness as well
+as larger elements, so the band also holds roughness the coarser grid misses: conservative.
+A check grid whose Pohrt-Popov preload sits on its overloaded rim (:data:`RIM_REFUSED`) is
+path-dependent and left out; the reference preload is a monotone loading path (rim 0).
 
 Forces and areas are solved on the map and stored scaled to the nominal area A_n of the
 experiment (F A_n / A_map, as the BEM reference stage does with the loads), so that they
@@ -39,16 +64,22 @@ from dataclasses import dataclass
 import numpy as np
 
 from asperity import statmodel, topo
+from asperity.bem.errors import BemInputError
+from asperity.bem.normal.contact import solve_contact
 from asperity.bem.options import SolverOptions
+from asperity.bem.reference.discretisation import richardson_extrapolation
+from asperity.bem.reference.load_sweeps import Grid, decimated_grid
+from asperity.bem.result import ContactResult
 from asperity.bem.shear.mixed_mode import MixedModeLaw
 from asperity.bem.shear.rough import ShearCurve
-from asperity.bem.shear.rough_mixed_mode import mixed_mode_shear_curve
+from asperity.bem.shear.rough_mixed_mode import RIM_TOLERANCE, mixed_mode_shear_curve
 from asperity.bem.shear.stick_slip import ShearOptions
 from asperity.errors import InputError
 from asperity.fields import array, document_fields, scalar, text
 from asperity.pipelines.config import BemShearConfig
 from asperity.pipelines.engine.parallel import run_map, worker_threads
 from asperity.pipelines.engine.stage import Stage, StageContext
+from asperity.pipelines.stages.bem import BEM, BemReference
 from asperity.pipelines.stages.friction import FRICTION, MODE_MIXITY, FrictionPrediction
 from asperity.pipelines.stages.surface import SURFACE
 from asperity.statmodel.plausibility import Threshold
@@ -90,9 +121,19 @@ SHEAR_THRESHOLDS: dict[str, Threshold] = {
             "junctions still sticking at the last delta_T (grid used)",
             0.0,
             math.inf,
-            "full sliding not reached within the path: the BEM's sliding friction there is "
-            "not a result and its static peak may lie beyond the path (extend "
+            "full sliding not reached within the path, extended to bem_shear.path_extension "
+            "times its planned end: the BEM's sliding friction there is not a result and its "
+            "static peak may lie beyond the path (raise bem_shear.path_extension or "
             "bem_shear.max_displacement)",
+        ),
+        Threshold(
+            "bem_shear_preload_mismatch",
+            "max over loads of |A_r(F_x = 0) / A_r(reference) - 1| (grid used)",
+            0.05,
+            math.inf,
+            "the shear BEM's contact before shear differs from the normal BEM reference's at "
+            "the same load by more than 5 %: the shear judgement does not start from the state "
+            "the model was calibrated on (bem_shear.preload, bem_shear.stride)",
         ),
         Threshold(
             "bem_shear_model_misfit",
@@ -112,7 +153,7 @@ SHEAR_THRESHOLDS: dict[str, Threshold] = {
 class BemShearComparison:
     """The shear BEM against the statistical model (SI; forces and areas scaled to A_n).
 
-    Dimensions: ``grid`` (0 the grid used, 1 the check grid twice as coarse, when run),
+    Dimensions: ``grid`` (0 the grid used, then the check grids x2, x4 coarser, when run),
     ``normal_load`` (the loads sheared), ``step`` (delta_T; NaN past a curve's last step, a
     curve stops at the first step where every junction slides).
 
@@ -145,8 +186,26 @@ class BemShearComparison:
         The statistical model's F_s, F_d (N) and A_r(peak) / A_r(0) at each load (the friction
         stage's curves).
     static_friction_error, sliding_friction_error, area_drop_error : ndarray or None
-        |grid 1 - grid 0| per load (the discretisation error of the grid used, first order);
-        None without ``grid_check``.
+        The grid error of the grid used per load (module notes: Richardson and Roache's GCI
+        over the grids solved); None without ``grid_check``; NaN where fewer than two grids
+        have the feature.
+    static_friction_error_order, sliding_friction_error_order, area_drop_error_order
+        The order p each error used (observed from three grids and bounded, or 1 assumed).
+    grid_error_messages : list of str
+        How each error was estimated.
+    preload : str
+        The state before shear, in words (``bem_shear.preload``).
+    preload_rim_fraction : ndarray, shape (grid, normal_load)
+        Share of the bonded contact before shear on the rim of a Pohrt-Popov preload's
+        overloaded contact (0 for the reference's monotone loading state).
+    reference_stride : int
+        The normal BEM reference's stride (0: none in the run).
+    reference_area, reference_area_uncertainty : ndarray or None
+        The reference's adhesive A_r at the loads sheared and its stated uncertainty (m^2,
+        scaled to A_n): the partner of ``real_area[0, :, 0]``.
+    planned_displacement : ndarray
+        The planned end of each path (m); it extends past it while junctions stick, up to
+        ``bem_shear.path_extension`` times it.
     """
 
     normal_load: np.ndarray = array("N", ("normal_load",), "experiment normal load sheared")
@@ -212,14 +271,47 @@ class BemShearComparison:
     boundary: str = text("periodic or free")
     messages: list[str] = text("messages of curves that did not converge")
     warnings: list[str] = text("warnings of the solves (preload on the loaded rim)")
+    preload: str = text(
+        "the state before shear", default_factory=lambda: "pohrt-popov overload-unload"
+    )
+    reference_stride: int = scalar("1", "stride of the BEM reference (0: none)", default=0)
+    reference_area: np.ndarray | None = array(
+        "m^2", ("normal_load",), "BEM reference's adhesive A_r scaled to A_n", optional=True
+    )
+    reference_area_uncertainty: np.ndarray | None = array(
+        "m^2", ("normal_load",), "its stated uncertainty", optional=True
+    )
+    preload_rim_fraction: np.ndarray | None = array(
+        "1",
+        ("grid", "normal_load"),
+        "bonded elements before shear on the rim of the overloaded contact / bonded (0: a "
+        "monotone loading preload)",
+        optional=True,
+    )
+    planned_displacement: np.ndarray | None = array(
+        "m",
+        ("normal_load",),
+        "planned end of the path (it extends while junctions stick)",
+        optional=True,
+    )
+    grid_error_messages: list[str] = text("how each grid error was estimated", default_factory=list)
     static_friction_error: np.ndarray | None = array(
-        "N", ("normal_load",), "|F_s(check grid) - F_s(grid used)|", optional=True
+        "N", ("normal_load",), "grid error of F_s (Richardson + GCI)", optional=True
     )
     sliding_friction_error: np.ndarray | None = array(
-        "N", ("normal_load",), "|F_d(check grid) - F_d(grid used)|", optional=True
+        "N", ("normal_load",), "grid error of F_d (Richardson + GCI)", optional=True
     )
     area_drop_error: np.ndarray | None = array(
-        "1", ("normal_load",), "|drop(check grid) - drop(grid used)|", optional=True
+        "1", ("normal_load",), "grid error of the area drop (Richardson + GCI)", optional=True
+    )
+    static_friction_error_order: np.ndarray | None = array(
+        "1", ("normal_load",), "order p of the F_s grid error", optional=True
+    )
+    sliding_friction_error_order: np.ndarray | None = array(
+        "1", ("normal_load",), "order p of the F_d grid error", optional=True
+    )
+    area_drop_error_order: np.ndarray | None = array(
+        "1", ("normal_load",), "order p of the area-drop grid error", optional=True
     )
     all_converged: bool = scalar("1", "every shear step converged", init=False)
 
@@ -283,40 +375,76 @@ def curve_features(
     }
 
 
+def _preload_state(
+    grid: Grid,
+    map_load: float,
+    material: statmodel.Material,
+    law: dict,
+    tol: float,
+    periodic: bool,
+) -> ContactResult:
+    """The BEM reference's adhesive state at ``map_load`` (N) on ``grid``: its adhesive solve
+    started from the non-adhesive one at the same load (the loading branch, as
+    :func:`asperity.bem.reference.load_sweeps.solve_adhesive_loading` makes it), with the
+    reference's ``law`` keywords (``adhesion``, ``adhesion_range`` m)."""
+    options = SolverOptions(tol=tol)
+    plain = solve_contact(
+        grid.heights, grid.dx, grid.dy, material.e_star, normal_force=map_load,
+        periodic=periodic, options=options,
+    )  # fmt: skip
+    state = solve_contact(
+        grid.heights, grid.dx, grid.dy, material.e_star, normal_force=map_load,
+        work_of_adhesion=material.work_of_adhesion,
+        initial=dataclasses.replace(plain, normal_force=float(map_load)),
+        periodic=periodic, options=options, **law,
+    )  # fmt: skip
+    for r in (plain, state):
+        if not r.converged:
+            raise BemInputError(f"preload (the reference's solve) did not converge: {r.message}")
+    return state
+
+
 def _solve_curve(
-    heights: np.ndarray,
-    dx: float,
-    dy: float,
+    grid: Grid,
     map_load: float,
     path: np.ndarray,
     material: statmodel.Material,
     law: str,
     tol: float,
     periodic: bool,
+    preload_law: dict | None,
 ) -> dict:
     """One load on one grid (a worker job): the curve on the map, its warnings and time;
-    ``material`` gives E* (Pa), w (J/m^2), lambda and tau_0 (Pa)."""
-    e_star, w = material.e_star, material.work_of_adhesion
-    lam, tau0 = material.mode_mixity, material.shear_strength
+    ``material`` gives E* (Pa), w (J/m^2), lambda and tau_0 (Pa); ``preload_law`` the
+    reference's adhesion-law keywords (the preload is its loading branch), None: the
+    Pohrt-Popov overload-unload preload."""
+    heights = grid.heights - grid.heights.mean()
     options = ShearOptions(tol=tol, threads=worker_threads())
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         t0 = time.perf_counter()
+        initial = None
+        if preload_law is not None:
+            centred = dataclasses.replace(grid, heights=heights)
+            initial = _preload_state(centred, map_load, material, preload_law, tol, periodic)
         curve = mixed_mode_shear_curve(
             heights,
-            dx,
-            dy,
-            e_star,
+            grid.dx,
+            grid.dy,
+            material.e_star,
             map_load,
             path,
-            MixedModeLaw(w, lam, tangential_energy=law),
-            shear_strength=tau0,
+            MixedModeLaw(material.work_of_adhesion, material.mode_mixity, tangential_energy=law),
+            shear_strength=material.shear_strength,
             periodic=periodic,
             normal_options=SolverOptions(tol=tol),
             options=options,
             stop_when_sliding=True,
+            initial=initial,
         )
         seconds = time.perf_counter() - t0
+    if initial is not None:
+        curve = dataclasses.replace(curve, normal_seconds=seconds - float(np.sum(curve.seconds)))
     notes = []
     for c in caught:  # the preload's own warnings are the stage's record; others go on
         if str(c.message).startswith("preload"):
@@ -356,6 +484,16 @@ def _path_end(friction: FrictionPrediction, index: int, settings: BemShearConfig
     return float(np.nanmax(friction.tangential_displacement[index]))
 
 
+def _path(friction: FrictionPrediction, index: int, settings: BemShearConfig) -> np.ndarray:
+    """delta_T values (m) of load ``index``: ``steps`` up to the planned end
+    (:func:`_path_end`), then on with the same step up to ``path_extension`` times it (the
+    curve stops at the first step where every junction slides)."""
+    end = _path_end(friction, index, settings)
+    step = end / (settings.steps - 1)
+    extra = int(math.ceil((settings.path_extension - 1.0) * (settings.steps - 1) - 1e-9))
+    return step * np.arange(settings.steps + max(extra, 0), dtype=float)
+
+
 def _padded(values: np.ndarray, steps: int) -> np.ndarray:
     out = np.full(steps, np.nan)
     out[: values.size] = values
@@ -372,11 +510,15 @@ def bem_shear_comparison(
     friction: FrictionPrediction,
     settings: BemShearConfig,
     *,
+    reference: BemReference | None = None,
     periodic: bool = True,
     executor: Executor | None = None,
     progress: bool = False,
 ) -> BemShearComparison:
     """Shear curves of the map by the BEM at each load, beside the statistical model's.
+
+    Like for like (module notes): by default on the BEM reference's grid (its stride, the
+    same decimation and crop) from the reference's own adhesive state at each load.
 
     Parameters
     ----------
@@ -391,6 +533,10 @@ def bem_shear_comparison(
         The model's shear curves (the friction stage), at least at ``settings.loads``.
     settings : BemShearConfig
         The ``[bem_shear]`` table.
+    reference : BemReference, optional
+        The normal BEM reference (the ``bem`` stage): its stride (``stride = "auto"``), its
+        adhesion law (``preload = "reference"``) and its A_r at the loads (the comparison of
+        A_r(F_x = 0)). Needed unless ``stride`` is given and ``preload = "pohrt-popov"``.
     periodic : bool
         Periodic map (the BEM reference's ``bem.boundary``) or free.
     executor : Executor, optional
@@ -399,8 +545,9 @@ def bem_shear_comparison(
     Raises
     ------
     InputError
-        A load not among the friction stage's, or a grid of fewer than
-        :data:`MIN_GRID_PIXELS` pixels a side (``bem_shear.stride``).
+        A load not among the friction stage's, a grid used of fewer than
+        :data:`MIN_GRID_PIXELS` pixels a side (``bem_shear.stride``), or no reference where
+        one is needed.
     """
     if work_of_adhesion <= 0:
         raise InputError(
@@ -408,20 +555,21 @@ def bem_shear_comparison(
             f"{work_of_adhesion}"
         )
     loads, index = _loads_and_model_index(friction, settings)
-    strides, grids = _grids(surface, settings)
-    paths = np.array(
-        [np.linspace(0.0, _path_end(friction, i, settings), settings.steps) for i in index]
-    )
+    strides, grids, notes = _grids(surface, settings, reference)
+    preload_law = _preload_law(settings, reference)
+    paths = np.array([_path(friction, i, settings) for i in index])
     material = statmodel.Material(e_star, work_of_adhesion, mode_mixity, shear_strength)
-    map_area = np.array([g.nx * g.dx * g.ny * g.dy for g in grids])
+    map_area = np.array([g.area for g in grids])
     jobs = [
-        (_centred(grid), grid.dx, grid.dy, float(f) * map_area[g] / nominal_area, paths[j],
-         material, settings.law, settings.tol, periodic)
+        (grid, float(f) * map_area[g] / nominal_area, paths[j], material, settings.law,
+         settings.tol, periodic, preload_law)
         for g, grid in enumerate(grids)
         for j, f in enumerate(loads)
     ]  # fmt: skip
     solved = run_map(_solve_curve, jobs, executor, desc="BEM shear curves", progress=progress)
-    fields = _collect_curves(solved, loads, strides, nominal_area / map_area, settings.steps)
+    fields = _collect_curves(solved, loads, strides, nominal_area / map_area, paths.shape[1])
+    fields["warnings"] = notes + fields["warnings"]
+    errors = _grid_errors(fields, np.array([g.dx for g in grids]))
     model = [_model_features(friction, i) for i in index]
     return BemShearComparison(
         normal_load=loads,
@@ -430,6 +578,7 @@ def bem_shear_comparison(
         map_area=map_area,
         map_normal_load=map_area[:, None] * loads[None, :] / nominal_area,
         tangential_displacement=paths,
+        planned_displacement=np.array([_path_end(friction, i, settings) for i in index]),
         **fields,
         model_static_friction=np.array([m["static_friction"] for m in model]),
         model_sliding_friction=np.array([m["sliding_friction"] for m in model]),
@@ -443,8 +592,64 @@ def bem_shear_comparison(
         nominal_area=float(nominal_area),
         law=settings.law,
         boundary="periodic" if periodic else "free",
-        **_grid_errors(fields, len(grids)),
+        preload=_preload_text(settings, reference),
+        **_reference_fields(reference, loads, nominal_area),
+        **errors,
     )
+
+
+def _preload_law(settings: BemShearConfig, reference: BemReference | None) -> dict | None:
+    """The reference's adhesion-law keywords for the preload (``preload = "reference"``;
+    Pohrt-Popov's loading branch where the reference made no adhesive solve), None for the
+    Pohrt-Popov overload-unload preload; an InputError without a reference."""
+    if settings.preload != "reference":
+        return None
+    if reference is None:
+        raise InputError(
+            'bem_shear.preload: "reference" needs the BEM reference stage (bem.enabled = true); '
+            'got no reference: set bem_shear.preload = "pohrt-popov" and a bem_shear.stride'
+        )
+    if reference.adhesion == "maugis":
+        return {"adhesion": "maugis", "adhesion_range": float(reference.adhesion_range)}
+    return {"adhesion": "pohrt-popov"}
+
+
+def _preload_text(settings: BemShearConfig, reference: BemReference | None) -> str:
+    """How the state before shear was made, in words."""
+    if settings.preload != "reference":
+        return "pohrt-popov overload-unload"
+    if reference is not None and reference.adhesion == "maugis":
+        return (
+            f"the reference's Maugis-Dugdale loading branch (h_0 = "
+            f"{float(reference.adhesion_range):.3g} m)"
+        )
+    return "the reference's Pohrt-Popov loading branch"
+
+
+def _reference_fields(
+    reference: BemReference | None, loads: np.ndarray, nominal_area: float
+) -> dict:
+    """The reference's stride and its adhesive A_r (m^2, scaled to A_n) +- its stated
+    uncertainty at the loads sheared (NaN where it has none)."""
+    nan = np.full(loads.shape, np.nan)
+    if reference is None:
+        return {"reference_stride": 0, "reference_area": nan, "reference_area_uncertainty": nan}
+    ref_loads = np.asarray(reference.normal_load, dtype=float)
+    mode = 1 if reference.contact_fraction_adhesive is not None else 0
+    fraction = reference.contact_fraction_adhesive if mode else reference.contact_fraction
+    band = reference.contact_fraction_uncertainty
+    area, error = nan.copy(), nan.copy()
+    for j, f in enumerate(loads):
+        match = np.flatnonzero(np.isclose(ref_loads, f, rtol=1e-9, atol=0.0))
+        if match.size:
+            area[j] = float(np.asarray(fraction)[match[0]]) * nominal_area
+            if band is not None:
+                error[j] = float(np.asarray(band)[mode, match[0]]) * nominal_area
+    return {
+        "reference_stride": int(reference.stride),
+        "reference_area": area,
+        "reference_area_uncertainty": error,
+    }
 
 
 def _loads_and_model_index(
@@ -463,24 +668,40 @@ def _loads_and_model_index(
     return loads, index
 
 
-def _grids(surface: topo.HeightMap, settings: BemShearConfig) -> tuple[list[int], list]:
-    """The strides solved (``stride``, and twice it with ``grid_check``) and their decimated
-    maps; an InputError when the coarsest has fewer than :data:`MIN_GRID_PIXELS` a side."""
-    strides = [settings.stride, 2 * settings.stride] if settings.grid_check else [settings.stride]
-    grids = [topo.decimate(surface, s) for s in strides]
-    if min(min(g.nx, g.ny) for g in grids) < MIN_GRID_PIXELS:
-        raise InputError(
-            f"bem_shear.stride: expected a stride leaving at least {MIN_GRID_PIXELS} pixels a side "
-            f"on the coarsest grid solved ({surface.nx} x {surface.ny} map, strides "
-            f"{', '.join(map(str, strides))}), got {settings.stride}"
-        )
-    return strides, grids
-
-
-def _centred(grid: topo.HeightMap) -> np.ndarray:
-    """The grid's heights (m, float64) less their mean."""
-    heights = np.asarray(grid.heights, dtype=np.float64)
-    return heights - heights.mean()
+def _grids(
+    surface: topo.HeightMap, settings: BemShearConfig, reference: BemReference | None
+) -> tuple[list[int], list[Grid], list[str]]:
+    """The strides solved (the grid used: ``stride``, or the reference's; then x2, x4, ...
+    for ``check_grids``), their grids (the reference's decimation and crop,
+    :func:`asperity.bem.reference.load_sweeps.decimated_grid`), and notes on the check grids
+    left out for having fewer than :data:`MIN_GRID_PIXELS` a side; an InputError when the
+    grid used has fewer, or when ``stride = "auto"`` has no reference."""
+    stride = settings.stride
+    if stride is None:
+        if reference is None:
+            raise InputError(
+                'bem_shear.stride: "auto" is the BEM reference\'s stride and needs the BEM '
+                "reference stage (bem.enabled = true); got no reference: give a stride"
+            )
+        stride = int(reference.stride)
+    heights = np.asarray(surface.heights, dtype=np.float64)
+    strides, grids, notes = [], [], []
+    for k in range(settings.coarser_grids + 1):
+        s = stride * 2**k
+        grid = decimated_grid(heights, surface.dx, surface.dy, s)
+        if min(grid.heights.shape) >= MIN_GRID_PIXELS:
+            strides.append(s)
+            grids.append(grid)
+        elif k == 0:
+            raise InputError(
+                f"bem_shear.stride: expected a stride leaving at least {MIN_GRID_PIXELS} pixels "
+                f"a side ({surface.nx} x {surface.ny} map), got {s}"
+            )
+        else:
+            notes.append(
+                f"check grid at stride {s} left out: fewer than {MIN_GRID_PIXELS} pixels a side"
+            )
+    return strides, grids, notes
 
 
 #: Per-step fields of :class:`BemShearComparison` (grid, load, step).
@@ -517,6 +738,7 @@ def _collect_curves(
         "preload_seconds": np.zeros(shape),
         "curve_seconds": np.zeros(shape),
         "convolutions": np.zeros(shape, dtype=int),
+        "preload_rim_fraction": np.zeros(shape),
         "messages": [],
         "warnings": [],
     }
@@ -554,6 +776,8 @@ def _store_curve(
     out["preload_seconds"][at] = curve.normal_seconds
     out["curve_seconds"][at] = float(np.sum(curve.seconds))
     out["convolutions"][at] = int(np.sum(curve.convolutions))
+    rim = curve.preload_rim_fraction
+    out["preload_rim_fraction"][at] = math.nan if rim is None else float(rim)
     if not out["converged"][at]:
         first = int(np.flatnonzero(~np.asarray(curve.converged))[0])
         out["messages"].append(
@@ -562,14 +786,43 @@ def _store_curve(
         )
 
 
-def _grid_errors(fields: dict, n_grids: int) -> dict:
-    """The grid error of each judged feature: |coarse - used| (none with one grid)."""
-    if n_grids < 2:
+#: A check grid whose Pohrt-Popov preload has more than this share of its bonded contact on
+#: the loaded rim depends on the path (:data:`RIM_TOLERANCE` is the preload's own goal): its
+#: difference from the grid used is not a discretisation error, and it is left out.
+RIM_REFUSED = 5 * RIM_TOLERANCE
+
+
+def _grid_errors(fields: dict, pixel_size: np.ndarray) -> dict:
+    """The grid error of each judged feature per load (same unit as the feature): from the
+    grid used and the coarser ones, Richardson's extrapolation with Roache's grid convergence
+    index (:func:`asperity.bem.reference.discretisation.richardson_extrapolation`, formal
+    order 1: three grids give the observed order, two assume it with safety factor 3); the
+    error is ``|f_used - f_extrapolated| + GCI``, so the band f_used +- error holds the
+    whole GCI band. Check grids whose preload depends on the path (:data:`RIM_REFUSED`) or
+    whose feature is NaN are left out; NaN with the grid used alone. Empty with one grid."""
+    if pixel_size.size < 2:
         return {}
-    return {
-        f"{name}_error": np.abs(fields[name][1] - fields[name][0])
-        for name in ("static_friction", "sliding_friction", "area_drop")
-    }
+    rim = np.asarray(fields["preload_rim_fraction"])
+    out: dict = {"grid_error_messages": []}
+    for name in ("static_friction", "sliding_friction", "area_drop"):
+        values = np.asarray(fields[name])
+        error = np.full(values.shape[1], np.nan)
+        order = np.full(values.shape[1], np.nan)
+        for j in range(values.shape[1]):
+            keep = [0] + [
+                g
+                for g in range(1, values.shape[0])
+                if math.isfinite(values[g, j]) and not rim[g, j] > RIM_REFUSED
+            ]
+            if len(keep) < 2 or not math.isfinite(values[0, j]):
+                continue
+            ext = richardson_extrapolation(pixel_size[keep], values[keep, j], formal_order=1.0)
+            error[j] = ext.finest_error
+            order[j] = ext.order
+            out["grid_error_messages"].append(f"{name}, load {j}: {ext.message}")
+        out[f"{name}_error"] = error
+        out[f"{name}_error_order"] = order
+    return out
 
 
 def compute_bem_shear(context: StageContext) -> BemShearComparison:
@@ -586,6 +839,7 @@ def compute_bem_shear(context: StageContext) -> BemShearComparison:
         config.loading.nominal_area,
         context.result(FRICTION),
         config.bem_shear,
+        reference=context.result(BEM),
         periodic=config.bem.boundary == "periodic",
         executor=context.executor,
         progress=context.progress,
@@ -610,7 +864,7 @@ BEM_SHEAR = Stage(
         "material.shear_strength",
         "loading.nominal_area",
     ),
-    inputs=(SURFACE, MODE_MIXITY, FRICTION),
+    inputs=(SURFACE, BEM, MODE_MIXITY, FRICTION),
     compute=compute_bem_shear,
     enabled=shear_enabled,
 )

@@ -624,6 +624,7 @@ def check_bem_shear(shear: BemShearComparison | None) -> list[Reason]:
                 f"end of the path at F_z = {where}: {slide.reason}",
             )
         )
+    reasons += _preload_mismatch(shear)
     misfit = SHEAR_THRESHOLDS["bem_shear_model_misfit"]
     bem = np.asarray(shear.static_friction[0], dtype=float)
     model = np.asarray(shear.model_static_friction, dtype=float)
@@ -640,11 +641,35 @@ def check_bem_shear(shear: BemShearComparison | None) -> list[Reason]:
                 misfit.code,
                 "warning",
                 f"static friction at F_z = {shear.normal_load[i]:.4g} N: model "
-                f"{model[i]:.4g} N, BEM {bem[i]:.4g} +- {error[i]:.2g} N (|ln ratio| "
+                f"{model[i]:.4g} N, BEM {bem[i]:.3g} ± {error[i]:.2g} N (|ln ratio| "
                 f"{gap[i]:.2f} > {misfit.warning:g} beyond the grid error): {misfit.reason}",
             )
         )
     return reasons
+
+
+def _preload_mismatch(shear: BemShearComparison) -> list[Reason]:
+    """The shear BEM's A_r(F_x = 0) against the normal reference's at the same loads (none
+    where the reference has no area at a load sheared)."""
+    reference = getattr(shear, "reference_area", None)
+    if reference is None or not np.any(np.isfinite(reference)):
+        return []
+    threshold = SHEAR_THRESHOLDS["bem_shear_preload_mismatch"]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        gap = np.abs(np.asarray(shear.real_area[0, :, 0]) / np.asarray(reference) - 1.0)
+    if not np.nanmax(gap) > threshold.warning:
+        return []
+    i = int(np.nanargmax(gap))
+    return [
+        Reason(
+            threshold.code,
+            "warning",
+            f"shear BEM A_r(F_x = 0) at F_z = {shear.normal_load[i]:.4g} N is "
+            f"{gap[i]:.1%} from the normal BEM reference's ({shear.preload}, stride "
+            f"{int(shear.grid_stride[0])} against {int(shear.reference_stride)}): "
+            f"{threshold.reason}",
+        )
+    ]
 
 
 def check_surface(preparation: dict | None) -> list[Reason]:
@@ -956,7 +981,7 @@ def check_hardness(
 
 
 def check_prediction_uncertainty(friction: FrictionPrediction) -> list[Reason]:
-    """Predictions written "+- ?": the model's uncertainty could not be estimated (e.g. one
+    """Predictions written "± ?": the model's uncertainty could not be estimated (e.g. one
     load: the misfit has no scatter to size the effective resolution's interval from)."""
     u = friction.static_friction_uncertainty
     if u is None or bool(np.all(np.isfinite(np.asarray(u, dtype=float)))):
@@ -966,7 +991,7 @@ def check_prediction_uncertainty(friction: FrictionPrediction) -> list[Reason]:
         Reason(
             "prediction_uncertainty_unknown",
             "warning",
-            f"the model's predictions carry no uncertainty (+- ?): {why}; add normal loads "
+            f"the model's predictions carry no uncertainty (± ?): {why}; add normal loads "
             "(the effective resolution's interval comes from the misfit's scatter over them)",
         )
     ]

@@ -33,11 +33,13 @@ def test_summary_values_carry_an_uncertainty_per_prediction_and_the_verdict(smal
         for name in values
         if name.startswith(("A_r/A_n", "static friction", "sliding friction", "mode mixity"))
         and "uncertainty" not in name
+        and " written (" not in name
     ]
     assert len(predicted) == 1 + 3 * 3  # lambda, and A_r/A_n, F_s, F_d at three loads
     for name in predicted:
         quantity, _, unit = name.rpartition(" (")
         assert f"{quantity} uncertainty ({unit}" in values
+        assert "\u00b1" in values[f"{quantity} written ({unit}"]  # "0.300 ± 0.024"
     static = "static friction at F_z=2 N"
     assert values[f"{static} uncertainty (N)"] == pytest.approx(
         result.friction.static_friction_uncertainty[1]

@@ -1,5 +1,5 @@
 """A job with one normal load: the effective resolution's interval cannot be sized (its misfit
-has no scatter over loads), so the predictions are written "+- ?" and the verdict says so.
+has no scatter over loads), so the predictions are written "± ?" and the verdict says so.
 Before 0.4.1 the friction stage stopped on a NaN asperity density (exit 2)."""
 
 from __future__ import annotations

@@ -11,8 +11,10 @@ from hypothesis import assume, given
 from hypothesis import strategies as st
 
 from asperity.pipelines.report.numbers import (
+    PLUS_MINUS,
     format_number,
     format_quantity,
+    format_uncertainty,
     plain_text,
     text_unit,
 )
@@ -21,14 +23,17 @@ from asperity.pipelines.report.numbers import (
 @pytest.mark.parametrize(
     ("value", "u", "expected"),
     [
-        (0.00613, 0.0021, "0.0061 +- 0.0021"),  # the issue's example
-        (12.3456, 0.0123, "12.346 +- 0.012"),
-        (1234.5, 87, "1234 +- 87"),  # 1234.5 to the units place: half to even
-        (0.0996, 0.0996, "0.10 +- 0.10"),  # u rounds up to the next decade: one digit fewer
-        (-3.21e-6, 4.5e-8, "(-3.210 +- 0.045)e-06"),
-        (5.0, 0.0, "5 +- 0"),
-        (0.52, float("nan"), "0.52 +- ?"),
+        (0.00613, 0.0021, "0.0061 ± 0.0021"),  # the issue's example
+        (12.3456, 0.0123, "12.346 ± 0.012"),
+        (1234.5, 87, "1234 ± 87"),  # 1234.5 to the units place: half to even
+        (0.0996, 0.0996, "0.10 ± 0.10"),  # u rounds up to the next decade: one digit fewer
+        (-3.21e-6, 4.5e-8, "(-3.210 ± 0.045)e-06"),
+        (5.0, 0.0, "5 ± 0"),
+        (0.52, float("nan"), "0.52 ± ?"),
         (7.014e-5, None, "7.014e-05"),
+        (0.2998, 0.0240, "0.300 ± 0.024"),  # issue 39's examples
+        (4389.5, 760, "4390 ± 760"),
+        (0.29975933910857, None, "0.2998"),  # no u: 4 significant digits
     ],
 )
 def test_format_number_examples(value, u, expected):
@@ -37,9 +42,9 @@ def test_format_number_examples(value, u, expected):
 
 def test_lower_bound_rounds_down_and_is_marked():
     # a lower bound of 1047 is "at least 1000", never "at least 1100"
-    assert format_number(3.1, 1047, lower_bound=True) == "0 +- >1000"
-    assert format_number(0.5, 0.0199, lower_bound=True) == "0.500 +- >0.019"
-    assert format_number(0.5, 0.0199) == "0.500 +- 0.020"
+    assert format_number(3.1, 1047, lower_bound=True) == "0 ± >1000"
+    assert format_number(0.5, 0.0199, lower_bound=True) == "0.500 ± >0.019"
+    assert format_number(0.5, 0.0199) == "0.500 ± 0.020"
 
 
 def test_bad_uncertainty_is_refused():
@@ -48,8 +53,8 @@ def test_bad_uncertainty_is_refused():
 
 
 def _parse(text: str) -> tuple[str, str, int]:
-    """(value digits, u digits, power of ten) of ``"v +- u"`` or ``"(v +- u)e+NN"``."""
-    match = re.fullmatch(r"\(?(-?[\d.]+) \+- >?([\d.]+)\)?(?:e([+-]\d+))?", text)
+    """(value digits, u digits, power of ten) of ``"v ± u"`` or ``"(v ± u)e+NN"``."""
+    match = re.fullmatch(r"\(?(-?[\d.]+) ± >?([\d.]+)\)?(?:e([+-]\d+))?", text)
     assert match, text
     return match.group(1), match.group(2), int(match.group(3) or 0)
 
@@ -116,7 +121,7 @@ def test_format_quantity_examples(value, base, power, expected):
 
 
 def test_format_quantity_with_uncertainty():
-    assert format_quantity(1.5e-3, "N", 2e-4) == "1.50 +- 0.20 mN"
+    assert format_quantity(1.5e-3, "N", 2e-4) == "1.50 ± 0.20 mN"
 
 
 @pytest.mark.parametrize(
@@ -128,7 +133,46 @@ def test_format_quantity_with_uncertainty():
         ("R = 0.0001547 m", "R = 154.7 µm"),
         ("dx = 1.277e-07 m, F = 0.56 N, 2.1e6 Pa", "dx = 127.7 nm, F = 0.56 N, 2.1 MPa"),
         ("A_n = 700e-6 m^2 at 2 m/s", "A_n = 700e-6 m^2 at 2 m/s"),
+        (
+            "an independent-asperity model (E:Ar_Greenwood) neglects",
+            "an independent-asperity model (preload real contact area (Eq. 16, E:Ar_Greenwood))",
+        ),
+        ("tangential force (Eq. 18, E:NewFormulation_Fx)", "tangential force (Eq. 18, E:New"),
     ],
 )
 def test_plain_text(text, expected):
     assert plain_text(text).startswith(expected)
+
+
+@pytest.mark.parametrize(
+    ("u", "percent", "expected"),
+    [
+        (0.1667, True, "± 17 %"),
+        (8.1234e-6, False, "± 8.1e-06"),
+        (0.0012345, False, "± 0.0012"),
+        (0.0996, False, "± 0.10"),
+        (float("nan"), False, "± ?"),
+        (0.0, True, "± 0 %"),
+    ],
+)
+def test_an_uncertainty_alone_keeps_two_significant_digits(u, percent, expected):
+    assert format_uncertainty(u, percent=percent) == expected
+
+
+@given(u=st.floats(1e-12, 1e12), lower_bound=st.booleans())
+def test_uncertainty_alone_is_its_value_to_two_digits(u, lower_bound):
+    """Written alone, u reads back within half its second significant digit (a lower bound:
+    never above u, less than one such digit below), with exactly two significant digits."""
+    text = format_uncertainty(u, lower_bound=lower_bound)
+    assert text.startswith(f"{PLUS_MINUS} ")
+    number = text.split(" ")[1].lstrip(">")
+    shown = float(number)
+    step = 10.0 ** (math.floor(math.log10(shown)) - 1)  # the second significant digit
+    mantissa = number.split("e")[0]
+    decimals = len(mantissa.split(".")[1]) if "." in mantissa else 0
+    exponent = int(number.split("e")[1]) if "e" in number else 0
+    assert 10.0 ** (exponent - decimals) == step or (decimals == 0 and step >= 1), text
+    if lower_bound:
+        assert shown <= u * (1 + 1e-9) and u - shown < step * (1 + 1e-6)
+    else:
+        assert abs(shown - u) <= 0.5 * step * (1 + 1e-6)

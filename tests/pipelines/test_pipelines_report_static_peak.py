@@ -77,7 +77,7 @@ def test_load_table_has_the_static_peak_columns(small_run):
             fr.static_peak_real_area[i] / fr.nominal_area, rel=5e-4
         )
         mu = row[header.index("mu_s = F_s/F_z")]
-        assert "+-" in mu  # the friction stage estimated u(F_s): mu_s carries it
+        assert "±" in mu  # the friction stage estimated u(F_s): mu_s carries it
     report = (out / "report.md").read_text(encoding="utf-8")
     assert "| A_r drop peak/0 |" in report
 
@@ -109,7 +109,7 @@ def test_html_key_numbers_first_then_table_then_details(small_run):
     assert order == sorted(order)
     head = page[order[0] : order[1]]
     for quantity, value in headline_numbers(result):
-        shown = html.escape(value).replace(" +- ", "\u00a0±\u00a0")  # one line, "±"
+        shown = html.escape(value).replace(" ± ", "\u00a0±\u00a0")  # one line, "±"
         assert html.escape(quantity) in head and shown in head, quantity
     assert "+-" not in head
     assert len(headline_numbers(result)) <= 12
@@ -124,13 +124,13 @@ def _lower_bound(result):
 
 
 def test_lower_bound_uncertainties_are_written_and_drawn_open(small_run):
-    """A lower-bound u reads "+- >u" in the table and is drawn as outward arrows (no capped
+    """A lower-bound u reads "± >u" in the table and is drawn as outward arrows (no capped
     bar) labelled "lower bound" in Fig 13 and in the friction figure."""
     _, _, result = small_run
     run = _lower_bound(result)
     header, rows = load_table(run)
     static = header.index("static F_s (N)")
-    assert all("+- >" in row[static] for row in rows)
+    assert all("± >" in row[static] for row in rows)
     for draw in (draw_area_vs_force, draw_friction_vs_load):
         fig, _ = draw(run)
         ax = fig.axes[0]
@@ -184,5 +184,5 @@ def test_measured_peaks_beside_the_predicted():
     assert 0 < peaks[0].real_area_drop_uncertainty < 0.02
     assert not peaks[0].ends_rising and peaks[1].ends_rising
     newton = DisplayUnit(1.0, "N")
-    assert measured_cells(peaks[1], newton, 1e-4) == [">= 0.5", "0.093", "0.9307 +- 0.0063"]
+    assert measured_cells(peaks[1], newton, 1e-4) == [">= 0.5", "0.093", "0.9307 ± 0.0063"]
     assert measured_cells(None, newton, 1e-4) == ["-", "-", "-"]

@@ -147,8 +147,8 @@ def test_html_report_holds_every_figure_and_number(small_run):
     assert page.images + page.svgs == len(expected)
     text = " ".join(page.text)
 
-    def shown(cell: str) -> str:  # report.html writes "value +- u" as "value ± u" on one line
-        return cell.replace(" +- ", "\u00a0±\u00a0").replace("(+- ", "(±\u00a0")
+    def shown(cell: str) -> str:  # report.html writes "value ± u" on one line (no-break)
+        return cell.replace(" ± ", "\u00a0±\u00a0").replace("(± ", "(±\u00a0")
 
     assert "+-" not in text
     for quantity, value in key_numbers(result):

@@ -116,6 +116,23 @@ def test_a_group_of_another_declaration_is_refused(tmp_path):
         read_result(f["stage"], Other)
 
 
+def test_a_field_added_since_reads_back_as_its_declared_default(tmp_path):
+    """A file written before a field with a default was added (0.4's shear stage had no
+    ``preload``) reads back with that default; a field without one is still refused."""
+
+    @dataclass
+    class Grown(Toy):
+        preload: str = text("added later", default_factory=lambda: "pohrt-popov")
+        stride: int = scalar("1", "added later", default=0)
+
+    store = ResultStore(tmp_path / "results.h5")
+    store.write("stage", toy(), key="k")
+    with h5py.File(store.path, "r") as f:
+        back = read_result(f["stage"], Grown)
+    assert back.preload == "pohrt-popov" and back.stride == 0
+    np.testing.assert_array_equal(back.real_area, toy().real_area)
+
+
 def test_write_drops_stale_groups_with_the_new_one(tmp_path):
     store = ResultStore(tmp_path / "results.h5")
     store.write("a", toy(), key="k")

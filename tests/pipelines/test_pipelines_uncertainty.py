@@ -102,7 +102,7 @@ def test_predictions_at_the_known_resolution_lie_within_their_error_bars(known_o
 
 
 def test_small_job_shows_every_prediction_with_its_error_bar(small_run):
-    """Load rows (report.md, terminal) carry +- u for the BEM and model columns; the CSVs of
+    """Load rows (report.md, terminal) carry ± u for the BEM and model columns; the CSVs of
     the figures showing them carry finite uncertainty columns."""
     _, out, result = small_run
     header, rows = load_table(result)
@@ -110,9 +110,9 @@ def test_small_job_shows_every_prediction_with_its_error_bar(small_run):
     names += ("mu_s = F_s/F_z", "sliding F_x (N)", "delta_T slide (\u00b5m)")
     columns = [header.index(name) for name in names]
     for row in rows:
-        assert all("+-" in row[j] for j in columns), row
+        assert all("±" in row[j] for j in columns), row
     report = (out / "report.md").read_text(encoding="utf-8")
-    assert rows[0][4] in report and "+-" in summary_text(result)
+    assert rows[0][4] in report and "±" in summary_text(result)
     friction = read_figure_csv(out / "friction_vs_load.csv")
     assert all(float(r["friction force uncertainty (N)"]) > 0 for r in friction)
     fig12 = read_figure_csv(out / "fig12_resolution.csv")
@@ -177,11 +177,11 @@ def test_bem_band_holds_the_extrapolated_band(small_run):
 
 
 def test_plus_minus_states_unknown_and_lower_bound_uncertainties():
-    assert plus_minus(0.2856, 0.00117) == "0.2856 +- 0.0012"
-    assert plus_minus(24.05e-6, 0.14e-6, 1e6) == "24.05 +- 0.14"
-    assert plus_minus(1.0, math.nan) == "1 +- ?"
+    assert plus_minus(0.2856, 0.00117) == "0.2856 ± 0.0012"
+    assert plus_minus(24.05e-6, 0.14e-6, 1e6) == "24.05 ± 0.14"
+    assert plus_minus(1.0, math.nan) == "1 ± ?"
     # u to two significant digits, the value to the same place (report.numbers)
-    assert plus_minus(1.0, 0.1, lower_bound=True) == "1.00 +- >0.10"
+    assert plus_minus(1.0, 0.1, lower_bound=True) == "1.00 ± >0.10"
 
 
 @pytest.mark.slow
@@ -206,6 +206,6 @@ def test_default_job_load_rows_carry_uncertainties(tmp_path):
     carried = [i for i, h in enumerate(header) if h in with_u]
     assert len(carried) == len(with_u), header
     for row in rows:
-        assert all("+-" in row[i] for i in carried), (row, header)
+        assert all("±" in row[i] for i in carried), (row, header)
     assert 10e-6 < result.statistical_model.optimum_resolution <= 20e-6
     assert result.statistical_model.optimum_misfit < result.statistical_model.misfit[0]

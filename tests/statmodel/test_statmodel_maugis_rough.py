@@ -12,12 +12,9 @@ from scipy.integrate import quad
 from scipy.optimize import brentq
 
 from asperity.errors import InputError
+from asperity.single_asperity.maugis_dugdale import _radius_from_m
 from asperity.statmodel import Material, Roughness
-from asperity.statmodel.maugis_dugdale import (
-    MaugisDugdale,
-    _radius_from_m,
-    maugis_parameter,
-)
+from asperity.statmodel.maugis_dugdale import MaugisDugdale, maugis_parameter
 from asperity.statmodel.maugis_rough import (
     MaugisAsperity,
     asperity_law_regime,

@@ -12,7 +12,15 @@ from numba.core.caching import FunctionCache
 from numba.core.dispatcher import Dispatcher
 from numba.np.ufunc.dufunc import DUFunc
 
-KERNEL_MODULES = ("integrals", "jkr", "papangelo_ciavarella", "status_map")
+#: The modules with compiled kernels: the statistical model's and the single-asperity closed
+#: forms it stands on.
+KERNEL_MODULES = (
+    "asperity.statmodel.integrals",
+    "asperity.statmodel.jkr",
+    "asperity.statmodel.status_map",
+    "asperity.single_asperity.jkr",
+    "asperity.single_asperity.papangelo_ciavarella",
+)
 
 SCRIPT = (
     "import numpy as np\n"
@@ -24,8 +32,9 @@ SCRIPT = (
 
 def _kernels():
     """(module.name, numba disk cache or None) of every compiled function and ufunc."""
-    for short in KERNEL_MODULES:
-        module = importlib.import_module(f"asperity.statmodel.{short}")
+    for path in KERNEL_MODULES:
+        module = importlib.import_module(path)
+        short = path.rsplit(".", 1)[1]
         for name, obj in vars(module).items():
             if isinstance(obj, DUFunc):
                 yield f"{short}.{name}", getattr(obj._dispatcher, "cache", None)
