@@ -35,6 +35,16 @@ def modulus_strategy():
     return st.floats(min_value=1e3, max_value=1e12, allow_nan=False)
 
 
+def mirrored_patch_values(patch, dx: float, dy: float, e_star: float) -> np.ndarray:
+    """A uniform-patch solution ``patch(x, y, dx, dy, e_star)`` (x, y in m) at three points
+    (0.3, 1.7 and 4 pixels), asserted even in x and in y (to 1e-12); returns its values there."""
+    pts = np.array([0.3, 1.7, 4.0]) * dx
+    u = patch(pts, pts[::-1], dx, dy, e_star)
+    assert np.allclose(u, patch(-pts, pts[::-1], dx, dy, e_star), rtol=1e-12)
+    assert np.allclose(u, patch(pts, -pts[::-1], dx, dy, e_star), rtol=1e-12)
+    return u
+
+
 def sphere_heights(n: int, box: float, radius: float) -> tuple[np.ndarray, float]:
     """Parabolic sphere cap h = -r^2 / (2 R) (m), apex at the grid centre; returns (h, dx)."""
     dx = box / n

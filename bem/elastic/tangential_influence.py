@@ -103,10 +103,8 @@ def periodic_cerruti_multiplier(
     ----------
     nx, ny : int
         Grid size (pixels) along x (axis 0) and y (axis 1).
-    dx, dy : float
-        Pixel sizes (m).
-    e_star : float
-        Reduced modulus E* (Pa), nu = 1/2.
+    dx, dy, e_star : float
+        Pixel sizes (m) and the reduced modulus E* (Pa), nu = 1/2.
 
     Returns
     -------

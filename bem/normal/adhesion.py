@@ -38,12 +38,8 @@ def approach_retract(
     ----------
     heights : ndarray (nx, ny)
         Heights (m), larger = closer to the flat.
-    dx, dy : float
-        Pixel sizes (m).
-    e_star : float
-        Reduced modulus E* (Pa).
-    work_of_adhesion : float
-        w (J/m^2).
+    dx, dy, e_star, work_of_adhesion : float
+        Pixel sizes (m), the reduced modulus E* (Pa) and the work of adhesion w (J/m^2).
     separations_in : sequence of float
         Separations d (m) on the approach (loading) branch, in the order applied (decreasing).
     separations_out : sequence of float, optional
