@@ -164,6 +164,22 @@ SHEAR_CAP_R, SHEAR_CAP_E_STAR, SHEAR_CAP_W = 1.0, 1.0, 1e-6
 SHEAR_CAP_DELTA = 3.0 * SHEAR_CAP_R / 100**2
 
 
+def stepped_tangential_path(contact, bound, dx: float, e_star: float, steps, **kw) -> list:
+    """solve_tangential at each delta_T of ``steps`` (m) on a square-pixel grid (``dx`` m,
+    E* Pa, slip threshold ``bound`` Pa), each step started from the last one's slip and
+    tractions (asperity 0.4.0's per-step curve); ``kw`` go to every solve."""
+    from asperity.bem.shear.stick_slip import solve_tangential
+
+    prev, path = None, []
+    for value in steps:
+        slip = None if prev is None else prev.slip
+        prev = solve_tangential(
+            contact, bound, dx, dx, e_star, float(value), slip=slip, initial=prev, **kw
+        )
+        path.append(prev)
+    return path
+
+
 def shear_cap_load() -> float:
     """The JKR load (fixed grip) of the cap at its indentation, in the units above."""
     from asperity.statmodel.jkr import jkr_normal_load

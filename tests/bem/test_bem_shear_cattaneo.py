@@ -20,6 +20,7 @@ from asperity.bem.shear.stick_slip import (
     solve_tangential,
     traction_bound,
 )
+from tests._helpers import stepped_tangential_path
 
 R, E_STAR, A_H, MU = 1.0, 1.0e6, 0.01, 0.3
 P_H = 4 * E_STAR * A_H**3 / (3 * R)
@@ -79,10 +80,12 @@ def test_monotonic_history_and_warm_start(hertz):
     bound = traction_bound(res.contact_mask, pressure=res.pressure, friction_coefficient=MU)
     d_end = cattaneo_mindlin_displacement(0.7 * MU * P_H, MU, P_H, A_H, E_STAR)
     one = _shear(hertz, bound, d_end)
-    prev = None
-    for d_t in np.linspace(0.25, 1.0, 4) * d_end:
-        prev = _shear(hertz, bound, d_t, slip=None if prev is None else prev.slip, initial=prev)
-        assert prev.success
+    steps = np.linspace(0.25, 1.0, 4) * d_end
+    path = stepped_tangential_path(
+        res.contact_mask, bound, dx, E_STAR, steps, periodic=False, operator=op
+    )
+    assert all(r.success for r in path)
+    prev = path[-1]
     assert np.allclose(prev.traction, one.traction, atol=1e-6 * np.abs(one.traction).max())
     next_step = functools.partial(_shear, hertz, bound, 1.02 * d_end, slip=one.slip)
     cold = next_step()

@@ -14,9 +14,9 @@ from asperity.bem.shear.stick_slip import (
     JunctionPreconditioner,
     ShearOptions,
     TangentialOperator,
-    solve_tangential,
     traction_bound,
 )
+from tests._helpers import stepped_tangential_path
 
 E_STAR, TAU0 = 2.0e6, 0.1e6
 
@@ -99,21 +99,10 @@ def test_dense_and_fft_paths_agree_with_the_per_step_solver(caps_case):
     contact = pre.contact_mask
     bound = traction_bound(contact, shear_strength=TAU0)
     opts = ShearOptions(tol=1e-10)
-    prev, forces, sticks = None, [], []
-    for value in d_t:
-        prev = solve_tangential(
-            contact,
-            bound,
-            dx,
-            dx,
-            E_STAR,
-            float(value),
-            slip=None if prev is None else prev.slip,
-            initial=prev,
-            options=opts,
-        )
-        forces.append(prev.tangential_force)
-        sticks.append(prev.stick_area)
+    path = stepped_tangential_path(contact, bound, dx, E_STAR, d_t, options=opts)
+    forces = [r.tangential_force for r in path]
+    sticks = [r.stick_area for r in path]
+    prev = path[-1]
     scale = TAU0 * pre.real_area
     for options in ({}, {"dense_limit_bytes": 0}):
         c = _curve(caps_case, **options)
