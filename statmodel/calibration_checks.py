@@ -67,8 +67,9 @@ def model_relative_uncertainty(
     if model_area is None or model_area_uncertainty is None:
         return 0.0
     area = np.asarray(model_area, dtype=float)
+    band = np.asarray(model_area_uncertainty, dtype=float)
     i = int(np.argmin(np.abs(np.asarray(normal_load, dtype=float) - load)))
-    value = float(model_area_uncertainty[i]) / float(area[i]) if float(area[i]) > 0 else math.nan
+    value = float(band[i]) / float(area[i]) if float(area[i]) > 0 else math.nan
     return value if math.isfinite(value) else 0.0
 
 

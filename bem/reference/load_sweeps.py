@@ -30,7 +30,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TypedDict
+from typing import Any, TypedDict
 
 import numpy as np
 
@@ -206,7 +206,7 @@ def _solve_on(
     setup: ContactSetup,
     force: float,
     initial: ContactResult | np.ndarray | None,
-    **adhesion: object,
+    **adhesion: Any,
 ) -> ContactResult:
     """:func:`solve_contact` on ``grid`` at ``force`` (N) with ``setup``'s modulus, boundary and
     options; ``adhesion``: the work of adhesion and the law (none: non-adhesive)."""
