@@ -37,7 +37,7 @@ import threading
 import time
 import warnings
 from pathlib import Path
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numba
 import numpy as np
@@ -424,7 +424,7 @@ def _save_wisdom() -> None:
         path = _wisdom_file()
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = path.with_suffix(f".tmp{os.getpid()}")
-        arrays = {
+        arrays: dict[str, Any] = {
             f"w{i}": np.frombuffer(w, dtype=np.uint8) for i, w in enumerate(pyfftw.export_wisdom())
         }
         with open(tmp, "wb") as fh:
@@ -499,7 +499,9 @@ class Convolution:
             )
         if backend == "pyfftw" and "pyfftw" not in available_backends():
             raise BemInputError("fft_backend='pyfftw' requested but pyFFTW is not installed")
-        self._fwd = None
+        # pyFFTW's forward and inverse plans (pyfftw.FFTW; None on the scipy backend)
+        self._fwd: Any = None
+        self._inv: Any = None
         self.calls = 0  # convolutions started (a machine-independent cost measure)
         self.transforms = 0  # FFTs done, forward and inverse (2 per full convolution)
         self._pending: np.ndarray | None = None  # the product of the last forward transform
@@ -512,7 +514,7 @@ class Convolution:
         # (a radial one divides by N where it is evaluated)
         if isinstance(multiplier, RadialMultiplier):
             self._radial: RadialMultiplier | None = multiplier
-            self._mult = None
+            self._mult: np.ndarray | None = None
         else:
             self._radial = None
             self._mult = np.ascontiguousarray(multiplier / (nx * ny), dtype=self.dtype)
@@ -524,7 +526,7 @@ class Convolution:
     def _workspace_views(self) -> tuple[np.ndarray, np.ndarray | None]:
         """The half-spectrum (this precision) in the workspace and, in single precision, the
         float32 real scratch grid after it (None in double precision)."""
-        ws = self._workspace
+        ws = self._given_workspace()
         nspec = self.spectral_shape[0] * self.spectral_shape[1]
         csize = np.dtype(self.cdtype).itemsize
         spec = ws[: nspec * csize].view(self.cdtype).reshape(self.spectral_shape)
@@ -664,7 +666,13 @@ class Convolution:
         """A real grid of this precision viewed in the workspace (it fits: the workspace holds
         a complex128 half-spectrum), never transformed: see :meth:`_setup_pyfftw`."""
         n = self.shape[0] * self.shape[1] * np.dtype(self.dtype).itemsize
-        return self._workspace[:n].view(self.dtype).reshape(self.shape)
+        return self._given_workspace()[:n].view(self.dtype).reshape(self.shape)
+
+    def _given_workspace(self) -> np.ndarray:
+        """The workspace given at construction (only asked for when one was given)."""
+        if self._workspace is None:
+            raise RuntimeError("Convolution: no workspace was given")
+        return self._workspace
 
     # -- public --------------------------------------------------------------------------
     def empty(self) -> np.ndarray:
@@ -684,6 +692,13 @@ class Convolution:
         a[...] = 0.0
         return a
 
+    def _real_multiplier(self) -> np.ndarray:
+        """The stored multiplier grid divided by the number of points (only asked for when the
+        multiplier is not radial: then it is stored)."""
+        if self._mult is None:
+            raise RuntimeError("Convolution: a radial multiplier has no stored grid")
+        return self._mult
+
     def diagonal(self) -> float:
         """The real-space kernel at zero offset, ``irfft2(multiplier)[0, 0]`` (for an
         influence kernel: the deflection of a pixel under its own unit pressure, m/Pa)."""
@@ -691,7 +706,7 @@ class Convolution:
             n = self.shape[0] * self.shape[1]
             mult = (self._radial.materialise() / n).astype(self.dtype)
         else:
-            mult = self._mult  # already divided by the number of grid points
+            mult = self._real_multiplier()  # already divided by the number of grid points
         ny = self.shape[1]
         total = 2.0 * float(mult.sum()) - float(mult[:, 0].sum())
         if ny % 2 == 0:
@@ -805,9 +820,9 @@ class Convolution:
             e = e if energy else 0.0
         elif energy:
             with _NumbaThreads(self.threads):
-                e = _multiply_with_energy(spec, self._mult, self.shape[1])
+                e = _multiply_with_energy(spec, self._real_multiplier(), self.shape[1])
         else:
-            np.multiply(spec, self._mult, out=spec)
+            np.multiply(spec, self._real_multiplier(), out=spec)
         self._pending = spec
         self.calls += 1
         self.transforms += 1

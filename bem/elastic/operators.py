@@ -28,7 +28,8 @@ import threading
 import time
 import weakref
 from collections import OrderedDict
-from typing import NamedTuple
+from collections.abc import Callable
+from typing import Any, NamedTuple, cast
 
 import numpy as np
 from numba import njit, prange
@@ -275,7 +276,7 @@ class PaddedConvolution:
 
     def __init__(
         self,
-        multiplier: np.ndarray | RadialMultiplier,
+        multiplier: np.ndarray | RadialMultiplier | EvenMultiplier | Callable[[np.ndarray], None],
         shape: tuple[int, int],
         grid: tuple[int, int],
         *,
@@ -342,7 +343,9 @@ class PaddedConvolution:
         self.calls = 0  # convolutions started
         self.transforms = 0  # FFTs done, forward and inverse
         self.seconds = 0.0  # wall time spent in them (s)
-        self._fwd = self._inv = None
+        # pyFFTW's in-place plans (pyfftw.FFTW; None on the scipy backend)
+        self._fwd: Any = None
+        self._inv: Any = None
         if backend == "pyfftw":
             self._plan()
         self._radial: RadialMultiplier | None = None
@@ -385,6 +388,13 @@ class PaddedConvolution:
             half[gx // 2] = re[gx // 2]
         np.divide(half, float(gx * self.grid[1]), out=half)
         return EvenMultiplier(half)
+
+    def _array_multiplier(self) -> np.ndarray:
+        """The multiplier array given (divided by gx * gy); only asked for when the multiplier
+        was neither radial nor even, and then it is stored."""
+        if self._mult is None:
+            raise RuntimeError("PaddedConvolution: the multiplier is not an array")
+        return self._mult
 
     def _plan(self) -> None:
         """In-place FFTW plans on the workspace (measured plans overwrite it: made here,
@@ -524,16 +534,17 @@ class PaddedConvolution:
             e = e if energy else 0.0
         elif self._even is not None:
             double = self.precision == "double"
-            kernel = _even_multiply_double if double else _even_multiply_single
-            e = kernel(spec, self._even.half, gy, energy)
+            even_kernel = _even_multiply_double if double else _even_multiply_single
+            e = even_kernel(spec, self._even.half, gy, energy)
             e = e if energy else 0.0
         elif energy:
-            e = fb._multiply_with_energy(spec, self._mult, gy)
+            e = fb._multiply_with_energy(spec, self._array_multiplier(), gy)
         else:
             # the real and imaginary parts apart: same values as spec * mult, without the
             # ufunc's casting buffer (64 KiB)
-            np.multiply(spec.real, self._mult, out=spec.real)
-            np.multiply(spec.imag, self._mult, out=spec.imag)
+            mult = self._array_multiplier()
+            np.multiply(spec.real, mult, out=spec.real)
+            np.multiply(spec.imag, mult, out=spec.imag)
         self._pending = spec
         self.calls += 1
         self.transforms += 1
@@ -573,7 +584,9 @@ def influence_operator(
     )
     cache = _operator_cache()
     op = cache.get(key)
+    grid_shape = (shape[0], shape[1])
     if op is None:
+        mult: np.ndarray | RadialMultiplier
         if not periodic:
             op = _padded_influence_operator(key)
         elif in_place:
@@ -582,8 +595,15 @@ def influence_operator(
                 mult = RadialMultiplier(qx2, qy2, 2.0 / e_star, -1)
             else:
                 mult, _ = influence_multiplier(shape, dx, dy, e_star, kernel=kernel)
-            kw = dict(backend=fft_backend, threads=threads, precision=precision)
-            op = PaddedConvolution(mult, shape, shape, workspace=_workspace(tuple(shape)), **kw)
+            op = PaddedConvolution(
+                mult,
+                shape,
+                shape,
+                workspace=_workspace(grid_shape),
+                backend=fft_backend,
+                threads=threads,
+                precision=precision,
+            )
         else:
             if kernel == "point":
                 # 2 / (E* |q|), zero at q = 0 (influence.point_force_multiplier), not stored
@@ -593,11 +613,11 @@ def influence_operator(
                 mult, _ = influence_multiplier(shape, dx, dy, e_star, kernel=kernel)
             op = Convolution(
                 mult,
-                tuple(shape),
+                grid_shape,
                 backend=fft_backend,
                 threads=threads,
                 precision=precision,
-                workspace=_workspace(tuple(shape)),
+                workspace=_workspace(grid_shape),
             )
         cache[key] = op
         while len(cache) > _MAX_OPERATORS:
@@ -615,18 +635,23 @@ def _padded_influence_operator(key: tuple) -> PaddedConvolution:
     stored once for both, made by one doubled-grid transform in the workspace)."""
     shape, dx, dy, e_star, kernel, _, fft_backend, threads, precision, _ = key
     grid = (2 * shape[0], 2 * shape[1])
+    mult: EvenMultiplier | Callable[[np.ndarray], None]
     if precision == "single":
         double = influence_operator(
             shape, dx, dy, e_star, kernel, False, fft_backend, threads, "double", True
         )
-        mult, normalised = double._even, True
+        # a finite specimen's operator is always padded (made below, from a kernel filler)
+        even = cast(PaddedConvolution, double)._even
+        if even is None:
+            raise RuntimeError("the double-precision padded operator holds no even multiplier")
+        mult, normalised = even, True
     else:
         # the real-space kernel written into the transform's own buffer and transformed
         # there: no array of the doubled grid besides the workspace
-        def mult(real: np.ndarray) -> None:
+        def fill(real: np.ndarray) -> None:
             padded_love_coefficients(real, shape[0], shape[1], dx, dy, e_star)
 
-        normalised = False
+        mult, normalised = fill, False
     return PaddedConvolution(
         mult,
         shape,
@@ -639,7 +664,9 @@ def _padded_influence_operator(key: tuple) -> PaddedConvolution:
     )
 
 
-def stiffness_preconditioner(op: Convolution, dx: float, dy: float, e_star: float) -> Convolution:
+def stiffness_preconditioner(
+    op: Convolution | PaddedConvolution, dx: float, dy: float, e_star: float
+) -> Convolution | PaddedConvolution:
     """The stiffness E* |q| / 2 (Pa/m, the inverse of the point-force kernel) on the FFT grid
     of ``op``, q = 0 set to its smallest non-zero value; same backend, threads and precision
     as ``op``."""
@@ -662,11 +689,25 @@ def stiffness_preconditioner(op: Convolution, dx: float, dy: float, e_star: floa
         qx2, qy2 = wavevectors_squared(gx, gy, dx, dy)
         q00 = min(2.0 * np.pi / (gx * dx), 2.0 * np.pi / (gy * dy))
         stiffness = RadialMultiplier(qx2, qy2, 0.5 * e_star, 1, q00)
-        kw = dict(backend=op.backend, threads=op.threads, precision=op.precision)
         if isinstance(op, PaddedConvolution):
-            pre = PaddedConvolution(stiffness, op.shape, grid, workspace=_workspace(grid), **kw)
+            pre = PaddedConvolution(
+                stiffness,
+                op.shape,
+                grid,
+                workspace=_workspace(grid),
+                backend=op.backend,
+                threads=op.threads,
+                precision=op.precision,
+            )
         else:
-            pre = Convolution(stiffness, grid, workspace=_workspace(grid), **kw)
+            pre = Convolution(
+                stiffness,
+                grid,
+                workspace=_workspace(grid),
+                backend=op.backend,
+                threads=op.threads,
+                precision=op.precision,
+            )
         cache[key] = pre
         while len(cache) > 2 * _MAX_OPERATORS:
             cache.popitem(last=False)
