@@ -28,6 +28,21 @@ class ExitStatus(IntEnum):
         member.meaning = meaning
         return member
 
+    @classmethod
+    def from_code(cls, code: int) -> ExitStatus:
+        """The status whose number is ``code`` (``ExitStatus(code)``, which a type checker
+        reads as a call of ``__new__``).
+
+        Raises
+        ------
+        ValueError
+            ``code`` is not one of the documented statuses.
+        """
+        for status in cls:
+            if status.value == code:
+                return status
+        raise ValueError(f"{code!r} is not a valid {cls.__name__}")
+
     OK = (
         0,
         "ok",

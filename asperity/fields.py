@@ -180,9 +180,10 @@ def _kind(name: str, python_type: Any, metadata: Any) -> str:
     return "string" if python_type is str else "json"
 
 
-@functools.cache
 def field_specs(cls: type) -> tuple[FieldSpec, ...]:
     """The storage description of every field of a result dataclass, in declaration order.
+
+    Computed once per class (cached).
 
     Raises
     ------
@@ -190,6 +191,12 @@ def field_specs(cls: type) -> tuple[FieldSpec, ...]:
         A field without a storage declaration, a reserved name, or an array of another type
         (a programming error in a result declaration, found at import of the stage).
     """
+    return _cached_field_specs(cls)
+
+
+@functools.cache
+def _cached_field_specs(cls: type) -> tuple[FieldSpec, ...]:
+    """:func:`field_specs`, cached per class (a plain ``type`` argument, hashable)."""
     if not dataclasses.is_dataclass(cls):
         raise TypeError(f"{cls!r} is not a dataclass")
     hints = typing.get_type_hints(cls)

@@ -135,8 +135,12 @@ def write_dataset(
     if compression == "auto":
         large = data.size > COMPRESS_ABOVE
         options = {"compression": "gzip", "compression_opts": 4} if large else {}
+    elif not compression:
+        options = {}
+    elif isinstance(compression, str):
+        raise ValueError(f"compression: 'auto', a mapping or None expected, found {compression!r}")
     else:
-        options = dict(compression or {})
+        options = dict(compression)
     ds = group.create_dataset(name, data=data, **options)
     ds.attrs["units"] = units
     if long_name:
@@ -195,7 +199,8 @@ def read_result(group: h5py.Group, cls: type[R]) -> R:
     StoredStageError
         A required field is missing (the group was written for another declaration).
     """
-    kwargs, derived = {}, {}
+    kwargs: dict[str, Any] = {}
+    derived: dict[str, Any] = {}
     defaulted = {
         f.name
         for f in dataclasses.fields(cls)  # type: ignore[arg-type]

@@ -561,14 +561,15 @@ class ShearFiles(Kind):
     def _item(i: int, item: object, context: Context) -> ShearCurveFile:
         if not isinstance(item, Mapping) or set(item) != {"normal_load", "file"}:
             raise Invalid('a table {normal_load = N, file = "curve.csv"}', f"[{i}]", item)
-        parts = {"normal_load": LOAD, "file": ExistingFile()}
-        values = {}
-        for name, kind in parts.items():
-            try:
-                values[name] = kind.convert(item[name], context)
-            except Invalid as exc:
-                raise Invalid(exc.expected, f"[{i}].{name}", item[name]) from None
-        return ShearCurveFile(values["file"], values["normal_load"])
+        try:  # the load first, then the file (the error names the first bad one)
+            load = LOAD.convert(item["normal_load"], context)
+        except Invalid as exc:
+            raise Invalid(exc.expected, f"[{i}].normal_load", item["normal_load"]) from None
+        try:
+            file = ExistingFile().convert(item["file"], context)
+        except Invalid as exc:
+            raise Invalid(exc.expected, f"[{i}].file", item["file"]) from None
+        return ShearCurveFile(file, load)
 
     def plain(self, value: tuple[ShearCurveFile, ...]) -> TomlValue:
         if not value:

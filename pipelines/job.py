@@ -179,15 +179,14 @@ def run_job(
     )
     input_hash = input_sha256(config.surface)
     workers = config.run.workers if workers is None else workers
-    log = log or (lambda line: None)
-    caller_log = log
+    caller_log = log or (lambda line: None)
 
-    def log(line: str) -> None:  # a stage's line on its own line, above any solves bar
+    def stage_log(line: str) -> None:  # a stage's line on its own line, above any solves bar
         progress_line(line, caller_log)
 
     with (
         InterruptGuard() as interrupts,  # a Ctrl-C swallowed in a finaliser is raised again
-        OutputLock(out_dir, log=log),  # one run per directory; stale temporaries removed
+        OutputLock(out_dir, log=stage_log),  # one run per directory; stale temporaries removed
         make_executor(workers, scheduler=scheduler) as executor,
     ):
         runner = InterruptibleRunner(
@@ -197,7 +196,7 @@ def run_job(
             version=asperity.__version__,
             root_attrs=provenance(config, input_hash),
             force=force,
-            log=log,
+            log=stage_log,
         )
         if not (force or replace_run):  # a finished run of another job is never overwritten unasked
             runner.plan(STAGES)

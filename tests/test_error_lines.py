@@ -63,6 +63,17 @@ def test_bad_input_and_internal_error_lines_are_bounded(capsys):
     assert line.endswith("for the traceback)")
 
 
+def test_a_full_disk_reported_by_h5py_is_bad_input_in_one_line(capsys):
+    """h5py reports a full disk as a RuntimeError holding the errno (no filename attribute)."""
+    full = RuntimeError(
+        "Can't synchronously write data (file write failed: filename = 'results.h5', "
+        "errno = 28, error message = 'No space left on device')"
+    )
+    assert _report_exception("run", full) == 2
+    line = _one_bounded_line(capsys.readouterr().err)
+    assert line.startswith("asperity run: error: ") and "No space left on device" in line
+
+
 def test_a_warning_line_is_bounded_and_inert(capsys):
     with warnings_as_lines("run"):
         warnings.warn("w" * 5000 + " \x1b[2J file\nname", UserWarning, stacklevel=1)

@@ -89,8 +89,8 @@ class IterationState:
     w: np.ndarray
     t: np.ndarray
     r: np.ndarray
-    op: Convolution
-    pre: Convolution | None
+    op: Convolution | PaddedConvolution
+    pre: Convolution | PaddedConvolution | None
     s_arr: np.ndarray | None
     z_arr: np.ndarray | None
     psq: float
@@ -126,7 +126,7 @@ class IterationState:
         self.zf = self.z_arr.ravel() if self.z_arr is not None else None
         # operators other than the problem's, with their counters at first use (the problem's
         # operator is counted by the caller)
-        self.counted: dict[int, tuple[Convolution, int, float, int]] = {}
+        self.counted: dict[int, tuple[Convolution | PaddedConvolution, int, float, int]] = {}
         for conv in (self.op, self.pre):
             self.count(conv)
 
@@ -134,14 +134,14 @@ class IterationState:
         """Drop the direction and the work array (the state then only describes p, c, w):
         called once the iteration ended, before the result is assembled."""
         self.t = self.r = self.s_arr = self.z_arr = None  # type: ignore[assignment]
-        self.tf = self.rf = self.sf = self.zf = None
+        self.tf = self.rf = self.sf = self.zf = None  # type: ignore[assignment]
 
-    def count(self, conv: Convolution | None) -> None:
+    def count(self, conv: Convolution | PaddedConvolution | None) -> None:
         """Count the convolutions ``conv`` does from now on in this solve's diagnostics."""
         if conv is not None and id(conv) not in self.counted:
             self.counted[id(conv)] = (conv, conv.calls, conv.seconds, conv.transforms)
 
-    def convolutions(self, exclude: Convolution) -> tuple[int, float, int]:
+    def convolutions(self, exclude: Convolution | PaddedConvolution) -> tuple[int, float, int]:
         """Convolutions started, seconds spent in them and FFTs done by the counted operators
         but ``exclude``."""
         calls, seconds, transforms = 0, 0.0, 0
@@ -196,7 +196,7 @@ def new_state(
     # lifetimes within an iteration do not overlap (s -> z in place, z is consumed by the
     # direction update before r = K t is transformed back)
     store = np.float32 if compact else np.float64
-    work = problem.op.work_array() if compact else op.empty()
+    work = problem.op.work_array() if isinstance(problem.op, PaddedConvolution) else op.empty()
     return IterationState(
         p=p,
         c=c,
@@ -216,7 +216,9 @@ def new_state(
     )
 
 
-def single_precision_operator(problem: ContactProblem, options: SolverOptions) -> Convolution:
+def single_precision_operator(
+    problem: ContactProblem, options: SolverOptions
+) -> Convolution | PaddedConvolution:
     """The problem's influence operator with single-precision transforms (same backend and
     threads as the double one)."""
     op = problem.op
@@ -590,6 +592,16 @@ def drop_preconditioner(s: IterationState) -> None:
     s.reset = True
 
 
+def _preconditioner(
+    s: IterationState,
+) -> tuple[Convolution | PaddedConvolution, np.ndarray, np.ndarray]:
+    """The state's preconditioner and its input and output arrays s and z (a preconditioned
+    iteration runs only while the state has all three)."""
+    if s.pre is None or s.s_arr is None or s.z_arr is None:
+        raise RuntimeError("preconditioned iteration on a state without its preconditioner")
+    return s.pre, s.s_arr, s.z_arr
+
+
 def preconditioned_pk_iteration(
     s: IterationState, problem: ContactProblem, options: SolverOptions
 ) -> Stop | None:
@@ -601,8 +613,9 @@ def preconditioned_pk_iteration(
         return gap
     # single precision: the residual is written straight into the preconditioner's float32
     # input and z read from its output (no cast passes; the same bits)
-    direct = s.pre.direct_input()
-    s_arr = direct if direct is not None else s.s_arr
+    pre, s_work, z_work = _preconditioner(s)
+    direct = pre.direct_input()
+    s_arr = direct if direct is not None else s_work
     res = kr.residual_field(s.wf, s.cf, s_arr.ravel(), s.offset)
     verdict = _progress(s, problem, options, gap.g_sq, res.penetration_sq)
     if isinstance(verdict, Stop) or verdict == SWITCH:
@@ -611,8 +624,8 @@ def preconditioned_pk_iteration(
         drop_preconditioner(s)
         d = kr.update_direction(s.wf, s.cf, s.tf, s.offset, 0.0)
         return _take_step(s, problem, options, gap.g_sq, d.sum_gt, d.n_penetrating)
-    z_arr = s_arr if direct is not None else s.z_arr
-    gz = s.pre.with_energy(s_arr, z_arr)
+    z_arr = s_arr if direct is not None else z_work
+    gz = pre.with_energy(s_arr, z_arr)
     zf = z_arr.ravel()
     zbar = kr.masked_sum(zf, s.cf) / gap.n_contact if problem.load_control else 0.0
     beta = 0.0 if s.reset or s.gz_old <= 0 else gz / s.gz_old

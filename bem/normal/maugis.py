@@ -226,7 +226,7 @@ def _inner_solve(case: _Case, it: _SetIteration, opts: SolverOptions) -> Contact
         # the warm start reads the previous solution's pressure and contact set only: its gap
         # (8 B per point; the new attractive set was taken from it) goes before the lift and
         # the next state are allocated
-        it.inner = dataclasses.replace(it.inner, gap=None)
+        it.inner = dataclasses.replace(it.inner, gap=None)  # type: ignore[arg-type]
     # h + sigma_0 K * 1_S, summed into the lift's array (addition commutes bit for bit)
     lifted = _attraction_lift(it.attractive, sigma0, dx, dy, e_star, periodic, opts)
     lifted += case.heights
@@ -272,7 +272,7 @@ def _iterate_set(case: _Case, it: _SetIteration, opts: SolverOptions) -> tuple[S
             it.tol = opts.tol
             continue
         # a digest of the set (a packed copy of every set seen would cost n/8 B per solve)
-        key = hashlib.sha256(np.packbits(new)).digest()
+        key = hashlib.sha256(np.packbits(new).tobytes()).digest()
         if it.tol <= opts.tol and key in seen:
             return SolverStatus.STALLED, (
                 "stalled: the attractive set {gap <= h_0} cycles between states (elements "
@@ -329,15 +329,16 @@ def _zone_warning(width: float | None, law: MaugisLaw, dx: float) -> list[str]:
 
 def _assemble(
     it: _SetIteration,
+    inner: ContactResult,
     law: MaugisLaw,
     grid: tuple,
     stop: tuple[SolverStatus, str],
     branch: str,
     started: float,
 ) -> ContactResult:
-    """The Maugis result: net traction q - sigma_0 1_S, force, attraction diagnostics."""
+    """The Maugis result from the last inner solve ``inner``: net traction q - sigma_0 1_S,
+    force, attraction diagnostics."""
     dx, dy, _, periodic = grid
-    inner = it.inner
     attractive = it.attractive
     # p = q - sigma_0 1_S in the inner result's own array (no full-size temporaries)
     pressure = np.subtract(
@@ -408,7 +409,7 @@ def _empty_result(h: np.ndarray, grid: tuple, law: MaugisLaw, stop, started) -> 
         "load not carried: the tensile force is beyond what first contact can hold; pull on a "
         "state of the unloading branch instead (initial=..., e.g. the last loaded result)"
     )
-    return _assemble(it, law, grid, (status, message), "loading", started)
+    return _assemble(it, it.inner, law, grid, (status, message), "loading", started)
 
 
 def solve_maugis_problem(
@@ -452,4 +453,4 @@ def solve_maugis_problem(
     stop = _iterate_set(_Case(h, grid, law, loads), it, options)
     if it.inner is None:
         return _empty_result(h, grid, law, stop, started)
-    return _assemble(it, law, grid, stop, _branch(initial, loads), started)
+    return _assemble(it, it.inner, law, grid, stop, _branch(initial, loads), started)

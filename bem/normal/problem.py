@@ -10,7 +10,9 @@ from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -97,18 +99,18 @@ class ContactProblem:
         return self.force / self.pixel_area
 
 
-def real_scalar(name: str, val: object) -> float:
+def real_scalar(name: str, val: Any) -> float:
     """``val`` as a float, or a BemInputError naming the argument (bools, strings, arrays with
     more than one element and complex numbers are refused)."""
     if isinstance(val, (bool, np.bool_, str, bytes)) or np.ndim(val) != 0 or np.iscomplexobj(val):
         raise BemInputError(f"solve_contact: {name} must be a real number, got {val!r}")
     try:
-        return float(val)  # type: ignore[arg-type]
+        return float(val)
     except (TypeError, ValueError):
         raise BemInputError(f"solve_contact: {name} must be a real number, got {val!r}") from None
 
 
-def checked_heights(heights: object) -> np.ndarray:
+def checked_heights(heights: Any) -> np.ndarray:
     """Heights (m) as a real 2D float64 array of at least 2 x 2 finite values."""
     if np.iscomplexobj(heights):
         raise BemInputError("solve_contact: heights must be real (m), got a complex array")
@@ -134,7 +136,7 @@ def _bounded(key: str, name: str, val: object) -> float:
     return quantity(f"solve_contact.{key}").check(val, f"solve_contact: {name}", BemInputError)
 
 
-def _the_load(loads: dict[str, object]) -> tuple[str, float]:
+def _the_load(loads: Mapping[str, object]) -> tuple[str, float]:
     given = [k for k, v in loads.items() if v is not None]
     if len(given) != 1:
         raise BemInputError(
@@ -176,7 +178,7 @@ def set_up_problem(
     dx: object,
     dy: object,
     e_star: object,
-    loads: dict[str, object],
+    loads: Mapping[str, object],
     work_of_adhesion: object,
     periodic: object,
     options: SolverOptions,

@@ -19,6 +19,7 @@ at each load A_r/A_n, static and sliding friction, the verdict when the job has 
 from __future__ import annotations
 
 import glob
+import sys
 import traceback
 from collections.abc import Callable, Sequence
 from concurrent.futures import Future
@@ -39,9 +40,9 @@ from asperity.pipelines.engine.store import ResultStore
 from asperity.pipelines.job import JobResult, run_job
 from asperity.pipelines.report import write_report
 
-try:
+if sys.version_info >= (3, 11):
     import tomllib
-except ModuleNotFoundError:  # pragma: no cover
+else:  # pragma: no cover - exercised on Python 3.10 only
     import tomli as tomllib
 
 #: Characters that make a MAP argument a glob pattern.
@@ -86,7 +87,10 @@ def read_job(path: str | Path) -> tuple[Document, Path]:
 
 def map_config(data: Document, base_dir: Path, source: str, map_path: Path) -> JobConfig:
     """The job with ``[surface] file`` set to ``map_path`` (any synthetic recipe dropped)."""
-    surface = {k: v for k, v in data.get("surface", {}).items() if k != "synthetic"}
+    table = data.get("surface", {})
+    if not isinstance(table, dict):
+        raise InputError(f"{source}: [surface] expected a table, found {type(table).__name__}")
+    surface = {k: v for k, v in table.items() if k != "synthetic"}
     surface["file"] = str(Path(map_path).resolve())
     return config_from_dict(
         {**data, "surface": surface}, source=f"{source} [{map_path}]", base_dir=base_dir
@@ -141,12 +145,10 @@ def run_one_map(
         if not _finished_report_in(folder, before):
             with report_removed_on_failure(folder):  # never half a report
                 write_report(result, folder)
-        record.update(
-            status=_map_status(result),
-            message="; ".join([*_invalid_reasons(result), *result.problems()][:3]),
-            values=summary_values(result),
-            computed=[s.name for s in result.stages if s.status == "computed"],
-        )
+        record["status"] = _map_status(result)
+        record["message"] = "; ".join([*_invalid_reasons(result), *result.problems()][:3])
+        record["values"] = summary_values(result)
+        record["computed"] = [s.name for s in result.stages if s.status == "computed"]
     except Exception as exc:  # noqa: BLE001 (one map's failure must not stop the batch)
         kind = "bad input" if isinstance(exc, InputError) else type(exc).__name__
         record["message"] = f"{kind}: {' '.join(str(exc).split())}"
@@ -253,7 +255,7 @@ def run_batch(
         futures = []
         for a in args:
             future = executor.submit(run_one_map, *a)
-            future.add_done_callback(lambda done, a=a: log(_log_line(done, a[3])))
+            future.add_done_callback(_log_when_done(log, a[3]))
             futures.append(future)
         records = [_record(future, a) for a, future in zip(args, futures, strict=True)]
     csv_path = write_summary_csv(records, out_dir / "summary.csv")
@@ -268,6 +270,17 @@ def _record(future: Future[MapRecord], args: tuple) -> MapRecord:
         return future.result()
     except Exception as exc:  # noqa: BLE001 (a worker lost: the map failed)
         return {"map": args[3], "folder": args[4], "status": "failed", "message": str(exc)}
+
+
+def _log_when_done(
+    log: Callable[[str], None], map_path: str
+) -> Callable[[Future[MapRecord]], None]:
+    """The callback that logs :func:`_log_line` for ``map_path`` once its run finishes."""
+
+    def logged(done: Future[MapRecord]) -> None:
+        log(_log_line(done, map_path))
+
+    return logged
 
 
 def _log_line(future: Future[MapRecord], map_path: str) -> str:

@@ -20,6 +20,7 @@ number when there are any.
 from __future__ import annotations
 
 import csv
+from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, TypedDict
 
@@ -31,6 +32,9 @@ from asperity.plotting import display_unit, log_axis, new_figure, save_figure, s
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
+
+    from asperity.pipelines.job import JobResult
+    from asperity.pipelines.stages.friction import FrictionPrediction
 
 #: Text columns among the values (no mean or std).
 TEXT_COLUMNS = ("verdict", "validity")
@@ -53,6 +57,13 @@ WRITTEN = " written ("
 def is_text_column(name: str) -> bool:
     """A column of text (no mean or std): :data:`TEXT_COLUMNS` and the written forms."""
     return name in TEXT_COLUMNS or WRITTEN in name
+
+
+def _stacked(friction: FrictionPrediction, name: str, i: int) -> float:
+    """Load ``i`` of a per-load field that :func:`asperity.fields.stacked` adds to the friction
+    result from :class:`asperity.statmodel.ShearCurve` (set at import: unseen by a type
+    checker)."""
+    return float(getattr(friction, name)[i])
 
 
 def _with_uncertainty(
@@ -91,7 +102,7 @@ def verdict_text(result: object) -> str:
     return ""
 
 
-def summary_values(result: object) -> dict[str, float | str]:
+def summary_values(result: JobResult) -> dict[str, float | str]:
     """The summary numbers of one run (SI; column names carry the units), each predicted
     quantity followed by its ``<quantity> uncertainty (unit)`` column (NaN where the model could not
     estimate it), then ``verdict`` and ``validity``. A run stopped where its verdict was known
@@ -121,11 +132,11 @@ def summary_values(result: object) -> dict[str, float | str]:
         area = float(res.real_area[res.index, i] / res.nominal_area)
         _with_uncertainty(values, f"A_r/A_n {at} (1)", area, area_u, low)
         static_u = _at(fr.static_friction_uncertainty, i)
-        _with_uncertainty(values, f"static friction {at} (N)", fr.static_friction[i], static_u, low)
+        static = _stacked(fr, "static_friction", i)
+        _with_uncertainty(values, f"static friction {at} (N)", static, static_u, low)
         sliding_u = _at(fr.sliding_friction_uncertainty, i)
-        _with_uncertainty(
-            values, f"sliding friction {at} (N)", fr.sliding_friction[i], sliding_u, low
-        )
+        sliding = _stacked(fr, "sliding_friction", i)
+        _with_uncertainty(values, f"sliding friction {at} (N)", sliding, sliding_u, low)
     values["verdict"] = verdict_text(result)
     values["validity"] = "; ".join(res.validity) or "within the model's assumptions"
     return values
@@ -226,7 +237,9 @@ def summary_header(records: list[MapRecord]) -> list[str]:
 def write_summary_csv(records: list[MapRecord], path: Path) -> Path:
     """The :func:`summary_header` comments, one row per map, then the mean and std rows."""
     columns = numeric_columns(records)
-    rows = [{**{k: r.get(k, "") for k in LEAD_COLUMNS}, **r.get("values", {})} for r in records]
+    rows: list[Mapping[str, object]] = [
+        {**{k: r.get(k, "") for k in LEAD_COLUMNS}, **r.get("values", {})} for r in records
+    ]
     rows += list(_statistics(records, columns))
     with open_atomic(path, "w", newline="", encoding="utf-8") as handle:
         for line in summary_header(records):
@@ -255,11 +268,11 @@ def _panel(ax: Axes, records: list[MapRecord], name: str, base: str, power: int)
         ax.plot(index[~sound], unit(values[~sound]), "x", color="#b00000", label="not ok")
     good = values[sound & np.isfinite(values)]
     if good.size:
-        m = unit(good.mean())
+        m = float(unit(good.mean()))
         ax.axhline(m, color="k", lw=1)
         if good.size > 1:
-            s = unit(good.std(ddof=1))
-            low = m - s if m - s > 0 or not spans_decades(good) else unit(good.min()) / 2
+            s = float(unit(good.std(ddof=1)))
+            low = m - s if m - s > 0 or not spans_decades(good) else float(unit(good.min())) / 2
             ax.axhspan(low, m + s, color="0.85", zorder=0)
     if spans_decades(good):
         log_axis(ax, "y", unit(good))

@@ -91,7 +91,7 @@ def _debugging() -> bool:
     return os.environ.get(DEBUG_VARIABLE, "") not in ("", "0")
 
 
-def _one_line(text: str) -> str:
+def _one_line(text: object) -> str:
     return " ".join(str(text).split())
 
 
@@ -148,9 +148,12 @@ def warnings_as_lines(command: str, stream=None) -> Iterator[list[str]]:  # noqa
                 emit(waiting.pop(0))
 
 
-def _path_error_text(exc: OSError) -> str:
-    if exc.filename is not None and exc.strerror:
-        return f"{exc.filename}: {exc.strerror}"
+def _path_error_text(exc: BaseException) -> str:
+    """``"<file>: <reason>"`` for an OSError naming its file, else the exception's text (h5py's
+    RuntimeError of a full disk has neither attribute)."""
+    filename, reason = getattr(exc, "filename", None), getattr(exc, "strerror", None)
+    if filename is not None and reason:
+        return f"{filename}: {reason}"
     return str(exc)
 
 
@@ -195,10 +198,10 @@ def _name_too_long(exc: BaseException) -> bool:
     return isinstance(exc, OSError) and exc.errno == errno.ENAMETOOLONG
 
 
-def _status(value: object) -> ExitStatus:
+def _status(value: int | None) -> ExitStatus:
     """A handler's return value as an exit status (None means success; an undocumented code
     raises ValueError, reported as an internal error)."""
-    return ExitStatus.OK if value is None else ExitStatus(int(value))
+    return ExitStatus.OK if value is None else ExitStatus.from_code(int(value))
 
 
 class ClosedPipeTolerant:

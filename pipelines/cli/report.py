@@ -23,6 +23,7 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
+from typing import cast
 
 from asperity.errors import InputError
 from asperity.files import describe_kind, require_regular_file
@@ -84,7 +85,7 @@ def handle_report(args: argparse.Namespace) -> int:
     from asperity.pipelines.report import write_report
     from asperity.pipelines.report.figure_output import FigureOptions
     from asperity.pipelines.results import open_results
-    from asperity.pipelines.stages.verdict import exit_status, verdict_wording
+    from asperity.pipelines.stages.verdict import Verdict, exit_status, verdict_wording
 
     named = Path(args.out_dir)
     path = named / "results.h5" if named.is_dir() else named
@@ -124,5 +125,6 @@ def handle_report(args: argparse.Namespace) -> int:
         with report_removed_on_failure(results.out_dir), interruptible():
             report = write_report(results, results.out_dir, options)
     print(f"{report}, {report.with_suffix('.html')} and the figures ({', '.join(options.formats)})")
-    print(verdict_wording(results.verdict))
-    return int(exit_status(results.converged, results.verdict))
+    verdict = cast(Verdict, results.verdict)  # among the required stages: stored
+    print(verdict_wording(verdict))
+    return int(exit_status(results.converged, verdict))

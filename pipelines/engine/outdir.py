@@ -43,6 +43,7 @@ import threading
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from pathlib import Path
 from types import TracebackType
+from typing import BinaryIO, cast
 
 from asperity.atomic import (  # noqa: F401 (re-exported: their documented home)
     STORAGE_ERRNOS,
@@ -105,11 +106,9 @@ def remove_stale_temporaries(directory: Path, log: Callable[[str], None]) -> lis
     return removed
 
 
-def _lock_exclusive(handle) -> bool:  # noqa: ANN001 (a binary file object)
+def _lock_exclusive(handle: BinaryIO) -> bool:
     """Try to lock ``handle`` without waiting; False when another process holds it."""
-    try:
-        import fcntl
-    except ImportError:  # Windows
+    if sys.platform == "win32":
         import msvcrt
 
         handle.seek(_WINDOWS_LOCK_OFFSET)
@@ -118,6 +117,8 @@ def _lock_exclusive(handle) -> bool:  # noqa: ANN001 (a binary file object)
         except OSError:
             return False
         return True
+    import fcntl
+
     try:
         fcntl.flock(handle.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
     except BlockingIOError:
@@ -171,7 +172,7 @@ class OutputLock:
         self.option = option
         self.path = self.directory / LOCK_NAME
         self.log = log or (lambda line: None)
-        self._handle = None
+        self._handle: BinaryIO | None = None
         self._key: Path | None = None
 
     def __enter__(self) -> OutputLock:
@@ -220,7 +221,7 @@ class OutputLock:
             handle.close()
         self._hold(handle, locked)
 
-    def _open_lock_file(self):  # noqa: ANN202 (a binary file object)
+    def _open_lock_file(self) -> BinaryIO:
         try:
             return open(self.path, "a+b")  # noqa: SIM115 (held until release)
         except OSError as exc:
@@ -229,7 +230,7 @@ class OutputLock:
                 f"({exc.strerror or exc}: {self.path})"
             ) from exc
 
-    def _hold(self, handle, locked: bool) -> None:  # noqa: ANN001 (a binary file object)
+    def _hold(self, handle: BinaryIO, locked: bool) -> None:
         """Keep ``handle`` as this run's lock (or refuse: another run holds it)."""
         if not locked:
             holder = _read_record(self.path)
@@ -266,13 +267,14 @@ class OutputLock:
             return False
 
     def _write_record(self) -> None:
+        """Write this run's pid record into the held lock file (replacing the last)."""
         record = {
             "pid": os.getpid(),
             "host": socket.gethostname(),
             "started": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
             "command": clip(" ".join(sys.argv)),
         }
-        handle = self._handle
+        handle = cast(BinaryIO, self._handle)  # only called by _hold, once it is set
         handle.seek(0)
         handle.truncate()
         handle.write((json.dumps(record) + "\n").encode())
@@ -324,7 +326,7 @@ class OutputLock:
                 self.directory.rmdir()
 
 
-def _same_file(handle, path: Path) -> bool:  # noqa: ANN001 (a binary file object)
+def _same_file(handle: BinaryIO, path: Path) -> bool:
     """Whether ``path`` still names the file ``handle`` has open (not removed, not replaced)."""
     try:
         return os.path.samestat(os.fstat(handle.fileno()), os.stat(path))

@@ -256,7 +256,7 @@ class WorkerPool(concurrent.futures.ProcessPoolExecutor):
     workers also end when this process is killed (:func:`start_worker`).
     """
 
-    def __exit__(self, exc_type, exc, tb) -> bool:  # noqa: ANN001
+    def __exit__(self, exc_type, exc, tb) -> bool | None:  # noqa: ANN001
         if exc_type is None:
             return super().__exit__(exc_type, exc, tb)
         self.terminate_workers()
@@ -316,6 +316,7 @@ def run_map(
     """
     from tqdm import tqdm
 
+    iterator: Iterator[T]
     if executor is None or isinstance(executor, SerialExecutor):
         iterator = (fn(*job) for job in jobs)
     else:

@@ -38,7 +38,7 @@ import time
 from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass, field
-from typing import Any, Generic, TypeVar
+from typing import Any, Generic, TypeVar, cast
 
 from asperity.fields import field_specs
 from asperity.pipelines.config import JOB_SCHEMA, Document, JobConfig, TomlValue
@@ -332,16 +332,22 @@ class Runner:
         gather the previews by the stage they precede."""
         self.labels = {stage.name: stage_label(stage, stages) for stage in stages}
         self.previews = {}
+        config = self.job_config()
         for stage in stages:
-            if stage.preview is not None and stage.enabled(self.context.config):
+            if stage.preview is not None and stage.enabled(config):
                 self.previews.setdefault(stage.preview.before, []).append(stage.preview)
         for stage in stages:
-            if not stage.enabled(self.context.config):
+            if not stage.enabled(config):
                 self.keys[stage.name], self.documents[stage.name] = DISABLED, ""
                 continue
             document = key_document(stage, self.config_document, self.keys, self.version)
             self.keys[stage.name] = hash_document(document)
             self.documents[stage.name] = json.dumps(document, sort_keys=True, default=str)
+
+    def job_config(self) -> JobConfig:
+        """The whole validated configuration: the runner's own context holds it (each stage's
+        ``compute`` sees a :class:`ConfigView` of it, built by :meth:`StageContext.for_stage`)."""
+        return cast(JobConfig, self.context.config)
 
     def run_all(self, stages: Sequence[Stage]) -> None:
         """Plan, then run every stage in order; write what was computed."""
@@ -386,8 +392,10 @@ class Runner:
             return None
         for preview in self.previews.get(stage.name, ()):
             self.run_preview(preview, label)
-        result, seconds, note = self.reuse(stage, key)
-        if result is not None:
+        reused = self.reuse(stage, key)  # unpacked apart: mypy would infer R from the targets
+        stored, seconds, note = reused
+        if stored is not None:
+            result = stored
             self.runs.append(StageRun(stage.name, key, "stored", seconds))
             self.log(f"{label}: stored, skipped")
         else:

@@ -95,6 +95,14 @@ def test_map_patterns_are_checked_before_any_run(small, tmp_path):
     assert not (tmp_path / "o").exists()
 
 
+def test_a_surface_key_that_is_no_table_is_bad_input_naming_it(tmp_path):
+    from asperity.errors import InputError
+    from asperity.pipelines.batch import map_config
+
+    with pytest.raises(InputError, match=r"job.toml: \[surface\] expected a table, found str"):
+        map_config({"surface": "map.npy"}, tmp_path, "job.toml", tmp_path / "map.npy")
+
+
 def _record(name, radius, fraction):
     values = {
         "effective resolution (m)": 40e-6,

@@ -18,10 +18,9 @@ from asperity.pipelines.stages.surface import read_and_level, scan_resolutions
 from tests._helpers import area_to_peak, sampled_area_curves, shear_area_model, small_data
 
 
-def test_effective_resolution_and_lambda_recovered_from_measurements(tmp_path):
-    """Measured A_r(F_z) made by the model at stride 3 and A_r(F_x) made with lambda = 0.1
-    (1 % noise): the job picks stride 3 and fits lambda within its uncertainty."""
-    data = small_data()
+def _measured_areas_at_stride_3(data: dict, tmp_path) -> tuple:
+    """area.csv in ``tmp_path``: A_r(F_z) (m^2 at N) the model makes at the roughness of
+    stride 3 of the job's map; the material, that roughness and A_n (m^2)."""
     cfg = config_from_dict(data, base_dir=tmp_path)
     scan = scan_resolutions(read_and_level(cfg.surface), cfg.surface.max_stride)
     truth = roughness_from_scan(scan, 2)  # stride 3
@@ -33,6 +32,31 @@ def test_effective_resolution_and_lambda_recovered_from_measurements(tmp_path):
         "normal_load,real_area\n"
         + "".join(f"{float(f)!r},{float(a)!r}\n" for f, a in zip(loads, area, strict=True))
     )
+    return material, truth, a_n
+
+
+def test_effective_resolution_recovered_from_measured_areas(tmp_path):
+    """Measured A_r(F_z) made by the model at stride 3 (no shear curves: lambda configured):
+    the job picks stride 3 and reproduces its own data (the default-run share of the slow
+    test below; the lambda recovery itself: tests/pipelines/test_pipelines_measured_curves)."""
+    data = small_data()
+    _measured_areas_at_stride_3(data, tmp_path)
+    data["measured"] = {"normal_area": "area.csv"}
+    data["bem"]["enabled"] = False  # the measurement alone calibrates (no BEM needed)
+    result = run_job(config_from_dict(data, base_dir=tmp_path), tmp_path / "out")
+    res, lam = result.statistical_model, result.mode_mixity
+    assert res.basis == "measured"
+    assert res.effective_stride == 3
+    assert res.misfit_measured[2] < 1e-6  # the model reproduces its own data
+    assert not lam.fitted and lam.mode_mixity == data["material"]["mode_mixity"]
+
+
+@pytest.mark.slow  # about 5 s (three lambda fits in the job); the default run stays < 3 min
+def test_effective_resolution_and_lambda_recovered_from_measurements(tmp_path):
+    """Measured A_r(F_z) made by the model at stride 3 and A_r(F_x) made with lambda = 0.1
+    (1 % noise): the job picks stride 3 and fits lambda within its uncertainty."""
+    data = small_data()
+    material, truth, a_n = _measured_areas_at_stride_3(data, tmp_path)
     rng = np.random.default_rng(0)
     peaks = area_to_peak(shear_area_model(material, truth, a_n, 81), 0.1, (1.0, 3.0))
     curves = sampled_area_curves(peaks, (1.0, 3.0), 25, 0.95, noise=0.01, rng=rng)

@@ -205,10 +205,10 @@ def _cgroup_limits(
             for base in (root / "memory" / group.lstrip("/"), root / "memory"):
                 file = base / "memory.limit_in_bytes"
                 limits.append((_read_bytes_value(file), file))
-    limits = [(value, file) for value, file in limits if value is not None]
-    if not limits:
+    known = [(value, file) for value, file in limits if value is not None]
+    if not known:
         return {}
-    value, file = min(limits)
+    value, file = min(known)
     return {f"the control group's memory limit ({file})": value}
 
 
