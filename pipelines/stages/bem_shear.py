@@ -473,6 +473,20 @@ def _model_features(friction: FrictionPrediction, index: int) -> dict[str, float
     }
 
 
+def _model_fields(friction: FrictionPrediction, index: list[int]) -> dict[str, np.ndarray]:
+    """The comparison's ``model_*`` arrays at the loads sheared (their indices among the
+    friction stage's): F_s, F_d (N), their delta_T (m), the area drop."""
+    model = [_model_features(friction, i) for i in index]
+    names = (
+        "static_friction",
+        "sliding_friction",
+        "static_displacement",
+        "sliding_displacement",
+        "area_drop",
+    )
+    return {f"model_{name}": np.array([m[name] for m in model]) for name in names}
+
+
 def _path_end(friction: FrictionPrediction, index: int, settings: BemShearConfig) -> float:
     """The last delta_T (m) at load ``index``: the configured one, else :data:`PATH_FACTOR`
     times the model's sliding displacement (the model's own path end where it has none)."""
@@ -570,7 +584,6 @@ def bem_shear_comparison(
     fields = _collect_curves(solved, loads, strides, nominal_area / map_area, paths.shape[1])
     fields["warnings"] = notes + fields["warnings"]
     errors = _grid_errors(fields, np.array([g.dx for g in grids]))
-    model = [_model_features(friction, i) for i in index]
     return BemShearComparison(
         normal_load=loads,
         grid_stride=np.asarray(strides, dtype=int),
@@ -580,11 +593,7 @@ def bem_shear_comparison(
         tangential_displacement=paths,
         planned_displacement=np.array([_path_end(friction, i, settings) for i in index]),
         **fields,
-        model_static_friction=np.array([m["static_friction"] for m in model]),
-        model_sliding_friction=np.array([m["sliding_friction"] for m in model]),
-        model_static_displacement=np.array([m["static_displacement"] for m in model]),
-        model_sliding_displacement=np.array([m["sliding_displacement"] for m in model]),
-        model_area_drop=np.array([m["area_drop"] for m in model]),
+        **_model_fields(friction, index),
         e_star=float(e_star),
         work_of_adhesion=float(work_of_adhesion),
         mode_mixity=float(mode_mixity),
