@@ -255,21 +255,41 @@ def draw_friction_test(result: Run, i: int) -> tuple[Figure, FigureTable]:
     end = max(float(np.nanmax(drive_m)), float(tests.measured_static_drive[i]))
     if path_d[-1] < 1.05 * end:  # beyond the model's path its last force holds (full sliding)
         path_d, path_f = np.append(path_d, 1.05 * end), np.append(path_f, path_f[-1])
-    inside = path_d <= 1.05 * end
     du = display_unit([end], "m")
     fu = display_unit([np.nanmax(force_m), np.nanmax(path_f)], "N")
     fig = new_figure(7, 4.5)
     ax = fig.subplots()
     ax.plot(du(drive_m), fu(force_m), ".", color="0.45", ms=3, label="measured")
-    ax.plot(
-        du(path_d[inside]),
-        fu(path_f[inside]),
-        "-",
-        color="C0",
-        lw=1.6,
-        label="model, drive-controlled",
+    _draw_model_paths(ax, model, (path_d, path_f), 1.05 * end, du, fu)
+    _draw_static_peaks(ax, tests, i, du, fu)
+    table = FigureTable()
+    x_col, y_col = "drive displacement (m)", "tangential force F_x (N)"
+    if tests.bem_drive is not None and np.isfinite(tests.bem_drive[i]).sum() >= 2:
+        bem_d, bem_f = _model(tests, i, "bem").followed_path()
+        keep = bem_d <= 1.05 * end
+        ax.plot(du(bem_d[keep]), fu(bem_f[keep]), "-", color="C4", lw=1,
+                label="shear BEM, drive-controlled")  # fmt: skip
+        table.add("all", "shear BEM drive-controlled", {x_col: bem_d, y_col: bem_f})
+    table.add("all", "measured", {x_col: drive_m, y_col: force_m})
+    table.add("all", "model drive-controlled", {x_col: path_d, y_col: path_f})
+    table.add(
+        "all",
+        "model quasi-static",
+        {x_col: model.drive_displacement, y_col: model.tangential_force},
     )
-    shown = model.drive_displacement <= 1.05 * end
+    _annotate_jump(ax, model, du, fu)
+    _finish_test_axes(ax, tests, i, 1.05 * end, du, fu)
+    return fig, table
+
+
+def _draw_model_paths(ax, model, path: tuple[np.ndarray, np.ndarray], end: float, du, fu) -> None:
+    """The model's drive-controlled path (solid) and its unstable branch (dotted) up to
+    ``end`` (m of drive)."""
+    path_d, path_f = path
+    inside = path_d <= end
+    ax.plot(du(path_d[inside]), fu(path_f[inside]), "-", color="C0", lw=1.6,
+            label="model, drive-controlled")  # fmt: skip
+    shown = model.drive_displacement <= end
     ax.plot(
         du(model.drive_displacement[shown]),
         fu(_unstable_segments(model)[shown]),
@@ -278,6 +298,10 @@ def draw_friction_test(result: Run, i: int) -> tuple[Figure, FigureTable]:
         lw=1.2,
         label="model, unstable branch" if model.stick_slip else None,
     )
+
+
+def _draw_static_peaks(ax, tests, i: int, du, fu) -> None:
+    """The measured and the predicted static peak of test ``i`` with their one-sigma bars."""
     ax.errorbar(
         du(tests.measured_static_drive[i]),
         fu(tests.measured_static_friction[i]),
@@ -300,38 +324,26 @@ def draw_friction_test(result: Run, i: int) -> tuple[Figure, FigureTable]:
         capsize=3,
         label="predicted peak",
     )
-    table = FigureTable()
-    x_col, y_col = "drive displacement (m)", "tangential force F_x (N)"
-    if tests.bem_drive is not None and np.isfinite(tests.bem_drive[i]).sum() >= 2:
-        bem_d, bem_f = _model(tests, i, "bem").followed_path()
-        keep = bem_d <= 1.05 * end
-        ax.plot(
-            du(bem_d[keep]),
-            fu(bem_f[keep]),
-            "-",
-            color="C4",
-            lw=1,
-            label="shear BEM, drive-controlled",
-        )
-        table.add("all", "shear BEM drive-controlled", {x_col: bem_d, y_col: bem_f})
-    table.add("all", "measured", {x_col: drive_m, y_col: force_m})
-    table.add("all", "model drive-controlled", {x_col: path_d, y_col: path_f})
-    table.add(
-        "all",
-        "model quasi-static",
-        {x_col: model.drive_displacement, y_col: model.tangential_force},
+
+
+def _annotate_jump(ax, model, du, fu) -> None:
+    """The first stick-slip jump's force drop, beside it (none without a jump)."""
+    if not model.jumps:
+        return
+    jump = model.jumps[0]
+    ax.annotate(
+        f"stick-slip: drop {format_quantity(jump.force_drop, 'N')}",
+        (du(jump.drive_displacement), fu(0.5 * (jump.force_before + jump.force_after))),
+        xytext=(8, 0),
+        textcoords="offset points",
+        fontsize=8,
+        color="C3",
     )
-    if model.jumps:
-        jump = model.jumps[0]
-        ax.annotate(
-            f"stick-slip: drop {format_quantity(jump.force_drop, 'N')}",
-            (du(jump.drive_displacement), fu(0.5 * (jump.force_before + jump.force_after))),
-            xytext=(8, 0),
-            textcoords="offset points",
-            fontsize=8,
-            color="C3",
-        )
-    ax.set_xlim(0, float(du(1.05 * end)))
+
+
+def _finish_test_axes(ax, tests, i: int, end: float, du, fu) -> None:
+    """Limits, labels with units, the load, spring and lambda in the title, the legend."""
+    ax.set_xlim(0, float(du(end)))
     ax.set_ylim(0, None)
     ax.set_xlabel(du.label("drive displacement"))
     ax.set_ylabel(fu.label("tangential force $F_x$"))
@@ -342,7 +354,6 @@ def draw_friction_test(result: Run, i: int) -> tuple[Figure, FigureTable]:
         fontsize=10,
     )
     ax.legend(fontsize=7, loc="lower right")
-    return fig, table
 
 
 def draw_friction_coefficient(result: Run) -> tuple[Figure, FigureTable]:
