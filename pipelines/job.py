@@ -52,7 +52,7 @@ from asperity.pipelines.engine.stage import (
     stage_label,
 )
 from asperity.pipelines.engine.store import ResultStore
-from asperity.pipelines.measured import read_measurements
+from asperity.pipelines.measured import Measurements, read_measurements
 from asperity.pipelines.measured_friction import read_friction_files
 from asperity.pipelines.results import StageResults, solver_problems
 from asperity.pipelines.stages import STAGE_NAMES, STAGES
@@ -168,15 +168,7 @@ def run_job(
     """
     t_job = time.perf_counter()
     out_dir = Path(out_dir)
-    measured = read_measurements(
-        config.measured, config.loading.nominal_area, config.loading.normal_loads
-    )  # a malformed CSV, or a curve at a load not configured, fails before any work
-    measured = replace(
-        measured,
-        friction_curves=read_friction_files(
-            config.measured.friction_curves, config.loading.normal_loads
-        ),
-    )
+    measured = _read_measured(config)  # a malformed CSV fails before any work
     input_hash = input_sha256(config.surface)
     workers = config.run.workers if workers is None else workers
     caller_log = log or (lambda line: None)
@@ -218,6 +210,20 @@ def run_job(
         stages=runner.runs,
         total_seconds=time.perf_counter() - t_job,
         input_sha256=input_hash,
+    )
+
+
+def _read_measured(config: JobConfig) -> Measurements:
+    """The job's measured curves (``[measured]``: A_r(F_z), A_r(F_x), friction tests), in SI:
+    a malformed CSV, or a curve at a load not configured, is an InputError naming it."""
+    measured = read_measurements(
+        config.measured, config.loading.nominal_area, config.loading.normal_loads
+    )
+    return replace(
+        measured,
+        friction_curves=read_friction_files(
+            config.measured.friction_curves, config.loading.normal_loads
+        ),
     )
 
 

@@ -157,7 +157,24 @@ def run_shear(args: argparse.Namespace, heights, dx: float, dy: float) -> int:
         curve = mixed_mode_shear_curve(*path, law, **common)
     else:
         curve = shear_curve(*path, work_of_adhesion=args.work_of_adhesion, **common)
-    rows = [
+    rows = _json_rows(curve)
+    if args.json:
+        print(json.dumps(rows))
+    else:
+        _print_table(args, heights.shape, force, curve.normal_seconds, rows)
+    failed = [r for r in rows if not r["converged"]]
+    for r in failed:
+        print(
+            f"asperity bem: shear step at delta_T = {r['tangential_displacement']:.6g} m did not "
+            "converge",
+            file=sys.stderr,
+        )
+    return 1 if failed else 0
+
+
+def _json_rows(curve) -> list[dict]:
+    """One JSON-ready row per step of a shear curve (SI: m, N, m^2, s)."""
+    return [
         {
             "tangential_displacement": float(curve.tangential_displacement[i]),
             "tangential_force": float(curve.tangential_force[i]),
@@ -174,29 +191,22 @@ def run_shear(args: argparse.Namespace, heights, dx: float, dy: float) -> int:
         }
         for i in range(curve.tangential_displacement.size)
     ]
-    if args.json:
-        print(json.dumps(rows))
-    else:
+
+
+def _print_table(args: argparse.Namespace, shape, force: float, preload_s: float, rows) -> None:
+    """The shear curve as a terminal table (SI units), under a line naming the map and law."""
+    print(
+        f"{args.file}: {shape[0]} x {shape[1]} pixels, F_z = {force:.4g} N, "
+        f"E* = {args.e_star:.4g} Pa, w = {args.work_of_adhesion:.4g} J/m^2, preload "
+        f"{preload_s:.3f} s"
+    )
+    print(
+        f"{'delta_T (m)':>12} {'F_x (N)':>12} {'A_r (m^2)':>12} {'stick (m^2)':>12} "
+        f"{'junctions':>9} {'sliding':>7} {'converged':>9}"
+    )
+    for r in rows:
         print(
-            f"{args.file}: {heights.shape[0]} x {heights.shape[1]} pixels, F_z = {force:.4g} N, "
-            f"E* = {args.e_star:.4g} Pa, w = {args.work_of_adhesion:.4g} J/m^2, preload "
-            f"{curve.normal_seconds:.3f} s"
+            f"{r['tangential_displacement']:12.5g} {r['tangential_force']:12.5g} "
+            f"{r['real_area']:12.5g} {r['stick_area']:12.5g} {r['junctions']:9d} "
+            f"{r['sliding']!s:>7} {r['converged']!s:>9}"
         )
-        print(
-            f"{'delta_T (m)':>12} {'F_x (N)':>12} {'A_r (m^2)':>12} {'stick (m^2)':>12} "
-            f"{'junctions':>9} {'sliding':>7} {'converged':>9}"
-        )
-        for r in rows:
-            print(
-                f"{r['tangential_displacement']:12.5g} {r['tangential_force']:12.5g} "
-                f"{r['real_area']:12.5g} {r['stick_area']:12.5g} {r['junctions']:9d} "
-                f"{r['sliding']!s:>7} {r['converged']!s:>9}"
-            )
-    failed = [r for r in rows if not r["converged"]]
-    for r in failed:
-        print(
-            f"asperity bem: shear step at delta_T = {r['tangential_displacement']:.6g} m did not "
-            "converge",
-            file=sys.stderr,
-        )
-    return 1 if failed else 0

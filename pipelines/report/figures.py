@@ -278,6 +278,24 @@ def radius_fit_line(scan: ScanResult, resolution: np.ndarray) -> FitLine:
     return {"fit": fit[keep], "fit_x": np.asarray(resolution)[keep], "fit_label": label}
 
 
+def _draw_stride_curves(series: Callable[..., None], res, drawn: bool) -> None:
+    """Fig 12d's JKR model curves at the finest and coarsest strides (and at the stride of
+    least misfit when no effective band is ``drawn``), through ``series``: each its own colour,
+    marker and dash, so that neither hides under the effective curves it may lie on."""
+    loads = np.asarray(res.normal_load, dtype=float)
+    strides = {0, len(res.stride) - 1} | (set() if drawn else {res.index})
+    styles = {0: ("d:", "C9"), len(res.stride) - 1: ("x-.", "C6")}
+    for i in sorted(strides):
+        if drawn and np.isclose(res.resolution[i], res.effective_resolution, rtol=1e-9):
+            continue  # the effective curve (drawn with its band) is this one
+        if np.all(np.isfinite(res.real_area[i])):
+            ru = display_unit(res.resolution[i], "m")
+            name = f"JKR model, {ru(res.resolution[i]):.3g} {ru.symbol}"
+            name += " (stride of least misfit)" if i == res.index else ""
+            style, color = ("-", "C3") if i == res.index else styles.get(i, (":", "C3"))
+            series(name, loads, res.real_area[i] / res.nominal_area, style, color=color, ms=5)
+
+
 def _draw_area_vs_load(ax: Axes, result: Run, table: FigureTable) -> None:
     """Fig 12d: A_r/A_n against F_z from BEM, the statistical model, Persson, measurement."""
     res, bem = result.statistical_model, result.bem_reference
@@ -316,19 +334,7 @@ def _draw_area_vs_load(ax: Axes, result: Run, table: FigureTable) -> None:
             series("BEM, adhesive", bem.normal_load, bem.contact_fraction_adhesive, "s", bars[1])
         non_adhesive_series(series, res)
     drawn = draw_model_band(ax, fu, result, table, (x_col, y_col))
-    strides = {0, len(res.stride) - 1} | (set() if drawn else {res.index})
-    # the finest and coarsest strides: each its own colour, marker and dash, so that neither
-    # hides under the effective curves it may lie on
-    styles = {0: ("d:", "C9"), len(res.stride) - 1: ("x-.", "C6")}
-    for i in sorted(strides):
-        if drawn and np.isclose(res.resolution[i], res.effective_resolution, rtol=1e-9):
-            continue  # the effective curve (drawn with its band) is this one
-        if np.all(np.isfinite(res.real_area[i])):
-            ru = display_unit(res.resolution[i], "m")
-            name = f"JKR model, {ru(res.resolution[i]):.3g} {ru.symbol}"
-            name += " (stride of least misfit)" if i == res.index else ""
-            style, color = ("-", "C3") if i == res.index else styles.get(i, (":", "C3"))
-            series(name, loads, res.real_area[i] / a_n, style, color=color, ms=5)
+    _draw_stride_curves(series, res, drawn)
     persson = persson_fraction(result)
     if persson is not None:
         series("Persson, non-adhesive", result.psd.normal_load, persson, "-.", color="C4")

@@ -721,24 +721,32 @@ def summary_text(result: Run) -> str:
     return "\n".join(lines)
 
 
-def report_markdown(result: Run, figures: dict[str, Path]) -> str:
-    """The text of ``report.md``: verdict, key numbers, per-load table, sections, stage table
-    and the figures ``figures`` ({name: written file}) with their captions."""
-    header, rows = load_table(result)
-    status = {
-        "stored": "stored (skipped)",
-        "computed": "computed",
-        "disabled": "disabled",
-        "skipped": "not computed",
-    }
-    stage_rows = [
+#: How a stage's status reads in the report's stage table.
+STAGE_STATUS_WORDS = {
+    "stored": "stored (skipped)",
+    "computed": "computed",
+    "disabled": "disabled",
+    "skipped": "not computed",
+}
+
+
+def _stage_rows(result: Run) -> list[list[str]]:
+    """The stage table's rows: name, status in words (with its note), seconds."""
+    return [
         [
             s.name,
-            status.get(s.status, s.status) + (f" ({s.note})" if s.note else ""),
+            STAGE_STATUS_WORDS.get(s.status, s.status) + (f" ({s.note})" if s.note else ""),
             f"{s.seconds:.2f}",
         ]
         for s in result.stages
     ]
+
+
+def report_markdown(result: Run, figures: dict[str, Path]) -> str:
+    """The text of ``report.md``: verdict, key numbers, per-load table, sections, stage table
+    and the figures ``figures`` ({name: written file}) with their captions."""
+    header, rows = load_table(result)
+    stage_rows = _stage_rows(result)
     problems = result.problems()
     verdict = getattr(result, "verdict", None)
     text = [
