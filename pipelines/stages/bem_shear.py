@@ -65,10 +65,15 @@ import numpy as np
 
 from asperity import statmodel, topo
 from asperity.bem.errors import BemInputError
-from asperity.bem.normal.contact import solve_contact
 from asperity.bem.options import SolverOptions
 from asperity.bem.reference.discretisation import richardson_extrapolation
-from asperity.bem.reference.load_sweeps import Grid, decimated_grid
+from asperity.bem.reference.load_sweeps import (
+    ContactSetup,
+    Grid,
+    decimated_grid,
+    solve_adhesive_loading,
+    solve_non_adhesive,
+)
 from asperity.bem.result import ContactResult
 from asperity.bem.shear.mixed_mode import MixedModeLaw
 from asperity.bem.shear.rough import ShearCurve
@@ -383,21 +388,17 @@ def _preload_state(
     tol: float,
     periodic: bool,
 ) -> ContactResult:
-    """The BEM reference's adhesive state at ``map_load`` (N) on ``grid``: its adhesive solve
-    started from the non-adhesive one at the same load (the loading branch, as
-    :func:`asperity.bem.reference.load_sweeps.solve_adhesive_loading` makes it), with the
-    reference's ``law`` keywords (``adhesion``, ``adhesion_range`` m)."""
-    options = SolverOptions(tol=tol)
-    plain = solve_contact(
-        grid.heights, grid.dx, grid.dy, material.e_star, normal_force=map_load,
-        periodic=periodic, options=options,
+    """The BEM reference's adhesive state at ``map_load`` (N) on ``grid``, made as the
+    reference makes it (:func:`~asperity.bem.reference.load_sweeps.solve_non_adhesive`, then
+    :func:`~asperity.bem.reference.load_sweeps.solve_adhesive_loading` from it: the loading
+    branch), with the reference's ``law`` keywords (``adhesion_range`` m: Maugis-Dugdale;
+    none: Pohrt-Popov)."""
+    setup = ContactSetup(
+        material.e_star, material.work_of_adhesion, SolverOptions(tol=tol), periodic,
+        adhesion_range=law.get("adhesion_range"),
     )  # fmt: skip
-    state = solve_contact(
-        grid.heights, grid.dx, grid.dy, material.e_star, normal_force=map_load,
-        work_of_adhesion=material.work_of_adhesion,
-        initial=dataclasses.replace(plain, normal_force=float(map_load)),
-        periodic=periodic, options=options, **law,
-    )  # fmt: skip
+    plain = solve_non_adhesive(grid, setup, map_load)
+    state = solve_adhesive_loading(grid, setup, plain, map_load)
     for r in (plain, state):
         if not r.converged:
             raise BemInputError(f"preload (the reference's solve) did not converge: {r.message}")
