@@ -109,8 +109,6 @@ def model_judgement(shear: BemShearComparison, model_area: np.ndarray) -> str:
     """What the comparison says about the model, in one paragraph of numbers: the model over
     the BEM (grid used) for F_s, its delta_T, F_d and A_r(F_x = 0) (``model_area``, m^2 per
     load sheared), and the area drops side by side (ranges over the loads)."""
-
-    span = _span
     with np.errstate(divide="ignore", invalid="ignore"):
         static = shear.model_static_friction / shear.static_friction[0]
         sliding = shear.model_sliding_friction / shear.sliding_friction[0]
@@ -120,10 +118,10 @@ def model_judgement(shear: BemShearComparison, model_area: np.ndarray) -> str:
     bem_ratio = shear.static_friction[0] / shear.sliding_friction[0]
     model_ratio = shear.model_static_friction / shear.model_sliding_friction
     return (
-        f"Model over BEM: static friction x {span(static)}, its delta_T x {span(shift)}, "
-        f"sliding friction x {span(sliding)}, A_r(F_x = 0) x {span(area)}; F_s/F_d BEM "
-        f"{span(bem_ratio)}, model {span(model_ratio)}; area drop A_r(peak)/A_r(0) BEM "
-        f"{span(drop_bem)}, model {span(drop_model)}."
+        f"Model over BEM: static friction x {_span(static)}, its delta_T x {_span(shift)}, "
+        f"sliding friction x {_span(sliding)}, A_r(F_x = 0) x {_span(area)}; F_s/F_d BEM "
+        f"{_span(bem_ratio)}, model {_span(model_ratio)}; area drop A_r(peak)/A_r(0) BEM "
+        f"{_span(drop_bem)}, model {_span(drop_model)}."
     )
 
 
@@ -142,20 +140,30 @@ def comparison_line(result: Run, shear: BemShearComparison) -> str:
     if ref is None:
         return f"{head}; no normal BEM reference in this run to match it with."
     law = ref.adhesion or "none"
-    gaps = []
-    if int(ref.stride) != int(shear.grid_stride[0]):
-        gaps.append(f"its pixel {shear.grid_pixel_size[0] / ref.dx:.3g}x the reference's")
-    if not preload.startswith("the reference's"):
-        gaps.append(f"its preload is {preload}, not the reference's adhesive state ({law})")
-    ratio = _start_area_ratio(shear)
-    if ratio:
-        gaps += [] if ratio[1] <= 0.05 else [f"A_r(F_x = 0) {ratio[0]} the reference's"]
+    gaps = _unlike(ref, shear)
     verdict = "like for like" if not gaps else "not like for like: " + "; ".join(gaps)
+    ratio = _start_area_ratio(shear)
     numbers = f" (A_r(F_x = 0) / reference A_r: {ratio[0]})" if ratio else ""
     return (
         f"{head}; the model was calibrated on the normal BEM reference at stride "
         f"{int(ref.stride)} ({ref.dx * 1e6:.3g} µm, adhesion {law}): {verdict}{numbers}."
     )
+
+
+def _unlike(ref: object, shear: BemShearComparison) -> list[str]:
+    """What differs between the shear BEM and the normal reference ``ref`` (empty: like for
+    like): the grid, the state before shear, A_r(F_x = 0) beyond 5 %."""
+    gaps = []
+    if int(ref.stride) != int(shear.grid_stride[0]):
+        gaps.append(f"its pixel {shear.grid_pixel_size[0] / ref.dx:.3g}x the reference's")
+    preload = getattr(shear, "preload", "pohrt-popov overload-unload")
+    if not preload.startswith("the reference's"):
+        law = ref.adhesion or "none"
+        gaps.append(f"its preload is {preload}, not the reference's adhesive state ({law})")
+    ratio = _start_area_ratio(shear)
+    if ratio and ratio[1] > 0.05:
+        gaps.append(f"A_r(F_x = 0) {ratio[0]} the reference's")
+    return gaps
 
 
 def _start_area_ratio(shear: BemShearComparison) -> tuple[str, float] | None:
@@ -169,9 +177,7 @@ def _start_area_ratio(shear: BemShearComparison) -> tuple[str, float] | None:
     ratio = ratio[np.isfinite(ratio)]
     if not ratio.size:
         return None
-    low, high = float(ratio.min()), float(ratio.max())
-    span = f"x {low:.3f}" if math.isclose(low, high, rel_tol=5e-4) else f"x {low:.3f}-{high:.3f}"
-    return span, float(np.max(np.abs(ratio - 1.0)))
+    return "x " + _span(ratio, ".3f", 5e-4), float(np.max(np.abs(ratio - 1.0)))
 
 
 def shear_key_numbers(result: Run) -> list[tuple[str, str]]:
@@ -183,10 +189,9 @@ def shear_key_numbers(result: Run) -> list[tuple[str, str]]:
         return []
     ratio = _start_area_ratio(shear)
     ref = getattr(result, "bem_reference", None)
-    line = comparison_line(result, shear)
-    like = "not like for like" if "not like" in line else "like for like"
+    like = "like for like" if ref is not None and not _unlike(ref, shear) else "not like for like"
     grid = f"{shear.grid_pixel_size[0] * 1e6:.3g} µm grid"
-    start = f", A_r(F_x = 0) / reference {ratio[0]}" if ratio and ref is not None else ""
+    start = f", A_r(F_x = 0) / reference {ratio[0]}" if ratio else ""
     with np.errstate(divide="ignore", invalid="ignore"):
         static = shear.model_static_friction / shear.static_friction[0]
         sliding = shear.model_sliding_friction / shear.sliding_friction[0]
@@ -201,14 +206,17 @@ def shear_key_numbers(result: Run) -> list[tuple[str, str]]:
     ]
 
 
-def _span(values: np.ndarray) -> str:
-    """'a' or 'a-b' over the finite values (3 digits), 'n/a' without any."""
+def _span(values: np.ndarray, form: str = ".3g", rel_tol: float = 5e-3) -> str:
+    """'a' or 'a-b' over the finite values (in ``form``; one value where the ends agree within
+    ``rel_tol``), 'n/a' without any."""
     values = np.asarray(values, dtype=float)
     values = values[np.isfinite(values)]
     if not values.size:
         return "n/a"
     low, high = float(values.min()), float(values.max())
-    return f"{low:.3g}" if math.isclose(low, high, rel_tol=5e-3) else f"{low:.3g}-{high:.3g}"
+    if math.isclose(low, high, rel_tol=rel_tol):
+        return format(low, form)
+    return f"{format(low, form)}-{format(high, form)}"
 
 
 def _grid_text(shear: BemShearComparison) -> str:
