@@ -380,23 +380,11 @@ def curve_features(
     }
 
 
-def _preload_state(
-    grid: Grid,
-    map_load: float,
-    material: statmodel.Material,
-    law: dict,
-    tol: float,
-    periodic: bool,
-) -> ContactResult:
+def _preload_state(grid: Grid, map_load: float, setup: ContactSetup) -> ContactResult:
     """The BEM reference's adhesive state at ``map_load`` (N) on ``grid``, made as the
-    reference makes it (:func:`~asperity.bem.reference.load_sweeps.solve_non_adhesive`, then
-    :func:`~asperity.bem.reference.load_sweeps.solve_adhesive_loading` from it: the loading
-    branch), with the reference's ``law`` keywords (``adhesion_range`` m: Maugis-Dugdale;
-    none: Pohrt-Popov)."""
-    setup = ContactSetup(
-        material.e_star, material.work_of_adhesion, SolverOptions(tol=tol), periodic,
-        adhesion_range=law.get("adhesion_range"),
-    )  # fmt: skip
+    reference makes it with its ``setup`` (:func:`~asperity.bem.reference.load_sweeps.
+    solve_non_adhesive`, then :func:`~asperity.bem.reference.load_sweeps.
+    solve_adhesive_loading` from it: the loading branch)."""
     plain = solve_non_adhesive(grid, setup, map_load)
     state = solve_adhesive_loading(grid, setup, plain, map_load)
     for r in (plain, state):
@@ -413,21 +401,20 @@ def _solve_curve(
     law: str,
     tol: float,
     periodic: bool,
-    preload_law: dict | None,
+    preload: ContactSetup | None,
 ) -> dict:
     """One load on one grid (a worker job): the curve on the map, its warnings and time;
-    ``material`` gives E* (Pa), w (J/m^2), lambda and tau_0 (Pa); ``preload_law`` the
-    reference's adhesion-law keywords (the preload is its loading branch), None: the
-    Pohrt-Popov overload-unload preload."""
+    ``material`` gives E* (Pa), w (J/m^2), lambda and tau_0 (Pa); ``preload`` the reference's
+    solve set-up (the state before shear is its loading branch), None: the Pohrt-Popov
+    overload-unload preload."""
     heights = grid.heights - grid.heights.mean()
     options = ShearOptions(tol=tol, threads=worker_threads())
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         t0 = time.perf_counter()
         initial = None
-        if preload_law is not None:
-            centred = dataclasses.replace(grid, heights=heights)
-            initial = _preload_state(centred, map_load, material, preload_law, tol, periodic)
+        if preload is not None:
+            initial = _preload_state(dataclasses.replace(grid, heights=heights), map_load, preload)
         curve = mixed_mode_shear_curve(
             heights,
             grid.dx,
@@ -571,13 +558,13 @@ def bem_shear_comparison(
         )
     loads, index = _loads_and_model_index(friction, settings)
     strides, grids, notes = _grids(surface, settings, reference)
-    preload_law = _preload_law(settings, reference)
-    paths = np.array([_path(friction, i, settings) for i in index])
     material = statmodel.Material(e_star, work_of_adhesion, mode_mixity, shear_strength)
+    preload = _preload_setup(settings, reference, material, periodic)
+    paths = np.array([_path(friction, i, settings) for i in index])
     map_area = np.array([g.area for g in grids])
     jobs = [
         (grid, float(f) * map_area[g] / nominal_area, paths[j], material, settings.law,
-         settings.tol, periodic, preload_law)
+         settings.tol, periodic, preload)
         for g, grid in enumerate(grids)
         for j, f in enumerate(loads)
     ]  # fmt: skip
@@ -608,10 +595,16 @@ def bem_shear_comparison(
     )
 
 
-def _preload_law(settings: BemShearConfig, reference: BemReference | None) -> dict | None:
-    """The reference's adhesion-law keywords for the preload (``preload = "reference"``;
-    Pohrt-Popov's loading branch where the reference made no adhesive solve), None for the
-    Pohrt-Popov overload-unload preload; an InputError without a reference."""
+def _preload_setup(
+    settings: BemShearConfig,
+    reference: BemReference | None,
+    material: statmodel.Material,
+    periodic: bool,
+) -> ContactSetup | None:
+    """The reference's solve set-up for the preload (``preload = "reference"``: its
+    Maugis-Dugdale range h_0, m, or Pohrt-Popov's criterion where it made no Maugis solve;
+    E*, w and ``bem_shear.tol``), None for the Pohrt-Popov overload-unload preload; an
+    InputError without a reference."""
     if settings.preload != "reference":
         return None
     if reference is None:
@@ -619,9 +612,11 @@ def _preload_law(settings: BemShearConfig, reference: BemReference | None) -> di
             'bem_shear.preload: "reference" needs the BEM reference stage (bem.enabled = true); '
             'got no reference: set bem_shear.preload = "pohrt-popov" and a bem_shear.stride'
         )
-    if reference.adhesion == "maugis":
-        return {"adhesion": "maugis", "adhesion_range": float(reference.adhesion_range)}
-    return {"adhesion": "pohrt-popov"}
+    h0 = float(reference.adhesion_range) if reference.adhesion == "maugis" else None
+    return ContactSetup(
+        material.e_star, material.work_of_adhesion, SolverOptions(tol=settings.tol), periodic,
+        adhesion_range=h0,
+    )  # fmt: skip
 
 
 def _preload_text(settings: BemShearConfig, reference: BemReference | None) -> str:

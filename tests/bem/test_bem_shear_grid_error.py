@@ -16,20 +16,22 @@ import numpy as np
 import pytest
 
 from asperity import statmodel, topo
+from asperity.bem.options import SolverOptions
 from asperity.bem.reference.interpolated_refinement import fourier_upsample
-from asperity.bem.reference.load_sweeps import Grid
+from asperity.bem.reference.load_sweeps import ContactSetup, Grid
 from asperity.pipelines.stages.bem_shear import _grid_errors, _solve_curve, curve_features
 from asperity.statmodel.jkr import jkr_contact_radius, jkr_normal_load
 
 E_STAR, W, LAMBDA, TAU0 = 2.133e6, 0.040, 0.03, 0.13e6
 RANGE = 12.5e-6  # m, the default job's Maugis-Dugdale range
 MATERIAL = statmodel.Material(E_STAR, W, LAMBDA, TAU0)
-LAW = {"adhesion": "maugis", "adhesion_range": RANGE}
+#: The reference's solve set-up the preload is made with (periodic, Maugis-Dugdale at RANGE).
+PRELOAD = ContactSetup(E_STAR, W, SolverOptions(tol=1e-6), True, adhesion_range=RANGE)
 
 
 def _features(grid: Grid, load: float, path: np.ndarray) -> dict[str, float]:
     """F_s (N), F_d (N) and the area drop of one curve solved as the stage solves it."""
-    out = _solve_curve(grid, load, path, MATERIAL, "pc", 1e-6, True, LAW)
+    out = _solve_curve(grid, load, path, MATERIAL, "pc", 1e-6, True, PRELOAD)
     c = out["curve"]
     return curve_features(c.tangential_displacement, c.tangential_force, c.real_area, c.sliding)
 
