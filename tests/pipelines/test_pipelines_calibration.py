@@ -35,6 +35,18 @@ def _measured_areas_at_stride_3(data: dict, tmp_path) -> tuple:
     return material, truth, a_n
 
 
+def _calibrated_on_stride_3(data: dict, tmp_path):
+    """The job on the measurements of ``data`` alone (no BEM): it picks stride 3 and the model
+    reproduces its own data there; returns the job's result."""
+    data["bem"]["enabled"] = False  # the measurement alone calibrates (no BEM needed)
+    result = run_job(config_from_dict(data, base_dir=tmp_path), tmp_path / "out")
+    res = result.statistical_model
+    assert res.basis == "measured"
+    assert res.effective_stride == 3
+    assert res.misfit_measured[2] < 1e-6  # the model reproduces its own data
+    return result
+
+
 def test_effective_resolution_recovered_from_measured_areas(tmp_path):
     """Measured A_r(F_z) made by the model at stride 3 (no shear curves: lambda configured):
     the job picks stride 3 and reproduces its own data (the default-run share of the slow
@@ -42,12 +54,8 @@ def test_effective_resolution_recovered_from_measured_areas(tmp_path):
     data = small_data()
     _measured_areas_at_stride_3(data, tmp_path)
     data["measured"] = {"normal_area": "area.csv"}
-    data["bem"]["enabled"] = False  # the measurement alone calibrates (no BEM needed)
-    result = run_job(config_from_dict(data, base_dir=tmp_path), tmp_path / "out")
-    res, lam = result.statistical_model, result.mode_mixity
-    assert res.basis == "measured"
-    assert res.effective_stride == 3
-    assert res.misfit_measured[2] < 1e-6  # the model reproduces its own data
+    result = _calibrated_on_stride_3(data, tmp_path)
+    lam = result.mode_mixity
     assert not lam.fitted and lam.mode_mixity == data["material"]["mode_mixity"]
 
 
@@ -63,12 +71,8 @@ def test_effective_resolution_and_lambda_recovered_from_measurements(tmp_path):
     write_shear_area(tmp_path / "shear.csv", curves)
     data["measured"] = {"normal_area": "area.csv", "shear_area": "shear.csv"}
     data["fit"] = {"mode_mixity_bounds": [1e-3, 1.0]}
-    data["bem"]["enabled"] = False  # the measurement alone calibrates (no BEM needed)
-    result = run_job(config_from_dict(data, base_dir=tmp_path), tmp_path / "out")
-    res, lam = result.statistical_model, result.mode_mixity
-    assert res.basis == "measured"
-    assert res.effective_stride == 3
-    assert res.misfit_measured[2] < 1e-6  # the model reproduces its own data
+    result = _calibrated_on_stride_3(data, tmp_path)
+    lam = result.mode_mixity
     assert lam.fitted and lam.fit.success
     # this draw (seed 0) lies 3.0 profile-sigma off in both fit modes (seeds 1, 2: 0.7, 0.1)
     assert abs(lam.mode_mixity - 0.1) < 4 * lam.fit.mode_mixity_std
