@@ -5,10 +5,12 @@ Two backends:
 * ``"pyfftw"``: FFTW through pyFFTW, threaded, planned once per (shape, threads, precision) with
   ``FFTW_MEASURE`` and the wisdom cached on disk under ``~/.cache/asperity`` (or
   ``$XDG_CACHE_HOME/asperity``; override with ``$ASPERITY_CACHE_DIR``), so that a second process
-  does not re-plan. Grids above 2048^2 whose sizes are not products of 2, 3, 5 and 7 are planned
-  with ``FFTW_ESTIMATE`` (measuring 5001^2 = 3 x 1667 takes minutes); smooth sizes are always
-  measured: at 5000^2 a measured plan convolves in 0.73 s against 1.02 s estimated (2 threads,
-  busy machine), for 15 s of planning once per machine (the wisdom file).
+  does not re-plan (:mod:`asperity.bem.elastic.fftw_wisdom`: a file planned while other
+  processes held the cores is set aside on a quiet machine and re-planned). Grids above
+  2048^2 whose sizes are not products of 2, 3, 5 and 7 are planned with ``FFTW_ESTIMATE``
+  (measuring 5001^2 = 3 x 1667 takes minutes); smooth sizes are always measured: at 5000^2 a
+  measured plan convolves in 0.73 s against 1.02 s estimated (2 threads, busy machine), for
+  15 s of planning once per machine (the wisdom file).
 * ``"scipy"``: ``scipy.fft.rfft2``/``irfft2`` with ``workers`` threads, always available.
 
 ``precision="single"`` transforms in float32 (complex64 spectra): the input (float64) is cast
@@ -44,6 +46,7 @@ import numpy as np
 from numba import njit, prange
 from numba.extending import overload
 
+from asperity.bem.elastic import fftw_wisdom
 from asperity.bem.errors import BemInputError
 
 __all__ = [
@@ -62,7 +65,6 @@ _LOCK = threading.Lock()
 _MEASURE_LIMIT = 2048 * 2048  # non-smooth grids larger than this are planned with FFTW_ESTIMATE
 _PLANNING_TIMELIMIT = 300.0  # s: FFTW keeps the best plan found so far beyond it
 PRECISIONS = {"double": (np.float64, np.complex128), "single": (np.float32, np.complex64)}
-_WISDOM_LOADED = False
 _AUTO_CHOICE: dict[tuple, tuple[str, int]] = {}
 _PYFFTW_ONLY = 2048 * 2048  # grid points from which "auto" does not consider scipy
 _ALIGN = 64  # bytes: the alignment of workspace views (>= any SIMD alignment FFTW asks)
@@ -394,48 +396,6 @@ def _check_omp(threads: int) -> None:
         )
 
 
-def _wisdom_file() -> Path:
-    import pyfftw
-
-    return cache_dir() / f"fftw_wisdom_{pyfftw.__version__}.npz"
-
-
-def _load_wisdom() -> None:
-    """Import the FFTW wisdom cached on disk, if any (never unpickled: raw bytes in an .npz).
-
-    A missing, unreadable or foreign file is ignored: wisdom only saves planning time.
-    """
-    global _WISDOM_LOADED
-    if _WISDOM_LOADED:
-        return
-    _WISDOM_LOADED = True
-    try:
-        import pyfftw
-
-        with np.load(_wisdom_file(), allow_pickle=False) as stored:
-            wisdom = tuple(stored[f"w{i}"].tobytes() for i in range(len(stored.files)))
-        pyfftw.import_wisdom(wisdom)
-    except (OSError, ValueError, KeyError, TypeError, ImportError):
-        pass
-
-
-def _save_wisdom() -> None:
-    try:
-        import pyfftw
-
-        path = _wisdom_file()
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_suffix(f".tmp{os.getpid()}")
-        arrays = {
-            f"w{i}": np.frombuffer(w, dtype=np.uint8) for i, w in enumerate(pyfftw.export_wisdom())
-        }
-        with open(tmp, "wb") as fh:
-            np.savez(fh, **arrays)
-        os.replace(tmp, path)
-    except OSError:  # a read-only home must not break a solve
-        pass
-
-
 def _checked_multiplier(
     multiplier: np.ndarray | RadialMultiplier,
     spectral_shape: tuple[int, int],
@@ -624,8 +584,7 @@ class Convolution:
         import pyfftw
 
         _check_omp(self.threads)
-        with _LOCK:
-            _load_wisdom()
+        with _LOCK, fftw_wisdom.planning():
             self._scratch = None
             if self._workspace is not None:
                 self._spec, self._scratch = self._workspace_views()
@@ -638,7 +597,6 @@ class Convolution:
                 if self._scratch is not None
                 else pyfftw.empty_aligned(self.shape, dtype=self.dtype)
             )
-            before = pyfftw.export_wisdom()
             effort = _planning_effort(self.shape)
             self._fwd = pyfftw.FFTW(
                 real_in,
@@ -658,8 +616,6 @@ class Convolution:
                 threads=self.threads,
                 planning_timelimit=_PLANNING_TIMELIMIT,
             )
-            if pyfftw.export_wisdom() != before:
-                _save_wisdom()
             if self._workspace is not None:
                 # release the planning arrays now rather than at the first transform (a plan
                 # made late in a solve would otherwise hold two grids more at its peak): the

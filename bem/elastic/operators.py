@@ -34,6 +34,7 @@ import numpy as np
 from numba import njit
 
 from asperity.bem.elastic import fft_backend as fb
+from asperity.bem.elastic import fftw_wisdom
 from asperity.bem.elastic.fft_backend import Convolution, RadialMultiplier, new_workspace
 from asperity.bem.elastic.influence import (
     influence_multiplier,
@@ -353,9 +354,7 @@ class PaddedConvolution:
         import pyfftw
 
         fb._check_omp(self.threads)
-        with fb._LOCK:
-            fb._load_wisdom()
-            before = pyfftw.export_wisdom()
+        with fb._LOCK, fftw_wisdom.planning():
             effort = fb._planning_effort(self.grid)
             kw = dict(axes=(0, 1), threads=self.threads, planning_timelimit=fb._PLANNING_TIMELIMIT)
             self._fwd = pyfftw.FFTW(
@@ -368,8 +367,6 @@ class PaddedConvolution:
                 flags=(effort, "FFTW_DESTROY_INPUT"),
                 **kw,
             )
-            if pyfftw.export_wisdom() != before:
-                fb._save_wisdom()
 
     def empty(self) -> np.ndarray:
         """A new uninitialised float64 array of the map's shape."""
