@@ -139,21 +139,19 @@ def _in_precision_of_compiled(spec, v):  # pragma: no cover - compiled
     return lambda spec, v: v
 
 
-# How _multiply_spectrum reads its multiplier M[i, j]: a stored half-spectrum table[i, j];
-# the rows 0 .. nx // 2 of one even in qx, table[min(i, nx - i), j]; or m(|q|) of a radial one.
-_STORED, _EVEN, _RADIAL = 0, 1, 2
-_NO_TABLE = np.zeros((1, 1))
-_NO_RADIAL = (np.zeros(1), np.zeros(1), 0.0, -1, 0.0)
+# How _multiply_spectrum reads its multiplier M[i, j]: a stored half-spectrum table[i, j], or
+# the rows 0 .. nx // 2 of one even in qx, table[min(i, nx - i), j] (a radial multiplier has a
+# kernel of its own, _multiply_radial_rows).
+_STORED, _EVEN = 0, 1
 
 
 @njit(cache=True, fastmath=False, parallel=True)
-def _multiply_spectrum(spec, ny, energy, kind, table, radial, nn):  # pragma: no cover - compiled
+def _multiply_spectrum(spec, ny, energy, kind, table):  # pragma: no cover - compiled
     """spec *= M in place (M read as ``kind`` says, in the precision of ``spec``); returns the
     Parseval sum over the full spectrum of M |spec|^2 when ``energy`` (the columns 0 and, for
     an even ``ny``, ny // 2 once, the others twice), else 0. Rows run in parallel (numba
     threads); the energy is summed per row, then over the rows in order, so it does not depend
     on the number of threads, nor on how M is held."""
-    qx2, qy2, coef, power, q00 = radial
     nx, nyh = spec.shape
     last = nyh - 1 if ny % 2 == 0 else -1
     rows = np.zeros(nx)
@@ -164,11 +162,7 @@ def _multiply_spectrum(spec, ny, energy, kind, table, radial, nn):  # pragma: no
         e0 = 0.0
         e1 = 0.0
         for j in range(nyh):
-            if kind == _RADIAL:
-                v = _radial_value(qx2, qy2, i, j, coef, power, q00, nn)
-            else:
-                v = table[k, j]
-            m = _in_precision_of(spec, v)
+            m = _in_precision_of(spec, table[k, j])
             z = spec[i, j]
             if energy:
                 a = m * (z.real * z.real + z.imag * z.imag)
@@ -184,28 +178,69 @@ def _multiply_spectrum(spec, ny, energy, kind, table, radial, nn):  # pragma: no
     return total
 
 
+@njit(cache=True, fastmath=False, parallel=True, error_model="numpy")
+def _multiply_radial_rows(spec, ny, energy, qx2, qy2, coef, power, q00, nn):  # pragma: no cover
+    """:func:`_multiply_spectrum` for a radial multiplier, with the same bits, in three passes
+    a row: the row's multiplier (``_radial_value``'s operations in its order, branch-free so
+    that the compiler vectorises the square root and the divisions; the q = 0 element is
+    patched after), the energy sum (the same sequence of additions), then the product.
+    Measured at 5000^2 (complex64, 2 threads): 8.0 ms against 24.1 ms for the one-pass form."""
+    nx, nyh = spec.shape
+    last = nyh - 1 if ny % 2 == 0 else -1
+    stop = last if last > 0 else nyh
+    rows = np.zeros(nx)
+    for i in prange(nx):
+        m = np.empty(nyh, dtype=spec.real.dtype)  # rounded as _in_precision_of rounds
+        qi = qx2[i]
+        if power < 0:
+            for j in range(nyh):
+                m[j] = (coef / math.sqrt(qi + qy2[j])) / nn
+        else:
+            for j in range(nyh):
+                m[j] = (coef * math.sqrt(qi + qy2[j])) / nn
+        if i == 0:
+            m[0] = _radial_value(qx2, qy2, 0, 0, coef, power, q00, nn)
+        if energy:
+            z = spec[i, 0]
+            e0 = m[0] * (z.real * z.real + z.imag * z.imag) + 0.0
+            e1 = 0.0
+            for j in range(1, stop):
+                z = spec[i, j]
+                e1 += m[j] * (z.real * z.real + z.imag * z.imag)
+            if last > 0:
+                z = spec[i, last]
+                e0 += m[last] * (z.real * z.real + z.imag * z.imag)
+            rows[i] = e0 + 2.0 * e1
+        for j in range(nyh):
+            spec[i, j] = spec[i, j] * m[j]
+    total = 0.0
+    for i in range(nx):
+        total += rows[i]
+    return total
+
+
 def _multiply_stored(spec: np.ndarray, mult: np.ndarray, ny: int) -> float:
     """``spec *= mult`` in place (a stored half-spectrum multiplier, its values already divided
     by the number of grid points: m/Pa or Pa/m); returns the energy sum(x * y) of the
     convolution (J, for x in Pa and y in m on a unit pixel), as :func:`_multiply_spectrum`."""
-    return _multiply_spectrum(spec, ny, True, _STORED, mult, _NO_RADIAL, 1.0)
+    return _multiply_spectrum(spec, ny, True, _STORED, mult)
 
 
 def _multiply_radial(
     spec: np.ndarray, rm: RadialMultiplier, nn: float, ny: int, energy: bool
 ) -> float:
     """``spec *= m(|q|) / nn`` in place for the radial multiplier ``rm`` (``nn`` the number of
-    grid points); returns the energy when ``energy``, else 0 (:func:`_multiply_spectrum`)."""
-    radial = (rm.qx2, rm.qy2, float(rm.coef), int(rm.power), float(rm.q00))
-    e = _multiply_spectrum(spec, ny, energy, _RADIAL, _NO_TABLE, radial, nn)
-    return e if energy else 0.0
+    grid points); returns the energy when ``energy``, else 0 (:func:`_multiply_radial_rows`)."""
+    return _multiply_radial_rows(
+        spec, ny, energy, rm.qx2, rm.qy2, float(rm.coef), int(rm.power), float(rm.q00), nn
+    )
 
 
 def _multiply_even(spec: np.ndarray, half: np.ndarray, ny: int, energy: bool) -> float:
     """``spec *= M`` in place for a multiplier even in qx stored as its rows 0 .. nx // 2
     (``half``, float64, already divided by the number of grid points); returns the energy
     when ``energy``, else 0 (:func:`_multiply_spectrum`)."""
-    e = _multiply_spectrum(spec, ny, energy, _EVEN, half, _NO_RADIAL, 1.0)
+    e = _multiply_spectrum(spec, ny, energy, _EVEN, half)
     return e if energy else 0.0
 
 
