@@ -38,7 +38,6 @@ import os
 import threading
 import time
 import warnings
-from pathlib import Path
 from typing import NamedTuple
 
 import numba
@@ -47,6 +46,7 @@ from numba import njit, prange
 from numba.extending import overload
 
 from asperity.bem.elastic import fftw_wisdom
+from asperity.bem.elastic.fftw_wisdom import cache_dir
 from asperity.bem.errors import BemInputError
 
 __all__ = [
@@ -315,17 +315,6 @@ def new_workspace(shape: tuple[int, int]) -> np.ndarray:
     raw = np.empty(workspace_bytes(shape) + _ALIGN, dtype=np.uint8)
     start = (-raw.ctypes.data) % _ALIGN
     return raw[start : start + workspace_bytes(shape)]
-
-
-def cache_dir() -> Path:
-    """Directory for the FFTW wisdom and the backend choices (created on demand)."""
-    root = os.environ.get("ASPERITY_CACHE_DIR")
-    if root:
-        path = Path(root)
-    else:
-        base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-        path = Path(base) / "asperity"
-    return path
 
 
 def default_threads() -> int:

@@ -23,11 +23,11 @@ import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
-__all__ = ["machine_is_quiet", "planning", "wisdom_file"]
+__all__ = ["cache_dir", "machine_is_quiet", "planning", "wisdom_file"]
 
 QUIET_SHARE = 0.2  # the other processes' share of all CPUs below which the machine is quiet
 _MIN_WINDOW = 0.2  # s: shorter windows are judged by the load average (jiffies are 10 ms)
@@ -101,12 +101,20 @@ def machine_is_quiet(seconds: float = _PROBE_SECONDS) -> bool:
     return _quiet(others_share(before, cpu_sample()))
 
 
-def wisdom_file() -> Path:
-    """The wisdom file of this pyFFTW version in the cache directory
-    (:func:`asperity.bem.elastic.fft_backend.cache_dir`)."""
-    import pyfftw
+def cache_dir() -> Path:
+    """Directory for the FFTW wisdom and the backend choices (created on demand)."""
+    root = os.environ.get("ASPERITY_CACHE_DIR")
+    if root:
+        path = Path(root)
+    else:
+        base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+        path = Path(base) / "asperity"
+    return path
 
-    from asperity.bem.elastic.fft_backend import cache_dir
+
+def wisdom_file() -> Path:
+    """The wisdom file of this pyFFTW version in the cache directory (:func:`cache_dir`)."""
+    import pyfftw
 
     return cache_dir() / f"fftw_wisdom_{pyfftw.__version__}.npz"
 
@@ -154,7 +162,7 @@ def save() -> None:
         path = wisdom_file()
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = path.with_suffix(f".tmp{os.getpid()}")
-        arrays = {
+        arrays: dict[str, Any] = {
             f"w{i}": np.frombuffer(w, dtype=np.uint8) for i, w in enumerate(pyfftw.export_wisdom())
         }
         arrays[_QUIET_KEY] = np.array([_STATE.file_quiet], dtype=np.uint8)
