@@ -8,12 +8,13 @@ once re-planned on the quiet machine (one thread: 0.28 s, so ``"auto"`` fell bac
 and the solve ran at half speed for good).
 
 The file therefore records whether every plan in it was made while the machine was quiet (the
-other processes' share of the CPUs during the planning, from ``/proc/stat``; the load average
-where that is not readable). A process that finds a file not known to be quiet (planned busy,
-or written by an older version) on a quiet machine does not import it: it plans afresh, and its
-save replaces the file. On a busy machine the file is imported as it is (planning anew there
-would be no better). Nothing here changes a transform's result, only which algorithm computes
-it.
+other processes' share of the CPUs during the planning, from ``/proc/stat``; a plan made in
+under 0.2 s, or where ``/proc/stat`` cannot be read, is not judged: this process's own threads
+would count in a load average, and such a plan is cheap to make again). A process that finds
+a file not known to be quiet (planned busy, or written by an older version) on a quiet machine
+does not import it: it plans afresh, and its save replaces the file. On a busy machine the
+file is imported as it is (planning anew there would be no better). Nothing here changes a
+transform's result, only which algorithm computes it.
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ import numpy as np
 __all__ = ["cache_dir", "machine_is_quiet", "planning", "wisdom_file"]
 
 QUIET_SHARE = 0.2  # the other processes' share of all CPUs below which the machine is quiet
-_MIN_WINDOW = 0.2  # s: shorter windows are judged by the load average (jiffies are 10 ms)
+_MIN_WINDOW = 0.2  # s: shorter windows are not judged (the kernel counts CPU time in 10 ms)
 _PROBE_SECONDS = 0.3  # s: the look at the machine before a busy file is imported or not
 _QUIET_KEY = "planned_quiet"
 
@@ -85,20 +86,13 @@ def others_share(before: CpuSample, after: CpuSample) -> float | None:
     return max(0.0, others) / (wall * after.cpus)
 
 
-def _quiet(share: float | None) -> bool:
-    if share is not None:
-        return share < QUIET_SHARE
-    try:  # fallback: fewer runnable processes than CPUs over the last minute
-        return os.getloadavg()[0] < (os.cpu_count() or 1)
-    except OSError:  # pragma: no cover - no load average on this platform
-        return True
-
-
 def machine_is_quiet(seconds: float = _PROBE_SECONDS) -> bool:
-    """Whether other processes use under 20 % of the CPUs, watched for ``seconds`` (s)."""
+    """Whether other processes use under 20 % of the CPUs, watched for ``seconds`` (s); False
+    where that cannot be told (no ``/proc/stat``): the file is then imported as it is."""
     before = cpu_sample()
     time.sleep(seconds)
-    return _quiet(others_share(before, cpu_sample()))
+    share = others_share(before, cpu_sample())
+    return share is not None and share < QUIET_SHARE
 
 
 def cache_dir() -> Path:
@@ -186,6 +180,7 @@ def planning() -> Iterator[None]:
     yield
     if pyfftw.export_wisdom() == before_wisdom:
         return  # every plan came from wisdom: nothing was timed, nothing to judge
-    if not _quiet(others_share(before, cpu_sample())):
+    share = others_share(before, cpu_sample())
+    if share is not None and share >= QUIET_SHARE:  # unjudged (None) plans keep the flag
         _STATE.file_quiet = False
     save()
